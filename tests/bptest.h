@@ -1,0 +1,40 @@
+/* bptest.h - the smallest test framework that can fail.
+
+   Each test program includes this file, calls BPT_CHECK / BPT_CHECKF for
+   every property it proves, and ends main() with `return bpt_finish();`.
+   Each check prints one line ("ok" or "FAIL" with file:line and the reason);
+   bpt_finish prints the machine-read line
+
+       BPTEST <passed> <failed>
+
+   which tests/run_all.sh adds up into the final "N passed, M failed".
+   A test program that crashes or exits without that line counts as failed. */
+#ifndef BPTEST_H
+#define BPTEST_H
+#include <stdio.h>
+#include <stdarg.h>
+
+static int bpt__passed = 0, bpt__failed = 0;
+
+static int bpt__report(int ok, const char *file, int line, const char *fmt, ...)
+{
+    va_list ap;
+    if (ok) bpt__passed++; else bpt__failed++;
+    printf("%s %s:%d: ", ok ? "ok  " : "FAIL", file, line);
+    va_start(ap, fmt);
+    vprintf(fmt, ap);
+    va_end(ap);
+    printf("\n");
+    fflush(stdout);
+    return ok;
+}
+
+/* BPT_CHECK(cond, "what is being proven") */
+#define BPT_CHECK(cond, ...) bpt__report(!!(cond), __FILE__, __LINE__, __VA_ARGS__)
+
+static int bpt_finish(void)
+{
+    printf("BPTEST %d %d\n", bpt__passed, bpt__failed);
+    return bpt__failed ? 1 : 0;
+}
+#endif
