@@ -1,0 +1,72 @@
+# bijparam - GNU make
+#
+#   make / make all   build/bijparam (the CLI tool) and build/examples/<name>
+#   make test         install OpenMesh if missing (tests/ensure_deps.sh), build
+#                     tests/test_*.c and tests/test_*.cpp into build/tests/ and
+#                     run them all with tests/run_all.sh ("N passed, M failed")
+#   make demo         run the tool on its embedded mesh -> build/demo/demo.obj
+#   make bench        bench/run.sh: timings on tests/data and ../shared/meshes
+#   make clean        remove build/
+#
+# Every program includes bijparam.h, so every program depends on it.
+
+CC       ?= gcc
+CXX      ?= g++
+CFLAGS   ?= -std=c99 -O2 -Wall -Wextra -pedantic -Werror
+CXXFLAGS ?= -std=c++11 -O2 -Wall -Wextra -pedantic -Werror
+CPPFLAGS += -I. -Itests
+LDLIBS   += -lm
+# The C++ tests cross-check against OpenMesh (libopenmesh-dev).
+OPENMESH_LIBS ?= -lOpenMeshCore
+
+BUILD := build
+HEADERS := bijparam.h tests/bptest.h
+
+TOOL     := $(BUILD)/bijparam
+EXAMPLES := $(patsubst examples/%.c,$(BUILD)/examples/%,$(filter-out examples/bijparam.c,$(wildcard examples/*.c)))
+C_TESTS   := $(patsubst tests/%.c,$(BUILD)/tests/%,$(wildcard tests/test_*.c))
+CXX_TESTS := $(patsubst tests/%.cpp,$(BUILD)/tests/%,$(wildcard tests/test_*.cpp))
+SH_TESTS  := $(wildcard tests/test_*.sh)
+# make test also builds the tool (shell tests drive it) once its source exists.
+TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
+
+.PHONY: all test tests deps demo bench clean
+
+all: $(TOOL) $(EXAMPLES)
+
+$(TOOL): examples/bijparam.c $(HEADERS)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(LDLIBS)
+
+$(BUILD)/examples/%: examples/%.c $(HEADERS)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(LDLIBS)
+
+$(BUILD)/tests/%: tests/%.c $(HEADERS)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(LDLIBS)
+
+$(BUILD)/tests/%: tests/%.cpp $(HEADERS)
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $< -o $@ $(OPENMESH_LIBS) $(LDLIBS)
+
+deps:
+	bash tests/ensure_deps.sh
+
+tests: $(C_TESTS) $(CXX_TESTS) $(TEST_TOOL)
+
+# Dependencies first (the C++ tests need OpenMesh to compile), then build, then run.
+test: deps
+	$(MAKE) --no-print-directory tests
+	bash tests/run_all.sh $(C_TESTS) $(CXX_TESTS) $(SH_TESTS)
+
+demo: $(TOOL)
+	@mkdir -p $(BUILD)/demo
+	$(TOOL) --demo -o $(BUILD)/demo/demo.obj
+	@echo "demo output: $(BUILD)/demo/demo.obj"
+
+bench: $(TOOL)
+	bash bench/run.sh
+
+clean:
+	rm -rf $(BUILD)
