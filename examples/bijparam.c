@@ -1,0 +1,466 @@
+/* bijparam.c - the command-line front end of bijparam.h.
+
+   It reads a triangle mesh (OBJ or OFF), splits it into charts, gives each
+   chart a bijective start map (Tutte or Floater), minimizes its distortion
+   while keeping the map bijective at every step, packs the charts side by
+   side and, when asked, writes the mesh back as OBJ with the new `vt`
+   coordinates.  It shows every public step of the library in the order a
+   program calls them (bp_read_mesh, bp_atlas_build, bp_chart_init,
+   bp_chart_optimize, bp_atlas_pack, bp_write_obj), how the options map onto
+   bp_options, how a progress callback traces the solve, and how bp_check
+   proves the result.  With --demo it flattens a built-in "wavy cone" (fig
+   3.3 of the dissertation) whose isometric flattening overlaps itself, so
+   only the boundary barrier keeps it bijective.
+
+   Exit status: 0 success, 1 input rejected or a step failed (one line on
+   stderr: "bijparam: error: FILE:LINE: what" or "bijparam: error: FILE: what"),
+   2 usage error. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+
+static const char usage_text[] =
+    "usage: bijparam [options] INPUT.(obj|off) [-o OUT.obj]\n"
+    "       bijparam [options] --demo [-o OUT.obj]\n"
+    "  -o FILE            write the mesh with the new uv map (OBJ)\n"
+    "  --json             print a one-line JSON report on stdout\n"
+    "  --demo             use the built-in wavy cone instead of a file\n"
+    "  --init tutte|mvc   start map (default tutte)\n"
+    "  --init-only        stop after the start map\n"
+    "  --energy sd|conformal|mips|iso|maxiso   distortion (default sd)\n"
+    "  --no-barrier       locally injective only (no boundary barrier)\n"
+    "  --epsilon X        barrier width (default: mean boundary edge / 4)\n"
+    "  --direction lbfgs|gd   search direction (default lbfgs)\n"
+    "  --history M        L-BFGS memory (default 5)\n"
+    "  --max-iters N      iterations per chart (default 10000)\n"
+    "  --tol X            relative energy decrease to stop (default 1e-7)\n"
+    "  --max-seconds X    time limit per chart (0: none)\n"
+    "  --normalize        scale the packed atlas into [0,1]^2\n"
+    "  --trace FILE       one line per iteration: chart iter seconds energy step\n"
+    "  -h, --help         show this help\n";
+
+static const char *const energy_names[] = { "sd", "conformal", "mips", "iso", "maxiso" };
+
+/* ---- small helpers ------------------------------------------------------ */
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int usage_error(const char *fmt, const char *arg)
+{
+    fprintf(stderr, "bijparam: ");
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\n%s", usage_text);
+    return 2;
+}
+
+/* "file:line: message" when the library knows the line, else "file: message". */
+static void report_error(const char *file, const bp_error *err)
+{
+    if (err->line > 0)
+        fprintf(stderr, "bijparam: error: %s:%lld: %s\n", file,
+                (long long)err->line, err->message);
+    else
+        fprintf(stderr, "bijparam: error: %s: %s\n", file, err->message);
+}
+
+/* Strict number parsing: the whole argument must be a finite number. */
+static int parse_double(const char *s, double lo, double *out)
+{
+    char *end;
+    double x;
+    errno = 0;
+    x = strtod(s, &end);
+    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(x) || x < lo)
+        return 0;
+    *out = x;
+    return 1;
+}
+
+static int parse_int(const char *s, long lo, int *out)
+{
+    char *end;
+    long x;
+    errno = 0;
+    x = strtol(s, &end, 10);
+    if (end == s || *end != '\0' || errno == ERANGE || x < lo || x > 2147483647L)
+        return 0;
+    *out = (int)x;
+    return 1;
+}
+
+/* JSON numbers: shortest exact round trip, and null for NaN / infinity. */
+static void json_number(double x)
+{
+    if (isfinite(x)) printf("%.17g", x);
+    else printf("null");
+}
+
+static void json_string(const char *s)
+{
+    putchar('"');
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\') printf("\\%c", c);
+        else if (c < 0x20) printf("\\u%04x", c);
+        else putchar(c);
+    }
+    putchar('"');
+}
+
+/* ---- the demo mesh ------------------------------------------------------ */
+
+/* A wavy cone (fig 3.3): apex at the origin, rim point at angle theta
+   r(theta) = (cos theta, sin theta, H + A sin(K theta)).  Every ring of
+   vertices is the rim scaled by t = i / RINGS, so the surface is ruled by
+   lines through the apex and is developable: it can be flattened without
+   any distortion.  The total angle at the apex is the length of r/|r| on the
+   unit sphere; with H = 0.3, A = 0.3, K = 5 it is about 1.32 * 2 pi, so the
+   distortion-free flattening wraps around the apex and overlaps itself by a
+   third of a turn -- only the boundary barrier keeps the optimum bijective.
+   The mesh is cut along the generator theta = 0 by giving the seam its own
+   copy of each vertex (column SEGS duplicates column 0), which makes it a
+   disk: SEGS + 2 SEGS (RINGS - 1) triangles (3008 here). */
+enum { DEMO_SEGS = 64, DEMO_RINGS = 24 };
+
+static int demo_mesh(bp_mesh *m)
+{
+    const double H = 0.3, A = 0.3, K = 5.0, two_pi = 6.283185307179586;
+    const uint32_t cols = DEMO_SEGS + 1, nv = 1 + DEMO_RINGS * cols;
+    const uint32_t nt = DEMO_SEGS + 2 * DEMO_SEGS * (DEMO_RINGS - 1);
+    uint32_t i, j, t = 0;
+    memset(m, 0, sizeof *m);
+    m->positions = (double *)malloc(3 * (size_t)nv * sizeof(double));
+    m->triangles = (uint32_t *)malloc(3 * (size_t)nt * sizeof(uint32_t));
+    if (!m->positions || !m->triangles) {
+        free(m->positions); free(m->triangles);
+        m->positions = NULL; m->triangles = NULL;
+        return 0;
+    }
+    m->num_vertices = nv;
+    m->num_triangles = nt;
+    m->num_faces = nt;
+    m->positions[0] = m->positions[1] = m->positions[2] = 0.0; /* apex */
+    for (i = 1; i <= DEMO_RINGS; i++)
+        for (j = 0; j < cols; j++) {
+            double s = (double)i / DEMO_RINGS, th = two_pi * (double)j / DEMO_SEGS;
+            double *p = m->positions + 3 * (1 + (i - 1) * cols + j);
+            if (j == DEMO_SEGS) th = 0.0; /* the seam copy sits on column 0 */
+            p[0] = s * cos(th);
+            p[1] = s * sin(th);
+            p[2] = s * (H + A * sin(K * th));
+        }
+#define DEMO_V(i, j) (1 + ((i) - 1) * cols + (j))
+    for (j = 0; j < DEMO_SEGS; j++) { /* apex fan */
+        uint32_t *tri = m->triangles + 3 * t++;
+        tri[0] = 0; tri[1] = DEMO_V(1, j); tri[2] = DEMO_V(1, j + 1);
+    }
+    for (i = 1; i < DEMO_RINGS; i++)
+        for (j = 0; j < DEMO_SEGS; j++) {
+            uint32_t a = DEMO_V(i, j), b = DEMO_V(i + 1, j);
+            uint32_t c = DEMO_V(i + 1, j + 1), d = DEMO_V(i, j + 1);
+            uint32_t *tri = m->triangles + 3 * t;
+            tri[0] = a; tri[1] = b; tri[2] = c;
+            tri[3] = a; tri[4] = c; tri[5] = d;
+            t += 2;
+        }
+#undef DEMO_V
+    return 1;
+}
+
+/* ---- per-chart facts for the report ------------------------------------- */
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* V - E + F of a chart, counting each undirected edge once (1 for a disk). */
+static long chart_euler(const bp_chart *c)
+{
+    size_t n = 3 * (size_t)c->num_triangles, k, edges = 0;
+    uint64_t *e = (uint64_t *)malloc((n ? n : 1) * sizeof(uint64_t));
+    if (!e) return 0;
+    for (k = 0; k < n; k++) {
+        uint64_t a = c->triangles[k];
+        uint64_t b = c->triangles[k - k % 3 + (k + 1) % 3];
+        e[k] = a < b ? (a << 32 | b) : (b << 32 | a);
+    }
+    qsort(e, n, sizeof *e, cmp_u64);
+    for (k = 0; k < n; k++)
+        if (k == 0 || e[k] != e[k - 1]) edges++;
+    free(e);
+    return (long)c->num_vertices - (long)edges + (long)c->num_triangles;
+}
+
+/* ---- progress and trace ------------------------------------------------- */
+
+typedef struct run_state {
+    FILE    *trace;
+    int      tty;
+    double   start;
+    uint32_t num_charts;
+} run_state;
+
+static int on_progress(void *user, uint32_t chart, int iteration,
+                       double mean_energy, double step)
+{
+    run_state *rs = (run_state *)user;
+    double t = now_seconds() - rs->start;
+    if (rs->trace)
+        fprintf(rs->trace, "%u %d %.6f %.17g %.17g\n", (unsigned)chart,
+                iteration, t, mean_energy, step);
+    if (rs->tty && iteration % 10 == 0)
+        fprintf(stderr, "\rbijparam: chart %u/%u  iteration %d  energy %.6g   ",
+                (unsigned)chart + 1, (unsigned)rs->num_charts, iteration,
+                mean_energy);
+    return 0;
+}
+
+/* ---- the JSON report ---------------------------------------------------- */
+
+typedef struct timings { double read, charts, init, optimize, pack, write; } timings;
+
+static void print_json(const char *input, bp_status status, const char *message,
+                       const bp_atlas *atlas, const timings *tm)
+{
+    uint32_t c, l;
+    printf("{\"input\":");
+    json_string(input);
+    printf(",\"status\":");
+    json_string(bp_status_string(status));
+    if (message) { printf(",\"error\":"); json_string(message); }
+    printf(",\"charts\":%u,\"split_vertices\":%u,\"per_chart\":[",
+           (unsigned)atlas->num_charts, (unsigned)atlas->num_split);
+    for (c = 0; c < atlas->num_charts; c++) {
+        const bp_chart *ch = atlas->charts + c;
+        bp_check_report rep;
+        memset(&rep, 0, sizeof rep);
+        if (ch->uv)
+            bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices,
+                     NULL, &rep);
+        printf("%s{\"index\":%u,\"vertices\":%u,\"faces\":%u,\"loops\":[",
+               c ? "," : "", (unsigned)c, (unsigned)ch->num_vertices,
+               (unsigned)ch->num_triangles);
+        for (l = 0; l < ch->num_loops; l++)
+            printf("%s%u", l ? "," : "",
+                   (unsigned)(ch->loop_start[l + 1] - ch->loop_start[l]));
+        printf("],\"euler\":%ld,\"split_vertices\":%u,\"energy_start\":",
+               chart_euler(ch), (unsigned)ch->split_vertices);
+        json_number(ch->energy_start);
+        printf(",\"energy_end\":");
+        json_number(ch->energy_end);
+        printf(",\"energy_max\":");
+        json_number(ch->energy_max);
+        printf(",\"iterations\":%d,\"stop\":", ch->iterations);
+        json_string(bp_stop_string(ch->stop));
+        printf(",\"seconds\":");
+        json_number(ch->seconds);
+        if (ch->uv)
+            printf(",\"flipped\":%u,\"degenerate\":%u,\"boundary_intersections\":%u}",
+                   (unsigned)rep.flipped, (unsigned)rep.degenerate,
+                   (unsigned)rep.boundary_intersections);
+        else
+            printf(",\"flipped\":null,\"degenerate\":null,\"boundary_intersections\":null}");
+    }
+    printf("],\"timings\":{\"read\":");
+    json_number(tm->read);
+    printf(",\"charts\":");
+    json_number(tm->charts);
+    printf(",\"init\":");
+    json_number(tm->init);
+    printf(",\"optimize\":");
+    json_number(tm->optimize);
+    printf(",\"pack\":");
+    json_number(tm->pack);
+    printf(",\"write\":");
+    json_number(tm->write);
+    printf("}}\n");
+}
+
+/* ---- main --------------------------------------------------------------- */
+
+int main(int argc, char **argv)
+{
+    bp_options opt;
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_status st = BP_OK;
+    timings tm;
+    run_state rs;
+    const char *input = NULL, *output = NULL, *trace_path = NULL, *where;
+    char *tmp_path = NULL;
+    int json = 0, demo = 0, have_mesh = 0, i, status = 0;
+    uint32_t c;
+    double t0;
+
+    memset(&opt, 0, sizeof opt);
+    memset(&mesh, 0, sizeof mesh);
+    memset(&atlas, 0, sizeof atlas);
+    memset(&err, 0, sizeof err);
+    memset(&tm, 0, sizeof tm);
+    memset(&rs, 0, sizeof rs);
+
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        /* options that take a value */
+        if (!strcmp(a, "-o") || !strcmp(a, "--init") || !strcmp(a, "--energy") ||
+            !strcmp(a, "--epsilon") || !strcmp(a, "--direction") ||
+            !strcmp(a, "--history") || !strcmp(a, "--max-iters") ||
+            !strcmp(a, "--tol") || !strcmp(a, "--max-seconds") ||
+            !strcmp(a, "--trace")) {
+            const char *v;
+            if (i + 1 >= argc) return usage_error("option %s needs a value", a);
+            v = argv[++i];
+            if (!strcmp(a, "-o")) output = v;
+            else if (!strcmp(a, "--trace")) trace_path = v;
+            else if (!strcmp(a, "--init")) {
+                if (!strcmp(v, "tutte")) opt.init = BP_INIT_TUTTE;
+                else if (!strcmp(v, "mvc")) opt.init = BP_INIT_MEAN_VALUE;
+                else return usage_error("unknown start map '%s' (tutte or mvc)", v);
+            } else if (!strcmp(a, "--energy")) {
+                int e, found = 0;
+                for (e = 0; e < (int)BP_ENERGY_COUNT; e++)
+                    if (!strcmp(v, energy_names[e])) { opt.energy = (bp_energy)e; found = 1; }
+                if (!found)
+                    return usage_error("unknown energy '%s' (sd, conformal, mips, iso, maxiso)", v);
+            } else if (!strcmp(a, "--direction")) {
+                if (!strcmp(v, "lbfgs")) opt.direction = BP_DIRECTION_LBFGS;
+                else if (!strcmp(v, "gd")) opt.direction = BP_DIRECTION_GRADIENT;
+                else return usage_error("unknown direction '%s' (lbfgs or gd)", v);
+            } else if (!strcmp(a, "--epsilon")) {
+                if (!parse_double(v, 0.0, &opt.epsilon) || opt.epsilon <= 0.0)
+                    return usage_error("--epsilon needs a positive number, not '%s'", v);
+            } else if (!strcmp(a, "--tol")) {
+                if (!parse_double(v, 0.0, &opt.tolerance) || opt.tolerance <= 0.0)
+                    return usage_error("--tol needs a positive number, not '%s'", v);
+            } else if (!strcmp(a, "--max-seconds")) {
+                if (!parse_double(v, 0.0, &opt.max_seconds))
+                    return usage_error("--max-seconds needs a number >= 0, not '%s'", v);
+            } else if (!strcmp(a, "--history")) {
+                if (!parse_int(v, 1, &opt.history))
+                    return usage_error("--history needs an integer >= 1, not '%s'", v);
+            } else if (!parse_int(v, 1, &opt.max_iterations)) {
+                return usage_error("--max-iters needs an integer >= 1, not '%s'", v);
+            }
+        }
+        else if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_text, stdout); return 0; }
+        else if (!strcmp(a, "--json")) json = 1;
+        else if (!strcmp(a, "--demo")) demo = 1;
+        else if (!strcmp(a, "--init-only")) opt.init_only = 1;
+        else if (!strcmp(a, "--no-barrier")) opt.no_barrier = 1;
+        else if (!strcmp(a, "--normalize")) opt.normalize = 1;
+        else if (a[0] == '-' && a[1] != '\0') return usage_error("unknown option '%s'", a);
+        else if (input) return usage_error("more than one input file ('%s')", a);
+        else input = a;
+    }
+    if (demo && input) return usage_error("--demo takes no input file ('%s')", input);
+    if (!demo && !input) return usage_error("%s", "no input file");
+    if (demo) input = "<demo>";
+
+    if (trace_path) {
+        rs.trace = fopen(trace_path, "w");
+        if (!rs.trace) {
+            fprintf(stderr, "bijparam: error: %s: cannot open trace file: %s\n",
+                    trace_path, strerror(errno));
+            return 1;
+        }
+    }
+    rs.tty = isatty(2);
+    rs.start = now_seconds();
+    opt.progress = on_progress;
+    opt.progress_user = &rs;
+    where = input;
+
+    /* 1. read */
+    t0 = now_seconds();
+    if (demo) {
+        if (!demo_mesh(&mesh)) {
+            st = BP_ERR_OUT_OF_MEMORY;
+            snprintf(err.message, sizeof err.message, "out of memory building the demo mesh");
+        }
+    } else {
+        st = bp_read_mesh(input, &mesh, NULL, &err);
+    }
+    have_mesh = st == BP_OK;
+    tm.read = now_seconds() - t0;
+
+    /* 2. charts */
+    if (st == BP_OK) {
+        t0 = now_seconds();
+        st = bp_atlas_build(&atlas, &mesh, &opt, &err);
+        tm.charts = now_seconds() - t0;
+        rs.num_charts = atlas.num_charts;
+    }
+    /* 3. start map and optimization, chart by chart */
+    for (c = 0; st == BP_OK && c < atlas.num_charts; c++) {
+        t0 = now_seconds();
+        st = bp_chart_init(&atlas.charts[c], &mesh, &opt, &err);
+        tm.init += now_seconds() - t0;
+        if (st != BP_OK || opt.init_only) continue;
+        t0 = now_seconds();
+        st = bp_chart_optimize(&atlas.charts[c], c, &mesh, &opt, &err);
+        tm.optimize += now_seconds() - t0;
+    }
+    if (rs.tty && rs.num_charts && !opt.init_only) fprintf(stderr, "\n");
+    /* 4. pack */
+    if (st == BP_OK) {
+        t0 = now_seconds();
+        st = bp_atlas_pack(&atlas, &opt, &err);
+        tm.pack = now_seconds() - t0;
+    }
+    /* 5. write: into OUT.tmp, renamed only when complete */
+    if (st == BP_OK && output) {
+        size_t n = strlen(output);
+        t0 = now_seconds();
+        tmp_path = (char *)malloc(n + 5);
+        if (!tmp_path) {
+            st = BP_ERR_OUT_OF_MEMORY;
+            snprintf(err.message, sizeof err.message, "out of memory");
+        } else {
+            memcpy(tmp_path, output, n);
+            memcpy(tmp_path + n, ".tmp", 5);
+            where = output;
+            memset(&err, 0, sizeof err);
+            st = bp_write_obj(tmp_path, &mesh, &atlas, &err);
+            if (st == BP_OK && rename(tmp_path, output) != 0) {
+                st = BP_ERR_IO;
+                err.line = 0;
+                snprintf(err.message, sizeof err.message,
+                         "cannot rename %s to %s: %s", tmp_path, output, strerror(errno));
+            }
+            if (st != BP_OK) remove(tmp_path);
+        }
+        tm.write = now_seconds() - t0;
+    }
+
+    if (st != BP_OK) {
+        report_error(where, &err);
+        status = 1;
+    }
+    if (json)
+        print_json(input, st, st == BP_OK ? NULL : err.message, &atlas, &tm);
+
+    if (rs.trace) fclose(rs.trace);
+    free(tmp_path);
+    bp_atlas_free(&atlas);
+    if (have_mesh) {
+        if (demo) { free(mesh.positions); free(mesh.triangles); }
+        else bp_mesh_free(&mesh, NULL);
+    }
+    return status;
+}
