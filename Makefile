@@ -10,8 +10,13 @@
 #
 # Every program includes bijparam.h, so every program depends on it.
 
-CC       ?= gcc
-CXX      ?= g++
+# (make's built-in defaults are cc / g++: replace them, keep what the user sets)
+ifeq ($(origin CC),default)
+CC = gcc
+endif
+ifeq ($(origin CXX),default)
+CXX = g++
+endif
 CFLAGS   ?= -std=c99 -O2 -Wall -Wextra -pedantic -Werror
 CXXFLAGS ?= -std=c++11 -O2 -Wall -Wextra -pedantic -Werror
 CPPFLAGS += -I. -Itests
