@@ -318,3 +318,1465 @@ BPDEF void      bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc);
 }
 #endif
 #endif /* BIJPARAM_H */
+
+/* ==========================================================================
+   IMPLEMENTATION
+   ========================================================================== */
+#if defined(BP_IMPLEMENTATION) && !defined(BP__IMPLEMENTATION_DONE)
+#define BP__IMPLEMENTATION_DONE
+
+/* >>config =================================================================
+
+   Everything the implementation needs from the C library is here: memory
+   (through the allocator), <math.h>, <string.h>, <stdlib.h> for qsort and
+   strtod, <time.h> for the optional time limit, and <stdio.h> only for the
+   file functions.  Overriding half of the BP_MALLOC/BP_FREE pair is an
+   error: memory from one allocator must go back to the same one. */
+
+#include <string.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <math.h>
+#include <float.h>
+#include <time.h>
+#ifndef BP_NO_STDIO
+#include <stdio.h>
+#endif
+
+#if defined(BP_MALLOC) != defined(BP_FREE)
+#error "bijparam.h: define both BP_MALLOC and BP_FREE, or neither"
+#endif
+#ifndef BP_MALLOC
+#define BP_MALLOC(sz, u) ((void)(u), malloc(sz))
+#define BP_FREE(p, u)    ((void)(u), free(p))
+#endif
+#ifndef BP_ASSERT
+#define BP_ASSERT(x) ((void)0)
+#endif
+
+#if defined(BP_STATIC) && (defined(__GNUC__) || defined(__clang__))
+/* A static copy of the API: functions this translation unit does not call
+   are expected, not a mistake. */
+#pragma GCC diagnostic ignored "-Wunused-function"
+#endif
+
+#define BP__NONE 0xffffffffu
+
+/* All allocation goes through these two.  A zero allocator (both function
+   pointers NULL) means BP_MALLOC/BP_FREE, which still receive `user`. */
+static void *bp__alloc(const bp_allocator *a, size_t n)
+{
+    if (n == 0) n = 1;
+    if (a->alloc) return a->alloc(a->user, n);
+    return BP_MALLOC(n, a->user);
+}
+
+static void bp__free(const bp_allocator *a, void *p)
+{
+    if (!p) return;
+    if (a->free) a->free(a->user, p);
+    else BP_FREE(p, a->user);
+}
+
+/* count*size with an overflow check before every array allocation. */
+static void *bp__alloc_array(const bp_allocator *a, size_t count, size_t size)
+{
+    if (size != 0 && count > (size_t)-1 / size) return NULL;
+    return bp__alloc(a, count * size);
+}
+
+static void *bp__calloc_array(const bp_allocator *a, size_t count, size_t size)
+{
+    void *p = bp__alloc_array(a, count, size);
+    if (p) memset(p, 0, (count && size) ? count * size : 1);
+    return p;
+}
+
+static bp_allocator bp__allocator_of(const bp_options *opt)
+{
+    bp_allocator a;
+    memset(&a, 0, sizeof a);
+    if (opt && (opt->allocator.alloc || opt->allocator.free || opt->allocator.user))
+        a = opt->allocator;
+    return a;
+}
+
+/* A growable array that remembers its allocator (used by the parsers). */
+typedef struct bp__vec {
+    void  *data;
+    size_t count, cap, elem;
+} bp__vec;
+
+static int bp__vec_reserve(const bp_allocator *a, bp__vec *v, size_t need)
+{
+    size_t cap;
+    void *p;
+    if (need <= v->cap) return 1;
+    cap = v->cap ? v->cap : 64;
+    while (cap < need) {
+        if (cap > (size_t)-1 / 2) return 0;
+        cap *= 2;
+    }
+    p = bp__alloc_array(a, cap, v->elem);
+    if (!p) return 0;
+    if (v->count) memcpy(p, v->data, v->count * v->elem);
+    bp__free(a, v->data);
+    v->data = p;
+    v->cap = cap;
+    return 1;
+}
+
+static int bp__vec_push(const bp_allocator *a, bp__vec *v, const void *item)
+{
+    if (!bp__vec_reserve(a, v, v->count + 1)) return 0;
+    memcpy((char *)v->data + v->count * v->elem, item, v->elem);
+    v->count++;
+    return 1;
+}
+
+/* --- error messages ------------------------------------------------------
+
+   Messages are formatted by a small formatter of our own so that the
+   library needs no <stdio.h> when BP_NO_STDIO is set.  It knows %s (string),
+   %d (int), %u (unsigned), %D (int64_t) and %g (double, 6 significant
+   digits, enough for a message). */
+
+static void bp__fmt_char(char *out, size_t *n, size_t cap, char c)
+{
+    if (*n + 1 < cap) out[(*n)++] = c;
+}
+
+static void bp__fmt_uint(char *out, size_t *n, size_t cap, uint64_t v)
+{
+    char tmp[24];
+    int k = 0;
+    do { tmp[k++] = (char)('0' + (int)(v % 10)); v /= 10; } while (v);
+    while (k) bp__fmt_char(out, n, cap, tmp[--k]);
+}
+
+static void bp__fmt_int(char *out, size_t *n, size_t cap, int64_t v)
+{
+    if (v < 0) { bp__fmt_char(out, n, cap, '-'); bp__fmt_uint(out, n, cap, (uint64_t)0 - (uint64_t)v); }
+    else bp__fmt_uint(out, n, cap, (uint64_t)v);
+}
+
+static void bp__fmt_double(char *out, size_t *n, size_t cap, double v)
+{
+    int e = 0, i;
+    uint64_t m;
+    if (v != v) { const char *s = "nan"; while (*s) bp__fmt_char(out, n, cap, *s++); return; }
+    if (v < 0) { bp__fmt_char(out, n, cap, '-'); v = -v; }
+    if (v > DBL_MAX) { const char *s = "inf"; while (*s) bp__fmt_char(out, n, cap, *s++); return; }
+    if (v == 0) { bp__fmt_char(out, n, cap, '0'); return; }
+    while (v >= 10) { v /= 10; e++; }
+    while (v < 1) { v *= 10; e--; }
+    m = (uint64_t)(v * 100000.0 + 0.5);            /* 6 digits: d.ddddd */
+    if (m >= 1000000) { m /= 10; e++; }
+    bp__fmt_char(out, n, cap, (char)('0' + (int)(m / 100000)));
+    bp__fmt_char(out, n, cap, '.');
+    for (i = 4; i >= 0; i--) {
+        uint64_t p = 1;
+        int j;
+        for (j = 0; j < i; j++) p *= 10;
+        bp__fmt_char(out, n, cap, (char)('0' + (int)((m / p) % 10)));
+    }
+    if (e) { bp__fmt_char(out, n, cap, 'e'); bp__fmt_int(out, n, cap, e); }
+}
+
+static void bp__vformat(char *out, size_t cap, const char *fmt, va_list ap)
+{
+    size_t n = 0;
+    for (; *fmt; fmt++) {
+        if (*fmt != '%') { bp__fmt_char(out, &n, cap, *fmt); continue; }
+        switch (*++fmt) {
+        case 's': {
+            const char *s = va_arg(ap, const char *);
+            if (!s) s = "(null)";
+            while (*s) bp__fmt_char(out, &n, cap, *s++);
+            break;
+        }
+        case 'd': bp__fmt_int(out, &n, cap, va_arg(ap, int)); break;
+        case 'u': bp__fmt_uint(out, &n, cap, va_arg(ap, unsigned)); break;
+        case 'D': bp__fmt_int(out, &n, cap, va_arg(ap, int64_t)); break;
+        case 'g': bp__fmt_double(out, &n, cap, va_arg(ap, double)); break;
+        case '%': bp__fmt_char(out, &n, cap, '%'); break;
+        default:  fmt--; bp__fmt_char(out, &n, cap, '%'); break;
+        }
+        if (!*fmt) break;
+    }
+    out[n] = 0;
+}
+
+/* Record a failure: status, the element it concerns, and a message.  Returns
+   the status so that callers can write `return bp__fail(...)`. */
+static bp_status bp__fail(bp_error *err, bp_status status, bp_element element,
+                          int64_t index, int64_t index2, int64_t line,
+                          const char *fmt, ...)
+{
+    va_list ap;
+    if (!err) return status;
+    err->status = status;
+    err->element = element;
+    err->index = index;
+    err->index2 = index2;
+    err->line = line;
+    va_start(ap, fmt);
+    bp__vformat(err->message, sizeof err->message, fmt, ap);
+    va_end(ap);
+    return status;
+}
+
+static bp_status bp__ok(bp_error *err)
+{
+    if (err) {
+        memset(err, 0, sizeof *err);
+        err->index = err->index2 = -1;
+        strcpy(err->message, "ok");
+    }
+    return BP_OK;
+}
+
+static bp_status bp__oom(bp_error *err, const char *what)
+{
+    return bp__fail(err, BP_ERR_OUT_OF_MEMORY, BP_ELEMENT_NONE, -1, -1, 0,
+                    "out of memory while %s", what);
+}
+
+BPDEF const char *bp_status_string(bp_status s)
+{
+    static const char *const names[] = {
+#define BP__STR(name, text) text,
+        BP_STATUS_LIST(BP__STR)
+#undef BP__STR
+    };
+    if ((int)s < 0 || (int)s >= (int)BP_STATUS_COUNT) return "unknown status";
+    return names[s];
+}
+
+BPDEF const char *bp_energy_name(bp_energy e)
+{
+    static const char *const names[] = { "symmetric Dirichlet", "conformal", "MIPS",
+                                         "isometric", "maximal isometric" };
+    if ((int)e < 0 || (int)e >= (int)BP_ENERGY_COUNT) return "unknown energy";
+    return names[e];
+}
+
+BPDEF const char *bp_stop_string(bp_stop s)
+{
+    static const char *const names[] = { "none", "converged", "max_iterations",
+                                         "max_seconds", "cancelled", "no_progress" };
+    if ((int)s < 0 || (int)s > (int)BP_STOP_NO_PROGRESS) return "unknown";
+    return names[s];
+}
+
+/* >>predicates =============================================================
+
+   Every validity decision in bijparam -- is this triangle flipped, do these
+   two boundary edges touch -- is made exactly.  A UV triangle (a, b, c) is
+   valid when
+
+       orient(a, b, c) = (ax - cx)(by - cy) - (ay - cy)(bx - cx)  >  0.
+
+   Evaluated in floating point this can get the sign wrong when the three
+   points are nearly collinear, which is exactly the situation a barrier
+   method drives the boundary toward.  We follow Shewchuk's adaptive scheme
+   ("Adaptive precision floating-point arithmetic and fast robust geometric
+   predicates", 1997) in a simplified two-stage form:
+
+   1. Filter.  The rounded determinant `det` differs from the true one by at
+      most  (3 + 16 eps) eps (|detleft| + |detright|)  with eps = 2^-53.  If
+      |det| exceeds that bound its sign is right.
+   2. Exact.  Otherwise expand the determinant into six products,
+          ax by - ax cy - cx by - ay bx + ay cx + cy bx,
+      turn each product into an exact sum of two doubles (x = fl(p*q) and the
+      rounding error fma(p, q, -x), exact by definition of fma), and add the
+      twelve terms into a nonoverlapping expansion with Grow-Expansion.  The
+      sign of a nonoverlapping expansion is the sign of its largest (last
+      nonzero) component.
+
+   The only inputs this cannot decide are those whose products overflow or
+   whose rounding errors underflow (coordinates beyond ~1e150 or below
+   ~1e-150); the solver never produces such coordinates. */
+
+/* x + y = a + b exactly (Knuth's TwoSum; no branch, any magnitudes). */
+static double bp__two_sum(double a, double b, double *y)
+{
+    double x = a + b, bv = x - a, av = x - bv;
+    *y = (a - av) + (b - bv);
+    return x;
+}
+
+/* Add `b` to the nonoverlapping expansion e[0..n) (increasing magnitude),
+   dropping zero components; returns the new length. */
+static int bp__grow_expansion(double *e, int n, double b)
+{
+    double q = b, h;
+    int i, m = 0;
+    for (i = 0; i < n; i++) {
+        q = bp__two_sum(q, e[i], &h);
+        if (h != 0) e[m++] = h;
+    }
+    if (q != 0 || m == 0) e[m++] = q;
+    return m;
+}
+
+static int bp__orient2d_exact(const double *a, const double *b, const double *c)
+{
+    const double p[6] = { a[0], -a[0], -c[0], -a[1], a[1], c[1] };
+    const double q[6] = { b[1], c[1], b[1], b[0], c[0], b[0] };
+    double e[16];
+    int n = 0, i;
+    for (i = 0; i < 6; i++) {
+        double x = p[i] * q[i];
+        double err = fma(p[i], q[i], -x);
+        n = bp__grow_expansion(e, n, err);
+        n = bp__grow_expansion(e, n, x);
+    }
+    return (e[n - 1] > 0) - (e[n - 1] < 0);
+}
+
+BPDEF int bp_orient2d(const double a[2], const double b[2], const double c[2])
+{
+    const double errbound = (3.0 + 16.0 * DBL_EPSILON / 2) * (DBL_EPSILON / 2);
+    double detleft = (a[0] - c[0]) * (b[1] - c[1]);
+    double detright = (a[1] - c[1]) * (b[0] - c[0]);
+    double det = detleft - detright;
+    double detsum = fabs(detleft) + fabs(detright);
+    if (fabs(det) > errbound * detsum) return (det > 0) - (det < 0);
+    return bp__orient2d_exact(a, b, c);
+}
+
+/* Is p inside the closed axis box of segment [a, b]?  (exact comparisons) */
+static int bp__in_box(const double *a, const double *b, const double *p)
+{
+    return (p[0] >= (a[0] < b[0] ? a[0] : b[0])) && (p[0] <= (a[0] > b[0] ? a[0] : b[0])) &&
+           (p[1] >= (a[1] < b[1] ? a[1] : b[1])) && (p[1] <= (a[1] > b[1] ? a[1] : b[1]));
+}
+
+/* Closed segments [a,b] and [c,d] share a point iff c, d are not strictly on
+   one side of line ab and a, b are not strictly on one side of line cd; when
+   all four orientations vanish the segments are collinear and they meet iff
+   one endpoint lies in the other's box.  (A degenerate segment a == b is a
+   point and is handled by the same rules.) */
+BPDEF int bp_segments_intersect(const double a[2], const double b[2],
+                                const double c[2], const double d[2])
+{
+    int o1 = bp_orient2d(a, b, c), o2 = bp_orient2d(a, b, d);
+    int o3, o4;
+    if (o1 * o2 > 0) return 0;
+    o3 = bp_orient2d(c, d, a);
+    o4 = bp_orient2d(c, d, b);
+    if (o3 * o4 > 0) return 0;
+    if (o1 == 0 && o2 == 0 && o3 == 0 && o4 == 0)
+        return bp__in_box(a, b, c) || bp__in_box(a, b, d) ||
+               bp__in_box(c, d, a) || bp__in_box(c, d, b);
+    return 1;
+}
+
+/* >>io =====================================================================
+
+   OBJ and OFF parsing works on text in memory (bp_parse_obj, bp_parse_off),
+   so the same code serves files and fuzzers.  The parsers are strict where
+   a silent guess would corrupt the mesh (bad numbers, index 0, indices out
+   of range, non-finite coordinates, faces with fewer than three corners)
+   and lenient where the format is (unknown statements, comments, CRLF,
+   tabs, `vn`, `o`, `g`, `s`, `usemtl`).  Every error names its 1-based line.
+   On failure nothing stays allocated and *mesh is zeroed.
+
+   Seams come from `vt`: a corner written `v/vt` carries uv index vt-1.  In
+   a file where only some faces carry `vt`, a corner without one gets the
+   synthetic uv index (number of vt) + v, so those faces are glued to each
+   other along shared vertices and cut from the faces that have `vt`. */
+
+typedef struct bp__parser {
+    const char *p, *end;       /* cursor in the text                        */
+    int64_t     line;          /* 1-based line of the cursor                */
+    const bp_allocator *a;
+    bp_error   *err;
+} bp__parser;
+
+static int bp__is_space(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
+static int bp__is_eol(char c) { return c == '\n' || c == '\r'; }
+
+static void bp__skip_space(bp__parser *ps)
+{
+    while (ps->p < ps->end && bp__is_space(*ps->p)) ps->p++;
+}
+
+/* Move to the start of the next line (handles \n, \r\n and \r). */
+static void bp__next_line(bp__parser *ps)
+{
+    while (ps->p < ps->end && !bp__is_eol(*ps->p)) ps->p++;
+    if (ps->p < ps->end && *ps->p == '\r') ps->p++;
+    if (ps->p < ps->end && *ps->p == '\n') ps->p++;
+    ps->line++;
+}
+
+static int bp__at_eol(bp__parser *ps)
+{
+    bp__skip_space(ps);
+    return ps->p >= ps->end || bp__is_eol(*ps->p) || *ps->p == '#';
+}
+
+/* Length of the token at the cursor (up to whitespace, end of line, or a
+   character in `stops`). */
+static size_t bp__token_len(const bp__parser *ps, const char *stops)
+{
+    const char *q = ps->p;
+    while (q < ps->end && !bp__is_space(*q) && !bp__is_eol(*q) && *q != '#' &&
+           !(stops && strchr(stops, *q)))
+        q++;
+    return (size_t)(q - ps->p);
+}
+
+/* A finite double.  The token is copied so strtod never reads past `end`. */
+static bp_status bp__parse_double(bp__parser *ps, double *out, const char *what)
+{
+    char buf[80];
+    char *stop;
+    size_t n;
+    bp__skip_space(ps);
+    n = bp__token_len(ps, NULL);
+    if (n == 0)
+        return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: %s is missing", ps->line, what);
+    if (n >= sizeof buf)
+        return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: %s is not a number (token too long)", ps->line, what);
+    memcpy(buf, ps->p, n);
+    buf[n] = 0;
+    *out = strtod(buf, &stop);
+    if (stop != buf + n)
+        return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: %s '%s' is not a number", ps->line, what, buf);
+    if (!(*out - *out == 0))
+        return bp__fail(ps->err, BP_ERR_NONFINITE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: %s '%s' is not finite", ps->line, what, buf);
+    ps->p += n;
+    return BP_OK;
+}
+
+/* A signed decimal integer of at most 18 digits (no overflow possible). */
+static bp_status bp__parse_int(bp__parser *ps, int64_t *out, const char *what)
+{
+    int neg = 0, digits = 0;
+    int64_t v = 0;
+    if (ps->p < ps->end && (*ps->p == '-' || *ps->p == '+')) neg = *ps->p++ == '-';
+    while (ps->p < ps->end && *ps->p >= '0' && *ps->p <= '9') {
+        if (++digits > 18)
+            return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                            "line %D: %s has too many digits", ps->line, what);
+        v = v * 10 + (*ps->p++ - '0');
+    }
+    if (!digits)
+        return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: %s is not an integer", ps->line, what);
+    *out = neg ? -v : v;
+    return BP_OK;
+}
+
+static int bp__keyword(bp__parser *ps, const char *kw)
+{
+    size_t n = strlen(kw);
+    if ((size_t)(ps->end - ps->p) < n || memcmp(ps->p, kw, n) != 0) return 0;
+    if (ps->p + n < ps->end && !bp__is_space(ps->p[n]) && !bp__is_eol(ps->p[n])) return 0;
+    ps->p += n;
+    return 1;
+}
+
+BPDEF void bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc)
+{
+    bp_allocator a;
+    if (!mesh) return;
+    memset(&a, 0, sizeof a);
+    if (alloc) a = *alloc;
+    bp__free(&a, mesh->positions);
+    bp__free(&a, mesh->triangles);
+    bp__free(&a, mesh->corner_uv);
+    bp__free(&a, mesh->uvs);
+    bp__free(&a, mesh->triangle_line);
+    bp__free(&a, mesh->triangle_face);
+    memset(mesh, 0, sizeof *mesh);
+}
+
+/* The arrays a parser fills, turned into a bp_mesh at the end. */
+typedef struct bp__mesh_builder {
+    bp__vec pos, uv, tri, cuv, line, face;
+    uint32_t faces;
+    int any_vt, any_plain;
+} bp__mesh_builder;
+
+static void bp__builder_init(bp__mesh_builder *b)
+{
+    memset(b, 0, sizeof *b);
+    b->pos.elem = b->uv.elem = sizeof(double);
+    b->tri.elem = b->cuv.elem = b->line.elem = b->face.elem = sizeof(uint32_t);
+}
+
+static void bp__builder_free(const bp_allocator *a, bp__mesh_builder *b)
+{
+    bp__free(a, b->pos.data); bp__free(a, b->uv.data); bp__free(a, b->tri.data);
+    bp__free(a, b->cuv.data); bp__free(a, b->line.data); bp__free(a, b->face.data);
+    bp__builder_init(b);
+}
+
+/* Fan-triangulate one polygon of n corners (v[i], t[i]) as (0, i, i+1). */
+static bp_status bp__builder_face(bp__parser *ps, bp__mesh_builder *b,
+                                  const uint32_t *v, const uint32_t *t, size_t n)
+{
+    size_t i;
+    uint32_t line32 = ps->line > 0xffffffffLL ? 0xffffffffu : (uint32_t)ps->line;
+    if (b->faces == BP__NONE)
+        return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: too many faces", ps->line);
+    for (i = 1; i + 1 < n; i++) {
+        uint32_t c[3];
+        c[0] = 0; c[1] = (uint32_t)i; c[2] = (uint32_t)i + 1;
+        if (b->tri.count / 3 >= 0xfffffffeu)
+            return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                            "line %D: too many triangles", ps->line);
+        {
+            int k;
+            for (k = 0; k < 3; k++) {
+                if (!bp__vec_push(ps->a, &b->tri, &v[c[k]])) return bp__oom(ps->err, "reading faces");
+                if (t && !bp__vec_push(ps->a, &b->cuv, &t[c[k]])) return bp__oom(ps->err, "reading faces");
+            }
+        }
+        if (!bp__vec_push(ps->a, &b->line, &line32) || !bp__vec_push(ps->a, &b->face, &b->faces))
+            return bp__oom(ps->err, "reading faces");
+    }
+    b->faces++;
+    return BP_OK;
+}
+
+/* Move the builder's arrays into *mesh. */
+static bp_status bp__builder_finish(bp__parser *ps, bp__mesh_builder *b, bp_mesh *mesh)
+{
+    if (b->tri.count == 0)
+        return bp__fail(ps->err, BP_ERR_EMPTY, BP_ELEMENT_NONE, -1, -1, 0,
+                        "the file has no faces (%u vertices, 0 triangles)",
+                        (unsigned)(b->pos.count / 3));
+    mesh->positions = (double *)b->pos.data;
+    mesh->num_vertices = (uint32_t)(b->pos.count / 3);
+    mesh->triangles = (uint32_t *)b->tri.data;
+    mesh->num_triangles = (uint32_t)(b->tri.count / 3);
+    mesh->corner_uv = b->cuv.count ? (uint32_t *)b->cuv.data : NULL;
+    if (!b->cuv.count) bp__free(ps->a, b->cuv.data);
+    mesh->uvs = b->uv.count ? (double *)b->uv.data : NULL;
+    if (!b->uv.count) bp__free(ps->a, b->uv.data);
+    mesh->num_uvs = (uint32_t)(b->uv.count / 2);
+    mesh->triangle_line = (uint32_t *)b->line.data;
+    mesh->triangle_face = (uint32_t *)b->face.data;
+    mesh->num_faces = b->faces;
+    bp__builder_init(b);
+    return BP_OK;
+}
+
+/* One OBJ face corner: v, v/vt, v/vt/vn or v//vn.  Negative indices count
+   back from the last element read so far.  Returns 1-based-resolved 0-based
+   indices (vt = -1 when absent); the range check against the final counts
+   happens after the whole file is read, since OBJ allows forward use. */
+static bp_status bp__obj_corner(bp__parser *ps, int64_t nv, int64_t nvt,
+                                int64_t *v, int64_t *vt)
+{
+    bp_status st;
+    int64_t i;
+    *vt = -1;
+    if ((st = bp__parse_int(ps, &i, "vertex index")) != BP_OK) return st;
+    if (i == 0)
+        return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: vertex index 0 is invalid (OBJ indices start at 1)", ps->line);
+    if (i < 0) {
+        if (-i > nv)
+            return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                            "line %D: relative vertex index %D points before the first vertex", ps->line, i);
+        i = nv + i + 1;
+    }
+    *v = i - 1;
+    if (ps->p < ps->end && *ps->p == '/') {
+        ps->p++;
+        if (ps->p < ps->end && *ps->p != '/') {
+            if ((st = bp__parse_int(ps, &i, "texture index")) != BP_OK) return st;
+            if (i == 0)
+                return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                                "line %D: texture index 0 is invalid (OBJ indices start at 1)", ps->line);
+            if (i < 0) {
+                if (-i > nvt)
+                    return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                                    "line %D: relative texture index %D points before the first vt", ps->line, i);
+                i = nvt + i + 1;
+            }
+            *vt = i - 1;
+        }
+        if (ps->p < ps->end && *ps->p == '/') {   /* normal index: read, ignored */
+            ps->p++;
+            if ((st = bp__parse_int(ps, &i, "normal index")) != BP_OK) return st;
+        }
+    }
+    if (!(ps->p >= ps->end || bp__is_space(*ps->p) || bp__is_eol(*ps->p) || *ps->p == '#'))
+        return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: unexpected character '%s' in a face corner", ps->line,
+                        *ps->p == '/' ? "/" : "?");
+    return BP_OK;
+}
+
+static bp_status bp__parse_obj(bp__parser *ps, bp_mesh *mesh)
+{
+    bp__mesh_builder b;
+    bp__vec fv, ft;               /* corners of the current face (int64)    */
+    bp_status st = BP_OK;
+    size_t i;
+    bp__builder_init(&b);
+    memset(&fv, 0, sizeof fv); memset(&ft, 0, sizeof ft);
+    fv.elem = ft.elem = sizeof(uint32_t);
+    while (ps->p < ps->end) {
+        bp__skip_space(ps);
+        if (bp__keyword(ps, "v")) {
+            double x[3];
+            int k;
+            for (k = 0; k < 3 && st == BP_OK; k++)
+                st = bp__parse_double(ps, &x[k], k == 0 ? "x coordinate" : k == 1 ? "y coordinate" : "z coordinate");
+            if (st != BP_OK) break;
+            if (b.pos.count / 3 >= 0xfffffffeu) {
+                st = bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                              "line %D: too many vertices", ps->line);
+                break;
+            }
+            for (k = 0; k < 3; k++)
+                if (!bp__vec_push(ps->a, &b.pos, &x[k])) { st = bp__oom(ps->err, "reading vertices"); break; }
+            if (st != BP_OK) break;
+        } else if (bp__keyword(ps, "vt")) {
+            double x[2];
+            int k;
+            st = bp__parse_double(ps, &x[0], "u coordinate");
+            if (st == BP_OK) {
+                if (bp__at_eol(ps)) x[1] = 0;          /* 1D texture: v = 0 */
+                else st = bp__parse_double(ps, &x[1], "v coordinate");
+            }
+            if (st != BP_OK) break;
+            for (k = 0; k < 2; k++)
+                if (!bp__vec_push(ps->a, &b.uv, &x[k])) { st = bp__oom(ps->err, "reading vt"); break; }
+            if (st != BP_OK) break;
+        } else if (bp__keyword(ps, "f")) {
+            int64_t nv = (int64_t)(b.pos.count / 3), nvt = (int64_t)(b.uv.count / 2);
+            int has_vt = -1;
+            fv.count = ft.count = 0;
+            while (!bp__at_eol(ps)) {
+                int64_t v, vt;
+                uint32_t v32, t32;
+                if ((st = bp__obj_corner(ps, nv, nvt, &v, &vt)) != BP_OK) break;
+                if (has_vt >= 0 && has_vt != (vt >= 0)) {
+                    st = bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                                  "line %D: some corners of this face have a texture index and some do not", ps->line);
+                    break;
+                }
+                has_vt = vt >= 0;
+                if (v >= 0xfffffffeLL || vt >= 0xfffffffeLL) {
+                    st = bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                                  "line %D: index %D is out of range", ps->line, (v > vt ? v : vt) + 1);
+                    break;
+                }
+                v32 = (uint32_t)v;
+                t32 = vt >= 0 ? (uint32_t)vt : BP__NONE;
+                if (!bp__vec_push(ps->a, &fv, &v32) || !bp__vec_push(ps->a, &ft, &t32)) {
+                    st = bp__oom(ps->err, "reading faces");
+                    break;
+                }
+            }
+            if (st != BP_OK) break;
+            if (fv.count < 3) {
+                st = bp__fail(ps->err, BP_ERR_POLYGON, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                              "line %D: a face needs at least 3 corners, this one has %u", ps->line, (unsigned)fv.count);
+                break;
+            }
+            if (has_vt) b.any_vt = 1; else b.any_plain = 1;
+            if ((st = bp__builder_face(ps, &b, (uint32_t *)fv.data, (uint32_t *)ft.data, fv.count)) != BP_OK) break;
+        }
+        /* Anything else (vn, o, g, s, usemtl, mtllib, l, comments) is skipped. */
+        bp__next_line(ps);
+    }
+    bp__free(ps->a, fv.data);
+    bp__free(ps->a, ft.data);
+    /* Range checks against the final counts, and the uv indices of corners
+       written without vt (see the essay above). */
+    if (st == BP_OK) {
+        uint32_t nv = (uint32_t)(b.pos.count / 3), nvt = (uint32_t)(b.uv.count / 2);
+        uint32_t *tri = (uint32_t *)b.tri.data, *cuv = (uint32_t *)b.cuv.data;
+        uint32_t *line = (uint32_t *)b.line.data;
+        for (i = 0; i < b.tri.count && st == BP_OK; i++) {
+            if (tri[i] >= nv)
+                st = bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, line[i / 3], -1, line[i / 3],
+                              "line %u: vertex index %u is out of range (the file has %u vertices)",
+                              line[i / 3], tri[i] + 1, nv);
+            else if (cuv[i] != BP__NONE && cuv[i] >= nvt)
+                st = bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, line[i / 3], -1, line[i / 3],
+                              "line %u: texture index %u is out of range (the file has %u vt)",
+                              line[i / 3], cuv[i] + 1, nvt);
+        }
+        if (st == BP_OK && b.any_vt && b.any_plain) {
+            double zero = 0;
+            if ((uint64_t)nvt + nv >= 0xfffffffeu)
+                st = bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_NONE, -1, -1, 0, "too many texture coordinates");
+            for (i = 0; i < 2 * (size_t)nv && st == BP_OK; i++)
+                if (!bp__vec_push(ps->a, &b.uv, &zero)) st = bp__oom(ps->err, "reading vt");
+            if (st == BP_OK) {
+                cuv = (uint32_t *)b.cuv.data;
+                for (i = 0; i < b.tri.count; i++)
+                    if (cuv[i] == BP__NONE) cuv[i] = nvt + tri[i];
+            }
+        } else if (st == BP_OK && !b.any_vt) {
+            b.cuv.count = 0;    /* no seams at all */
+        }
+    }
+    if (st == BP_OK) st = bp__builder_finish(ps, &b, mesh);
+    if (st != BP_OK) bp__builder_free(ps->a, &b);
+    return st;
+}
+
+/* OFF: "OFF" (optionally followed by the counts on the same line), then
+   "V F E", V lines of x y z (extra values such as colours ignored), F lines
+   "n i0 .. i(n-1)" with 0-based indices.  '#' starts a comment. */
+static bp_status bp__off_next_content_line(bp__parser *ps)
+{
+    while (ps->p < ps->end && bp__at_eol(ps)) bp__next_line(ps);
+    return ps->p < ps->end ? BP_OK : BP_ERR_PARSE;
+}
+
+static bp_status bp__parse_off(bp__parser *ps, bp_mesh *mesh)
+{
+    bp__mesh_builder b;
+    bp__vec fv;
+    bp_status st = BP_OK;
+    int64_t nv = 0, nf = 0, ne = 0, i, j;
+    bp__builder_init(&b);
+    memset(&fv, 0, sizeof fv);
+    fv.elem = sizeof(uint32_t);
+    if (bp__off_next_content_line(ps) != BP_OK)
+        return bp__fail(ps->err, BP_ERR_EMPTY, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "the file is empty");
+    bp__skip_space(ps);
+    if (!bp__keyword(ps, "OFF"))
+        return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: an OFF file must start with 'OFF'", ps->line);
+    if (bp__at_eol(ps) && bp__off_next_content_line(ps) != BP_OK)
+        return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: the vertex and face counts are missing", ps->line);
+    bp__skip_space(ps);
+    if ((st = bp__parse_int(ps, &nv, "vertex count")) != BP_OK) return st;
+    bp__skip_space(ps);
+    if ((st = bp__parse_int(ps, &nf, "face count")) != BP_OK) return st;
+    bp__skip_space(ps);
+    if (!bp__at_eol(ps) && (st = bp__parse_int(ps, &ne, "edge count")) != BP_OK) return st;
+    /* Every vertex needs at least 6 bytes ("0 0 0\n") and every face 8, so a
+       header that claims more than the file can hold is rejected before any
+       allocation is sized by it. */
+    if (nv < 0 || nf < 0 || nv > (int64_t)(ps->end - ps->p) / 6 + 1 || nf > (int64_t)(ps->end - ps->p) / 8 + 1)
+        return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: the header claims %D vertices and %D faces, more than the file holds",
+                        ps->line, nv, nf);
+    bp__next_line(ps);
+    if (!bp__vec_reserve(ps->a, &b.pos, (size_t)nv * 3)) return bp__oom(ps->err, "reading vertices");
+    for (i = 0; i < nv && st == BP_OK; i++) {
+        double x[3];
+        int k;
+        if (bp__off_next_content_line(ps) != BP_OK) {
+            st = bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                          "line %D: the file ends after %D of %D vertices", ps->line, i, nv);
+            break;
+        }
+        for (k = 0; k < 3 && st == BP_OK; k++)
+            st = bp__parse_double(ps, &x[k], k == 0 ? "x coordinate" : k == 1 ? "y coordinate" : "z coordinate");
+        for (k = 0; k < 3 && st == BP_OK; k++)
+            if (!bp__vec_push(ps->a, &b.pos, &x[k])) st = bp__oom(ps->err, "reading vertices");
+        bp__next_line(ps);
+    }
+    for (i = 0; i < nf && st == BP_OK; i++) {
+        int64_t n;
+        if (bp__off_next_content_line(ps) != BP_OK) {
+            st = bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                          "line %D: the file ends after %D of %D faces", ps->line, i, nf);
+            break;
+        }
+        bp__skip_space(ps);
+        if ((st = bp__parse_int(ps, &n, "corner count")) != BP_OK) break;
+        if (n < 3) {
+            st = bp__fail(ps->err, BP_ERR_POLYGON, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                          "line %D: a face needs at least 3 corners, this one has %D", ps->line, n);
+            break;
+        }
+        fv.count = 0;
+        for (j = 0; j < n && st == BP_OK; j++) {
+            int64_t v;
+            uint32_t v32;
+            bp__skip_space(ps);
+            if ((st = bp__parse_int(ps, &v, "vertex index")) != BP_OK) break;
+            if (v < 0 || v >= nv) {
+                st = bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                              "line %D: vertex index %D is out of range (the file has %D vertices)", ps->line, v, nv);
+                break;
+            }
+            v32 = (uint32_t)v;
+            if (!bp__vec_push(ps->a, &fv, &v32)) st = bp__oom(ps->err, "reading faces");
+        }
+        if (st == BP_OK) st = bp__builder_face(ps, &b, (uint32_t *)fv.data, NULL, fv.count);
+        bp__next_line(ps);
+    }
+    bp__free(ps->a, fv.data);
+    if (st == BP_OK) st = bp__builder_finish(ps, &b, mesh);
+    if (st != BP_OK) bp__builder_free(ps->a, &b);
+    return st;
+}
+
+static bp_status bp__parse_text(const char *text, size_t length, bp_mesh *mesh,
+                                const bp_allocator *alloc, bp_error *err, int off)
+{
+    bp__parser ps;
+    bp_allocator a;
+    bp_status st;
+    memset(&a, 0, sizeof a);
+    if (alloc) a = *alloc;
+    if (!mesh || (!text && length))
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "mesh and text must not be NULL");
+    memset(mesh, 0, sizeof *mesh);
+    ps.p = text;
+    ps.end = text + length;
+    ps.line = 1;
+    ps.a = &a;
+    ps.err = err;
+    st = off ? bp__parse_off(&ps, mesh) : bp__parse_obj(&ps, mesh);
+    if (st == BP_OK) bp__ok(err);
+    return st;
+}
+
+BPDEF bp_status bp_parse_obj(const char *text, size_t length, bp_mesh *mesh,
+                             const bp_allocator *alloc, bp_error *err)
+{
+    return bp__parse_text(text, length, mesh, alloc, err, 0);
+}
+
+BPDEF bp_status bp_parse_off(const char *text, size_t length, bp_mesh *mesh,
+                             const bp_allocator *alloc, bp_error *err)
+{
+    return bp__parse_text(text, length, mesh, alloc, err, 1);
+}
+
+#ifndef BP_NO_STDIO
+static bp_status bp__read_file(const char *path, bp_mesh *mesh, const bp_allocator *alloc,
+                               bp_error *err, int off)
+{
+    bp_allocator a;
+    FILE *f;
+    char *buf = NULL;
+    size_t len = 0, cap = 0;
+    bp_status st;
+    memset(&a, 0, sizeof a);
+    if (alloc) a = *alloc;
+    if (mesh) memset(mesh, 0, sizeof *mesh);
+    if (!path || !mesh)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "path and mesh must not be NULL");
+    f = fopen(path, "rb");
+    if (!f)
+        return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot open '%s'", path);
+    for (;;) {                                  /* read in growing chunks */
+        size_t got;
+        if (len == cap) {
+            size_t ncap = cap ? cap * 2 : 1 << 16;
+            char *nb = ncap > cap ? (char *)bp__alloc(&a, ncap) : NULL;
+            if (!nb) { bp__free(&a, buf); fclose(f); return bp__oom(err, "reading the file"); }
+            if (len) memcpy(nb, buf, len);
+            bp__free(&a, buf);
+            buf = nb;
+            cap = ncap;
+        }
+        got = fread(buf + len, 1, cap - len, f);
+        len += got;
+        if (got == 0) break;
+    }
+    if (ferror(f)) {
+        bp__free(&a, buf);
+        fclose(f);
+        return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "error while reading '%s'", path);
+    }
+    fclose(f);
+    st = bp__parse_text(buf, len, mesh, &a, err, off);
+    bp__free(&a, buf);
+    return st;
+}
+
+BPDEF bp_status bp_read_obj(const char *path, bp_mesh *mesh, const bp_allocator *alloc, bp_error *err)
+{
+    return bp__read_file(path, mesh, alloc, err, 0);
+}
+
+BPDEF bp_status bp_read_off(const char *path, bp_mesh *mesh, const bp_allocator *alloc, bp_error *err)
+{
+    return bp__read_file(path, mesh, alloc, err, 1);
+}
+
+static int bp__ends_with_ci(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix), i;
+    if (n < m) return 0;
+    for (i = 0; i < m; i++) {
+        char c = s[n - m + i];
+        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
+        if (c != suffix[i]) return 0;
+    }
+    return 1;
+}
+
+BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator *alloc, bp_error *err)
+{
+    if (path && bp__ends_with_ci(path, ".off")) return bp_read_off(path, mesh, alloc, err);
+    if (path && bp__ends_with_ci(path, ".obj")) return bp_read_obj(path, mesh, alloc, err);
+    if (mesh) memset(mesh, 0, sizeof *mesh);
+    return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                    "'%s': unknown file type (expected .obj or .off)", path ? path : "(null)");
+}
+
+/* OBJ output keeps the input's vertices and faces in their order (so the 3D
+   geometry is untouched) and adds one `vt` per chart vertex; faces split by
+   the fan triangulation of the reader are written back as the polygons they
+   came from. */
+BPDEF bp_status bp_write_obj(const char *path, const bp_mesh *mesh,
+                             const bp_atlas *atlas, bp_error *err)
+{
+    FILE *f;
+    uint32_t c, i, t, *base;
+    int ok = 1;
+    bp_allocator a;
+    if (!path || !mesh || !atlas || atlas->num_corners != 3 * mesh->num_triangles)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_write_obj needs a path, the mesh and the atlas built from it");
+    a = atlas->allocator;
+    base = (uint32_t *)bp__alloc_array(&a, (size_t)atlas->num_charts + 1, sizeof *base);
+    if (!base) return bp__oom(err, "writing the OBJ file");
+    base[0] = 0;
+    for (c = 0; c < atlas->num_charts; c++) base[c + 1] = base[c] + atlas->charts[c].num_vertices;
+    f = fopen(path, "wb");
+    if (!f) {
+        bp__free(&a, base);
+        return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot open '%s' for writing", path);
+    }
+    ok &= fprintf(f, "# written by bijparam 0.1.0: %u vertices, %u charts\n",
+                  mesh->num_vertices, atlas->num_charts) > 0;
+    for (i = 0; i < mesh->num_vertices && ok; i++)
+        ok &= fprintf(f, "v %.17g %.17g %.17g\n", mesh->positions[3 * i],
+                      mesh->positions[3 * i + 1], mesh->positions[3 * i + 2]) > 0;
+    for (c = 0; c < atlas->num_charts && ok; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        for (i = 0; i < ch->num_vertices && ok; i++)
+            ok &= fprintf(f, "vt %.17g %.17g\n", ch->uv ? ch->uv[2 * i] : 0.0,
+                          ch->uv ? ch->uv[2 * i + 1] : 0.0) > 0;
+    }
+    for (t = 0; t < mesh->num_triangles && ok; ) {
+        uint32_t end = t + 1, k;
+        if (mesh->triangle_face)
+            while (end < mesh->num_triangles && mesh->triangle_face[end] == mesh->triangle_face[t]) end++;
+#define BP__CORNER(tt, kk) mesh->triangles[3 * (tt) + (kk)] + 1, \
+        base[atlas->corner_chart[3 * (tt) + (kk)]] + atlas->corner_vertex[3 * (tt) + (kk)] + 1
+        ok &= fprintf(f, "f %u/%u %u/%u %u/%u", BP__CORNER(t, 0), BP__CORNER(t, 1), BP__CORNER(t, 2)) > 0;
+        for (k = t + 1; k < end && ok; k++) ok &= fprintf(f, " %u/%u", BP__CORNER(k, 2)) > 0;
+#undef BP__CORNER
+        ok &= fputc('\n', f) != EOF;
+        t = end;
+    }
+    bp__free(&a, base);
+    if (fclose(f) != 0) ok = 0;
+    if (!ok) return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "error while writing '%s'", path);
+    return bp__ok(err);
+}
+#endif /* BP_NO_STDIO */
+
+/* >>charts =================================================================
+
+   A chart is a piece of surface that will be flattened in one piece.  Two
+   triangles are glued into the same chart when they share a mesh edge and,
+   if the mesh has per-corner uv indices, use the same uv index at both ends
+   of it; otherwise the edge is a seam (sec 3.1: "the input is a triangulated
+   surface with an initially prescribed seam").
+
+   The same gluing decides the chart *vertices*.  Every triangle corner
+   starts as its own vertex; gluing two triangles along edge (a, b) merges
+   their corners at a and at b.  A corner meets exactly two edges of its
+   triangle, so the merged corners around a mesh vertex form a fan, and:
+     - an interior vertex becomes one chart vertex (a closed fan),
+     - a boundary vertex one chart vertex per open fan.
+   The second rule is the pinch repair: a vertex where the chart boundary
+   touches itself (two fans, as in spot.obj after cutting) is split, and
+   every chart is a manifold surface with boundary.
+
+   Then the topology is checked.  With V, E, F the chart's vertices, edges
+   and triangles and b its boundary loops, the Euler characteristic is
+       chi = V - E + F = 2 - 2g - b,
+   and only g = 0, b >= 1 (a disk, or a disk with b-1 holes, sec 3.6) can be
+   flattened without further cuts.  Boundary loops are walked along the
+   boundary edges in the triangles' orientation, so the interior lies to the
+   left: the outer loop (the longest in 3D, sec 3.6) runs counter-clockwise
+   in a valid map, holes clockwise. */
+
+static uint32_t bp__uf_find(uint32_t *parent, uint32_t x)
+{
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];     /* path halving */
+        x = parent[x];
+    }
+    return x;
+}
+
+static void bp__uf_union(uint32_t *parent, uint32_t x, uint32_t y)
+{
+    x = bp__uf_find(parent, x);
+    y = bp__uf_find(parent, y);
+    if (x == y) return;
+    if (x < y) parent[y] = x; else parent[x] = y;  /* smallest index is the root */
+}
+
+typedef struct bp__edge_rec {
+    uint32_t lo, hi;   /* mesh vertices, lo < hi                           */
+    uint32_t ce;       /* corner edge 3*t+i: from corner i to corner i+1    */
+} bp__edge_rec;
+
+static int bp__edge_cmp(const void *pa, const void *pb)
+{
+    const bp__edge_rec *a = (const bp__edge_rec *)pa, *b = (const bp__edge_rec *)pb;
+    if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
+    if (a->hi != b->hi) return a->hi < b->hi ? -1 : 1;
+    return a->ce < b->ce ? -1 : a->ce > b->ce;
+}
+
+typedef struct bp__tri_key { uint32_t v[3], t; } bp__tri_key;
+
+static int bp__tri_key_cmp(const void *pa, const void *pb)
+{
+    const bp__tri_key *a = (const bp__tri_key *)pa, *b = (const bp__tri_key *)pb;
+    int i;
+    for (i = 0; i < 3; i++)
+        if (a->v[i] != b->v[i]) return a->v[i] < b->v[i] ? -1 : 1;
+    return a->t < b->t ? -1 : a->t > b->t;
+}
+
+typedef struct bp__vkey { uint32_t chart, v, uv; } bp__vkey;
+
+static int bp__vkey_cmp(const void *pa, const void *pb)
+{
+    const bp__vkey *a = (const bp__vkey *)pa, *b = (const bp__vkey *)pb;
+    if (a->chart != b->chart) return a->chart < b->chart ? -1 : 1;
+    if (a->v != b->v) return a->v < b->v ? -1 : 1;
+    return a->uv < b->uv ? -1 : a->uv > b->uv;
+}
+
+static const double *bp__pos(const bp_mesh *m, uint32_t v) { return m->positions + 3 * (size_t)v; }
+
+static double bp__dist3(const double *a, const double *b)
+{
+    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+/* Twice the area of a 3D triangle, |(b-a) x (c-a)|. */
+static double bp__area2_3d(const double *a, const double *b, const double *c)
+{
+    double u[3], v[3], n[3];
+    int k;
+    for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = c[k] - a[k]; }
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+    return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+/* "line 12: " or "" for messages about a triangle. */
+static int64_t bp__tri_line(const bp_mesh *m, uint32_t t)
+{
+    return m->triangle_line ? (int64_t)m->triangle_line[t] : 0;
+}
+
+static void bp__chart_free(const bp_allocator *a, bp_chart *c)
+{
+    bp__free(a, c->vertex); bp__free(a, c->vertex_uv); bp__free(a, c->triangles);
+    bp__free(a, c->face); bp__free(a, c->loop_start); bp__free(a, c->loop_vertices);
+    bp__free(a, c->uv);
+    memset(c, 0, sizeof *c);
+}
+
+BPDEF void bp_atlas_free(bp_atlas *atlas)
+{
+    uint32_t c;
+    bp_allocator a;
+    if (!atlas) return;
+    a = atlas->allocator;
+    if (atlas->charts)
+        for (c = 0; c < atlas->num_charts; c++) bp__chart_free(&a, &atlas->charts[c]);
+    bp__free(&a, atlas->charts);
+    bp__free(&a, atlas->corner_chart);
+    bp__free(&a, atlas->corner_vertex);
+    memset(atlas, 0, sizeof *atlas);
+}
+
+/* Input validation that needs no adjacency: sizes, index ranges, finite
+   coordinates, repeated corners, (near) zero 3D area.  "Near zero" is
+   relative to the mesh: twice the area below 1e-12 diag^2, where diag is the
+   bounding-box diagonal of the referenced vertices. */
+static bp_status bp__validate_mesh(const bp_mesh *m, bp_error *err)
+{
+    uint32_t t, k;
+    double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX }, diag2;
+    if (!m || !m->positions || !m->triangles)
+        return bp__fail(err, m && m->num_triangles == 0 ? BP_ERR_EMPTY : BP_ERR_INVALID_ARGUMENT,
+                        BP_ELEMENT_NONE, -1, -1, 0, "the mesh has no vertex or triangle array");
+    if (m->num_triangles == 0 || m->num_vertices == 0)
+        return bp__fail(err, BP_ERR_EMPTY, BP_ELEMENT_NONE, -1, -1, 0, "the mesh has no triangles");
+    if (m->num_triangles > 0x55555554u)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "too many triangles (%u): at most 1431655764", m->num_triangles);
+    for (t = 0; t < m->num_triangles; t++) {
+        const uint32_t *tri = m->triangles + 3 * (size_t)t;
+        for (k = 0; k < 3; k++) {
+            if (tri[k] >= m->num_vertices)
+                return bp__fail(err, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
+                                "triangle %u: vertex index %u is out of range (the mesh has %u vertices)",
+                                t, tri[k], m->num_vertices);
+            if (m->corner_uv && m->corner_uv[3 * (size_t)t + k] >= m->num_uvs)
+                return bp__fail(err, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
+                                "triangle %u: uv index %u is out of range (the mesh has %u uvs)",
+                                t, m->corner_uv[3 * (size_t)t + k], m->num_uvs);
+        }
+        for (k = 0; k < 3; k++) {
+            const double *p = bp__pos(m, tri[k]);
+            int j;
+            for (j = 0; j < 3; j++) {
+                if (!(p[j] - p[j] == 0))
+                    return bp__fail(err, BP_ERR_NONFINITE, BP_ELEMENT_VERTEX, tri[k], -1, 0,
+                                    "vertex %u (used by triangle %u) has a coordinate that is NaN or infinite",
+                                    tri[k], t);
+                if (p[j] < lo[j]) lo[j] = p[j];
+                if (p[j] > hi[j]) hi[j] = p[j];
+            }
+        }
+        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
+            return bp__fail(err, BP_ERR_DEGENERATE, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
+                            "triangle %u uses vertex %u twice", t,
+                            tri[0] == tri[1] || tri[0] == tri[2] ? tri[0] : tri[1]);
+    }
+    diag2 = (hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+            (hi[2] - lo[2]) * (hi[2] - lo[2]);
+    for (t = 0; t < m->num_triangles; t++) {
+        const uint32_t *tri = m->triangles + 3 * (size_t)t;
+        double a2 = bp__area2_3d(bp__pos(m, tri[0]), bp__pos(m, tri[1]), bp__pos(m, tri[2]));
+        if (!(a2 > 1e-12 * diag2))
+            return bp__fail(err, BP_ERR_DEGENERATE, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
+                            "triangle %u (vertices %u %u %u) has zero or near-zero area %g (mesh size %g)",
+                            t, tri[0], tri[1], tri[2], 0.5 * a2, sqrt(diag2));
+    }
+    return BP_OK;
+}
+
+/* Working arrays of bp_atlas_build, freed together. */
+typedef struct bp__build {
+    bp__edge_rec *edges;
+    bp__tri_key  *keys;
+    uint32_t *tri_uf, *corner_uf, *glued, *chart_of_root, *vert_of_root;
+    uint32_t *next, *loop_id;
+    bp__vkey *vkeys;
+} bp__build;
+
+static void bp__build_free(const bp_allocator *a, bp__build *b)
+{
+    bp__free(a, b->edges); bp__free(a, b->keys); bp__free(a, b->tri_uf);
+    bp__free(a, b->corner_uf); bp__free(a, b->glued); bp__free(a, b->chart_of_root);
+    bp__free(a, b->vert_of_root); bp__free(a, b->next); bp__free(a, b->loop_id);
+    bp__free(a, b->vkeys);
+}
+
+/* Boundary loops of one chart from its triangles: next[v] is the end of the
+   boundary edge leaving v (BP__NONE for interior vertices). */
+static bp_status bp__chart_loops(const bp_allocator *a, bp_chart *ch, const bp_mesh *m,
+                                 uint32_t *next, uint32_t *loop_id, const uint32_t *glued_ce,
+                                 uint32_t chart_index, bp_error *err)
+{
+    uint32_t t, k, v, nb = 0, nloops = 0, pos = 0;
+    double best = -1;
+    uint32_t best_loop = 0;
+    for (v = 0; v < ch->num_vertices; v++) { next[v] = BP__NONE; loop_id[v] = BP__NONE; }
+    for (t = 0; t < ch->num_triangles; t++)
+        for (k = 0; k < 3; k++)
+            if (glued_ce[3 * (size_t)ch->face[t] + k] == BP__NONE) {
+                uint32_t va = ch->triangles[3 * t + k], vb = ch->triangles[3 * t + (k + 1) % 3];
+                BP_ASSERT(next[va] == BP__NONE);
+                next[va] = vb;
+                nb++;
+            }
+    ch->loop_vertices = (uint32_t *)bp__alloc_array(a, nb, sizeof(uint32_t));
+    if (!ch->loop_vertices) return bp__oom(err, "building boundary loops");
+    /* count the loops first so loop_start can be sized exactly */
+    for (v = 0; v < ch->num_vertices; v++) {
+        uint32_t w = v;
+        if (next[v] == BP__NONE || loop_id[v] != BP__NONE) continue;
+        do { loop_id[w] = nloops; w = next[w]; } while (w != v && w != BP__NONE && loop_id[w] == BP__NONE);
+        if (w != v)
+            return bp__fail(err, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, chart_index, -1, 0,
+                            "chart %u: boundary at mesh vertex %u does not close into a loop",
+                            chart_index, ch->vertex[v]);
+        nloops++;
+    }
+    ch->num_loops = nloops;
+    ch->loop_start = (uint32_t *)bp__alloc_array(a, (size_t)nloops + 1, sizeof(uint32_t));
+    if (!ch->loop_start) return bp__oom(err, "building boundary loops");
+    /* walk again, writing the loops in discovery order and finding the
+       longest one in 3D */
+    for (v = 0; v < ch->num_vertices; v++) loop_id[v] = BP__NONE;
+    nloops = 0;
+    for (v = 0; v < ch->num_vertices; v++) {
+        uint32_t w = v;
+        double len = 0;
+        if (next[v] == BP__NONE || loop_id[v] != BP__NONE) continue;
+        ch->loop_start[nloops] = pos;
+        do {
+            loop_id[w] = nloops;
+            ch->loop_vertices[pos++] = w;
+            len += bp__dist3(bp__pos(m, ch->vertex[w]), bp__pos(m, ch->vertex[next[w]]));
+            w = next[w];
+        } while (w != v);
+        if (len > best) { best = len; best_loop = nloops; }
+        nloops++;
+    }
+    ch->loop_start[nloops] = pos;
+    /* rotate the longest loop to the front (a cyclic shift of the loop list) */
+    if (best_loop != 0) {
+        uint32_t s0 = ch->loop_start[best_loop], s1 = ch->loop_start[best_loop + 1];
+        uint32_t n0 = s1 - s0, i, j;
+        uint32_t *tmp = (uint32_t *)bp__alloc_array(a, pos, sizeof(uint32_t));
+        uint32_t *st2 = (uint32_t *)bp__alloc_array(a, (size_t)nloops + 1, sizeof(uint32_t));
+        if (!tmp || !st2) { bp__free(a, tmp); bp__free(a, st2); return bp__oom(err, "building boundary loops"); }
+        memcpy(tmp, ch->loop_vertices + s0, n0 * sizeof(uint32_t));
+        j = n0;
+        st2[0] = 0;
+        for (i = 0, k = 1; i < nloops; i++) {
+            uint32_t a0 = ch->loop_start[i], a1 = ch->loop_start[i + 1];
+            if (i == best_loop) continue;
+            st2[k++] = j;
+            memcpy(tmp + j, ch->loop_vertices + a0, (a1 - a0) * sizeof(uint32_t));
+            j += a1 - a0;
+        }
+        st2[nloops] = pos;
+        memcpy(ch->loop_vertices, tmp, pos * sizeof(uint32_t));
+        memcpy(ch->loop_start, st2, ((size_t)nloops + 1) * sizeof(uint32_t));
+        bp__free(a, tmp);
+        bp__free(a, st2);
+    }
+    return BP_OK;
+}
+
+BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
+                               const bp_options *opt, bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    bp__build b;
+    bp_status st;
+    uint32_t nt, nc, t, k, i, c, nchart = 0;
+    size_t e;
+    if (!atlas)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "atlas must not be NULL");
+    memset(atlas, 0, sizeof *atlas);
+    atlas->allocator = a;
+    if ((st = bp__validate_mesh(m, err)) != BP_OK) return st;
+    nt = m->num_triangles;
+    nc = 3 * nt;
+    memset(&b, 0, sizeof b);
+    b.edges = (bp__edge_rec *)bp__alloc_array(&a, nc, sizeof *b.edges);
+    b.keys = (bp__tri_key *)bp__alloc_array(&a, nt, sizeof *b.keys);
+    b.tri_uf = (uint32_t *)bp__alloc_array(&a, nt, sizeof(uint32_t));
+    b.corner_uf = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
+    b.glued = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
+    b.chart_of_root = (uint32_t *)bp__alloc_array(&a, nt, sizeof(uint32_t));
+    b.vert_of_root = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
+    b.next = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
+    b.loop_id = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
+    if (!b.edges || !b.keys || !b.tri_uf || !b.corner_uf || !b.glued || !b.chart_of_root ||
+        !b.vert_of_root || !b.next || !b.loop_id) {
+        bp__build_free(&a, &b);
+        return bp__oom(err, "building charts");
+    }
+
+    /* 1. duplicate triangles: equal sorted vertex triples */
+    for (t = 0; t < nt; t++) {
+        uint32_t *v = b.keys[t].v, x;
+        memcpy(v, m->triangles + 3 * (size_t)t, 3 * sizeof(uint32_t));
+        if (v[0] > v[1]) { x = v[0]; v[0] = v[1]; v[1] = x; }
+        if (v[1] > v[2]) { x = v[1]; v[1] = v[2]; v[2] = x; }
+        if (v[0] > v[1]) { x = v[0]; v[0] = v[1]; v[1] = x; }
+        b.keys[t].t = t;
+    }
+    qsort(b.keys, nt, sizeof *b.keys, bp__tri_key_cmp);
+    for (t = 1; t < nt; t++)
+        if (!memcmp(b.keys[t].v, b.keys[t - 1].v, 3 * sizeof(uint32_t))) {
+            uint32_t t0 = b.keys[t - 1].t, t1 = b.keys[t].t;
+            bp__build_free(&a, &b);
+            return bp__fail(err, BP_ERR_DUPLICATE_FACE, BP_ELEMENT_TRIANGLE, t1, t0, bp__tri_line(m, t1),
+                            "triangles %u and %u use the same vertices %u %u %u", t0, t1,
+                            m->triangles[3 * (size_t)t1], m->triangles[3 * (size_t)t1 + 1],
+                            m->triangles[3 * (size_t)t1 + 2]);
+        }
+
+    /* 2. edges: sort corner edges by their unordered vertex pair; each group
+          is one mesh edge.  Check manifoldness and orientation, and glue. */
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t va = m->triangles[3 * (size_t)t + k], vb = m->triangles[3 * (size_t)t + (k + 1) % 3];
+            bp__edge_rec *r = &b.edges[3 * (size_t)t + k];
+            r->lo = va < vb ? va : vb;
+            r->hi = va < vb ? vb : va;
+            r->ce = 3 * t + k;
+        }
+    qsort(b.edges, nc, sizeof *b.edges, bp__edge_cmp);
+    for (t = 0; t < nt; t++) b.tri_uf[t] = t;
+    for (i = 0; i < nc; i++) { b.corner_uf[i] = i; b.glued[i] = BP__NONE; }
+    for (e = 0; e < nc; ) {
+        size_t g = e + 1;
+        while (g < nc && b.edges[g].lo == b.edges[e].lo && b.edges[g].hi == b.edges[e].hi) g++;
+        if (g - e > 2) {
+            uint32_t lo = b.edges[e].lo, hi = b.edges[e].hi;
+            uint32_t t0 = b.edges[e].ce / 3, t1 = b.edges[e + 1].ce / 3, t2 = b.edges[e + 2].ce / 3;
+            bp__build_free(&a, &b);
+            return bp__fail(err, BP_ERR_NONMANIFOLD, BP_ELEMENT_EDGE, lo, hi, bp__tri_line(m, t2),
+                            "edge %u-%u is shared by %u triangles (%u, %u, %u, ...): a surface edge may have at most two",
+                            lo, hi, (unsigned)(g - e), t0, t1, t2);
+        }
+        if (g - e == 2) {
+            uint32_t c0 = b.edges[e].ce, c1 = b.edges[e + 1].ce;
+            uint32_t t0 = c0 / 3, k0 = c0 % 3, t1 = c1 / 3, k1 = c1 % 3;
+            uint32_t a0 = 3 * t0 + k0, b0 = 3 * t0 + (k0 + 1) % 3;   /* corners of edge in t0 */
+            uint32_t a1 = 3 * t1 + k1, b1 = 3 * t1 + (k1 + 1) % 3;   /* corners of edge in t1 */
+            if (m->triangles[a0] == m->triangles[a1]) {
+                uint32_t lo = b.edges[e].lo, hi = b.edges[e].hi;
+                bp__build_free(&a, &b);
+                return bp__fail(err, BP_ERR_ORIENTATION, BP_ELEMENT_EDGE, lo, hi, bp__tri_line(m, t1),
+                                "triangles %u and %u both run along edge %u-%u in the same direction: their orientations disagree",
+                                t0, t1, lo, hi);
+            }
+            /* opposite directions: a0 pairs with b1 (same mesh vertex), b0 with a1 */
+            if (!m->corner_uv || (m->corner_uv[a0] == m->corner_uv[b1] && m->corner_uv[b0] == m->corner_uv[a1])) {
+                bp__uf_union(b.tri_uf, t0, t1);
+                bp__uf_union(b.corner_uf, a0, b1);
+                bp__uf_union(b.corner_uf, b0, a1);
+                b.glued[c0] = c1;
+                b.glued[c1] = c0;
+            }
+        }
+        e = g;
+    }
+
+    /* 3. number the charts by their smallest triangle, and chart vertices by
+          first appearance in the chart's triangles (deterministic). */
+    for (t = 0; t < nt; t++) b.chart_of_root[t] = BP__NONE;
+    for (t = 0; t < nt; t++) {
+        uint32_t r = bp__uf_find(b.tri_uf, t);
+        if (b.chart_of_root[r] == BP__NONE) b.chart_of_root[r] = nchart++;
+    }
+    atlas->num_charts = nchart;
+    atlas->num_corners = nc;
+    atlas->charts = (bp_chart *)bp__calloc_array(&a, nchart, sizeof(bp_chart));
+    atlas->corner_chart = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
+    atlas->corner_vertex = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
+    if (!atlas->charts || !atlas->corner_chart || !atlas->corner_vertex) {
+        bp__build_free(&a, &b);
+        bp_atlas_free(atlas);
+        return bp__oom(err, "building charts");
+    }
+    for (i = 0; i < nc; i++) b.vert_of_root[i] = BP__NONE;
+    for (t = 0; t < nt; t++) {
+        bp_chart *ch;
+        c = b.chart_of_root[bp__uf_find(b.tri_uf, t)];
+        ch = &atlas->charts[c];
+        ch->num_triangles++;
+        for (k = 0; k < 3; k++) {
+            uint32_t r = bp__uf_find(b.corner_uf, 3 * t + k);
+            if (b.vert_of_root[r] == BP__NONE) b.vert_of_root[r] = ch->num_vertices++;
+            atlas->corner_chart[3 * t + k] = c;
+            atlas->corner_vertex[3 * t + k] = b.vert_of_root[r];
+        }
+    }
+    for (c = 0; c < nchart; c++) {
+        bp_chart *ch = &atlas->charts[c];
+        ch->vertex = (uint32_t *)bp__alloc_array(&a, ch->num_vertices, sizeof(uint32_t));
+        ch->vertex_uv = (uint32_t *)bp__alloc_array(&a, ch->num_vertices, sizeof(uint32_t));
+        ch->triangles = (uint32_t *)bp__alloc_array(&a, 3 * (size_t)ch->num_triangles, sizeof(uint32_t));
+        ch->face = (uint32_t *)bp__alloc_array(&a, ch->num_triangles, sizeof(uint32_t));
+        if (!ch->vertex || !ch->vertex_uv || !ch->triangles || !ch->face) {
+            bp__build_free(&a, &b);
+            bp_atlas_free(atlas);
+            return bp__oom(err, "building charts");
+        }
+        ch->num_triangles = 0;
+    }
+    for (t = 0; t < nt; t++) {
+        bp_chart *ch = &atlas->charts[atlas->corner_chart[3 * t]];
+        uint32_t ct = ch->num_triangles++;
+        ch->face[ct] = t;
+        for (k = 0; k < 3; k++) {
+            uint32_t cv = atlas->corner_vertex[3 * t + k];
+            ch->triangles[3 * ct + k] = cv;
+            ch->vertex[cv] = m->triangles[3 * t + k];
+            ch->vertex_uv[cv] = m->corner_uv ? m->corner_uv[3 * t + k] : BP__NONE;
+        }
+        ch->area3d += 0.5 * bp__area2_3d(bp__pos(m, m->triangles[3 * t]), bp__pos(m, m->triangles[3 * t + 1]),
+                                         bp__pos(m, m->triangles[3 * t + 2]));
+    }
+
+    /* 4. pinch repairs: chart vertices per distinct (mesh vertex, uv) key */
+    {
+        size_t nv_total = 0, j, w = 0;
+        for (c = 0; c < nchart; c++) nv_total += atlas->charts[c].num_vertices;
+        b.vkeys = (bp__vkey *)bp__alloc_array(&a, nv_total, sizeof *b.vkeys);
+        if (!b.vkeys) { bp__build_free(&a, &b); bp_atlas_free(atlas); return bp__oom(err, "building charts"); }
+        for (c = 0; c < nchart; c++)
+            for (i = 0; i < atlas->charts[c].num_vertices; i++) {
+                b.vkeys[w].chart = c;
+                b.vkeys[w].v = atlas->charts[c].vertex[i];
+                b.vkeys[w].uv = atlas->charts[c].vertex_uv[i];
+                w++;
+            }
+        qsort(b.vkeys, nv_total, sizeof *b.vkeys, bp__vkey_cmp);
+        for (j = 1; j < nv_total; j++)
+            if (!bp__vkey_cmp(&b.vkeys[j], &b.vkeys[j - 1])) {
+                atlas->charts[b.vkeys[j].chart].split_vertices++;
+                atlas->num_split++;
+            }
+    }
+
+    /* 5. boundary loops and topology of each chart */
+    for (c = 0; c < nchart; c++) {
+        bp_chart *ch = &atlas->charts[c];
+        int64_t chi, ne, g2;
+        uint32_t nbe = 0;
+        st = bp__chart_loops(&a, ch, m, b.next, b.loop_id, b.glued, c, err);
+        if (st != BP_OK) { bp__build_free(&a, &b); bp_atlas_free(atlas); return st; }
+        nbe = ch->loop_start[ch->num_loops];
+        ne = ((int64_t)3 * ch->num_triangles + nbe) / 2;
+        chi = (int64_t)ch->num_vertices - ne + ch->num_triangles;
+        g2 = 2 - (int64_t)ch->num_loops - chi;     /* = 2g */
+        if (ch->num_loops == 0 || g2 != 0) {
+            uint32_t t0 = ch->face[0], nl = ch->num_loops;
+            int64_t g = g2 / 2, ntri = ch->num_triangles;
+            bp__build_free(&a, &b);
+            bp_atlas_free(atlas);
+            if (g2 == 2 - chi && chi == 2)
+                return bp__fail(err, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
+                                "chart %u (from mesh triangle %u, %D triangles) is a closed surface "
+                                "with no boundary: it cannot be flattened without seams; cut it "
+                                "into disks first (for example with vt seams)", c, t0, ntri);
+            return bp__fail(err, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
+                            "chart %u (from mesh triangle %u) has genus %D and %u boundary loops "
+                            "(Euler characteristic %D): only disks and disks with holes can be "
+                            "flattened; it needs seams that cut it into disks",
+                            c, t0, g, nl, chi);
+        }
+    }
+    bp__build_free(&a, &b);
+    return bp__ok(err);
+}
+
+#endif /* BP_IMPLEMENTATION */
