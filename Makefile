@@ -21,8 +21,13 @@ CFLAGS   ?= -std=c99 -O2 -Wall -Wextra -pedantic -Werror
 CXXFLAGS ?= -std=c++11 -O2 -Wall -Wextra -pedantic -Werror
 CPPFLAGS += -I. -Itests
 LDLIBS   += -lm
-# The C++ tests cross-check against OpenMesh (libopenmesh-dev).
+# The C++ tests cross-check against OpenMesh (libopenmesh-dev).  At -O2, g++ 12
+# inlines OpenMesh's PropertyT::push_back and reports a -Wmaybe-uninitialized
+# inside OpenMesh's own code, so test files that include OpenMesh are compiled
+# without that one warning; every other warning stays an error (the C builds
+# still check bijparam.h for it).
 OPENMESH_LIBS ?= -lOpenMeshCore
+OPENMESH_CXXFLAGS ?= -Wno-maybe-uninitialized
 
 BUILD := build
 HEADERS := bijparam.h tests/bptest.h
@@ -53,7 +58,7 @@ $(BUILD)/tests/%: tests/%.c $(HEADERS)
 
 $(BUILD)/tests/%: tests/%.cpp $(HEADERS)
 	@mkdir -p $(@D)
-	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $< -o $@ $(OPENMESH_LIBS) $(LDLIBS)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $(if $(shell grep -l '<OpenMesh/' $<),$(OPENMESH_CXXFLAGS)) $< -o $@ $(OPENMESH_LIBS) $(LDLIBS)
 
 deps:
 	bash tests/ensure_deps.sh
