@@ -1779,4 +1779,720 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
     return bp__ok(err);
 }
 
+/* >>sparse =================================================================
+
+   The start map solves a sparse linear system (the Tutte / Floater
+   Laplacian), and later solvers reuse the same machinery.  It is a direct
+   solver in three steps, each a classic:
+
+   1. Ordering.  Elimination creates fill; on mesh graphs nested dissection
+      keeps it near O(n log n).  We split the graph by a level set of a
+      breadth-first search from a pseudo-peripheral vertex (the middle level
+      is a separator: no edge jumps over a BFS level), order both halves
+      first and the separator last, and recurse.  Disconnected pieces are
+      ordered one after the other.
+   2. Symbolic.  The elimination tree (Liu's algorithm with path compression)
+      and, for each row k, the "row subtree" reach of A(0:k-1, k) in it give
+      the exact pattern of L, so its storage is allocated once.
+   3. Numeric, up-looking.  Row k of L and column k of U are the solutions of
+      two sparse triangular systems with that pattern:
+          L(0:k,0:k) U(0:k,k) = A(0:k,k),    U(0:k,0:k)^T L(k,0:k)^T = A(k,0:k)^T,
+          U(k,k) = A(k,k) - L(k,0:k) U(0:k,k).
+      For a symmetric matrix U = D L^T and the second solve is skipped: this
+      is the LDL^T (square-root free Cholesky) factorization.  Both systems
+      solved here -- the uniform Laplacian (SPD) and the mean-value one
+      (diagonally dominant M-matrix) -- are stable without pivoting.
+   One step of iterative refinement follows every solve. */
+
+typedef struct bp__sparse {       /* n x n, compressed columns            */
+    uint32_t n;
+    uint32_t *colp;               /* n+1                                  */
+    uint32_t *row;                /* sorted rows, diagonal included       */
+    double   *val;
+    int       symmetric;          /* values symmetric (pattern always is) */
+} bp__sparse;
+
+typedef struct bp__factor {
+    uint32_t  n;
+    int       symmetric;
+    uint32_t *perm, *iperm;       /* new -> old, old -> new               */
+    uint32_t *Lp, *Li;            /* strictly lower L by columns          */
+    double   *Lx, *Ux, *D;        /* Ux: strictly upper U, stored as U^T  */
+} bp__factor;
+
+static void bp__factor_free(const bp_allocator *a, bp__factor *f)
+{
+    bp__free(a, f->perm); bp__free(a, f->iperm); bp__free(a, f->Lp);
+    bp__free(a, f->Li); bp__free(a, f->Lx); bp__free(a, f->Ux); bp__free(a, f->D);
+    memset(f, 0, sizeof *f);
+}
+
+/* BFS inside the subset marked owner[v] == id, from `start`.  Writes the
+   visited vertices to queue[] in level order and their levels; returns the
+   count. */
+static uint32_t bp__bfs(const bp__sparse *A, const uint32_t *owner, uint32_t id, uint32_t start,
+                        uint32_t *queue, uint32_t *level, uint32_t *seen, uint32_t stamp)
+{
+    uint32_t head = 0, tail = 0, p;
+    queue[tail++] = start;
+    seen[start] = stamp;
+    level[start] = 0;
+    while (head < tail) {
+        uint32_t v = queue[head++];
+        for (p = A->colp[v]; p < A->colp[v + 1]; p++) {
+            uint32_t w = A->row[p];
+            if (owner[w] != id || seen[w] == stamp) continue;
+            seen[w] = stamp;
+            level[w] = level[v] + 1;
+            queue[tail++] = w;
+        }
+    }
+    return tail;
+}
+
+static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *order)
+{
+    uint32_t n = A->n, i, sp = 0, stamp = 0;
+    uint32_t *owner = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    uint32_t *level = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    uint32_t *queue = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    uint32_t *seen = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    uint32_t *stack = (uint32_t *)bp__alloc_array(a, 2 * (size_t)n + 2, sizeof(uint32_t));
+    if (!owner || !level || !queue || !seen || !stack) {
+        bp__free(a, owner); bp__free(a, level); bp__free(a, queue); bp__free(a, seen); bp__free(a, stack);
+        return 0;
+    }
+    for (i = 0; i < n; i++) { order[i] = i; owner[i] = 0; seen[i] = 0; }
+    stack[sp++] = 0; stack[sp++] = n;
+    while (sp) {
+        uint32_t hi = stack[--sp], lo = stack[--sp], size = hi - lo, cnt, nlev, m, cum, ca, cs, cb, j;
+        if (size <= 32) continue;
+        /* pseudo-peripheral start: the last vertex of a BFS from any vertex */
+        cnt = bp__bfs(A, owner, lo, order[lo], queue, level, seen, ++stamp);
+        cnt = bp__bfs(A, owner, lo, queue[cnt - 1], queue, level, seen, ++stamp);
+        if (cnt < size) {
+            /* disconnected: reached component first, then the rest */
+            uint32_t w = cnt;
+            for (j = lo; j < hi; j++)
+                if (seen[order[j]] != stamp) queue[w++] = order[j];
+            memcpy(order + lo, queue, size * sizeof(uint32_t));
+            for (j = lo + cnt; j < hi; j++) owner[order[j]] = lo + cnt;
+            stack[sp++] = lo; stack[sp++] = lo + cnt;
+            stack[sp++] = lo + cnt; stack[sp++] = hi;
+            continue;
+        }
+        nlev = level[queue[cnt - 1]] + 1;
+        if (nlev < 3) continue;
+        /* separator: the level where the running count passes half */
+        for (m = 0, cum = 0, j = 0; j < cnt; j++) {
+            if (level[queue[j]] != m) { if (cum >= size / 2) break; m = level[queue[j]]; }
+            cum++;
+        }
+        if (m < 1) m = 1;
+        if (m > nlev - 2) m = nlev - 2;
+        for (ca = 0; level[queue[ca]] < m; ca++) {}
+        for (cs = 0; ca + cs < cnt && level[queue[ca + cs]] == m; cs++) {}
+        cb = cnt - ca - cs;
+        /* queue is in level order: [A | S | B] -> order [A | B | S] */
+        memcpy(order + lo, queue, ca * sizeof(uint32_t));
+        memcpy(order + lo + ca, queue + ca + cs, cb * sizeof(uint32_t));
+        memcpy(order + lo + ca + cb, queue + ca, cs * sizeof(uint32_t));
+        for (j = lo + ca; j < lo + ca + cb; j++) owner[order[j]] = lo + ca;
+        for (j = lo + ca + cb; j < hi; j++) owner[order[j]] = BP__NONE;
+        stack[sp++] = lo; stack[sp++] = lo + ca;
+        stack[sp++] = lo + ca; stack[sp++] = lo + ca + cb;
+    }
+    bp__free(a, owner); bp__free(a, level); bp__free(a, queue); bp__free(a, seen); bp__free(a, stack);
+    return 1;
+}
+
+/* Factor A (symmetric pattern).  Returns BP_OK, BP_ERR_OUT_OF_MEMORY, or
+   BP_ERR_NUMERICAL with *bad_row set when a pivot is zero or not finite. */
+static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row)
+{
+    uint32_t n = A->n, k, p, top;
+    uint32_t *parent = NULL, *mark = NULL, *stack = NULL, *path = NULL, *fill = NULL, *tpos = NULL, *cursor = NULL;
+    double *x = NULL, *y = NULL;
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    size_t nnzL = 0;
+    memset(F, 0, sizeof *F);
+    F->n = n;
+    F->symmetric = A->symmetric;
+    F->perm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    F->iperm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    F->Lp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    F->D = (double *)bp__alloc_array(a, n, sizeof(double));
+    parent = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    stack = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    path = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    fill = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    x = (double *)bp__calloc_array(a, n, sizeof(double));
+    y = (double *)bp__calloc_array(a, n, sizeof(double));
+    if (!F->perm || !F->iperm || !F->Lp || !F->D || !parent || !mark || !stack || !path || !fill || !x || !y)
+        goto done;
+    if (!A->symmetric) {
+        /* tpos[p]: position of the transposed entry (using sorted rows) */
+        size_t nnz = A->colp[n];
+        tpos = (uint32_t *)bp__alloc_array(a, nnz, sizeof(uint32_t));
+        cursor = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+        if (!tpos || !cursor) goto done;
+        for (k = 0; k < n; k++) cursor[k] = A->colp[k];
+        for (k = 0; k < n; k++)
+            for (p = A->colp[k]; p < A->colp[k + 1]; p++) tpos[p] = cursor[A->row[p]]++;
+    }
+    if (!bp__nd_order(a, A, F->perm)) goto done;
+    for (k = 0; k < n; k++) F->iperm[F->perm[k]] = k;
+
+    /* elimination tree (path holds the "ancestor" links) */
+    for (k = 0; k < n; k++) {
+        uint32_t old = F->perm[k];
+        parent[k] = BP__NONE;
+        path[k] = BP__NONE;
+        for (p = A->colp[old]; p < A->colp[old + 1]; p++) {
+            uint32_t i = F->iperm[A->row[p]];
+            while (i != BP__NONE && i < k) {
+                uint32_t next = path[i];
+                path[i] = k;
+                if (next == BP__NONE) { parent[i] = k; break; }
+                i = next;
+            }
+        }
+    }
+    /* column counts from the row subtrees */
+    for (k = 0; k < n; k++) { fill[k] = 0; mark[k] = BP__NONE; }
+    for (k = 0; k < n; k++) {
+        uint32_t old = F->perm[k];
+        mark[k] = k;
+        for (p = A->colp[old]; p < A->colp[old + 1]; p++) {
+            uint32_t i = F->iperm[A->row[p]];
+            for (; i < k && mark[i] != k; i = parent[i]) { fill[i]++; mark[i] = k; }
+        }
+    }
+    F->Lp[0] = 0;
+    for (k = 0; k < n; k++) {
+        nnzL += fill[k];
+        if (nnzL > 0xfffffff0u) goto done;
+        F->Lp[k + 1] = (uint32_t)nnzL;
+    }
+    F->Li = (uint32_t *)bp__alloc_array(a, nnzL, sizeof(uint32_t));
+    F->Lx = (double *)bp__alloc_array(a, nnzL, sizeof(double));
+    if (!A->symmetric) F->Ux = (double *)bp__alloc_array(a, nnzL, sizeof(double));
+    if (!F->Li || !F->Lx || (!A->symmetric && !F->Ux)) goto done;
+
+    /* numeric, one row k at a time */
+    for (k = 0; k < n; k++) { fill[k] = 0; mark[k] = BP__NONE; }
+    for (k = 0; k < n; k++) {
+        uint32_t old = F->perm[k];
+        double dk;
+        top = n;
+        mark[k] = k;
+        for (p = A->colp[old]; p < A->colp[old + 1]; p++) {
+            uint32_t i = F->iperm[A->row[p]], len = 0;
+            if (i > k) continue;
+            x[i] = A->val[p];                              /* A(i,k) */
+            if (!A->symmetric) y[i] = A->val[tpos[p]];     /* A(k,i) */
+            for (; i < k && mark[i] != k; i = parent[i]) { path[len++] = i; mark[i] = k; }
+            while (len) stack[--top] = path[--len];        /* topological order */
+        }
+        dk = x[k];
+        x[k] = 0;
+        y[k] = 0;
+        for (; top < n; top++) {
+            uint32_t j = stack[top], q;
+            double ujk = x[j], lkj;
+            x[j] = 0;
+            if (A->symmetric) lkj = ujk / F->D[j];
+            else { lkj = y[j] / F->D[j]; y[j] = 0; }
+            for (q = F->Lp[j]; q < F->Lp[j] + fill[j]; q++) {
+                x[F->Li[q]] -= F->Lx[q] * ujk;
+                if (!A->symmetric) y[F->Li[q]] -= F->Ux[q] * lkj;
+            }
+            dk -= lkj * ujk;
+            q = F->Lp[j] + fill[j]++;
+            F->Li[q] = k;
+            F->Lx[q] = lkj;
+            if (!A->symmetric) F->Ux[q] = ujk;
+        }
+        if (!(dk != 0) || !(dk - dk == 0)) {
+            *bad_row = old;
+            st = BP_ERR_NUMERICAL;
+            goto done;
+        }
+        F->D[k] = dk;
+    }
+    st = BP_OK;
+done:
+    bp__free(a, parent); bp__free(a, mark); bp__free(a, stack); bp__free(a, path);
+    bp__free(a, fill); bp__free(a, x); bp__free(a, y); bp__free(a, tpos); bp__free(a, cursor);
+    if (st != BP_OK) bp__factor_free(a, F);
+    return st;
+}
+
+/* x = A^-1 b through the factors; z is workspace of size n. */
+static void bp__factor_solve(const bp__factor *F, const double *b, double *x, double *z)
+{
+    uint32_t n = F->n, j, q;
+    for (j = 0; j < n; j++) z[j] = b[F->perm[j]];
+    for (j = 0; j < n; j++)                          /* L z = b (unit) */
+        for (q = F->Lp[j]; q < F->Lp[j + 1]; q++) z[F->Li[q]] -= F->Lx[q] * z[j];
+    for (j = n; j-- > 0;) {                           /* U x = z        */
+        double s = 0;
+        if (F->symmetric) {
+            for (q = F->Lp[j]; q < F->Lp[j + 1]; q++) s += F->Lx[q] * z[F->Li[q]];
+            z[j] = z[j] / F->D[j] - s;
+        } else {
+            for (q = F->Lp[j]; q < F->Lp[j + 1]; q++) s += F->Ux[q] * z[F->Li[q]];
+            z[j] = (z[j] - s) / F->D[j];
+        }
+    }
+    for (j = 0; j < n; j++) x[F->perm[j]] = z[j];
+}
+
+/* Solve with one step of iterative refinement: x += A^-1 (b - A x).
+   work: 3n doubles. */
+static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const double *b,
+                              double *x, double *work)
+{
+    double *r = work, *d = work + A->n, *z = work + 2 * (size_t)A->n;
+    uint32_t j, p;
+    bp__factor_solve(F, b, x, z);
+    for (j = 0; j < A->n; j++) r[j] = b[j];
+    for (j = 0; j < A->n; j++)
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) r[A->row[p]] -= A->val[p] * x[j];
+    bp__factor_solve(F, r, d, z);
+    for (j = 0; j < A->n; j++) x[j] += d[j];
+}
+
+/* >>check ==================================================================
+
+   The exact validity check is the ground truth of every test.  A planar
+   triangulation with an oriented-manifold connectivity (as every chart is)
+   is mapped bijectively when
+     (a) every triangle has positive signed area (exact orient2d), and
+     (b) no two boundary edges share a point, except two edges that share a
+         vertex index, which may meet at that vertex only.
+   Why (a)+(b) suffice: with positive triangles the number of preimages of a
+   generic point p equals the sum, over the boundary loops, of their winding
+   numbers around p.  Simple, pairwise disjoint loops have winding numbers
+   0 or +-1; counts are never negative, so holes (clockwise) lie inside the
+   outer loop (counter-clockwise) and every point has at most one preimage.
+
+   Boundary edges are found from the triangles (directed edges without a
+   reverse twin) so the check does not trust the chart's loop lists.  The
+   pairs of edges that could meet are found with a uniform grid whose cells
+   are about one edge long; a pair is decided once, in the cell that holds
+   the lower-left corner of the overlap of the two edges' boxes. */
+
+typedef struct bp__dedge { uint32_t a, b; } bp__dedge;
+
+static int bp__dedge_cmp(const void *pa, const void *pb)
+{
+    const bp__dedge *x = (const bp__dedge *)pa, *y = (const bp__dedge *)pb;
+    uint32_t x0 = x->a < x->b ? x->a : x->b, y0 = y->a < y->b ? y->a : y->b;
+    uint32_t x1 = x->a < x->b ? x->b : x->a, y1 = y->a < y->b ? y->b : y->a;
+    if (x0 != y0) return x0 < y0 ? -1 : 1;
+    if (x1 != y1) return x1 < y1 ? -1 : 1;
+    return x->a < y->a ? -1 : x->a > y->a;
+}
+
+/* Do boundary edges e and f (distinct) violate (b)? */
+static int bp__edges_conflict(const double *uv, const bp__dedge *e, const bp__dedge *f)
+{
+    const double *a = uv + 2 * (size_t)e->a, *b = uv + 2 * (size_t)e->b;
+    const double *c = uv + 2 * (size_t)f->a, *d = uv + 2 * (size_t)f->b;
+    uint32_t s = BP__NONE;
+    const double *p, *q, *sv;
+    if (e->a == f->a || e->a == f->b) s = e->a;
+    else if (e->b == f->a || e->b == f->b) s = e->b;
+    if (s == BP__NONE) return bp_segments_intersect(a, b, c, d);
+    if ((e->a == f->a || e->a == f->b) && (e->b == f->a || e->b == f->b)) return 1; /* same edge twice */
+    /* sharing vertex s: they may only meet at s, so the two far ends p, q
+       must not lie on a common ray from s */
+    sv = uv + 2 * (size_t)s;
+    p = (e->a == s) ? b : a;
+    q = (f->a == s) ? d : c;
+    if (bp_orient2d(sv, p, q) != 0) return 0;
+    return bp__in_box(sv, p, q) || bp__in_box(sv, q, p);
+}
+
+BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
+                         const bp_allocator *alloc, bp_check_report *rep)
+{
+    bp_allocator a;
+    bp__dedge *de = NULL;
+    uint32_t *cellp = NULL, *cells = NULL, t, k, nb = 0, i;
+    double lo[2] = { DBL_MAX, DBL_MAX }, hi[2] = { -DBL_MAX, -DBL_MAX }, h, len = 0;
+    size_t ncell, gx, gy, e;
+    memset(&a, 0, sizeof a);
+    if (alloc) a = *alloc;
+    if (!rep || (!tris && nt) || (!uv && nv)) return BP_ERR_INVALID_ARGUMENT;
+    memset(rep, 0, sizeof *rep);
+    rep->first_bad_triangle = rep->first_bad_edge[0] = rep->first_bad_edge[1] = -1;
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++)
+            if (tris[3 * (size_t)t + k] >= nv) return BP_ERR_INDEX;
+    for (t = 0; t < nt; t++) {
+        const uint32_t *tr = tris + 3 * (size_t)t;
+        int o, fin = 1;
+        for (k = 0; k < 3; k++) {
+            const double *p = uv + 2 * (size_t)tr[k];
+            if (!(p[0] - p[0] == 0) || !(p[1] - p[1] == 0)) fin = 0;
+        }
+        if (!fin) {
+            rep->nonfinite++;
+            if (rep->first_bad_triangle < 0) rep->first_bad_triangle = t;
+            continue;
+        }
+        o = bp_orient2d(uv + 2 * (size_t)tr[0], uv + 2 * (size_t)tr[1], uv + 2 * (size_t)tr[2]);
+        if (o <= 0) {
+            if (o < 0) rep->flipped++; else rep->degenerate++;
+            if (rep->first_bad_triangle < 0) rep->first_bad_triangle = t;
+        }
+    }
+    if (rep->nonfinite) return BP_OK;      /* boundary geometry meaningless */
+    /* boundary edges: directed edges whose reverse is absent */
+    de = (bp__dedge *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof *de);
+    if (!de) return BP_ERR_OUT_OF_MEMORY;
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) {
+            de[3 * (size_t)t + k].a = tris[3 * (size_t)t + k];
+            de[3 * (size_t)t + k].b = tris[3 * (size_t)t + (k + 1) % 3];
+        }
+    qsort(de, 3 * (size_t)nt, sizeof *de, bp__dedge_cmp);
+    for (e = 0; e < 3 * (size_t)nt;) {
+        size_t g = e + 1;
+        while (g < 3 * (size_t)nt && ((de[g].a == de[e].a && de[g].b == de[e].b) ||
+                                      (de[g].a == de[e].b && de[g].b == de[e].a))) g++;
+        if (g - e == 1) de[nb++] = de[e];
+        e = g;
+    }
+    if (nb < 2) { bp__free(&a, de); return BP_OK; }
+    for (i = 0; i < nb; i++) {
+        const double *p = uv + 2 * (size_t)de[i].a, *q = uv + 2 * (size_t)de[i].b;
+        for (k = 0; k < 2; k++) {
+            if (p[k] < lo[k]) lo[k] = p[k];
+            if (p[k] > hi[k]) hi[k] = p[k];
+        }
+        len += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]));
+    }
+    /* cells about one mean edge long, at most ~16 per edge */
+    h = len / nb;
+    if ((hi[0] - lo[0]) * (hi[1] - lo[1]) > 16.0 * nb * h * h)
+        h = sqrt((hi[0] - lo[0]) * (hi[1] - lo[1]) / (16.0 * nb));
+    if (!(h > 0)) h = 1;
+    gx = (size_t)((hi[0] - lo[0]) / h) + 1;
+    gy = (size_t)((hi[1] - lo[1]) / h) + 1;
+    ncell = gx * gy;
+    {
+        /* counting sort of (edge, cell) incidences; a long edge is entered
+           in every cell of its box */
+        size_t total = 0, c;
+        cellp = (uint32_t *)bp__calloc_array(&a, ncell + 1, sizeof(uint32_t));
+        if (!cellp) { bp__free(&a, de); return BP_ERR_OUT_OF_MEMORY; }
+#define BP__CELLX(x) ((size_t)(((x) - lo[0]) / h) < gx ? (size_t)(((x) - lo[0]) / h) : gx - 1)
+#define BP__CELLY(y) ((size_t)(((y) - lo[1]) / h) < gy ? (size_t)(((y) - lo[1]) / h) : gy - 1)
+        for (i = 0; i < nb; i++) {
+            const double *p = uv + 2 * (size_t)de[i].a, *q = uv + 2 * (size_t)de[i].b;
+            size_t x0 = BP__CELLX(p[0] < q[0] ? p[0] : q[0]), x1 = BP__CELLX(p[0] < q[0] ? q[0] : p[0]);
+            size_t y0 = BP__CELLY(p[1] < q[1] ? p[1] : q[1]), y1 = BP__CELLY(p[1] < q[1] ? q[1] : p[1]);
+            size_t xx, yy;
+            for (yy = y0; yy <= y1; yy++)
+                for (xx = x0; xx <= x1; xx++) { cellp[yy * gx + xx + 1]++; total++; }
+        }
+        if (total > 0xfffffff0u) { bp__free(&a, cellp); bp__free(&a, de); return BP_ERR_OUT_OF_MEMORY; }
+        for (c = 0; c < ncell; c++) cellp[c + 1] += cellp[c];
+        cells = (uint32_t *)bp__alloc_array(&a, total, sizeof(uint32_t));
+        if (!cells) { bp__free(&a, cellp); bp__free(&a, de); return BP_ERR_OUT_OF_MEMORY; }
+        for (i = 0; i < nb; i++) {
+            const double *p = uv + 2 * (size_t)de[i].a, *q = uv + 2 * (size_t)de[i].b;
+            size_t x0 = BP__CELLX(p[0] < q[0] ? p[0] : q[0]), x1 = BP__CELLX(p[0] < q[0] ? q[0] : p[0]);
+            size_t y0 = BP__CELLY(p[1] < q[1] ? p[1] : q[1]), y1 = BP__CELLY(p[1] < q[1] ? q[1] : p[1]);
+            size_t xx, yy;
+            for (yy = y0; yy <= y1; yy++)
+                for (xx = x0; xx <= x1; xx++) cells[cellp[yy * gx + xx]++] = i;
+        }
+        for (c = ncell; c > 0; c--) cellp[c] = cellp[c - 1];
+        cellp[0] = 0;
+        for (c = 0; c < ncell; c++) {
+            uint32_t u, w;
+            for (u = cellp[c]; u < cellp[c + 1]; u++)
+                for (w = u + 1; w < cellp[c + 1]; w++) {
+                    const bp__dedge *e1 = &de[cells[u]], *e2 = &de[cells[w]];
+                    const double *p1 = uv + 2 * (size_t)e1->a, *q1 = uv + 2 * (size_t)e1->b;
+                    const double *p2 = uv + 2 * (size_t)e2->a, *q2 = uv + 2 * (size_t)e2->b;
+                    double mx = p1[0] < q1[0] ? p1[0] : q1[0], my = p1[1] < q1[1] ? p1[1] : q1[1];
+                    double m2x = p2[0] < q2[0] ? p2[0] : q2[0], m2y = p2[1] < q2[1] ? p2[1] : q2[1];
+                    double Mx = p1[0] > q1[0] ? p1[0] : q1[0], My = p1[1] > q1[1] ? p1[1] : q1[1];
+                    double M2x = p2[0] > q2[0] ? p2[0] : q2[0], M2y = p2[1] > q2[1] ? p2[1] : q2[1];
+                    if (mx > M2x || m2x > Mx || my > M2y || m2y > My) continue;   /* boxes apart */
+                    if (mx < m2x) mx = m2x;
+                    if (my < m2y) my = m2y;
+                    if (BP__CELLY(my) * gx + BP__CELLX(mx) != c) continue;        /* decided elsewhere */
+                    if (bp__edges_conflict(uv, e1, e2)) {
+                        if (rep->boundary_intersections == 0) {
+                            rep->first_bad_edge[0] = e1->a;
+                            rep->first_bad_edge[1] = e2->a;
+                        }
+                        rep->boundary_intersections++;
+                    }
+                }
+        }
+#undef BP__CELLX
+#undef BP__CELLY
+    }
+    bp__free(&a, cells);
+    bp__free(&a, cellp);
+    bp__free(&a, de);
+    return BP_OK;
+}
+
+static int bp__report_valid(const bp_check_report *r)
+{
+    return !r->flipped && !r->degenerate && !r->nonfinite && !r->boundary_intersections;
+}
+
+/* >>tutte ==================================================================
+
+   The interior point method of sec 3.4.1 must start from a bijective map.
+   Tutte's theorem (1963) and Floater's extension (2003) give one: fix the
+   outer loop on a convex polygon and place every other vertex at a convex
+   combination of its neighbours,
+       sum_j w_ij (u_i - u_j) = 0,   w_ij > 0,
+   and the result is an embedding of a triangulated disk.  Uniform weights
+   (w_ij = 1) give Tutte's map; Floater's mean-value weights
+       w_ij = (tan(alpha_ij / 2) + tan(beta_ij / 2)) / |p_i - p_j|,
+   with alpha, beta the 3D angles at i on either side of edge ij, follow the
+   surface more closely.  The outer loop goes on a circle, spaced by 3D arc
+   length, with the radius that gives the circle the chart's 3D area.
+
+   Holes (sec 3.6, fig 3.14): a chart with holes is not a disk, so each hole
+   is closed with a fan of temporary triangles to a virtual centre vertex
+   (placed, for the mean-value weights, at the hole loop's 3D centroid).  The
+   filled chart is a disk; after the solve the temporary triangles and
+   centres are dropped.  What remains is bijective: removing faces from an
+   embedding keeps it an embedding, and each hole becomes a simple loop.
+
+   The solve is exact in theory but rounded in practice: on large charts a
+   few triangles can come out with an area near the rounding level.  The map
+   is therefore checked exactly before it is returned, and a chart whose
+   start map is not valid fails with BP_ERR_NUMERICAL naming the triangle. */
+
+/* Angle at corner p between directions to q and r, in (0, pi). */
+static double bp__angle3(const double *p, const double *q, const double *r)
+{
+    double u[3], v[3], c[3], dot = 0, cr;
+    int k;
+    for (k = 0; k < 3; k++) { u[k] = q[k] - p[k]; v[k] = r[k] - p[k]; dot += u[k] * v[k]; }
+    c[0] = u[1] * v[2] - u[2] * v[1];
+    c[1] = u[2] * v[0] - u[0] * v[2];
+    c[2] = u[0] * v[1] - u[1] * v[0];
+    cr = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    return atan2(cr, dot);
+}
+
+/* Position of j in the sorted neighbour list of i (binary search). */
+static uint32_t bp__adj_find(const uint32_t *adjp, const uint32_t *adj, uint32_t i, uint32_t j)
+{
+    uint32_t lo = adjp[i], hi = adjp[i + 1];
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (adj[mid] < j) lo = mid + 1; else hi = mid;
+    }
+    return lo;
+}
+
+static int bp__u32_cmp(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    uint32_t nv, nh, N, nt, nfan, t, k, i, j, nfree = 0, p;
+    uint32_t *tri = NULL, *adjp = NULL, *adj = NULL, *idx = NULL, *cnt = NULL;
+    double *pos = NULL, *w = NULL, *rhs = NULL, *sol = NULL, *work = NULL;
+    bp__sparse A;
+    bp__factor F;
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    int mvc = opt && opt->init == BP_INIT_MEAN_VALUE;
+    uint32_t bad = 0, e, ne;
+    double R, total = 0, acc = 0;
+    memset(&A, 0, sizeof A);
+    memset(&F, 0, sizeof F);
+    if (!ch || !m || !ch->num_loops)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_chart_init needs a chart from bp_atlas_build and its mesh");
+    nv = ch->num_vertices;
+    nh = ch->num_loops - 1;
+    N = nv + nh;
+    nfan = ch->loop_start[ch->num_loops] - ch->loop_start[1];
+    nt = ch->num_triangles + nfan;
+    if (!ch->uv) ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)nv, sizeof(double));
+    tri = (uint32_t *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof(uint32_t));
+    pos = (double *)bp__alloc_array(&a, 3 * (size_t)N, sizeof(double));
+    idx = (uint32_t *)bp__alloc_array(&a, N, sizeof(uint32_t));
+    adjp = (uint32_t *)bp__calloc_array(&a, (size_t)N + 1, sizeof(uint32_t));
+    adj = (uint32_t *)bp__alloc_array(&a, 6 * (size_t)nt, sizeof(uint32_t));
+    cnt = (uint32_t *)bp__alloc_array(&a, (size_t)N + 1, sizeof(uint32_t));
+    if (!ch->uv || !tri || !pos || !idx || !adjp || !adj || !cnt) goto fail;
+
+    /* the filled chart: real triangles, then one fan per hole */
+    memcpy(tri, ch->triangles, 3 * (size_t)ch->num_triangles * sizeof(uint32_t));
+    for (i = 0; i < nv; i++) memcpy(pos + 3 * (size_t)i, bp__pos(m, ch->vertex[i]), 3 * sizeof(double));
+    for (t = ch->num_triangles, i = 1; i < ch->num_loops; i++) {
+        uint32_t s0 = ch->loop_start[i], s1 = ch->loop_start[i + 1], c = nv + i - 1;
+        double cen[3] = { 0, 0, 0 };
+        for (j = s0; j < s1; j++) {
+            uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < s1 ? j + 1 : s0];
+            for (k = 0; k < 3; k++) cen[k] += pos[3 * (size_t)va + k] / (s1 - s0);
+            tri[3 * (size_t)t] = vb; tri[3 * (size_t)t + 1] = va; tri[3 * (size_t)t + 2] = c;  /* reverse twin */
+            t++;
+        }
+        memcpy(pos + 3 * (size_t)c, cen, sizeof cen);
+    }
+    /* adjacency (both directions of every triangle edge), sorted, deduped */
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) { adjp[tri[3 * t + k] + 1]++; adjp[tri[3 * t + (k + 1) % 3] + 1]++; }
+    for (i = 0; i < N; i++) adjp[i + 1] += adjp[i];
+    memcpy(cnt, adjp, ((size_t)N + 1) * sizeof(uint32_t));
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t va = tri[3 * t + k], vb = tri[3 * t + (k + 1) % 3];
+            adj[cnt[va]++] = vb;
+            adj[cnt[vb]++] = va;
+        }
+    for (ne = 0, i = 0; i < N; i++) {
+        uint32_t s0 = adjp[i], s1 = adjp[i + 1], last = BP__NONE;
+        qsort(adj + s0, s1 - s0, sizeof(uint32_t), bp__u32_cmp);
+        adjp[i] = ne;
+        for (e = s0; e < s1; e++)
+            if (adj[e] != last) adj[ne++] = last = adj[e];
+    }
+    adjp[N] = ne;
+    /* weights w[e] = w_{i, adj[e]} */
+    w = (double *)bp__calloc_array(&a, ne, sizeof(double));
+    if (!w) goto fail;
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t vi = tri[3 * t + k], vj = tri[3 * t + (k + 1) % 3], vk = tri[3 * t + (k + 2) % 3];
+            if (!mvc) {
+                w[bp__adj_find(adjp, adj, vi, vj)] = 1;
+                w[bp__adj_find(adjp, adj, vi, vk)] = 1;
+            } else {
+                const double *pi = pos + 3 * (size_t)vi, *pj = pos + 3 * (size_t)vj, *pk = pos + 3 * (size_t)vk;
+                double th = tan(0.5 * bp__angle3(pi, pj, pk));
+                w[bp__adj_find(adjp, adj, vi, vj)] += th / bp__dist3(pi, pj);
+                w[bp__adj_find(adjp, adj, vi, vk)] += th / bp__dist3(pi, pk);
+            }
+        }
+    for (e = 0; e < ne; e++)
+        if (!(w[e] > 0) || !(w[e] - w[e] == 0)) w[e] = 1;   /* keep every weight positive */
+
+    /* the outer loop on the circle of the chart's area, by arc length */
+    for (i = 0; i < N; i++) idx[i] = 0;
+    R = sqrt(ch->area3d / 3.14159265358979323846);
+    for (j = ch->loop_start[0]; j < ch->loop_start[1]; j++) {
+        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < ch->loop_start[1] ? j + 1 : 0];
+        total += bp__dist3(pos + 3 * (size_t)va, pos + 3 * (size_t)vb);
+        idx[va] = BP__NONE;                   /* fixed */
+    }
+    for (j = ch->loop_start[0]; j < ch->loop_start[1]; j++) {
+        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < ch->loop_start[1] ? j + 1 : 0];
+        double ang = 2 * 3.14159265358979323846 * acc / total;
+        ch->uv[2 * (size_t)va] = R * cos(ang);
+        ch->uv[2 * (size_t)va + 1] = R * sin(ang);
+        acc += bp__dist3(pos + 3 * (size_t)va, pos + 3 * (size_t)vb);
+    }
+    for (i = 0; i < N; i++) if (idx[i] != BP__NONE) idx[i] = nfree++;
+
+    /* the system over the free vertices, column by column */
+    if (nfree > 0) {
+        uint32_t nnz = 0;
+        A.n = nfree;
+        A.symmetric = !mvc;
+        A.colp = (uint32_t *)bp__alloc_array(&a, (size_t)nfree + 1, sizeof(uint32_t));
+        A.row = (uint32_t *)bp__alloc_array(&a, (size_t)ne + nfree, sizeof(uint32_t));
+        A.val = (double *)bp__alloc_array(&a, (size_t)ne + nfree, sizeof(double));
+        rhs = (double *)bp__calloc_array(&a, 2 * (size_t)nfree, sizeof(double));
+        sol = (double *)bp__alloc_array(&a, 2 * (size_t)nfree, sizeof(double));
+        work = (double *)bp__alloc_array(&a, 3 * (size_t)nfree, sizeof(double));
+        if (!A.colp || !A.row || !A.val || !rhs || !sol || !work) goto fail;
+        for (j = 0; j < N; j++) {
+            uint32_t cj = idx[j];
+            double diag = 0;
+            int diag_done = 0;
+            if (cj == BP__NONE) continue;
+            A.colp[cj] = nnz;
+            for (e = adjp[j]; e < adjp[j + 1]; e++) {
+                uint32_t vi = adj[e];
+                diag += w[e];
+                if (idx[vi] == BP__NONE) {         /* fixed neighbour -> rhs */
+                    rhs[cj] += w[e] * ch->uv[2 * (size_t)vi];
+                    rhs[nfree + cj] += w[e] * ch->uv[2 * (size_t)vi + 1];
+                }
+            }
+            /* rows in increasing free index: adj is sorted by vertex and the
+               free numbering is increasing in vertex, so it stays sorted */
+            for (e = adjp[j]; e < adjp[j + 1]; e++) {
+                uint32_t vi = adj[e];
+                if (idx[vi] == BP__NONE) continue;
+                if (!diag_done && vi > j) { A.row[nnz] = cj; A.val[nnz++] = 0; diag_done = 1; }
+                A.row[nnz] = idx[vi];
+                A.val[nnz++] = -w[bp__adj_find(adjp, adj, vi, j)];
+            }
+            if (!diag_done) { A.row[nnz] = cj; A.val[nnz++] = 0; }
+            for (p = A.colp[cj]; p < nnz; p++) if (A.row[p] == cj) A.val[p] = diag;
+        }
+        A.colp[nfree] = nnz;
+        st = bp__factorize(&a, &A, &F, &bad);
+        if (st == BP_ERR_NUMERICAL) {
+            uint32_t bv = 0;
+            for (i = 0; i < nv; i++) if (idx[i] == bad) bv = ch->vertex[i];
+            st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, bv, -1, 0,
+                          "the start-map system is singular at mesh vertex %u", bv);
+            goto done;
+        }
+        if (st != BP_OK) goto fail;
+        bp__solve_refined(&A, &F, rhs, sol, work);
+        bp__solve_refined(&A, &F, rhs + nfree, sol + nfree, work);
+        for (i = 0; i < nv; i++)
+            if (idx[i] != BP__NONE) {
+                ch->uv[2 * (size_t)i] = sol[idx[i]];
+                ch->uv[2 * (size_t)i + 1] = sol[nfree + idx[i]];
+            }
+    }
+    {
+        bp_check_report rep;
+        st = bp_check(ch->triangles, ch->num_triangles, ch->uv, nv, &a, &rep);
+        if (st != BP_OK) goto fail;
+        if (!bp__report_valid(&rep)) {
+            uint32_t bt = rep.first_bad_triangle >= 0 ? ch->face[rep.first_bad_triangle] : 0;
+            if (rep.first_bad_triangle >= 0)
+                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, bt, -1, bp__tri_line(m, bt),
+                              "the start map of the chart with mesh triangle %u is not valid in floating point: "
+                              "triangle %u is %s", ch->face[0], bt, rep.flipped ? "flipped" : "degenerate");
+            else
+                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, ch->vertex[rep.first_bad_edge[0]], -1, 0,
+                              "the start map of the chart with mesh triangle %u has touching boundary edges at mesh vertex %u",
+                              ch->face[0], ch->vertex[rep.first_bad_edge[0]]);
+            goto done;
+        }
+    }
+    st = bp__ok(err);
+    ch->stop = BP_STOP_NONE;
+    ch->iterations = 0;
+    goto done;
+fail:
+    st = bp__oom(err, "computing the start map");
+done:
+    bp__free(&a, tri); bp__free(&a, pos); bp__free(&a, idx); bp__free(&a, adjp); bp__free(&a, adj);
+    bp__free(&a, cnt); bp__free(&a, w); bp__free(&a, rhs); bp__free(&a, sol); bp__free(&a, work);
+    bp__free(&a, A.colp); bp__free(&a, A.row); bp__free(&a, A.val);
+    bp__factor_free(&a, &F);
+    return st;
+}
+
 #endif /* BP_IMPLEMENTATION */
