@@ -66,13 +66,18 @@ static int usage_error(const char *fmt, const char *arg)
     return 2;
 }
 
-/* "file:line: message" when the library knows the line, else "file: message". */
+/* "file:line: message" when the library knows the line, else "file: message".
+   The library's messages already start with "line N: ", which the
+   file:line prefix makes redundant. */
 static void report_error(const char *file, const bp_error *err)
 {
-    if (err->line > 0)
-        fprintf(stderr, "bijparam: error: %s:%lld: %s\n", file,
-                (long long)err->line, err->message);
-    else
+    if (err->line > 0) {
+        char prefix[40];
+        const char *msg = err->message;
+        size_t n = (size_t)snprintf(prefix, sizeof prefix, "line %lld: ", (long long)err->line);
+        if (strncmp(msg, prefix, n) == 0) msg += n;
+        fprintf(stderr, "bijparam: error: %s:%lld: %s\n", file, (long long)err->line, msg);
+    } else
         fprintf(stderr, "bijparam: error: %s: %s\n", file, err->message);
 }
 
