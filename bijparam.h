@@ -2116,14 +2116,100 @@ static int bp__edges_conflict(const double *uv, const bp__dedge *e, const bp__de
     return bp__in_box(sv, p, q) || bp__in_box(sv, q, p);
 }
 
+/* Condition (b) for the boundary edges de[0..nb): counts conflicting pairs
+   into rep->boundary_intersections.  Uses a grid as described above. */
+static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv, const bp__dedge *de,
+                                        uint32_t nb, bp_check_report *rep)
+{
+    uint32_t *cellp = NULL, *cells = NULL, i, k;
+    double lo[2] = { DBL_MAX, DBL_MAX }, hi[2] = { -DBL_MAX, -DBL_MAX }, h, len = 0;
+    size_t ncell, gx, gy;
+    if (nb < 2) return BP_OK;
+    for (i = 0; i < nb; i++) {
+        const double *p = uv + 2 * (size_t)de[i].a, *q = uv + 2 * (size_t)de[i].b;
+        for (k = 0; k < 2; k++) {
+            if (p[k] < lo[k]) lo[k] = p[k];
+            if (p[k] > hi[k]) hi[k] = p[k];
+        }
+        len += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]));
+    }
+    /* cells about one mean edge long, at most ~16 per edge */
+    h = len / nb;
+    if ((hi[0] - lo[0]) * (hi[1] - lo[1]) > 16.0 * nb * h * h)
+        h = sqrt((hi[0] - lo[0]) * (hi[1] - lo[1]) / (16.0 * nb));
+    if (!(h > 0)) h = 1;
+    gx = (size_t)((hi[0] - lo[0]) / h) + 1;
+    gy = (size_t)((hi[1] - lo[1]) / h) + 1;
+    ncell = gx * gy;
+    {
+        /* counting sort of (edge, cell) incidences; a long edge is entered
+           in every cell of its box */
+        size_t total = 0, c;
+        cellp = (uint32_t *)bp__calloc_array(a, ncell + 1, sizeof(uint32_t));
+        if (!cellp) { return BP_ERR_OUT_OF_MEMORY; }
+#define BP__CELLX(x) ((size_t)(((x) - lo[0]) / h) < gx ? (size_t)(((x) - lo[0]) / h) : gx - 1)
+#define BP__CELLY(y) ((size_t)(((y) - lo[1]) / h) < gy ? (size_t)(((y) - lo[1]) / h) : gy - 1)
+        for (i = 0; i < nb; i++) {
+            const double *p = uv + 2 * (size_t)de[i].a, *q = uv + 2 * (size_t)de[i].b;
+            size_t x0 = BP__CELLX(p[0] < q[0] ? p[0] : q[0]), x1 = BP__CELLX(p[0] < q[0] ? q[0] : p[0]);
+            size_t y0 = BP__CELLY(p[1] < q[1] ? p[1] : q[1]), y1 = BP__CELLY(p[1] < q[1] ? q[1] : p[1]);
+            size_t xx, yy;
+            for (yy = y0; yy <= y1; yy++)
+                for (xx = x0; xx <= x1; xx++) { cellp[yy * gx + xx + 1]++; total++; }
+        }
+        if (total > 0xfffffff0u) { bp__free(a, cellp); return BP_ERR_OUT_OF_MEMORY; }
+        for (c = 0; c < ncell; c++) cellp[c + 1] += cellp[c];
+        cells = (uint32_t *)bp__alloc_array(a, total, sizeof(uint32_t));
+        if (!cells) { bp__free(a, cellp); return BP_ERR_OUT_OF_MEMORY; }
+        for (i = 0; i < nb; i++) {
+            const double *p = uv + 2 * (size_t)de[i].a, *q = uv + 2 * (size_t)de[i].b;
+            size_t x0 = BP__CELLX(p[0] < q[0] ? p[0] : q[0]), x1 = BP__CELLX(p[0] < q[0] ? q[0] : p[0]);
+            size_t y0 = BP__CELLY(p[1] < q[1] ? p[1] : q[1]), y1 = BP__CELLY(p[1] < q[1] ? q[1] : p[1]);
+            size_t xx, yy;
+            for (yy = y0; yy <= y1; yy++)
+                for (xx = x0; xx <= x1; xx++) cells[cellp[yy * gx + xx]++] = i;
+        }
+        for (c = ncell; c > 0; c--) cellp[c] = cellp[c - 1];
+        cellp[0] = 0;
+        for (c = 0; c < ncell; c++) {
+            uint32_t u, w;
+            for (u = cellp[c]; u < cellp[c + 1]; u++)
+                for (w = u + 1; w < cellp[c + 1]; w++) {
+                    const bp__dedge *e1 = &de[cells[u]], *e2 = &de[cells[w]];
+                    const double *p1 = uv + 2 * (size_t)e1->a, *q1 = uv + 2 * (size_t)e1->b;
+                    const double *p2 = uv + 2 * (size_t)e2->a, *q2 = uv + 2 * (size_t)e2->b;
+                    double mx = p1[0] < q1[0] ? p1[0] : q1[0], my = p1[1] < q1[1] ? p1[1] : q1[1];
+                    double m2x = p2[0] < q2[0] ? p2[0] : q2[0], m2y = p2[1] < q2[1] ? p2[1] : q2[1];
+                    double Mx = p1[0] > q1[0] ? p1[0] : q1[0], My = p1[1] > q1[1] ? p1[1] : q1[1];
+                    double M2x = p2[0] > q2[0] ? p2[0] : q2[0], M2y = p2[1] > q2[1] ? p2[1] : q2[1];
+                    if (mx > M2x || m2x > Mx || my > M2y || m2y > My) continue;   /* boxes apart */
+                    if (mx < m2x) mx = m2x;
+                    if (my < m2y) my = m2y;
+                    if (BP__CELLY(my) * gx + BP__CELLX(mx) != c) continue;        /* decided elsewhere */
+                    if (bp__edges_conflict(uv, e1, e2)) {
+                        if (rep->boundary_intersections == 0) {
+                            rep->first_bad_edge[0] = e1->a;
+                            rep->first_bad_edge[1] = e2->a;
+                        }
+                        rep->boundary_intersections++;
+                    }
+                }
+        }
+#undef BP__CELLX
+#undef BP__CELLY
+    }
+    bp__free(a, cells);
+    bp__free(a, cellp);
+    return BP_OK;
+}
+
 BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
                          const bp_allocator *alloc, bp_check_report *rep)
 {
     bp_allocator a;
     bp__dedge *de = NULL;
-    uint32_t *cellp = NULL, *cells = NULL, t, k, nb = 0, i;
-    double lo[2] = { DBL_MAX, DBL_MAX }, hi[2] = { -DBL_MAX, -DBL_MAX }, h, len = 0;
-    size_t ncell, gx, gy, e;
+    uint32_t t, k, nb = 0;
+    size_t e;
     memset(&a, 0, sizeof a);
     if (alloc) a = *alloc;
     if (!rep || (!tris && nt) || (!uv && nv)) return BP_ERR_INVALID_ARGUMENT;
@@ -2167,84 +2253,11 @@ BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, ui
         if (g - e == 1) de[nb++] = de[e];
         e = g;
     }
-    if (nb < 2) { bp__free(&a, de); return BP_OK; }
-    for (i = 0; i < nb; i++) {
-        const double *p = uv + 2 * (size_t)de[i].a, *q = uv + 2 * (size_t)de[i].b;
-        for (k = 0; k < 2; k++) {
-            if (p[k] < lo[k]) lo[k] = p[k];
-            if (p[k] > hi[k]) hi[k] = p[k];
-        }
-        len += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]));
-    }
-    /* cells about one mean edge long, at most ~16 per edge */
-    h = len / nb;
-    if ((hi[0] - lo[0]) * (hi[1] - lo[1]) > 16.0 * nb * h * h)
-        h = sqrt((hi[0] - lo[0]) * (hi[1] - lo[1]) / (16.0 * nb));
-    if (!(h > 0)) h = 1;
-    gx = (size_t)((hi[0] - lo[0]) / h) + 1;
-    gy = (size_t)((hi[1] - lo[1]) / h) + 1;
-    ncell = gx * gy;
     {
-        /* counting sort of (edge, cell) incidences; a long edge is entered
-           in every cell of its box */
-        size_t total = 0, c;
-        cellp = (uint32_t *)bp__calloc_array(&a, ncell + 1, sizeof(uint32_t));
-        if (!cellp) { bp__free(&a, de); return BP_ERR_OUT_OF_MEMORY; }
-#define BP__CELLX(x) ((size_t)(((x) - lo[0]) / h) < gx ? (size_t)(((x) - lo[0]) / h) : gx - 1)
-#define BP__CELLY(y) ((size_t)(((y) - lo[1]) / h) < gy ? (size_t)(((y) - lo[1]) / h) : gy - 1)
-        for (i = 0; i < nb; i++) {
-            const double *p = uv + 2 * (size_t)de[i].a, *q = uv + 2 * (size_t)de[i].b;
-            size_t x0 = BP__CELLX(p[0] < q[0] ? p[0] : q[0]), x1 = BP__CELLX(p[0] < q[0] ? q[0] : p[0]);
-            size_t y0 = BP__CELLY(p[1] < q[1] ? p[1] : q[1]), y1 = BP__CELLY(p[1] < q[1] ? q[1] : p[1]);
-            size_t xx, yy;
-            for (yy = y0; yy <= y1; yy++)
-                for (xx = x0; xx <= x1; xx++) { cellp[yy * gx + xx + 1]++; total++; }
-        }
-        if (total > 0xfffffff0u) { bp__free(&a, cellp); bp__free(&a, de); return BP_ERR_OUT_OF_MEMORY; }
-        for (c = 0; c < ncell; c++) cellp[c + 1] += cellp[c];
-        cells = (uint32_t *)bp__alloc_array(&a, total, sizeof(uint32_t));
-        if (!cells) { bp__free(&a, cellp); bp__free(&a, de); return BP_ERR_OUT_OF_MEMORY; }
-        for (i = 0; i < nb; i++) {
-            const double *p = uv + 2 * (size_t)de[i].a, *q = uv + 2 * (size_t)de[i].b;
-            size_t x0 = BP__CELLX(p[0] < q[0] ? p[0] : q[0]), x1 = BP__CELLX(p[0] < q[0] ? q[0] : p[0]);
-            size_t y0 = BP__CELLY(p[1] < q[1] ? p[1] : q[1]), y1 = BP__CELLY(p[1] < q[1] ? q[1] : p[1]);
-            size_t xx, yy;
-            for (yy = y0; yy <= y1; yy++)
-                for (xx = x0; xx <= x1; xx++) cells[cellp[yy * gx + xx]++] = i;
-        }
-        for (c = ncell; c > 0; c--) cellp[c] = cellp[c - 1];
-        cellp[0] = 0;
-        for (c = 0; c < ncell; c++) {
-            uint32_t u, w;
-            for (u = cellp[c]; u < cellp[c + 1]; u++)
-                for (w = u + 1; w < cellp[c + 1]; w++) {
-                    const bp__dedge *e1 = &de[cells[u]], *e2 = &de[cells[w]];
-                    const double *p1 = uv + 2 * (size_t)e1->a, *q1 = uv + 2 * (size_t)e1->b;
-                    const double *p2 = uv + 2 * (size_t)e2->a, *q2 = uv + 2 * (size_t)e2->b;
-                    double mx = p1[0] < q1[0] ? p1[0] : q1[0], my = p1[1] < q1[1] ? p1[1] : q1[1];
-                    double m2x = p2[0] < q2[0] ? p2[0] : q2[0], m2y = p2[1] < q2[1] ? p2[1] : q2[1];
-                    double Mx = p1[0] > q1[0] ? p1[0] : q1[0], My = p1[1] > q1[1] ? p1[1] : q1[1];
-                    double M2x = p2[0] > q2[0] ? p2[0] : q2[0], M2y = p2[1] > q2[1] ? p2[1] : q2[1];
-                    if (mx > M2x || m2x > Mx || my > M2y || m2y > My) continue;   /* boxes apart */
-                    if (mx < m2x) mx = m2x;
-                    if (my < m2y) my = m2y;
-                    if (BP__CELLY(my) * gx + BP__CELLX(mx) != c) continue;        /* decided elsewhere */
-                    if (bp__edges_conflict(uv, e1, e2)) {
-                        if (rep->boundary_intersections == 0) {
-                            rep->first_bad_edge[0] = e1->a;
-                            rep->first_bad_edge[1] = e2->a;
-                        }
-                        rep->boundary_intersections++;
-                    }
-                }
-        }
-#undef BP__CELLX
-#undef BP__CELLY
+        bp_status st = bp__boundary_conflicts(&a, uv, de, nb, rep);
+        bp__free(&a, de);
+        return st;
     }
-    bp__free(&a, cells);
-    bp__free(&a, cellp);
-    bp__free(&a, de);
-    return BP_OK;
 }
 
 static int bp__report_valid(const bp_check_report *r)
@@ -2492,6 +2505,894 @@ done:
     bp__free(&a, cnt); bp__free(&a, w); bp__free(&a, rhs); bp__free(&a, sol); bp__free(&a, work);
     bp__free(&a, A.colp); bp__free(&a, A.row); bp__free(&a, A.val);
     bp__factor_free(&a, &F);
+    return st;
+}
+
+/* >>rest ===================================================================
+
+   Sec 3.1: each 3D triangle (P1, P2, P3) is flattened isometrically into its
+   own plane as F1 = (0, 0), F2 = (w, 0), F3 = (x, y) with
+       w = |P2 - P1|,  x = (P2 - P1).(P3 - P1) / w,  y = |(P2 - P1) x (P3 - P1)| / w.
+   The map of a triangle to its UV image (U1, U2, U3) has the constant
+   Jacobian
+       J = [U2 - U1, U3 - U1] [F2 - F1, F3 - F1]^-1 = D M^-1,
+       M^-1 = 1/(w y) [ y  -x ]
+                      [ 0   w ],
+   whose singular values s_max >= s_min measure the stretch (eq 3.1).  Only
+   M^-1 and the triangle's area w y / 2 depend on the 3D mesh, so they are
+   computed once per solve (the "precomputation" of sec 3.5). */
+
+typedef struct bp__rest {
+    double m00, m01, m11;   /* M^-1 = [m00 m01; 0 m11]                    */
+    double weight;          /* area / mean area: E_D = sum weight * E_t   */
+} bp__rest;
+
+static void bp__rest_shape(const double *p1, const double *p2, const double *p3, double *w,
+                           double *x, double *y)
+{
+    double e1[3], e2[3], c[3];
+    int k;
+    for (k = 0; k < 3; k++) { e1[k] = p2[k] - p1[k]; e2[k] = p3[k] - p1[k]; }
+    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    *w = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    *x = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / *w;
+    *y = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / *w;
+}
+
+/* >>energy =================================================================
+
+   Sec 3.2.  Every energy here is a function f(s_max, s_min) of the singular
+   values of J, infinite when the triangle degenerates (s_min -> 0), so a
+   descent method that never crosses a singularity never flips a triangle.
+   The dissertation's own energy (eq 3.1-3.3) is the symmetric Dirichlet
+       E_t = s_max^2 + s_min^2 + s_max^-2 + s_min^-2     (minimum 4 at a rotation),
+   and the others of fig 3.2 are the conformal s_max/s_min, MIPS
+   s_max/s_min + s_min/s_max, isometric sqrt(s_max^2 + s_min^-2) and maximal
+   isometric max(s_max, 1/s_min).
+
+   The singular values of a 2x2 J = [a b; c d] have a closed form.  With
+       E = (a+d)/2, F = (a-d)/2, G = (c+b)/2, H = (c-b)/2,
+       Q = sqrt(E^2 + H^2),   R = sqrt(F^2 + G^2),
+   s_max = Q + R and s_min = Q - R = det J / s_max (the second form is the
+   accurate one when det J is small).  So any f(s_max, s_min) has gradient
+       df/dJ = (f_a + f_b) dQ/dJ + (f_a - f_b) dR/dJ,
+       dQ/dJ = [E -H; H E] / (2Q),   dR/dJ = [F G; G -F] / (2R),
+   (f_a, f_b the partials in s_max, s_min), and by the chain rule through
+   J = D M^-1 the gradient in the UV positions is df/dD = df/dJ M^-T, whose
+   columns are the gradients for U2 and U3 (U1 gets minus their sum).  For
+   the symmetric Dirichlet energy this equals eq 3.3's closed form (area
+   term plus cotangent weights).  At R = 0 (a conformal J) dR/dJ is taken as
+   0; f_a - f_b vanishes there for the isometric energies, so their gradient
+   is continuous. */
+
+/* f(s_max, s_min) and its partials; returns +inf for s_min <= 0. */
+static double bp__energy_sv(bp_energy kind, double sa, double sb, double *fa, double *fb)
+{
+    double r;
+    if (!(sb > 0)) { *fa = *fb = 0; return HUGE_VAL; }
+    switch (kind) {
+    case BP_ENERGY_CONFORMAL:
+        *fa = 1 / sb; *fb = -sa / (sb * sb);
+        return sa / sb;
+    case BP_ENERGY_MIPS:
+        *fa = 1 / sb - sb / (sa * sa); *fb = 1 / sa - sa / (sb * sb);
+        return sa / sb + sb / sa;
+    case BP_ENERGY_ISOMETRIC:
+        r = sqrt(sa * sa + 1 / (sb * sb));
+        *fa = sa / r; *fb = -1 / (sb * sb * sb * r);
+        return r;
+    case BP_ENERGY_MAX_ISOMETRIC:
+        if (sa >= 1 / sb) { *fa = 1; *fb = 0; return sa; }
+        *fa = 0; *fb = -1 / (sb * sb);
+        return 1 / sb;
+    default:   /* symmetric Dirichlet */
+        *fa = 2 * sa - 2 / (sa * sa * sa);
+        *fb = 2 * sb - 2 / (sb * sb * sb);
+        return sa * sa + sb * sb + 1 / (sa * sa) + 1 / (sb * sb);
+    }
+}
+
+/* E_t of one triangle at UV corners u1, u2, u3; if g is given, adds
+   weight * dE_t/dU to g1, g2, g3. */
+static double bp__triangle_energy(bp_energy kind, const bp__rest *r, const double *u1,
+                                  const double *u2, const double *u3, double *g1, double *g2, double *g3)
+{
+    double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
+    /* J = D M^-1 with M^-1 upper triangular */
+    double a = d00 * r->m00, b = d00 * r->m01 + d01 * r->m11;
+    double c = d10 * r->m00, d = d10 * r->m01 + d11 * r->m11;
+    double E = 0.5 * (a + d), F = 0.5 * (a - d), G = 0.5 * (c + b), H = 0.5 * (c - b);
+    double Q = sqrt(E * E + H * H), R = sqrt(F * F + G * G);
+    double det = a * d - b * c, sa = Q + R, sb, fa, fb, e;
+    if (!(det > 0)) return HUGE_VAL;
+    sb = det / sa;
+    e = bp__energy_sv(kind, sa, sb, &fa, &fb);
+    if (g1) {
+        double kq = (fa + fb) / (2 * Q), kr = R > 0 ? (fa - fb) / (2 * R) : 0;
+        /* dE/dJ */
+        double ja = kq * E + kr * F, jb = -kq * H + kr * G;
+        double jc = kq * H + kr * G, jd = kq * E - kr * F;
+        /* dE/dD = dE/dJ M^-T: columns are dE/dU2, dE/dU3 */
+        double w = r->weight;
+        double gx2 = w * (ja * r->m00 + jb * r->m01), gy2 = w * (jc * r->m00 + jd * r->m01);
+        double gx3 = w * (jb * r->m11), gy3 = w * (jd * r->m11);
+        g2[0] += gx2; g2[1] += gy2;
+        g3[0] += gx3; g3[1] += gy3;
+        g1[0] -= gx2 + gx3; g1[1] -= gy2 + gy3;
+    }
+    return e;
+}
+
+/* >>barrier ================================================================
+
+   Sec 3.3.  Positive triangles make the map locally injective, not
+   bijective: the boundary can still run over itself (fig 3.3).  For each
+   boundary edge (U1, U2) and each boundary vertex Ui not on it,
+       E_B += max(0, eps / dist(U1, U2, Ui) - 1)^2,
+   which is zero (with zero gradient) beyond distance eps and infinite at
+   contact.  dist is the distance from Ui to the closest point
+   C = U1 + s (U2 - U1), s clamped to [0, 1]; with n the unit vector from C
+   to Ui, d dist/dUi = n, d dist/dU1 = -(1 - s) n, d dist/dU2 = -s n (the
+   derivative through s vanishes: s minimizes the distance, or is clamped).
+   eps defaults to a quarter of the chart's mean 3D boundary edge length.
+
+   Only vertex/edge pairs within eps matter, so a spatial hash finds them
+   (fig 3.6 left): boundary vertices are binned in a uniform grid, and each
+   edge visits the cells of its box grown by eps.
+
+   Loops of one chart are never tested against each other (sec 3.6): while
+   every triangle stays positive, a vertex of one loop cannot reach an edge
+   of another.  The image of the chart near that edge lies on its inner
+   side, and a vertex arriving from the inner side is already covered by a
+   triangle next to the edge: an overlap of two triangles, which a map that
+   is injective up to that moment cannot acquire without some triangle
+   degenerating first.  One hash per loop therefore suffices, and the exact
+   check after each step confirms it. */
+
+/* A uniform spatial hash over boxes: item i is entered in every cell its
+   box covers; a query visits the cells of a box and returns each item once
+   (stamps remove repeats from multi-cell items and hash collisions). */
+typedef struct bp__hash {
+    double    h;                 /* cell size                                 */
+    uint32_t  mask;              /* table size - 1 (power of two)             */
+    uint32_t *start;             /* mask+2 bucket offsets                     */
+    uint32_t *items;             /* entries                                   */
+    size_t    cap;               /* capacity of items                         */
+    uint32_t *stamp;             /* per item, last query that saw it          */
+    uint32_t  cur;
+    uint32_t  n;                 /* items in the hash                         */
+} bp__hash;
+
+static uint32_t bp__hash_cell(const bp__hash *H, int64_t ix, int64_t iy)
+{
+    uint64_t k = (uint64_t)ix * 0x9E3779B97F4A7C15ull ^ (uint64_t)iy * 0xC2B2AE3D27D4EB4Full;
+    return (uint32_t)(k >> 32) & H->mask;
+}
+
+static int64_t bp__cell_of(double x, double h)
+{
+    double c = floor(x / h);
+    if (c > 4e18) c = 4e18;
+    if (c < -4e18) c = -4e18;
+    return (int64_t)c;
+}
+
+/* Build over n boxes (xmin, ymin, xmax, ymax); returns 0 if the entries
+   would exceed the capacity (the caller grows the cell size). */
+static int bp__hash_build(bp__hash *H, const double *box, uint32_t n, double h)
+{
+    uint32_t i, b;
+    size_t total = 0;
+    H->h = h;
+    H->n = n;
+    for (b = 0; b <= H->mask + 1; b++) H->start[b] = 0;
+    for (i = 0; i < n; i++) {
+        const double *bx = box + 4 * (size_t)i;
+        int64_t x0 = bp__cell_of(bx[0], h), x1 = bp__cell_of(bx[2], h), ix;
+        int64_t y0 = bp__cell_of(bx[1], h), y1 = bp__cell_of(bx[3], h), iy;
+        if ((double)(x1 - x0 + 1) * (double)(y1 - y0 + 1) > (double)(H->cap - total)) return 0;
+        for (iy = y0; iy <= y1; iy++)
+            for (ix = x0; ix <= x1; ix++) { H->start[bp__hash_cell(H, ix, iy) + 1]++; total++; }
+    }
+    for (b = 0; b <= H->mask; b++) H->start[b + 1] += H->start[b];
+    for (i = 0; i < n; i++) {
+        const double *bx = box + 4 * (size_t)i;
+        int64_t x0 = bp__cell_of(bx[0], h), x1 = bp__cell_of(bx[2], h), ix;
+        int64_t y0 = bp__cell_of(bx[1], h), y1 = bp__cell_of(bx[3], h), iy;
+        for (iy = y0; iy <= y1; iy++)
+            for (ix = x0; ix <= x1; ix++) H->items[H->start[bp__hash_cell(H, ix, iy)]++] = i;
+    }
+    for (b = H->mask + 1; b > 0; b--) H->start[b] = H->start[b - 1];
+    H->start[0] = 0;
+    return 1;
+}
+
+/* Calls visit(user, item) once for every item whose cells meet the box. */
+typedef void (*bp__visit_fn)(void *user, uint32_t item);
+
+static void bp__hash_query(bp__hash *H, double x0, double y0, double x1, double y1,
+                           bp__visit_fn visit, void *user)
+{
+    int64_t cx0 = bp__cell_of(x0, H->h), cx1 = bp__cell_of(x1, H->h), ix;
+    int64_t cy0 = bp__cell_of(y0, H->h), cy1 = bp__cell_of(y1, H->h), iy;
+    uint32_t q;
+    if (++H->cur == 0) {                      /* stamp wrap-around */
+        for (q = 0; q < H->n; q++) H->stamp[q] = 0;
+        H->cur = 1;
+    }
+    if ((double)(cx1 - cx0 + 1) * (double)(cy1 - cy0 + 1) > 2.0 * (H->mask + 1)) {
+        for (q = 0; q < H->n; q++) visit(user, q);   /* box larger than the table */
+        return;
+    }
+    for (iy = cy0; iy <= cy1; iy++)
+        for (ix = cx0; ix <= cx1; ix++) {
+            uint32_t bkt = bp__hash_cell(H, ix, iy), e;
+            for (e = H->start[bkt]; e < H->start[bkt + 1]; e++) {
+                uint32_t it = H->items[e];
+                if (H->stamp[it] == H->cur) continue;
+                H->stamp[it] = H->cur;
+                visit(user, it);
+            }
+        }
+}
+
+/* The solver's state for one chart. */
+typedef struct bp__solver {
+    const bp_allocator *a;
+    bp_energy  energy;
+    uint32_t   nv, nt;
+    const uint32_t *tri;
+    bp__rest  *rest;
+    uint32_t   nloops;
+    const uint32_t *loop_start, *loop_vertices;
+    uint32_t   nb;                 /* boundary vertices (= edges)            */
+    int        barrier;
+    double     eps;
+    double     mean_edge;          /* mean 3D boundary edge length           */
+    bp__hash   hash;
+    double    *box;                /* 4 per boundary vertex                  */
+    /* current query state (visitor arguments) */
+    const double *x;
+    double    *g;
+    uint32_t   loop, edge;         /* loop index, position of edge start     */
+    double     acc;                /* barrier sum of the current edge        */
+    const double *dir;
+    double     tmax;
+} bp__solver;
+
+static void bp__barrier_visit(void *user, uint32_t k)
+{
+    bp__solver *S = (bp__solver *)user;
+    uint32_t s0 = S->loop_start[S->loop], n = S->loop_start[S->loop + 1] - s0;
+    uint32_t i = S->edge, i1 = (i + 1) % n;
+    uint32_t va, vb, vp;
+    const double *A, *B, *P;
+    double ex, ey, len2, sp, cx, cy, dx, dy, d, r;
+    if (k == i || k == i1) return;
+    va = S->loop_vertices[s0 + i]; vb = S->loop_vertices[s0 + i1]; vp = S->loop_vertices[s0 + k];
+    A = S->x + 2 * (size_t)va; B = S->x + 2 * (size_t)vb; P = S->x + 2 * (size_t)vp;
+    ex = B[0] - A[0]; ey = B[1] - A[1];
+    len2 = ex * ex + ey * ey;
+    sp = len2 > 0 ? ((P[0] - A[0]) * ex + (P[1] - A[1]) * ey) / len2 : 0;
+    if (sp < 0) sp = 0;
+    if (sp > 1) sp = 1;
+    cx = A[0] + sp * ex; cy = A[1] + sp * ey;
+    dx = P[0] - cx; dy = P[1] - cy;
+    d = sqrt(dx * dx + dy * dy);
+    if (d >= S->eps) return;
+    if (!(d > 0)) { S->acc = HUGE_VAL; return; }
+    r = S->eps / d - 1;
+    S->acc += r * r;
+    if (S->g) {
+        /* dE/dd = -2 r eps / d^2, times d dist/dU (see the essay) */
+        double k2 = -2 * r * S->eps / (d * d), nx = dx / d, ny = dy / d;
+        S->g[2 * (size_t)vp] += k2 * nx;          S->g[2 * (size_t)vp + 1] += k2 * ny;
+        S->g[2 * (size_t)va] -= k2 * (1 - sp) * nx; S->g[2 * (size_t)va + 1] -= k2 * (1 - sp) * ny;
+        S->g[2 * (size_t)vb] -= k2 * sp * nx;       S->g[2 * (size_t)vb + 1] -= k2 * sp * ny;
+    }
+}
+
+/* Cell size for the hash of one loop: about one current edge long, but at
+   least eps, so that a query box covers a handful of cells. */
+static double bp__loop_cell(const bp__solver *S, const double *x, uint32_t L)
+{
+    uint32_t s0 = S->loop_start[L], n = S->loop_start[L + 1] - s0, k;
+    double len = 0;
+    for (k = 0; k < n; k++) {
+        const double *p = x + 2 * (size_t)S->loop_vertices[s0 + k];
+        const double *q = x + 2 * (size_t)S->loop_vertices[s0 + (k + 1) % n];
+        len += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]));
+    }
+    len /= n;
+    return len > S->eps ? len : S->eps;
+}
+
+static double bp__barrier(bp__solver *S, const double *x, double *g)
+{
+    double total = 0;
+    uint32_t L;
+    S->x = x;
+    S->g = g;
+    for (L = 0; L < S->nloops; L++) {
+        uint32_t s0 = S->loop_start[L], n = S->loop_start[L + 1] - s0, k;
+        double h = bp__loop_cell(S, x, L);
+        for (k = 0; k < n; k++) {
+            const double *p = x + 2 * (size_t)S->loop_vertices[s0 + k];
+            S->box[4 * k] = S->box[4 * k + 2] = p[0];
+            S->box[4 * k + 1] = S->box[4 * k + 3] = p[1];
+        }
+        while (!bp__hash_build(&S->hash, S->box, n, h)) h *= 2;
+        S->loop = L;
+        for (k = 0; k < n; k++) {
+            const double *p = x + 2 * (size_t)S->loop_vertices[s0 + k];
+            const double *q = x + 2 * (size_t)S->loop_vertices[s0 + (k + 1) % n];
+            S->edge = k;
+            S->acc = 0;
+            bp__hash_query(&S->hash, (p[0] < q[0] ? p[0] : q[0]) - S->eps, (p[1] < q[1] ? p[1] : q[1]) - S->eps,
+                           (p[0] > q[0] ? p[0] : q[0]) + S->eps, (p[1] > q[1] ? p[1] : q[1]) + S->eps,
+                           bp__barrier_visit, S);
+            total += S->acc;
+        }
+    }
+    return total;
+}
+
+/* f = E_D + E_B at x (E_D = sum weight_t E_t); gradient into g if given.
+   *ed receives E_D alone.  +inf outside the valid region. */
+static double bp__objective(bp__solver *S, const double *x, double *g, double *ed)
+{
+    double sum = 0;
+    uint32_t t;
+    if (g) memset(g, 0, 2 * (size_t)S->nv * sizeof(double));
+    for (t = 0; t < S->nt; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        double e = bp__triangle_energy(S->energy, &S->rest[t], x + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1],
+                                       x + 2 * (size_t)tr[2], g ? g + 2 * (size_t)tr[0] : NULL,
+                                       g ? g + 2 * (size_t)tr[1] : NULL, g ? g + 2 * (size_t)tr[2] : NULL);
+        if (e == HUGE_VAL) { *ed = HUGE_VAL; return HUGE_VAL; }
+        sum += S->rest[t].weight * e;
+    }
+    *ed = sum;
+    if (S->barrier) sum += bp__barrier(S, x, g);
+    return sum;
+}
+
+/* >>stepbound ==============================================================
+
+   Sec 3.4.2.  Along a search line U + t V every singularity of the energy is
+   a moment where three points become collinear: the corners of a triangle
+   (eq 3.4), or a boundary vertex and a boundary edge of its loop (eq 3.5).
+   For points A, B, C moving with velocities VA, VB, VC,
+       det[B - A + t (VB - VA), C - A + t (VC - VA)] = alpha t^2 + beta t + gamma
+   with gamma = det[B - A, C - A], beta = det[B - A, VC - VA] + det[VB - VA, C - A],
+   alpha = det[VB - VA, VC - VA].  Its smallest positive root bounds the step.
+   Roots are computed without cancellation (Numerical Recipes' q form):
+       q = -(beta + sign(beta) sqrt(beta^2 - 4 alpha gamma)) / 2,
+       t1 = q / alpha,  t2 = gamma / q,
+   which needs no special case when alpha ~ 0: t1 goes to infinity and t2 to
+   the linear root -gamma / beta.  (Dividing the other way round, -beta /
+   gamma, is the bug the issue tracker warns about.)
+   For a vertex and an edge a root counts only if at that moment the vertex
+   lies within the edge (0 <= s <= 1 along it); outside, the three are
+   collinear but nothing touches.  The boundary pairs are found with the
+   swept hash of fig 3.6 (right): every vertex enters the cells of the box
+   swept by U + t V for t in [0, tmax], every edge queries the box of its
+   swept endpoints, and the box shrinks as tmax falls. */
+
+/* Smallest root in (0, tmax) of alpha t^2 + beta t + gamma, else tmax.
+   If P/VP etc. are given (edge case), the root must put P on segment AB. */
+static double bp__min_root(double alpha, double beta, double gamma, double tmax,
+                           const double *A, const double *VA, const double *B, const double *VB,
+                           const double *P, const double *VP)
+{
+    double disc = beta * beta - 4 * alpha * gamma, q, r[2];
+    int k;
+    if (disc < 0) return tmax;
+    q = -0.5 * (beta + (beta >= 0 ? sqrt(disc) : -sqrt(disc)));
+    r[0] = alpha != 0 ? q / alpha : HUGE_VAL;
+    r[1] = q != 0 ? gamma / q : HUGE_VAL;
+    if (r[0] > r[1]) { double tmp = r[0]; r[0] = r[1]; r[1] = tmp; }
+    for (k = 0; k < 2; k++) {
+        double t = r[k];
+        if (!(t > 0) || !(t < tmax)) continue;
+        if (P) {
+            double ax = A[0] + t * VA[0], ay = A[1] + t * VA[1];
+            double ex = B[0] + t * VB[0] - ax, ey = B[1] + t * VB[1] - ay;
+            double px = P[0] + t * VP[0] - ax, py = P[1] + t * VP[1] - ay;
+            double dot = px * ex + py * ey, len2 = ex * ex + ey * ey;
+            if (dot < 0 || dot > len2) continue;
+        }
+        return t;
+    }
+    return tmax;
+}
+
+static double bp__collinear_time(const double *A, const double *VA, const double *B, const double *VB,
+                                 const double *C, const double *VC, double tmax, int edge_case)
+{
+    double e1x = B[0] - A[0], e1y = B[1] - A[1], e2x = C[0] - A[0], e2y = C[1] - A[1];
+    double f1x = VB[0] - VA[0], f1y = VB[1] - VA[1], f2x = VC[0] - VA[0], f2y = VC[1] - VA[1];
+    double gamma = e1x * e2y - e1y * e2x;
+    double beta = e1x * f2y - e1y * f2x + f1x * e2y - f1y * e2x;
+    double alpha = f1x * f2y - f1y * f2x;
+    if (edge_case) return bp__min_root(alpha, beta, gamma, tmax, A, VA, B, VB, C, VC);
+    return bp__min_root(alpha, beta, gamma, tmax, NULL, NULL, NULL, NULL, NULL, NULL);
+}
+
+static void bp__step_visit(void *user, uint32_t k)
+{
+    bp__solver *S = (bp__solver *)user;
+    uint32_t s0 = S->loop_start[S->loop], n = S->loop_start[S->loop + 1] - s0;
+    uint32_t i = S->edge, i1 = (i + 1) % n, va, vb, vp;
+    if (k == i || k == i1) return;
+    va = S->loop_vertices[s0 + i]; vb = S->loop_vertices[s0 + i1]; vp = S->loop_vertices[s0 + k];
+    S->tmax = bp__collinear_time(S->x + 2 * (size_t)va, S->dir + 2 * (size_t)va, S->x + 2 * (size_t)vb,
+                                 S->dir + 2 * (size_t)vb, S->x + 2 * (size_t)vp, S->dir + 2 * (size_t)vp,
+                                 S->tmax, 1);
+}
+
+/* The largest t such that the energy has no singularity on [0, t). */
+static double bp__step_bound(bp__solver *S, const double *x, const double *v)
+{
+    double tmax = HUGE_VAL;
+    uint32_t t, L;
+    for (t = 0; t < S->nt; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        tmax = bp__collinear_time(x + 2 * (size_t)tr[0], v + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1],
+                                  v + 2 * (size_t)tr[1], x + 2 * (size_t)tr[2], v + 2 * (size_t)tr[2], tmax, 0);
+    }
+    if (!S->barrier) return tmax;
+    /* "In the extremely unlikely case that tmax = inf, it is set to a large
+       positive value" (sec 3.4.2): here, the time to move 100 chart sizes. */
+    if (tmax == HUGE_VAL) {
+        double vmax = 0;
+        uint32_t i;
+        for (i = 0; i < 2 * S->nv; i++) if (fabs(v[i]) > vmax) vmax = fabs(v[i]);
+        tmax = vmax > 0 ? 100 * S->mean_edge * S->nb / vmax : 1;
+    }
+    S->x = x;
+    S->dir = v;
+    for (L = 0; L < S->nloops; L++) {
+        uint32_t s0 = S->loop_start[L], n = S->loop_start[L + 1] - s0, k;
+        double h = bp__loop_cell(S, x, L);
+        for (k = 0; k < n; k++) {
+            const double *p = x + 2 * (size_t)S->loop_vertices[s0 + k];
+            const double *d = v + 2 * (size_t)S->loop_vertices[s0 + k];
+            double qx = p[0] + tmax * d[0], qy = p[1] + tmax * d[1];
+            S->box[4 * k] = p[0] < qx ? p[0] : qx;  S->box[4 * k + 2] = p[0] < qx ? qx : p[0];
+            S->box[4 * k + 1] = p[1] < qy ? p[1] : qy;  S->box[4 * k + 3] = p[1] < qy ? qy : p[1];
+        }
+        while (!bp__hash_build(&S->hash, S->box, n, h)) h *= 2;
+        S->loop = L;
+        S->tmax = tmax;
+        for (k = 0; k < n; k++) {
+            uint32_t va = S->loop_vertices[s0 + k], vb = S->loop_vertices[s0 + (k + 1) % n];
+            const double *p = x + 2 * (size_t)va, *q = x + 2 * (size_t)vb;
+            const double *dp = v + 2 * (size_t)va, *dq = v + 2 * (size_t)vb;
+            double xs[4], ys[4], bx0, by0, bx1, by1;
+            int j;
+            xs[0] = p[0]; xs[1] = q[0]; xs[2] = p[0] + S->tmax * dp[0]; xs[3] = q[0] + S->tmax * dq[0];
+            ys[0] = p[1]; ys[1] = q[1]; ys[2] = p[1] + S->tmax * dp[1]; ys[3] = q[1] + S->tmax * dq[1];
+            bx0 = bx1 = xs[0]; by0 = by1 = ys[0];
+            for (j = 1; j < 4; j++) {
+                if (xs[j] < bx0) bx0 = xs[j];
+                if (xs[j] > bx1) bx1 = xs[j];
+                if (ys[j] < by0) by0 = ys[j];
+                if (ys[j] > by1) by1 = ys[j];
+            }
+            S->edge = k;
+            bp__hash_query(&S->hash, bx0, by0, bx1, by1, bp__step_visit, S);
+        }
+        tmax = S->tmax;
+    }
+    return tmax;
+}
+
+/* Exact validity of the chart at x: every triangle positive and no two
+   boundary edges of any loops in conflict (the full bp_check condition, on
+   the chart's own loop lists). */
+static bp_status bp__chart_valid(bp__solver *S, const double *x, bp__dedge *edges, int *valid)
+{
+    bp_check_report rep;
+    uint32_t t, L, k, n = 0;
+    bp_status st;
+    *valid = 0;
+    for (t = 0; t < S->nt; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        if (bp_orient2d(x + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1], x + 2 * (size_t)tr[2]) <= 0) return BP_OK;
+    }
+    for (L = 0; L < S->nloops; L++) {
+        uint32_t s0 = S->loop_start[L], s1 = S->loop_start[L + 1];
+        for (k = s0; k < s1; k++) {
+            edges[n].a = S->loop_vertices[k];
+            edges[n].b = S->loop_vertices[k + 1 < s1 ? k + 1 : s0];
+            n++;
+        }
+    }
+    memset(&rep, 0, sizeof rep);
+    st = bp__boundary_conflicts(S->a, x, edges, n, &rep);
+    *valid = st == BP_OK && rep.boundary_intersections == 0;
+    return st;
+}
+
+/* >>lbfgs ==================================================================
+
+   Sec 3.4 and 3.5.  Each iteration: (1) energy and gradient, (2) a search
+   direction, (3) the step bound tmax, (4) a backtracking line search from
+   min(1, 0.9 tmax) that accepts the first t with sufficient decrease
+   (Armijo: f(x + t v) <= f(x) + 1e-4 t g.v) and an exactly valid map, (5)
+   the convergence test.  The direction is L-BFGS (Algorithm 1, memory m,
+   initial scaling s.y / y.y) or plain gradient descent for comparison.
+   Floating point cannot defeat the guarantee: the step bound is computed in
+   floating point, so every accepted step is re-checked with the exact
+   predicates and halved until the check passes. */
+
+BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+                                  const bp_options *opt, bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    bp__solver S;
+    bp_options o;
+    uint32_t t, i, nv2, nloop_v;
+    int hist, it, small = 0, nh = 0, head = 0, gd_scale_set = 0;
+    double *x = NULL, *g = NULL, *xn = NULL, *gn = NULL, *v = NULL, *sh = NULL, *yh = NULL, *rho = NULL, *alpha = NULL;
+    bp__dedge *edges = NULL;
+    double f, ed, total_area = 0, tlast = 1;
+    bp_status st = BP_OK;
+    clock_t c0 = clock();
+    memset(&S, 0, sizeof S);
+    memset(&o, 0, sizeof o);
+    if (opt) o = *opt;
+    if (!ch || !m || !ch->uv || !ch->num_loops)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart_index, -1, 0,
+                        "bp_chart_optimize needs a chart with a start map (bp_chart_init)");
+    if ((int)o.energy < 0 || (int)o.energy >= (int)BP_ENERGY_COUNT)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)o.energy);
+    hist = o.history > 0 ? o.history : 5;
+    if (o.direction == BP_DIRECTION_GRADIENT) hist = 0;
+    if (o.max_iterations <= 0) o.max_iterations = 10000;
+    if (!(o.tolerance > 0)) o.tolerance = 1e-7;
+    S.a = &a;
+    S.energy = o.energy;
+    S.nv = ch->num_vertices;
+    S.nt = ch->num_triangles;
+    S.tri = ch->triangles;
+    S.nloops = ch->num_loops;
+    S.loop_start = ch->loop_start;
+    S.loop_vertices = ch->loop_vertices;
+    S.nb = nloop_v = ch->loop_start[ch->num_loops];
+    S.barrier = !o.no_barrier;
+    nv2 = 2 * S.nv;
+    S.rest = (bp__rest *)bp__alloc_array(&a, S.nt, sizeof(bp__rest));
+    x = (double *)bp__alloc_array(&a, nv2, sizeof(double));
+    g = (double *)bp__alloc_array(&a, nv2, sizeof(double));
+    xn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
+    gn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
+    v = (double *)bp__alloc_array(&a, nv2, sizeof(double));
+    sh = (double *)bp__alloc_array(&a, (size_t)nv2 * (hist ? hist : 1), sizeof(double));
+    yh = (double *)bp__alloc_array(&a, (size_t)nv2 * (hist ? hist : 1), sizeof(double));
+    rho = (double *)bp__alloc_array(&a, hist ? hist : 1, sizeof(double));
+    alpha = (double *)bp__alloc_array(&a, hist ? hist : 1, sizeof(double));
+    edges = (bp__dedge *)bp__alloc_array(&a, nloop_v, sizeof(bp__dedge));
+    S.box = (double *)bp__alloc_array(&a, 4 * (size_t)nloop_v, sizeof(double));
+    S.hash.mask = 1;
+    while (S.hash.mask + 1 < 2 * nloop_v) S.hash.mask = 2 * S.hash.mask + 1;
+    S.hash.cap = 32 * (size_t)nloop_v + 64;
+    S.hash.start = (uint32_t *)bp__alloc_array(&a, (size_t)S.hash.mask + 2, sizeof(uint32_t));
+    S.hash.items = (uint32_t *)bp__alloc_array(&a, S.hash.cap, sizeof(uint32_t));
+    S.hash.stamp = (uint32_t *)bp__calloc_array(&a, nloop_v, sizeof(uint32_t));
+    if (!S.rest || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha || !edges || !S.box ||
+        !S.hash.start || !S.hash.items || !S.hash.stamp) {
+        st = bp__oom(err, "optimizing a chart");
+        goto done;
+    }
+    /* rest shapes (sec 3.1) and weights: E_D = sum (A_t / mean area) E_t, so
+       E_D / nt is the area-weighted mean the report shows */
+    for (t = 0; t < S.nt; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        double w, px, py;
+        bp__rest_shape(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]),
+                       bp__pos(m, ch->vertex[tr[2]]), &w, &px, &py);
+        S.rest[t].m00 = 1 / w;
+        S.rest[t].m01 = -px / (w * py);
+        S.rest[t].m11 = 1 / py;
+        S.rest[t].weight = 0.5 * w * py;
+        total_area += S.rest[t].weight;
+    }
+    for (t = 0; t < S.nt; t++) S.rest[t].weight *= S.nt / total_area;
+    /* barrier width: a quarter of the mean 3D boundary edge (sec 3.3) */
+    {
+        double len = 0;
+        uint32_t L, k;
+        for (L = 0; L < S.nloops; L++)
+            for (k = S.loop_start[L]; k < S.loop_start[L + 1]; k++) {
+                uint32_t va = S.loop_vertices[k], vb = S.loop_vertices[k + 1 < S.loop_start[L + 1] ? k + 1 : S.loop_start[L]];
+                len += bp__dist3(bp__pos(m, ch->vertex[va]), bp__pos(m, ch->vertex[vb]));
+            }
+        S.mean_edge = len / S.nb;
+        S.eps = o.epsilon > 0 ? o.epsilon : S.mean_edge / 4;
+    }
+    memcpy(x, ch->uv, nv2 * sizeof(double));
+    f = bp__objective(&S, x, g, &ed);
+    if (!(f < HUGE_VAL)) {
+        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart_index, -1, 0,
+                      "chart %u: the start map is not valid (a triangle is flipped or degenerate)", chart_index);
+        goto done;
+    }
+    ch->energy_start = ed / S.nt;
+    ch->stop = BP_STOP_MAX_ITERATIONS;
+    for (it = 0; it < o.max_iterations; it++) {
+        double gv = 0, tmax, tt, fn = HUGE_VAL, edn = HUGE_VAL;
+        int accepted = 0, tries;
+        /* (2) search direction */
+        for (i = 0; i < nv2; i++) v[i] = -g[i];
+        if (nh > 0) {
+            /* L-BFGS two-loop recursion (Algorithm 1) */
+            int j, idx;
+            double yy = 0, sy = 0, scale;
+            for (j = 0; j < nh; j++) {
+                double dot = 0;
+                idx = (head - 1 - j + hist) % hist;
+                for (i = 0; i < nv2; i++) dot += sh[(size_t)idx * nv2 + i] * v[i];
+                alpha[idx] = rho[idx] * dot;
+                for (i = 0; i < nv2; i++) v[i] -= alpha[idx] * yh[(size_t)idx * nv2 + i];
+            }
+            idx = (head - 1 + hist) % hist;
+            for (i = 0; i < nv2; i++) {
+                yy += yh[(size_t)idx * nv2 + i] * yh[(size_t)idx * nv2 + i];
+                sy += sh[(size_t)idx * nv2 + i] * yh[(size_t)idx * nv2 + i];
+            }
+            scale = sy / yy;
+            for (i = 0; i < nv2; i++) v[i] *= scale;
+            for (j = nh - 1; j >= 0; j--) {
+                double dot = 0, beta;
+                idx = (head - 1 - j + hist) % hist;
+                for (i = 0; i < nv2; i++) dot += yh[(size_t)idx * nv2 + i] * v[i];
+                beta = rho[idx] * dot;
+                for (i = 0; i < nv2; i++) v[i] += (alpha[idx] - beta) * sh[(size_t)idx * nv2 + i];
+            }
+        }
+        for (i = 0; i < nv2; i++) gv += g[i] * v[i];
+        if (!(gv < 0)) {                          /* not a descent direction: restart */
+            nh = 0;
+            gv = 0;
+            for (i = 0; i < nv2; i++) { v[i] = -g[i]; gv -= g[i] * g[i]; }
+        }
+        if (gv == 0) { ch->stop = BP_STOP_CONVERGED; break; }
+        /* first step of gradient descent: move the fastest vertex by about
+           a tenth of a boundary edge; later ones start from twice the last */
+        if (nh == 0 && (!gd_scale_set || hist == 0)) {
+            double vmax = 0;
+            for (i = 0; i < nv2; i++) if (fabs(v[i]) > vmax) vmax = fabs(v[i]);
+            if (!gd_scale_set) tlast = 0.05 * S.mean_edge / vmax;
+            gd_scale_set = 1;
+        }
+        /* (3) the singularity-aware bound, (4) the line search */
+        tmax = bp__step_bound(&S, x, v);
+        tt = (nh > 0) ? 1.0 : 2 * tlast;
+        if (tt > 0.9 * tmax) tt = 0.9 * tmax;
+        for (tries = 0; tries < 60 && tt > 0; tries++, tt *= 0.5) {
+            int valid;
+            for (i = 0; i < nv2; i++) xn[i] = x[i] + tt * v[i];
+            fn = bp__objective(&S, xn, gn, &edn);
+            if (!(fn <= f + 1e-4 * tt * gv)) continue;
+            if ((st = bp__chart_valid(&S, xn, edges, &valid)) != BP_OK) {
+                st = bp__oom(err, "checking a step");
+                goto done;
+            }
+            if (!valid) continue;                 /* floating point was wrong: shrink */
+            accepted = 1;
+            break;
+        }
+        if (!accepted) { ch->stop = BP_STOP_NO_PROGRESS; break; }
+        tlast = tt;
+        /* L-BFGS memory: s = x_new - x, y = g_new - g (skipped when the
+           curvature s.y is not positive) */
+        if (hist) {
+            double sy = 0, ss = 0, yy2 = 0;
+            double *sp = sh + (size_t)head * nv2, *yp = yh + (size_t)head * nv2;
+            for (i = 0; i < nv2; i++) {
+                sp[i] = xn[i] - x[i];
+                yp[i] = gn[i] - g[i];
+                sy += sp[i] * yp[i];
+                ss += sp[i] * sp[i];
+                yy2 += yp[i] * yp[i];
+            }
+            if (sy > 1e-12 * sqrt(ss * yy2)) {
+                rho[head] = 1 / sy;
+                head = (head + 1) % hist;
+                if (nh < hist) nh++;
+            }
+        }
+        memcpy(x, xn, nv2 * sizeof(double));
+        memcpy(g, gn, nv2 * sizeof(double));
+        /* (5) convergence: relative decrease below tol three times running */
+        if ((f - fn) <= o.tolerance * fabs(fn)) small++; else small = 0;
+        f = fn;
+        ed = edn;
+        ch->iterations = it + 1;
+        if (o.progress && o.progress(o.progress_user, chart_index, it + 1, ed / S.nt, tt)) {
+            ch->stop = BP_STOP_CANCELLED;
+            break;
+        }
+        if (small >= 3) { ch->stop = BP_STOP_CONVERGED; break; }
+        if (o.max_seconds > 0 && (double)(clock() - c0) / CLOCKS_PER_SEC > o.max_seconds) {
+            ch->stop = BP_STOP_MAX_SECONDS;
+            break;
+        }
+    }
+    /* every accepted x passed the exact check, so x is the last valid map */
+    memcpy(ch->uv, x, nv2 * sizeof(double));
+    ch->energy_end = ed / S.nt;
+    {
+        double emax = 0;
+        for (t = 0; t < S.nt; t++) {
+            const uint32_t *tr = S.tri + 3 * (size_t)t;
+            double e = bp__triangle_energy(S.energy, &S.rest[t], x + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1],
+                                           x + 2 * (size_t)tr[2], NULL, NULL, NULL);
+            if (e > emax) emax = e;
+        }
+        ch->energy_max = emax;
+    }
+    ch->seconds = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    if (ch->stop == BP_STOP_CANCELLED)
+        st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_CHART, chart_index, -1, 0,
+                      "chart %u: cancelled by the progress callback after %d iterations (the map is the last valid one)",
+                      chart_index, ch->iterations);
+    else
+        st = bp__ok(err);
+done:
+    bp__free(&a, S.rest); bp__free(&a, x); bp__free(&a, g); bp__free(&a, xn); bp__free(&a, gn);
+    bp__free(&a, v); bp__free(&a, sh); bp__free(&a, yh); bp__free(&a, rho); bp__free(&a, alpha);
+    bp__free(&a, edges); bp__free(&a, S.box); bp__free(&a, S.hash.start); bp__free(&a, S.hash.items);
+    bp__free(&a, S.hash.stamp);
+    return st;
+}
+
+/* Area-weighted mean and max of E_t for a chart's current map. */
+BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_energy energy,
+                                    double *mean, double *max, double *per_triangle)
+{
+    uint32_t t;
+    double sum = 0, area = 0, emax = 0;
+    if (!ch || !m || !ch->uv) return BP_ERR_INVALID_ARGUMENT;
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        bp__rest r;
+        double w, px, py, e;
+        bp__rest_shape(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]),
+                       bp__pos(m, ch->vertex[tr[2]]), &w, &px, &py);
+        r.m00 = 1 / w; r.m01 = -px / (w * py); r.m11 = 1 / py; r.weight = 1;
+        e = bp__triangle_energy(energy, &r, ch->uv + 2 * (size_t)tr[0], ch->uv + 2 * (size_t)tr[1],
+                                ch->uv + 2 * (size_t)tr[2], NULL, NULL, NULL);
+        if (per_triangle) per_triangle[t] = e;
+        sum += 0.5 * w * py * e;
+        area += 0.5 * w * py;
+        if (e > emax) emax = e;
+    }
+    if (mean) *mean = sum / area;
+    if (max) *max = emax;
+    return BP_OK;
+}
+
+/* >>driver =================================================================
+
+   bp_parameterize runs the whole pipeline: charts (bp_atlas_build), the
+   start map of each chart (bp_chart_init), the optimization (bp_chart_optimize)
+   and the packing.  Packing places the charts' bounding boxes on shelves
+   (tallest first) with a gap, so no two charts can overlap.  A translation
+   or scale rounds coordinates, which could in principle flip a triangle
+   that is within rounding of degenerate; every moved chart is re-checked
+   exactly and the move is retried with a slightly different offset if it
+   ever fails. */
+
+typedef struct bp__packbox { double w, h, ox, oy; uint32_t chart; } bp__packbox;
+
+static int bp__packbox_cmp(const void *pa, const void *pb)
+{
+    const bp__packbox *a = (const bp__packbox *)pa, *b = (const bp__packbox *)pb;
+    if (a->h != b->h) return a->h > b->h ? -1 : 1;
+    return a->chart < b->chart ? -1 : a->chart > b->chart;
+}
+
+/* uv = s * (uv - lo) + off, checked exactly; on failure restore and retry. */
+static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const double *lo, double s,
+                                double ox, double oy)
+{
+    double *save = (double *)bp__alloc_array(a, 2 * (size_t)ch->num_vertices, sizeof(double));
+    uint32_t i;
+    int attempt;
+    if (!save) return BP_ERR_OUT_OF_MEMORY;
+    memcpy(save, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
+    for (attempt = 0; attempt < 8; attempt++) {
+        bp_check_report rep;
+        bp_status st;
+        double jig = attempt ? 1 + attempt * 1e-7 : 1;
+        for (i = 0; i < ch->num_vertices; i++) {
+            ch->uv[2 * i] = s * (save[2 * i] - lo[0]) + ox * jig;
+            ch->uv[2 * i + 1] = s * (save[2 * i + 1] - lo[1]) + oy * jig;
+        }
+        st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep);
+        if (st != BP_OK) { bp__free(a, save); return st; }
+        if (bp__report_valid(&rep)) { bp__free(a, save); return BP_OK; }
+    }
+    memcpy(ch->uv, save, 2 * (size_t)ch->num_vertices * sizeof(double));
+    bp__free(a, save);
+    return BP_ERR_NUMERICAL;
+}
+
+BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+{
+    bp_allocator a;
+    bp__packbox *bx;
+    double *lo, area = 0, shelf_w, x = 0, y = 0, rowh = 0, gap = 0, W = 0, H = 0, s = 1;
+    uint32_t c, i;
+    if (!atlas || !atlas->charts)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
+    a = atlas->allocator;
+    bx = (bp__packbox *)bp__alloc_array(&a, atlas->num_charts, sizeof *bx);
+    lo = (double *)bp__alloc_array(&a, 2 * (size_t)atlas->num_charts, sizeof(double));
+    if (!bx || !lo) { bp__free(&a, bx); bp__free(&a, lo); return bp__oom(err, "packing charts"); }
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_chart *ch = &atlas->charts[c];
+        double mn[2] = { DBL_MAX, DBL_MAX }, mx[2] = { -DBL_MAX, -DBL_MAX };
+        for (i = 0; i < ch->num_vertices; i++) {
+            int k;
+            for (k = 0; k < 2; k++) {
+                if (ch->uv[2 * i + k] < mn[k]) mn[k] = ch->uv[2 * i + k];
+                if (ch->uv[2 * i + k] > mx[k]) mx[k] = ch->uv[2 * i + k];
+            }
+        }
+        lo[2 * c] = mn[0]; lo[2 * c + 1] = mn[1];
+        bx[c].w = mx[0] - mn[0]; bx[c].h = mx[1] - mn[1]; bx[c].chart = c;
+        area += bx[c].w * bx[c].h;
+        if (bx[c].w > gap) gap = bx[c].w;
+        if (bx[c].h > gap) gap = bx[c].h;
+    }
+    gap *= 0.02;
+    qsort(bx, atlas->num_charts, sizeof *bx, bp__packbox_cmp);
+    shelf_w = sqrt(area) * 1.3;
+    for (i = 0; i < atlas->num_charts; i++) if (bx[i].w > shelf_w) shelf_w = bx[i].w;
+    /* shelf placement: offsets of each chart's lower-left corner */
+    for (i = 0; i < atlas->num_charts; i++) {
+        if (x > 0 && x + bx[i].w > shelf_w) { x = 0; y += rowh + gap; rowh = 0; }
+        bx[i].ox = x;
+        bx[i].oy = y;
+        x += bx[i].w + gap;
+        if (bx[i].h > rowh) rowh = bx[i].h;
+        if (bx[i].ox + bx[i].w > W) W = bx[i].ox + bx[i].w;
+        if (bx[i].oy + bx[i].h > H) H = bx[i].oy + bx[i].h;
+    }
+    if (opt && opt->normalize && W > 0 && H > 0) s = 1 / (W > H ? W : H);
+    for (i = 0; i < atlas->num_charts; i++) {
+        c = bx[i].chart;
+        if (bp__move_chart(&a, &atlas->charts[c], lo + 2 * (size_t)c, s, s * bx[i].ox, s * bx[i].oy) != BP_OK) {
+            bp__free(&a, bx); bp__free(&a, lo);
+            return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
+                            "chart %u: placing it in the atlas would break its validity in floating point", c);
+        }
+    }
+    bp__free(&a, bx);
+    bp__free(&a, lo);
+    return bp__ok(err);
+}
+
+BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_status st;
+    uint32_t c;
+    if ((st = bp_atlas_build(atlas, m, opt, err)) != BP_OK) return st;
+    for (c = 0; c < atlas->num_charts; c++) {
+        if ((st = bp_chart_init(&atlas->charts[c], m, opt, err)) != BP_OK) break;
+        if (opt && opt->init_only) continue;
+        st = bp_chart_optimize(&atlas->charts[c], c, m, opt, err);
+        if (st == BP_ERR_CANCELLED) { bp_atlas_pack(atlas, opt, NULL); return st; }
+        if (st != BP_OK) break;
+    }
+    if (st == BP_OK) st = bp_atlas_pack(atlas, opt, err);
+    if (st != BP_OK) bp_atlas_free(atlas);
     return st;
 }
 
