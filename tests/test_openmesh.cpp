@@ -499,6 +499,13 @@ static void check_mesh(const Expect &x)
                   name, ci, c.num_vertices, c.split_vertices, rc.nv, note);
         BPT_CHECK((int)c.split_vertices == rc.pinch_extra, "%s chart %u: split_vertices %u, OpenMesh pinch gaps add %d (%d pinch vertices)",
                   name, ci, c.split_vertices, rc.pinch_extra, rc.pinch_vertices);
+        /* a split vertex is a second chart vertex with the same (v, vt) */
+        std::map<std::pair<uint32_t, uint32_t>, int> pairs;
+        for (uint32_t v = 0; v < c.num_vertices; v++)
+            pairs[std::make_pair(c.vertex[v], c.vertex_uv ? c.vertex_uv[v] : UINT32_MAX)]++;
+        BPT_CHECK(c.num_vertices - pairs.size() == c.split_vertices,
+                  "%s chart %u: %u chart vertices, %zu distinct (v, vt) pairs: the copies are the %u split vertices",
+                  name, ci, c.num_vertices, pairs.size(), c.split_vertices);
         std::vector<int> mv(c.vertex, c.vertex + c.num_vertices);
         std::sort(mv.begin(), mv.end());
         mv.erase(std::unique(mv.begin(), mv.end()), mv.end());
