@@ -182,8 +182,10 @@ typedef enum bp_stop {
     BP_STOP_NO_PROGRESS      /* line search could not decrease the energy     */
 } bp_stop;
 
-/* Progress: called once per iteration of each chart.  Return nonzero to
-   cancel; the chart then keeps its last valid (bijective) map. */
+/* Progress: called once per iteration of each chart, after the step was
+   accepted; during the call the chart's `uv` holds the current map, which
+   is exactly valid.  Return nonzero to cancel; the chart then keeps this
+   last valid (bijective) map. */
 typedef int (*bp_progress_fn)(void *user, uint32_t chart, int iteration,
                               double mean_energy, double step);
 
@@ -3208,6 +3210,7 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
         }
         memcpy(x, xn, nv2 * sizeof(double));
         memcpy(g, gn, nv2 * sizeof(double));
+        memcpy(ch->uv, x, nv2 * sizeof(double));  /* visible to the progress callback */
         /* (5) convergence: relative decrease below tol three times running */
         if ((f - fn) <= o.tolerance * fabs(fn)) small++; else small = 0;
         f = fn;
