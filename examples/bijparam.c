@@ -240,7 +240,8 @@ static int on_progress(void *user, uint32_t chart, int iteration,
 typedef struct timings { double read, charts, init, optimize, pack, write; } timings;
 
 static void print_json(const char *input, bp_status status, const char *message,
-                       const bp_atlas *atlas, const timings *tm)
+                       const bp_mesh *mesh, const bp_atlas *atlas, bp_energy energy,
+                       const timings *tm)
 {
     uint32_t c, l;
     printf("{\"input\":");
@@ -253,10 +254,15 @@ static void print_json(const char *input, bp_status status, const char *message,
     for (c = 0; c < atlas->num_charts; c++) {
         const bp_chart *ch = atlas->charts + c;
         bp_check_report rep;
+        double e_start = ch->energy_start, e_end = ch->energy_end, e_max = ch->energy_max;
         memset(&rep, 0, sizeof rep);
         if (ch->uv)
             bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices,
                      NULL, &rep);
+        /* not optimized (--init-only): report the distortion of the start map */
+        if (ch->uv && ch->stop == BP_STOP_NONE &&
+            bp_chart_distortion(ch, mesh, energy, &e_start, &e_max, NULL) == BP_OK)
+            e_end = e_start;
         printf("%s{\"index\":%u,\"vertices\":%u,\"faces\":%u,\"loops\":[",
                c ? "," : "", (unsigned)c, (unsigned)ch->num_vertices,
                (unsigned)ch->num_triangles);
@@ -265,11 +271,11 @@ static void print_json(const char *input, bp_status status, const char *message,
                    (unsigned)(ch->loop_start[l + 1] - ch->loop_start[l]));
         printf("],\"euler\":%ld,\"split_vertices\":%u,\"energy_start\":",
                chart_euler(ch), (unsigned)ch->split_vertices);
-        json_number(ch->energy_start);
+        json_number(e_start);
         printf(",\"energy_end\":");
-        json_number(ch->energy_end);
+        json_number(e_end);
         printf(",\"energy_max\":");
-        json_number(ch->energy_max);
+        json_number(e_max);
         printf(",\"iterations\":%d,\"stop\":", ch->iterations);
         json_string(bp_stop_string(ch->stop));
         printf(",\"seconds\":");
@@ -458,7 +464,8 @@ int main(int argc, char **argv)
         status = 1;
     }
     if (json)
-        print_json(input, st, st == BP_OK ? NULL : err.message, &atlas, &tm);
+        print_json(input, st, st == BP_OK ? NULL : err.message, &mesh, &atlas,
+                   opt.energy, &tm);
 
     if (rs.trace) fclose(rs.trace);
     free(tmp_path);
