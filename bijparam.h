@@ -169,8 +169,11 @@ typedef enum bp_init {
 } bp_init;
 
 typedef enum bp_direction {
-    BP_DIRECTION_LBFGS = 0,
-    BP_DIRECTION_GRADIENT
+    BP_DIRECTION_PRECONDITIONED = 0, /* default: L-BFGS with the rest-shape Laplacian
+                                        as initial Hessian (far fewer iterations)  */
+    BP_DIRECTION_LBFGS,              /* the dissertation's L-BFGS, scalar initial
+                                        Hessian (sec 3.5, Algorithm 1)             */
+    BP_DIRECTION_GRADIENT            /* gradient descent (for comparison)          */
 } bp_direction;
 
 typedef enum bp_stop {
@@ -196,7 +199,7 @@ typedef struct bp_options {
     bp_energy     energy;         /* default symmetric Dirichlet               */
     int           no_barrier;     /* nonzero: injective only (no E_B)          */
     double        epsilon;        /* barrier width; 0: mean 3D boundary edge/4 */
-    bp_direction  direction;      /* default L-BFGS                            */
+    bp_direction  direction;      /* default: preconditioned L-BFGS            */
     int           history;        /* L-BFGS memory m; 0: 5                     */
     int           max_iterations; /* 0: 10000                                  */
     double        tolerance;      /* relative decrease; 0: 1e-7                */
@@ -2889,8 +2892,15 @@ static double bp__min_root(double alpha, double beta, double gamma, double tmax,
                            const double *A, const double *VA, const double *B, const double *VB,
                            const double *P, const double *VP)
 {
-    double disc = beta * beta - 4 * alpha * gamma, q, r[2];
+    double disc, q, r[2];
     int k;
+    /* Filter: for gamma > 0 the polynomial stays above gamma - |beta| t -
+       |alpha| t^2, so if that is positive at tmax there is no root before
+       tmax (this skips the square root for most triangles once tmax is
+       small); if alpha, beta >= 0 there is no positive root at all. */
+    if (gamma > 0 && ((alpha >= 0 && beta >= 0) || gamma - fabs(beta) * tmax - fabs(alpha) * tmax * tmax > 0))
+        return tmax;
+    disc = beta * beta - 4 * alpha * gamma;
     if (disc < 0) return tmax;
     q = -0.5 * (beta + (beta >= 0 ? sqrt(disc) : -sqrt(disc)));
     r[0] = alpha != 0 ? q / alpha : HUGE_VAL;
@@ -3031,6 +3041,118 @@ static bp_status bp__chart_valid(bp__solver *S, const double *x, bp__dedge *edge
    floating point, so every accepted step is re-checked with the exact
    predicates and halved until the check passes. */
 
+
+/* Preconditioning (beyond the dissertation).  Algorithm 1 starts each
+   L-BFGS direction from a scalar multiple of the identity, H0 = (s.y / y.y) I,
+   which ignores the mesh: a gradient step moves one vertex without its
+   neighbours, and thousands of iterations pass before the map relaxes.  A
+   better H0 is the inverse of the cotangent Laplacian K of the rest shape,
+   the Hessian of the Dirichlet energy sum A_t |J_t|^2 (up to a factor 2),
+   which the symmetric Dirichlet energy approaches near an isometry: it
+   moves whole neighbourhoods together.  The same idea drives the blended
+   quasi-Newton method of Zhu et al. (2018).  K is factored once per chart
+   with the sparse LDL^T above (regularized by 1e-8 of its mean diagonal,
+   since a free map can translate), and H0 = K^-1 / sigma with the scale
+   sigma = s.y / s.K s fitted to the latest curvature pair. */
+
+typedef struct bp__trip { uint32_t i, j; double v; } bp__trip;
+
+static int bp__trip_cmp(const void *pa, const void *pb)
+{
+    const bp__trip *a = (const bp__trip *)pa, *b = (const bp__trip *)pb;
+    if (a->j != b->j) return a->j < b->j ? -1 : 1;
+    return a->i < b->i ? -1 : a->i > b->i;
+}
+
+/* Compressed columns from triplets (duplicates summed).  Sorts `t`. */
+static int bp__sparse_from_triplets(const bp_allocator *a, uint32_t n, bp__trip *t, size_t nt,
+                                    bp__sparse *A)
+{
+    size_t k, w = 0;
+    uint32_t j;
+    qsort(t, nt, sizeof *t, bp__trip_cmp);
+    for (k = 0; k < nt; k++) {
+        if (w > 0 && t[w - 1].i == t[k].i && t[w - 1].j == t[k].j) t[w - 1].v += t[k].v;
+        else t[w++] = t[k];
+    }
+    A->n = n;
+    A->colp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    A->row = (uint32_t *)bp__alloc_array(a, w, sizeof(uint32_t));
+    A->val = (double *)bp__alloc_array(a, w, sizeof(double));
+    if (!A->colp || !A->row || !A->val) return 0;
+    for (k = 0; k < w; k++) { A->colp[t[k].j + 1]++; A->row[k] = t[k].i; A->val[k] = t[k].v; }
+    for (j = 0; j < n; j++) A->colp[j + 1] += A->colp[j];
+    return 1;
+}
+
+static void bp__sparse_free(const bp_allocator *a, bp__sparse *A)
+{
+    bp__free(a, A->colp); bp__free(a, A->row); bp__free(a, A->val);
+    memset(A, 0, sizeof *A);
+}
+
+/* K of the chart's rest shape: for each triangle and each corner i with
+   opposite edge (j, k), 1/2 cot(theta_i) couples j and k (the linear FEM
+   stiffness matrix, positive semi-definite for any triangle shapes). */
+static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const double *rest_wxy,
+                               bp__sparse *K, bp__factor *F)
+{
+    bp__trip *t = (bp__trip *)bp__alloc_array(a, 12 * (size_t)S->nt + S->nv, sizeof(bp__trip));
+    size_t n = 0;
+    uint32_t f, i, bad;
+    double diag = 0;
+    bp_status st;
+    if (!t) return BP_ERR_OUT_OF_MEMORY;
+    for (f = 0; f < S->nt; f++) {
+        const double *r = rest_wxy + 3 * (size_t)f;    /* F1=(0,0) F2=(w,0) F3=(x,y) */
+        double P[3][2], area2 = r[0] * r[2];
+        int c;
+        P[0][0] = 0; P[0][1] = 0; P[1][0] = r[0]; P[1][1] = 0; P[2][0] = r[1]; P[2][1] = r[2];
+        for (c = 0; c < 3; c++) {
+            int j = (c + 1) % 3, k = (c + 2) % 3;
+            double ux = P[j][0] - P[c][0], uy = P[j][1] - P[c][1], vx = P[k][0] - P[c][0], vy = P[k][1] - P[c][1];
+            double w = 0.5 * (ux * vx + uy * vy) / area2;     /* 1/2 cot(theta_c) */
+            uint32_t vj = S->tri[3 * (size_t)f + j], vk = S->tri[3 * (size_t)f + k];
+            t[n].i = vj; t[n].j = vk; t[n++].v = -w;
+            t[n].i = vk; t[n].j = vj; t[n++].v = -w;
+            t[n].i = vj; t[n].j = vj; t[n++].v = w;
+            t[n].i = vk; t[n].j = vk; t[n++].v = w;
+            diag += 2 * w;
+        }
+    }
+    (void)i;
+    for (i = 0; i < S->nv; i++) { t[n].i = i; t[n].j = i; t[n++].v = 1e-8 * diag / S->nv; }
+    K->symmetric = 1;
+    if (!bp__sparse_from_triplets(a, S->nv, t, n, K)) { bp__free(a, t); return BP_ERR_OUT_OF_MEMORY; }
+    bp__free(a, t);
+    st = bp__factorize(a, K, F, &bad);
+    return st;
+}
+
+/* r = K^-1 q for both coordinates (q interleaved xy); w: 3 nv doubles. */
+static void bp__precondition(const bp__factor *F, const double *q, double *r, double *w, uint32_t nv)
+{
+    uint32_t i;
+    int c;
+    for (c = 0; c < 2; c++) {
+        for (i = 0; i < nv; i++) w[i] = q[2 * (size_t)i + c];
+        bp__factor_solve(F, w, w + nv, w + 2 * (size_t)nv);
+        for (i = 0; i < nv; i++) r[2 * (size_t)i + c] = w[nv + i];
+    }
+}
+
+/* s.K s (s interleaved xy). */
+static double bp__quad_form(const bp__sparse *K, const double *s)
+{
+    uint32_t j, p;
+    double sum = 0;
+    for (j = 0; j < K->n; j++)
+        for (p = K->colp[j]; p < K->colp[j + 1]; p++)
+            sum += K->val[p] * (s[2 * (size_t)K->row[p]] * s[2 * (size_t)j] +
+                                s[2 * (size_t)K->row[p] + 1] * s[2 * (size_t)j + 1]);
+    return sum;
+}
+
 BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
                                   const bp_options *opt, bp_error *err)
 {
@@ -3040,12 +3162,18 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
     uint32_t t, i, nv2, nloop_v;
     int hist, it, small = 0, nh = 0, head = 0, gd_scale_set = 0;
     double *x = NULL, *g = NULL, *xn = NULL, *gn = NULL, *v = NULL, *sh = NULL, *yh = NULL, *rho = NULL, *alpha = NULL;
+    double *rest_wxy = NULL, *pwork = NULL;
+    bp__sparse K;
+    bp__factor KF;
+    int precond = !opt || opt->direction == BP_DIRECTION_PRECONDITIONED;
     bp__dedge *edges = NULL;
     double f, ed, total_area = 0, tlast = 1;
     bp_status st = BP_OK;
     clock_t c0 = clock();
     memset(&S, 0, sizeof S);
     memset(&o, 0, sizeof o);
+    memset(&K, 0, sizeof K);
+    memset(&KF, 0, sizeof KF);
     if (opt) o = *opt;
     if (!ch || !m || !ch->uv || !ch->num_loops)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart_index, -1, 0,
@@ -3085,7 +3213,10 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
     S.hash.start = (uint32_t *)bp__alloc_array(&a, (size_t)S.hash.mask + 2, sizeof(uint32_t));
     S.hash.items = (uint32_t *)bp__alloc_array(&a, S.hash.cap, sizeof(uint32_t));
     S.hash.stamp = (uint32_t *)bp__calloc_array(&a, nloop_v, sizeof(uint32_t));
-    if (!S.rest || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha || !edges || !S.box ||
+    rest_wxy = (double *)bp__alloc_array(&a, 3 * (size_t)S.nt, sizeof(double));
+    pwork = (double *)bp__alloc_array(&a, 3 * (size_t)S.nv, sizeof(double));
+    if (!rest_wxy || !pwork ||
+        !S.rest || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha || !edges || !S.box ||
         !S.hash.start || !S.hash.items || !S.hash.stamp) {
         st = bp__oom(err, "optimizing a chart");
         goto done;
@@ -3102,6 +3233,13 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
         S.rest[t].m11 = 1 / py;
         S.rest[t].weight = 0.5 * w * py;
         total_area += S.rest[t].weight;
+        rest_wxy[3 * (size_t)t] = w; rest_wxy[3 * (size_t)t + 1] = px; rest_wxy[3 * (size_t)t + 2] = py;
+    }
+    if (precond && (st = bp__laplacian(&a, &S, rest_wxy, &K, &KF)) != BP_OK) {
+        if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "factoring the preconditioner");
+        else st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
+                           "chart %u: the Laplacian preconditioner could not be factored", chart_index);
+        goto done;
     }
     for (t = 0; t < S.nt; t++) S.rest[t].weight *= S.nt / total_area;
     /* barrier width: a quarter of the mean 3D boundary edge (sec 3.3) */
@@ -3146,7 +3284,13 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
                 yy += yh[(size_t)idx * nv2 + i] * yh[(size_t)idx * nv2 + i];
                 sy += sh[(size_t)idx * nv2 + i] * yh[(size_t)idx * nv2 + i];
             }
-            scale = sy / yy;
+            if (precond) {
+                /* H0 = K^-1 / sigma, sigma = s.y / s.K s */
+                scale = bp__quad_form(&K, sh + (size_t)idx * nv2) / sy;
+                bp__precondition(&KF, v, v, pwork, S.nv);
+            } else {
+                scale = sy / yy;                 /* H0 = (s.y / y.y) I */
+            }
             for (i = 0; i < nv2; i++) v[i] *= scale;
             for (j = nh - 1; j >= 0; j--) {
                 double dot = 0, beta;
@@ -3156,6 +3300,7 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
                 for (i = 0; i < nv2; i++) v[i] += (alpha[idx] - beta) * sh[(size_t)idx * nv2 + i];
             }
         }
+        if (nh == 0 && precond) bp__precondition(&KF, v, v, pwork, S.nv);
         for (i = 0; i < nv2; i++) gv += g[i] * v[i];
         if (!(gv < 0)) {                          /* not a descent direction: restart */
             nh = 0;
@@ -3250,7 +3395,9 @@ done:
     bp__free(&a, S.rest); bp__free(&a, x); bp__free(&a, g); bp__free(&a, xn); bp__free(&a, gn);
     bp__free(&a, v); bp__free(&a, sh); bp__free(&a, yh); bp__free(&a, rho); bp__free(&a, alpha);
     bp__free(&a, edges); bp__free(&a, S.box); bp__free(&a, S.hash.start); bp__free(&a, S.hash.items);
-    bp__free(&a, S.hash.stamp);
+    bp__free(&a, S.hash.stamp); bp__free(&a, rest_wxy); bp__free(&a, pwork);
+    bp__sparse_free(&a, &K);
+    bp__factor_free(&a, &KF);
     return st;
 }
 
