@@ -1,0 +1,640 @@
+/* test_energy.c - energies, their gradients, the barrier and the objective.
+
+   The optimizer trusts two things about every function it minimizes: the
+   value is the energy of sec 3.2 / 3.3, and the gradient is its derivative.
+   Nothing here reuses the library's formulas:
+
+     (a) the closed-form singular values of bp__triangle_energy against the
+         generalized eigenvalues of (E^T E, D^T D) computed here from the raw
+         3D edges E and UV edges D (no rest shape, no Q/R split), for all five
+         energies, and the symmetric Dirichlet value against eq 3.3's own
+         expression (areas, edge lengths, dot products);
+     (b) exact values at isometries, similarities and axis stretches;
+     (c) bp__rest_shape reproduces the three 3D edge lengths;
+     (d) every energy's gradient against central finite differences on 2000
+         random valid configurations each;
+     (e) bp__energy_sv's partials against finite differences in (s_max, s_min);
+     (f) the barrier E_B's gradient on jittered polygons where many vertex /
+         edge pairs are closer than eps (none at distance 0);
+     (g) the full objective E_D + E_B on the bishop chart (start map and a
+         partly optimized map, default and large eps), on a random subset of
+         coordinates. */
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include "bptest.h"
+
+#include <math.h>
+#include <string.h>
+#include <stdlib.h>
+
+/* ---- seeded xorshift64* ------------------------------------------------- */
+static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
+static uint64_t rng_u64(void)
+{
+    rng_state ^= rng_state >> 12;
+    rng_state ^= rng_state << 25;
+    rng_state ^= rng_state >> 27;
+    return rng_state * 2685821657736338717ull;
+}
+static double rng_unit(void) { return (double)(rng_u64() >> 11) * (1.0 / 9007199254740992.0); }
+static double rng_range(double a, double b) { return a + (b - a) * rng_unit(); }
+
+static const double PI = 3.14159265358979323846;
+static const char *const ENAME[] = { "symmetric Dirichlet", "conformal", "MIPS", "isometric", "max isometric" };
+
+/* Energy as a function of the singular values, written out here from the
+   dissertation's list (sec 3.2) rather than taken from the library. */
+static double ref_energy(int kind, double smax, double smin)
+{
+    switch (kind) {
+    case BP_ENERGY_CONFORMAL: return smax / smin;
+    case BP_ENERGY_MIPS: return smax / smin + smin / smax;
+    case BP_ENERGY_ISOMETRIC: return sqrt(smax * smax + 1 / (smin * smin));
+    case BP_ENERGY_MAX_ISOMETRIC: return smax > 1 / smin ? smax : 1 / smin;
+    default: return smax * smax + smin * smin + 1 / (smax * smax) + 1 / (smin * smin);
+    }
+}
+
+/* Singular values of the map P-triangle -> U-triangle from the raw edges:
+   s^2 are the eigenvalues of (E^T E)^-1 (D^T D), E = [P2-P1, P3-P1] (3x2),
+   D = [U2-U1, U3-U1] (2x2).  Long double throughout. */
+static void ref_singular(const double *p1, const double *p2, const double *p3, const double *u1,
+                         const double *u2, const double *u3, double *smax, double *smin)
+{
+    long double e1[3], e2[3], d1[2], d2[2], G[3], H[3], gi[3], dg, M00, M11, tr, det, disc, l1, l2;
+    int k;
+    for (k = 0; k < 3; k++) { e1[k] = (long double)p2[k] - p1[k]; e2[k] = (long double)p3[k] - p1[k]; }
+    for (k = 0; k < 2; k++) { d1[k] = (long double)u2[k] - u1[k]; d2[k] = (long double)u3[k] - u1[k]; }
+    G[0] = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
+    G[1] = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+    G[2] = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+    H[0] = d1[0] * d1[0] + d1[1] * d1[1];
+    H[1] = d1[0] * d2[0] + d1[1] * d2[1];
+    H[2] = d2[0] * d2[0] + d2[1] * d2[1];
+    dg = G[0] * G[2] - G[1] * G[1];
+    gi[0] = G[2] / dg; gi[1] = -G[1] / dg; gi[2] = G[0] / dg;
+    M00 = gi[0] * H[0] + gi[1] * H[1];
+    M11 = gi[1] * H[1] + gi[2] * H[2];
+    tr = M00 + M11;
+    det = (H[0] * H[2] - H[1] * H[1]) / dg;
+    disc = tr * tr / 4 - det;
+    if (disc < 0) disc = 0;
+    l1 = tr / 2 + sqrtl(disc);
+    l2 = det / l1;                    /* accurate when l2 << l1 */
+    *smax = (double)sqrtl(l1);
+    *smin = (double)sqrtl(l2);
+}
+
+static double tri_quality(const double *a, const double *b, const double *c, int dim)
+{
+    /* smallest angle (radians) of the triangle */
+    const double *p[3];
+    double best = 10;
+    int i, k;
+    p[0] = a; p[1] = b; p[2] = c;
+    for (i = 0; i < 3; i++) {
+        const double *o = p[i], *q = p[(i + 1) % 3], *r = p[(i + 2) % 3];
+        double u[3] = { 0, 0, 0 }, v[3] = { 0, 0, 0 }, dot = 0, nu = 0, nv = 0, ang;
+        for (k = 0; k < dim; k++) { u[k] = q[k] - o[k]; v[k] = r[k] - o[k]; dot += u[k] * v[k]; nu += u[k] * u[k]; nv += v[k] * v[k]; }
+        ang = acos(dot / sqrt(nu * nv));
+        if (ang < best) best = ang;
+    }
+    return best;
+}
+
+static void make_rest(const double *p1, const double *p2, const double *p3, double weight, bp__rest *r)
+{
+    double w, x, y;
+    bp__rest_shape(p1, p2, p3, &w, &x, &y);
+    r->m00 = 1 / w;
+    r->m01 = -x / (w * y);
+    r->m11 = 1 / y;
+    r->weight = weight;
+}
+
+static double orient(const double *a, const double *b, const double *c)
+{
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+/* ---- a solver over bare polygons (barrier tests) ------------------------- */
+typedef struct poly_solver {
+    bp__solver S;
+    bp_allocator a;
+} poly_solver;
+
+static void solver_hash_alloc(bp__solver *S, uint32_t nloop_v)
+{
+    S->hash.mask = 1;
+    while (S->hash.mask + 1 < 2 * nloop_v) S->hash.mask = 2 * S->hash.mask + 1;
+    S->hash.cap = 32 * (size_t)nloop_v + 64;
+    S->hash.start = (uint32_t *)calloc((size_t)S->hash.mask + 2, sizeof(uint32_t));
+    S->hash.items = (uint32_t *)calloc(S->hash.cap, sizeof(uint32_t));
+    S->hash.stamp = (uint32_t *)calloc(nloop_v, sizeof(uint32_t));
+    S->hash.cur = 0;
+    S->box = (double *)calloc(4 * (size_t)nloop_v, sizeof(double));
+}
+
+static void solver_hash_free(bp__solver *S)
+{
+    free(S->hash.start); free(S->hash.items); free(S->hash.stamp); free(S->box);
+}
+
+/* The solver bp_chart_optimize builds, set up the same way by hand. */
+static bp__rest *solver_for_chart(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
+                                  bp_energy energy, int barrier, double eps)
+{
+    uint32_t t, L, k;
+    double total_area = 0, len = 0;
+    bp__rest *rest = (bp__rest *)malloc(ch->num_triangles * sizeof(bp__rest));
+    memset(S, 0, sizeof *S);
+    S->a = a;
+    S->energy = energy;
+    S->nv = ch->num_vertices;
+    S->nt = ch->num_triangles;
+    S->tri = ch->triangles;
+    S->nloops = ch->num_loops;
+    S->loop_start = ch->loop_start;
+    S->loop_vertices = ch->loop_vertices;
+    S->nb = ch->loop_start[ch->num_loops];
+    S->barrier = barrier;
+    for (t = 0; t < S->nt; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        make_rest(m->positions + 3 * (size_t)ch->vertex[tr[0]], m->positions + 3 * (size_t)ch->vertex[tr[1]],
+                  m->positions + 3 * (size_t)ch->vertex[tr[2]], 1.0, &rest[t]);
+        rest[t].weight = 0.5 / (rest[t].m00 * rest[t].m11);      /* area = w y / 2 */
+        total_area += rest[t].weight;
+    }
+    for (t = 0; t < S->nt; t++) rest[t].weight *= S->nt / total_area;
+    S->rest = rest;
+    for (L = 0; L < S->nloops; L++)
+        for (k = S->loop_start[L]; k < S->loop_start[L + 1]; k++) {
+            uint32_t va = S->loop_vertices[k], vb = S->loop_vertices[k + 1 < S->loop_start[L + 1] ? k + 1 : S->loop_start[L]];
+            len += bp__dist3(bp__pos(m, ch->vertex[va]), bp__pos(m, ch->vertex[vb]));
+        }
+    S->mean_edge = len / S->nb;
+    S->eps = eps > 0 ? eps : S->mean_edge / 4;
+    solver_hash_alloc(S, S->nb);
+    return rest;
+}
+
+/* ---- (a)-(e) per-triangle energies --------------------------------------- */
+
+static void random_config(double P[3][3], double U[3][2], double *uv_scale)
+{
+    for (;;) {
+        double s3 = exp(rng_range(log(0.1), log(10.0))), s2 = s3 * exp(rng_range(-1.0, 1.0));
+        int i, k;
+        for (i = 0; i < 3; i++) for (k = 0; k < 3; k++) P[i][k] = s3 * rng_range(-1, 1) + 5 * s3;
+        if (tri_quality(P[0], P[1], P[2], 3) < 15 * PI / 180) continue;
+        for (i = 0; i < 3; i++) for (k = 0; k < 2; k++) U[i][k] = s2 * rng_range(-1, 1) - 3 * s2;
+        if (orient(U[0], U[1], U[2]) < 0) {
+            double tmp[2];
+            memcpy(tmp, U[1], sizeof tmp); memcpy(U[1], U[2], sizeof tmp); memcpy(U[2], tmp, sizeof tmp);
+        }
+        if (tri_quality(U[0], U[1], U[2], 2) < 10 * PI / 180) continue;
+        *uv_scale = s2;
+        return;
+    }
+}
+
+static void test_triangle_energies(void)
+{
+    int kind;
+    /* (a) singular values / values against the independent computation */
+    {
+        double worst[BP_ENERGY_COUNT] = { 0 }, worst33 = 0;
+        int n;
+        for (n = 0; n < 3000; n++) {
+            double P[3][3], U[3][2], s, smax, smin, g[3][2];
+            bp__rest r;
+            double area_p, area_u, d31[3], d21[3], u31[2], u21[2], dir, e33;
+            int k;
+            random_config(P, U, &s);
+            make_rest(P[0], P[1], P[2], 1.0, &r);
+            ref_singular(P[0], P[1], P[2], U[0], U[1], U[2], &smax, &smin);
+            for (kind = 0; kind < BP_ENERGY_COUNT; kind++) {
+                double e = bp__triangle_energy((bp_energy)kind, &r, U[0], U[1], U[2], NULL, NULL, NULL);
+                double ref = ref_energy(kind, smax, smin), rel = fabs(e - ref) / ref;
+                if (!(rel <= worst[kind])) worst[kind] = rel != rel ? 1e300 : rel;
+            }
+            /* eq 3.3, per unit area: (1 + A_P^2/A_U^2) * Dirichlet */
+            for (k = 0; k < 3; k++) { d31[k] = P[2][k] - P[0][k]; d21[k] = P[1][k] - P[0][k]; }
+            for (k = 0; k < 2; k++) { u31[k] = U[2][k] - U[0][k]; u21[k] = U[1][k] - U[0][k]; }
+            {
+                double c[3];
+                c[0] = d21[1] * d31[2] - d21[2] * d31[1];
+                c[1] = d21[2] * d31[0] - d21[0] * d31[2];
+                c[2] = d21[0] * d31[1] - d21[1] * d31[0];
+                area_p = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+            }
+            area_u = 0.5 * orient(U[0], U[1], U[2]);
+            dir = ((u31[0] * u31[0] + u31[1] * u31[1]) * (d21[0] * d21[0] + d21[1] * d21[1] + d21[2] * d21[2]) +
+                   (u21[0] * u21[0] + u21[1] * u21[1]) * (d31[0] * d31[0] + d31[1] * d31[1] + d31[2] * d31[2])) /
+                      (4 * area_p * area_p) -
+                  (u31[0] * u21[0] + u31[1] * u21[1]) * (d31[0] * d21[0] + d31[1] * d21[1] + d31[2] * d21[2]) /
+                      (2 * area_p * area_p);
+            e33 = (1 + area_p * area_p / (area_u * area_u)) * dir;
+            {
+                double e = bp__triangle_energy(BP_ENERGY_SYMMETRIC_DIRICHLET, &r, U[0], U[1], U[2], g[0], g[1], g[2]);
+                double rel = fabs(e - e33) / e33;
+                if (!(rel <= worst33)) worst33 = rel != rel ? 1e300 : rel;
+            }
+        }
+        for (kind = 0; kind < BP_ENERGY_COUNT; kind++)
+            BPT_CHECK(worst[kind] < 1e-10,
+                      "%s value == f(s_max, s_min) with s from the eigenvalues of (E^T E)^-1 D^T D (3000 triangles, "
+                      "max rel err %.3g)", ENAME[kind], worst[kind]);
+        BPT_CHECK(worst33 < 1e-10, "symmetric Dirichlet == eq 3.3's area/edge form (max rel err %.3g)", worst33);
+    }
+
+    /* (c) rest shape keeps the 3D edge lengths */
+    {
+        double worst = 0;
+        int n;
+        for (n = 0; n < 1000; n++) {
+            double P[3][3], U[3][2], s, w, x, y, l[3], f[3];
+            int k;
+            random_config(P, U, &s);
+            bp__rest_shape(P[0], P[1], P[2], &w, &x, &y);
+            for (k = 0; k < 3; k++) {
+                const double *a = P[k], *b = P[(k + 1) % 3];
+                l[k] = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+            }
+            f[0] = w;
+            f[1] = sqrt((x - w) * (x - w) + y * y);
+            f[2] = sqrt(x * x + y * y);
+            for (k = 0; k < 3; k++) if (fabs(f[k] - l[k]) / l[k] > worst) worst = fabs(f[k] - l[k]) / l[k];
+            if (!(y > 0)) worst = 1;
+        }
+        BPT_CHECK(worst < 1e-13, "bp__rest_shape: (0,0),(w,0),(x,y) with y > 0 has the 3D edge lengths (max rel err %.3g)", worst);
+    }
+
+    /* (b) exact values */
+    {
+        double err_iso[BP_ENERGY_COUNT] = { 0 }, err_sim[BP_ENERGY_COUNT] = { 0 }, err_str[BP_ENERGY_COUNT] = { 0 };
+        int n;
+        for (n = 0; n < 500; n++) {
+            double P[3][3], U[3][2], s, w, x, y, F[3][2], ang = rng_range(0, 2 * PI), c = cos(ang), sn = sin(ang);
+            double tx = rng_range(-10, 10), ty = rng_range(-10, 10), sa = exp(rng_range(-1.5, 1.5)), sb = exp(rng_range(-1.5, 1.5));
+            double V[3][2], W[3][2];
+            bp__rest r;
+            int i;
+            random_config(P, U, &s);
+            make_rest(P[0], P[1], P[2], 1.0, &r);
+            bp__rest_shape(P[0], P[1], P[2], &w, &x, &y);
+            F[0][0] = 0; F[0][1] = 0; F[1][0] = w; F[1][1] = 0; F[2][0] = x; F[2][1] = y;
+            for (i = 0; i < 3; i++) {
+                U[i][0] = c * F[i][0] - sn * F[i][1] + tx;          /* rotation */
+                U[i][1] = sn * F[i][0] + c * F[i][1] + ty;
+                V[i][0] = 2 * (c * F[i][0] - sn * F[i][1]) + tx;    /* similarity x2 */
+                V[i][1] = 2 * (sn * F[i][0] + c * F[i][1]) + ty;
+                /* stretch by sa along x, sb along y of the rest frame, then rotate */
+                W[i][0] = c * sa * F[i][0] - sn * sb * F[i][1] + tx;
+                W[i][1] = sn * sa * F[i][0] + c * sb * F[i][1] + ty;
+            }
+            for (i = 0; i < BP_ENERGY_COUNT; i++) {
+                double want_iso[BP_ENERGY_COUNT], want_sim[BP_ENERGY_COUNT], e, big = sa > sb ? sa : sb, small = sa > sb ? sb : sa;
+                want_iso[0] = 4; want_iso[1] = 1; want_iso[2] = 2; want_iso[3] = sqrt(2.0); want_iso[4] = 1;
+                want_sim[0] = 2 * (4 + 0.25); want_sim[1] = 1; want_sim[2] = 2; want_sim[3] = sqrt(4 + 0.25); want_sim[4] = 2;
+                e = bp__triangle_energy((bp_energy)i, &r, U[0], U[1], U[2], NULL, NULL, NULL);
+                if (!(fabs(e - want_iso[i]) <= err_iso[i])) err_iso[i] = e == e ? fabs(e - want_iso[i]) : 1e300;
+                e = bp__triangle_energy((bp_energy)i, &r, V[0], V[1], V[2], NULL, NULL, NULL);
+                if (!(fabs(e - want_sim[i]) <= err_sim[i])) err_sim[i] = e == e ? fabs(e - want_sim[i]) : 1e300;
+                e = bp__triangle_energy((bp_energy)i, &r, W[0], W[1], W[2], NULL, NULL, NULL);
+                if (!(fabs(e - ref_energy(i, big, small)) / ref_energy(i, big, small) <= err_str[i]))
+                    err_str[i] = e == e ? fabs(e - ref_energy(i, big, small)) / ref_energy(i, big, small) : 1e300;
+            }
+        }
+        BPT_CHECK(err_iso[0] <= 1e-12, "isometry (rotated rest triangle): symmetric Dirichlet == 4 (max err %.3g)", err_iso[0]);
+        BPT_CHECK(err_iso[1] <= 1e-12, "isometry: conformal == 1 (max err %.3g)", err_iso[1]);
+        BPT_CHECK(err_iso[2] <= 1e-12, "isometry: MIPS == 2 (max err %.3g)", err_iso[2]);
+        BPT_CHECK(err_iso[3] <= 1e-12, "isometry: isometric == sqrt 2 (max err %.3g)", err_iso[3]);
+        BPT_CHECK(err_iso[4] <= 1e-12, "isometry: max isometric == 1 (max err %.3g)", err_iso[4]);
+        BPT_CHECK(err_sim[0] <= 1e-12, "similarity x2: symmetric Dirichlet == 2 (4 + 1/4) (max err %.3g)", err_sim[0]);
+        BPT_CHECK(err_sim[1] <= 1e-12 && err_sim[2] <= 1e-12, "similarity x2: conformal == 1, MIPS == 2 (max err %.3g, %.3g)",
+                  err_sim[1], err_sim[2]);
+        BPT_CHECK(err_sim[3] <= 1e-12 && err_sim[4] <= 1e-12,
+                  "similarity x2: isometric == sqrt(4.25), max isometric == 2 (max err %.3g, %.3g)", err_sim[3], err_sim[4]);
+        for (kind = 0; kind < BP_ENERGY_COUNT; kind++)
+            BPT_CHECK(err_str[kind] <= 1e-12, "%s of a stretch (sa, sb) of the rest triangle == f(max, min) (max rel err %.3g)",
+                      ENAME[kind], err_str[kind]);
+    }
+
+    /* (d) gradients against central differences */
+    for (kind = 0; kind < BP_ENERGY_COUNT; kind++) {
+        int n = 0, skipped = 0, bad = 0;
+        double worst = 0;
+        while (n < 2000) {
+            double P[3][3], U[3][2], s, smax, smin, g[3][2], h, gnorm = 0, weight = rng_range(0.5, 2);
+            bp__rest r;
+            int i, k;
+            random_config(P, U, &s);
+            make_rest(P[0], P[1], P[2], weight, &r);
+            ref_singular(P[0], P[1], P[2], U[0], U[1], U[2], &smax, &smin);
+            /* Kinks: conformal, isometric and max isometric are not
+               differentiable where s_max == s_min (R = 0 in the closed form:
+               their f_a - f_b does not vanish there), max isometric also
+               where s_max == 1 / s_min.  Central differences across a kink
+               measure the mean of two one-sided slopes, so configurations
+               within 1e-3 (relative) of a kink are skipped and counted. */
+            if ((kind == BP_ENERGY_CONFORMAL || kind == BP_ENERGY_ISOMETRIC || kind == BP_ENERGY_MAX_ISOMETRIC) &&
+                (smax - smin) < 1e-3 * smax) { skipped++; continue; }
+            if (kind == BP_ENERGY_MAX_ISOMETRIC && fabs(smax * smin - 1) < 1e-3) { skipped++; continue; }
+            memset(g, 0, sizeof g);
+            bp__triangle_energy((bp_energy)kind, &r, U[0], U[1], U[2], g[0], g[1], g[2]);
+            for (i = 0; i < 3; i++) for (k = 0; k < 2; k++) if (fabs(g[i][k]) > gnorm) gnorm = fabs(g[i][k]);
+            h = 1e-6 * s;
+            for (i = 0; i < 3; i++)
+                for (k = 0; k < 2; k++) {
+                    double save = U[i][k], fp, fm, fd, err;
+                    U[i][k] = save + h;
+                    fp = bp__triangle_energy((bp_energy)kind, &r, U[0], U[1], U[2], NULL, NULL, NULL);
+                    U[i][k] = save - h;
+                    fm = bp__triangle_energy((bp_energy)kind, &r, U[0], U[1], U[2], NULL, NULL, NULL);
+                    U[i][k] = save;
+                    fd = weight * (fp - fm) / (2 * h);
+                    err = fabs(fd - g[i][k]) / (gnorm > 1 ? gnorm : 1);
+                    if (!(err <= worst)) worst = err == err ? err : 1e300;
+                    if (!(err <= 1e-5)) bad++;
+                }
+            n++;
+        }
+        BPT_CHECK(bad == 0, "%s: analytic gradient == central differences (h = 1e-6 * uv scale) on %d random "
+                  "configurations, max err/max(1,|g|) %.3g (%d skipped within 1e-3 of a kink)",
+                  ENAME[kind], n, worst, skipped);
+    }
+
+    /* (d') near-conformal maps, where the closed form divides by R -> 0:
+       symmetric Dirichlet and MIPS are smooth there (symmetric in s_max,
+       s_min) and are checked at exact similarities (R ~ rounding) and at
+       R/Q ~ 1e-2 .. 1e-6; the kinked energies only at R/Q >= 2e-3. */
+    for (kind = 0; kind < BP_ENERGY_COUNT; kind++) {
+        int n, bad = 0, tested = 0;
+        double worst = 0;
+        int smooth = kind == BP_ENERGY_SYMMETRIC_DIRICHLET || kind == BP_ENERGY_MIPS;
+        for (n = 0; n < 1000; n++) {
+            double P[3][3], U[3][2], s, w, x, y, F[3][2], ang = rng_range(0, 2 * PI), c = cos(ang), sn = sin(ang);
+            double sc = exp(rng_range(-1, 1)), pert = (n % 5 == 0) ? 0 : pow(10.0, -rng_range(2, 6)), g[3][2], h, gnorm = 0;
+            double smax, smin;
+            bp__rest r;
+            int i, k;
+            random_config(P, U, &s);
+            make_rest(P[0], P[1], P[2], 1.0, &r);
+            bp__rest_shape(P[0], P[1], P[2], &w, &x, &y);
+            F[0][0] = 0; F[0][1] = 0; F[1][0] = w; F[1][1] = 0; F[2][0] = x; F[2][1] = y;
+            for (i = 0; i < 3; i++) {
+                U[i][0] = sc * (c * F[i][0] - sn * F[i][1]) + pert * w * rng_range(-1, 1) + 1;
+                U[i][1] = sc * (sn * F[i][0] + c * F[i][1]) + pert * w * rng_range(-1, 1) - 2;
+            }
+            ref_singular(P[0], P[1], P[2], U[0], U[1], U[2], &smax, &smin);
+            if (!smooth && smax - smin < 2e-3 * smax) continue;
+            if (kind == BP_ENERGY_MAX_ISOMETRIC && fabs(smax * smin - 1) < 1e-3) continue;
+            memset(g, 0, sizeof g);
+            bp__triangle_energy((bp_energy)kind, &r, U[0], U[1], U[2], g[0], g[1], g[2]);
+            for (i = 0; i < 3; i++) for (k = 0; k < 2; k++) if (fabs(g[i][k]) > gnorm) gnorm = fabs(g[i][k]);
+            h = 1e-7 * sc * w;
+            for (i = 0; i < 3; i++)
+                for (k = 0; k < 2; k++) {
+                    double save = U[i][k], fp, fm, fd, err;
+                    U[i][k] = save + h;
+                    fp = bp__triangle_energy((bp_energy)kind, &r, U[0], U[1], U[2], NULL, NULL, NULL);
+                    U[i][k] = save - h;
+                    fm = bp__triangle_energy((bp_energy)kind, &r, U[0], U[1], U[2], NULL, NULL, NULL);
+                    U[i][k] = save;
+                    fd = (fp - fm) / (2 * h);
+                    err = fabs(fd - g[i][k]) / (gnorm > 1 ? gnorm : 1);
+                    if (!(err <= worst)) worst = err == err ? err : 1e300;
+                    if (!(err <= 1e-5)) bad++;
+                }
+            tested++;
+        }
+        BPT_CHECK(bad == 0 && tested > 100, "%s: gradient == central differences near conformal maps (%d configurations, %s), "
+                  "max err/max(1,|g|) %.3g", ENAME[kind], tested, smooth ? "including exact similarities" : "R/Q >= 2e-3",
+                  worst);
+    }
+
+    /* (e) bp__energy_sv partials in (s_max, s_min) */
+    for (kind = 0; kind < BP_ENERGY_COUNT; kind++) {
+        int n, bad = 0, badv = 0;
+        double worst = 0;
+        for (n = 0; n < 2000; n++) {
+            double sa = exp(rng_range(-2, 2)), sb = sa * exp(rng_range(-3, -1e-3)), fa, fb, f, fp, fm, dum1, dum2, h, fd;
+            if (kind == BP_ENERGY_MAX_ISOMETRIC && fabs(sa * sb - 1) < 1e-3) continue;
+            f = bp__energy_sv((bp_energy)kind, sa, sb, &fa, &fb);
+            if (!(fabs(f - ref_energy(kind, sa, sb)) <= 1e-13 * f)) badv++;
+            h = 1e-6 * sa;
+            fp = bp__energy_sv((bp_energy)kind, sa + h, sb, &dum1, &dum2);
+            fm = bp__energy_sv((bp_energy)kind, sa - h, sb, &dum1, &dum2);
+            fd = (fp - fm) / (2 * h);
+            if (fabs(fd - fa) / (fabs(fa) > 1 ? fabs(fa) : 1) > worst) worst = fabs(fd - fa) / (fabs(fa) > 1 ? fabs(fa) : 1);
+            if (!(fabs(fd - fa) <= 1e-5 * (fabs(fa) > 1 ? fabs(fa) : 1))) bad++;
+            h = 1e-6 * sb;
+            fp = bp__energy_sv((bp_energy)kind, sa, sb + h, &dum1, &dum2);
+            fm = bp__energy_sv((bp_energy)kind, sa, sb - h, &dum1, &dum2);
+            fd = (fp - fm) / (2 * h);
+            if (fabs(fd - fb) / (fabs(fb) > 1 ? fabs(fb) : 1) > worst) worst = fabs(fd - fb) / (fabs(fb) > 1 ? fabs(fb) : 1);
+            if (!(fabs(fd - fb) <= 1e-5 * (fabs(fb) > 1 ? fabs(fb) : 1))) bad++;
+        }
+        BPT_CHECK(bad == 0 && badv == 0, "%s: bp__energy_sv value and partials (f_a, f_b) == reference and central "
+                  "differences (max err %.3g)", ENAME[kind], worst);
+    }
+    /* degenerate / flipped triangles are infinite */
+    {
+        double P[3][3], U[3][2], s, tmp[2];
+        bp__rest r;
+        int bad = 0;
+        random_config(P, U, &s);
+        make_rest(P[0], P[1], P[2], 1.0, &r);
+        memcpy(tmp, U[1], sizeof tmp); memcpy(U[1], U[2], sizeof tmp); memcpy(U[2], tmp, sizeof tmp);
+        for (kind = 0; kind < BP_ENERGY_COUNT; kind++)
+            if (bp__triangle_energy((bp_energy)kind, &r, U[0], U[1], U[2], NULL, NULL, NULL) != HUGE_VAL) bad++;
+        U[2][0] = 0.5 * (U[0][0] + U[1][0]);
+        U[2][1] = 0.5 * (U[0][1] + U[1][1]);
+        U[0][0] = 0; U[0][1] = 0; U[1][0] = 2; U[1][1] = 2; U[2][0] = 1; U[2][1] = 1;
+        for (kind = 0; kind < BP_ENERGY_COUNT; kind++)
+            if (bp__triangle_energy((bp_energy)kind, &r, U[0], U[1], U[2], NULL, NULL, NULL) != HUGE_VAL) bad++;
+        BPT_CHECK(bad == 0, "every energy is +inf on a flipped and on a degenerate triangle");
+    }
+}
+
+/* ---- (f) the barrier on polygons ----------------------------------------- */
+
+/* Distance from p to segment [a, b] (reference, long double). */
+static double seg_dist(const double *a, const double *b, const double *p)
+{
+    long double ex = (long double)b[0] - a[0], ey = (long double)b[1] - a[1];
+    long double px = (long double)p[0] - a[0], py = (long double)p[1] - a[1];
+    long double l2 = ex * ex + ey * ey, s = l2 > 0 ? (px * ex + py * ey) / l2 : 0, dx, dy;
+    if (s < 0) s = 0;
+    if (s > 1) s = 1;
+    dx = px - s * ex; dy = py - s * ey;
+    return (double)sqrtl(dx * dx + dy * dy);
+}
+
+/* Polygons: kind 0 jittered circle, 1 flat ellipse (opposite sides within
+   eps), 2 wavy star; plus an optional hole (second loop). */
+static void make_polygon(int kind, uint32_t n, double *x)
+{
+    uint32_t i;
+    for (i = 0; i < n; i++) {
+        double th = 2 * PI * (i + rng_range(-0.3, 0.3)) / n, r = 1 + rng_range(-0.05, 0.05);
+        if (kind == 0) { x[2 * i] = r * cos(th); x[2 * i + 1] = r * sin(th); }
+        else if (kind == 1) { x[2 * i] = r * cos(th); x[2 * i + 1] = 0.12 * r * sin(th); }
+        else { r *= 1 + 0.35 * cos(7 * th); x[2 * i] = r * cos(th); x[2 * i + 1] = r * sin(th); }
+    }
+}
+
+static void test_barrier_gradient(void)
+{
+    int kind, bad = 0, trials = 0;
+    double worst = 0, mind_rel = 1e300;
+    long pairs_in = 0;
+    for (kind = 0; kind < 3; kind++) {
+        int rep;
+        for (rep = 0; rep < 30; rep++) {
+            uint32_t n = 40, nh = (rep % 2) ? 12 : 0, N = n + nh, i, k;
+            uint32_t loop_start[3], *lv = (uint32_t *)malloc(N * sizeof(uint32_t));
+            double *x = (double *)malloc(2 * N * sizeof(double)), *g = (double *)calloc(2 * N, sizeof(double));
+            double eps = kind == 0 ? 0.35 : kind == 1 ? 0.3 : 0.3, f0, h = 1e-7;
+            bp__solver S;
+            bp_allocator a;
+            uint32_t L;
+            memset(&a, 0, sizeof a);
+            memset(&S, 0, sizeof S);
+            make_polygon(kind, n, x);
+            for (i = 0; i < nh; i++) {       /* a small clockwise hole near the middle */
+                double th = -2 * PI * i / nh;
+                x[2 * (n + i)] = 0.1 * cos(th) + 0.05;
+                x[2 * (n + i) + 1] = (kind == 1 ? 0.01 : 0.1) * sin(th);
+            }
+            for (i = 0; i < N; i++) lv[i] = i;
+            loop_start[0] = 0; loop_start[1] = n; loop_start[2] = N;
+            S.a = &a;
+            S.nv = N;
+            S.nloops = nh ? 2 : 1;
+            S.loop_start = loop_start;
+            S.loop_vertices = lv;
+            S.nb = N;
+            S.barrier = 1;
+            S.eps = eps;
+            solver_hash_alloc(&S, N);
+            /* pairs within eps, and the closest (must not be 0) */
+            for (L = 0; L < S.nloops; L++) {
+                uint32_t s0 = loop_start[L], m = loop_start[L + 1] - s0, e;
+                for (e = 0; e < m; e++)
+                    for (k = 0; k < m; k++) {
+                        double d;
+                        if (k == e || k == (e + 1) % m) continue;
+                        d = seg_dist(x + 2 * lv[s0 + e], x + 2 * lv[s0 + (e + 1) % m], x + 2 * lv[s0 + k]);
+                        if (d < eps) pairs_in++;
+                        if (d / eps < mind_rel) mind_rel = d / eps;
+                    }
+            }
+            f0 = bp__barrier(&S, x, g);
+            {
+                double gmax = 0;
+                for (i = 0; i < 2 * N; i++) if (fabs(g[i]) > gmax) gmax = fabs(g[i]);
+                for (i = 0; i < 2 * N; i++) {
+                    double save = x[i], fp, fm, fd, err;
+                    x[i] = save + h; fp = bp__barrier(&S, x, NULL);
+                    x[i] = save - h; fm = bp__barrier(&S, x, NULL);
+                    x[i] = save;
+                    fd = (fp - fm) / (2 * h);
+                    err = fabs(fd - g[i]) / (gmax > 1 ? gmax : 1);
+                    if (!(err <= worst)) worst = err == err ? err : 1e300;
+                    if (!(err <= 1e-5)) bad++;
+                }
+            }
+            if (!(f0 > 0) || !(f0 < HUGE_VAL)) bad++;
+            trials++;
+            solver_hash_free(&S);
+            free(lv); free(x); free(g);
+        }
+    }
+    BPT_CHECK(mind_rel > 0.01, "barrier polygons: no boundary vertex closer than 0.01 eps to an edge of its loop (min %.3g eps)", mind_rel);
+    BPT_CHECK(pairs_in > 20 * trials, "barrier polygons: %ld vertex/edge pairs inside eps over %d polygons", pairs_in, trials);
+    BPT_CHECK(bad == 0, "barrier E_B: gradient == central differences on %d jittered polygons (circle, flat ellipse, "
+              "star; with and without a hole), max err/max(1,|g|) %.3g", trials, worst);
+}
+
+/* ---- (g) the objective on a real chart ----------------------------------- */
+
+static void test_objective_on_chart(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options opt;
+    bp_allocator a;
+    int phase;
+    memset(&opt, 0, sizeof opt);
+    memset(&a, 0, sizeof a);
+    if (!BPT_CHECK(bp_read_obj("tests/data/bishop_part_f1000.obj", &mesh, NULL, &err) == BP_OK, "read bishop: %s", err.message))
+        return;
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1, "bishop: one chart")) {
+        bp_mesh_free(&mesh, NULL);
+        return;
+    }
+    BPT_CHECK(bp_chart_init(&atlas.charts[0], &mesh, &opt, &err) == BP_OK, "bishop start map: %s", err.message);
+    for (phase = 0; phase < 4; phase++) {
+        bp_chart *ch = &atlas.charts[0];
+        bp__solver S;
+        bp__rest *rest;
+        double *x, *g, f, ed, ed2, f2, uvedge = 0, h, gmax = 0, worst = 0, eb;
+        uint32_t i, nv2 = 2 * ch->num_vertices, nb = ch->loop_start[1], k, checked = 0;
+        int bad = 0, energy = phase == 3 ? BP_ENERGY_MIPS : BP_ENERGY_SYMMETRIC_DIRICHLET;
+        if (phase == 2) {       /* a partly optimized map: the boundary has moved */
+            opt.max_iterations = 40;
+            bp_chart_optimize(ch, 0, &mesh, &opt, &err);
+        }
+        for (k = 0; k < nb; k++) {
+            const double *p = ch->uv + 2 * ch->loop_vertices[k], *q = ch->uv + 2 * ch->loop_vertices[(k + 1) % nb];
+            uvedge += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1])) / nb;
+        }
+        /* phase 0: default eps; 1-3: eps = 2 mean uv boundary edges, so E_B is active */
+        rest = solver_for_chart(&S, &a, ch, &mesh, (bp_energy)energy, 1, phase == 0 ? 0 : 2 * uvedge);
+        x = (double *)malloc(nv2 * sizeof(double));
+        g = (double *)malloc(nv2 * sizeof(double));
+        memcpy(x, ch->uv, nv2 * sizeof(double));
+        f = bp__objective(&S, x, g, &ed);
+        f2 = bp__objective(&S, x, NULL, &ed2);
+        eb = bp__barrier(&S, x, NULL);
+        BPT_CHECK(f == f2 && ed == ed2 && fabs(f - (ed + eb)) <= 1e-12 * f,
+                  "bishop phase %d: objective value is E_D + E_B with or without the gradient (E_D %.6g, E_B %.6g)", phase,
+                  ed, eb);
+        if (phase > 0) BPT_CHECK(eb > 0, "bishop phase %d: the barrier is active (E_B = %.6g)", phase, eb);
+        for (i = 0; i < nv2; i++) if (fabs(g[i]) > gmax) gmax = fabs(g[i]);
+        h = 1e-6 * uvedge;      /* truncation and rounding balance here (measured: ~1e-8) */
+        for (i = 0; i < nv2; i++) {
+            int is_boundary = 0;
+            double save, fp, fm, dum, fd, e;
+            for (k = 0; k < nb; k++) if (ch->loop_vertices[k] == i / 2) is_boundary = 1;
+            if (!is_boundary && rng_unit() > 0.25) continue;    /* all boundary coordinates, 1/4 of the rest */
+            save = x[i];
+            x[i] = save + h; fp = bp__objective(&S, x, NULL, &dum);
+            x[i] = save - h; fm = bp__objective(&S, x, NULL, &dum);
+            x[i] = save;
+            fd = (fp - fm) / (2 * h);
+            e = fabs(fd - g[i]) / (gmax > 1 ? gmax : 1);
+            if (!(e <= worst)) worst = e == e ? e : 1e300;
+            if (!(e <= 1e-5)) bad++;
+            checked++;
+        }
+        BPT_CHECK(bad == 0, "bishop phase %d (%s, eps %s): objective gradient == central differences on %u coordinates "
+                  "(h = 1e-6 mean uv edge), max err/max(1,|g|) %.3g", phase, ENAME[energy], phase == 0 ? "default" : "2 uv edges",
+                  checked, worst);
+        solver_hash_free(&S);
+        free(rest); free(x); free(g);
+    }
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+}
+
+int main(void)
+{
+    test_triangle_energies();
+    test_barrier_gradient();
+    test_objective_on_chart();
+    return bpt_finish();
+}
