@@ -8,7 +8,8 @@
 #   bash bench/run.sh                 (or: make bench)
 #   BENCH_RUNS=5 BENCH_TIMEOUT=300 bash bench/run.sh
 #
-# Run from the repository root after `make`.  Needs python3 for the JSON.
+# Progress (one JSON line per mesh as it finishes) goes to stderr; the table
+# and the JSON lines go to stdout at the end.  Needs python3 and a built tool.
 set -u
 cd "$(dirname "$0")/.."
 
@@ -48,7 +49,7 @@ for mesh in "${meshes[@]}"; do
         timeout "$limit" python3 "$uvcheck" --compact "$out" "$mesh" >"$work/uvcheck.json" 2>/dev/null
         verdict=$work/uvcheck.json
     fi
-    python3 - "$mesh" "$rc" "$work/report.json" "$work/stderr" "$verdict" "${times[@]}" >>"$results" <<'PY'
+    python3 - "$mesh" "$rc" "$work/report.json" "$work/stderr" "$verdict" "${times[@]}" <<'PY' | tee -a "$results" >&2
 import json, statistics, sys
 mesh, rc, report, stderr, verdict = sys.argv[1:6]
 times = [float(t) for t in sys.argv[6:]]
