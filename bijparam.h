@@ -28,6 +28,7 @@
    --------
       >>api            public declarations
       >>config         macros, allocator plumbing, error helpers
+      >>threads        deterministic parallel loops, optional pool    (sec 3.5)
       >>predicates     exact orientation and segment tests           (robustness)
       >>io             OBJ / OFF reading, OBJ writing                 (BP_NO_STDIO)
       >>charts         seams, connected components, pinches, loops    (sec 3.1, 3.6)
@@ -49,6 +50,8 @@
       BP_MALLOC(sz,u)       default allocator (both or neither):
       BP_FREE(p,u)          defaults are malloc/free; u is the user pointer
       BP_ASSERT(x)          internal invariant check, default: nothing
+      BP_USE_PTHREADS       a small thread pool inside the header (link with
+                            -pthread); without it no link flags are needed
 
    CONVENTIONS
    -----------
@@ -192,6 +195,14 @@ typedef enum bp_stop {
 typedef int (*bp_progress_fn)(void *user, uint32_t chart, int iteration,
                               double mean_energy, double step);
 
+/* Parallel loops.  The library splits its heavy loops into `count` tasks
+   whose results it combines in a fixed order, so the output is bit-identical
+   for any number of threads.  A parallel_for must call fn(task, i) once for
+   every i in [0, count), in any order and on any threads, and return when
+   all calls have returned. */
+typedef void (*bp_task_fn)(void *task, uint32_t index);
+typedef void (*bp_parallel_for_fn)(void *user, bp_task_fn fn, void *task, uint32_t count);
+
 typedef struct bp_options {
     bp_allocator  allocator;      /* zero: BP_MALLOC / BP_FREE                 */
     bp_init       init;           /* start map, default Tutte                  */
@@ -207,6 +218,9 @@ typedef struct bp_options {
     bp_progress_fn progress;      /* optional                                  */
     void         *progress_user;
     int           normalize;      /* nonzero: scale the packed atlas into [0,1]^2 */
+    int           threads;        /* with BP_USE_PTHREADS: 0 = all cores, 1 = serial */
+    bp_parallel_for_fn parallel_for; /* your own job system (overrides threads)  */
+    void         *parallel_user;
 } bp_options;
 
 /* One chart: a connected piece of the mesh cut along seams.  Chart vertices
@@ -232,6 +246,7 @@ typedef struct bp_chart {
     int       iterations;
     bp_stop   stop;
     double    seconds;
+    int       threads;        /* threads used (0: a user parallel_for)         */
 } bp_chart;
 
 typedef struct bp_atlas {
@@ -572,6 +587,180 @@ BPDEF const char *bp_stop_string(bp_stop s)
                                          "max_seconds", "cancelled", "no_progress" };
     if ((int)s < 0 || (int)s > (int)BP_STOP_NO_PROGRESS) return "unknown";
     return names[s];
+}
+
+
+/* >>threads ================================================================
+
+   Sec 3.5 parallelizes the energy, the barrier and the step bound.  Here
+   every heavy loop is cut into tasks whose boundaries depend only on the
+   number of items, never on the number of threads, and each task writes its
+   own slot (a partial sum, a minimum, a list of gradient records); the
+   slots are combined in task order.  The result is therefore bit-identical
+   for 1, 2, ... threads, and the serial path is simply the same tasks run
+   one after the other.
+
+   Who runs the tasks: a parallel_for supplied in the options (your job
+   system), or, with BP_USE_PTHREADS, a small pool created once per solve,
+   or a plain loop.  If a thread cannot be created the pool runs with the
+   threads it has (possibly none besides the caller); chart->threads says
+   how many were used. */
+
+typedef struct bp__par {
+    bp_parallel_for_fn run;
+    void *user;
+    int   threads;
+} bp__par;
+
+static void bp__serial_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+{
+    uint32_t i;
+    (void)user;
+    for (i = 0; i < count; i++) fn(task, i);
+}
+
+#ifdef BP_USE_PTHREADS
+#include <pthread.h>
+#include <unistd.h>
+
+typedef struct bp__pool {
+    pthread_t      *th;
+    int             nth;            /* worker threads created                */
+    pthread_mutex_t mu;
+    pthread_cond_t  wake, done;
+    uint64_t        gen;            /* job generation                        */
+    int             busy;           /* workers still inside the current job  */
+    int             quit;
+    bp_task_fn      fn;
+    void           *task;
+    uint32_t        count, next;
+} bp__pool;
+
+/* Take task indices until none are left (called with the mutex held). */
+static void bp__pool_drain(bp__pool *P)
+{
+    while (P->next < P->count) {
+        uint32_t i = P->next++;
+        pthread_mutex_unlock(&P->mu);
+        P->fn(P->task, i);
+        pthread_mutex_lock(&P->mu);
+    }
+}
+
+static void *bp__pool_worker(void *arg)
+{
+    bp__pool *P = (bp__pool *)arg;
+    uint64_t seen = 0;
+    pthread_mutex_lock(&P->mu);
+    for (;;) {
+        while (!P->quit && P->gen == seen) pthread_cond_wait(&P->wake, &P->mu);
+        if (P->quit) break;
+        seen = P->gen;
+        bp__pool_drain(P);
+        if (--P->busy == 0) pthread_cond_signal(&P->done);
+    }
+    pthread_mutex_unlock(&P->mu);
+    return NULL;
+}
+
+static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+{
+    bp__pool *P = (bp__pool *)user;
+    if (count <= 1 || P->nth == 0) { bp__serial_for(NULL, fn, task, count); return; }
+    pthread_mutex_lock(&P->mu);
+    P->fn = fn;
+    P->task = task;
+    P->count = count;
+    P->next = 0;
+    P->busy = P->nth;
+    P->gen++;
+    pthread_cond_broadcast(&P->wake);
+    bp__pool_drain(P);                         /* the caller works too */
+    while (P->busy > 0) pthread_cond_wait(&P->done, &P->mu);
+    pthread_mutex_unlock(&P->mu);
+}
+
+/* A pool of `threads` (0: all cores) including the caller. */
+static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
+{
+    bp__pool *P;
+    int i;
+    if (threads <= 0) {
+        long n = sysconf(_SC_NPROCESSORS_ONLN);
+        threads = n > 0 ? (int)(n < 256 ? n : 256) : 1;
+    }
+    if (threads <= 1) return NULL;
+    P = (bp__pool *)bp__calloc_array(a, 1, sizeof *P);
+    if (!P) return NULL;
+    P->th = (pthread_t *)bp__alloc_array(a, (size_t)threads - 1, sizeof(pthread_t));
+    if (!P->th || pthread_mutex_init(&P->mu, NULL) != 0) { bp__free(a, P->th); bp__free(a, P); return NULL; }
+    if (pthread_cond_init(&P->wake, NULL) != 0) {
+        pthread_mutex_destroy(&P->mu); bp__free(a, P->th); bp__free(a, P); return NULL;
+    }
+    if (pthread_cond_init(&P->done, NULL) != 0) {
+        pthread_cond_destroy(&P->wake); pthread_mutex_destroy(&P->mu); bp__free(a, P->th); bp__free(a, P);
+        return NULL;
+    }
+    for (i = 0; i < threads - 1; i++) {
+        if (pthread_create(&P->th[i], NULL, bp__pool_worker, P) != 0) break;  /* run with what we have */
+        P->nth++;
+    }
+    return P;
+}
+
+static void bp__pool_stop(const bp_allocator *a, bp__pool *P)
+{
+    int i;
+    if (!P) return;
+    pthread_mutex_lock(&P->mu);
+    P->quit = 1;
+    pthread_cond_broadcast(&P->wake);
+    pthread_mutex_unlock(&P->mu);
+    for (i = 0; i < P->nth; i++) pthread_join(P->th[i], NULL);
+    pthread_cond_destroy(&P->done);
+    pthread_cond_destroy(&P->wake);
+    pthread_mutex_destroy(&P->mu);
+    bp__free(a, P->th);
+    bp__free(a, P);
+}
+#endif /* BP_USE_PTHREADS */
+
+/* Choose how loops run for a solve; *pool receives a pool to stop later. */
+static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void **pool)
+{
+    bp__par par;
+    par.run = bp__serial_for;
+    par.user = NULL;
+    par.threads = 1;
+    *pool = NULL;
+    (void)a;
+    if (opt && opt->parallel_for) {
+        par.run = opt->parallel_for;
+        par.user = opt->parallel_user;
+        par.threads = 0;
+        return par;
+    }
+#ifdef BP_USE_PTHREADS
+    if (!opt || opt->threads != 1) {
+        bp__pool *P = bp__pool_start(a, opt ? opt->threads : 0);
+        if (P) {
+            *pool = P;
+            par.run = bp__pool_for;
+            par.user = P;
+            par.threads = P->nth + 1;
+        }
+    }
+#endif
+    return par;
+}
+
+static void bp__par_end(const bp_allocator *a, void *pool)
+{
+#ifdef BP_USE_PTHREADS
+    bp__pool_stop(a, (bp__pool *)pool);
+#else
+    (void)a; (void)pool;
+#endif
 }
 
 /* >>predicates =============================================================
@@ -1817,18 +2006,31 @@ typedef struct bp__sparse {       /* n x n, compressed columns            */
     int       symmetric;          /* values symmetric (pattern always is) */
 } bp__sparse;
 
+/* The top of the nested-dissection tree: node k covers the permuted range
+   [lo, hi) = [A | B | S] with A = [lo, a), B = [a, b), S = [b, hi) and
+   children 2k+1 (A) and 2k+2 (B); a node that was not split is a leaf.  Its
+   subtrees are independent in the triangular solves, which is what lets
+   the preconditioner run on several threads. */
+#define BP__ND_DEPTH 3
+#define BP__ND_NODES 15                 /* 2^(depth+1) - 1 */
+typedef struct bp__ndnode { uint32_t lo, a, b, hi; int used, split; } bp__ndnode;
+
 typedef struct bp__factor {
     uint32_t  n;
     int       symmetric;
     uint32_t *perm, *iperm;       /* new -> old, old -> new               */
     uint32_t *Lp, *Li;            /* strictly lower L by columns          */
     double   *Lx, *Ux, *D;        /* Ux: strictly upper U, stored as U^T  */
+    uint32_t *Rp, *Ri;            /* L by rows (built on demand)          */
+    double   *Rx;
+    bp__ndnode tree[BP__ND_NODES];
 } bp__factor;
 
 static void bp__factor_free(const bp_allocator *a, bp__factor *f)
 {
     bp__free(a, f->perm); bp__free(a, f->iperm); bp__free(a, f->Lp);
     bp__free(a, f->Li); bp__free(a, f->Lx); bp__free(a, f->Ux); bp__free(a, f->D);
+    bp__free(a, f->Rp); bp__free(a, f->Ri); bp__free(a, f->Rx);
     memset(f, 0, sizeof *f);
 }
 
@@ -1855,22 +2057,29 @@ static uint32_t bp__bfs(const bp__sparse *A, const uint32_t *owner, uint32_t id,
     return tail;
 }
 
-static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *order)
+static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *order, bp__ndnode *tree)
 {
     uint32_t n = A->n, i, sp = 0, stamp = 0;
     uint32_t *owner = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
     uint32_t *level = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
     uint32_t *queue = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
     uint32_t *seen = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    uint32_t *stack = (uint32_t *)bp__alloc_array(a, 2 * (size_t)n + 2, sizeof(uint32_t));
+    uint32_t *stack = (uint32_t *)bp__alloc_array(a, 3 * (size_t)n + 3, sizeof(uint32_t));
     if (!owner || !level || !queue || !seen || !stack) {
         bp__free(a, owner); bp__free(a, level); bp__free(a, queue); bp__free(a, seen); bp__free(a, stack);
         return 0;
     }
     for (i = 0; i < n; i++) { order[i] = i; owner[i] = 0; seen[i] = 0; }
-    stack[sp++] = 0; stack[sp++] = n;
+    memset(tree, 0, BP__ND_NODES * sizeof *tree);
+    stack[sp++] = 0; stack[sp++] = n; stack[sp++] = 0;
     while (sp) {
-        uint32_t hi = stack[--sp], lo = stack[--sp], size = hi - lo, cnt, nlev, m, cum, ca, cs, cb, j;
+        uint32_t node = stack[--sp], hi = stack[--sp], lo = stack[--sp], size = hi - lo, cnt, nlev, m, cum, ca, cs, cb, j;
+        uint32_t c1 = node < BP__ND_NODES && 2 * node + 1 < BP__ND_NODES ? 2 * node + 1 : BP__NONE;
+        uint32_t c2 = c1 != BP__NONE ? c1 + 1 : BP__NONE;
+        if (node < BP__ND_NODES) {
+            tree[node].used = 1;
+            tree[node].lo = lo; tree[node].hi = hi; tree[node].a = tree[node].b = hi;
+        }
         if (size <= 32) continue;
         /* pseudo-peripheral start: the last vertex of a BFS from any vertex */
         cnt = bp__bfs(A, owner, lo, order[lo], queue, level, seen, ++stamp);
@@ -1882,8 +2091,9 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
                 if (seen[order[j]] != stamp) queue[w++] = order[j];
             memcpy(order + lo, queue, size * sizeof(uint32_t));
             for (j = lo + cnt; j < hi; j++) owner[order[j]] = lo + cnt;
-            stack[sp++] = lo; stack[sp++] = lo + cnt;
-            stack[sp++] = lo + cnt; stack[sp++] = hi;
+            if (node < BP__ND_NODES) { tree[node].split = 1; tree[node].a = lo + cnt; tree[node].b = hi; }
+            stack[sp++] = lo; stack[sp++] = lo + cnt; stack[sp++] = c1;
+            stack[sp++] = lo + cnt; stack[sp++] = hi; stack[sp++] = c2;
             continue;
         }
         nlev = level[queue[cnt - 1]] + 1;
@@ -1920,8 +2130,9 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
         memcpy(order + lo + ca + cb, queue + ca, cs * sizeof(uint32_t));
         for (j = lo + ca; j < lo + ca + cb; j++) owner[order[j]] = lo + ca;
         for (j = lo + ca + cb; j < hi; j++) owner[order[j]] = BP__NONE;
-        stack[sp++] = lo; stack[sp++] = lo + ca;
-        stack[sp++] = lo + ca; stack[sp++] = lo + ca + cb;
+        if (node < BP__ND_NODES) { tree[node].split = 1; tree[node].a = lo + ca; tree[node].b = lo + ca + cb; }
+        stack[sp++] = lo; stack[sp++] = lo + ca; stack[sp++] = c1;
+        stack[sp++] = lo + ca; stack[sp++] = lo + ca + cb; stack[sp++] = c2;
     }
     bp__free(a, owner); bp__free(a, level); bp__free(a, queue); bp__free(a, seen); bp__free(a, stack);
     return 1;
@@ -1962,7 +2173,7 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
         for (k = 0; k < n; k++)
             for (p = A->colp[k]; p < A->colp[k + 1]; p++) tpos[p] = cursor[A->row[p]]++;
     }
-    if (!bp__nd_order(a, A, F->perm)) goto done;
+    if (!bp__nd_order(a, A, F->perm, F->tree)) goto done;
     for (k = 0; k < n; k++) F->iperm[F->perm[k]] = k;
 
     /* elimination tree (path holds the "ancestor" links) */
@@ -2083,6 +2294,119 @@ static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const do
         for (p = A->colp[j]; p < A->colp[j + 1]; p++) r[A->row[p]] -= A->val[p] * x[j];
     bp__factor_solve(F, r, d, z);
     for (j = 0; j < A->n; j++) x[j] += d[j];
+}
+
+/* L by rows, for the forward solve by gathers (each row i sums
+   L(i, j) z(j) in increasing j, whatever the schedule). */
+static int bp__factor_rows(const bp_allocator *a, bp__factor *F)
+{
+    uint32_t n = F->n, j, p;
+    uint32_t *cur;
+    F->Rp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    F->Ri = (uint32_t *)bp__alloc_array(a, F->Lp[n], sizeof(uint32_t));
+    F->Rx = (double *)bp__alloc_array(a, F->Lp[n], sizeof(double));
+    cur = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    if (!F->Rp || !F->Ri || !F->Rx || !cur) { bp__free(a, cur); return 0; }
+    for (p = 0; p < F->Lp[n]; p++) F->Rp[F->Li[p] + 1]++;
+    for (j = 0; j < n; j++) F->Rp[j + 1] += F->Rp[j];
+    for (j = 0; j < n; j++) cur[j] = F->Rp[j];
+    for (j = 0; j < n; j++)                       /* columns in order: rows sorted */
+        for (p = F->Lp[j]; p < F->Lp[j + 1]; p++) {
+            F->Ri[cur[F->Li[p]]] = j;
+            F->Rx[cur[F->Li[p]]++] = F->Lx[p];
+        }
+    bp__free(a, cur);
+    return 1;
+}
+
+/* The preconditioner solve r = K^-1 q for both coordinates at once (q, r
+   interleaved xy).  z (2n doubles, permuted order) is shared by the tasks;
+   each task owns a range of rows.  Forward: L z = q by rows; backward:
+   D L^T r = z by columns; both are gathers, so each entry is computed by
+   the same operations in the same order on any schedule. */
+typedef struct bp__solve_task {
+    const bp__factor *F;
+    double *z;
+    uint32_t ranges[2 * BP__ND_NODES];   /* [lo, hi) per task of a phase */
+    int backward;
+} bp__solve_task;
+
+static void bp__solve_range(void *task, uint32_t k)
+{
+    bp__solve_task *T = (bp__solve_task *)task;
+    const bp__factor *F = T->F;
+    double *z = T->z;
+    uint32_t lo = T->ranges[2 * k], hi = T->ranges[2 * k + 1], i, p;
+    if (!T->backward) {
+        for (i = lo; i < hi; i++) {
+            double sx = 0, sy = 0;
+            for (p = F->Rp[i]; p < F->Rp[i + 1]; p++) {
+                sx += F->Rx[p] * z[2 * (size_t)F->Ri[p]];
+                sy += F->Rx[p] * z[2 * (size_t)F->Ri[p] + 1];
+            }
+            z[2 * (size_t)i] -= sx;
+            z[2 * (size_t)i + 1] -= sy;
+        }
+    } else {
+        for (i = hi; i-- > lo;) {
+            double sx = 0, sy = 0;
+            for (p = F->Lp[i]; p < F->Lp[i + 1]; p++) {
+                sx += F->Lx[p] * z[2 * (size_t)F->Li[p]];
+                sy += F->Lx[p] * z[2 * (size_t)F->Li[p] + 1];
+            }
+            z[2 * (size_t)i] = z[2 * (size_t)i] / F->D[i] - sx;
+            z[2 * (size_t)i + 1] = z[2 * (size_t)i + 1] / F->D[i] - sy;
+        }
+    }
+}
+
+static int bp__nd_depth(uint32_t k)
+{
+    int d = 0;
+    while (k > 0) { k = (k - 1) / 2; d++; }
+    return d;
+}
+
+/* Phase 0 holds the subtrees that are solved whole (leaves of the recorded
+   tree and the nodes at its deepest level); phase p > 0 the separators of
+   the split nodes at depth BP__ND_DEPTH - p. */
+static uint32_t bp__solve_phase(const bp__factor *F, int phase, uint32_t *ranges)
+{
+    uint32_t k, n = 0;
+    for (k = 0; k < BP__ND_NODES; k++) {
+        const bp__ndnode *N = &F->tree[k];
+        int d = bp__nd_depth(k);
+        if (!N->used) continue;
+        if (phase == 0 && (!N->split || d == BP__ND_DEPTH)) {
+            ranges[2 * n] = N->lo; ranges[2 * n + 1] = N->hi; n++;
+        } else if (phase > 0 && N->split && d == BP__ND_DEPTH - phase && d < BP__ND_DEPTH) {
+            ranges[2 * n] = N->b; ranges[2 * n + 1] = N->hi; n++;
+        }
+    }
+    return n;
+}
+
+static void bp__precondition(const bp__factor *F, const bp__par *par, const double *q, double *r, double *z)
+{
+    bp__solve_task T;
+    uint32_t n = F->n, j, cnt;
+    int phase;
+    for (j = 0; j < n; j++) {
+        z[2 * (size_t)j] = q[2 * (size_t)F->perm[j]];
+        z[2 * (size_t)j + 1] = q[2 * (size_t)F->perm[j] + 1];
+    }
+    T.F = F;
+    T.z = z;
+    T.backward = 0;
+    for (phase = 0; phase <= BP__ND_DEPTH; phase++)
+        if ((cnt = bp__solve_phase(F, phase, T.ranges)) > 0) par->run(par->user, bp__solve_range, &T, cnt);
+    T.backward = 1;
+    for (phase = BP__ND_DEPTH; phase >= 0; phase--)
+        if ((cnt = bp__solve_phase(F, phase, T.ranges)) > 0) par->run(par->user, bp__solve_range, &T, cnt);
+    for (j = 0; j < n; j++) {
+        r[2 * (size_t)F->perm[j]] = z[2 * (size_t)j];
+        r[2 * (size_t)F->perm[j] + 1] = z[2 * (size_t)j + 1];
+    }
 }
 
 /* >>check ==================================================================
@@ -3142,39 +3466,8 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
     if (!bp__sparse_from_triplets(a, S->nv, t, n, K)) { bp__free(a, t); return BP_ERR_OUT_OF_MEMORY; }
     bp__free(a, t);
     st = bp__factorize(a, K, F, &bad);
+    if (st == BP_OK && !bp__factor_rows(a, F)) st = BP_ERR_OUT_OF_MEMORY;
     return st;
-}
-
-/* r = K^-1 q for both coordinates at once (q, r interleaved xy, may
-   alias): one pass over the factor serves both right-hand sides, which
-   halves the memory traffic of the solve.  z: 2 nv doubles. */
-static void bp__precondition(const bp__factor *F, const double *q, double *r, double *z)
-{
-    uint32_t n = F->n, j, p;
-    for (j = 0; j < n; j++) {
-        z[2 * (size_t)j] = q[2 * (size_t)F->perm[j]];
-        z[2 * (size_t)j + 1] = q[2 * (size_t)F->perm[j] + 1];
-    }
-    for (j = 0; j < n; j++) {                          /* L z = q */
-        double zx = z[2 * (size_t)j], zy = z[2 * (size_t)j + 1];
-        for (p = F->Lp[j]; p < F->Lp[j + 1]; p++) {
-            z[2 * (size_t)F->Li[p]] -= F->Lx[p] * zx;
-            z[2 * (size_t)F->Li[p] + 1] -= F->Lx[p] * zy;
-        }
-    }
-    for (j = n; j-- > 0;) {                             /* D L^T r = z */
-        double sx = 0, sy = 0;
-        for (p = F->Lp[j]; p < F->Lp[j + 1]; p++) {
-            sx += F->Lx[p] * z[2 * (size_t)F->Li[p]];
-            sy += F->Lx[p] * z[2 * (size_t)F->Li[p] + 1];
-        }
-        z[2 * (size_t)j] = z[2 * (size_t)j] / F->D[j] - sx;
-        z[2 * (size_t)j + 1] = z[2 * (size_t)j + 1] / F->D[j] - sy;
-    }
-    for (j = 0; j < n; j++) {
-        r[2 * (size_t)F->perm[j]] = z[2 * (size_t)j];
-        r[2 * (size_t)F->perm[j] + 1] = z[2 * (size_t)j + 1];
-    }
 }
 
 /* s.K s (s interleaved xy). */
@@ -3201,6 +3494,8 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
     double *rest_wxy = NULL, *pwork = NULL;
     bp__sparse K;
     bp__factor KF;
+    bp__par par;
+    void *pool = NULL;
     int precond = !opt || opt->direction == BP_DIRECTION_PRECONDITIONED;
     bp__dedge *edges = NULL;
     double f, ed, total_area = 0, tlast = 1;
@@ -3214,6 +3509,8 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
     if (!ch || !m || !ch->uv || !ch->num_loops)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart_index, -1, 0,
                         "bp_chart_optimize needs a chart with a start map (bp_chart_init)");
+    par = bp__par_begin(&a, opt, &pool);
+    ch->threads = par.threads;
     if ((int)o.energy < 0 || (int)o.energy >= (int)BP_ENERGY_COUNT)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)o.energy);
     hist = o.history > 0 ? o.history : 5;
@@ -3323,7 +3620,7 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
             if (precond) {
                 /* H0 = K^-1 / sigma, sigma = s.y / s.K s */
                 scale = bp__quad_form(&K, sh + (size_t)idx * nv2) / sy;
-                bp__precondition(&KF, v, v, pwork);
+                bp__precondition(&KF, &par, v, v, pwork);
             } else {
                 scale = sy / yy;                 /* H0 = (s.y / y.y) I */
             }
@@ -3336,7 +3633,7 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
                 for (i = 0; i < nv2; i++) v[i] += (alpha[idx] - beta) * sh[(size_t)idx * nv2 + i];
             }
         }
-        if (nh == 0 && precond) bp__precondition(&KF, v, v, pwork);
+        if (nh == 0 && precond) bp__precondition(&KF, &par, v, v, pwork);
         for (i = 0; i < nv2; i++) gv += g[i] * v[i];
         if (!(gv < 0)) {                          /* not a descent direction: restart */
             nh = 0;
@@ -3434,6 +3731,7 @@ done:
     bp__free(&a, S.hash.stamp); bp__free(&a, rest_wxy); bp__free(&a, pwork);
     bp__sparse_free(&a, &K);
     bp__factor_free(&a, &KF);
+    bp__par_end(&a, pool);
     return st;
 }
 
