@@ -3482,8 +3482,8 @@ static double bp__quad_form(const bp__sparse *K, const double *s)
     return sum;
 }
 
-BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
-                                  const bp_options *opt, bp_error *err)
+static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+                                    const bp_options *opt, const bp__par *runner, bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
     bp__solver S;
@@ -3509,7 +3509,8 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
     if (!ch || !m || !ch->uv || !ch->num_loops)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart_index, -1, 0,
                         "bp_chart_optimize needs a chart with a start map (bp_chart_init)");
-    par = bp__par_begin(&a, opt, &pool);
+    if (runner) par = *runner;
+    else par = bp__par_begin(&a, opt, &pool);
     ch->threads = par.threads;
     if ((int)o.energy < 0 || (int)o.energy >= (int)BP_ENERGY_COUNT)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)o.energy);
@@ -3735,6 +3736,12 @@ done:
     return st;
 }
 
+BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+                                  const bp_options *opt, bp_error *err)
+{
+    return bp__chart_optimize(ch, chart_index, m, opt, NULL, err);
+}
+
 /* Area-weighted mean and max of E_t for a chart's current map. */
 BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_energy energy,
                                     double *mean, double *max, double *per_triangle)
@@ -3863,18 +3870,75 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
     return bp__ok(err);
 }
 
+/* One chart, start map and optimization: the unit of work when charts are
+   solved in parallel. */
+typedef struct bp__chart_job {
+    bp_atlas *atlas;
+    const bp_mesh *m;
+    const bp_options *opt;
+    const bp__par *inner;         /* how the chart's own loops run          */
+    bp_status *status;
+    bp_error *errs;
+} bp__chart_job;
+
+static void bp__chart_task(void *task, uint32_t c)
+{
+    bp__chart_job *J = (bp__chart_job *)task;
+    bp_status st = bp_chart_init(&J->atlas->charts[c], J->m, J->opt, &J->errs[c]);
+    if (st == BP_OK && !(J->opt && J->opt->init_only))
+        st = bp__chart_optimize(&J->atlas->charts[c], c, J->m, J->opt, J->inner, &J->errs[c]);
+    J->status[c] = st;
+}
+
+/* Charts are independent, so with several threads and no dominant chart
+   (none holds more than half of the triangles) the charts themselves are
+   the parallel tasks, each solved with serial loops; otherwise the charts
+   go one after the other and their loops run in parallel.  Either way each
+   chart's result is bit-identical to a serial solve. */
 BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_status st;
-    uint32_t c;
+    bp_allocator a;
+    bp__par par, serial;
+    bp__chart_job J;
+    void *pool = NULL;
+    uint32_t c, largest = 0;
     if ((st = bp_atlas_build(atlas, m, opt, err)) != BP_OK) return st;
-    for (c = 0; c < atlas->num_charts; c++) {
-        if ((st = bp_chart_init(&atlas->charts[c], m, opt, err)) != BP_OK) break;
-        if (opt && opt->init_only) continue;
-        st = bp_chart_optimize(&atlas->charts[c], c, m, opt, err);
-        if (st == BP_ERR_CANCELLED) { bp_atlas_pack(atlas, opt, NULL); return st; }
-        if (st != BP_OK) break;
+    a = atlas->allocator;
+    J.status = (bp_status *)bp__alloc_array(&a, atlas->num_charts, sizeof(bp_status));
+    J.errs = (bp_error *)bp__calloc_array(&a, atlas->num_charts, sizeof(bp_error));
+    if (!J.status || !J.errs) {
+        bp__free(&a, J.status); bp__free(&a, J.errs);
+        bp_atlas_free(atlas);
+        return bp__oom(err, "starting the solve");
     }
+    J.atlas = atlas;
+    J.m = m;
+    J.opt = opt;
+    par = bp__par_begin(&a, opt, &pool);
+    serial.run = bp__serial_for; serial.user = NULL; serial.threads = 1;
+    for (c = 0; c < atlas->num_charts; c++)
+        if (atlas->charts[c].num_triangles > largest) largest = atlas->charts[c].num_triangles;
+    if (par.threads != 1 && atlas->num_charts > 1 && 2 * (uint64_t)largest <= m->num_triangles) {
+        J.inner = &serial;
+        par.run(par.user, bp__chart_task, &J, atlas->num_charts);
+        for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].threads = par.threads;
+    } else {
+        J.inner = &par;
+        bp__serial_for(NULL, bp__chart_task, &J, atlas->num_charts);
+    }
+    bp__par_end(&a, pool);
+    /* the first failure (by chart index) decides; a cancelled chart keeps
+       its last valid map and so does the atlas */
+    st = BP_OK;
+    for (c = 0; c < atlas->num_charts && st == BP_OK; c++)
+        if (J.status[c] != BP_OK) {
+            st = J.status[c];
+            if (err) *err = J.errs[c];
+        }
+    bp__free(&a, J.status);
+    bp__free(&a, J.errs);
+    if (st == BP_ERR_CANCELLED) { bp_atlas_pack(atlas, opt, NULL); return st; }
     if (st == BP_OK) st = bp_atlas_pack(atlas, opt, err);
     if (st != BP_OK) bp_atlas_free(atlas);
     return st;
