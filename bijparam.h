@@ -1156,7 +1156,7 @@ static bp_status bp__parse_obj(bp__parser *ps, bp_mesh *mesh)
             int has_vt = -1;
             fv.count = ft.count = 0;
             while (!bp__at_eol(ps)) {
-                int64_t v, vt;
+                int64_t v = 0, vt = -1;
                 uint32_t v32, t32;
                 if ((st = bp__obj_corner(ps, nv, nvt, &v, &vt)) != BP_OK) break;
                 if (has_vt >= 0 && has_vt != (vt >= 0)) {
