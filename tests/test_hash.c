@@ -1,0 +1,337 @@
+/* test_hash.c - the spatial hash of fig 3.6 and the barrier sum it feeds.
+
+   The barrier E_B and the step bound only ever look at what the hash
+   returns, so a lost item is a lost barrier term or a missed collision.
+
+     (a) bp__hash_build / bp__hash_query against brute force on random boxes
+         (points, small boxes, boxes spanning many cells, negative
+         coordinates), random cell sizes and table sizes (tiny tables force
+         collisions): the query returns EXACTLY the items having a cell whose
+         bucket is the bucket of one of the query's cells (or every item when
+         the query covers more than twice the table), hence at least every
+         item whose cells meet the query's cells and every item whose box
+         overlaps the query box; each item once.  Also across the stamp
+         wrap-around, and build refusing a too-small capacity.
+     (b) bp__barrier (hash) equals a brute-force O(n^2) sum written here
+         (each loop, each edge, each vertex of the same loop not on the edge,
+         max(0, eps/dist - 1)^2) to 1e-12 relative, gradient included, on
+         jittered polygons and on the 7 real loops of face_holes.off (start
+         map and partly optimized), for eps from tiny to larger than the
+         chart. */
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include "bptest.h"
+
+#include <math.h>
+#include <string.h>
+#include <stdlib.h>
+
+static uint64_t rng_state = 0x2545F4914F6CDD1Dull;
+static uint64_t rng_u64(void)
+{
+    rng_state ^= rng_state >> 12;
+    rng_state ^= rng_state << 25;
+    rng_state ^= rng_state >> 27;
+    return rng_state * 2685821657736338717ull;
+}
+static double rng_unit(void) { return (double)(rng_u64() >> 11) * (1.0 / 9007199254740992.0); }
+static double rng_range(double a, double b) { return a + (b - a) * rng_unit(); }
+static const double PI = 3.14159265358979323846;
+
+/* ---- (a) the hash ------------------------------------------------------------ */
+
+typedef struct visit_log { uint32_t *count; uint32_t n; } visit_log;
+
+static void log_visit(void *user, uint32_t item)
+{
+    visit_log *L = (visit_log *)user;
+    if (item < L->n) L->count[item]++;
+    else L->count[L->n]++;          /* out of range: counted in a spare slot */
+}
+
+static int64_t cell(double x, double h) { return (int64_t)floor(x / h); }
+
+static void test_hash(void)
+{
+    int round, bad_exact = 0, bad_super_cells = 0, bad_super_geo = 0, bad_repeat = 0, bad_range = 0, queries = 0,
+               fallback = 0, bad_cap = 0, collisions = 0, wrap_rounds = 0;
+    long returned_total = 0, overlap_total = 0;
+    for (round = 0; round < 300; round++) {
+        uint32_t n = 1 + (uint32_t)(rng_unit() * (round % 3 == 0 ? 40 : 600)), i, q;
+        uint32_t mask = (1u << (1 + (int)(rng_unit() * 11))) - 1;   /* 2 .. 4096 buckets */
+        double h = exp(rng_range(log(0.01), log(1.0))), *box = (double *)malloc(4 * n * sizeof(double));
+        size_t need = 0;
+        bp__hash H;
+        visit_log L;
+        uint8_t *mark = (uint8_t *)malloc(mask + 1);
+        for (i = 0; i < n; i++) {
+            double cx = rng_range(-3, 3), cy = rng_range(-3, 3), wx, wy;
+            int kind = (int)(rng_unit() * 3);
+            wx = kind == 0 ? 0 : kind == 1 ? rng_range(0, h) : rng_range(0, 8 * h);
+            wy = kind == 0 ? 0 : kind == 1 ? rng_range(0, h) : rng_range(0, 8 * h);
+            box[4 * i] = cx; box[4 * i + 1] = cy; box[4 * i + 2] = cx + wx; box[4 * i + 3] = cy + wy;
+            need += (size_t)(cell(cx + wx, h) - cell(cx, h) + 1) * (size_t)(cell(cy + wy, h) - cell(cy, h) + 1);
+        }
+        memset(&H, 0, sizeof H);
+        H.mask = mask;
+        H.start = (uint32_t *)calloc((size_t)mask + 2, sizeof(uint32_t));
+        H.stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
+        /* capacity: one short must be refused, exact must be accepted */
+        H.cap = need - 1;
+        H.items = (uint32_t *)calloc(need + 1, sizeof(uint32_t));
+        if (need > 0 && bp__hash_build(&H, box, n, h)) bad_cap++;
+        H.cap = need;
+        if (!bp__hash_build(&H, box, n, h)) bad_cap++;
+        if (round % 10 == 0) { H.cur = 0xFFFFFFFFu - 3; wrap_rounds++; }   /* queries cross the stamp wrap-around */
+        L.n = n;
+        L.count = (uint32_t *)calloc(n + 1, sizeof(uint32_t));
+        for (q = 0; q < 40; q++) {
+            double qx = rng_range(-4, 4), qy = rng_range(-4, 4), qw, qh;
+            int64_t cx0, cx1, cy0, cy1, ix, iy;
+            int big = q % 13 == 12, all;
+            qw = big ? rng_range(3, 8) : rng_range(0, 3 * h);
+            qh = big ? rng_range(3, 8) : rng_range(0, 3 * h);
+            memset(L.count, 0, (n + 1) * sizeof(uint32_t));
+            bp__hash_query(&H, qx, qy, qx + qw, qy + qh, log_visit, &L);
+            queries++;
+            cx0 = cell(qx, h); cx1 = cell(qx + qw, h); cy0 = cell(qy, h); cy1 = cell(qy + qh, h);
+            all = (double)(cx1 - cx0 + 1) * (double)(cy1 - cy0 + 1) > 2.0 * (mask + 1);
+            if (all) fallback++;
+            memset(mark, 0, mask + 1);
+            if (!all)
+                for (iy = cy0; iy <= cy1; iy++)
+                    for (ix = cx0; ix <= cx1; ix++) mark[bp__hash_cell(&H, ix, iy)] = 1;
+            if (L.count[n]) bad_range++;
+            for (i = 0; i < n; i++) {
+                const double *b = box + 4 * i;
+                int64_t bx0 = cell(b[0], h), bx1 = cell(b[2], h), by0 = cell(b[1], h), by1 = cell(b[3], h);
+                int expect = all, cells_meet, geo;
+                if (!all)
+                    for (iy = by0; iy <= by1 && !expect; iy++)
+                        for (ix = bx0; ix <= bx1 && !expect; ix++)
+                            if (mark[bp__hash_cell(&H, ix, iy)]) expect = 1;
+                cells_meet = !(bx1 < cx0 || bx0 > cx1 || by1 < cy0 || by0 > cy1);
+                geo = !(b[2] < qx || b[0] > qx + qw || b[3] < qy || b[1] > qy + qh);
+                if (L.count[i] > 1) bad_repeat++;
+                if ((L.count[i] != 0) != expect) bad_exact++;
+                if (cells_meet && !L.count[i]) bad_super_cells++;
+                if (geo && !L.count[i]) bad_super_geo++;
+                if (L.count[i] && !cells_meet) collisions++;
+                if (L.count[i]) returned_total++;
+                if (geo) overlap_total++;
+            }
+        }
+        free(L.count); free(mark); free(box); free(H.start); free(H.stamp); free(H.items);
+    }
+    BPT_CHECK(bad_cap == 0, "bp__hash_build refuses capacity one below the cell count and accepts the exact count (300 tables)");
+    BPT_CHECK(bad_range == 0, "bp__hash_query never reports an item index out of range");
+    BPT_CHECK(bad_repeat == 0, "bp__hash_query reports every item at most once (%d queries, %d tables crossing the stamp "
+              "wrap-around)", queries, wrap_rounds);
+    BPT_CHECK(bad_exact == 0, "bp__hash_query returns exactly the items with a cell in a bucket of the query's cells "
+              "(%d queries, %d whole-table fallbacks, %d hash-collision extras)", queries, fallback, collisions);
+    BPT_CHECK(bad_super_cells == 0, "... so every item whose cell range meets the query's cell range is returned");
+    BPT_CHECK(bad_super_geo == 0 && overlap_total > 1000, "... and every item whose box overlaps the query box (%ld overlaps, "
+              "%ld returned)", overlap_total, returned_total);
+}
+
+/* ---- (b) the barrier sum -------------------------------------------------------- */
+
+static void solver_hash_alloc(bp__solver *S, uint32_t nloop_v)
+{
+    S->hash.mask = 1;
+    while (S->hash.mask + 1 < 2 * nloop_v) S->hash.mask = 2 * S->hash.mask + 1;
+    S->hash.cap = 32 * (size_t)nloop_v + 64;
+    S->hash.start = (uint32_t *)calloc((size_t)S->hash.mask + 2, sizeof(uint32_t));
+    S->hash.items = (uint32_t *)calloc(S->hash.cap, sizeof(uint32_t));
+    S->hash.stamp = (uint32_t *)calloc(nloop_v, sizeof(uint32_t));
+    S->hash.cur = 0;
+    S->box = (double *)calloc(4 * (size_t)nloop_v, sizeof(double));
+}
+
+static void solver_hash_free(bp__solver *S)
+{
+    free(S->hash.start); free(S->hash.items); free(S->hash.stamp); free(S->box);
+}
+
+/* The brute force, written from sec 3.3: for each loop, each edge (a, b),
+   each vertex p of the same loop not on the edge, max(0, eps/dist - 1)^2,
+   and its gradient (dist = |p - c|, c the closest point of the segment). */
+static double brute_barrier(uint32_t nloops, const uint32_t *ls, const uint32_t *lv, const double *x, double eps,
+                            double *g, uint32_t *pairs_in)
+{
+    double total = 0;
+    uint32_t L;
+    *pairs_in = 0;
+    for (L = 0; L < nloops; L++) {
+        uint32_t s0 = ls[L], n = ls[L + 1] - s0, e, k;
+        for (e = 0; e < n; e++) {
+            uint32_t va = lv[s0 + e], vb = lv[s0 + (e + 1) % n];
+            const double *a = x + 2 * va, *b = x + 2 * vb;
+            for (k = 0; k < n; k++) {
+                uint32_t vp;
+                const double *p;
+                double ex, ey, l2, s, dx, dy, d, r;
+                if (k == e || k == (e + 1) % n) continue;
+                vp = lv[s0 + k];
+                p = x + 2 * vp;
+                ex = b[0] - a[0]; ey = b[1] - a[1];
+                l2 = ex * ex + ey * ey;
+                s = l2 > 0 ? ((p[0] - a[0]) * ex + (p[1] - a[1]) * ey) / l2 : 0;
+                s = s < 0 ? 0 : s > 1 ? 1 : s;
+                dx = p[0] - (a[0] + s * ex); dy = p[1] - (a[1] + s * ey);
+                d = sqrt(dx * dx + dy * dy);
+                if (d >= eps) continue;
+                (*pairs_in)++;
+                if (d == 0) return HUGE_VAL;
+                r = eps / d - 1;
+                total += r * r;
+                if (g) {
+                    double c = -2 * r * eps / (d * d * d);      /* dE/dd / d */
+                    g[2 * vp] += c * dx; g[2 * vp + 1] += c * dy;
+                    g[2 * va] -= c * (1 - s) * dx; g[2 * va + 1] -= c * (1 - s) * dy;
+                    g[2 * vb] -= c * s * dx; g[2 * vb + 1] -= c * s * dy;
+                }
+            }
+        }
+    }
+    return total;
+}
+
+typedef struct cmp_stats { int cases, bad, bad_g, nonzero; double worst, worst_g; long pairs; } cmp_stats;
+
+static void compare_barrier(uint32_t nloops, const uint32_t *ls, const uint32_t *lv, uint32_t nv, const double *x,
+                            double eps, cmp_stats *st)
+{
+    bp__solver S;
+    bp_allocator a;
+    double *g1 = (double *)calloc(2 * nv, sizeof(double)), *g2 = (double *)calloc(2 * nv, sizeof(double)), f1, f2, f3, gmax = 0;
+    uint32_t pairs, i;
+    memset(&S, 0, sizeof S);
+    memset(&a, 0, sizeof a);
+    S.a = &a;
+    S.nv = nv;
+    S.nloops = nloops;
+    S.loop_start = ls;
+    S.loop_vertices = lv;
+    S.nb = ls[nloops];
+    S.barrier = 1;
+    S.eps = eps;
+    solver_hash_alloc(&S, S.nb);
+    f1 = bp__barrier(&S, x, g1);
+    f3 = bp__barrier(&S, x, NULL);
+    f2 = brute_barrier(nloops, ls, lv, x, eps, g2, &pairs);
+    st->cases++;
+    st->pairs += pairs;
+    if (f2 > 0) st->nonzero++;
+    if (!(fabs(f1 - f2) <= 1e-12 * f2) && !(f1 == f2) ) st->bad++;
+    if (f1 != f3) st->bad++;
+    if (f2 > 0 && fabs(f1 - f2) / f2 > st->worst) st->worst = fabs(f1 - f2) / f2;
+    for (i = 0; i < 2 * nv; i++) if (fabs(g2[i]) > gmax) gmax = fabs(g2[i]);
+    for (i = 0; i < 2 * nv; i++) {
+        double e = fabs(g1[i] - g2[i]) / (gmax > 0 ? gmax : 1);
+        if (e > st->worst_g) st->worst_g = e;
+        if (!(e <= 1e-12)) st->bad_g++;
+    }
+    solver_hash_free(&S);
+    free(g1); free(g2);
+}
+
+static void test_barrier_polygons(void)
+{
+    cmp_stats st;
+    int rep;
+    double eps_list[6] = { 0.005, 0.05, 0.2, 0.6, 2.5, 20 };
+    memset(&st, 0, sizeof st);
+    for (rep = 0; rep < 120; rep++) {
+        uint32_t n = 10 + (uint32_t)(rng_unit() * 150), nh = rep % 3 == 0 ? 5 + (uint32_t)(rng_unit() * 30) : 0, N = n + nh, i;
+        uint32_t ls[3], *lv = (uint32_t *)malloc(N * sizeof(uint32_t));
+        double *x = (double *)malloc(2 * N * sizeof(double));
+        int kind = rep % 3, e;
+        for (i = 0; i < n; i++) {
+            double th = 2 * PI * (i + rng_range(-0.3, 0.3)) / n, r = 1 + rng_range(-0.05, 0.05);
+            if (kind == 1) { x[2 * i] = r * cos(th); x[2 * i + 1] = 0.1 * r * sin(th); }
+            else if (kind == 2) { r *= 1 + 0.4 * cos(5 * th); x[2 * i] = r * cos(th); x[2 * i + 1] = r * sin(th); }
+            else { x[2 * i] = r * cos(th); x[2 * i + 1] = r * sin(th); }
+        }
+        for (i = 0; i < nh; i++) {
+            double th = -2 * PI * i / nh;
+            x[2 * (n + i)] = 0.15 * cos(th);
+            x[2 * (n + i) + 1] = 0.15 * sin(th);
+        }
+        /* vertex numbering shuffled: loop order != index order */
+        for (i = 0; i < N; i++) lv[i] = i;
+        for (i = N - 1; i > 0; i--) {
+            uint32_t j = (uint32_t)(rng_unit() * (i + 1)), t = lv[i];
+            double tx = x[2 * i], ty = x[2 * i + 1];
+            lv[i] = lv[j]; lv[j] = t;
+            (void)tx; (void)ty;
+        }
+        {
+            /* lv[k] is the vertex at loop position k: move the coordinates so
+               position k keeps its geometry */
+            double *y = (double *)malloc(2 * N * sizeof(double));
+            for (i = 0; i < N; i++) { y[2 * lv[i]] = x[2 * i]; y[2 * lv[i] + 1] = x[2 * i + 1]; }
+            memcpy(x, y, 2 * N * sizeof(double));
+            free(y);
+        }
+        ls[0] = 0; ls[1] = n; ls[2] = N;
+        for (e = 0; e < 6; e++) compare_barrier(nh ? 2 : 1, ls, lv, N, x, eps_list[e], &st);
+        free(lv); free(x);
+    }
+    BPT_CHECK(st.bad == 0, "bp__barrier (hash) == brute-force O(n^2) sum to 1e-12 on %d polygon/eps cases (eps 0.005 .. 20 "
+              "on unit-size loops, %d nonzero, %ld pairs inside eps), worst rel %.3g", st.cases, st.nonzero, st.pairs, st.worst);
+    BPT_CHECK(st.bad_g == 0, "bp__barrier gradient == brute-force gradient to 1e-12 of max |g| (worst %.3g)", st.worst_g);
+}
+
+static void test_barrier_face_holes(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options opt;
+    cmp_stats st;
+    int phase;
+    memset(&opt, 0, sizeof opt);
+    memset(&st, 0, sizeof st);
+    if (!BPT_CHECK(bp_read_off("tests/data/face_holes.off", &mesh, NULL, &err) == BP_OK, "read face_holes: %s", err.message))
+        return;
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1 &&
+                   atlas.charts[0].num_loops == 7, "face_holes: one chart with 7 loops")) {
+        bp_mesh_free(&mesh, NULL);
+        return;
+    }
+    BPT_CHECK(bp_chart_init(&atlas.charts[0], &mesh, &opt, &err) == BP_OK, "face_holes start map: %s", err.message);
+    for (phase = 0; phase < 2; phase++) {
+        bp_chart *ch = &atlas.charts[0];
+        double mean = 0, mult[6] = { 0.25, 1, 3, 10, 50, 400 };
+        uint32_t k, nb = ch->loop_start[ch->num_loops], L;
+        int e;
+        if (phase == 1) {
+            opt.max_iterations = 15;
+            bp_chart_optimize(ch, 0, &mesh, &opt, &err);
+        }
+        for (L = 0; L < ch->num_loops; L++) {
+            uint32_t s0 = ch->loop_start[L], n = ch->loop_start[L + 1] - s0;
+            for (k = 0; k < n; k++) {
+                const double *p = ch->uv + 2 * ch->loop_vertices[s0 + k], *q = ch->uv + 2 * ch->loop_vertices[s0 + (k + 1) % n];
+                mean += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1])) / nb;
+            }
+        }
+        for (e = 0; e < 6; e++)
+            compare_barrier(ch->num_loops, ch->loop_start, ch->loop_vertices, ch->num_vertices, ch->uv, mult[e] * mean, &st);
+    }
+    BPT_CHECK(st.bad == 0 && st.nonzero >= 8, "face_holes (7 loops, start and optimized maps, eps 0.25 .. 400 mean uv "
+              "boundary edges): bp__barrier == brute force to 1e-12 (%d cases, %d nonzero, %ld pairs inside eps, worst rel %.3g)",
+              st.cases, st.nonzero, st.pairs, st.worst);
+    BPT_CHECK(st.bad_g == 0, "face_holes: barrier gradient == brute force to 1e-12 of max |g| (worst %.3g)", st.worst_g);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+}
+
+int main(void)
+{
+    test_hash();
+    test_barrier_polygons();
+    test_barrier_face_holes();
+    return bpt_finish();
+}
