@@ -41,6 +41,8 @@
       >>stepbound      singularity-aware maximum step                 (sec 3.4.2)
       >>lbfgs          search directions and the line search          (sec 3.4, 3.5)
       >>driver         charts -> start -> optimize -> pack
+      >>bvh            bounding volume hierarchy, watertight rays      (chap 4)
+      >>visibility     view models, V_t, texel density               (sec 4.2, 4.3)
 
    BUILD OPTIONS  (define before including the implementation)
    -------------
@@ -203,6 +205,29 @@ typedef int (*bp_progress_fn)(void *user, uint32_t chart, int iteration,
 typedef void (*bp_task_fn)(void *task, uint32_t index);
 typedef void (*bp_parallel_for_fn)(void *user, bp_task_fn fn, void *task, uint32_t count);
 
+/* View models of fig 4.3: where the camera may be, as directions toward it. */
+typedef enum bp_view_model {
+    BP_VIEW_NONE = 0,
+    BP_VIEW_UNIFORM,      /* the whole sphere (ambient occlusion)              */
+    BP_VIEW_FRONT,        /* the hemisphere around views.direction             */
+    BP_VIEW_RING,         /* a turntable circle at views.elevation about views.up */
+    BP_VIEW_SIDE,         /* the single direction views.direction              */
+    BP_VIEW_LIST          /* weighted directions in views.list                 */
+} bp_view_model;
+
+typedef struct bp_views {
+    int      model;           /* bp_view_model; 0 = none                    */
+    double   direction[3];    /* FRONT axis, SIDE direction (0: +z, +x)      */
+    double   up[3];           /* RING axis (0: +y)                          */
+    double   elevation;       /* RING elevation in degrees                  */
+    const double *list;       /* LIST: x y z weight per direction           */
+    uint32_t list_count;
+    uint32_t samples;         /* rays per triangle; 0: 64                   */
+    uint64_t seed;            /* random stream seed                         */
+    double   floor;           /* least importance, relative to the mean;
+                                 0: 0.05 (hidden triangles keep some area)  */
+} bp_views;
+
 typedef struct bp_options {
     bp_allocator  allocator;      /* zero: BP_MALLOC / BP_FREE                 */
     bp_init       init;           /* start map, default Tutte                  */
@@ -221,6 +246,10 @@ typedef struct bp_options {
     int           threads;        /* with BP_USE_PTHREADS: 0 = all cores, 1 = serial */
     bp_parallel_for_fn parallel_for; /* your own job system (overrides threads)  */
     void         *parallel_user;
+    const double *importance;     /* optional weight per mesh triangle (> 0); the
+                                     map gives triangle t about importance[t] times
+                                     its 3D area (eq 4.1); NULL = 1 everywhere     */
+    bp_views      views;          /* visibility-aware maps (chapter 4)         */
 } bp_options;
 
 /* One chart: a connected piece of the mesh cut along seams.  Chart vertices
@@ -300,6 +329,18 @@ BPDEF bp_status bp_check(const uint32_t *triangles, uint32_t num_triangles,
 
 /* Per-triangle distortion of a chart's map under an energy (area-weighted
    mean and max).  per_triangle may be NULL. */
+/* Chapter 4.  Visibility V_t of each mesh triangle under opt->views (eq
+   4.2), normalized to an area-weighted mean of 1 and floored at
+   opt->views.floor; `out` has num_triangles entries. */
+BPDEF bp_status bp_visibility(const bp_mesh *mesh, const bp_options *opt, double *out, bp_error *err);
+/* Texel density of sec 4.3: the mean, over visible surface samples and
+   view directions of opt->views, of det of the Jacobian from texture to
+   screen space, with the atlas scaled to the mesh's 3D area.  Lower means
+   denser texels; the fig 4.8 ratio of a map against a reference map is
+   reference / map. */
+BPDEF bp_status bp_texture_to_screen(const bp_mesh *mesh, const bp_atlas *atlas,
+                                     const bp_options *opt, double *mean_det, bp_error *err);
+
 BPDEF bp_status bp_chart_distortion(const bp_chart *chart, const bp_mesh *mesh,
                                     bp_energy energy, double *mean, double *max,
                                     double *per_triangle);
@@ -3562,11 +3603,20 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
         double w, px, py;
         bp__rest_shape(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]),
                        bp__pos(m, ch->vertex[tr[2]]), &w, &px, &py);
-        S.rest[t].m00 = 1 / w;
-        S.rest[t].m01 = -px / (w * py);
-        S.rest[t].m11 = 1 / py;
-        S.rest[t].weight = 0.5 * w * py;
-        total_area += S.rest[t].weight;
+        /* importance I (eq 4.1): singular values scaled by I^-1/2 (the rest
+           shape grows by sqrt(I)) and the energy weighted by I */
+        double imp = o.importance ? o.importance[ch->face[t]] : 1, k;
+        if (!(imp > 0) || !(imp < HUGE_VAL)) {
+            st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_TRIANGLE, ch->face[t], -1, 0,
+                          "importance of mesh triangle %u is %g: it must be positive and finite", ch->face[t], imp);
+            goto done;
+        }
+        k = 1 / sqrt(imp);
+        S.rest[t].m00 = k / w;
+        S.rest[t].m01 = -k * px / (w * py);
+        S.rest[t].m11 = k / py;
+        S.rest[t].weight = 0.5 * w * py * imp;
+        total_area += 0.5 * w * py;
         rest_wxy[3 * (size_t)t] = w; rest_wxy[3 * (size_t)t + 1] = px; rest_wxy[3 * (size_t)t + 2] = py;
     }
     if (precond && (st = bp__laplacian(&a, &S, rest_wxy, &K, &KF)) != BP_OK) {
@@ -3903,12 +3953,25 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     bp__chart_job J;
     void *pool = NULL;
     uint32_t c, largest = 0;
+    bp_options local;
+    double *imp = NULL;
     if ((st = bp_atlas_build(atlas, m, opt, err)) != BP_OK) return st;
     a = atlas->allocator;
+    if (opt && opt->views.model != BP_VIEW_NONE && !opt->init_only) {
+        /* chapter 4: visibility (times the user's importance) drives eq 4.1 */
+        imp = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
+        if (!imp) { bp_atlas_free(atlas); return bp__oom(err, "computing visibility"); }
+        if ((st = bp_visibility(m, opt, imp, err)) != BP_OK) { bp__free(&a, imp); bp_atlas_free(atlas); return st; }
+        if (opt->importance)
+            for (c = 0; c < m->num_triangles; c++) imp[c] *= opt->importance[c];
+        local = *opt;
+        local.importance = imp;
+        opt = &local;
+    }
     J.status = (bp_status *)bp__alloc_array(&a, atlas->num_charts, sizeof(bp_status));
     J.errs = (bp_error *)bp__calloc_array(&a, atlas->num_charts, sizeof(bp_error));
     if (!J.status || !J.errs) {
-        bp__free(&a, J.status); bp__free(&a, J.errs);
+        bp__free(&a, J.status); bp__free(&a, J.errs); bp__free(&a, imp);
         bp_atlas_free(atlas);
         return bp__oom(err, "starting the solve");
     }
@@ -3938,9 +4001,537 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
         }
     bp__free(&a, J.status);
     bp__free(&a, J.errs);
+    bp__free(&a, imp);
     if (st == BP_ERR_CANCELLED) { bp_atlas_pack(atlas, opt, NULL); return st; }
     if (st == BP_OK) st = bp_atlas_pack(atlas, opt, err);
     if (st != BP_OK) bp_atlas_free(atlas);
+    return st;
+}
+
+/* >>bvh ====================================================================
+
+   Chapter 4 needs occlusion queries: is the segment from a surface point
+   toward a camera at infinity blocked by the mesh?  A bounding volume
+   hierarchy answers them in logarithmic time.
+
+   Build: top-down with the surface area heuristic over 16 bins of triangle
+   centroids along the widest axis.  A split costs
+       C = 1 + (A_left N_left + A_right N_right) / A_node
+   (A: box surface area, N: triangles), a leaf costs N; the cheaper wins,
+   and leaves hold at most 16 triangles.  Nodes live in one flat array; an
+   inner node's children are stored next to each other.
+
+   Ray/triangle: the watertight test of Woop, Benthin and Wald (2013).  The
+   ray is made the +z axis of a sheared frame, every vertex is transformed
+   the same way, and the three 2D edge functions decide containment.  An
+   edge shared by two triangles produces the same products in both (with
+   opposite sign), so a ray through an edge or a vertex cannot slip between
+   neighbours.  Traversal is iterative with a fixed stack. */
+
+typedef struct bp__bvh_node {
+    double   lo[3], hi[3];
+    uint32_t first;           /* leaf: first entry in tri[]; inner: left child */
+    uint32_t count;           /* leaf: triangles; inner: 0                   */
+} bp__bvh_node;
+
+typedef struct bp__bvh {
+    bp__bvh_node *nodes;
+    uint32_t      num_nodes;
+    uint32_t     *tri;        /* triangle order of the leaves                */
+    const double *pos;
+    const uint32_t *tris;
+} bp__bvh;
+
+static void bp__bvh_free(const bp_allocator *a, bp__bvh *B)
+{
+    bp__free(a, B->nodes);
+    bp__free(a, B->tri);
+    memset(B, 0, sizeof *B);
+}
+
+static double bp__box_area(const double *lo, const double *hi)
+{
+    double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+    if (dx < 0) return 0;
+    return 2 * (dx * dy + dy * dz + dz * dx);
+}
+
+static void bp__box_grow(double *lo, double *hi, const double *p)
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        if (p[k] < lo[k]) lo[k] = p[k];
+        if (p[k] > hi[k]) hi[k] = p[k];
+    }
+}
+
+static bp_status bp__bvh_build(const bp_allocator *a, bp__bvh *B, const bp_mesh *m)
+{
+    uint32_t nt = m->num_triangles, i, sp = 0;
+    double *cen = (double *)bp__alloc_array(a, 3 * (size_t)nt, sizeof(double));
+    uint32_t *stack = (uint32_t *)bp__alloc_array(a, 3 * 128, sizeof(uint32_t));
+    memset(B, 0, sizeof *B);
+    B->pos = m->positions;
+    B->tris = m->triangles;
+    B->nodes = (bp__bvh_node *)bp__alloc_array(a, 2 * (size_t)nt, sizeof(bp__bvh_node));
+    B->tri = (uint32_t *)bp__alloc_array(a, nt, sizeof(uint32_t));
+    if (!cen || !stack || !B->nodes || !B->tri) {
+        bp__free(a, cen); bp__free(a, stack); bp__bvh_free(a, B);
+        return BP_ERR_OUT_OF_MEMORY;
+    }
+    for (i = 0; i < nt; i++) {
+        int k;
+        B->tri[i] = i;
+        for (k = 0; k < 3; k++)
+            cen[3 * (size_t)i + k] = (bp__pos(m, m->triangles[3 * (size_t)i])[k] + bp__pos(m, m->triangles[3 * (size_t)i + 1])[k] +
+                                      bp__pos(m, m->triangles[3 * (size_t)i + 2])[k]) / 3;
+    }
+    B->num_nodes = 1;
+    stack[sp++] = 0; stack[sp++] = 0; stack[sp++] = nt;
+    while (sp) {
+        uint32_t end = stack[--sp], begin = stack[--sp], node = stack[--sp], n = end - begin, j;
+        bp__bvh_node *N = &B->nodes[node];
+        double clo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, chi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
+        double best = HUGE_VAL, ext;
+        int axis = 0, k, best_split = -1;
+        uint32_t mid;
+        for (k = 0; k < 3; k++) { N->lo[k] = DBL_MAX; N->hi[k] = -DBL_MAX; }
+        for (i = begin; i < end; i++) {
+            const uint32_t *t = m->triangles + 3 * (size_t)B->tri[i];
+            for (k = 0; k < 3; k++) bp__box_grow(N->lo, N->hi, bp__pos(m, t[k]));
+            bp__box_grow(clo, chi, cen + 3 * (size_t)B->tri[i]);
+        }
+        N->first = begin;
+        N->count = n;
+        if (n <= 2 || sp + 6 > 3 * 128) continue;
+        for (k = 1; k < 3; k++) if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
+        ext = chi[axis] - clo[axis];
+        if (ext > 0) {
+            /* binned SAH */
+            uint32_t cnt[16] = { 0 };
+            double blo[16][3], bhi[16][3], llo[3], lhi[3], larea[16];
+            uint32_t lcnt[16];
+            for (j = 0; j < 16; j++)
+                for (k = 0; k < 3; k++) { blo[j][k] = DBL_MAX; bhi[j][k] = -DBL_MAX; }
+            for (i = begin; i < end; i++) {
+                const uint32_t *t = m->triangles + 3 * (size_t)B->tri[i];
+                int b = (int)(16 * (cen[3 * (size_t)B->tri[i] + axis] - clo[axis]) / ext);
+                if (b > 15) b = 15;
+                cnt[b]++;
+                for (k = 0; k < 3; k++) bp__box_grow(blo[b], bhi[b], bp__pos(m, t[k]));
+            }
+            for (k = 0; k < 3; k++) { llo[k] = DBL_MAX; lhi[k] = -DBL_MAX; }
+            for (j = 0; j < 15; j++) {               /* sweep from the left */
+                bp__box_grow(llo, lhi, blo[j]); if (cnt[j]) bp__box_grow(llo, lhi, bhi[j]);
+                lcnt[j] = (j ? lcnt[j - 1] : 0) + cnt[j];
+                larea[j] = lcnt[j] ? bp__box_area(llo, lhi) : 0;
+            }
+            for (k = 0; k < 3; k++) { llo[k] = DBL_MAX; lhi[k] = -DBL_MAX; }
+            {
+                uint32_t rc = 0;
+                double area = bp__box_area(N->lo, N->hi);
+                for (j = 15; j > 0; j--) {           /* sweep from the right */
+                    double cost;
+                    if (cnt[j]) { bp__box_grow(llo, lhi, blo[j]); bp__box_grow(llo, lhi, bhi[j]); }
+                    rc += cnt[j];
+                    if (!lcnt[j - 1] || !rc) continue;
+                    cost = 1 + (larea[j - 1] * lcnt[j - 1] + bp__box_area(llo, lhi) * rc) / (area > 0 ? area : 1);
+                    if (cost < best) { best = cost; best_split = (int)j; }
+                }
+            }
+        }
+        if (best_split < 0 || (best >= n && n <= 16)) {
+            if (n <= 16) continue;             /* leaf */
+            best_split = -1;                   /* fall back to a median split */
+        }
+        /* partition the range */
+        if (best_split >= 0) {
+            uint32_t lo_i = begin, hi_i = end;
+            while (lo_i < hi_i) {
+                int b = (int)(16 * (cen[3 * (size_t)B->tri[lo_i] + axis] - clo[axis]) / ext);
+                if (b > 15) b = 15;
+                if (b < best_split) lo_i++;
+                else { uint32_t tmp = B->tri[lo_i]; B->tri[lo_i] = B->tri[--hi_i]; B->tri[hi_i] = tmp; }
+            }
+            mid = lo_i;
+        } else {
+            mid = begin + n / 2;
+        }
+        if (mid == begin || mid == end) mid = begin + n / 2;
+        N->first = B->num_nodes;
+        N->count = 0;
+        B->num_nodes += 2;
+        stack[sp++] = N->first; stack[sp++] = begin; stack[sp++] = mid;
+        stack[sp++] = N->first + 1; stack[sp++] = mid; stack[sp++] = end;
+    }
+    bp__free(a, cen);
+    bp__free(a, stack);
+    return BP_OK;
+}
+
+/* Watertight ray/triangle: a hit with t in (tmin, tmax)? */
+static int bp__ray_triangle(const double *o, const double *d, const double *v0, const double *v1,
+                            const double *v2, double tmin, double tmax)
+{
+    int kz = 0, kx, ky, k;
+    double Sx, Sy, Sz, A[3], Bv[3], C[3], Ax, Ay, Bx, By, Cx, Cy, U, V, W, det, T;
+    for (k = 1; k < 3; k++) if (fabs(d[k]) > fabs(d[kz])) kz = k;
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    if (d[kz] < 0) { int t = kx; kx = ky; ky = t; }   /* keep the winding */
+    Sx = d[kx] / d[kz]; Sy = d[ky] / d[kz]; Sz = 1 / d[kz];
+    for (k = 0; k < 3; k++) { A[k] = v0[k] - o[k]; Bv[k] = v1[k] - o[k]; C[k] = v2[k] - o[k]; }
+    Ax = A[kx] - Sx * A[kz]; Ay = A[ky] - Sy * A[kz];
+    Bx = Bv[kx] - Sx * Bv[kz]; By = Bv[ky] - Sy * Bv[kz];
+    Cx = C[kx] - Sx * C[kz]; Cy = C[ky] - Sy * C[kz];
+    U = Cx * By - Cy * Bx;
+    V = Ax * Cy - Ay * Cx;
+    W = Bx * Ay - By * Ax;
+    if ((U < 0 || V < 0 || W < 0) && (U > 0 || V > 0 || W > 0)) return 0;
+    det = U + V + W;
+    if (det == 0) return 0;
+    T = U * (Sz * A[kz]) + V * (Sz * Bv[kz]) + W * (Sz * C[kz]);
+    if (det > 0) return T > tmin * det && T < tmax * det;
+    return T < tmin * det && T > tmax * det;
+}
+
+/* Slab test of a box against the ray segment (tmin, tmax). */
+static int bp__ray_box(const double *o, const double *d, const double *inv, const double *lo,
+                       const double *hi, double tmin, double tmax)
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        double t0, t1;
+        if (d[k] == 0) {                       /* parallel to the slab */
+            if (o[k] < lo[k] || o[k] > hi[k]) return 0;
+            continue;
+        }
+        t0 = (lo[k] - o[k]) * inv[k];
+        t1 = (hi[k] - o[k]) * inv[k];
+        if (t0 > t1) { double t = t0; t0 = t1; t1 = t; }
+        if (t0 > tmin) tmin = t0;
+        if (t1 < tmax) tmax = t1;
+        if (tmin > tmax) return 0;
+    }
+    return 1;
+}
+
+/* Any hit on the ray o + t d, t in (tmin, tmax), other than triangle `skip`. */
+static int bp__bvh_occluded(const bp__bvh *B, const double *o, const double *d, double tmin, double tmax,
+                            uint32_t skip)
+{
+    uint32_t stack[128], sp = 0, i;
+    double inv[3];
+    int k;
+    for (k = 0; k < 3; k++) inv[k] = d[k] != 0 ? 1 / d[k] : 0;
+    stack[sp++] = 0;
+    while (sp) {
+        const bp__bvh_node *N = &B->nodes[stack[--sp]];
+        if (!bp__ray_box(o, d, inv, N->lo, N->hi, tmin, tmax)) continue;
+        if (N->count) {
+            for (i = N->first; i < N->first + N->count; i++) {
+                uint32_t t = B->tri[i];
+                const uint32_t *tv = B->tris + 3 * (size_t)t;
+                if (t == skip) continue;
+                if (bp__ray_triangle(o, d, B->pos + 3 * (size_t)tv[0], B->pos + 3 * (size_t)tv[1],
+                                     B->pos + 3 * (size_t)tv[2], tmin, tmax))
+                    return 1;
+            }
+        } else if (sp + 2 <= 128) {
+            stack[sp++] = N->first;
+            stack[sp++] = N->first + 1;
+        }
+    }
+    return 0;
+}
+
+/* >>visibility =============================================================
+
+   Sec 4.2.1.  The importance of a surface point p seen from direction r (a
+   camera at infinity, so the projection is orthographic) is its projected
+   area,
+       v(p, r) = n_p . r   if the ray from p toward r is unblocked and n_p . r > 0,
+       v(p, r) = 0         otherwise,
+   and a triangle's visibility is its mean over the triangle and over the
+   view model m(r) (eq 4.2, with m a probability distribution):
+       V_t = E_{p in t, r ~ m} [ v(p, r) ].
+   It is estimated by Monte Carlo: points stratified over the triangle (a
+   jittered grid mapped by the square-root parameterization, which is
+   uniform in area), one direction drawn from the model per point.  Every
+   triangle has its own random stream derived from (seed, triangle), so the
+   estimate does not depend on how triangles are split among threads.
+
+   The view models of fig 4.3: the uniform sphere, the front hemisphere
+   around an axis, a "top ring" of directions at a fixed elevation around an
+   up axis (a turntable), a single side direction, or the user's weighted
+   list.  V_t is normalized to an area-weighted mean of 1 (then a uniform
+   visibility gives the isometric map) and floored (views.floor, default
+   0.05): a triangle nobody sees would otherwise ask for zero area, which
+   the energy cannot reach.  Eq 4.1 uses V_t through opt->importance. */
+
+typedef struct bp__rng { uint64_t s; } bp__rng;
+
+static uint64_t bp__splitmix(uint64_t *x)
+{
+    uint64_t z = (*x += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+/* Uniform in [0, 1) with 53 random bits. */
+static double bp__rand(bp__rng *r)
+{
+    return (double)(bp__splitmix(&r->s) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static void bp__normalize3(double *v)
+{
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (l > 0) { v[0] /= l; v[1] /= l; v[2] /= l; }
+}
+
+/* An orthonormal frame (e1, e2) perpendicular to the unit vector n. */
+static void bp__frame(const double *n, double *e1, double *e2)
+{
+    double t[3] = { 1, 0, 0 };
+    if (fabs(n[0]) > 0.9) { t[0] = 0; t[1] = 1; }
+    e1[0] = t[1] * n[2] - t[2] * n[1]; e1[1] = t[2] * n[0] - t[0] * n[2]; e1[2] = t[0] * n[1] - t[1] * n[0];
+    bp__normalize3(e1);
+    e2[0] = n[1] * e1[2] - n[2] * e1[1]; e2[1] = n[2] * e1[0] - n[0] * e1[2]; e2[2] = n[0] * e1[1] - n[1] * e1[0];
+}
+
+static void bp__view_direction(const bp_views *V, bp__rng *rng, double *r)
+{
+    double u = bp__rand(rng), w = bp__rand(rng), z, rad, phi, axis[3], e1[3], e2[3];
+    int k;
+    switch (V->model) {
+    case BP_VIEW_FRONT:                  /* uniform on the hemisphere around direction */
+    case BP_VIEW_UNIFORM:                /* uniform on the sphere */
+        z = V->model == BP_VIEW_FRONT ? u : 2 * u - 1;
+        rad = sqrt(1 - z * z > 0 ? 1 - z * z : 0);
+        phi = 2 * 3.14159265358979323846 * w;
+        if (V->model == BP_VIEW_UNIFORM) { r[0] = rad * cos(phi); r[1] = rad * sin(phi); r[2] = z; return; }
+        memcpy(axis, V->direction, sizeof axis);
+        if (axis[0] == 0 && axis[1] == 0 && axis[2] == 0) axis[2] = 1;
+        bp__normalize3(axis);
+        bp__frame(axis, e1, e2);
+        for (k = 0; k < 3; k++) r[k] = z * axis[k] + rad * (cos(phi) * e1[k] + sin(phi) * e2[k]);
+        return;
+    case BP_VIEW_RING:                   /* turntable: fixed elevation around up */
+        memcpy(axis, V->up, sizeof axis);
+        if (axis[0] == 0 && axis[1] == 0 && axis[2] == 0) axis[1] = 1;
+        bp__normalize3(axis);
+        bp__frame(axis, e1, e2);
+        z = sin(V->elevation * 3.14159265358979323846 / 180);
+        rad = cos(V->elevation * 3.14159265358979323846 / 180);
+        phi = 2 * 3.14159265358979323846 * u;
+        for (k = 0; k < 3; k++) r[k] = z * axis[k] + rad * (cos(phi) * e1[k] + sin(phi) * e2[k]);
+        return;
+    case BP_VIEW_LIST: {                 /* weighted list: inverse CDF */
+        double total = 0, acc = 0;
+        uint32_t i, pick = 0;
+        for (i = 0; i < V->list_count; i++) total += V->list[4 * (size_t)i + 3];
+        u *= total;
+        for (i = 0; i < V->list_count; i++) {
+            acc += V->list[4 * (size_t)i + 3];
+            pick = i;
+            if (u < acc) break;
+        }
+        memcpy(r, V->list + 4 * (size_t)pick, 3 * sizeof(double));
+        bp__normalize3(r);
+        return;
+    }
+    default:                             /* SIDE: a single direction */
+        memcpy(r, V->direction, 3 * sizeof(double));
+        if (r[0] == 0 && r[1] == 0 && r[2] == 0) r[0] = 1;
+        bp__normalize3(r);
+        return;
+    }
+}
+
+/* Shared state of the per-triangle sampling tasks. */
+typedef struct bp__vis_task {
+    const bp_mesh *m;
+    const bp_views *views;
+    const bp__bvh *bvh;
+    const double *uv_area;     /* texel density: UV area per mesh triangle (scaled) */
+    double  tmin;              /* ray offset, relative to the mesh size      */
+    uint32_t samples;
+    double *out;               /* per triangle: V_t, or (sum det, count)     */
+} bp__vis_task;
+
+/* Sample point s of triangle t (stratified) and a view direction. */
+static void bp__vis_sample(const bp__vis_task *T, uint32_t t, uint32_t s, bp__rng *rng, double *p, double *r)
+{
+    const uint32_t *tv = T->m->triangles + 3 * (size_t)t;
+    uint32_t g = 1;
+    double a, b, su;
+    int k;
+    while ((g + 1) * (g + 1) <= T->samples) g++;
+    a = ((s % g) + bp__rand(rng)) / g;
+    b = (((s / g) % g) + bp__rand(rng)) / g;
+    su = sqrt(a);
+    for (k = 0; k < 3; k++)
+        p[k] = (1 - su) * bp__pos(T->m, tv[0])[k] + su * (1 - b) * bp__pos(T->m, tv[1])[k] +
+               su * b * bp__pos(T->m, tv[2])[k];
+    bp__view_direction(T->views, rng, r);
+}
+
+static void bp__triangle_normal(const bp_mesh *m, uint32_t t, double *n)
+{
+    const uint32_t *tv = m->triangles + 3 * (size_t)t;
+    const double *a = bp__pos(m, tv[0]), *b = bp__pos(m, tv[1]), *c = bp__pos(m, tv[2]);
+    double u[3], v[3];
+    int k;
+    for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = c[k] - a[k]; }
+    n[0] = u[1] * v[2] - u[2] * v[1]; n[1] = u[2] * v[0] - u[0] * v[2]; n[2] = u[0] * v[1] - u[1] * v[0];
+    bp__normalize3(n);
+}
+
+#define BP__VIS_CHUNK 64
+
+/* Task: V_t (or the texel-density sums) for one chunk of triangles. */
+static void bp__vis_task_run(void *task, uint32_t chunk)
+{
+    bp__vis_task *T = (bp__vis_task *)task;
+    uint32_t t, s, t0 = chunk * BP__VIS_CHUNK, t1 = t0 + BP__VIS_CHUNK;
+    if (t1 > T->m->num_triangles) t1 = T->m->num_triangles;
+    for (t = t0; t < t1; t++) {
+        bp__rng rng;
+        double n[3], sum = 0, cnt = 0;
+        uint64_t seed = T->views->seed ^ ((uint64_t)t * 0xD1B54A32D192ED03ull);
+        rng.s = bp__splitmix(&seed);
+        bp__triangle_normal(T->m, t, n);
+        for (s = 0; s < T->samples; s++) {
+            double p[3], r[3], c;
+            bp__vis_sample(T, t, s, &rng, p, r);
+            c = n[0] * r[0] + n[1] * r[1] + n[2] * r[2];
+            if (c <= 0 || bp__bvh_occluded(T->bvh, p, r, T->tmin, HUGE_VAL, t)) continue;
+            if (T->uv_area) {          /* det of texture -> screen: c A3 / A_uv */
+                double a3 = 0.5 * bp__area2_3d(bp__pos(T->m, T->m->triangles[3 * (size_t)t]),
+                                               bp__pos(T->m, T->m->triangles[3 * (size_t)t + 1]),
+                                               bp__pos(T->m, T->m->triangles[3 * (size_t)t + 2]));
+                sum += c * a3 / T->uv_area[t];
+                cnt += 1;
+            } else {
+                sum += c;
+            }
+        }
+        if (T->uv_area) { T->out[2 * (size_t)t] = sum; T->out[2 * (size_t)t + 1] = cnt; }
+        else T->out[t] = sum / T->samples;
+    }
+}
+
+static bp_status bp__vis_run(const bp_mesh *m, const bp_options *opt, const double *uv_area, double *out,
+                             bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    bp__bvh B;
+    bp__vis_task T;
+    bp__par par;
+    void *pool = NULL;
+    double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
+    uint32_t v;
+    bp_status st;
+    if (!opt || opt->views.model <= BP_VIEW_NONE || opt->views.model > BP_VIEW_LIST)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "visibility needs a view model in opt->views.model");
+    if (opt->views.model == BP_VIEW_LIST) {
+        double total = 0;
+        uint32_t i;
+        for (i = 0; i < opt->views.list_count; i++) {
+            const double *d = opt->views.list + 4 * (size_t)i;
+            if (!(d[3] >= 0) || !(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 0))
+                return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, i, -1, 0,
+                                "view %u of the list needs a nonzero direction and a weight >= 0", i);
+            total += d[3];
+        }
+        if (!(total > 0))
+            return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                            "the view list is empty or all its weights are zero");
+    }
+    if ((st = bp__validate_mesh(m, err)) != BP_OK) return st;
+    if (bp__bvh_build(&a, &B, m) != BP_OK) return bp__oom(err, "building the ray-casting hierarchy");
+    for (v = 0; v < m->num_vertices; v++) bp__box_grow(lo, hi, bp__pos(m, v));
+    T.m = m;
+    T.views = &opt->views;
+    T.bvh = &B;
+    T.uv_area = uv_area;
+    T.tmin = 1e-7 * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                         (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    T.samples = opt->views.samples ? opt->views.samples : 64;
+    T.out = out;
+    par = bp__par_begin(&a, opt, &pool);
+    par.run(par.user, bp__vis_task_run, &T, (m->num_triangles + BP__VIS_CHUNK - 1) / BP__VIS_CHUNK);
+    bp__par_end(&a, pool);
+    bp__bvh_free(&a, &B);
+    return BP_OK;
+}
+
+BPDEF bp_status bp_visibility(const bp_mesh *m, const bp_options *opt, double *out, bp_error *err)
+{
+    bp_status st;
+    uint32_t t;
+    double sum = 0, area = 0, fl;
+    if (!out) return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "out must not be NULL");
+    if ((st = bp__vis_run(m, opt, NULL, out, err)) != BP_OK) return st;
+    for (t = 0; t < m->num_triangles; t++) {
+        const uint32_t *tv = m->triangles + 3 * (size_t)t;
+        double a2 = bp__area2_3d(bp__pos(m, tv[0]), bp__pos(m, tv[1]), bp__pos(m, tv[2]));
+        sum += a2 * out[t];
+        area += a2;
+    }
+    fl = opt->views.floor > 0 ? opt->views.floor : 0.05;
+    for (t = 0; t < m->num_triangles; t++) {
+        out[t] = sum > 0 ? out[t] * area / sum : 1;
+        if (out[t] < fl) out[t] = fl;
+    }
+    return bp__ok(err);
+}
+
+BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, const bp_options *opt,
+                                     double *mean_det, bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    double *uv_area, *sums, a3 = 0, auv = 0, num = 0, den = 0;
+    uint32_t c, t;
+    bp_status st;
+    if (!m || !atlas || !mean_det || atlas->num_corners != 3 * m->num_triangles)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_texture_to_screen needs the mesh and the atlas built from it");
+    uv_area = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
+    sums = (double *)bp__alloc_array(&a, 2 * (size_t)m->num_triangles, sizeof(double));
+    if (!uv_area || !sums) { bp__free(&a, uv_area); bp__free(&a, sums); return bp__oom(err, "measuring texel density"); }
+    for (c = 0; c < atlas->num_charts; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        for (t = 0; t < ch->num_triangles; t++) {
+            const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+            const double *p = ch->uv + 2 * (size_t)tr[0], *q = ch->uv + 2 * (size_t)tr[1], *r = ch->uv + 2 * (size_t)tr[2];
+            uv_area[ch->face[t]] = 0.5 * fabs((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
+        }
+    }
+    for (t = 0; t < m->num_triangles; t++) {
+        const uint32_t *tv = m->triangles + 3 * (size_t)t;
+        a3 += 0.5 * bp__area2_3d(bp__pos(m, tv[0]), bp__pos(m, tv[1]), bp__pos(m, tv[2]));
+        auv += uv_area[t];
+    }
+    /* same total texture area as surface area (sec 4.2: fair comparison) */
+    for (t = 0; t < m->num_triangles; t++) uv_area[t] *= a3 / auv;
+    st = bp__vis_run(m, opt, uv_area, sums, err);
+    if (st == BP_OK) {
+        /* samples are uniform within each triangle: weight them by area */
+        for (t = 0; t < m->num_triangles; t++) {
+            const uint32_t *tv = m->triangles + 3 * (size_t)t;
+            double w = 0.5 * bp__area2_3d(bp__pos(m, tv[0]), bp__pos(m, tv[1]), bp__pos(m, tv[2]));
+            num += w * sums[2 * (size_t)t];
+            den += w * sums[2 * (size_t)t + 1];
+        }
+        *mean_det = den > 0 ? num / den : 0;
+        bp__ok(err);
+    }
+    bp__free(&a, uv_area);
+    bp__free(&a, sums);
     return st;
 }
 
