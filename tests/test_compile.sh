@@ -13,7 +13,9 @@
 #     pair is an #error;
 #   - a counting allocator through a whole run on tests/data/bishop_part_f1000.obj
 #     (read, build, init, optimize, pack, check, write, free): every call
-#     gets the user pointer, allocations == frees, bytes balance.
+#     gets the user pointer, allocations == frees, bytes balance; once
+#     serial and once with -DBP_USE_PTHREADS and 4 threads on spot.obj
+#     (which must also compile warning-free as C and C++).
 #
 # Prints one "ok"/"FAIL" line per check and a final "BPTEST <passed> <failed>".
 # Run from anywhere; CC/CXX/CLANG/CLANGXX pick the compilers, EXTRA_CFLAGS
@@ -29,7 +31,7 @@ CLANGXX=${CLANGXX:-clang++}
 # (for example -Wno-error=... to look past one known warning while
 # debugging); the clang checks always use the plain flags.
 CLANG_WARN="-Wall -Wextra -pedantic -Werror"
-WARN="$CLANG_WARN ${EXTRA_CFLAGS:-}"
+WARN="$CLANG_WARN${EXTRA_CFLAGS:+ $EXTRA_CFLAGS}"
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/bp_compile.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 
@@ -263,30 +265,46 @@ cat >"$TMP/counting.c" <<'EOF'
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 
+/* With BP_USE_PTHREADS the library may allocate from worker threads, so the
+   counter is then behind a mutex. */
+#ifdef BP_USE_PTHREADS
+static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
+#define LOCK() pthread_mutex_lock(&lock)
+#define UNLOCK() pthread_mutex_unlock(&lock)
+#else
+#define LOCK() ((void)0)
+#define UNLOCK() ((void)0)
+#endif
+
 typedef struct counter { long allocs, frees, wrong_user, bad_free; long long live; } counter;
 static counter the_counter;
 
 static void *count_alloc(void *user, size_t size)
 {
     size_t *p;
-    if (user != (void *)&the_counter) { the_counter.wrong_user++; return NULL; }
+    LOCK();
+    if (user != (void *)&the_counter) { the_counter.wrong_user++; UNLOCK(); return NULL; }
     p = (size_t *)malloc(size + 16);
-    if (!p) return NULL;
-    p[0] = size; p[1] = 0xa110c;
-    the_counter.allocs++;
-    the_counter.live += (long long)size;
-    return (char *)p + 16;
+    if (p) {
+        p[0] = size; p[1] = 0xa110c;
+        the_counter.allocs++;
+        the_counter.live += (long long)size;
+    }
+    UNLOCK();
+    return p ? (char *)p + 16 : NULL;
 }
 static void count_free(void *user, void *ptr)
 {
     size_t *p;
-    if (user != (void *)&the_counter) { the_counter.wrong_user++; return; }
     if (!ptr) return;
+    LOCK();
+    if (user != (void *)&the_counter) { the_counter.wrong_user++; UNLOCK(); return; }
     p = (size_t *)((char *)ptr - 16);
-    if (p[1] != 0xa110c) { the_counter.bad_free++; return; }
+    if (p[1] != 0xa110c) { the_counter.bad_free++; UNLOCK(); return; }
     p[1] = 0;
     the_counter.frees++;
     the_counter.live -= (long long)p[0];
+    UNLOCK();
     free(p);
 }
 
@@ -304,6 +322,9 @@ int main(int argc, char **argv)
     memset(&opt, 0, sizeof opt);
     opt.allocator = a;
     opt.max_iterations = 50;
+#ifdef BP_USE_PTHREADS
+    opt.threads = 4;
+#endif
 
     st = bp_read_obj(argv[1], &mesh, &a, &err);
     if (st != BP_OK) { printf("read: %s\n", err.message); return 1; }
@@ -338,26 +359,42 @@ int main(int argc, char **argv)
     return 0;
 }
 EOF
-DATA="$ROOT/tests/data/bishop_part_f1000.obj"
-if $CC -std=c99 -O2 $WARN -I"$ROOT" "$TMP/counting.c" -o "$TMP/counting" -lm >"$TMP/log" 2>&1; then
-    "$TMP/counting" "$DATA" "$TMP/out.obj" >"$TMP/run" 2>&1; rc=$?
-    summary=$(tail -n 1 "$TMP/run")
-    case $rc in
-        0) ok "counting allocator, bishop_part_f1000: every call has the user pointer, allocations == frees, bytes balance ($summary)" ;;
-        1) fail "counting allocator run: a step failed: $summary" ;;
-        3) fail "counting allocator: a call got a wrong user pointer ($summary)" ;;
-        4) fail "counting allocator: free of a pointer it did not allocate ($summary)" ;;
-        5) fail "counting allocator: leak ($summary)" ;;
-        *) fail "counting allocator run crashed (exit $rc): $summary" ;;
-    esac
-    if [ -s "$TMP/out.obj" ] && grep -q '^vt ' "$TMP/out.obj" && grep -q '^f [0-9]*/[0-9]*' "$TMP/out.obj"; then
-        ok "bp_write_obj wrote vt lines and f v/vt faces"
+# run_counting "label" mesh extra-flags...: build counting.c with the flags,
+# run it on tests/data/<mesh>
+run_counting() {
+    local label=$1 mesh=$2 DATA="$ROOT/tests/data/$2"; shift 2
+    if $CC -std=c99 -O2 $WARN "$@" -I"$ROOT" "$TMP/counting.c" -o "$TMP/counting" -lm >"$TMP/log" 2>&1; then
+        rm -f "$TMP/out.obj"
+        "$TMP/counting" "$DATA" "$TMP/out.obj" >"$TMP/run" 2>&1; rc=$?
+        summary=$(tail -n 1 "$TMP/run")
+        case $rc in
+            0) ok "counting allocator$label, $mesh: every call has the user pointer, allocations == frees, bytes balance ($summary)" ;;
+            1) fail "counting allocator$label: a step failed: $summary" ;;
+            3) fail "counting allocator$label: a call got a wrong user pointer ($summary)" ;;
+            4) fail "counting allocator$label: free of a pointer it did not allocate ($summary)" ;;
+            5) fail "counting allocator$label: leak ($summary)" ;;
+            *) fail "counting allocator$label run crashed (exit $rc): $summary" ;;
+        esac
+        if [ -s "$TMP/out.obj" ] && grep -q '^vt ' "$TMP/out.obj" && grep -q '^f [0-9]*/[0-9]*' "$TMP/out.obj"; then
+            ok "bp_write_obj$label wrote vt lines and f v/vt faces"
+        else
+            fail "bp_write_obj$label output has no vt lines or no f v/vt faces"
+        fi
     else
-        fail "bp_write_obj output has no vt lines or no f v/vt faces"
+        fail "counting allocator program$label compiles"; sed 's/^/     | /' "$TMP/log" | head -n 30
     fi
-else
-    fail "counting allocator program compiles"; sed 's/^/     | /' "$TMP/log" | head -n 30
-fi
+}
+run_counting "" bishop_part_f1000.obj
+# ---- BP_USE_PTHREADS: the built-in pool compiles warning-free (C and C++)
+# and the counting run balances with 4 threads on spot (13 charts, solved in
+# parallel)
+printf '#define BP_USE_PTHREADS\n#define BP_IMPLEMENTATION\n#include "bijparam.h"\nint main(void) { return 0; }\n' >"$TMP/pthreads.c"
+cp "$TMP/pthreads.c" "$TMP/pthreads.cpp"
+check "gcc -std=c99 -DBP_USE_PTHREADS -pthread $WARN: compiles and links" \
+    $CC -std=c99 -O2 $WARN -pthread -I"$ROOT" "$TMP/pthreads.c" -o "$TMP/pthreads" -lm
+check "g++ -std=c++11 -DBP_USE_PTHREADS -pthread $WARN: compiles and links" \
+    $CXX -std=c++11 -O2 $WARN -pthread -I"$ROOT" "$TMP/pthreads.cpp" -o "$TMP/pthreads_cpp" -lm
+run_counting " (BP_USE_PTHREADS, 4 threads)" spot.obj -DBP_USE_PTHREADS -pthread
 
 echo "BPTEST $passed $failed"
 [ "$failed" -eq 0 ]
