@@ -44,9 +44,11 @@ TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
 all: $(TOOL) $(EXAMPLES)
 
+# The tool uses the header's thread pool (BP_USE_PTHREADS); the library
+# itself needs no link flags without it.
 $(TOOL): examples/bijparam.c $(HEADERS)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(LDLIBS)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -DBP_USE_PTHREADS -pthread $< -o $@ $(LDLIBS)
 
 $(BUILD)/examples/%: examples/%.c $(HEADERS)
 	@mkdir -p $(@D)
