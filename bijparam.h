@@ -18,7 +18,7 @@
    and then:
 
        bp_mesh mesh;  bp_atlas atlas;  bp_error err;
-       bp_options opt = {0};                       -- zero means "defaults"
+       bp_options opt;  memset(&opt, 0, sizeof opt);   -- zero means "defaults"
        if (bp_read_obj("cow.obj", &mesh, NULL, &err) != BP_OK) { puts(err.message); return 1; }
        if (bp_parameterize(&atlas, &mesh, &opt, &err) != BP_OK) { puts(err.message); return 1; }
        bp_write_obj("cow_uv.obj", &mesh, &atlas, &err);
@@ -65,7 +65,9 @@
    - The library keeps no global state, never prints, never exits.  Every
      allocation goes through the allocator in bp_options (or the one passed
      to the I/O functions); NULL means BP_MALLOC/BP_FREE.
-   - Structures whose fields say "0 = default" may be zero-initialized.
+   - Structures whose fields say "0 = default" may be zero-initialized
+     (memset, `= {0}` in C, `= {}` in C++).  After a failed call that fills
+     a bp_mesh or bp_atlas, the structure is zeroed and safe to free.
 */
 #ifndef BIJPARAM_H
 #define BIJPARAM_H
@@ -233,13 +235,16 @@ typedef struct bp_options {
     bp_init       init;           /* start map, default Tutte                  */
     int           init_only;      /* nonzero: stop after the start map         */
     bp_energy     energy;         /* default symmetric Dirichlet               */
-    int           no_barrier;     /* nonzero: injective only (no E_B)          */
+    int           no_barrier;     /* nonzero: locally injective only: no E_B and
+                                     no boundary check, so the map may overlap
+                                     itself (fig 3.2, 3.3)                     */
     double        epsilon;        /* barrier width; 0: mean 3D boundary edge/4 */
     bp_direction  direction;      /* default: preconditioned L-BFGS            */
     int           history;        /* L-BFGS memory m; 0: 5                     */
     int           max_iterations; /* 0: 10000                                  */
     double        tolerance;      /* relative decrease; 0: 1e-7                */
-    double        max_seconds;    /* per solve; 0: no limit                    */
+    double        max_seconds;    /* per chart; 0: no limit (wall time with
+                                     BP_USE_PTHREADS, else processor time)      */
     bp_progress_fn progress;      /* optional                                  */
     void         *progress_user;
     int           normalize;      /* nonzero: scale the packed atlas into [0,1]^2 */
@@ -793,6 +798,18 @@ static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void 
     }
 #endif
     return par;
+}
+
+/* Seconds for time limits and reports: wall time from the monotonic clock
+   when the pool is compiled in (POSIX is there anyway), otherwise clock(),
+   which for a single compute-bound thread is the same. */
+static double bp__seconds(void)
+{
+#ifdef BP_USE_PTHREADS
+    struct timespec ts;
+    if (clock_gettime(CLOCK_MONOTONIC, &ts) == 0) return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+#endif
+    return (double)clock() / CLOCKS_PER_SEC;
 }
 
 static void bp__par_end(const bp_allocator *a, void *pool)
@@ -3383,9 +3400,11 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v)
     return tmax;
 }
 
-/* Exact validity of the chart at x: every triangle positive and no two
-   boundary edges of any loops in conflict (the full bp_check condition, on
-   the chart's own loop lists). */
+/* Exact validity of the chart at x: every triangle positive and, when the
+   barrier is on, no two boundary edges of any loops in conflict (the full
+   bp_check condition, on the chart's own loop lists).  Without the barrier
+   the map is only kept locally injective (fig 3.2, 3.3): its boundary is
+   allowed to run over itself. */
 static bp_status bp__chart_valid(bp__solver *S, const double *x, bp__dedge *edges, int *valid)
 {
     bp_check_report rep;
@@ -3404,6 +3423,7 @@ static bp_status bp__chart_valid(bp__solver *S, const double *x, bp__dedge *edge
             n++;
         }
     }
+    if (!S->barrier) { *valid = 1; return BP_OK; }   /* injective only: the boundary may overlap */
     memset(&rep, 0, sizeof rep);
     st = bp__boundary_conflicts(S->a, x, edges, n, &rep);
     *valid = st == BP_OK && rep.boundary_intersections == 0;
@@ -3541,7 +3561,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     bp__dedge *edges = NULL;
     double f, ed, total_area = 0, tlast = 1;
     bp_status st = BP_OK;
-    clock_t c0 = clock();
+    double c0 = bp__seconds();
     memset(&S, 0, sizeof S);
     memset(&o, 0, sizeof o);
     memset(&K, 0, sizeof K);
@@ -3750,7 +3770,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
             break;
         }
         if (small >= 3) { ch->stop = BP_STOP_CONVERGED; break; }
-        if (o.max_seconds > 0 && (double)(clock() - c0) / CLOCKS_PER_SEC > o.max_seconds) {
+        if (o.max_seconds > 0 && bp__seconds() - c0 > o.max_seconds) {
             ch->stop = BP_STOP_MAX_SECONDS;
             break;
         }
@@ -3768,7 +3788,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
         }
         ch->energy_max = emax;
     }
-    ch->seconds = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    ch->seconds = bp__seconds() - c0;
     if (ch->stop == BP_STOP_CANCELLED)
         st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_CHART, chart_index, -1, 0,
                       "chart %u: cancelled by the progress callback after %d iterations (the map is the last valid one)",
@@ -3838,18 +3858,23 @@ static int bp__packbox_cmp(const void *pa, const void *pb)
     return a->chart < b->chart ? -1 : a->chart > b->chart;
 }
 
-/* uv = s * (uv - lo) + off, checked exactly; on failure restore and retry. */
+/* uv = s * (uv - lo) + off, checked exactly: the moved chart must be as
+   valid as it was (a chart optimized without the barrier may overlap
+   itself, and stays so); on failure restore and retry. */
 static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const double *lo, double s,
                                 double ox, double oy)
 {
     double *save = (double *)bp__alloc_array(a, 2 * (size_t)ch->num_vertices, sizeof(double));
     uint32_t i;
     int attempt;
+    bp_check_report before;
+    bp_status st;
     if (!save) return BP_ERR_OUT_OF_MEMORY;
     memcpy(save, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
+    st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &before);
+    if (st != BP_OK) { bp__free(a, save); return st; }
     for (attempt = 0; attempt < 8; attempt++) {
         bp_check_report rep;
-        bp_status st;
         double jig = attempt ? 1 + attempt * 1e-7 : 1;
         for (i = 0; i < ch->num_vertices; i++) {
             ch->uv[2 * i] = s * (save[2 * i] - lo[0]) + ox * jig;
@@ -3857,7 +3882,11 @@ static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const doubl
         }
         st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep);
         if (st != BP_OK) { bp__free(a, save); return st; }
-        if (bp__report_valid(&rep)) { bp__free(a, save); return BP_OK; }
+        if (rep.flipped <= before.flipped && rep.degenerate <= before.degenerate && rep.nonfinite <= before.nonfinite &&
+            rep.boundary_intersections <= before.boundary_intersections) {
+            bp__free(a, save);
+            return BP_OK;
+        }
     }
     memcpy(ch->uv, save, 2 * (size_t)ch->num_vertices * sizeof(double));
     bp__free(a, save);
