@@ -2967,8 +2967,11 @@ static void bp__rest_shape(const double *p1, const double *p2, const double *p3,
    columns are the gradients for U2 and U3 (U1 gets minus their sum).  For
    the symmetric Dirichlet energy this equals eq 3.3's closed form (area
    term plus cotangent weights).  At R = 0 (a conformal J) dR/dJ is taken as
-   0; f_a - f_b vanishes there for the isometric energies, so their gradient
-   is continuous. */
+   0; f_a - f_b vanishes there for the symmetric energies (symmetric
+   Dirichlet, MIPS), whose gradient is therefore continuous.  Conformal,
+   isometric and maximal isometric have a kink at s_max = s_min (and the
+   last also at s_max s_min = 1): there the code returns one of the two
+   one-sided slopes, a valid subgradient for the line search. */
 
 /* f(s_max, s_min) and its partials; returns +inf for s_min <= 0. */
 static double bp__energy_sv(bp_energy kind, double sa, double sb, double *fa, double *fb)

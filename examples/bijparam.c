@@ -23,6 +23,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include <sys/resource.h>
 
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
@@ -46,9 +47,75 @@ static const char usage_text[] =
     "  --max-seconds X    time limit per chart (0: none)\n"
     "  --normalize        scale the packed atlas into [0,1]^2\n"
     "  --trace FILE       one line per iteration: chart iter seconds energy step\n"
+    "  --threads N        threads (default 0: all cores; 1: serial)\n"
+    "  --visibility uniform|front|ring|side   optimize texel density for a view\n"
+    "                     model (chapter 4): visible parts get more texture area\n"
+    "  --view-dir X,Y,Z   front axis / side direction (default +z / +x)\n"
+    "  --up X,Y,Z         turntable axis of the ring model (default +y)\n"
+    "  --ring-elevation D ring elevation in degrees (default 30)\n"
+    "  --vis-samples N    rays per triangle (default 64)\n"
+    "  --vis-floor X      least importance relative to the mean (default 0.05)\n"
+    "  --importance FILE  one weight > 0 per face (painted importance)\n"
+    "  --density-report uniform|front|ring|side   texel density of the result\n"
+    "                     against a plain isometric map under that view model\n"
     "  -h, --help         show this help\n";
 
 static const char *const energy_names[] = { "sd", "conformal", "mips", "iso", "maxiso" };
+static const char *const view_names[] = { "none", "uniform", "front", "ring", "side" };
+
+static int parse_view(const char *v)
+{
+    int k;
+    for (k = 1; k < 5; k++) if (!strcmp(v, view_names[k])) return k;
+    return 0;
+}
+
+/* "x,y,z" into three finite doubles. */
+static int parse_vec3(const char *s, double *out)
+{
+    char *end;
+    int k;
+    for (k = 0; k < 3; k++) {
+        errno = 0;
+        out[k] = strtod(s, &end);
+        if (end == s || errno || !(out[k] - out[k] == 0)) return 0;
+        if (k < 2) { if (*end != ',') return 0; s = end + 1; }
+    }
+    return *end == 0 && (out[0] != 0 || out[1] != 0 || out[2] != 0);
+}
+
+/* One weight per face, whitespace separated; faces are the file's polygons,
+   spread to their fan triangles.  Returns NULL with a message on error. */
+static double *read_importance(const char *path, const bp_mesh *m, char *msg, size_t msz)
+{
+    FILE *f = fopen(path, "r");
+    double *w, *face;
+    uint32_t n = m->num_faces ? m->num_faces : m->num_triangles, i;
+    if (!f) { snprintf(msg, msz, "cannot open importance file: %s", strerror(errno)); return NULL; }
+    face = (double *)malloc(sizeof(double) * (n ? n : 1));
+    w = (double *)malloc(sizeof(double) * m->num_triangles);
+    if (!face || !w) { free(face); free(w); fclose(f); snprintf(msg, msz, "out of memory"); return NULL; }
+    for (i = 0; i < n; i++) {
+        if (fscanf(f, "%lf", &face[i]) != 1 || !(face[i] > 0) || !(face[i] - face[i] == 0)) {
+            snprintf(msg, msz, "importance of face %u is missing, not a number or not > 0 (need %u weights)",
+                     (unsigned)i, (unsigned)n);
+            free(face); free(w); fclose(f);
+            return NULL;
+        }
+    }
+    fclose(f);
+    for (i = 0; i < m->num_triangles; i++)
+        w[i] = face[m->triangle_face ? m->triangle_face[i] : i];
+    free(face);
+    return w;
+}
+
+static double peak_rss_bytes(void)
+{
+    struct rusage ru;
+    if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;
+    return (double)ru.ru_maxrss * 1024.0;      /* Linux reports KiB */
+}
 
 /* ---- small helpers ------------------------------------------------------ */
 
@@ -240,9 +307,15 @@ static int on_progress(void *user, uint32_t chart, int iteration,
 
 typedef struct timings { double read, charts, init, optimize, pack, write; } timings;
 
+typedef struct extra_report {
+    int threads;
+    int density_model;                 /* 0: no density report */
+    double density_map, density_iso;
+} extra_report;
+
 static void print_json(const char *input, bp_status status, const char *message,
                        const bp_mesh *mesh, const bp_atlas *atlas, bp_energy energy,
-                       const timings *tm)
+                       const timings *tm, const extra_report *ex)
 {
     uint32_t c, l;
     printf("{\"input\":");
@@ -300,7 +373,22 @@ static void print_json(const char *input, bp_status status, const char *message,
     json_number(tm->pack);
     printf(",\"write\":");
     json_number(tm->write);
-    printf("}}\n");
+    printf("},\"threads\":%d,\"peak_rss_bytes\":", ex->threads);
+    json_number(peak_rss_bytes());
+    printf(",\"bytes_per_face\":");
+    json_number(mesh->num_triangles ? peak_rss_bytes() / mesh->num_triangles : 0);
+    if (ex->density_model) {
+        printf(",\"density\":{\"model\":");
+        json_string(view_names[ex->density_model]);
+        printf(",\"map_det\":");
+        json_number(ex->density_map);
+        printf(",\"isometric_det\":");
+        json_number(ex->density_iso);
+        printf(",\"ratio\":");
+        json_number(ex->density_map > 0 ? ex->density_iso / ex->density_map : 0);
+        printf("}");
+    }
+    printf("}\n");
 }
 
 /* ---- main --------------------------------------------------------------- */
@@ -314,7 +402,10 @@ int main(int argc, char **argv)
     bp_status st = BP_OK;
     timings tm;
     run_state rs;
-    const char *input = NULL, *output = NULL, *trace_path = NULL, *where;
+    const char *input = NULL, *output = NULL, *trace_path = NULL, *importance_path = NULL, *where;
+    extra_report ex;
+    double *importance = NULL;
+    int elevation_set = 0;
     char *tmp_path = NULL;
     int json = 0, demo = 0, have_mesh = 0, i, status = 0;
     uint32_t c;
@@ -326,6 +417,7 @@ int main(int argc, char **argv)
     memset(&err, 0, sizeof err);
     memset(&tm, 0, sizeof tm);
     memset(&rs, 0, sizeof rs);
+    memset(&ex, 0, sizeof ex);
 
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -334,12 +426,43 @@ int main(int argc, char **argv)
             !strcmp(a, "--epsilon") || !strcmp(a, "--direction") ||
             !strcmp(a, "--history") || !strcmp(a, "--max-iters") ||
             !strcmp(a, "--tol") || !strcmp(a, "--max-seconds") ||
-            !strcmp(a, "--trace")) {
+            !strcmp(a, "--trace") || !strcmp(a, "--threads") || !strcmp(a, "--visibility") ||
+            !strcmp(a, "--view-dir") || !strcmp(a, "--up") || !strcmp(a, "--ring-elevation") ||
+            !strcmp(a, "--vis-samples") || !strcmp(a, "--vis-floor") || !strcmp(a, "--importance") ||
+            !strcmp(a, "--density-report")) {
             const char *v;
             if (i + 1 >= argc) return usage_error("option %s needs a value", a);
             v = argv[++i];
             if (!strcmp(a, "-o")) output = v;
             else if (!strcmp(a, "--trace")) trace_path = v;
+            else if (!strcmp(a, "--importance")) importance_path = v;
+            else if (!strcmp(a, "--threads")) {
+                if (!parse_int(v, 0, &opt.threads))
+                    return usage_error("--threads needs an integer >= 0, not '%s'", v);
+            } else if (!strcmp(a, "--visibility")) {
+                if (!(opt.views.model = parse_view(v)))
+                    return usage_error("unknown view model '%s' (uniform, front, ring, side)", v);
+            } else if (!strcmp(a, "--density-report")) {
+                if (!(ex.density_model = parse_view(v)))
+                    return usage_error("unknown view model '%s' (uniform, front, ring, side)", v);
+            } else if (!strcmp(a, "--view-dir")) {
+                if (!parse_vec3(v, opt.views.direction))
+                    return usage_error("--view-dir needs a nonzero X,Y,Z, not '%s'", v);
+            } else if (!strcmp(a, "--up")) {
+                if (!parse_vec3(v, opt.views.up))
+                    return usage_error("--up needs a nonzero X,Y,Z, not '%s'", v);
+            } else if (!strcmp(a, "--ring-elevation")) {
+                if (!parse_double(v, -90.0, &opt.views.elevation) || opt.views.elevation > 90)
+                    return usage_error("--ring-elevation needs degrees in [-90, 90], not '%s'", v);
+                elevation_set = 1;
+            } else if (!strcmp(a, "--vis-samples")) {
+                int n;
+                if (!parse_int(v, 1, &n)) return usage_error("--vis-samples needs an integer >= 1, not '%s'", v);
+                opt.views.samples = (uint32_t)n;
+            } else if (!strcmp(a, "--vis-floor")) {
+                if (!parse_double(v, 0.0, &opt.views.floor) || opt.views.floor <= 0)
+                    return usage_error("--vis-floor needs a positive number, not '%s'", v);
+            }
             else if (!strcmp(a, "--init")) {
                 if (!strcmp(v, "tutte")) opt.init = BP_INIT_TUTTE;
                 else if (!strcmp(v, "mvc")) opt.init = BP_INIT_MEAN_VALUE;
@@ -384,6 +507,7 @@ int main(int argc, char **argv)
     if (demo && input) return usage_error("--demo takes no input file ('%s')", input);
     if (!demo && !input) return usage_error("%s", "no input file");
     if (demo) input = "<demo>";
+    if (!elevation_set) opt.views.elevation = 30;
 
     if (trace_path) {
         rs.trace = fopen(trace_path, "w");
@@ -419,6 +543,26 @@ int main(int argc, char **argv)
         tm.charts = now_seconds() - t0;
         rs.num_charts = atlas.num_charts;
     }
+    /* 2b. chapter 4: per-face importance from visibility and/or a file */
+    if (st == BP_OK && importance_path) {
+        char msg[200];
+        importance = read_importance(importance_path, &mesh, msg, sizeof msg);
+        if (!importance) {
+            st = BP_ERR_INVALID_ARGUMENT;
+            where = importance_path;
+            memset(&err, 0, sizeof err);
+            snprintf(err.message, sizeof err.message, "%s", msg);
+        }
+    }
+    if (st == BP_OK && opt.views.model != BP_VIEW_NONE && !opt.init_only) {
+        double *vis = (double *)malloc(sizeof(double) * mesh.num_triangles);
+        if (!vis) { st = BP_ERR_OUT_OF_MEMORY; snprintf(err.message, sizeof err.message, "out of memory"); }
+        else if ((st = bp_visibility(&mesh, &opt, vis, &err)) == BP_OK) {
+            if (importance) { for (c = 0; c < mesh.num_triangles; c++) vis[c] *= importance[c]; free(importance); }
+            importance = vis;
+        } else free(vis);
+    }
+    opt.importance = importance;
     /* 3. start map and optimization, chart by chart */
     for (c = 0; st == BP_OK && c < atlas.num_charts; c++) {
         t0 = now_seconds();
@@ -435,6 +579,22 @@ int main(int argc, char **argv)
         t0 = now_seconds();
         st = bp_atlas_pack(&atlas, &opt, &err);
         tm.pack = now_seconds() - t0;
+    }
+    /* 4b. texel density (sec 4.3) of this map against a plain isometric
+       map of the same mesh, both under the chosen view model */
+    if (st == BP_OK && ex.density_model) {
+        bp_options iso_opt = opt, meas = opt;
+        bp_atlas iso;
+        iso_opt.importance = NULL;
+        iso_opt.views.model = BP_VIEW_NONE;
+        iso_opt.progress = NULL;
+        meas.views.model = ex.density_model;
+        st = bp_parameterize(&iso, &mesh, &iso_opt, &err);
+        if (st == BP_OK) {
+            st = bp_texture_to_screen(&mesh, &atlas, &meas, &ex.density_map, &err);
+            if (st == BP_OK) st = bp_texture_to_screen(&mesh, &iso, &meas, &ex.density_iso, &err);
+            bp_atlas_free(&iso);
+        }
     }
     /* 5. write: into OUT.tmp, renamed only when complete */
     if (st == BP_OK && output) {
@@ -466,11 +626,16 @@ int main(int argc, char **argv)
         status = 1;
     }
     if (json)
+    {
+        for (c = 0; c < atlas.num_charts; c++)
+            if (atlas.charts[c].threads > ex.threads) ex.threads = atlas.charts[c].threads;
         print_json(input, st, st == BP_OK ? NULL : err.message, &mesh, &atlas,
-                   opt.energy, &tm);
+                   opt.energy, &tm, &ex);
+    }
 
     if (rs.trace) fclose(rs.trace);
     free(tmp_path);
+    free(importance);
     bp_atlas_free(&atlas);
     if (have_mesh) {
         if (demo) { free(mesh.positions); free(mesh.triangles); }
