@@ -106,7 +106,8 @@ extern "C" {
     X(BP_ERR_TOPOLOGY,       "chart is not a disk or a disk with holes")        \
     X(BP_ERR_NUMERICAL,      "floating point produced an invalid map")          \
     X(BP_ERR_NOT_BIJECTIVE,  "map is not bijective")                            \
-    X(BP_ERR_CANCELLED,      "cancelled by the progress callback")
+    X(BP_ERR_CANCELLED,      "cancelled by the progress callback")              \
+    X(BP_ERR_CHARTS_FAILED,  "some charts failed; the others are valid")
 
 typedef enum bp_status {
 #define BP__ENUM(name, text) name,
@@ -255,6 +256,11 @@ typedef struct bp_options {
                                      map gives triangle t about importance[t] times
                                      its 3D area (eq 4.1); NULL = 1 everywhere     */
     bp_views      views;          /* visibility-aware maps (chapter 4)         */
+    int           strict;         /* nonzero: a chart that cannot be flattened
+                                     fails the whole call.  Zero (default): it
+                                     is reported in chart.error, the others are
+                                     still solved, and the call returns
+                                     BP_ERR_CHARTS_FAILED with the atlas kept  */
 } bp_options;
 
 /* One chart: a connected piece of the mesh cut along seams.  Chart vertices
@@ -281,6 +287,8 @@ typedef struct bp_chart {
     bp_stop   stop;
     double    seconds;
     int       threads;        /* threads used (0: a user parallel_for)         */
+    bp_error  error;          /* BP_OK, or why this chart has no map (then uv
+                                 is NULL); see bp_options.strict            */
 } bp_chart;
 
 typedef struct bp_atlas {
@@ -290,6 +298,7 @@ typedef struct bp_atlas {
     uint32_t    *corner_chart;    /* chart of each mesh corner               */
     uint32_t    *corner_vertex;   /* chart vertex of each mesh corner        */
     uint32_t     num_split;       /* pinch vertices repaired in all charts   */
+    uint32_t     num_failed;      /* charts without a map (chart.error says why) */
     bp_allocator allocator;
 } bp_atlas;
 
@@ -1506,7 +1515,8 @@ BPDEF bp_status bp_write_obj(const char *path, const bp_mesh *mesh,
     base = (uint32_t *)bp__alloc_array(&a, (size_t)atlas->num_charts + 1, sizeof *base);
     if (!base) return bp__oom(err, "writing the OBJ file");
     base[0] = 0;
-    for (c = 0; c < atlas->num_charts; c++) base[c + 1] = base[c] + atlas->charts[c].num_vertices;
+    for (c = 0; c < atlas->num_charts; c++)
+        base[c + 1] = base[c] + (atlas->charts[c].uv ? atlas->charts[c].num_vertices : 0);
     f = fopen(path, "wb");
     if (!f) {
         bp__free(&a, base);
@@ -1519,9 +1529,8 @@ BPDEF bp_status bp_write_obj(const char *path, const bp_mesh *mesh,
                       mesh->positions[3 * i + 1], mesh->positions[3 * i + 2]) > 0;
     for (c = 0; c < atlas->num_charts && ok; c++) {
         const bp_chart *ch = &atlas->charts[c];
-        for (i = 0; i < ch->num_vertices && ok; i++)
-            ok &= fprintf(f, "vt %.17g %.17g\n", ch->uv ? ch->uv[2 * i] : 0.0,
-                          ch->uv ? ch->uv[2 * i + 1] : 0.0) > 0;
+        for (i = 0; ch->uv && i < ch->num_vertices && ok; i++)
+            ok &= fprintf(f, "vt %.17g %.17g\n", ch->uv[2 * i], ch->uv[2 * i + 1]) > 0;
     }
     for (t = 0; t < mesh->num_triangles && ok; ) {
         uint32_t end = t + 1, k;
@@ -1529,8 +1538,15 @@ BPDEF bp_status bp_write_obj(const char *path, const bp_mesh *mesh,
             while (end < mesh->num_triangles && mesh->triangle_face[end] == mesh->triangle_face[t]) end++;
 #define BP__CORNER(tt, kk) mesh->triangles[3 * (tt) + (kk)] + 1, \
         base[atlas->corner_chart[3 * (tt) + (kk)]] + atlas->corner_vertex[3 * (tt) + (kk)] + 1
-        ok &= fprintf(f, "f %u/%u %u/%u %u/%u", BP__CORNER(t, 0), BP__CORNER(t, 1), BP__CORNER(t, 2)) > 0;
-        for (k = t + 1; k < end && ok; k++) ok &= fprintf(f, " %u/%u", BP__CORNER(k, 2)) > 0;
+        if (!atlas->charts[atlas->corner_chart[3 * t]].uv) {
+            /* a chart that failed has no map: its faces keep their geometry only */
+            ok &= fprintf(f, "f %u %u %u", mesh->triangles[3 * t] + 1, mesh->triangles[3 * t + 1] + 1,
+                          mesh->triangles[3 * t + 2] + 1) > 0;
+            for (k = t + 1; k < end && ok; k++) ok &= fprintf(f, " %u", mesh->triangles[3 * k + 2] + 1) > 0;
+        } else {
+            ok &= fprintf(f, "f %u/%u %u/%u %u/%u", BP__CORNER(t, 0), BP__CORNER(t, 1), BP__CORNER(t, 2)) > 0;
+            for (k = t + 1; k < end && ok; k++) ok &= fprintf(f, " %u/%u", BP__CORNER(k, 2)) > 0;
+        }
 #undef BP__CORNER
         ok &= fputc('\n', f) != EOF;
         t = end;
@@ -1822,6 +1838,22 @@ static bp_status bp__chart_loops(const bp_allocator *a, bp_chart *ch, const bp_m
     return BP_OK;
 }
 
+/* BP_OK when every chart is fine, else BP_ERR_CHARTS_FAILED with a message
+   that counts the failures and quotes the first. */
+static bp_status bp__charts_status(const bp_atlas *atlas, bp_error *err)
+{
+    uint32_t c;
+    if (!atlas->num_failed) return bp__ok(err);
+    for (c = 0; c < atlas->num_charts; c++)
+        if (atlas->charts[c].error.status != BP_OK) {
+            const bp_error *e = &atlas->charts[c].error;
+            return bp__fail(err, BP_ERR_CHARTS_FAILED, BP_ELEMENT_CHART, c, -1, e->line,
+                            "%u of %u charts failed (the others are valid); the first: %s",
+                            atlas->num_failed, atlas->num_charts, e->message);
+        }
+    return bp__ok(err);
+}
+
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
                                const bp_options *opt, bp_error *err)
 {
@@ -2013,22 +2045,30 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
         if (ch->num_loops == 0 || g2 != 0) {
             uint32_t t0 = ch->face[0], nl = ch->num_loops;
             int64_t g = g2 / 2, ntri = ch->num_triangles;
-            bp__build_free(&a, &b);
-            bp_atlas_free(atlas);
             if (g2 == 2 - chi && chi == 2)
-                return bp__fail(err, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
-                                "chart %u (from mesh triangle %u, %D triangles) is a closed surface "
-                                "with no boundary: it cannot be flattened without seams; cut it "
-                                "into disks first (for example with vt seams)", c, t0, ntri);
-            return bp__fail(err, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
-                            "chart %u (from mesh triangle %u) has genus %D and %u boundary loops "
-                            "(Euler characteristic %D): only disks and disks with holes can be "
-                            "flattened; it needs seams that cut it into disks",
-                            c, t0, g, nl, chi);
+                bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
+                         "chart %u (from mesh triangle %u, %D triangles) is a closed surface "
+                         "with no boundary: it cannot be flattened without seams; cut it "
+                         "into disks first (for example with vt seams)", c, t0, ntri);
+            else
+                bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
+                         "chart %u (from mesh triangle %u) has genus %D and %u boundary loops "
+                         "(Euler characteristic %D): only disks and disks with holes can be "
+                         "flattened; it needs seams that cut it into disks",
+                         c, t0, g, nl, chi);
+            if (opt && opt->strict) {
+                if (err) *err = ch->error;
+                bp__build_free(&a, &b);
+                bp_atlas_free(atlas);
+                return BP_ERR_TOPOLOGY;
+            }
+            atlas->num_failed++;
+        } else {
+            bp__ok(&ch->error);
         }
     }
     bp__build_free(&a, &b);
-    return bp__ok(err);
+    return bp__charts_status(atlas, err);
 }
 
 /* >>sparse =================================================================
@@ -2738,6 +2778,10 @@ BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *
     double R, total = 0, acc = 0;
     memset(&A, 0, sizeof A);
     memset(&F, 0, sizeof F);
+    if (ch && ch->error.status != BP_OK) {
+        if (err) *err = ch->error;
+        return ch->error.status;                 /* a chart that cannot be flattened */
+    }
     if (!ch || !m || !ch->num_loops)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                         "bp_chart_init needs a chart from bp_atlas_build and its mesh");
@@ -3911,7 +3955,8 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
     for (c = 0; c < atlas->num_charts; c++) {
         bp_chart *ch = &atlas->charts[c];
         double mn[2] = { DBL_MAX, DBL_MAX }, mx[2] = { -DBL_MAX, -DBL_MAX };
-        for (i = 0; i < ch->num_vertices; i++) {
+        if (!ch->uv) { mn[0] = mn[1] = mx[0] = mx[1] = 0; }   /* no map: takes no room */
+        for (i = 0; ch->uv && i < ch->num_vertices; i++) {
             int k;
             for (k = 0; k < 2; k++) {
                 if (ch->uv[2 * i + k] < mn[k]) mn[k] = ch->uv[2 * i + k];
@@ -3941,6 +3986,7 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
     if (opt && opt->normalize && W > 0 && H > 0) s = 1 / (W > H ? W : H);
     for (i = 0; i < atlas->num_charts; i++) {
         c = bx[i].chart;
+        if (!atlas->charts[c].uv) continue;
         if (bp__move_chart(&a, &atlas->charts[c], lo + 2 * (size_t)c, s, s * bx[i].ox, s * bx[i].oy) != BP_OK) {
             bp__free(&a, bx); bp__free(&a, lo);
             return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
@@ -3966,7 +4012,12 @@ typedef struct bp__chart_job {
 static void bp__chart_task(void *task, uint32_t c)
 {
     bp__chart_job *J = (bp__chart_job *)task;
-    bp_status st = bp_chart_init(&J->atlas->charts[c], J->m, J->opt, &J->errs[c]);
+    bp_status st;
+    if (J->atlas->charts[c].error.status != BP_OK) {   /* failed in bp_atlas_build */
+        J->status[c] = BP_OK;
+        return;
+    }
+    st = bp_chart_init(&J->atlas->charts[c], J->m, J->opt, &J->errs[c]);
     if (st == BP_OK && !(J->opt && J->opt->init_only))
         st = bp__chart_optimize(&J->atlas->charts[c], c, J->m, J->opt, J->inner, &J->errs[c]);
     J->status[c] = st;
@@ -3987,7 +4038,8 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     uint32_t c, largest = 0;
     bp_options local;
     double *imp = NULL;
-    if ((st = bp_atlas_build(atlas, m, opt, err)) != BP_OK) return st;
+    st = bp_atlas_build(atlas, m, opt, err);
+    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) return st;
     a = atlas->allocator;
     if (opt && opt->views.model != BP_VIEW_NONE && !opt->init_only) {
         /* chapter 4: visibility (times the user's importance) drives eq 4.1 */
@@ -4023,21 +4075,31 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
         bp__serial_for(NULL, bp__chart_task, &J, atlas->num_charts);
     }
     bp__par_end(&a, pool);
-    /* the first failure (by chart index) decides; a cancelled chart keeps
-       its last valid map and so does the atlas */
+    /* Out of memory and (in strict mode) any failure end the call; a
+       cancelled chart keeps its last valid map and so does the atlas;
+       otherwise a chart that failed is reported in its `error`, loses its
+       map, and the others go on. */
     st = BP_OK;
-    for (c = 0; c < atlas->num_charts && st == BP_OK; c++)
-        if (J.status[c] != BP_OK) {
-            st = J.status[c];
+    for (c = 0; c < atlas->num_charts && st == BP_OK; c++) {
+        bp_status cs = J.status[c];
+        if (cs == BP_OK) continue;
+        if (cs == BP_ERR_OUT_OF_MEMORY || cs == BP_ERR_CANCELLED || (opt && opt->strict)) {
+            st = cs;
             if (err) *err = J.errs[c];
+        } else {
+            atlas->charts[c].error = J.errs[c];
+            bp__free(&a, atlas->charts[c].uv);
+            atlas->charts[c].uv = NULL;
+            atlas->num_failed++;
         }
+    }
     bp__free(&a, J.status);
     bp__free(&a, J.errs);
     bp__free(&a, imp);
     if (st == BP_ERR_CANCELLED) { bp_atlas_pack(atlas, opt, NULL); return st; }
     if (st == BP_OK) st = bp_atlas_pack(atlas, opt, err);
-    if (st != BP_OK) bp_atlas_free(atlas);
-    return st;
+    if (st != BP_OK) { bp_atlas_free(atlas); return st; }
+    return bp__charts_status(atlas, err);
 }
 
 /* >>bvh ====================================================================
