@@ -65,6 +65,10 @@
    - The library keeps no global state, never prints, never exits.  Every
      allocation goes through the allocator in bp_options (or the one passed
      to the I/O functions); NULL means BP_MALLOC/BP_FREE.
+   - Use the same allocator (bp_options.allocator) for every call on one
+     atlas.  When charts are solved in parallel, the allocator and the
+     progress callback are called from several threads at once; cancelling
+     one chart (progress returns nonzero) does not stop the others.
    - Structures whose fields say "0 = default" may be zero-initialized
      (memset, `= {0}` in C, `= {}` in C++).  After a failed call that fills
      a bp_mesh or bp_atlas, the structure is zeroed and safe to free.
@@ -308,9 +312,13 @@ typedef struct bp_check_report {
     uint32_t degenerate;           /* signed area == 0 (exact)                */
     uint32_t nonfinite;            /* a uv coordinate is NaN/Inf              */
     uint32_t boundary_intersections; /* pairs of boundary edges that meet     */
+    uint32_t loop_orientation;     /* connected pieces without exactly one
+                                      counter-clockwise boundary loop, plus
+                                      pinched boundary vertices               */
+    uint32_t nested;               /* pieces lying inside another piece      */
     int64_t  first_bad_triangle;   /* chart-local triangle, or -1             */
-    int64_t  first_bad_edge[2];    /* boundary edge pair (indices into the edge
-                                      list, as chart vertex of its start), or -1 */
+    int64_t  first_bad_edge[2];    /* start vertices of the first pair of
+                                      boundary edges that meet, or -1         */
 } bp_check_report;
 
 BPDEF const char *bp_status_string(bp_status s);
@@ -334,9 +342,12 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *mesh,
                                 const bp_options *opt, bp_error *err);
 BPDEF void      bp_atlas_free(bp_atlas *atlas);
 
-/* Exact validity of a planar triangulation: every triangle positively
-   oriented and no two boundary edges meeting except consecutive ones at their
-   shared vertex.  Boundary edges are found from the triangles themselves. */
+/* Exact bijectivity of a planar triangulation (one chart or several): every
+   triangle positively oriented, no two boundary edges meeting except
+   consecutive ones at their shared vertex, each connected piece bounded by
+   exactly one counter-clockwise loop, and no piece inside another.
+   Boundary edges are found from the triangles themselves, which must form
+   an oriented manifold (as charts do). */
 BPDEF bp_status bp_check(const uint32_t *triangles, uint32_t num_triangles,
                          const double *uv, uint32_t num_vertices,
                          const bp_allocator *alloc, bp_check_report *report);
@@ -2094,7 +2105,8 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
       is the LDL^T (square-root free Cholesky) factorization.  Both systems
       solved here -- the uniform Laplacian (SPD) and the mean-value one
       (diagonally dominant M-matrix) -- are stable without pivoting.
-   One step of iterative refinement follows every solve. */
+   The start map's solves are followed by one step of iterative refinement;
+   the preconditioner's (which only shapes a search direction) are not. */
 
 typedef struct bp__sparse {       /* n x n, compressed columns            */
     uint32_t n;
@@ -2646,6 +2658,133 @@ static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv,
     return BP_OK;
 }
 
+/* Winding number of the closed loop e[0..n) (directed edges) around p,
+   exact (Sunday's crossing rule with orient2d); p must not lie on it. */
+static int bp__winding(const double *uv, const bp__dedge *e, uint32_t n, const double *p)
+{
+    int w = 0;
+    uint32_t i;
+    for (i = 0; i < n; i++) {
+        const double *a = uv + 2 * (size_t)e[i].a, *b = uv + 2 * (size_t)e[i].b;
+        if (a[1] <= p[1]) {
+            if (b[1] > p[1] && bp_orient2d(a, b, p) > 0) w++;
+        } else if (b[1] <= p[1] && bp_orient2d(a, b, p) < 0) {
+            w--;
+        }
+    }
+    return w;
+}
+
+/* The global part of the check, once triangles and boundary edges are
+   known to be fine.  Why it is needed: positive triangles and simple,
+   disjoint loops give each point p a number of preimages equal to the sum
+   of the loops' winding numbers around p.  That sum is at most one
+   everywhere exactly when each connected piece has one counter-clockwise
+   loop (its outer boundary; the others, holes, run clockwise) and no piece
+   lies in the region covered by another.  Two nested components, or a hole
+   loop running counter-clockwise around a doubly covered region, pass the
+   local tests and fail these. */
+static bp_status bp__loop_topology(const bp_allocator *a, const uint32_t *tris, uint32_t nt, const double *uv,
+                                   uint32_t nv, bp__dedge *de, uint32_t nb, bp_check_report *rep)
+{
+    uint32_t *out = NULL, *uf = NULL, *loop_of = NULL, *ccw_count = NULL, *outer = NULL, *lstart = NULL;
+    bp__dedge *le = NULL;
+    int *lsign = NULL;
+    double *lbox = NULL;
+    uint32_t i, t, k, nl = 0, pos = 0;
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    out = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
+    uf = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
+    loop_of = (uint32_t *)bp__alloc_array(a, nb, sizeof(uint32_t));
+    le = (bp__dedge *)bp__alloc_array(a, nb, sizeof(bp__dedge));
+    lstart = (uint32_t *)bp__alloc_array(a, (size_t)nb + 1, sizeof(uint32_t));
+    if (!out || !uf || !loop_of || !le || !lstart) goto done;
+    for (i = 0; i < nv; i++) { out[i] = BP__NONE; uf[i] = i; }
+    for (i = 0; i < nb; i++) {
+        if (out[de[i].a] != BP__NONE) rep->loop_orientation++;    /* pinched vertex */
+        out[de[i].a] = i;
+        loop_of[i] = BP__NONE;
+    }
+    if (rep->loop_orientation) { st = BP_OK; goto done; }
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) bp__uf_union(uf, tris[3 * (size_t)t + k], tris[3 * (size_t)t + (k + 1) % 3]);
+    /* trace the loops into le[] (consecutive edges), lstart[] per loop */
+    for (i = 0; i < nb; i++) {
+        uint32_t e = i;
+        if (loop_of[i] != BP__NONE) continue;
+        lstart[nl] = pos;
+        while (loop_of[e] == BP__NONE) {
+            loop_of[e] = nl;
+            le[pos++] = de[e];
+            e = out[de[e].b];
+            if (e == BP__NONE) { rep->loop_orientation++; st = BP_OK; goto done; }   /* open chain */
+        }
+        nl++;
+    }
+    lstart[nl] = pos;
+    lsign = (int *)bp__alloc_array(a, nl, sizeof(int));
+    lbox = (double *)bp__alloc_array(a, 4 * (size_t)nl, sizeof(double));
+    ccw_count = (uint32_t *)bp__calloc_array(a, nv, sizeof(uint32_t));
+    outer = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
+    if (!lsign || !lbox || !ccw_count || !outer) goto done;
+    /* orientation of each loop: the sign of the turn at its lowest-leftmost
+       vertex, which is convex in a simple polygon */
+    for (i = 0; i < nl; i++) {
+        uint32_t j, best = lstart[i], n = lstart[i + 1] - lstart[i], root;
+        double *bx = lbox + 4 * (size_t)i;
+        bx[0] = bx[1] = DBL_MAX; bx[2] = bx[3] = -DBL_MAX;
+        for (j = lstart[i]; j < lstart[i + 1]; j++) {
+            const double *p = uv + 2 * (size_t)le[j].a, *q = uv + 2 * (size_t)le[best].a;
+            if (p[0] < q[0] || (p[0] == q[0] && p[1] < q[1])) best = j;
+            if (p[0] < bx[0]) bx[0] = p[0];
+            if (p[1] < bx[1]) bx[1] = p[1];
+            if (p[0] > bx[2]) bx[2] = p[0];
+            if (p[1] > bx[3]) bx[3] = p[1];
+        }
+        {
+            uint32_t prev = best == lstart[i] ? lstart[i] + n - 1 : best - 1;
+            lsign[i] = bp_orient2d(uv + 2 * (size_t)le[prev].a, uv + 2 * (size_t)le[best].a, uv + 2 * (size_t)le[best].b);
+        }
+        root = bp__uf_find(uf, le[lstart[i]].a);
+        if (lsign[i] > 0) ccw_count[root]++;
+    }
+    /* each piece with a boundary: exactly one counter-clockwise loop
+       (outer[] is reused as a "piece already counted" mark) */
+    for (i = 0; i < nv; i++) outer[i] = 0;
+    for (i = 0; i < nl; i++) {
+        uint32_t root = bp__uf_find(uf, le[lstart[i]].a);
+        if (!outer[root] && ccw_count[root] != 1) rep->loop_orientation++;
+        outer[root] = 1;
+    }
+    if (rep->loop_orientation) { st = BP_OK; goto done; }
+    /* nesting: a vertex of each piece's outer loop must not be covered by
+       another piece (sum of that piece's loop windings) */
+    for (i = 0; i < nl; i++) {
+        uint32_t rb, j;
+        const double *p;
+        if (lsign[i] <= 0) continue;
+        rb = bp__uf_find(uf, le[lstart[i]].a);
+        p = uv + 2 * (size_t)le[lstart[i]].a;
+        for (j = 0; j < nl; j++) {
+            const double *bx = lbox + 4 * (size_t)j;
+            uint32_t ra, l;
+            int w = 0;
+            if (lsign[j] <= 0 || j == i) continue;
+            ra = bp__uf_find(uf, le[lstart[j]].a);
+            if (ra == rb || p[0] < bx[0] || p[0] > bx[2] || p[1] < bx[1] || p[1] > bx[3]) continue;
+            for (l = 0; l < nl; l++)
+                if (bp__uf_find(uf, le[lstart[l]].a) == ra)
+                    w += bp__winding(uv, le + lstart[l], lstart[l + 1] - lstart[l], p);
+            if (w > 0) rep->nested++;
+        }
+    }
+    st = BP_OK;
+done:
+    bp__free(a, out); bp__free(a, uf); bp__free(a, loop_of); bp__free(a, le); bp__free(a, lstart);
+    bp__free(a, lsign); bp__free(a, lbox); bp__free(a, ccw_count); bp__free(a, outer);
+    return st;
+}
+
 BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
                          const bp_allocator *alloc, bp_check_report *rep)
 {
@@ -2698,6 +2837,8 @@ BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, ui
     }
     {
         bp_status st = bp__boundary_conflicts(&a, uv, de, nb, rep);
+        if (st == BP_OK && !rep->flipped && !rep->degenerate && !rep->boundary_intersections)
+            st = bp__loop_topology(&a, tris, nt, uv, nv, de, nb, rep);
         bp__free(&a, de);
         return st;
     }
@@ -2705,7 +2846,8 @@ BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, ui
 
 static int bp__report_valid(const bp_check_report *r)
 {
-    return !r->flipped && !r->degenerate && !r->nonfinite && !r->boundary_intersections;
+    return !r->flipped && !r->degenerate && !r->nonfinite && !r->boundary_intersections &&
+           !r->loop_orientation && !r->nested;
 }
 
 /* >>tutte ==================================================================
@@ -3495,9 +3637,11 @@ static bp_status bp__chart_valid(bp__solver *S, const double *x, bp__dedge *edge
    which ignores the mesh: a gradient step moves one vertex without its
    neighbours, and thousands of iterations pass before the map relaxes.  A
    better H0 is the inverse of the cotangent Laplacian K of the rest shape,
-   the Hessian of the Dirichlet energy sum A_t |J_t|^2 (up to a factor 2),
-   which the symmetric Dirichlet energy approaches near an isometry: it
-   moves whole neighbourhoods together.  The same idea drives the blended
+   the Hessian of the Dirichlet energy sum A_t |J_t|^2 (up to a factor 2).
+   It is not the Hessian of the symmetric Dirichlet energy (near an isometry
+   that is about 4 K on stretches and 0 on rotations, see docs/math.md), but
+   it has the mesh's structure: K^-1 moves whole neighbourhoods together,
+   and the scale sigma below absorbs the constant.  The same idea drives the blended
    quasi-Newton method of Zhu et al. (2018).  K is factored once per chart
    with the sparse LDL^T above (regularized by 1e-8 of its mean diagonal,
    since a free map can translate), and H0 = K^-1 / sigma with the scale
@@ -3617,11 +3761,11 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     if (!ch || !m || !ch->uv || !ch->num_loops)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart_index, -1, 0,
                         "bp_chart_optimize needs a chart with a start map (bp_chart_init)");
+    if ((int)o.energy < 0 || (int)o.energy >= (int)BP_ENERGY_COUNT)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)o.energy);
     if (runner) par = *runner;
     else par = bp__par_begin(&a, opt, &pool);
     ch->threads = par.threads;
-    if ((int)o.energy < 0 || (int)o.energy >= (int)BP_ENERGY_COUNT)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)o.energy);
     hist = o.history > 0 ? o.history : 5;
     if (o.direction == BP_DIRECTION_GRADIENT) hist = 0;
     if (o.max_iterations <= 0) o.max_iterations = 10000;
@@ -3865,7 +4009,7 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
 {
     uint32_t t;
     double sum = 0, area = 0, emax = 0;
-    if (!ch || !m || !ch->uv) return BP_ERR_INVALID_ARGUMENT;
+    if (!ch || !m || !ch->uv || (int)energy < 0 || (int)energy >= (int)BP_ENERGY_COUNT) return BP_ERR_INVALID_ARGUMENT;
     for (t = 0; t < ch->num_triangles; t++) {
         const uint32_t *tr = ch->triangles + 3 * (size_t)t;
         bp__rest r;
@@ -3987,8 +4131,10 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
     for (i = 0; i < atlas->num_charts; i++) {
         c = bx[i].chart;
         if (!atlas->charts[c].uv) continue;
-        if (bp__move_chart(&a, &atlas->charts[c], lo + 2 * (size_t)c, s, s * bx[i].ox, s * bx[i].oy) != BP_OK) {
+        bp_status ms = bp__move_chart(&a, &atlas->charts[c], lo + 2 * (size_t)c, s, s * bx[i].ox, s * bx[i].oy);
+        if (ms != BP_OK) {
             bp__free(&a, bx); bp__free(&a, lo);
+            if (ms == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "packing charts");
             return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
                             "chart %u: placing it in the atlas would break its validity in floating point", c);
         }
@@ -3996,6 +4142,45 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
     bp__free(&a, bx);
     bp__free(&a, lo);
     return bp__ok(err);
+}
+
+/* The last word before success: the whole atlas -- every mapped chart, in
+   its packed place -- passes the exact check as one triangulation, which
+   also proves that no two charts overlap.  This should never fail (every
+   step was checked); if it does, the caller gets BP_ERR_NOT_BIJECTIVE, not
+   a wrong map. */
+static bp_status bp__atlas_verify(const bp_atlas *atlas, bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
+    uint32_t c, nt = 0, nv = 0, t, i, *tri, ov = 0, ot = 0;
+    double *uv;
+    bp_check_report rep;
+    bp_status st;
+    for (c = 0; c < atlas->num_charts; c++)
+        if (atlas->charts[c].uv) { nt += atlas->charts[c].num_triangles; nv += atlas->charts[c].num_vertices; }
+    if (!nt) return BP_OK;
+    tri = (uint32_t *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof(uint32_t));
+    uv = (double *)bp__alloc_array(&a, 2 * (size_t)nv, sizeof(double));
+    if (!tri || !uv) { bp__free(&a, tri); bp__free(&a, uv); return bp__oom(err, "verifying the atlas"); }
+    for (c = 0; c < atlas->num_charts; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        if (!ch->uv) continue;
+        for (t = 0; t < 3 * ch->num_triangles; t++) tri[3 * (size_t)ot + t] = ch->triangles[t] + ov;
+        for (i = 0; i < 2 * ch->num_vertices; i++) uv[2 * (size_t)ov + i] = ch->uv[i];
+        ot += ch->num_triangles;
+        ov += ch->num_vertices;
+    }
+    st = bp_check(tri, nt, uv, nv, &a, &rep);
+    bp__free(&a, tri);
+    bp__free(&a, uv);
+    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "verifying the atlas");
+    if (st != BP_OK) return bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "verifying the atlas failed");
+    if (!bp__report_valid(&rep))
+        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
+                        "the final atlas is not bijective (%u flipped, %u degenerate, %u boundary "
+                        "intersections, %u loop-orientation and %u nesting problems): this is a bug",
+                        rep.flipped, rep.degenerate, rep.boundary_intersections, rep.loop_orientation, rep.nested);
+    return BP_OK;
 }
 
 /* One chart, start map and optimization: the unit of work when charts are
@@ -4098,6 +4283,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     bp__free(&a, imp);
     if (st == BP_ERR_CANCELLED) { bp_atlas_pack(atlas, opt, NULL); return st; }
     if (st == BP_OK) st = bp_atlas_pack(atlas, opt, err);
+    if (st == BP_OK && !(opt && opt->no_barrier)) st = bp__atlas_verify(atlas, err);
     if (st != BP_OK) { bp_atlas_free(atlas); return st; }
     return bp__charts_status(atlas, err);
 }
@@ -4501,7 +4687,8 @@ static void bp__vis_task_run(void *task, uint32_t chunk)
             double p[3], r[3], c;
             bp__vis_sample(T, t, s, &rng, p, r);
             c = n[0] * r[0] + n[1] * r[1] + n[2] * r[2];
-            if (c <= 0 || bp__bvh_occluded(T->bvh, p, r, T->tmin, HUGE_VAL, t)) continue;
+            if (c <= 0 || (T->uv_area && !(T->uv_area[t] > 0))) continue;   /* no map here */
+            if (bp__bvh_occluded(T->bvh, p, r, T->tmin, HUGE_VAL, t)) continue;
             if (T->uv_area) {          /* det of texture -> screen: c A3 / A_uv */
                 double a3 = 0.5 * bp__area2_3d(bp__pos(T->m, T->m->triangles[3 * (size_t)t]),
                                                bp__pos(T->m, T->m->triangles[3 * (size_t)t + 1]),
@@ -4597,9 +4784,10 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
     uv_area = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
     sums = (double *)bp__alloc_array(&a, 2 * (size_t)m->num_triangles, sizeof(double));
     if (!uv_area || !sums) { bp__free(&a, uv_area); bp__free(&a, sums); return bp__oom(err, "measuring texel density"); }
+    for (t = 0; t < m->num_triangles; t++) uv_area[t] = 0;
     for (c = 0; c < atlas->num_charts; c++) {
         const bp_chart *ch = &atlas->charts[c];
-        for (t = 0; t < ch->num_triangles; t++) {
+        for (t = 0; ch->uv && t < ch->num_triangles; t++) {
             const uint32_t *tr = ch->triangles + 3 * (size_t)t;
             const double *p = ch->uv + 2 * (size_t)tr[0], *q = ch->uv + 2 * (size_t)tr[1], *r = ch->uv + 2 * (size_t)tr[2];
             uv_area[ch->face[t]] = 0.5 * fabs((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
@@ -4611,6 +4799,10 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
         auv += uv_area[t];
     }
     /* same total texture area as surface area (sec 4.2: fair comparison) */
+    if (!(auv > 0)) {
+        bp__free(&a, uv_area); bp__free(&a, sums);
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "the atlas has no mapped triangles");
+    }
     for (t = 0; t < m->num_triangles; t++) uv_area[t] *= a3 / auv;
     st = bp__vis_run(m, opt, uv_area, sums, err);
     if (st == BP_OK) {
@@ -4630,3 +4822,29 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
 }
 
 #endif /* BP_IMPLEMENTATION */
+
+/*
+   ------------------------------------------------------------------------------
+   MIT License
+
+   Copyright (c) 2026 the bijparam authors
+
+   Permission is hereby granted, free of charge, to any person obtaining a copy
+   of this software and associated documentation files (the "Software"), to deal
+   in the Software without restriction, including without limitation the rights
+   to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+   copies of the Software, and to permit persons to whom the Software is
+   furnished to do so, subject to the following conditions:
+
+   The above copyright notice and this permission notice shall be included in
+   all copies or substantial portions of the Software.
+
+   THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+   IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+   FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+   AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+   LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+   OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+   SOFTWARE.
+   ------------------------------------------------------------------------------
+*/
