@@ -1,0 +1,319 @@
+#!/usr/bin/env python3
+"""bench/bench.py - the body of `make bench` (bench/run.sh calls it).
+
+For every mesh in tests/data, and the larger meshes in ../shared/meshes when
+that folder is present, run
+
+    build/bijparam MESH -o OUT --json --trace TRACE
+
+BENCH_RUNS times (default 3) and record, per mesh:
+
+  V, F            as stored in the file
+  charts, loops   from the tool's JSON (loops summed over the charts)
+  iterations      summed over the charts
+  seconds         median wall time of the runs (the whole process: read,
+                  charts, start map, optimization, packing, writing)
+  opt_seconds     median of the tool's own "optimize" timing
+  E mean / max    final symmetric Dirichlet energy of the atlas: mean weighted
+                  by 3D area and the worst triangle, as the independent
+                  checker measures them (the tool's own numbers are in the JSON
+                  as tool_energy_mean / tool_energy_max)
+  bijective       python3 ../shared/tools/uvcheck.py --compact OUT MESH exits 0
+  B/face          peak resident memory per face (the tool's bytes_per_face),
+                  median of the runs
+  t1.01, t1.001   from the trace: seconds since the tool started until the
+                  mean energy first came within 1.01x (1.001x) of its final
+                  value; with several charts, of every chart (the charts are
+                  solved one after another, so this is the last chart's time)
+
+Meshes that must be rejected (fertility, torus_with_holes) are run once and
+shown as "rejected" with the tool's message; any other failure is shown too.
+
+For every mesh above BENCH_THREADS_MIN_FACES faces (default 20000) it also
+runs --threads 1 and --threads 2 (BENCH_RUNS times each) and reports the
+medians and the speed-up t(1)/t(2).  When the default run already used
+exactly 2 threads (the tool's JSON says "threads":2, i.e. a 2-core machine),
+those runs are reused as the --threads 2 measurement instead of repeating
+them.  "same" says whether 1 and 2 threads gave bit-identical energies.
+
+Environment:
+  BENCH_QUICK=1        only tests/data (runs default to 1); threads on camelhead
+  BENCH_RUNS=N         runs per configuration (default 3, quick: 1)
+  BENCH_TIMEOUT=S      per-run time limit in seconds (default 600)
+  BENCH_THREADS_MIN_FACES=N   (default 20000)
+  BENCH_MESHES="a b"   only these mesh file names (e.g. "camel_b.obj cow_param_withSUV.obj")
+  BENCH_OUT=DIR        keep outputs, traces and bench.jsonl there
+                       (default build/bench)
+
+Output: progress on stderr (one JSON line per mesh as it finishes), then on
+stdout a table, a thread table and one JSON line per mesh.  The bench never
+asserts times: it records them.  Exit status 0 unless the tool is missing.
+"""
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+TOOL = os.path.join(ROOT, "build", "bijparam")
+SHARED = os.path.join(ROOT, "..", "shared")
+UVCHECK = os.path.join(SHARED, "tools", "uvcheck.py")
+LARGE = ["hilbert.obj", "beetle.off", "horse_cut.obj", "lucy_o_f48275.obj",
+         "face.obj", "bimba_i.obj"]
+MUST_REJECT = {"fertility.off", "torus_with_holes.obj"}
+
+
+def env_int(name, default):
+    v = os.environ.get(name, "")
+    return int(v) if v.strip() else default
+
+
+QUICK = os.environ.get("BENCH_QUICK", "") not in ("", "0")
+RUNS = max(1, env_int("BENCH_RUNS", 1 if QUICK else 3))
+TIMEOUT = env_int("BENCH_TIMEOUT", 600)
+THREADS_MIN_FACES = env_int("BENCH_THREADS_MIN_FACES", 20000)
+OUT = os.environ.get("BENCH_OUT") or os.path.join(ROOT, "build", "bench")
+
+
+def count_vf(path):
+    """V and F as stored in the file (OFF header, or OBJ v/f lines)."""
+    with open(path, "rb") as f:
+        data = f.read().decode("ascii", "replace")
+    if path.lower().endswith(".off"):
+        words = [w for line in data.splitlines() for w in line.split("#")[0].split()]
+        return int(words[1]), int(words[2])
+    lines = data.splitlines()
+    return (sum(1 for l in lines if l.startswith("v ")),
+            sum(1 for l in lines if l.startswith("f ")))
+
+
+def read_trace(path):
+    """{chart: [(seconds, mean energy), ...]} from a --trace file."""
+    charts = {}
+    try:
+        with open(path) as f:
+            for line in f:
+                w = line.split()
+                if len(w) >= 4:
+                    charts.setdefault(int(w[0]), []).append((float(w[2]), float(w[3])))
+    except OSError:
+        pass
+    return charts
+
+
+def time_to(charts, factor):
+    """Seconds until every chart's energy first came within factor x its final value."""
+    worst = None
+    for pts in charts.values():
+        final = pts[-1][1]
+        hit = next((t for t, e in pts if e <= factor * final), pts[-1][0])
+        worst = hit if worst is None else max(worst, hit)
+    return worst
+
+
+def run_tool(mesh, out, trace, extra=()):
+    """One run: (exit code, wall seconds, JSON report or None, stderr text)."""
+    for p in (out, trace):
+        if os.path.exists(p):
+            os.remove(p)
+    cmd = [TOOL, mesh, "-o", out, "--json", "--trace", trace] + list(extra)
+    t0 = time.perf_counter()
+    try:
+        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                           timeout=TIMEOUT)
+        rc, so, se = p.returncode, p.stdout.decode(errors="replace"), p.stderr.decode(errors="replace")
+    except subprocess.TimeoutExpired:
+        rc, so, se = 124, "", "timed out after %d s" % TIMEOUT
+    wall = time.perf_counter() - t0
+    rep = None
+    lines = so.strip().splitlines()
+    if lines:
+        try:
+            rep = json.loads(lines[-1])
+        except ValueError:
+            rep = None
+    return rc, wall, rep, se.strip()
+
+
+def med(xs):
+    xs = [x for x in xs if x is not None]
+    return statistics.median(xs) if xs else None
+
+
+def measure(mesh, tag, extra, runs):
+    """Run a configuration `runs` times (stops at the first failure)."""
+    base = os.path.join(OUT, os.path.basename(mesh) + tag)
+    out, trace = base + ".out.obj", base + ".trace"
+    walls, opts, bpf, t101, t1001, reps = [], [], [], [], [], []
+    rc, se, failed = 0, "", None
+    for _ in range(runs):
+        rc, wall, rep, se = run_tool(mesh, out, trace, extra)
+        if rc != 0 or rep is None:
+            failed = rep
+            break
+        walls.append(wall)
+        reps.append(rep)
+        opts.append(rep.get("timings", {}).get("optimize"))
+        bpf.append(rep.get("bytes_per_face"))
+        tr = read_trace(trace)
+        t101.append(time_to(tr, 1.01))
+        t1001.append(time_to(tr, 1.001))
+    return {"rc": rc, "stderr": se, "rep": reps[-1] if reps else failed, "out": out,
+            "walls": walls, "opt": med(opts), "bpf": med(bpf),
+            "t101": med(t101), "t1001": med(t1001)}
+
+
+def uvcheck(out, mesh):
+    if not os.path.isfile(UVCHECK) or not os.path.isfile(out):
+        return None, None
+    try:
+        p = subprocess.run([sys.executable, UVCHECK, "--compact", out, mesh],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=TIMEOUT)
+        d = json.loads(p.stdout.decode())
+        return p.returncode, d
+    except Exception:
+        return -1, None
+
+
+def rnd(x, n=4):
+    return None if x is None else round(x, n)
+
+
+def bench_mesh(mesh):
+    name = os.path.basename(mesh)
+    V, F = count_vf(mesh)
+    row = {"mesh": name, "V": V, "F": F}
+    m = measure(mesh, "", [], 1 if name in MUST_REJECT else RUNS)
+    rep = m["rep"]
+    if m["rc"] != 0 or rep is None:
+        msg = (rep or {}).get("error") or m["stderr"] or "exit %d" % m["rc"]
+        row.update({"status": "rejected" if m["rc"] == 1 else "failed",
+                    "exit": m["rc"], "error": msg,
+                    "expected_rejection": name in MUST_REJECT})
+        return row
+    pc = rep.get("per_chart", [])
+    faces = sum(c["faces"] for c in pc) or 1
+    row.update({
+        "status": "ok", "exit": 0,
+        "charts": rep.get("charts"),
+        "loops": sum(len(c.get("loops", [])) for c in pc),
+        "iterations": sum(c.get("iterations", 0) for c in pc),
+        "stop": sorted({c.get("stop") for c in pc}),
+        "runs": len(m["walls"]),
+        "seconds": rnd(med(m["walls"])),
+        "seconds_all": [rnd(w) for w in m["walls"]],
+        "opt_seconds": rnd(m["opt"]),
+        "tool_energy_mean": rnd(sum(c["energy_end"] * c["faces"] for c in pc) / faces, 6),
+        "tool_energy_max": rnd(max(c["energy_max"] for c in pc), 6),
+        "threads": rep.get("threads"),
+        "bytes_per_face": rnd(m["bpf"], 1),
+        "t_1.01": rnd(m["t101"]), "t_1.001": rnd(m["t1001"]),
+    })
+    code, d = uvcheck(m["out"], mesh)
+    if code is None:
+        row["bijective"] = None
+    else:
+        row["bijective"] = code == 0
+        if d:
+            sd = d.get("distortion", {}).get("symmetric_dirichlet", {})
+            v = d.get("validity", {})
+            row["energy_mean"] = rnd(sd.get("mean"), 6)
+            row["energy_max"] = rnd(sd.get("max"), 6)
+            row["uvcheck_boundary_intersections"] = v.get("boundary_self_intersections")
+            row["uvcheck_flipped"] = v.get("flipped_triangles")
+            if code != 0:
+                row["uvcheck_reasons"] = d.get("verdict", {}).get("reasons")
+    if "energy_mean" not in row:
+        row["energy_mean"], row["energy_max"] = row["tool_energy_mean"], row["tool_energy_max"]
+    # threads 1 vs 2 on the larger charts
+    if F > THREADS_MIN_FACES:
+        t1 = measure(mesh, ".t1", ["--threads", "1"], RUNS)
+        if rep.get("threads") == 2:
+            t2, reused = m, True
+        else:
+            t2, reused = measure(mesh, ".t2", ["--threads", "2"], RUNS), False
+        s1, s2 = med(t1["walls"]), med(t2["walls"])
+        same = None
+        if t1["rep"] and t2["rep"]:
+            same = ([c["energy_end"] for c in t1["rep"]["per_chart"]] ==
+                    [c["energy_end"] for c in t2["rep"]["per_chart"]])
+        row["threads_cmp"] = {
+            "t1_seconds": rnd(s1), "t2_seconds": rnd(s2),
+            "t1_all": [rnd(w) for w in t1["walls"]], "t2_all": [rnd(w) for w in t2["walls"]],
+            "t1_opt": rnd(t1["opt"]), "t2_opt": rnd(t2["opt"]),
+            "speedup": rnd(s1 / s2, 3) if s1 and s2 else None,
+            "speedup_opt": rnd(t1["opt"] / t2["opt"], 3) if t1["opt"] and t2["opt"] else None,
+            "t1_bytes_per_face": rnd(t1["bpf"], 1), "t2_bytes_per_face": rnd(t2["bpf"], 1),
+            "t2_reused_default_runs": reused, "same_result": same,
+            "t1_exit": t1["rc"], "t2_exit": t2["rc"]}
+    return row
+
+
+def fmt(x, spec):
+    return "-" if x is None else spec % x
+
+
+def main():
+    if not os.access(TOOL, os.X_OK):
+        print("bench: %s missing: run 'make' first" % TOOL, file=sys.stderr)
+        return 1
+    os.makedirs(OUT, exist_ok=True)
+    data = os.path.join(ROOT, "tests", "data")
+    meshes = sorted(os.path.join(data, f) for f in os.listdir(data)
+                    if f.endswith((".obj", ".off")))
+    if not QUICK:
+        for f in LARGE:
+            p = os.path.join(SHARED, "meshes", f)
+            if os.path.isfile(p):
+                meshes.append(p)
+    only = os.environ.get("BENCH_MESHES", "").split()
+    if only:
+        meshes = [m for m in meshes if os.path.basename(m) in only]
+    rows = []
+    t_start = time.perf_counter()
+    for mesh in meshes:
+        row = bench_mesh(mesh)
+        rows.append(row)
+        print(json.dumps(row), file=sys.stderr, flush=True)
+    with open(os.path.join(OUT, "bench.jsonl"), "w") as f:
+        for r in rows:
+            f.write(json.dumps(r) + "\n")
+
+    print("bench: %s, %d run(s) per configuration, %.0f s in all%s" % (
+        time.strftime("%Y-%m-%d %H:%M"), RUNS, time.perf_counter() - t_start,
+        " (BENCH_QUICK)" if QUICK else ""))
+    print()
+    h = "%-22s %6s %6s %3s %3s %6s %8s %8s %8s %4s %6s %7s %7s"
+    print(h % ("mesh", "V", "F", "ch", "lp", "iters", "median s", "E mean", "E max",
+               "bij", "B/face", "t1.01", "t1.001"))
+    for r in rows:
+        if r["status"] != "ok":
+            print("%-22s %6d %6d  %s: %s" % (r["mesh"], r["V"], r["F"], r["status"], r["error"]))
+            continue
+        bij = {True: "yes", False: "NO", None: "-"}[r["bijective"]]
+        print(h % (r["mesh"], r["V"], r["F"], r["charts"], r["loops"], r["iterations"],
+                   fmt(r["seconds"], "%.3f"), fmt(r["energy_mean"], "%.4f"),
+                   fmt(r["energy_max"], "%.3f"), bij, fmt(r["bytes_per_face"], "%.0f"),
+                   fmt(r["t_1.01"], "%.3f"), fmt(r["t_1.001"], "%.3f")))
+    th = [r for r in rows if "threads_cmp" in r]
+    if th:
+        print()
+        h2 = "%-22s %6s %9s %9s %8s %8s %6s"
+        print(h2 % ("threads (F>%d)" % THREADS_MIN_FACES, "F", "1 thr s", "2 thr s",
+                    "speedup", "opt x", "same"))
+        for r in th:
+            t = r["threads_cmp"]
+            print(h2 % (r["mesh"], r["F"], fmt(t["t1_seconds"], "%.3f"),
+                        fmt(t["t2_seconds"], "%.3f"), fmt(t["speedup"], "%.2f"),
+                        fmt(t["speedup_opt"], "%.2f"),
+                        {True: "yes", False: "no", None: "-"}[t["same_result"]]))
+    print()
+    for r in rows:
+        print(json.dumps(r))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
