@@ -4,7 +4,9 @@
 #   make test         install OpenMesh if missing (tests/ensure_deps.sh), build
 #                     tests/test_*.c and tests/test_*.cpp into build/tests/ and
 #                     run them all with tests/run_all.sh ("N passed, M failed")
-#   make demo         run the tool on its embedded mesh -> build/demo/demo.obj
+#   make demo         run the tool on its embedded mesh -> build/demo/demo.obj,
+#                     demo.svg (UV layout), demo.png (checkerboard render)
+#   make docs         regenerate the README pictures in docs/images/
 #   make bench        bench/run.sh: timings on tests/data and ../shared/meshes
 #   make clean        remove build/
 #
@@ -40,7 +42,7 @@ SH_TESTS  := $(wildcard tests/test_*.sh)
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test tests deps demo bench clean
+.PHONY: all test tests deps demo docs bench clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -72,10 +74,16 @@ test: deps
 	$(MAKE) --no-print-directory tests
 	bash tests/run_all.sh $(C_TESTS) $(CXX_TESTS) $(SH_TESTS)
 
+# The tool and the examples draw their pictures with examples/bp_draw.h.
+$(TOOL) $(EXAMPLES): examples/bp_draw.h
+
+# The built-in wavy cone (fig 3.3), parameterized: the mesh with its map
+# (OBJ), the UV layout coloured by distortion (SVG) and the mesh with a
+# checkerboard through the map (PNG).  Needs only the C compiler.
 demo: $(TOOL)
 	@mkdir -p $(BUILD)/demo
-	$(TOOL) --demo -o $(BUILD)/demo/demo.obj
-	@echo "demo output: $(BUILD)/demo/demo.obj"
+	$(TOOL) --demo -o $(BUILD)/demo/demo.obj --svg $(BUILD)/demo/demo.svg --png $(BUILD)/demo/demo.png
+	@echo "demo output: $(BUILD)/demo/demo.obj (mesh with uv), $(BUILD)/demo/demo.svg (UV layout), $(BUILD)/demo/demo.png (checkerboard render)"
 
 bench: $(TOOL)
 	bash bench/run.sh

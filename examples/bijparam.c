@@ -12,6 +12,12 @@
    3.3 of the dissertation) whose isometric flattening overlaps itself, so
    only the boundary barrier keeps it bijective.
 
+   Pictures (examples/bp_draw.h): --svg draws the UV layout coloured by
+   distortion, --png the mesh with a checkerboard through the map, and
+   --frames the layout every few iterations while the solver runs (read
+   from the chart's uv inside the progress callback, where it is the
+   current valid map).
+
    Exit status: 0 success, 1 input rejected or a step failed (one line on
    stderr: "bijparam: error: FILE:LINE: what" or "bijparam: error: FILE: what"),
    2 usage error. */
@@ -24,9 +30,12 @@
 #include <time.h>
 #include <unistd.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
+#define BPD_IMPLEMENTATION
+#include "bp_draw.h"
 
 static const char usage_text[] =
     "usage: bijparam [options] INPUT.(obj|off) [-o OUT.obj]\n"
@@ -58,6 +67,21 @@ static const char usage_text[] =
     "  --importance FILE  one weight > 0 per face (painted importance)\n"
     "  --density-report uniform|front|ring|side   texel density of the result\n"
     "                     against a plain isometric map under that view model\n"
+    "pictures:\n"
+    "  --svg FILE         the UV layout as SVG: triangles coloured by distortion,\n"
+    "                     boundary loops, chart indices, colour scale, energies\n"
+    "  --svg-color energy|area|angle   what the colour shows (default energy):\n"
+    "                     the energy, UV/3D area ratio, or s_max/s_min\n"
+    "  --png FILE         the mesh with a checkerboard through the map (PNG)\n"
+    "  --png-view X,Y,Z   direction toward the camera (default 1,0.6,1.2)\n"
+    "  --png-up X,Y,Z     screen up and turntable axis (default 0,1,0)\n"
+    "  --png-size N       pixels of one view (default 512)\n"
+    "  --png-views N      a turntable strip of N views side by side (default 1)\n"
+    "  --checker N        checker squares across the atlas (default 16)\n"
+    "  --frames DIR       the layout of each chart as SVG every K iterations,\n"
+    "                     DIR/chartC_iterNNNNN.svg, and DIR/strip.svg: snapshots\n"
+    "                     of the largest chart side by side\n"
+    "  --frames-every K   iterations between frames (default 10)\n"
     "  -h, --help         show this help\n";
 
 static const char *const energy_names[] = { "sd", "conformal", "mips", "iso", "maxiso" };
@@ -281,12 +305,102 @@ static long chart_euler(const bp_chart *c)
 
 /* ---- progress and trace ------------------------------------------------- */
 
+/* --frames: an SVG of the chart every `every` iterations, and snapshots of
+   the largest chart (iterations 0, K, 2K, 4K, ... and the last) for the
+   strip.  The callback reads the chart's uv, which the header documents as
+   the current, exactly valid map during the call. */
+enum { MAX_SNAPS = 40 };
+
+typedef struct frames_state {
+    const char *dir;
+    int every;
+    const bp_mesh *mesh;
+    bp_atlas *atlas;
+    bpd_svg_options svg;
+    uint32_t strip_chart;            /* the chart with the most triangles */
+    int nsnap, next_snap;            /* next_snap: next iteration to keep  */
+    double *snap[MAX_SNAPS];
+    int snap_iter[MAX_SNAPS];
+    double snap_energy[MAX_SNAPS];
+    int error;                       /* errno of a failed write, else 0   */
+    char error_path[1100];
+} frames_state;
+
 typedef struct run_state {
     FILE    *trace;
     int      tty;
     double   start;
     uint32_t num_charts;
+    frames_state *frames;
 } run_state;
+
+/* One frame: DIR/chartC_iterNNNNN.svg of the chart's current map. */
+static int write_frame(frames_state *fs, uint32_t c, int iteration, double energy)
+{
+    char path[1100], label[80];
+    const char *labels[1];
+    const double *uvs[1];
+    const bp_chart *ch = &fs->atlas->charts[c];
+    snprintf(path, sizeof path, "%s/chart%u_iter%05d.svg", fs->dir, (unsigned)c, iteration);
+    snprintf(label, sizeof label, "chart %u, iteration %d, mean energy %.5g", (unsigned)c, iteration, energy);
+    labels[0] = label;
+    uvs[0] = ch->uv;
+    if (!bpd_write_strip_svg(path, fs->mesh, ch, uvs, labels, 1, &fs->svg)) {
+        fs->error = errno ? errno : EIO;
+        snprintf(fs->error_path, sizeof fs->error_path, "%s", path);
+        return 0;
+    }
+    return 1;
+}
+
+/* Keep a copy of the strip chart's map (iteration 0, K, 2K, 4K, ...; `last`
+   always, replacing a previous copy of the same iteration). */
+static void keep_snapshot(frames_state *fs, uint32_t c, int iteration, double energy, int last)
+{
+    const bp_chart *ch = &fs->atlas->charts[c];
+    size_t n = 2 * (size_t)ch->num_vertices;
+    int k;
+    if (c != fs->strip_chart || !ch->uv) return;
+    if (!last && iteration != fs->next_snap) return;
+    if (fs->nsnap > 0 && fs->snap_iter[fs->nsnap - 1] == iteration) return;
+    if (fs->nsnap == MAX_SNAPS) { free(fs->snap[MAX_SNAPS - 1]); fs->nsnap--; }
+    k = fs->nsnap;
+    if (!(fs->snap[k] = (double *)malloc(n * sizeof(double)))) return;  /* the strip just has fewer */
+    memcpy(fs->snap[k], ch->uv, n * sizeof(double));
+    fs->snap_iter[k] = iteration;
+    fs->snap_energy[k] = energy;
+    fs->nsnap++;
+    if (iteration >= fs->next_snap)
+        fs->next_snap = iteration == 0 ? fs->every : 2 * iteration;
+}
+
+/* DIR/strip.svg: at most 6 snapshots, evenly spread over the kept ones. */
+static int write_strip(frames_state *fs)
+{
+    char path[1100], text[6][80], title[160];
+    const double *uvs[6];
+    const char *labels[6];
+    int n = fs->nsnap < 6 ? fs->nsnap : 6, k;
+    bpd_svg_options o = fs->svg;
+    if (n == 0) return 1;
+    for (k = 0; k < n; k++) {
+        int j = n == 1 ? 0 : (int)((double)k * (fs->nsnap - 1) / (n - 1) + 0.5);
+        uvs[k] = fs->snap[j];
+        snprintf(text[k], sizeof text[k], "iteration %d: %.4g", fs->snap_iter[j], fs->snap_energy[j]);
+        labels[k] = text[k];
+    }
+    snprintf(title, sizeof title, "chart %u during the optimization (mean %s energy under each)",
+             (unsigned)fs->strip_chart, bp_energy_name(o.energy));
+    o.title = title;
+    o.size = 1200;
+    snprintf(path, sizeof path, "%s/strip.svg", fs->dir);
+    if (!bpd_write_strip_svg(path, fs->mesh, &fs->atlas->charts[fs->strip_chart], uvs, labels, n, &o)) {
+        fs->error = errno ? errno : EIO;
+        snprintf(fs->error_path, sizeof fs->error_path, "%s", path);
+        return 0;
+    }
+    return 1;
+}
 
 static int on_progress(void *user, uint32_t chart, int iteration,
                        double mean_energy, double step)
@@ -300,6 +414,12 @@ static int on_progress(void *user, uint32_t chart, int iteration,
         fprintf(stderr, "\rbijparam: chart %u/%u  iteration %d  energy %.6g   ",
                 (unsigned)chart + 1, (unsigned)rs->num_charts, iteration,
                 mean_energy);
+    if (rs->frames) {
+        frames_state *fs = rs->frames;
+        keep_snapshot(fs, chart, iteration, mean_energy, 0);
+        if (iteration % fs->every == 0 && !write_frame(fs, chart, iteration, mean_energy))
+            return 1;                  /* cancel: the write error is reported */
+    }
     return 0;
 }
 
@@ -406,6 +526,10 @@ int main(int argc, char **argv)
     extra_report ex;
     double *importance = NULL;
     int elevation_set = 0;
+    const char *svg_path = NULL, *png_path = NULL;
+    bpd_svg_options svg_opt;
+    bpd_render_options png_opt;
+    frames_state fs;
     char *tmp_path = NULL;
     int json = 0, demo = 0, have_mesh = 0, i, status = 0;
     uint32_t c;
@@ -418,6 +542,10 @@ int main(int argc, char **argv)
     memset(&tm, 0, sizeof tm);
     memset(&rs, 0, sizeof rs);
     memset(&ex, 0, sizeof ex);
+    memset(&svg_opt, 0, sizeof svg_opt);
+    memset(&png_opt, 0, sizeof png_opt);
+    memset(&fs, 0, sizeof fs);
+    fs.every = 10;
 
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -429,13 +557,43 @@ int main(int argc, char **argv)
             !strcmp(a, "--trace") || !strcmp(a, "--threads") || !strcmp(a, "--visibility") ||
             !strcmp(a, "--view-dir") || !strcmp(a, "--up") || !strcmp(a, "--ring-elevation") ||
             !strcmp(a, "--vis-samples") || !strcmp(a, "--vis-floor") || !strcmp(a, "--importance") ||
-            !strcmp(a, "--density-report")) {
+            !strcmp(a, "--density-report") || !strcmp(a, "--svg") || !strcmp(a, "--svg-color") ||
+            !strcmp(a, "--png") || !strcmp(a, "--png-view") || !strcmp(a, "--png-up") ||
+            !strcmp(a, "--png-size") || !strcmp(a, "--png-views") || !strcmp(a, "--checker") ||
+            !strcmp(a, "--frames") || !strcmp(a, "--frames-every")) {
             const char *v;
             if (i + 1 >= argc) return usage_error("option %s needs a value", a);
             v = argv[++i];
             if (!strcmp(a, "-o")) output = v;
             else if (!strcmp(a, "--trace")) trace_path = v;
             else if (!strcmp(a, "--importance")) importance_path = v;
+            else if (!strcmp(a, "--svg")) svg_path = v;
+            else if (!strcmp(a, "--png")) png_path = v;
+            else if (!strcmp(a, "--frames")) fs.dir = v;
+            else if (!strcmp(a, "--svg-color")) {
+                if (!strcmp(v, "energy")) svg_opt.color = BPD_COLOR_ENERGY;
+                else if (!strcmp(v, "area")) svg_opt.color = BPD_COLOR_AREA;
+                else if (!strcmp(v, "angle")) svg_opt.color = BPD_COLOR_ANGLE;
+                else return usage_error("unknown --svg-color '%s' (energy, area or angle)", v);
+            } else if (!strcmp(a, "--png-view")) {
+                if (!parse_vec3(v, png_opt.view))
+                    return usage_error("--png-view needs a nonzero X,Y,Z, not '%s'", v);
+            } else if (!strcmp(a, "--png-up")) {
+                if (!parse_vec3(v, png_opt.up))
+                    return usage_error("--png-up needs a nonzero X,Y,Z, not '%s'", v);
+            } else if (!strcmp(a, "--png-size")) {
+                if (!parse_int(v, 16, &png_opt.size) || png_opt.size > 8192)
+                    return usage_error("--png-size needs an integer in [16, 8192], not '%s'", v);
+            } else if (!strcmp(a, "--png-views")) {
+                if (!parse_int(v, 1, &png_opt.views) || png_opt.views > 64)
+                    return usage_error("--png-views needs an integer in [1, 64], not '%s'", v);
+            } else if (!strcmp(a, "--checker")) {
+                if (!parse_double(v, 0.0, &png_opt.checker) || png_opt.checker <= 0)
+                    return usage_error("--checker needs a positive number, not '%s'", v);
+            } else if (!strcmp(a, "--frames-every")) {
+                if (!parse_int(v, 1, &fs.every))
+                    return usage_error("--frames-every needs an integer >= 1, not '%s'", v);
+            }
             else if (!strcmp(a, "--threads")) {
                 if (!parse_int(v, 0, &opt.threads))
                     return usage_error("--threads needs an integer >= 0, not '%s'", v);
@@ -522,6 +680,19 @@ int main(int argc, char **argv)
     opt.progress = on_progress;
     opt.progress_user = &rs;
     where = input;
+    svg_opt.energy = opt.energy;
+    if (opt.no_barrier) svg_opt.fill_opacity = 0.6;   /* overlaps show darker */
+    if (fs.dir) {
+        if (mkdir(fs.dir, 0777) != 0 && errno != EEXIST) {
+            fprintf(stderr, "bijparam: error: %s: cannot create the frames directory: %s\n",
+                    fs.dir, strerror(errno));
+            if (rs.trace) fclose(rs.trace);
+            return 1;
+        }
+        fs.svg = svg_opt;
+        fs.svg.size = 500;
+        rs.frames = &fs;
+    }
 
     /* 1. read */
     t0 = now_seconds();
@@ -542,6 +713,11 @@ int main(int argc, char **argv)
         st = bp_atlas_build(&atlas, &mesh, &opt, &err);
         tm.charts = now_seconds() - t0;
         rs.num_charts = atlas.num_charts;
+        fs.mesh = &mesh;
+        fs.atlas = &atlas;
+        for (c = 0; st == BP_OK && c < atlas.num_charts; c++)
+            if (atlas.charts[c].num_triangles > atlas.charts[fs.strip_chart].num_triangles)
+                fs.strip_chart = c;
     }
     /* 2b. chapter 4: per-face importance from visibility and/or a file */
     if (st == BP_OK && importance_path) {
@@ -568,10 +744,29 @@ int main(int argc, char **argv)
         t0 = now_seconds();
         st = bp_chart_init(&atlas.charts[c], &mesh, &opt, &err);
         tm.init += now_seconds() - t0;
+        if (st == BP_OK && fs.dir) {     /* frame 0: the start map */
+            double e0 = 0;
+            bp_chart_distortion(&atlas.charts[c], &mesh, opt.energy, &e0, NULL, NULL);
+            keep_snapshot(&fs, c, 0, e0, 0);
+            if (!write_frame(&fs, c, 0, e0)) st = BP_ERR_IO;
+        }
         if (st != BP_OK || opt.init_only) continue;
         t0 = now_seconds();
         st = bp_chart_optimize(&atlas.charts[c], c, &mesh, &opt, &err);
         tm.optimize += now_seconds() - t0;
+        if (st == BP_OK && fs.dir) {     /* the last frame, whatever K */
+            const bp_chart *ch = &atlas.charts[c];
+            keep_snapshot(&fs, c, ch->iterations, ch->energy_end, 1);
+            if (ch->iterations % fs.every != 0 && !write_frame(&fs, c, ch->iterations, ch->energy_end))
+                st = BP_ERR_IO;
+        }
+    }
+    if (st == BP_OK && fs.dir && !write_strip(&fs)) st = BP_ERR_IO;
+    if (fs.error) {                      /* a frame could not be written */
+        st = BP_ERR_IO;
+        where = fs.error_path;
+        memset(&err, 0, sizeof err);
+        snprintf(err.message, sizeof err.message, "cannot write frame: %s", strerror(fs.error));
     }
     if (rs.tty && rs.num_charts && !opt.init_only) fprintf(stderr, "\n");
     /* 4. pack */
@@ -621,6 +816,20 @@ int main(int argc, char **argv)
         tm.write = now_seconds() - t0;
     }
 
+    /* 6. pictures of the packed atlas (examples/bp_draw.h) */
+    if (st == BP_OK && svg_path && !bpd_write_atlas_svg(svg_path, &mesh, &atlas, &svg_opt)) {
+        st = BP_ERR_IO;
+        where = svg_path;
+        memset(&err, 0, sizeof err);
+        snprintf(err.message, sizeof err.message, "cannot write the SVG: %s", strerror(errno));
+    }
+    if (st == BP_OK && png_path && !bpd_write_checker_png(png_path, &mesh, &atlas, &png_opt)) {
+        st = BP_ERR_IO;
+        where = png_path;
+        memset(&err, 0, sizeof err);
+        snprintf(err.message, sizeof err.message, "cannot write the PNG: %s", strerror(errno));
+    }
+
     if (st != BP_OK) {
         report_error(where, &err);
         status = 1;
@@ -634,6 +843,7 @@ int main(int argc, char **argv)
     }
 
     if (rs.trace) fclose(rs.trace);
+    for (i = 0; i < fs.nsnap; i++) free(fs.snap[i]);
     free(tmp_path);
     free(importance);
     bp_atlas_free(&atlas);
