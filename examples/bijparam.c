@@ -73,7 +73,8 @@ static const char usage_text[] =
     "  --svg-color energy|area|angle   what the colour shows (default energy):\n"
     "                     the energy, UV/3D area ratio, or s_max/s_min\n"
     "  --png FILE         the mesh with a checkerboard through the map (PNG)\n"
-    "  --png-view X,Y,Z   direction toward the camera (default 1,0.6,1.2)\n"
+    "  --png-view X,Y,Z   direction toward the camera (default 1,0.6,1.2;\n"
+    "                     --demo: 0.5,-0.9,1.4 with up 0,0,1)\n"
     "  --png-up X,Y,Z     screen up and turntable axis (default 0,1,0)\n"
     "  --png-size N       pixels of one view (default 512)\n"
     "  --png-views N      a turntable strip of N views side by side (default 1)\n"
@@ -681,6 +682,11 @@ int main(int argc, char **argv)
     opt.progress_user = &rs;
     where = input;
     svg_opt.energy = opt.energy;
+    if (demo && png_opt.view[0] == 0 && png_opt.view[1] == 0 && png_opt.view[2] == 0) {
+        /* the demo cone opens toward +z and its triangles face into the bowl */
+        png_opt.view[0] = 0.5; png_opt.view[1] = -0.9; png_opt.view[2] = 1.4;
+        if (png_opt.up[0] == 0 && png_opt.up[1] == 0 && png_opt.up[2] == 0) png_opt.up[2] = 1;
+    }
     if (opt.no_barrier) svg_opt.fill_opacity = 0.6;   /* overlaps show darker */
     if (fs.dir) {
         if (mkdir(fs.dir, 0777) != 0 && errno != EEXIST) {
