@@ -77,6 +77,11 @@ test: deps
 # The tool and the examples draw their pictures with examples/bp_draw.h.
 $(TOOL) $(EXAMPLES): examples/bp_draw.h
 
+# examples/thread_pool.c brings its own POSIX thread pool.
+$(BUILD)/examples/thread_pool: examples/thread_pool.c $(HEADERS)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -pthread $< -o $@ $(LDLIBS)
+
 # The built-in wavy cone (fig 3.3), parameterized: the mesh with its map
 # (OBJ), the UV layout coloured by distortion (SVG) and the mesh with a
 # checkerboard through the map (PNG).  Needs only the C compiler.
