@@ -90,6 +90,25 @@ demo: $(TOOL)
 	$(TOOL) --demo -o $(BUILD)/demo/demo.obj --svg $(BUILD)/demo/demo.svg --png $(BUILD)/demo/demo.png
 	@echo "demo output: $(BUILD)/demo/demo.obj (mesh with uv), $(BUILD)/demo/demo.svg (UV layout), $(BUILD)/demo/demo.png (checkerboard render)"
 
+# The README pictures (docs/images/), each from one run of the tool: the
+# camel's UV layout, the cow with a checkerboard with and without the
+# barrier, spot's 13 charts by area ratio, the wavy cone (fig 3.3) with the
+# barrier and without (its layout overlaps itself), and the wavy cone's
+# optimization as a strip of frames (fig 3.8).
+IMG := docs/images
+docs: $(TOOL)
+	@mkdir -p $(IMG) $(BUILD)/docs
+	$(TOOL) tests/data/camel_b.obj --svg $(IMG)/camel_uv.svg --png $(IMG)/camel_checker.png --png-size 360 --checker 20
+	$(TOOL) tests/data/cow_param_withSUV.obj --png $(IMG)/cow_checker.png --png-size 360 --png-views 2 --checker 20
+	$(TOOL) tests/data/cow_param_withSUV.obj --no-barrier --png $(IMG)/cow_checker_nobarrier.png --png-size 360 --png-views 2 --checker 20
+	$(TOOL) tests/data/spot.obj --svg $(IMG)/spot_area.svg --svg-color area --png $(IMG)/spot_checker.png --png-size 300 --png-views 3
+	$(TOOL) --demo --svg $(IMG)/cone_barrier.svg --png $(IMG)/cone_checker.png --png-size 360
+	$(TOOL) --demo --no-barrier --svg $(IMG)/cone_nobarrier.svg
+	rm -rf $(BUILD)/docs/frames
+	$(TOOL) --demo --frames $(BUILD)/docs/frames --frames-every 2
+	cp $(BUILD)/docs/frames/strip.svg $(IMG)/cone_frames.svg
+	@ls -l $(IMG)
+
 bench: $(TOOL)
 	bash bench/run.sh
 
