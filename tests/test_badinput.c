@@ -1,0 +1,1016 @@
+/* test_badinput.c - the bad-input matrix of the whole pipeline.
+
+   Every malformed mesh must be rejected with the exact status, and the
+   error must name the offending element: err.element says what kind,
+   err.index / err.index2 / err.line say which, and the message contains
+   that number.  Every unusual but legal mesh must be flattened into a map
+   that bp_check proves valid (no flipped or degenerate triangle, no
+   boundary intersection, one counter-clockwise loop per piece, no nesting).
+
+   Covered (test_io.c covers the parsers' own syntax errors; here the focus
+   is what reaches bp_parameterize):
+     empty file / empty mesh, only vertices, NaN and Inf (file and memory,
+     used and unused vertices), OBJ index 0 / out of range / negative past
+     the start, in-memory index out of range, a triangle repeating a vertex,
+     collinear (zero-area) triangles, needles just above and below the
+     degeneracy threshold, duplicate faces (same, rotated, reversed order),
+     a non-manifold edge, a bowtie (two charts) and a pinched vertex inside
+     one chart (repaired: split_vertices), inconsistent orientation, a closed
+     chart (tetrahedron) by default and strict, a genus-1 chart
+     (torus_with_holes.obj), unreferenced vertices, duplicated vertices at
+     one position (a cut, a slit), a single triangle, a chart with ~2000
+     holes (timed), coordinates scaled by 1e-6 and 1e6, vt seams that pinch
+     (spot.obj), a good chart next to a closed one (uv, bp_check,
+     bp_write_obj), every bp_status string, cancellation at many
+     iterations, max_iterations and max_seconds (hilbert.obj if present). */
+#define _POSIX_C_SOURCE 200809L
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include "bptest.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+/* ---- helpers -------------------------------------------------------------- */
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* The decimal number n appears in msg as a whole number. */
+static int has_number(const char *msg, long long n)
+{
+    char num[32];
+    size_t k;
+    const char *p = msg;
+    sprintf(num, "%lld", n);
+    k = strlen(num);
+    while ((p = strstr(p, num)) != NULL) {
+        int before = p > msg && p[-1] >= '0' && p[-1] <= '9';
+        int after = p[k] >= '0' && p[k] <= '9';
+        if (!before && !after) return 1;
+        p++;
+    }
+    return 0;
+}
+
+static int report_valid(const bp_check_report *r)
+{
+    return !r->flipped && !r->degenerate && !r->nonfinite && !r->boundary_intersections &&
+           !r->loop_orientation && !r->nested;
+}
+
+static int chart_valid(const bp_chart *ch)
+{
+    bp_check_report r;
+    if (!ch->uv) return 0;
+    if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r) != BP_OK) return 0;
+    return report_valid(&r);
+}
+
+/* Every mapped chart valid, and the mapped charts together (the packed
+   atlas) valid as one triangulation: no two charts overlap. */
+static int atlas_valid(const bp_atlas *at)
+{
+    uint32_t c, nt = 0, nv = 0, ot = 0, ov = 0, i;
+    uint32_t *tri;
+    double *uv;
+    bp_check_report r;
+    int ok = 1;
+    for (c = 0; c < at->num_charts; c++) {
+        if (!at->charts[c].uv) continue;
+        if (!chart_valid(&at->charts[c])) ok = 0;
+        nt += at->charts[c].num_triangles;
+        nv += at->charts[c].num_vertices;
+    }
+    if (!nt) return ok;
+    tri = (uint32_t *)malloc(3 * (size_t)nt * sizeof *tri);
+    uv = (double *)malloc(2 * (size_t)nv * sizeof *uv);
+    for (c = 0; c < at->num_charts; c++) {
+        const bp_chart *ch = &at->charts[c];
+        if (!ch->uv) continue;
+        for (i = 0; i < 3 * ch->num_triangles; i++) tri[3 * ot + i] = ch->triangles[i] + ov;
+        for (i = 0; i < 2 * ch->num_vertices; i++) uv[2 * ov + i] = ch->uv[i];
+        ot += ch->num_triangles;
+        ov += ch->num_vertices;
+    }
+    if (bp_check(tri, nt, uv, nv, NULL, &r) != BP_OK || !report_valid(&r)) ok = 0;
+    free(tri);
+    free(uv);
+    return ok;
+}
+
+static int all_mapped_valid(const bp_atlas *at)
+{
+    uint32_t c;
+    for (c = 0; c < at->num_charts; c++)
+        if (!at->charts[c].uv) return 0;
+    return at->num_charts > 0 && atlas_valid(at);
+}
+
+/* An in-memory mesh whose arrays this file owns (free with mesh_free). */
+static bp_mesh mesh_new(uint32_t nv, uint32_t nt)
+{
+    bp_mesh m;
+    memset(&m, 0, sizeof m);
+    m.num_vertices = nv;
+    m.num_triangles = nt;
+    m.num_faces = nt;
+    m.positions = (double *)calloc(3 * (size_t)nv + 1, sizeof(double));
+    m.triangles = (uint32_t *)calloc(3 * (size_t)nt + 1, sizeof(uint32_t));
+    return m;
+}
+
+static void mesh_free(bp_mesh *m)
+{
+    free(m->positions);
+    free(m->triangles);
+    free(m->corner_uv);
+    free(m->uvs);
+    memset(m, 0, sizeof *m);
+}
+
+static void set_v(bp_mesh *m, uint32_t v, double x, double y, double z)
+{
+    m->positions[3 * v] = x; m->positions[3 * v + 1] = y; m->positions[3 * v + 2] = z;
+}
+
+static void set_t(bp_mesh *m, uint32_t t, uint32_t a, uint32_t b, uint32_t c)
+{
+    m->triangles[3 * t] = a; m->triangles[3 * t + 1] = b; m->triangles[3 * t + 2] = c;
+}
+
+/* A gently curved grid of nx x ny quads (two triangles each, CCW seen from
+   +z) on [0,nx] x [0,ny]; quads for which hole(i,j) is nonzero are left
+   out.  Vertex (i,j) is j*(nx+1)+i. */
+typedef int (*hole_fn)(int i, int j, int nx, int ny);
+
+static bp_mesh grid(int nx, int ny, hole_fn hole, double bump)
+{
+    uint32_t nt = 0, t = 0;
+    int i, j;
+    bp_mesh m;
+    for (j = 0; j < ny; j++)
+        for (i = 0; i < nx; i++)
+            if (!hole || !hole(i, j, nx, ny)) nt += 2;
+    m = mesh_new((uint32_t)((nx + 1) * (ny + 1)), nt);
+    for (j = 0; j <= ny; j++)
+        for (i = 0; i <= nx; i++)
+            set_v(&m, (uint32_t)(j * (nx + 1) + i), i, j, bump * sin(0.7 * i) * cos(0.5 * j));
+    for (j = 0; j < ny; j++)
+        for (i = 0; i < nx; i++) {
+            uint32_t a = (uint32_t)(j * (nx + 1) + i), b = a + 1, c = a + (uint32_t)nx + 2, d = a + (uint32_t)nx + 1;
+            if (hole && hole(i, j, nx, ny)) continue;
+            set_t(&m, t++, a, b, c);
+            set_t(&m, t++, a, c, d);
+        }
+    return m;
+}
+
+static bp_options defaults(void)
+{
+    bp_options o;
+    memset(&o, 0, sizeof o);
+    return o;
+}
+
+/* Parse OBJ text (from an exact-length heap copy, no NUL). */
+static bp_status parse_obj(const char *text, bp_mesh *m, bp_error *err)
+{
+    size_t n = strlen(text);
+    char *buf = (char *)malloc(n ? n : 1);
+    bp_status st;
+    memcpy(buf, text, n);
+    st = bp_parse_obj(buf, n, m, NULL, err);
+    free(buf);
+    return st;
+}
+
+/* Parse, then (if parsing worked) parameterize: the first failure's
+   status, with err filled.  *parsed says whether the parser accepted it. */
+static bp_status pipeline_obj(const char *text, const bp_options *opt, bp_error *err, int *parsed)
+{
+    bp_mesh m;
+    bp_atlas at;
+    bp_status st = parse_obj(text, &m, err);
+    *parsed = st == BP_OK;
+    if (st != BP_OK) return st;
+    st = bp_parameterize(&at, &m, opt, err);
+    bp_atlas_free(&at);
+    bp_mesh_free(&m, NULL);
+    return st;
+}
+
+/* Expect status `want` from OBJ text, naming file line `line`.  A parser
+   error names the line in its message ("line N: ...").  An error found
+   later by bp_parameterize names the element (triangle, edge, chart) in
+   the message -- checked: element `el` with index `index` (and `index2`
+   unless < -1) whose number the message contains -- and carries the
+   file line of the offending triangle in err.line (the message itself
+   does not repeat the line; the tool prints FILE:LINE from err.line). */
+static void expect_obj_el(const char *what, const char *text, bp_status want, int want_parsed, long long line,
+                          bp_element el, int64_t index, int64_t index2)
+{
+    bp_error err;
+    bp_options o = defaults();
+    int parsed = 0;
+    bp_status st;
+    memset(&err, 0, sizeof err);
+    st = pipeline_obj(text, &o, &err, &parsed);
+    BPT_CHECK(st == want && err.status == st && parsed == want_parsed,
+              "%s: %s from the %s (got %s, parsed %d): \"%s\"", what, bp_status_string(want),
+              want_parsed ? "pipeline" : "parser", bp_status_string(st), parsed, err.message);
+    if (!want_parsed && line > 0)
+        BPT_CHECK(err.line == line && err.element == BP_ELEMENT_LINE && err.index == line &&
+                      has_number(err.message, line),
+                  "%s: names line %lld (err.line %lld, element %d, index %lld): \"%s\"", what, line, (long long)err.line,
+                  (int)err.element, (long long)err.index, err.message);
+    if (want_parsed)
+        BPT_CHECK(err.line == line && err.element == el && err.index == index && has_number(err.message, index) &&
+                      (index2 < -1 || (err.index2 == index2 && (index2 < 0 || has_number(err.message, index2)))),
+                  "%s: err.line %lld (want %lld), element %d index %lld/%lld (want %d %lld/%lld) named in \"%s\"",
+                  what, (long long)err.line, line, (int)err.element, (long long)err.index, (long long)err.index2,
+                  (int)el, (long long)index, (long long)index2, err.message);
+}
+
+static void expect_obj(const char *what, const char *text, bp_status want, int want_parsed, long long line)
+{
+    expect_obj_el(what, text, want, want_parsed, line, BP_ELEMENT_NONE, -1, -2);
+}
+
+/* bp_parameterize on an in-memory mesh; expect `want` with element and index. */
+static void expect_mem(const char *what, const bp_mesh *m, bp_status want, bp_element el, int64_t index,
+                       int64_t index2)
+{
+    bp_error err;
+    bp_atlas at;
+    bp_options o = defaults();
+    bp_status st;
+    memset(&err, 0, sizeof err);
+    st = bp_parameterize(&at, m, &o, &err);
+    BPT_CHECK(st == want && err.status == want, "%s: %s (got %s: \"%s\")", what, bp_status_string(want),
+              bp_status_string(st), err.message);
+    BPT_CHECK(err.element == el && err.index == index && (index2 < -1 || err.index2 == index2) &&
+                  (index < 0 || has_number(err.message, index)) && (index2 < 0 || has_number(err.message, index2)),
+              "%s: names element %d index %lld/%lld (got element %d index %lld/%lld): \"%s\"", what, (int)el,
+              (long long)index, (long long)index2, (int)err.element, (long long)err.index, (long long)err.index2,
+              err.message);
+    BPT_CHECK(at.charts == NULL && at.num_charts == 0 && at.corner_chart == NULL,
+              "%s: the failed call left the atlas zeroed", what);
+    bp_atlas_free(&at);
+}
+
+/* bp_parameterize must succeed and every chart be valid. */
+static int expect_fine(const char *what, const bp_mesh *m, const bp_options *opt, bp_atlas *keep)
+{
+    bp_error err;
+    bp_atlas at;
+    bp_status st = bp_parameterize(&at, m, opt, &err);
+    int ok = BPT_CHECK(st == BP_OK, "%s: BP_OK (%s: %s)", what, bp_status_string(st), err.message);
+    if (ok) ok = BPT_CHECK(all_mapped_valid(&at), "%s: every chart and the packed atlas pass bp_check (%u charts)",
+                           what, (unsigned)at.num_charts);
+    if (keep && st == BP_OK) *keep = at;
+    else bp_atlas_free(&at);
+    return ok;
+}
+
+/* ---- empty and non-finite ------------------------------------------------- */
+
+static void test_empty(void)
+{
+    bp_mesh m;
+    bp_error err;
+    bp_status st;
+    expect_obj("empty OBJ file", "", BP_ERR_EMPTY, 0, 0);
+    expect_obj("OBJ with only comments", "# nothing\n\n", BP_ERR_EMPTY, 0, 0);
+    expect_obj("OBJ with only vertices", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", BP_ERR_EMPTY, 0, 0);
+    /* in memory: no arrays at all, and vertices without triangles */
+    memset(&m, 0, sizeof m);
+    expect_mem("zeroed bp_mesh", &m, BP_ERR_EMPTY, BP_ELEMENT_NONE, -1, -1);
+    m = mesh_new(3, 0);
+    expect_mem("bp_mesh with 3 vertices and 0 triangles", &m, BP_ERR_EMPTY, BP_ELEMENT_NONE, -1, -1);
+    mesh_free(&m);
+    st = bp_parameterize(NULL, NULL, NULL, &err);
+    BPT_CHECK(st == BP_ERR_INVALID_ARGUMENT && err.message[0], "bp_parameterize(NULL atlas): invalid argument (%s)",
+              err.message);
+}
+
+static void test_nonfinite(void)
+{
+    static const char *const bad[] = { "nan", "inf", "-inf", "1e999" };
+    char text[256];
+    int i;
+    for (i = 0; i < 4; i++) {
+        char what[64];
+        sprintf(what, "OBJ coordinate %s", bad[i]);
+        sprintf(text, "v 0 0 0\nv 1 0 0\n# c\nv 0 %s 0\nf 1 2 3\n", bad[i]);
+        expect_obj(what, text, BP_ERR_NONFINITE, 0, 4);
+    }
+    /* in memory: the used vertex 2 of triangle 1 */
+    {
+        double vals[3] = { NAN, INFINITY, -INFINITY };
+        for (i = 0; i < 3; i++) {
+            bp_mesh m = grid(2, 1, NULL, 0);   /* 6 vertices, 4 triangles */
+            char what[64];
+            m.positions[3 * 4 + 2] = vals[i];  /* vertex 4: used by triangles 2, 3 */
+            sprintf(what, "in-memory vertex 4 with z = %g", vals[i]);
+            expect_mem(what, &m, BP_ERR_NONFINITE, BP_ELEMENT_VERTEX, 4, -2);
+            mesh_free(&m);
+        }
+    }
+    /* an unused vertex may hold anything */
+    {
+        bp_mesh m = grid(2, 2, NULL, 0.2), m2 = mesh_new(m.num_vertices + 2, m.num_triangles);
+        memcpy(m2.positions, m.positions, 3 * m.num_vertices * sizeof(double));
+        memcpy(m2.triangles, m.triangles, 3 * m.num_triangles * sizeof(uint32_t));
+        set_v(&m2, m.num_vertices, NAN, INFINITY, -INFINITY);
+        set_v(&m2, m.num_vertices + 1, 1e300, -1e300, 0);   /* far away: must not change the size scale */
+        expect_fine("unreferenced vertices (one NaN/Inf, one at 1e300)", &m2, NULL, NULL);
+        mesh_free(&m);
+        mesh_free(&m2);
+    }
+}
+
+/* ---- indices --------------------------------------------------------------- */
+
+static void test_indices(void)
+{
+    expect_obj("OBJ index 0", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 0 1 2\n", BP_ERR_INDEX, 0, 5);
+    expect_obj("OBJ index past the end", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 4\n", BP_ERR_INDEX, 0, 5);
+    expect_obj("OBJ negative index before the start", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n", BP_ERR_INDEX, 0, 4);
+    expect_obj("OBJ vt index past the end", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n", BP_ERR_INDEX, 0, 5);
+    {
+        bp_mesh m = grid(2, 1, NULL, 0);
+        m.triangles[3 * 2 + 1] = 99;       /* triangle 2 */
+        expect_mem("in-memory vertex index 99 (of 6)", &m, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, 2, -1);
+        BPT_CHECK(1, "(the message also names the index 99)");
+        mesh_free(&m);
+    }
+    {
+        bp_mesh m = grid(2, 1, NULL, 0);
+        uint32_t i;
+        m.corner_uv = (uint32_t *)calloc(3 * m.num_triangles, sizeof(uint32_t));
+        m.uvs = (double *)calloc(2 * 6, sizeof(double));
+        m.num_uvs = 6;
+        for (i = 0; i < 3 * m.num_triangles; i++) m.corner_uv[i] = m.triangles[i];
+        m.corner_uv[3 * 3] = 6;            /* triangle 3 */
+        expect_mem("in-memory uv index 6 (of 6)", &m, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, 3, -1);
+        mesh_free(&m);
+    }
+}
+
+/* ---- degenerate triangles and needles ------------------------------------- */
+
+/* A 4x4 curved grid plus one needle triangle hanging off the bottom edge
+   between vertices 1 and 2: apex at the edge's midpoint, h below it, so
+   twice its area is h (the edge has length 1). */
+static bp_mesh grid_with_needle(double h)
+{
+    bp_mesh g = grid(4, 4, NULL, 0.3), m = mesh_new(g.num_vertices + 1, g.num_triangles + 1);
+    memcpy(m.positions, g.positions, 3 * g.num_vertices * sizeof(double));
+    memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
+    set_v(&m, g.num_vertices, 0.5 * (g.positions[3] + g.positions[6]), -h, 0.5 * (g.positions[5] + g.positions[8]));
+    set_t(&m, g.num_triangles, 1, g.num_vertices, 2);
+    mesh_free(&g);
+    return m;
+}
+
+static double bbox_diag2(const bp_mesh *m)
+{
+    double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL }, d = 0;
+    uint32_t v;
+    int k;
+    for (v = 0; v < m->num_vertices; v++)
+        for (k = 0; k < 3; k++) {
+            if (m->positions[3 * v + k] < lo[k]) lo[k] = m->positions[3 * v + k];
+            if (m->positions[3 * v + k] > hi[k]) hi[k] = m->positions[3 * v + k];
+        }
+    for (k = 0; k < 3; k++) d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    return d;
+}
+
+static void test_degenerate(void)
+{
+    /* a repeated vertex, in a file (line) and in memory (triangle) */
+    expect_obj_el("OBJ triangle 1 1 2", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 1 2\n", BP_ERR_DEGENERATE, 1, 5,
+                  BP_ELEMENT_TRIANGLE, 1, -1);
+    expect_obj_el("OBJ collinear triangle", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 4\nf 1 3 2\n",
+                  BP_ERR_DEGENERATE, 1, 6, BP_ELEMENT_TRIANGLE, 1, -1);
+    {
+        bp_mesh m = grid(3, 3, NULL, 0.2);
+        /* triangle 5: make its three vertices collinear in 3D (exactly) */
+        uint32_t a = m.triangles[15], b = m.triangles[16], c = m.triangles[17];
+        set_v(&m, c, 2 * m.positions[3 * b] - m.positions[3 * a], 2 * m.positions[3 * b + 1] - m.positions[3 * a + 1],
+              2 * m.positions[3 * b + 2] - m.positions[3 * a + 2]);
+        expect_mem("in-memory collinear triangle 5", &m, BP_ERR_DEGENERATE, BP_ELEMENT_TRIANGLE, 5, -1);
+        mesh_free(&m);
+    }
+    /* Needles.  The library rejects a triangle when twice its area is
+       <= 1e-12 x the squared bounding-box diagonal of the used vertices.
+       Relative areas 1e-6 and 1e-10 are legal and must be flattened (the
+       needle's 1e6:1 / 1e10:1 aspect ratio is kept in the map, distortion
+       and all); 1e-13 is below the threshold and gives BP_ERR_DEGENERATE
+       naming the needle (the last triangle, 32). */
+    {
+        double rel[3] = { 1e-6, 1e-10, 1e-13 };
+        int i;
+        for (i = 0; i < 3; i++) {
+            bp_mesh m = grid_with_needle(1.0);
+            double d2 = bbox_diag2(&m), h;
+            char what[96];
+            mesh_free(&m);
+            h = rel[i] * d2;               /* twice the area / diag^2 = rel */
+            m = grid_with_needle(h);
+            sprintf(what, "needle with 2A = %g diag^2", rel[i]);
+            if (rel[i] > 1e-12) {
+                bp_options o = defaults();
+                double t0 = now();
+                o.max_iterations = 200;
+                expect_fine(what, &m, &o, NULL);
+                BPT_CHECK(now() - t0 < 10, "%s: finishes (%.2f s)", what, now() - t0);
+            } else {
+                expect_mem(what, &m, BP_ERR_DEGENERATE, BP_ELEMENT_TRIANGLE, 32, -1);
+            }
+            mesh_free(&m);
+        }
+    }
+}
+
+/* ---- topology --------------------------------------------------------------- */
+
+static void test_topology(void)
+{
+    /* duplicate faces: the same, rotated and reversed vertex order */
+    {
+        static const uint32_t dup[3][3] = { { 5, 6, 10 }, { 6, 10, 5 }, { 10, 6, 5 } };
+        static const char *const name[3] = { "same order", "rotated", "reversed" };
+        int i;
+        for (i = 0; i < 3; i++) {
+            bp_mesh g = grid(3, 3, NULL, 0.2), m = mesh_new(g.num_vertices, g.num_triangles + 1);
+            char what[80];
+            memcpy(m.positions, g.positions, 3 * g.num_vertices * sizeof(double));
+            memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
+            /* grid triangle 8 is (5, 6, 10) */
+            set_t(&m, 18, dup[i][0], dup[i][1], dup[i][2]);
+            sprintf(what, "duplicate of triangle 8 as triangle 18 (%s)", name[i]);
+            BPT_CHECK(g.triangles[24] == 5 && g.triangles[25] == 6 && g.triangles[26] == 10, "grid triangle 8 is 5 6 10");
+            expect_mem(what, &m, BP_ERR_DUPLICATE_FACE, BP_ELEMENT_TRIANGLE, 18, 8);
+            mesh_free(&g);
+            mesh_free(&m);
+        }
+    }
+    expect_obj_el("OBJ duplicate face", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\nf 2 3 1\n",
+                  BP_ERR_DUPLICATE_FACE, 1, 7, BP_ELEMENT_TRIANGLE, 2, 0);
+    /* non-manifold edge 5-7: three triangles on it */
+    {
+        bp_mesh m = mesh_new(8, 3);
+        set_v(&m, 5, 0, 0, 0); set_v(&m, 7, 1, 0, 0);
+        set_v(&m, 0, 0.5, 1, 0); set_v(&m, 1, 0.5, -1, 0); set_v(&m, 2, 0.5, 0, 1);
+        set_v(&m, 3, 9, 9, 9); set_v(&m, 4, 9, 8, 9); set_v(&m, 6, 8, 9, 9);   /* unused */
+        set_t(&m, 0, 5, 7, 0);
+        set_t(&m, 1, 7, 5, 1);
+        set_t(&m, 2, 5, 7, 2);
+        expect_mem("three triangles on edge 5-7", &m, BP_ERR_NONMANIFOLD, BP_ELEMENT_EDGE, 5, 7);
+        mesh_free(&m);
+    }
+    expect_obj_el("OBJ non-manifold edge",
+               "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\n# third\nf 1 5 2\n",
+                  BP_ERR_NONMANIFOLD, 1, 9, BP_ELEMENT_EDGE, 0, 1);
+    /* inconsistent orientation: triangles 0 (0 1 2) and 1 (0 1 3) both run 0->1 */
+    {
+        bp_mesh m = mesh_new(4, 2);
+        set_v(&m, 0, 0, 0, 0); set_v(&m, 1, 1, 0, 0); set_v(&m, 2, 0, 1, 0); set_v(&m, 3, 0, -1, 0.1);
+        set_t(&m, 0, 0, 1, 2);
+        set_t(&m, 1, 0, 1, 3);
+        expect_mem("neighbours with opposite orientation on edge 0-1", &m, BP_ERR_ORIENTATION, BP_ELEMENT_EDGE, 0, 1);
+        mesh_free(&m);
+    }
+    expect_obj_el("OBJ flipped neighbour", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 3 4\n",
+                  BP_ERR_ORIENTATION, 1, 6, BP_ELEMENT_EDGE, 1, 2);
+}
+
+/* The bowtie.  (a) Two triangles sharing only a vertex are two charts (the
+   charts are the edge-connected components): both flattened.  (b) A pinch
+   inside one chart: a 4x4 grid without the quads (1,1) and (2,2), which
+   touch at vertex 12; the two remaining fans at vertex 12 are connected
+   through the rest of the grid.  The library splits the vertex (one chart
+   vertex per fan, split_vertices 1) and maps the chart as a disk with one
+   hole; the map must be bijective. */
+static int diagonal_holes(int i, int j, int nx, int ny)
+{
+    (void)nx; (void)ny;
+    return (i == 1 && j == 1) || (i == 2 && j == 2);
+}
+
+static void test_bowtie(void)
+{
+    bp_atlas at;
+    {
+        bp_mesh m = mesh_new(5, 2);
+        set_v(&m, 0, 0, 0, 0);
+        set_v(&m, 1, 1, 0.2, 0); set_v(&m, 2, 1, -0.2, 0.1);   /* (0 2 1) faces +z... any orientation */
+        set_v(&m, 3, -1, 0.3, 0); set_v(&m, 4, -1, -0.3, 0.2);
+        set_t(&m, 0, 0, 2, 1);
+        set_t(&m, 1, 0, 3, 4);
+        memset(&at, 0, sizeof at);
+        if (expect_fine("bowtie of two triangles (two charts)", &m, NULL, &at))
+            BPT_CHECK(at.num_charts == 2 && at.num_split == 0, "bowtie: 2 charts, 0 split (%u, %u)",
+                      (unsigned)at.num_charts, (unsigned)at.num_split);
+        bp_atlas_free(&at);
+        mesh_free(&m);
+    }
+    {
+        bp_mesh m = grid(4, 4, diagonal_holes, 0.25);
+        memset(&at, 0, sizeof at);
+        if (expect_fine("pinched vertex inside one chart", &m, NULL, &at)) {
+            const bp_chart *ch = &at.charts[0];
+            uint32_t v, copies = 0;
+            for (v = 0; v < ch->num_vertices; v++) copies += ch->vertex[v] == 12;
+            BPT_CHECK(at.num_charts == 1 && at.num_split == 1 && ch->split_vertices == 1 && copies == 2,
+                      "pinch: 1 chart, num_split 1, split_vertices 1, mesh vertex 12 has 2 chart vertices "
+                      "(%u, %u, %u, %u)", (unsigned)at.num_charts, (unsigned)at.num_split,
+                      (unsigned)ch->split_vertices, (unsigned)copies);
+            BPT_CHECK(ch->num_loops == 2 && ch->num_vertices == m.num_vertices + 1,
+                      "pinch: repaired into a disk with one hole (%u loops, %u chart vertices)",
+                      (unsigned)ch->num_loops, (unsigned)ch->num_vertices);
+        }
+        bp_atlas_free(&at);
+        mesh_free(&m);
+    }
+}
+
+static void tetra(bp_mesh *m, uint32_t v0, uint32_t t0, double ox)
+{
+    set_v(m, v0 + 0, ox + 0, 0, 0);
+    set_v(m, v0 + 1, ox + 1, 0, 0);
+    set_v(m, v0 + 2, ox + 0, 1, 0);
+    set_v(m, v0 + 3, ox + 0, 0, 1);
+    set_t(m, t0 + 0, v0 + 0, v0 + 2, v0 + 1);
+    set_t(m, t0 + 1, v0 + 0, v0 + 1, v0 + 3);
+    set_t(m, t0 + 2, v0 + 0, v0 + 3, v0 + 2);
+    set_t(m, t0 + 3, v0 + 1, v0 + 2, v0 + 3);
+}
+
+static void test_closed(void)
+{
+    bp_mesh m = mesh_new(4, 4);
+    bp_atlas at;
+    bp_error err;
+    bp_options o = defaults();
+    bp_status st;
+    tetra(&m, 0, 0, 0);
+    st = bp_parameterize(&at, &m, &o, &err);
+    BPT_CHECK(st == BP_ERR_CHARTS_FAILED && err.status == st && err.element == BP_ELEMENT_CHART && err.index == 0,
+              "tetrahedron: BP_ERR_CHARTS_FAILED naming chart 0 (%s, element %d, index %lld): \"%s\"",
+              bp_status_string(st), (int)err.element, (long long)err.index, err.message);
+    if (st == BP_ERR_CHARTS_FAILED) {
+        BPT_CHECK(at.num_charts == 1 && at.num_failed == 1 && at.charts[0].uv == NULL &&
+                      at.charts[0].error.status == BP_ERR_TOPOLOGY && at.charts[0].error.element == BP_ELEMENT_CHART &&
+                      at.charts[0].error.index == 0 && strstr(at.charts[0].error.message, "closed") &&
+                      has_number(at.charts[0].error.message, 0),
+                  "tetrahedron: chart 0 has no map, chart.error BP_ERR_TOPOLOGY names chart 0 and says closed: \"%s\"",
+                  at.charts[0].error.message);
+    }
+    bp_atlas_free(&at);
+    o.strict = 1;
+    st = bp_parameterize(&at, &m, &o, &err);
+    BPT_CHECK(st == BP_ERR_TOPOLOGY && err.status == st && err.element == BP_ELEMENT_CHART && err.index == 0 &&
+                  at.charts == NULL,
+              "tetrahedron, strict: BP_ERR_TOPOLOGY naming chart 0, atlas freed (%s): \"%s\"", bp_status_string(st),
+              err.message);
+    bp_atlas_free(&at);
+    mesh_free(&m);
+
+    /* genus 1 with two boundary loops */
+    {
+        bp_mesh t;
+        if (BPT_CHECK(bp_read_obj("tests/data/torus_with_holes.obj", &t, NULL, &err) == BP_OK, "read torus_with_holes")) {
+            o = defaults();
+            st = bp_parameterize(&at, &t, &o, &err);
+            BPT_CHECK(st == BP_ERR_CHARTS_FAILED && at.num_charts == 1 && at.num_failed == 1 &&
+                          at.charts[0].error.status == BP_ERR_TOPOLOGY && strstr(at.charts[0].error.message, "genus 1") &&
+                          err.element == BP_ELEMENT_CHART && err.index == 0 && has_number(err.message, 0) && err.line > 0,
+                      "torus_with_holes: CHARTS_FAILED, chart 0 BP_ERR_TOPOLOGY 'genus 1', names chart 0, err.line %lld: \"%s\"",
+                      (long long)err.line, err.message);
+            bp_atlas_free(&at);
+            o.strict = 1;
+            st = bp_parameterize(&at, &t, &o, &err);
+            BPT_CHECK(st == BP_ERR_TOPOLOGY && err.element == BP_ELEMENT_CHART && err.index == 0,
+                      "torus_with_holes, strict: BP_ERR_TOPOLOGY chart 0 (%s)", bp_status_string(st));
+            bp_atlas_free(&at);
+            bp_mesh_free(&t, NULL);
+        }
+    }
+}
+
+/* One good chart (a curved grid) and one closed chart (a tetrahedron):
+   the grid is mapped and valid, the tetrahedron has no uv, and
+   bp_write_obj writes the tetrahedron's faces without vt. */
+static void test_mixed(void)
+{
+    bp_mesh g = grid(3, 3, NULL, 0.2), m = mesh_new(g.num_vertices + 4, g.num_triangles + 4);
+    bp_atlas at;
+    bp_error err;
+    bp_options o = defaults();
+    bp_status st;
+    char dir[] = "/tmp/bp_badinput_XXXXXX", path[128], line[256];
+    memcpy(m.positions, g.positions, 3 * g.num_vertices * sizeof(double));
+    memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
+    tetra(&m, g.num_vertices, g.num_triangles, 10);
+    st = bp_parameterize(&at, &m, &o, &err);
+    BPT_CHECK(st == BP_ERR_CHARTS_FAILED && err.element == BP_ELEMENT_CHART && err.index == 1 &&
+                  has_number(err.message, 1),
+              "grid + tetrahedron: BP_ERR_CHARTS_FAILED naming chart 1 (%s): \"%s\"", bp_status_string(st), err.message);
+    if (st != BP_ERR_CHARTS_FAILED) { mesh_free(&g); mesh_free(&m); bp_atlas_free(&at); return; }
+    BPT_CHECK(at.num_charts == 2 && at.num_failed == 1 && at.charts[0].uv && at.charts[0].error.status == BP_OK &&
+                  chart_valid(&at.charts[0]) && atlas_valid(&at),
+              "grid + tetrahedron: the grid is mapped and passes bp_check");
+    BPT_CHECK(at.charts[1].uv == NULL && at.charts[1].error.status == BP_ERR_TOPOLOGY,
+              "grid + tetrahedron: the tetrahedron has uv NULL and chart.error BP_ERR_TOPOLOGY");
+    if (BPT_CHECK(mkdtemp(dir) != NULL, "mkdtemp")) {
+        FILE *f;
+        int faces = 0, with_vt = 0, bad = 0;
+        sprintf(path, "%s/mixed.obj", dir);
+        st = bp_write_obj(path, &m, &at, &err);
+        BPT_CHECK(st == BP_OK, "grid + tetrahedron: bp_write_obj (%s)", err.message);
+        f = fopen(path, "r");
+        while (f && fgets(line, sizeof line, f)) {
+            if (line[0] != 'f' || line[1] != ' ') continue;
+            if (faces < (int)g.num_triangles) { if (strchr(line, '/')) with_vt++; else bad++; }
+            else if (strchr(line, '/')) bad++;
+            faces++;
+        }
+        if (f) fclose(f);
+        BPT_CHECK(faces == (int)m.num_triangles && with_vt == (int)g.num_triangles && bad == 0,
+                  "written OBJ: %d faces, the grid's %d with vt, the tetrahedron's 4 without (%d wrong)", faces, with_vt,
+                  bad);
+        /* and it reads back */
+        {
+            bp_mesh r;
+            st = bp_read_obj(path, &r, NULL, &err);
+            BPT_CHECK(st == BP_OK && r.num_triangles == m.num_triangles, "written OBJ reads back (%s)", err.message);
+            bp_mesh_free(&r, NULL);
+        }
+        unlink(path);
+        rmdir(dir);
+    }
+    bp_atlas_free(&at);
+    mesh_free(&g);
+    mesh_free(&m);
+}
+
+/* ---- legal but unusual --------------------------------------------------------- */
+
+static void test_legal(void)
+{
+    bp_atlas at;
+    /* a single triangle */
+    {
+        bp_mesh m = mesh_new(3, 1);
+        set_v(&m, 0, 0, 0, 0); set_v(&m, 1, 3, 0, 1); set_v(&m, 2, 0.2, 1, -1);
+        set_t(&m, 0, 0, 1, 2);
+        expect_fine("a single triangle", &m, NULL, NULL);
+        mesh_free(&m);
+    }
+    /* duplicated vertices at one position: a cut from the boundary to the
+       middle of a 4x4 grid (vertices 1, 6, 11 on column 1... here the
+       quads left of the cut use copies of the column-2 vertices of rows
+       0..2).  The chart stays one disk with a slit; the two sides of the
+       slit coincide in 3D. */
+    {
+        bp_mesh g = grid(4, 4, NULL, 0.2), m;
+        uint32_t t, k, extra = 3, copy[25];
+        m = mesh_new(g.num_vertices + extra, g.num_triangles);
+        memcpy(m.positions, g.positions, 3 * g.num_vertices * sizeof(double));
+        memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
+        for (k = 0; k < 25; k++) copy[k] = k;
+        /* column i = 2, rows j = 0..2: vertices 2, 7, 12 */
+        for (k = 0; k < 3; k++) {
+            uint32_t v = 2 + 5 * k;
+            copy[v] = g.num_vertices + k;
+            set_v(&m, copy[v], g.positions[3 * v], g.positions[3 * v + 1], g.positions[3 * v + 2]);
+        }
+        /* the quads with i < 2 and j < 2 use the copies (vertex 12 is the
+           slit's end: only triangles of quad (1,1) may use its copy... keep
+           12 shared so the slit ends there) */
+        copy[12] = 12;
+        for (t = 0; t < m.num_triangles; t++) {
+            uint32_t q = t / 2, qi = q % 4, qj = q / 4;
+            if (qi < 2 && qj < 2)
+                for (k = 0; k < 3; k++) m.triangles[3 * t + k] = copy[m.triangles[3 * t + k]];
+        }
+        memset(&at, 0, sizeof at);
+        if (expect_fine("duplicated vertices at one position (a slit cut from the boundary)", &m, NULL, &at))
+            BPT_CHECK(at.num_charts == 1 && at.charts[0].num_loops == 1 && at.charts[0].num_vertices == 27,
+                      "slit: one disk chart with 27 vertices (%u charts, %u loops, %u vertices)",
+                      (unsigned)at.num_charts, (unsigned)at.charts[0].num_loops, (unsigned)at.charts[0].num_vertices);
+        bp_atlas_free(&at);
+        /* an interior slit: copies of 7 only (6 and 8... vertices 7, 12 on
+           column 2 between rows 1 and 2), used by quads (1,1), (1,2)... a
+           closed slit 7-12-17 with both ends shared: a hole of zero 3D area */
+        memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
+        for (k = 0; k < 25; k++) copy[k] = k;
+        copy[12] = g.num_vertices;
+        set_v(&m, copy[12], g.positions[36], g.positions[37], g.positions[38]);
+        for (t = 0; t < m.num_triangles; t++) {
+            uint32_t q = t / 2, qi = q % 4, qj = q / 4;
+            if (qi < 2 && (qj == 1 || qj == 2))
+                for (k = 0; k < 3; k++) m.triangles[3 * t + k] = copy[m.triangles[3 * t + k]];
+        }
+        m.num_vertices = g.num_vertices + 1;
+        memset(&at, 0, sizeof at);
+        if (expect_fine("duplicated vertex at one position (an interior slit 7-12-17: a hole of zero area)", &m, NULL,
+                        &at))
+            BPT_CHECK(at.num_charts == 1 && at.charts[0].num_loops == 2,
+                      "interior slit: one chart with an outer loop and a hole (%u charts, %u loops)",
+                      (unsigned)at.num_charts, (unsigned)at.charts[0].num_loops);
+        bp_atlas_free(&at);
+        /* and a full cut: column 2 duplicated on every row -> two charts */
+        memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
+        mesh_free(&m);
+        m = mesh_new(g.num_vertices + 5, g.num_triangles);
+        memcpy(m.positions, g.positions, 3 * g.num_vertices * sizeof(double));
+        memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
+        for (k = 0; k < 25; k++) copy[k] = k;
+        for (k = 0; k < 5; k++) {
+            uint32_t v = 2 + 5 * k;
+            copy[v] = g.num_vertices + k;
+            set_v(&m, copy[v], g.positions[3 * v], g.positions[3 * v + 1], g.positions[3 * v + 2]);
+        }
+        for (t = 0; t < m.num_triangles; t++)
+            if ((t / 2) % 4 < 2)
+                for (k = 0; k < 3; k++) m.triangles[3 * t + k] = copy[m.triangles[3 * t + k]];
+        memset(&at, 0, sizeof at);
+        if (expect_fine("duplicated vertices along a full column: two charts that touch in 3D", &m, NULL, &at))
+            BPT_CHECK(at.num_charts == 2, "full cut: two charts (%u)", (unsigned)at.num_charts);
+        bp_atlas_free(&at);
+        mesh_free(&m);
+        mesh_free(&g);
+    }
+    /* vt seams that pinch: spot.obj has 4 pinch vertices */
+    {
+        bp_mesh m;
+        bp_error err;
+        if (BPT_CHECK(bp_read_obj("tests/data/spot.obj", &m, NULL, &err) == BP_OK, "read spot.obj")) {
+            bp_options o = defaults();
+            o.max_iterations = 30;
+            memset(&at, 0, sizeof at);
+            if (expect_fine("spot.obj (vt seams with pinches), 30 iterations", &m, &o, &at)) {
+                uint32_t c, sum = 0;
+                for (c = 0; c < at.num_charts; c++) sum += at.charts[c].split_vertices;
+                BPT_CHECK(at.num_split == 4 && sum == 4, "spot: 4 pinch vertices repaired (num_split %u, sum %u)",
+                          (unsigned)at.num_split, (unsigned)sum);
+            }
+            bp_atlas_free(&at);
+            bp_mesh_free(&m, NULL);
+        }
+    }
+}
+
+/* ~2000 single-quad holes: an 90 x 90 grid without every quad (i, j) with
+   i and j odd, 1 <= i, j <= 87: 44 x 44 = 1936 holes. */
+static int many_holes(int i, int j, int nx, int ny)
+{
+    return (i & 1) && (j & 1) && i < nx - 2 && j < ny - 2;
+}
+
+static void test_many_holes(void)
+{
+    bp_mesh m = grid(90, 90, many_holes, 0.5);
+    bp_options o = defaults();
+    bp_atlas at;
+    double t0 = now(), dt;
+    memset(&at, 0, sizeof at);
+    if (expect_fine("grid with 1936 holes, default options", &m, &o, &at)) {
+        dt = now() - t0;
+        BPT_CHECK(at.num_charts == 1 && at.charts[0].num_loops == 1937,
+                  "many holes: one chart with 1937 loops (%u)", (unsigned)at.charts[0].num_loops);
+        BPT_CHECK(dt < 30, "many holes: %u triangles, %u loops, %d iterations (%s) in %.2f s (< 30 s)",
+                  (unsigned)m.num_triangles, (unsigned)at.charts[0].num_loops, at.charts[0].iterations,
+                  bp_stop_string(at.charts[0].stop), dt);
+    }
+    bp_atlas_free(&at);
+    mesh_free(&m);
+}
+
+/* Scale: the method is scale-free (see test_optimize.c test_scale for the
+   argument and the measured divergences at 1e3).  At 1e-6 and 1e6 each
+   input coordinate is rounded, so the runs start ~1e-16 apart; after 20
+   iterations they may differ by rounding amplified through 20 line
+   searches, measured ~1e-8 of the chart size on bishop: checked < 1e-6.
+   Here a holed curved grid (two holes) through the whole pipeline (packing
+   included), so the barrier on hole loops is scaled too. */
+static int two_holes(int i, int j, int nx, int ny)
+{
+    (void)nx; (void)ny;
+    return (i == 2 && j == 2) || (i == 6 && j == 5);
+}
+
+static void test_scale(void)
+{
+    bp_mesh base = grid(9, 8, two_holes, 0.8);
+    double scales[2] = { 1e-6, 1e6 }, *ref = NULL, size;
+    uint32_t nv = 0, i;
+    int k, it0 = 0;
+    bp_options o = defaults();
+    bp_atlas at;
+    bp_error err;
+    o.max_iterations = 20;
+    if (!BPT_CHECK(bp_parameterize(&at, &base, &o, &err) == BP_OK && all_mapped_valid(&at), "two-hole grid at scale 1"))
+    {
+        bp_atlas_free(&at);
+        mesh_free(&base);
+        return;
+    }
+    nv = at.charts[0].num_vertices;
+    it0 = at.charts[0].iterations;
+    ref = (double *)malloc(2 * nv * sizeof(double));
+    memcpy(ref, at.charts[0].uv, 2 * nv * sizeof(double));
+    {
+        double lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
+        for (i = 0; i < nv; i++) {
+            int c;
+            for (c = 0; c < 2; c++) {
+                if (ref[2 * i + c] < lo[c]) lo[c] = ref[2 * i + c];
+                if (ref[2 * i + c] > hi[c]) hi[c] = ref[2 * i + c];
+            }
+        }
+        size = hi[0] - lo[0] > hi[1] - lo[1] ? hi[0] - lo[0] : hi[1] - lo[1];
+    }
+    bp_atlas_free(&at);
+    for (k = 0; k < 2; k++) {
+        bp_mesh m = grid(9, 8, two_holes, 0.8);
+        double diff = 0;
+        for (i = 0; i < 3 * m.num_vertices; i++) m.positions[i] *= scales[k];
+        if (BPT_CHECK(bp_parameterize(&at, &m, &o, &err) == BP_OK && all_mapped_valid(&at) &&
+                          at.charts[0].num_vertices == nv,
+                      "two-hole grid scaled by %g: BP_OK and valid (%s)", scales[k], err.message)) {
+            for (i = 0; i < 2 * nv; i++) {
+                double d = fabs(at.charts[0].uv[i] / scales[k] - ref[i]);
+                if (!(d <= diff)) diff = d;
+            }
+            BPT_CHECK(diff <= 1e-6 * size && at.charts[0].iterations == it0,
+                      "two-hole grid scaled by %g: map / scale equals the unscaled map to 1e-6 of the chart size "
+                      "(max diff %.3g of the size, %d vs %d iterations)", scales[k], diff / size,
+                      at.charts[0].iterations, it0);
+        }
+        bp_atlas_free(&at);
+        mesh_free(&m);
+    }
+    free(ref);
+    mesh_free(&base);
+}
+
+/* ---- status strings ----------------------------------------------------------- */
+
+static void test_strings(void)
+{
+    int s, bad = 0;
+    for (s = 0; s < BP_STATUS_COUNT; s++) {
+        const char *str = bp_status_string((bp_status)s);
+        if (!str || !str[0] || !strcmp(str, "unknown status")) bad++;
+    }
+    BPT_CHECK(bad == 0, "every one of the %d bp_status values has its own non-empty string", (int)BP_STATUS_COUNT);
+    BPT_CHECK(!strcmp(bp_status_string(BP_OK), "ok") &&
+                  !strcmp(bp_status_string(BP_ERR_CHARTS_FAILED), "some charts failed; the others are valid"),
+              "strings match BP_STATUS_LIST");
+    {
+        const char *a = bp_status_string((bp_status)-1), *b = bp_status_string(BP_STATUS_COUNT),
+                   *c = bp_status_string((bp_status)1000000), *d = bp_status_string((bp_status)INT32_MIN);
+        BPT_CHECK(a && b && c && d && a[0] && !strcmp(a, b) && !strcmp(c, d),
+                  "out-of-range statuses (-1, COUNT, 1e6, INT_MIN) give \"%s\" without crashing", a ? a : "(null)");
+    }
+    BPT_CHECK(bp_stop_string((bp_stop)-1)[0] && bp_energy_name((bp_energy)99)[0],
+              "bp_stop_string / bp_energy_name out of range: non-empty");
+}
+
+/* ---- cancellation and limits --------------------------------------------------- */
+
+typedef struct cancel_state {
+    int at, calls, invalid;
+    bp_atlas *atlas;
+} cancel_state;
+
+static int cancel_cb(void *user, uint32_t chart, int iteration, double e, double step)
+{
+    cancel_state *s = (cancel_state *)user;
+    (void)e; (void)step; (void)chart;
+    s->calls++;
+    return iteration >= s->at;
+}
+
+static void test_cancel_sweep(void)
+{
+    bp_mesh m;
+    bp_error err;
+    static const int ks[] = { 1, 2, 3, 4, 5, 8, 13, 21, 34, 55 };
+    int i, bad = 0, valid = 0, exact = 0;
+    if (!BPT_CHECK(bp_read_obj("tests/data/bishop_part_f1000.obj", &m, NULL, &err) == BP_OK, "read bishop")) return;
+    for (i = 0; i < (int)(sizeof ks / sizeof ks[0]); i++) {
+        bp_options o = defaults();
+        bp_atlas at;
+        cancel_state s;
+        bp_status st;
+        memset(&s, 0, sizeof s);
+        s.at = ks[i];
+        o.progress = cancel_cb;
+        o.progress_user = &s;
+        st = bp_parameterize(&at, &m, &o, &err);
+        if (st != BP_ERR_CANCELLED || !at.charts) { bad++; bp_atlas_free(&at); continue; }
+        if (all_mapped_valid(&at)) valid++;
+        if (at.charts[0].iterations == ks[i] && at.charts[0].stop == BP_STOP_CANCELLED && s.calls == ks[i]) exact++;
+        bp_atlas_free(&at);
+    }
+    BPT_CHECK(bad == 0 && valid == 10 && exact == 10,
+              "cancel at k = 1..55 (10 values) on bishop: BP_ERR_CANCELLED, atlas kept, %d/10 valid, %d/10 stopped "
+              "exactly at k", valid, exact);
+    /* several charts (spot): cancel every chart at its k-th iteration */
+    bp_mesh_free(&m, NULL);
+    if (!BPT_CHECK(bp_read_obj("tests/data/spot.obj", &m, NULL, &err) == BP_OK, "read spot")) return;
+    for (i = 0; i < 4; i++) {
+        bp_options o = defaults();
+        bp_atlas at;
+        cancel_state s;
+        bp_status st;
+        memset(&s, 0, sizeof s);
+        s.at = ks[i * 2];
+        o.progress = cancel_cb;
+        o.progress_user = &s;
+        st = bp_parameterize(&at, &m, &o, &err);
+        BPT_CHECK(st == BP_ERR_CANCELLED && at.charts && all_mapped_valid(&at),
+                  "spot, cancel every chart at iteration %d: BP_ERR_CANCELLED and the packed atlas is valid (%s)",
+                  s.at, bp_status_string(st));
+        bp_atlas_free(&at);
+    }
+    bp_mesh_free(&m, NULL);
+}
+
+static void test_limits(void)
+{
+    bp_mesh m;
+    bp_error err;
+    bp_atlas at;
+    int iters[3] = { 1, 7, 40 }, i;
+    if (!BPT_CHECK(bp_read_obj("tests/data/bishop_part_f1000.obj", &m, NULL, &err) == BP_OK, "read bishop")) return;
+    for (i = 0; i < 3; i++) {
+        bp_options o = defaults();
+        o.max_iterations = iters[i];
+        if (BPT_CHECK(bp_parameterize(&at, &m, &o, &err) == BP_OK, "bishop, max_iterations %d: BP_OK", iters[i]))
+            BPT_CHECK(at.charts[0].iterations == iters[i] && at.charts[0].stop == BP_STOP_MAX_ITERATIONS &&
+                          all_mapped_valid(&at),
+                      "bishop, max_iterations %d: %d iterations, stop %s, valid", iters[i], at.charts[0].iterations,
+                      bp_stop_string(at.charts[0].stop));
+        bp_atlas_free(&at);
+    }
+    bp_mesh_free(&m, NULL);
+    /* max_seconds on a large mesh (only if the shared meshes are there) */
+    if (access("../shared/meshes/hilbert.obj", R_OK) == 0) {
+        if (BPT_CHECK(bp_read_obj("../shared/meshes/hilbert.obj", &m, NULL, &err) == BP_OK, "read hilbert.obj")) {
+            bp_options o = defaults();
+            double t0, dt;
+            bp_status st;
+            o.max_seconds = 2;
+            t0 = now();
+            st = bp_parameterize(&at, &m, &o, &err);
+            dt = now() - t0;
+            if (BPT_CHECK(st == BP_OK, "hilbert, max_seconds 2: BP_OK (%s)", err.message)) {
+                uint32_t c;
+                int stopped = 0;
+                for (c = 0; c < at.num_charts; c++) stopped += at.charts[c].stop == BP_STOP_MAX_SECONDS;
+                BPT_CHECK(dt < 4.5 && all_mapped_valid(&at),
+                          "hilbert, max_seconds 2: returns in %.2f s (< 4.5: build, start map, 2 s, pack, verify), "
+                          "%u charts, %d stopped on time, valid", dt, (unsigned)at.num_charts, stopped);
+            }
+            bp_atlas_free(&at);
+            bp_mesh_free(&m, NULL);
+        }
+    } else {
+        printf("skip: ../shared/meshes/hilbert.obj not present (max_seconds on a large mesh)\n");
+    }
+}
+
+int main(void)
+{
+    test_strings();
+    test_empty();
+    test_nonfinite();
+    test_indices();
+    test_degenerate();
+    test_topology();
+    test_bowtie();
+    test_closed();
+    test_mixed();
+    test_legal();
+    test_scale();
+    test_cancel_sweep();
+    test_limits();
+    test_many_holes();
+    return bpt_finish();
+}
