@@ -22,7 +22,7 @@ endif
 CFLAGS   ?= -std=c99 -O2 -Wall -Wextra -pedantic -Werror
 CXXFLAGS ?= -std=c++11 -O2 -Wall -Wextra -pedantic -Werror
 CPPFLAGS += -I. -Itests
-LDLIBS   += -lm
+LDLIBS   += -lm -pthread
 # The C++ tests cross-check against OpenMesh (libopenmesh-dev).  At -O2, g++ 12
 # inlines OpenMesh's PropertyT::push_back and reports a -Wmaybe-uninitialized
 # inside OpenMesh's own code, so test files that include OpenMesh are compiled

@@ -2573,10 +2573,28 @@ static int bp__edges_conflict(const double *uv, const bp__dedge *e, const bp__de
 
 /* Condition (b) for the boundary edges de[0..nb): counts conflicting pairs
    into rep->boundary_intersections.  Uses a grid as described above. */
-static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv, const bp__dedge *de,
-                                        uint32_t nb, bp_check_report *rep)
+/* Reusable storage of the exact boundary check (grown, never shrunk). */
+typedef struct bp__grid_ws {
+    uint32_t *cellp, *cells;
+    size_t    ncellp, ncells;
+} bp__grid_ws;
+
+/* Grow a uint32 array of the workspace to n entries (contents lost). */
+static int bp__ws_grow(const bp_allocator *a, uint32_t **p, size_t *cap, size_t n)
 {
+    if (n <= *cap) return 1;
+    bp__free(a, *p);
+    *p = (uint32_t *)bp__alloc_array(a, n + n / 2, sizeof(uint32_t));
+    *cap = *p ? n + n / 2 : 0;
+    return *p != NULL;
+}
+
+static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv, const bp__dedge *de,
+                                        uint32_t nb, bp_check_report *rep, bp__grid_ws *ws)
+{
+    bp__grid_ws tmp = { NULL, NULL, 0, 0 }, *w = ws ? ws : &tmp;
     uint32_t *cellp = NULL, *cells = NULL, i, k;
+    bp_status st = BP_OK;
     double lo[2] = { DBL_MAX, DBL_MAX }, hi[2] = { -DBL_MAX, -DBL_MAX }, h, len = 0;
     size_t ncell, gx, gy;
     if (nb < 2) return BP_OK;
@@ -2600,8 +2618,12 @@ static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv,
         /* counting sort of (edge, cell) incidences; a long edge is entered
            in every cell of its box */
         size_t total = 0, c;
-        cellp = (uint32_t *)bp__calloc_array(a, ncell + 1, sizeof(uint32_t));
-        if (!cellp) { return BP_ERR_OUT_OF_MEMORY; }
+        if (ncell + 1 > 0xfffffff0u || !bp__ws_grow(a, &w->cellp, &w->ncellp, ncell + 1)) {
+            st = BP_ERR_OUT_OF_MEMORY;
+            goto done;
+        }
+        cellp = w->cellp;
+        memset(cellp, 0, (ncell + 1) * sizeof(uint32_t));
 #define BP__CELLX(x) ((size_t)(((x) - lo[0]) / h) < gx ? (size_t)(((x) - lo[0]) / h) : gx - 1)
 #define BP__CELLY(y) ((size_t)(((y) - lo[1]) / h) < gy ? (size_t)(((y) - lo[1]) / h) : gy - 1)
         for (i = 0; i < nb; i++) {
@@ -2612,10 +2634,10 @@ static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv,
             for (yy = y0; yy <= y1; yy++)
                 for (xx = x0; xx <= x1; xx++) { cellp[yy * gx + xx + 1]++; total++; }
         }
-        if (total > 0xfffffff0u) { bp__free(a, cellp); return BP_ERR_OUT_OF_MEMORY; }
+        if (total > 0xfffffff0u) { st = BP_ERR_OUT_OF_MEMORY; goto done; }
         for (c = 0; c < ncell; c++) cellp[c + 1] += cellp[c];
-        cells = (uint32_t *)bp__alloc_array(a, total, sizeof(uint32_t));
-        if (!cells) { bp__free(a, cellp); return BP_ERR_OUT_OF_MEMORY; }
+        if (!bp__ws_grow(a, &w->cells, &w->ncells, total)) { st = BP_ERR_OUT_OF_MEMORY; goto done; }
+        cells = w->cells;
         for (i = 0; i < nb; i++) {
             const double *p = uv + 2 * (size_t)de[i].a, *q = uv + 2 * (size_t)de[i].b;
             size_t x0 = BP__CELLX(p[0] < q[0] ? p[0] : q[0]), x1 = BP__CELLX(p[0] < q[0] ? q[0] : p[0]);
@@ -2653,9 +2675,9 @@ static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv,
 #undef BP__CELLX
 #undef BP__CELLY
     }
-    bp__free(a, cells);
-    bp__free(a, cellp);
-    return BP_OK;
+done:
+    if (!ws) { bp__free(a, tmp.cellp); bp__free(a, tmp.cells); }
+    return st;
 }
 
 /* Winding number of the closed loop e[0..n) (directed edges) around p,
@@ -2836,7 +2858,7 @@ BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, ui
         e = g;
     }
     {
-        bp_status st = bp__boundary_conflicts(&a, uv, de, nb, rep);
+        bp_status st = bp__boundary_conflicts(&a, uv, de, nb, rep, NULL);
         if (st == BP_OK && !rep->flipped && !rep->degenerate && !rep->boundary_intersections)
             st = bp__loop_topology(&a, tris, nt, uv, nv, de, nb, rep);
         bp__free(&a, de);
@@ -3243,23 +3265,30 @@ static double bp__triangle_energy(bp_energy kind, const bp__rest *r, const doubl
    degenerating first.  One hash per loop therefore suffices, and the exact
    check after each step confirms it. */
 
-/* A uniform spatial hash over boxes: item i is entered in every cell its
-   box covers; a query visits the cells of a box and returns each item once
-   (stamps remove repeats from multi-cell items and hash collisions). */
+/* The spatial hash.  Items (boundary vertices, as boxes: a point for the
+   barrier, a swept segment for the step bound) are entered in every cell of
+   a uniform grid that their box covers; cells live in a hash table keyed by
+   (cell x, cell y, loop), so each loop has its own hash (sec 3.6) with its
+   own cell size, all in one table.  A query visits the cells of a box and
+   reports each item whose box overlaps it exactly once: an item covering
+   several of those cells is reported only in the cell holding the lower-left
+   corner of the overlap of the two boxes.  Queries only read the table, so
+   the edges of a loop can query it from several threads at once. */
 typedef struct bp__hash {
-    double    h;                 /* cell size                                 */
     uint32_t  mask;              /* table size - 1 (power of two)             */
     uint32_t *start;             /* mask+2 bucket offsets                     */
     uint32_t *items;             /* entries                                   */
     size_t    cap;               /* capacity of items                         */
-    uint32_t *stamp;             /* per item, last query that saw it          */
-    uint32_t  cur;
-    uint32_t  n;                 /* items in the hash                         */
+    const double *box;           /* 4 per item: xmin ymin xmax ymax           */
+    const uint32_t *group;       /* loop of each item                         */
+    const uint32_t *group_start; /* items of loop g: [group_start[g], ..[g+1]) */
+    const double *h;             /* cell size per loop                        */
 } bp__hash;
 
-static uint32_t bp__hash_cell(const bp__hash *H, int64_t ix, int64_t iy)
+static uint32_t bp__hash_cell(const bp__hash *H, int64_t ix, int64_t iy, uint32_t g)
 {
-    uint64_t k = (uint64_t)ix * 0x9E3779B97F4A7C15ull ^ (uint64_t)iy * 0xC2B2AE3D27D4EB4Full;
+    uint64_t k = (uint64_t)ix * 0x9E3779B97F4A7C15ull ^ (uint64_t)iy * 0xC2B2AE3D27D4EB4Full ^
+                 (uint64_t)g * 0x165667B19E3779F9ull;
     return (uint32_t)(k >> 32) & H->mask;
 }
 
@@ -3271,68 +3300,90 @@ static int64_t bp__cell_of(double x, double h)
     return (int64_t)c;
 }
 
-/* Build over n boxes (xmin, ymin, xmax, ymax); returns 0 if the entries
-   would exceed the capacity (the caller grows the cell size). */
-static int bp__hash_build(bp__hash *H, const double *box, uint32_t n, double h)
+/* Build over items [0, n) (n = group_start[#loops]); returns 0 if the
+   entries would exceed the capacity (the caller then grows the cells). */
+static int bp__hash_build(bp__hash *H, uint32_t n)
 {
     uint32_t i, b;
     size_t total = 0;
-    H->h = h;
-    H->n = n;
     for (b = 0; b <= H->mask + 1; b++) H->start[b] = 0;
     for (i = 0; i < n; i++) {
-        const double *bx = box + 4 * (size_t)i;
+        const double *bx = H->box + 4 * (size_t)i;
+        uint32_t g = H->group[i];
+        double h = H->h[g];
         int64_t x0 = bp__cell_of(bx[0], h), x1 = bp__cell_of(bx[2], h), ix;
         int64_t y0 = bp__cell_of(bx[1], h), y1 = bp__cell_of(bx[3], h), iy;
         if ((double)(x1 - x0 + 1) * (double)(y1 - y0 + 1) > (double)(H->cap - total)) return 0;
         for (iy = y0; iy <= y1; iy++)
-            for (ix = x0; ix <= x1; ix++) { H->start[bp__hash_cell(H, ix, iy) + 1]++; total++; }
+            for (ix = x0; ix <= x1; ix++) { H->start[bp__hash_cell(H, ix, iy, g) + 1]++; total++; }
     }
     for (b = 0; b <= H->mask; b++) H->start[b + 1] += H->start[b];
     for (i = 0; i < n; i++) {
-        const double *bx = box + 4 * (size_t)i;
+        const double *bx = H->box + 4 * (size_t)i;
+        uint32_t g = H->group[i];
+        double h = H->h[g];
         int64_t x0 = bp__cell_of(bx[0], h), x1 = bp__cell_of(bx[2], h), ix;
         int64_t y0 = bp__cell_of(bx[1], h), y1 = bp__cell_of(bx[3], h), iy;
         for (iy = y0; iy <= y1; iy++)
-            for (ix = x0; ix <= x1; ix++) H->items[H->start[bp__hash_cell(H, ix, iy)]++] = i;
+            for (ix = x0; ix <= x1; ix++) H->items[H->start[bp__hash_cell(H, ix, iy, g)]++] = i;
     }
     for (b = H->mask + 1; b > 0; b--) H->start[b] = H->start[b - 1];
     H->start[0] = 0;
     return 1;
 }
 
-/* Calls visit(user, item) once for every item whose cells meet the box. */
+/* Calls visit(user, item) once for every item of loop g whose box overlaps
+   the query box. */
 typedef void (*bp__visit_fn)(void *user, uint32_t item);
 
-static void bp__hash_query(bp__hash *H, double x0, double y0, double x1, double y1,
+static void bp__hash_query(const bp__hash *H, uint32_t g, double x0, double y0, double x1, double y1,
                            bp__visit_fn visit, void *user)
 {
-    int64_t cx0 = bp__cell_of(x0, H->h), cx1 = bp__cell_of(x1, H->h), ix;
-    int64_t cy0 = bp__cell_of(y0, H->h), cy1 = bp__cell_of(y1, H->h), iy;
+    double h = H->h[g];
+    int64_t cx0 = bp__cell_of(x0, h), cx1 = bp__cell_of(x1, h), ix;
+    int64_t cy0 = bp__cell_of(y0, h), cy1 = bp__cell_of(y1, h), iy;
     uint32_t q;
-    if (++H->cur == 0) {                      /* stamp wrap-around */
-        for (q = 0; q < H->n; q++) H->stamp[q] = 0;
-        H->cur = 1;
-    }
     if ((double)(cx1 - cx0 + 1) * (double)(cy1 - cy0 + 1) > 2.0 * (H->mask + 1)) {
-        for (q = 0; q < H->n; q++) visit(user, q);   /* box larger than the table */
+        /* a box larger than the table: test every item of the loop */
+        for (q = H->group_start[g]; q < H->group_start[g + 1]; q++) {
+            const double *bx = H->box + 4 * (size_t)q;
+            if (bx[0] <= x1 && bx[2] >= x0 && bx[1] <= y1 && bx[3] >= y0) visit(user, q);
+        }
         return;
     }
     for (iy = cy0; iy <= cy1; iy++)
         for (ix = cx0; ix <= cx1; ix++) {
-            uint32_t bkt = bp__hash_cell(H, ix, iy), e;
+            uint32_t bkt = bp__hash_cell(H, ix, iy, g), e;
             for (e = H->start[bkt]; e < H->start[bkt + 1]; e++) {
                 uint32_t it = H->items[e];
-                if (H->stamp[it] == H->cur) continue;
-                H->stamp[it] = H->cur;
+                const double *bx = H->box + 4 * (size_t)it;
+                /* an item whose cells collide in one bucket is entered there
+                   more than once, always in a row (items are entered in order) */
+                if (e > H->start[bkt] && H->items[e - 1] == it) continue;
+                if (H->group[it] != g) continue;                              /* collision */
+                if (bx[0] > x1 || bx[2] < x0 || bx[1] > y1 || bx[3] < y0) continue;  /* apart */
+                if (bp__cell_of(bx[0] > x0 ? bx[0] : x0, h) != ix ||
+                    bp__cell_of(bx[1] > y0 ? bx[1] : y0, h) != iy) continue;      /* reported elsewhere */
                 visit(user, it);
             }
         }
 }
 
-/* The solver's state for one chart. */
+/* Work is split in fixed-size chunks of items (see >>threads). */
+#define BP__TRI_CHUNK  4096u
+#define BP__VERT_CHUNK 8192u
+#define BP__EDGE_CHUNK 512u
+
+/* A gradient contribution of the barrier, applied after the parallel part
+   in chunk order. */
+typedef struct bp__grec { uint32_t v; double gx, gy; } bp__grec;
+
+/* The solver's state for one chart.  bp__solver_init allocates every array
+   the iterations need, so the loop itself allocates nothing (except the
+   barrier's record lists and the check's grid when they first grow). */
 typedef struct bp__solver {
     const bp_allocator *a;
+    bp__par    par;                /* how chunks run (serial by default)      */
     bp_energy  energy;
     uint32_t   nv, nt;
     const uint32_t *tri;
@@ -3345,26 +3396,159 @@ typedef struct bp__solver {
     double     mean_edge;          /* mean 3D boundary edge length           */
     bp__hash   hash;
     double    *box;                /* 4 per boundary vertex                  */
-    /* current query state (visitor arguments) */
-    const double *x;
-    double    *g;
-    uint32_t   loop, edge;         /* loop index, position of edge start     */
-    double     acc;                /* barrier sum of the current edge        */
-    const double *dir;
-    double     tmax;
+    uint32_t  *bl_loop;            /* loop of each boundary position          */
+    double    *hs;                 /* hash cell size per loop                 */
+    double    *gc;                 /* 6 per triangle: corner gradients        */
+    uint32_t  *vc_start, *vc_list; /* corners around each vertex (CSR)        */
+    double    *part;               /* one slot per chunk                      */
+    uint32_t   nchunk_t, nchunk_v, nchunk_b;
+    bp__vec   *rec;                /* barrier records per edge chunk          */
+    int        oom;                /* a task could not grow its records       */
+    bp__grid_ws ws;
 } bp__solver;
+
+static void bp__solver_free(bp__solver *S)
+{
+    uint32_t c;
+    const bp_allocator *a = S->a;
+    if (!a) return;
+    if (S->rec)
+        for (c = 0; c < S->nchunk_b; c++) bp__free(a, S->rec[c].data);
+    bp__free(a, S->rec);
+    bp__free(a, S->rest); bp__free(a, S->hash.start); bp__free(a, S->hash.items);
+    bp__free(a, S->box); bp__free(a, S->bl_loop); bp__free(a, S->hs); bp__free(a, S->gc);
+    bp__free(a, S->vc_start); bp__free(a, S->vc_list); bp__free(a, S->part);
+    bp__free(a, S->ws.cellp); bp__free(a, S->ws.cells);
+    memset(S, 0, sizeof *S);
+}
+
+/* Allocate the solver for a triangulation with boundary loops; rest shapes,
+   eps and mean_edge are filled by the caller.  Loops run serially until the
+   caller sets S->par. */
+static bp_status bp__solver_init(bp__solver *S, const bp_allocator *a, uint32_t nv, uint32_t nt,
+                                 const uint32_t *tri, uint32_t nloops, const uint32_t *loop_start,
+                                 const uint32_t *loop_vertices)
+{
+    uint32_t nb = loop_start[nloops], L, k, t, c, nchunk;
+    memset(S, 0, sizeof *S);
+    S->a = a;
+    S->par.run = bp__serial_for;
+    S->par.threads = 1;
+    S->nv = nv;
+    S->nt = nt;
+    S->tri = tri;
+    S->nloops = nloops;
+    S->loop_start = loop_start;
+    S->loop_vertices = loop_vertices;
+    S->nb = nb;
+    S->barrier = 1;
+    S->nchunk_t = (nt + BP__TRI_CHUNK - 1) / BP__TRI_CHUNK;
+    S->nchunk_v = (nv + BP__VERT_CHUNK - 1) / BP__VERT_CHUNK;
+    S->nchunk_b = (nb + BP__EDGE_CHUNK - 1) / BP__EDGE_CHUNK;
+    nchunk = S->nchunk_t > S->nchunk_b ? S->nchunk_t : S->nchunk_b;
+    S->hash.mask = 1;
+    while (S->hash.mask + 1 < 2 * nb) S->hash.mask = 2 * S->hash.mask + 1;
+    S->hash.cap = 32 * (size_t)nb + 64;
+    S->rest = (bp__rest *)bp__calloc_array(a, nt, sizeof(bp__rest));
+    S->hash.start = (uint32_t *)bp__alloc_array(a, (size_t)S->hash.mask + 2, sizeof(uint32_t));
+    S->hash.items = (uint32_t *)bp__alloc_array(a, S->hash.cap, sizeof(uint32_t));
+    S->box = (double *)bp__alloc_array(a, 4 * (size_t)nb, sizeof(double));
+    S->bl_loop = (uint32_t *)bp__alloc_array(a, nb, sizeof(uint32_t));
+    S->hs = (double *)bp__alloc_array(a, nloops, sizeof(double));
+    S->gc = (double *)bp__alloc_array(a, 6 * (size_t)nt, sizeof(double));
+    S->vc_start = (uint32_t *)bp__calloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    S->vc_list = (uint32_t *)bp__alloc_array(a, 3 * (size_t)nt, sizeof(uint32_t));
+    S->part = (double *)bp__alloc_array(a, nchunk ? nchunk : 1, sizeof(double));
+    S->rec = (bp__vec *)bp__calloc_array(a, S->nchunk_b ? S->nchunk_b : 1, sizeof(bp__vec));
+    if (!S->rest || !S->hash.start || !S->hash.items || !S->box || !S->bl_loop || !S->hs || !S->gc ||
+        !S->vc_start || !S->vc_list || !S->part || !S->rec) {
+        bp__solver_free(S);
+        return BP_ERR_OUT_OF_MEMORY;
+    }
+    for (c = 0; c < S->nchunk_b; c++) S->rec[c].elem = sizeof(bp__grec);
+    for (L = 0; L < nloops; L++)
+        for (k = loop_start[L]; k < loop_start[L + 1]; k++) S->bl_loop[k] = L;
+    S->hash.box = S->box;
+    S->hash.group = S->bl_loop;
+    S->hash.group_start = loop_start;
+    S->hash.h = S->hs;
+    /* corners around each vertex, in increasing corner order */
+    for (t = 0; t < 3 * nt; t++) S->vc_start[tri[t] + 1]++;
+    for (k = 0; k < nv; k++) S->vc_start[k + 1] += S->vc_start[k];
+    for (t = 0; t < 3 * nt; t++) S->vc_list[S->vc_start[tri[t]]++] = t;
+    for (k = nv; k > 0; k--) S->vc_start[k] = S->vc_start[k - 1];
+    S->vc_start[0] = 0;
+    return BP_OK;
+}
+
+/* --- E_D over triangle chunks ---------------------------------------------- */
+
+typedef struct bp__eval_task {
+    bp__solver   *S;
+    const double *x;
+    double       *g;
+    const double *dir;          /* step bound: direction                      */
+    double        tmax;         /* step bound: bound from the triangles       */
+} bp__eval_task;
+
+static void bp__energy_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    bp__solver *S = T->S;
+    uint32_t t, t1 = (c + 1) * BP__TRI_CHUNK < S->nt ? (c + 1) * BP__TRI_CHUNK : S->nt;
+    double sum = 0;
+    for (t = c * BP__TRI_CHUNK; t < t1; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        double *gc = T->g ? S->gc + 6 * (size_t)t : NULL, e;
+        if (gc) { gc[0] = gc[1] = gc[2] = gc[3] = gc[4] = gc[5] = 0; }
+        e = bp__triangle_energy(S->energy, &S->rest[t], T->x + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1],
+                                T->x + 2 * (size_t)tr[2], gc, gc ? gc + 2 : NULL, gc ? gc + 4 : NULL);
+        if (e == HUGE_VAL) { sum = HUGE_VAL; if (!gc) break; }
+        else sum += S->rest[t].weight * e;
+    }
+    S->part[c] = sum;
+}
+
+/* g(v) = sum of its corners' gradients, in corner order. */
+static void bp__gather_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    bp__solver *S = T->S;
+    uint32_t v, v1 = (c + 1) * BP__VERT_CHUNK < S->nv ? (c + 1) * BP__VERT_CHUNK : S->nv, p;
+    for (v = c * BP__VERT_CHUNK; v < v1; v++) {
+        double gx = 0, gy = 0;
+        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
+            gx += S->gc[2 * (size_t)S->vc_list[p]];
+            gy += S->gc[2 * (size_t)S->vc_list[p] + 1];
+        }
+        T->g[2 * (size_t)v] = gx;
+        T->g[2 * (size_t)v + 1] = gy;
+    }
+}
+
+/* --- E_B over edge chunks ------------------------------------------------ */
+
+/* The state of one edge's query (on the task's stack). */
+typedef struct bp__edge_query {
+    const bp__solver *S;
+    const double *x, *dir;
+    uint32_t s0, n, i;          /* loop start, length, edge position in loop */
+    double   acc, tmax;
+    bp__vec *rec;
+    int      grad, oom;
+} bp__edge_query;
 
 static void bp__barrier_visit(void *user, uint32_t k)
 {
-    bp__solver *S = (bp__solver *)user;
-    uint32_t s0 = S->loop_start[S->loop], n = S->loop_start[S->loop + 1] - s0;
-    uint32_t i = S->edge, i1 = (i + 1) % n;
+    bp__edge_query *Q = (bp__edge_query *)user;
+    const bp__solver *S = Q->S;
+    uint32_t kk = k - Q->s0, i1 = (Q->i + 1) % Q->n;
     uint32_t va, vb, vp;
     const double *A, *B, *P;
     double ex, ey, len2, sp, cx, cy, dx, dy, d, r;
-    if (k == i || k == i1) return;
-    va = S->loop_vertices[s0 + i]; vb = S->loop_vertices[s0 + i1]; vp = S->loop_vertices[s0 + k];
-    A = S->x + 2 * (size_t)va; B = S->x + 2 * (size_t)vb; P = S->x + 2 * (size_t)vp;
+    if (kk == Q->i || kk == i1) return;
+    va = S->loop_vertices[Q->s0 + Q->i]; vb = S->loop_vertices[Q->s0 + i1]; vp = S->loop_vertices[k];
+    A = Q->x + 2 * (size_t)va; B = Q->x + 2 * (size_t)vb; P = Q->x + 2 * (size_t)vp;
     ex = B[0] - A[0]; ey = B[1] - A[1];
     len2 = ex * ex + ey * ey;
     sp = len2 > 0 ? ((P[0] - A[0]) * ex + (P[1] - A[1]) * ey) / len2 : 0;
@@ -3374,15 +3558,19 @@ static void bp__barrier_visit(void *user, uint32_t k)
     dx = P[0] - cx; dy = P[1] - cy;
     d = sqrt(dx * dx + dy * dy);
     if (d >= S->eps) return;
-    if (!(d > 0)) { S->acc = HUGE_VAL; return; }
+    if (!(d > 0)) { Q->acc = HUGE_VAL; return; }
     r = S->eps / d - 1;
-    S->acc += r * r;
-    if (S->g) {
+    Q->acc += r * r;
+    if (Q->grad) {
         /* dE/dd = -2 r eps / d^2, times d dist/dU (see the essay) */
         double k2 = -2 * r * S->eps / (d * d), nx = dx / d, ny = dy / d;
-        S->g[2 * (size_t)vp] += k2 * nx;          S->g[2 * (size_t)vp + 1] += k2 * ny;
-        S->g[2 * (size_t)va] -= k2 * (1 - sp) * nx; S->g[2 * (size_t)va + 1] -= k2 * (1 - sp) * ny;
-        S->g[2 * (size_t)vb] -= k2 * sp * nx;       S->g[2 * (size_t)vb + 1] -= k2 * sp * ny;
+        bp__grec g3[3];
+        int j;
+        g3[0].v = vp; g3[0].gx = k2 * nx;            g3[0].gy = k2 * ny;
+        g3[1].v = va; g3[1].gx = -k2 * (1 - sp) * nx; g3[1].gy = -k2 * (1 - sp) * ny;
+        g3[2].v = vb; g3[2].gx = -k2 * sp * nx;       g3[2].gy = -k2 * sp * ny;
+        for (j = 0; j < 3; j++)
+            if (!bp__vec_push(S->a, Q->rec, &g3[j])) Q->oom = 1;
     }
 }
 
@@ -3401,51 +3589,86 @@ static double bp__loop_cell(const bp__solver *S, const double *x, uint32_t L)
     return len > S->eps ? len : S->eps;
 }
 
+static void bp__barrier_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    bp__solver *S = T->S;
+    uint32_t e, e1 = (c + 1) * BP__EDGE_CHUNK < S->nb ? (c + 1) * BP__EDGE_CHUNK : S->nb;
+    bp__edge_query Q;
+    double sum = 0;
+    memset(&Q, 0, sizeof Q);
+    Q.S = S;
+    Q.x = T->x;
+    Q.rec = &S->rec[c];
+    Q.grad = T->g != NULL;
+    S->rec[c].count = 0;
+    for (e = c * BP__EDGE_CHUNK; e < e1; e++) {
+        uint32_t L = S->bl_loop[e];
+        const double *p, *q;
+        Q.s0 = S->loop_start[L];
+        Q.n = S->loop_start[L + 1] - Q.s0;
+        Q.i = e - Q.s0;
+        p = Q.x + 2 * (size_t)S->loop_vertices[e];
+        q = Q.x + 2 * (size_t)S->loop_vertices[Q.s0 + (Q.i + 1) % Q.n];
+        Q.acc = 0;
+        bp__hash_query(&S->hash, L, (p[0] < q[0] ? p[0] : q[0]) - S->eps, (p[1] < q[1] ? p[1] : q[1]) - S->eps,
+                       (p[0] > q[0] ? p[0] : q[0]) + S->eps, (p[1] > q[1] ? p[1] : q[1]) + S->eps,
+                       bp__barrier_visit, &Q);
+        sum += Q.acc;
+    }
+    S->part[c] = sum;
+    if (Q.oom) S->oom = 1;
+}
+
+/* E_B at x; its gradient is added to g when given.  The vertices go into
+   the hash first (serial), then edge chunks query it in parallel, each
+   writing its sum and gradient records to its own slot. */
 static double bp__barrier(bp__solver *S, const double *x, double *g)
 {
+    bp__eval_task T;
     double total = 0;
-    uint32_t L;
-    S->x = x;
-    S->g = g;
-    for (L = 0; L < S->nloops; L++) {
-        uint32_t s0 = S->loop_start[L], n = S->loop_start[L + 1] - s0, k;
-        double h = bp__loop_cell(S, x, L);
-        for (k = 0; k < n; k++) {
-            const double *p = x + 2 * (size_t)S->loop_vertices[s0 + k];
-            S->box[4 * k] = S->box[4 * k + 2] = p[0];
-            S->box[4 * k + 1] = S->box[4 * k + 3] = p[1];
-        }
-        while (!bp__hash_build(&S->hash, S->box, n, h)) h *= 2;
-        S->loop = L;
-        for (k = 0; k < n; k++) {
-            const double *p = x + 2 * (size_t)S->loop_vertices[s0 + k];
-            const double *q = x + 2 * (size_t)S->loop_vertices[s0 + (k + 1) % n];
-            S->edge = k;
-            S->acc = 0;
-            bp__hash_query(&S->hash, (p[0] < q[0] ? p[0] : q[0]) - S->eps, (p[1] < q[1] ? p[1] : q[1]) - S->eps,
-                           (p[0] > q[0] ? p[0] : q[0]) + S->eps, (p[1] > q[1] ? p[1] : q[1]) + S->eps,
-                           bp__barrier_visit, S);
-            total += S->acc;
-        }
+    uint32_t L, k, c;
+    for (L = 0; L < S->nloops; L++) S->hs[L] = bp__loop_cell(S, x, L);
+    for (k = 0; k < S->nb; k++) {
+        const double *p = x + 2 * (size_t)S->loop_vertices[k];
+        S->box[4 * k] = S->box[4 * k + 2] = p[0];
+        S->box[4 * k + 1] = S->box[4 * k + 3] = p[1];
     }
+    while (!bp__hash_build(&S->hash, S->nb))
+        for (L = 0; L < S->nloops; L++) S->hs[L] *= 2;
+    T.S = S;
+    T.x = x;
+    T.g = g;
+    S->par.run(S->par.user, bp__barrier_task, &T, S->nchunk_b);
+    for (c = 0; c < S->nchunk_b; c++) total += S->part[c];
+    if (g)
+        for (c = 0; c < S->nchunk_b; c++) {
+            const bp__grec *r = (const bp__grec *)S->rec[c].data;
+            size_t j;
+            for (j = 0; j < S->rec[c].count; j++) {
+                g[2 * (size_t)r[j].v] += r[j].gx;
+                g[2 * (size_t)r[j].v + 1] += r[j].gy;
+            }
+        }
     return total;
 }
 
 /* f = E_D + E_B at x (E_D = sum weight_t E_t); gradient into g if given.
-   *ed receives E_D alone.  +inf outside the valid region. */
+   *ed receives E_D alone.  +inf outside the valid region.  The sums are
+   taken per chunk and added in chunk order: the same bits for any number
+   of threads. */
 static double bp__objective(bp__solver *S, const double *x, double *g, double *ed)
 {
+    bp__eval_task T;
     double sum = 0;
-    uint32_t t;
-    if (g) memset(g, 0, 2 * (size_t)S->nv * sizeof(double));
-    for (t = 0; t < S->nt; t++) {
-        const uint32_t *tr = S->tri + 3 * (size_t)t;
-        double e = bp__triangle_energy(S->energy, &S->rest[t], x + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1],
-                                       x + 2 * (size_t)tr[2], g ? g + 2 * (size_t)tr[0] : NULL,
-                                       g ? g + 2 * (size_t)tr[1] : NULL, g ? g + 2 * (size_t)tr[2] : NULL);
-        if (e == HUGE_VAL) { *ed = HUGE_VAL; return HUGE_VAL; }
-        sum += S->rest[t].weight * e;
-    }
+    uint32_t c;
+    T.S = S;
+    T.x = x;
+    T.g = g;
+    S->par.run(S->par.user, bp__energy_task, &T, S->nchunk_t);
+    for (c = 0; c < S->nchunk_t; c++) sum += S->part[c];
+    if (sum == HUGE_VAL) { *ed = HUGE_VAL; return HUGE_VAL; }
+    if (g) S->par.run(S->par.user, bp__gather_task, &T, S->nchunk_v);
     *ed = sum;
     if (S->barrier) sum += bp__barrier(S, x, g);
     return sum;
@@ -3522,26 +3745,82 @@ static double bp__collinear_time(const double *A, const double *VA, const double
 
 static void bp__step_visit(void *user, uint32_t k)
 {
-    bp__solver *S = (bp__solver *)user;
-    uint32_t s0 = S->loop_start[S->loop], n = S->loop_start[S->loop + 1] - s0;
-    uint32_t i = S->edge, i1 = (i + 1) % n, va, vb, vp;
-    if (k == i || k == i1) return;
-    va = S->loop_vertices[s0 + i]; vb = S->loop_vertices[s0 + i1]; vp = S->loop_vertices[s0 + k];
-    S->tmax = bp__collinear_time(S->x + 2 * (size_t)va, S->dir + 2 * (size_t)va, S->x + 2 * (size_t)vb,
-                                 S->dir + 2 * (size_t)vb, S->x + 2 * (size_t)vp, S->dir + 2 * (size_t)vp,
-                                 S->tmax, 1);
+    bp__edge_query *Q = (bp__edge_query *)user;
+    const bp__solver *S = Q->S;
+    uint32_t kk = k - Q->s0, i1 = (Q->i + 1) % Q->n, va, vb, vp;
+    if (kk == Q->i || kk == i1) return;
+    va = S->loop_vertices[Q->s0 + Q->i]; vb = S->loop_vertices[Q->s0 + i1]; vp = S->loop_vertices[k];
+    Q->tmax = bp__collinear_time(Q->x + 2 * (size_t)va, Q->dir + 2 * (size_t)va, Q->x + 2 * (size_t)vb,
+                                 Q->dir + 2 * (size_t)vb, Q->x + 2 * (size_t)vp, Q->dir + 2 * (size_t)vp,
+                                 Q->tmax, 1);
+}
+
+static void bp__step_tri_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    bp__solver *S = T->S;
+    uint32_t t, t1 = (c + 1) * BP__TRI_CHUNK < S->nt ? (c + 1) * BP__TRI_CHUNK : S->nt;
+    double tmax = HUGE_VAL;
+    for (t = c * BP__TRI_CHUNK; t < t1; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        tmax = bp__collinear_time(T->x + 2 * (size_t)tr[0], T->dir + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1],
+                                  T->dir + 2 * (size_t)tr[1], T->x + 2 * (size_t)tr[2], T->dir + 2 * (size_t)tr[2],
+                                  tmax, 0);
+    }
+    S->part[c] = tmax;
+}
+
+/* Each edge chunk starts from the triangles' bound and lowers its own copy;
+   the bound is an exact minimum, so the order of the chunks cannot change
+   it. */
+static void bp__step_edge_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    bp__solver *S = T->S;
+    uint32_t e, e1 = (c + 1) * BP__EDGE_CHUNK < S->nb ? (c + 1) * BP__EDGE_CHUNK : S->nb;
+    bp__edge_query Q;
+    memset(&Q, 0, sizeof Q);
+    Q.S = S;
+    Q.x = T->x;
+    Q.dir = T->dir;
+    Q.tmax = T->tmax;
+    for (e = c * BP__EDGE_CHUNK; e < e1; e++) {
+        uint32_t L = S->bl_loop[e], va, vb;
+        const double *p, *q, *dp, *dq;
+        double xs[4], ys[4], bx0, by0, bx1, by1;
+        int j;
+        Q.s0 = S->loop_start[L];
+        Q.n = S->loop_start[L + 1] - Q.s0;
+        Q.i = e - Q.s0;
+        va = S->loop_vertices[e];
+        vb = S->loop_vertices[Q.s0 + (Q.i + 1) % Q.n];
+        p = Q.x + 2 * (size_t)va; q = Q.x + 2 * (size_t)vb;
+        dp = Q.dir + 2 * (size_t)va; dq = Q.dir + 2 * (size_t)vb;
+        xs[0] = p[0]; xs[1] = q[0]; xs[2] = p[0] + Q.tmax * dp[0]; xs[3] = q[0] + Q.tmax * dq[0];
+        ys[0] = p[1]; ys[1] = q[1]; ys[2] = p[1] + Q.tmax * dp[1]; ys[3] = q[1] + Q.tmax * dq[1];
+        bx0 = bx1 = xs[0]; by0 = by1 = ys[0];
+        for (j = 1; j < 4; j++) {
+            if (xs[j] < bx0) bx0 = xs[j];
+            if (xs[j] > bx1) bx1 = xs[j];
+            if (ys[j] < by0) by0 = ys[j];
+            if (ys[j] > by1) by1 = ys[j];
+        }
+        bp__hash_query(&S->hash, L, bx0, by0, bx1, by1, bp__step_visit, &Q);
+    }
+    S->part[c] = Q.tmax;
 }
 
 /* The largest t such that the energy has no singularity on [0, t). */
 static double bp__step_bound(bp__solver *S, const double *x, const double *v)
 {
+    bp__eval_task T;
     double tmax = HUGE_VAL;
-    uint32_t t, L;
-    for (t = 0; t < S->nt; t++) {
-        const uint32_t *tr = S->tri + 3 * (size_t)t;
-        tmax = bp__collinear_time(x + 2 * (size_t)tr[0], v + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1],
-                                  v + 2 * (size_t)tr[1], x + 2 * (size_t)tr[2], v + 2 * (size_t)tr[2], tmax, 0);
-    }
+    uint32_t c, L, k;
+    T.S = S;
+    T.x = x;
+    T.dir = v;
+    S->par.run(S->par.user, bp__step_tri_task, &T, S->nchunk_t);
+    for (c = 0; c < S->nchunk_t; c++) if (S->part[c] < tmax) tmax = S->part[c];
     if (!S->barrier) return tmax;
     /* "In the extremely unlikely case that tmax = inf, it is set to a large
        positive value" (sec 3.4.2): here, the time to move 100 chart sizes. */
@@ -3551,59 +3830,54 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v)
         for (i = 0; i < 2 * S->nv; i++) if (fabs(v[i]) > vmax) vmax = fabs(v[i]);
         tmax = vmax > 0 ? 100 * S->mean_edge * S->nb / vmax : 1;
     }
-    S->x = x;
-    S->dir = v;
-    for (L = 0; L < S->nloops; L++) {
-        uint32_t s0 = S->loop_start[L], n = S->loop_start[L + 1] - s0, k;
-        double h = bp__loop_cell(S, x, L);
-        for (k = 0; k < n; k++) {
-            const double *p = x + 2 * (size_t)S->loop_vertices[s0 + k];
-            const double *d = v + 2 * (size_t)S->loop_vertices[s0 + k];
-            double qx = p[0] + tmax * d[0], qy = p[1] + tmax * d[1];
-            S->box[4 * k] = p[0] < qx ? p[0] : qx;  S->box[4 * k + 2] = p[0] < qx ? qx : p[0];
-            S->box[4 * k + 1] = p[1] < qy ? p[1] : qy;  S->box[4 * k + 3] = p[1] < qy ? qy : p[1];
-        }
-        while (!bp__hash_build(&S->hash, S->box, n, h)) h *= 2;
-        S->loop = L;
-        S->tmax = tmax;
-        for (k = 0; k < n; k++) {
-            uint32_t va = S->loop_vertices[s0 + k], vb = S->loop_vertices[s0 + (k + 1) % n];
-            const double *p = x + 2 * (size_t)va, *q = x + 2 * (size_t)vb;
-            const double *dp = v + 2 * (size_t)va, *dq = v + 2 * (size_t)vb;
-            double xs[4], ys[4], bx0, by0, bx1, by1;
-            int j;
-            xs[0] = p[0]; xs[1] = q[0]; xs[2] = p[0] + S->tmax * dp[0]; xs[3] = q[0] + S->tmax * dq[0];
-            ys[0] = p[1]; ys[1] = q[1]; ys[2] = p[1] + S->tmax * dp[1]; ys[3] = q[1] + S->tmax * dq[1];
-            bx0 = bx1 = xs[0]; by0 = by1 = ys[0];
-            for (j = 1; j < 4; j++) {
-                if (xs[j] < bx0) bx0 = xs[j];
-                if (xs[j] > bx1) bx1 = xs[j];
-                if (ys[j] < by0) by0 = ys[j];
-                if (ys[j] > by1) by1 = ys[j];
-            }
-            S->edge = k;
-            bp__hash_query(&S->hash, bx0, by0, bx1, by1, bp__step_visit, S);
-        }
-        tmax = S->tmax;
+    /* every boundary vertex enters the cells its swept segment's box covers */
+    for (L = 0; L < S->nloops; L++) S->hs[L] = bp__loop_cell(S, x, L);
+    for (k = 0; k < S->nb; k++) {
+        const double *p = x + 2 * (size_t)S->loop_vertices[k];
+        const double *d = v + 2 * (size_t)S->loop_vertices[k];
+        double qx = p[0] + tmax * d[0], qy = p[1] + tmax * d[1];
+        S->box[4 * k] = p[0] < qx ? p[0] : qx;  S->box[4 * k + 2] = p[0] < qx ? qx : p[0];
+        S->box[4 * k + 1] = p[1] < qy ? p[1] : qy;  S->box[4 * k + 3] = p[1] < qy ? qy : p[1];
     }
+    while (!bp__hash_build(&S->hash, S->nb))
+        for (L = 0; L < S->nloops; L++) S->hs[L] *= 2;
+    T.tmax = tmax;
+    S->par.run(S->par.user, bp__step_edge_task, &T, S->nchunk_b);
+    for (c = 0; c < S->nchunk_b; c++) if (S->part[c] < tmax) tmax = S->part[c];
     return tmax;
+}
+
+static void bp__orient_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    bp__solver *S = T->S;
+    uint32_t t, t1 = (c + 1) * BP__TRI_CHUNK < S->nt ? (c + 1) * BP__TRI_CHUNK : S->nt;
+    double bad = 0;
+    for (t = c * BP__TRI_CHUNK; t < t1 && !bad; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        if (bp_orient2d(T->x + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1], T->x + 2 * (size_t)tr[2]) <= 0) bad = 1;
+    }
+    S->part[c] = bad;
 }
 
 /* Exact validity of the chart at x: every triangle positive and, when the
    barrier is on, no two boundary edges of any loops in conflict (the full
    bp_check condition, on the chart's own loop lists).  Without the barrier
    the map is only kept locally injective (fig 3.2, 3.3): its boundary is
-   allowed to run over itself. */
+   allowed to run over itself.  (Loop orientation and nesting need no check
+   here: they cannot change along a path of valid maps.) */
 static bp_status bp__chart_valid(bp__solver *S, const double *x, bp__dedge *edges, int *valid)
 {
     bp_check_report rep;
-    uint32_t t, L, k, n = 0;
+    bp__eval_task T;
+    uint32_t L, k, n = 0, c;
     bp_status st;
     *valid = 0;
-    for (t = 0; t < S->nt; t++) {
-        const uint32_t *tr = S->tri + 3 * (size_t)t;
-        if (bp_orient2d(x + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1], x + 2 * (size_t)tr[2]) <= 0) return BP_OK;
-    }
+    T.S = S;
+    T.x = x;
+    S->par.run(S->par.user, bp__orient_task, &T, S->nchunk_t);
+    for (c = 0; c < S->nchunk_t; c++) if (S->part[c] != 0) return BP_OK;
+    if (!S->barrier) { *valid = 1; return BP_OK; }   /* injective only: the boundary may overlap */
     for (L = 0; L < S->nloops; L++) {
         uint32_t s0 = S->loop_start[L], s1 = S->loop_start[L + 1];
         for (k = s0; k < s1; k++) {
@@ -3612,9 +3886,8 @@ static bp_status bp__chart_valid(bp__solver *S, const double *x, bp__dedge *edge
             n++;
         }
     }
-    if (!S->barrier) { *valid = 1; return BP_OK; }   /* injective only: the boundary may overlap */
     memset(&rep, 0, sizeof rep);
-    st = bp__boundary_conflicts(S->a, x, edges, n, &rep);
+    st = bp__boundary_conflicts(S->a, x, edges, n, &rep, &S->ws);
     *valid = st == BP_OK && rep.boundary_intersections == 0;
     return st;
 }
@@ -3770,18 +4043,16 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     if (o.direction == BP_DIRECTION_GRADIENT) hist = 0;
     if (o.max_iterations <= 0) o.max_iterations = 10000;
     if (!(o.tolerance > 0)) o.tolerance = 1e-7;
-    S.a = &a;
+    if (bp__solver_init(&S, &a, ch->num_vertices, ch->num_triangles, ch->triangles, ch->num_loops,
+                        ch->loop_start, ch->loop_vertices) != BP_OK) {
+        st = bp__oom(err, "optimizing a chart");
+        goto done;
+    }
+    S.par = par;
     S.energy = o.energy;
-    S.nv = ch->num_vertices;
-    S.nt = ch->num_triangles;
-    S.tri = ch->triangles;
-    S.nloops = ch->num_loops;
-    S.loop_start = ch->loop_start;
-    S.loop_vertices = ch->loop_vertices;
-    S.nb = nloop_v = ch->loop_start[ch->num_loops];
     S.barrier = !o.no_barrier;
+    nloop_v = S.nb;
     nv2 = 2 * S.nv;
-    S.rest = (bp__rest *)bp__alloc_array(&a, S.nt, sizeof(bp__rest));
     x = (double *)bp__alloc_array(&a, nv2, sizeof(double));
     g = (double *)bp__alloc_array(&a, nv2, sizeof(double));
     xn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
@@ -3792,18 +4063,9 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     rho = (double *)bp__alloc_array(&a, hist ? hist : 1, sizeof(double));
     alpha = (double *)bp__alloc_array(&a, hist ? hist : 1, sizeof(double));
     edges = (bp__dedge *)bp__alloc_array(&a, nloop_v, sizeof(bp__dedge));
-    S.box = (double *)bp__alloc_array(&a, 4 * (size_t)nloop_v, sizeof(double));
-    S.hash.mask = 1;
-    while (S.hash.mask + 1 < 2 * nloop_v) S.hash.mask = 2 * S.hash.mask + 1;
-    S.hash.cap = 32 * (size_t)nloop_v + 64;
-    S.hash.start = (uint32_t *)bp__alloc_array(&a, (size_t)S.hash.mask + 2, sizeof(uint32_t));
-    S.hash.items = (uint32_t *)bp__alloc_array(&a, S.hash.cap, sizeof(uint32_t));
-    S.hash.stamp = (uint32_t *)bp__calloc_array(&a, nloop_v, sizeof(uint32_t));
     rest_wxy = (double *)bp__alloc_array(&a, 3 * (size_t)S.nt, sizeof(double));
     pwork = (double *)bp__alloc_array(&a, 3 * (size_t)S.nv, sizeof(double));
-    if (!rest_wxy || !pwork ||
-        !S.rest || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha || !edges || !S.box ||
-        !S.hash.start || !S.hash.items || !S.hash.stamp) {
+    if (!rest_wxy || !pwork || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha || !edges) {
         st = bp__oom(err, "optimizing a chart");
         goto done;
     }
@@ -3851,6 +4113,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     }
     memcpy(x, ch->uv, nv2 * sizeof(double));
     f = bp__objective(&S, x, g, &ed);
+    if (S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
     if (!(f < HUGE_VAL)) {
         st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart_index, -1, 0,
                       "chart %u: the start map is not valid (a triangle is flipped or degenerate)", chart_index);
@@ -3919,6 +4182,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
             int valid;
             for (i = 0; i < nv2; i++) xn[i] = x[i] + tt * v[i];
             fn = bp__objective(&S, xn, gn, &edn);
+            if (S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
             if (!(fn <= f + 1e-4 * tt * gv)) continue;
             if ((st = bp__chart_valid(&S, xn, edges, &valid)) != BP_OK) {
                 st = bp__oom(err, "checking a step");
@@ -3987,10 +4251,10 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     else
         st = bp__ok(err);
 done:
-    bp__free(&a, S.rest); bp__free(&a, x); bp__free(&a, g); bp__free(&a, xn); bp__free(&a, gn);
+    bp__solver_free(&S);
+    bp__free(&a, x); bp__free(&a, g); bp__free(&a, xn); bp__free(&a, gn);
     bp__free(&a, v); bp__free(&a, sh); bp__free(&a, yh); bp__free(&a, rho); bp__free(&a, alpha);
-    bp__free(&a, edges); bp__free(&a, S.box); bp__free(&a, S.hash.start); bp__free(&a, S.hash.items);
-    bp__free(&a, S.hash.stamp); bp__free(&a, rest_wxy); bp__free(&a, pwork);
+    bp__free(&a, edges); bp__free(&a, rest_wxy); bp__free(&a, pwork);
     bp__sparse_free(&a, &K);
     bp__factor_free(&a, &KF);
     bp__par_end(&a, pool);

@@ -82,18 +82,19 @@ static void solver_for_chart(bp__solver *S, const bp_allocator *a, const bp_char
         }
     S->mean_edge = len / nb;
     S->eps = S->mean_edge / 4;
-    S->hash.mask = 1;
-    while (S->hash.mask + 1 < 2 * nb) S->hash.mask = 2 * S->hash.mask + 1;
-    S->hash.cap = 32 * (size_t)nb + 64;
-    S->hash.start = (uint32_t *)calloc((size_t)S->hash.mask + 2, sizeof(uint32_t));
-    S->hash.items = (uint32_t *)calloc(S->hash.cap, sizeof(uint32_t));
-    S->hash.stamp = (uint32_t *)calloc(nb, sizeof(uint32_t));
-    S->box = (double *)calloc(4 * (size_t)nb, sizeof(double));
+    {
+        /* bp__solver_init allocates the workspace; keep what was set above */
+        bp__solver keep = *S;
+        bp__solver_init(S, a, keep.nv, keep.nt, keep.tri, keep.nloops, keep.loop_start, keep.loop_vertices);
+        bp__free(S->a, S->rest);
+        S->rest = keep.rest; S->energy = keep.energy; S->barrier = keep.barrier;
+        S->eps = keep.eps; S->mean_edge = keep.mean_edge;
+    }
 }
 
 static void solver_free(bp__solver *S)
 {
-    free(S->hash.start); free(S->hash.items); free(S->hash.stamp); free(S->box); free(S->rest);
+    bp__solver_free(S);       /* frees the rest shapes too */
 }
 
 /* ---- the progress callback ------------------------------------------------- */

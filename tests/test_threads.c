@@ -1,0 +1,146 @@
+/* test_threads.c - the result does not depend on how the work is run.
+
+   bijparam cuts every parallel loop into tasks whose boundaries depend only
+   on the number of items, and combines their results in task order.  So a
+   solve must give bit-identical maps -- and byte-identical OBJ files -- for
+   1, 2, 3, 4 and 8 threads of the built-in pool (BP_USE_PTHREADS), and for
+   a user parallel_for that runs the tasks in reverse order.  This is
+   checked on real charts: camel_b (one chart, long boundary), face_holes
+   (7 loops), spot (13 charts: solved in parallel as whole charts), the cow,
+   and bishop; and on visibility (chapter 4), whose random streams are per
+   triangle. */
+#define BP_USE_PTHREADS
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include "bptest.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A job system that runs the tasks backwards on the calling thread. */
+static int reverse_calls = 0;
+static void reverse_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+{
+    uint32_t i;
+    (void)user;
+    reverse_calls++;
+    for (i = count; i-- > 0;) fn(task, i);
+}
+
+static char *slurp(const char *path, long *len)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf;
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    *len = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    buf = (char *)malloc((size_t)*len + 1);
+    if (buf && fread(buf, 1, (size_t)*len, f) != (size_t)*len) { free(buf); buf = NULL; }
+    fclose(f);
+    return buf;
+}
+
+/* Solve with the given runner; write the OBJ; return its bytes. */
+static char *solve(const bp_mesh *m, int threads, int reverse, long *len, int *used, double *energy)
+{
+    bp_options o;
+    bp_atlas at;
+    bp_error e;
+    char path[64];
+    char *bytes = NULL;
+    memset(&o, 0, sizeof o);
+    o.threads = threads;
+    o.max_iterations = 300;
+    if (reverse) o.parallel_for = reverse_for;
+    if (bp_parameterize(&at, m, &o, &e) != BP_OK) { printf("  solve failed: %s\n", e.message); return NULL; }
+    *used = at.charts[0].threads;
+    *energy = at.charts[0].energy_end;
+    snprintf(path, sizeof path, "build/tests/threads_%d_%d.obj", threads, reverse);
+    if (bp_write_obj(path, m, &at, &e) == BP_OK) bytes = slurp(path, len);
+    remove(path);
+    bp_atlas_free(&at);
+    return bytes;
+}
+
+static void check_mesh(const char *path)
+{
+    static const int counts[] = { 1, 2, 3, 4, 8 };
+    bp_mesh m;
+    bp_error e;
+    long len0 = 0, len;
+    char *ref;
+    int k, used, same = 1, threads_ok = 1;
+    double en0, en;
+    if (bp_read_mesh(path, &m, NULL, &e) != BP_OK) {
+        BPT_CHECK(0, "%s: read: %s", path, e.message);
+        return;
+    }
+    ref = solve(&m, 1, 0, &len0, &used, &en0);
+    BPT_CHECK(ref != NULL && used == 1, "%s: serial solve (1 thread used, energy %.6f)", path, ref ? en0 : 0.0);
+    for (k = 1; ref && k < 5; k++) {
+        char *b = solve(&m, counts[k], 0, &len, &used, &en);
+        int eq = b && len == len0 && !memcmp(b, ref, (size_t)len);
+        if (!eq) same = 0;
+        if (used != counts[k]) threads_ok = 0;
+        BPT_CHECK(eq, "%s: %d threads write the same %ld bytes as 1 thread (energy %.17g vs %.17g)", path, counts[k],
+                  len0, en, en0);
+        free(b);
+    }
+    BPT_CHECK(threads_ok, "%s: the pool really ran with the requested number of threads", path);
+    if (ref) {
+        int before = reverse_calls;
+        char *b = solve(&m, 0, 1, &len, &used, &en);
+        BPT_CHECK(b && len == len0 && !memcmp(b, ref, (size_t)len) && reverse_calls > before,
+                  "%s: a user parallel_for running tasks backwards gives the same bytes (%d calls)", path,
+                  reverse_calls - before);
+        free(b);
+    }
+    (void)same;
+    free(ref);
+    bp_mesh_free(&m, NULL);
+}
+
+static void check_visibility(void)
+{
+    bp_mesh m;
+    bp_error e;
+    bp_options o;
+    double *v1, *v2, *v3;
+    uint32_t t;
+    int same2 = 1, same3 = 1;
+    if (bp_read_mesh("tests/data/cow_param_withSUV.obj", &m, NULL, &e) != BP_OK) { BPT_CHECK(0, "read cow"); return; }
+    v1 = (double *)malloc(sizeof(double) * m.num_triangles);
+    v2 = (double *)malloc(sizeof(double) * m.num_triangles);
+    v3 = (double *)malloc(sizeof(double) * m.num_triangles);
+    memset(&o, 0, sizeof o);
+    o.views.model = BP_VIEW_UNIFORM;
+    o.views.samples = 16;
+    o.threads = 1;
+    bp_visibility(&m, &o, v1, &e);
+    o.threads = 2;
+    bp_visibility(&m, &o, v2, &e);
+    o.threads = 0;
+    o.parallel_for = reverse_for;
+    bp_visibility(&m, &o, v3, &e);
+    for (t = 0; t < m.num_triangles; t++) {
+        if (memcmp(&v1[t], &v2[t], sizeof(double))) same2 = 0;
+        if (memcmp(&v1[t], &v3[t], sizeof(double))) same3 = 0;
+    }
+    BPT_CHECK(same2, "visibility of the cow: 2 threads give the same bits as 1");
+    BPT_CHECK(same3, "visibility of the cow: tasks run backwards give the same bits");
+    free(v1); free(v2); free(v3);
+    bp_mesh_free(&m, NULL);
+}
+
+int main(void)
+{
+    check_mesh("tests/data/camel_b.obj");
+    check_mesh("tests/data/face_holes.off");
+    check_mesh("tests/data/spot.obj");
+    check_mesh("tests/data/cow_param_withSUV.obj");
+    check_mesh("tests/data/bishop_part_f1000.obj");
+    check_visibility();
+    return bpt_finish();
+}
