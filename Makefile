@@ -93,8 +93,8 @@ demo: $(TOOL)
 # The README pictures (docs/images/), each from one run of the tool: the
 # camel's UV layout, the cow with a checkerboard with and without the
 # barrier, spot's 13 charts by area ratio, the wavy cone (fig 3.3) with the
-# barrier and without (its layout overlaps itself), and the wavy cone's
-# optimization as a strip of frames (fig 3.8).
+# barrier and without (its layout overlaps itself), and
+# the optimization of spot's largest chart as a strip of frames (fig 3.8).
 IMG := docs/images
 docs: $(TOOL)
 	@mkdir -p $(IMG) $(BUILD)/docs
@@ -105,8 +105,8 @@ docs: $(TOOL)
 	$(TOOL) --demo --svg $(IMG)/cone_barrier.svg --png $(IMG)/cone_checker.png --png-size 360
 	$(TOOL) --demo --no-barrier --svg $(IMG)/cone_nobarrier.svg
 	rm -rf $(BUILD)/docs/frames
-	$(TOOL) --demo --frames $(BUILD)/docs/frames --frames-every 2
-	cp $(BUILD)/docs/frames/strip.svg $(IMG)/cone_frames.svg
+	$(TOOL) tests/data/spot.obj --frames $(BUILD)/docs/frames --frames-every 2
+	cp $(BUILD)/docs/frames/strip.svg $(IMG)/spot_frames.svg
 	@ls -l $(IMG)
 
 bench: $(TOOL)

@@ -394,6 +394,8 @@ static int write_strip(frames_state *fs)
              (unsigned)fs->strip_chart, bp_energy_name(o.energy));
     o.title = title;
     o.size = 1200;
+    o.quantile = 0.98;               /* the start map's worst triangles would
+                                        wash out the colours of the rest */
     snprintf(path, sizeof path, "%s/strip.svg", fs->dir);
     if (!bpd_write_strip_svg(path, fs->mesh, &fs->atlas->charts[fs->strip_chart], uvs, labels, n, &o)) {
         fs->error = errno ? errno : EIO;

@@ -51,6 +51,10 @@ typedef struct bpd_svg_options {
     bp_energy energy;       /* the energy for BPD_COLOR_ENERGY and the legend */
     double    range_max;    /* top of the colour scale; 0: the largest value
                                (fix it to compare frames of a sequence)     */
+    double    quantile;     /* in (0,1): the top of the colour scale is this
+                               quantile of the values (e.g. 0.98: a few
+                               extreme triangles do not wash out the rest);
+                               0: the largest value                        */
     double    fill_opacity; /* 0: opaque; below 1 overlaps show darker       */
     const char *title;      /* optional caption at the top                   */
 } bpd_svg_options;
@@ -188,7 +192,7 @@ static int bpd__values(const bp_mesh *m, const bp_chart *chart, const double *uv
 
 /* A colour scale: value -> t in [0, 1].  Energy and angle ratio go on a log
    scale from their minimum lo to hi; the area's log2 ratio on [-hi, hi]. */
-typedef struct bpd__scale { int diverging; double lo, hi; } bpd__scale;
+typedef struct bpd__scale { int diverging, clipped; double lo, hi; } bpd__scale;
 
 static double bpd__scale_t(const bpd__scale *s, double v)
 {
@@ -214,6 +218,7 @@ enum { BPD__LEVELS = 64 };
 
 typedef struct bpd__cell {          /* uv -> pixel: x = ox + s (u - u0), y = oy - s (v - v0) */
     double s, u0, v0, ox, oy;
+    double w;                       /* width of the cell in pixels */
 } bpd__cell;
 
 static void bpd__bbox(const double *uv, uint32_t n, double lo[2], double hi[2])
@@ -237,6 +242,7 @@ static bpd__cell bpd__fit(const double lo[2], const double hi[2], double x, doub
     if (!(dv > 0)) dv = 1;
     s = w / du < h / dv ? w / du : h / dv;
     c.s = s;
+    c.w = w;
     c.u0 = lo[0]; c.v0 = lo[1];
     c.ox = x + 0.5 * (w - s * du);
     c.oy = y + h - 0.5 * (h - s * dv);
@@ -264,6 +270,9 @@ static void bpd__svg_chart(FILE *f, const bp_chart *ch, const double *uv, const 
 {
     int level;
     uint32_t t, l;
+    /* coordinates to 0.1 pixel; whole pixels in small cells (the strips),
+       which keeps a strip of several thousand-triangle frames small */
+    const int digits = cell->w < 300 ? 0 : 1;
     for (level = 0; level < BPD__LEVELS; level++) {
         unsigned char rgb[3];
         int any = 0;
@@ -286,7 +295,7 @@ static void bpd__svg_chart(FILE *f, const bp_chart *ch, const double *uv, const 
             }
             for (k = 0; k < 3; k++) {
                 const double *p = uv + 2 * (size_t)tr[k];
-                fprintf(f, "%s%.1f %.1f", k ? "L" : "M", BPD__X(cell, p), BPD__Y(cell, p));
+                fprintf(f, "%s%.*f %.*f", k ? "L" : "M", digits, BPD__X(cell, p), digits, BPD__Y(cell, p));
             }
             fputc('Z', f);
             /* translucent: one element per triangle, so that where two
@@ -302,7 +311,7 @@ static void bpd__svg_chart(FILE *f, const bp_chart *ch, const double *uv, const 
                 l == 0 ? "#000" : "#444", l == 0 ? "1.2" : "0.9");
         for (k = ch->loop_start[l]; k < ch->loop_start[l + 1]; k++) {
             const double *p = uv + 2 * (size_t)ch->loop_vertices[k];
-            fprintf(f, "%s%.1f,%.1f", k > ch->loop_start[l] ? " " : "", BPD__X(cell, p), BPD__Y(cell, p));
+            fprintf(f, "%s%.*f,%.*f", k > ch->loop_start[l] ? " " : "", digits, BPD__X(cell, p), digits, BPD__Y(cell, p));
         }
         fputs("\"/>\n", f);
     }
@@ -364,7 +373,7 @@ static void bpd__svg_legend(FILE *f, double x, double y, double w, const bpd__sc
         double v;
         if (sc->diverging) v = pow(2.0, sc->hi * (k - 1));          /* ratio */
         else v = sc->lo * pow(sc->hi / sc->lo, k / 2.0);
-        snprintf(buf, sizeof buf, "%.4g", v);
+        snprintf(buf, sizeof buf, "%.4g%s", v, k == 2 && sc->clipped ? " or more" : "");
         fprintf(f, "<line x1=\"%.1f\" x2=\"%.1f\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"#000\" stroke-width=\"0.8\"/>\n",
                 x + w * k / 2, x + w * k / 2, y + 20, y + 25);
         bpd__svg_text(f, x + w * k / 2, y + 37, 12, k == 0 ? "start" : k == 2 ? "end" : "middle", buf);
@@ -405,16 +414,47 @@ static void bpd__scale_grow(bpd__scale *sc, const double *val, uint32_t n)
     }
 }
 
+static int bpd__cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Lower the top of the scale to the q-quantile of the n values (the area
+   scale looks at |log2 ratio|); without memory the scale stays as it is. */
+static void bpd__scale_quantile(bpd__scale *sc, const double *val, size_t n, double q)
+{
+    double *tmp;
+    size_t i, m = 0;
+    if (!(q > 0 && q < 1) || n == 0) return;
+    if (!(tmp = (double *)malloc(n * sizeof(double)))) return;
+    for (i = 0; i < n; i++) {
+        double v = sc->diverging ? fabs(val[i]) : val[i];
+        if (v == v) tmp[m++] = v;
+    }
+    if (m > 0) {
+        double top;
+        qsort(tmp, m, sizeof(double), bpd__cmp_double);
+        top = tmp[(size_t)(q * (double)(m - 1))];
+        if (top < sc->hi) { sc->hi = top; sc->clipped = 1; }
+    }
+    free(tmp);
+}
+
 static void bpd__scale_init(bpd__scale *sc, const bpd_svg_options *o)
 {
     sc->diverging = o->color == BPD_COLOR_AREA;
     sc->lo = o->color == BPD_COLOR_ENERGY ? bpd__energy_min(o->energy) : 1;
     sc->hi = sc->diverging ? 0.25 : sc->lo * 1.05;   /* never a zero-width scale */
+    sc->clipped = 0;
 }
 
 static void bpd__scale_finish(bpd__scale *sc, const bpd_svg_options *o)
 {
-    if (o->range_max > 0) sc->hi = sc->diverging ? log(o->range_max) / log(2.0) : o->range_max;
+    if (o->range_max > 0) {
+        sc->hi = sc->diverging ? log(o->range_max) / log(2.0) : o->range_max;
+        sc->clipped = 1;
+    }
     if (!sc->diverging && !(sc->hi > sc->lo)) sc->hi = sc->lo * 1.05;
     if (sc->diverging && !(sc->hi > 0)) sc->hi = 0.25;
 }
@@ -448,6 +488,17 @@ int bpd_write_atlas_svg(const char *path, const bp_mesh *mesh, const bp_atlas *a
         if (mx > emax) emax = mx;
         bpd__scale_grow(&sc, val[c], ch->num_triangles);
         bpd__bbox(ch->uv, ch->num_vertices, lo, hi);
+    }
+    if (ok && o.quantile > 0 && o.quantile < 1) {
+        size_t n = 0, m = 0;
+        double *all;
+        for (c = 0; c < atlas->num_charts; c++) if (val[c]) n += atlas->charts[c].num_triangles;
+        if ((all = (double *)malloc((n + 1) * sizeof(double))) != NULL) {
+            for (c = 0; c < atlas->num_charts; c++)
+                if (val[c]) { memcpy(all + m, val[c], atlas->charts[c].num_triangles * sizeof(double)); m += atlas->charts[c].num_triangles; }
+            bpd__scale_quantile(&sc, all, m, o.quantile);
+            free(all);
+        }
     }
     bpd__scale_finish(&sc, &o);
     if (!ok) errno = ENOMEM;
@@ -497,6 +548,7 @@ int bpd_write_strip_svg(const char *path, const bp_mesh *mesh, const bp_chart *c
         ok = bpd__values(mesh, chart, uvs[k], &o, val + (size_t)k * chart->num_triangles, &mean_last, &max_last);
         bpd__scale_grow(&sc, val + (size_t)k * chart->num_triangles, chart->num_triangles);
     }
+    if (ok) bpd__scale_quantile(&sc, val, (size_t)chart->num_triangles * (size_t)count, o.quantile);
     bpd__scale_finish(&sc, &o);
     if (!ok) errno = ENOMEM;
     W = o.size;
