@@ -3283,6 +3283,7 @@ typedef struct bp__hash {
     const uint32_t *group;       /* loop of each item                         */
     const uint32_t *group_start; /* items of loop g: [group_start[g], ..[g+1]) */
     const double *h;             /* cell size per loop                        */
+    int64_t  *cell0;             /* 2 per item: its lower-left cell           */
 } bp__hash;
 
 static uint32_t bp__hash_cell(const bp__hash *H, int64_t ix, int64_t iy, uint32_t g)
@@ -3314,6 +3315,8 @@ static int bp__hash_build(bp__hash *H, uint32_t n)
         int64_t x0 = bp__cell_of(bx[0], h), x1 = bp__cell_of(bx[2], h), ix;
         int64_t y0 = bp__cell_of(bx[1], h), y1 = bp__cell_of(bx[3], h), iy;
         if ((double)(x1 - x0 + 1) * (double)(y1 - y0 + 1) > (double)(H->cap - total)) return 0;
+        H->cell0[2 * (size_t)i] = x0;
+        H->cell0[2 * (size_t)i + 1] = y0;
         for (iy = y0; iy <= y1; iy++)
             for (ix = x0; ix <= x1; ix++) { H->start[bp__hash_cell(H, ix, iy, g) + 1]++; total++; }
     }
@@ -3362,8 +3365,11 @@ static void bp__hash_query(const bp__hash *H, uint32_t g, double x0, double y0, 
                 if (e > H->start[bkt] && H->items[e - 1] == it) continue;
                 if (H->group[it] != g) continue;                              /* collision */
                 if (bx[0] > x1 || bx[2] < x0 || bx[1] > y1 || bx[3] < y0) continue;  /* apart */
-                if (bp__cell_of(bx[0] > x0 ? bx[0] : x0, h) != ix ||
-                    bp__cell_of(bx[1] > y0 ? bx[1] : y0, h) != iy) continue;      /* reported elsewhere */
+                /* the cell of the overlap's lower-left corner: the cell index
+                   is monotonic, so it is the larger of the two first cells */
+                if ((H->cell0[2 * (size_t)it] > cx0 ? H->cell0[2 * (size_t)it] : cx0) != ix ||
+                    (H->cell0[2 * (size_t)it + 1] > cy0 ? H->cell0[2 * (size_t)it + 1] : cy0) != iy)
+                    continue;                                                    /* reported elsewhere */
                 visit(user, it);
             }
         }
@@ -3415,7 +3421,7 @@ static void bp__solver_free(bp__solver *S)
     if (S->rec)
         for (c = 0; c < S->nchunk_b; c++) bp__free(a, S->rec[c].data);
     bp__free(a, S->rec);
-    bp__free(a, S->rest); bp__free(a, S->hash.start); bp__free(a, S->hash.items);
+    bp__free(a, S->rest); bp__free(a, S->hash.start); bp__free(a, S->hash.items); bp__free(a, S->hash.cell0);
     bp__free(a, S->box); bp__free(a, S->bl_loop); bp__free(a, S->hs); bp__free(a, S->gc);
     bp__free(a, S->vc_start); bp__free(a, S->vc_list); bp__free(a, S->part);
     bp__free(a, S->ws.cellp); bp__free(a, S->ws.cells);
@@ -3452,6 +3458,7 @@ static bp_status bp__solver_init(bp__solver *S, const bp_allocator *a, uint32_t 
     S->rest = (bp__rest *)bp__calloc_array(a, nt, sizeof(bp__rest));
     S->hash.start = (uint32_t *)bp__alloc_array(a, (size_t)S->hash.mask + 2, sizeof(uint32_t));
     S->hash.items = (uint32_t *)bp__alloc_array(a, S->hash.cap, sizeof(uint32_t));
+    S->hash.cell0 = (int64_t *)bp__alloc_array(a, 2 * (size_t)nb, sizeof(int64_t));
     S->box = (double *)bp__alloc_array(a, 4 * (size_t)nb, sizeof(double));
     S->bl_loop = (uint32_t *)bp__alloc_array(a, nb, sizeof(uint32_t));
     S->hs = (double *)bp__alloc_array(a, nloops, sizeof(double));
@@ -3460,7 +3467,7 @@ static bp_status bp__solver_init(bp__solver *S, const bp_allocator *a, uint32_t 
     S->vc_list = (uint32_t *)bp__alloc_array(a, 3 * (size_t)nt, sizeof(uint32_t));
     S->part = (double *)bp__alloc_array(a, nchunk ? nchunk : 1, sizeof(double));
     S->rec = (bp__vec *)bp__calloc_array(a, S->nchunk_b ? S->nchunk_b : 1, sizeof(bp__vec));
-    if (!S->rest || !S->hash.start || !S->hash.items || !S->box || !S->bl_loop || !S->hs || !S->gc ||
+    if (!S->rest || !S->hash.start || !S->hash.items || !S->hash.cell0 || !S->box || !S->bl_loop || !S->hs || !S->gc ||
         !S->vc_start || !S->vc_list || !S->part || !S->rec) {
         bp__solver_free(S);
         return BP_ERR_OUT_OF_MEMORY;

@@ -86,6 +86,7 @@ static void test_hash(void)
         H.group = group;
         H.group_start = gstart;
         H.h = hs;
+        H.cell0 = (int64_t *)malloc(2 * (size_t)n * sizeof(int64_t));
         /* capacity: one short must be refused, exact must be accepted */
         H.cap = need - 1;
         H.items = (uint32_t *)calloc(need + 1, sizeof(uint32_t));
@@ -119,7 +120,7 @@ static void test_hash(void)
                 if (geo) overlap_total++;
             }
         }
-        free(L.count); free(box); free(group); free(H.start); free(H.items);
+        free(L.count); free(box); free(group); free(H.start); free(H.items); free(H.cell0);
     }
     BPT_CHECK(bad_cap == 0, "bp__hash_build refuses capacity one below the cell count and accepts the exact count (300 tables)");
     BPT_CHECK(bad_range == 0, "bp__hash_query never reports an item index out of range");
