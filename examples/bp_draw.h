@@ -731,7 +731,7 @@ static int bpd__chunk(FILE *f, const char *type, const unsigned char *data, size
     crc = bpd__crc(0, h + 4, 4);
     crc = bpd__crc(crc, data, n);
     bpd__be32(c, crc);
-    return fwrite(h, 1, 8, f) == 8 && fwrite(data, 1, n, f) == n && fwrite(c, 1, 4, f) == 4;
+    return fwrite(h, 1, 8, f) == 8 && (n == 0 || fwrite(data, 1, n, f) == n) && fwrite(c, 1, 4, f) == 4;
 }
 
 static int bpd__paeth(int a, int b, int c)
