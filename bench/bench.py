@@ -14,6 +14,7 @@ BENCH_RUNS times (default 3) and record, per mesh:
   seconds         median wall time of the runs (the whole process: read,
                   charts, start map, optimization, packing, writing)
   opt_seconds     median of the tool's own "optimize" timing
+  cpu_seconds     median CPU time (user + system) of the tool process
   E mean / max    final symmetric Dirichlet energy of the atlas: mean weighted
                   by 3D area and the worst triangle, as the independent
                   checker measures them (the tool's own numbers are in the JSON
@@ -31,10 +32,14 @@ shown as "rejected" with the tool's message; any other failure is shown too.
 
 For every mesh above BENCH_THREADS_MIN_FACES faces (default 20000) it also
 runs --threads 1 and --threads 2 (BENCH_RUNS times each) and reports the
-medians and the speed-up t(1)/t(2).  When the default run already used
-exactly 2 threads (the tool's JSON says "threads":2, i.e. a 2-core machine),
-those runs are reused as the --threads 2 measurement instead of repeating
-them.  "same" says whether 1 and 2 threads gave bit-identical energies.
+medians and the speed-up t(1)/t(2).  On a 2-core machine the default runs
+(--threads 0: all cores) are the --threads 2 runs (the tool's JSON says
+"threads":2; otherwise --threads 2 is timed separately).  The runs of the
+configurations alternate (default, 1 thread, default, 1 thread, ...) so that
+a busy spell of a shared machine hits both alike.  "same" says whether 1 and
+2 threads gave bit-identical energies (the library promises they do).
+loadavg_1min in the JSON is the 1-minute load average before and after the
+mesh's runs: above the core count, other processes were competing.
 
 Environment:
   BENCH_QUICK=1        only tests/data (runs default to 1); threads on camelhead
@@ -44,6 +49,9 @@ Environment:
   BENCH_MESHES="a b"   only these mesh file names (e.g. "camel_b.obj cow_param_withSUV.obj")
   BENCH_OUT=DIR        keep outputs, traces and bench.jsonl there
                        (default build/bench)
+  BENCH_TOOL=PATH      the tool to time (run.sh copies build/bijparam to
+                       build/bench/bijparam-bench first, so that a rebuild
+                       during the bench does not mix two versions)
 
 Output: progress on stderr (one JSON line per mesh as it finishes), then on
 stdout a table, a thread table and one JSON line per mesh.  The bench never
@@ -51,13 +59,14 @@ asserts times: it records them.  Exit status 0 unless the tool is missing.
 """
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
 import time
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-TOOL = os.path.join(ROOT, "build", "bijparam")
+TOOL = os.environ.get("BENCH_TOOL") or os.path.join(ROOT, "build", "bijparam")
 SHARED = os.path.join(ROOT, "..", "shared")
 UVCHECK = os.path.join(SHARED, "tools", "uvcheck.py")
 LARGE = ["hilbert.obj", "beetle.off", "horse_cut.obj", "lucy_o_f48275.obj",
@@ -113,12 +122,16 @@ def time_to(charts, factor):
     return worst
 
 
+CPU = []   # CPU seconds (user + system) of each tool run
+
+
 def run_tool(mesh, out, trace, extra=()):
     """One run: (exit code, wall seconds, JSON report or None, stderr text)."""
     for p in (out, trace):
         if os.path.exists(p):
             os.remove(p)
     cmd = [TOOL, mesh, "-o", out, "--json", "--trace", trace] + list(extra)
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     try:
         p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -127,6 +140,8 @@ def run_tool(mesh, out, trace, extra=()):
     except subprocess.TimeoutExpired:
         rc, so, se = 124, "", "timed out after %d s" % TIMEOUT
     wall = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    CPU.append(r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime)
     rep = None
     lines = so.strip().splitlines()
     if lines:
@@ -142,27 +157,48 @@ def med(xs):
     return statistics.median(xs) if xs else None
 
 
-def measure(mesh, tag, extra, runs):
-    """Run a configuration `runs` times (stops at the first failure)."""
-    base = os.path.join(OUT, os.path.basename(mesh) + tag)
-    out, trace = base + ".out.obj", base + ".trace"
-    walls, opts, bpf, t101, t1001, reps = [], [], [], [], [], []
-    rc, se, failed = 0, "", None
-    for _ in range(runs):
-        rc, wall, rep, se = run_tool(mesh, out, trace, extra)
+class Config:
+    """The runs of one configuration (tool options) of one mesh."""
+
+    def __init__(self, mesh, tag, extra):
+        base = os.path.join(OUT, os.path.basename(mesh) + tag)
+        self.mesh, self.extra = mesh, list(extra)
+        self.out, self.trace = base + ".out.obj", base + ".trace"
+        self.walls, self.cpus, self.opts, self.bpf, self.t101, self.t1001 = [], [], [], [], [], []
+        self.rc, self.stderr, self.rep, self.failed = 0, "", None, False
+
+    def run(self):
+        if self.failed:
+            return
+        rc, wall, rep, se = run_tool(self.mesh, self.out, self.trace, self.extra)
+        self.rc, self.stderr = rc, se
         if rc != 0 or rep is None:
-            failed = rep
-            break
-        walls.append(wall)
-        reps.append(rep)
-        opts.append(rep.get("timings", {}).get("optimize"))
-        bpf.append(rep.get("bytes_per_face"))
-        tr = read_trace(trace)
-        t101.append(time_to(tr, 1.01))
-        t1001.append(time_to(tr, 1.001))
-    return {"rc": rc, "stderr": se, "rep": reps[-1] if reps else failed, "out": out,
-            "walls": walls, "opt": med(opts), "bpf": med(bpf),
-            "t101": med(t101), "t1001": med(t1001)}
+            self.failed = True
+            if rep is not None or self.rep is None:
+                self.rep = rep
+            return
+        self.rep = rep
+        self.walls.append(wall)
+        self.cpus.append(CPU[-1])
+        self.opts.append(rep.get("timings", {}).get("optimize"))
+        self.bpf.append(rep.get("bytes_per_face"))
+        tr = read_trace(self.trace)
+        self.t101.append(time_to(tr, 1.01))
+        self.t1001.append(time_to(tr, 1.001))
+
+    def summary(self):
+        return {"rc": self.rc, "stderr": self.stderr, "rep": self.rep, "out": self.out,
+                "walls": self.walls, "cpu": med(self.cpus), "opt": med(self.opts), "bpf": med(self.bpf),
+                "t101": med(self.t101), "t1001": med(self.t1001)}
+
+
+def measure(mesh, configs, runs):
+    """Run every configuration `runs` times, interleaved (a, b, a, b, ...), so
+    that a slow spell of a shared machine hits all of them alike."""
+    for _ in range(runs):
+        for c in configs:
+            c.run()
+    return [c.summary() for c in configs]
 
 
 def uvcheck(out, mesh):
@@ -185,7 +221,20 @@ def bench_mesh(mesh):
     name = os.path.basename(mesh)
     V, F = count_vf(mesh)
     row = {"mesh": name, "V": V, "F": F}
-    m = measure(mesh, "", [], 1 if name in MUST_REJECT else RUNS)
+    big = F > THREADS_MIN_FACES and name not in MUST_REJECT
+    default = Config(mesh, "", [])
+    configs = [default]
+    if big:
+        # the 1-thread runs alternate with the default ones; the default
+        # runs count as the 2-thread measurement when they used 2 threads
+        one = Config(mesh, ".t1", ["--threads", "1"])
+        configs.append(one)
+        if (os.cpu_count() or 1) != 2:
+            two = Config(mesh, ".t2", ["--threads", "2"])
+            configs.append(two)
+    load0 = os.getloadavg()[0]
+    res = measure(mesh, configs, 1 if name in MUST_REJECT else RUNS)
+    m = res[0]
     rep = m["rep"]
     if m["rc"] != 0 or rep is None:
         msg = (rep or {}).get("error") or m["stderr"] or "exit %d" % m["rc"]
@@ -205,6 +254,7 @@ def bench_mesh(mesh):
         "seconds": rnd(med(m["walls"])),
         "seconds_all": [rnd(w) for w in m["walls"]],
         "opt_seconds": rnd(m["opt"]),
+        "cpu_seconds": rnd(m["cpu"]),
         "tool_energy_mean": rnd(sum(c["energy_end"] * c["faces"] for c in pc) / faces, 6),
         "tool_energy_max": rnd(max(c["energy_max"] for c in pc), 6),
         "threads": rep.get("threads"),
@@ -228,12 +278,15 @@ def bench_mesh(mesh):
     if "energy_mean" not in row:
         row["energy_mean"], row["energy_max"] = row["tool_energy_mean"], row["tool_energy_max"]
     # threads 1 vs 2 on the larger charts
-    if F > THREADS_MIN_FACES:
-        t1 = measure(mesh, ".t1", ["--threads", "1"], RUNS)
+    row["loadavg_1min"] = [round(load0, 2), round(os.getloadavg()[0], 2)]
+    if big:
+        t1 = res[1]
         if rep.get("threads") == 2:
             t2, reused = m, True
-        else:
-            t2, reused = measure(mesh, ".t2", ["--threads", "2"], RUNS), False
+        elif len(res) > 2:
+            t2, reused = res[2], False
+        else:   # the default used another count: time --threads 2 now
+            t2, reused = measure(mesh, [Config(mesh, ".t2", ["--threads", "2"])], RUNS)[0], False
         s1, s2 = med(t1["walls"]), med(t2["walls"])
         same = None
         if t1["rep"] and t2["rep"]:
@@ -242,6 +295,7 @@ def bench_mesh(mesh):
         row["threads_cmp"] = {
             "t1_seconds": rnd(s1), "t2_seconds": rnd(s2),
             "t1_all": [rnd(w) for w in t1["walls"]], "t2_all": [rnd(w) for w in t2["walls"]],
+            "t1_cpu": rnd(t1["cpu"]), "t2_cpu": rnd(t2["cpu"]),
             "t1_opt": rnd(t1["opt"]), "t2_opt": rnd(t2["opt"]),
             "speedup": rnd(s1 / s2, 3) if s1 and s2 else None,
             "speedup_opt": rnd(t1["opt"] / t2["opt"], 3) if t1["opt"] and t2["opt"] else None,

@@ -29,6 +29,7 @@ intersections are the count uvcheck reports (boundary_self_intersections).
 import json
 import os
 import platform
+import resource
 import statistics
 import subprocess
 import sys
@@ -55,13 +56,19 @@ def log(*a):
     print(*a, file=sys.stderr, flush=True)
 
 
+CPU = []   # CPU seconds (user + system) of each tool run, in order
+
+
 def once(mesh, args, out):
     if os.path.exists(out):
         os.remove(out)
     cmd = [TOOL, mesh, "-o", out, "--json"] + list(args)
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     wall = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    CPU.append(r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime)
     rep = None
     lines = p.stdout.decode(errors="replace").strip().splitlines()
     if lines:
@@ -79,14 +86,15 @@ def run(mesh, args, runs=None, check=True, threads1=True):
     args = list(args) + (["--threads", "1"] if threads1 and "--threads" not in args else [])
     tag = "_".join(a.lstrip("-") for a in args).replace("/", "_")
     out = os.path.join(WORK, "%s_%s.obj" % (NAMES.get(mesh, os.path.basename(mesh)), tag))
-    walls = []
+    walls, cpus = [], []
     for r in range(runs):
         rc, wall, rep, err = once(mesh, args, out)
         walls.append(wall)
+        cpus.append(CPU[-1])
         if rc != 0 or wall > LONG:
             break
     res = {"rc": rc, "wall": statistics.median(walls), "walls": walls, "rep": rep, "err": err,
-           "out": out}
+           "out": out, "cpu": statistics.median(cpus)}
     if rep and rep.get("per_chart"):
         c = rep["per_chart"][0]
         res.update(iters=sum(x["iterations"] for x in rep["per_chart"]), stop=c["stop"],
@@ -104,8 +112,8 @@ def run(mesh, args, runs=None, check=True, threads1=True):
             res["sd_max"] = d["distortion"]["symmetric_dirichlet"]["max"]
         except Exception:
             res["bij"] = None
-    log("  %s %s: rc=%d %.2fs %s it=%s E=%s" % (NAMES.get(mesh, mesh), " ".join(args), rc,
-        res["wall"], res.get("stop"), res.get("iters"), res.get("mean")))
+    log("  %s %s: rc=%d %.2fs (cpu %.2fs) %s it=%s E=%s" % (NAMES.get(mesh, mesh), " ".join(args), rc,
+        res["wall"], res["cpu"], res.get("stop"), res.get("iters"), res.get("mean")))
     return res
 
 
@@ -194,14 +202,15 @@ DISS_T = {"sd": (1.29, 3.63), "conformal": (95.97, 91.23), "mips": (3.42, 19.5),
 
 
 def metrics():
-    head = ["energy", "E_B", "s", "iters", "stop", "mean of the energy", "E_D (sd) mean",
+    head = ["energy", "E_B", "s", "cpu s", "iters", "stop", "mean of the energy", "E_D (sd) mean",
             "bijective", "overlaps", "dissertation s"]
     rows = []
     for e in ("sd", "conformal", "mips", "iso", "maxiso"):
         for barrier in (False, True):
             args = ["--energy", e] + ([] if barrier else ["--no-barrier"])
             r = run(COW, args)
-            rows.append([e, "yes" if barrier else "no", f(r["wall"], "%.2f"), r.get("iters"),
+            rows.append([e, "yes" if barrier else "no", f(r["wall"], "%.2f"), f(r["cpu"], "%.2f"),
+                         r.get("iters"),
                          r.get("stop"), f(r.get("mean"), "%.4f"), f(r.get("sd_mean"), "%.4f"),
                          yn(r.get("bij")), r.get("bi", "-"),
                          "%.2f" % DISS_T[e][1 if barrier else 0]])
@@ -217,14 +226,16 @@ def metrics():
 
 def directions():
     cap = int(os.environ.get("EXP_GD_ITERS", "30000"))
-    head = ["mesh", "direction", "iters", "stop", "s", "E_D avg", "bijective"]
+    head = ["mesh", "direction", "iters", "stop", "s", "cpu s", "ms / iter", "E_D avg", "bijective"]
     rows = []
     for mesh in present(CAMEL, COW):
         for d in ("gd", "lbfgs", "precond"):
             r = run(mesh, ["--direction", d, "--max-iters", str(cap)])
             rows.append([NAMES[mesh], d, r.get("iters"),
                          r.get("stop") if r.get("stop") != "max_iterations" else "**cap %d**" % cap,
-                         f(r["wall"], "%.2f"), f(r.get("mean"), "%.4f"), yn(r.get("bij"))])
+                         f(r["wall"], "%.2f"), f(r["cpu"], "%.2f"),
+                         f(1000 * r["opt"] / r["iters"] if r.get("iters") else None, "%.2f"),
+                         f(r.get("mean"), "%.4f"), yn(r.get("bij"))])
     table(head, rows)
     print("With the barrier, `--threads 1`, `--max-iters %d`, default tolerance (stop when "
           "the relative decrease is below 1e-7 three times running); median of %d runs "
@@ -246,10 +257,12 @@ def history():
         for mesh in meshes:
             for d in ("lbfgs", "precond"):
                 r, r1 = res[mesh, d, m], res[mesh, d, 1]
-                row.append("%.2f (%.2f s, %s it)" % (r["wall"] / r1["wall"], r["wall"], r.get("iters")))
+                row.append("%.2f / %.2f (%.2f s, %s it)" % (r["wall"] / r1["wall"], r["cpu"] / r1["cpu"],
+                                                        r["wall"], r.get("iters")))
         rows.append(row)
     table(head, rows)
-    print("Time normalized to m = 1 (then the seconds and iterations), `--threads 1`, "
+    print("Each cell: wall time / CPU time, both normalized to m = 1, then the wall seconds "
+          "and the iterations; `--threads 1`, "
           "with the barrier, median of %d runs.  The library default is m = 5.\n" % RUNS)
 
 
@@ -259,7 +272,7 @@ DISS_TIME = {CAMEL: 6.13, COW: 3.63, HORSE: 35.48}
 
 def targets():
     head = ["mesh", "target mean E_D", "final mean E_D", "max", "met", "bijective",
-            "1-thread s", "dissertation s (4 thr)", "ratio"]
+            "1-thread s", "cpu s", "dissertation s (4 thr)", "ratio"]
     rows = []
     for mesh, target in TARGET_E:
         if not present(mesh):
@@ -269,14 +282,14 @@ def targets():
         ds = DISS_TIME.get(mesh)
         rows.append([NAMES[mesh], "<= %.3f" % target, f(r.get("mean"), "%.4f"),
                      f(r.get("max"), "%.2f"), "yes" if ok else "**NO**", yn(r.get("bij")),
-                     f(r["wall"], "%.2f"), "-" if ds is None else "%.2f" % ds,
+                     f(r["wall"], "%.2f"), f(r["cpu"], "%.2f"), "-" if ds is None else "%.2f" % ds,
                      "-" if ds is None else "%.1fx faster" % (ds / r["wall"]) if r["wall"] < ds
                      else "%.1fx slower" % (r["wall"] / ds)])
     if present(HILBERT):
         r = run(HILBERT, [], runs=1)
         rows.append(["hilbert", "ends bijective", f(r.get("mean"), "%.4f"), f(r.get("max"), "%.2f"),
                      "yes" if r.get("bij") else "**NO**", yn(r.get("bij")),
-                     f(r["wall"], "%.2f"), "-", "-"])
+                     f(r["wall"], "%.2f"), f(r["cpu"], "%.2f"), "-", "-"])
     table(head, rows)
     print("Default options (`--direction precond`, m = 5, barrier on) with `--threads 1`; "
           "time is the median wall time of %d runs of the whole tool (hilbert: 1 run).  "
@@ -289,16 +302,16 @@ def bench():
         print("_%s is missing: run `make bench` first._\n" % path)
         return
     rows = [json.loads(l) for l in open(path)]
-    head = ["mesh", "V", "F", "charts", "loops", "iters", "median s", "E mean", "E max",
+    head = ["mesh", "V", "F", "charts", "loops", "iters", "median s", "cpu s", "E mean", "E max",
             "bijective", "bytes/face", "t to 1.01x", "t to 1.001x"]
     out = []
     for r in rows:
         if r["status"] != "ok":
-            out.append([r["mesh"], r["V"], r["F"], "", "", "", "", "", "",
+            out.append([r["mesh"], r["V"], r["F"], "", "", "", "", "", "", "",
                         "%s: %s" % (r["status"], r["error"]), "", "", ""])
             continue
         out.append([r["mesh"], r["V"], r["F"], r["charts"], r["loops"], r["iterations"],
-                    f(r["seconds"], "%.3f"), f(r["energy_mean"], "%.4f"), f(r["energy_max"], "%.2f"),
+                    f(r["seconds"], "%.3f"), f(r.get("cpu_seconds"), "%.3f"), f(r["energy_mean"], "%.4f"), f(r["energy_max"], "%.2f"),
                     yn(r["bijective"]), f(r["bytes_per_face"], "%.0f"),
                     f(r["t_1.01"], "%.3f"), f(r["t_1.001"], "%.3f")])
     table(head, out)
@@ -309,10 +322,12 @@ def bench():
             t = r["threads_cmp"]
             out.append([r["mesh"], r["F"], f(t["t1_seconds"], "%.2f"), f(t["t2_seconds"], "%.2f"),
                         f(t["speedup"], "%.2f"), f(t["t1_opt"], "%.2f"), f(t["t2_opt"], "%.2f"),
-                        f(t["speedup_opt"], "%.2f"), f(t["t1_bytes_per_face"], "%.0f"),
+                        f(t["speedup_opt"], "%.2f"), f(t.get("t1_cpu"), "%.2f"), f(t.get("t2_cpu"), "%.2f"),
+                        "%.1f-%.1f" % tuple(r.get("loadavg_1min", [0, 0])), f(t["t1_bytes_per_face"], "%.0f"),
                         f(t["t2_bytes_per_face"], "%.0f"), yn(t["same_result"])])
         table(["mesh", "F", "1 thread s", "2 threads s", "speed-up", "opt 1 thr s",
-               "opt 2 thr s", "opt speed-up", "bytes/face 1 thr", "bytes/face 2 thr",
+               "opt 2 thr s", "opt speed-up", "cpu 1 thr s", "cpu 2 thr s", "load",
+               "bytes/face 1 thr", "bytes/face 2 thr",
                "identical result"], out)
 
 
@@ -335,7 +350,12 @@ def main(argv):
     for n in names:
         t0 = time.perf_counter()
         print("<!-- bench/experiments.sh %s -->" % n)
+        l0 = os.getloadavg()[0]
         SECTIONS[n]()
+        if n not in ("machine", "bench"):
+            print("_Section ran %s, %.0f s; 1-minute load average %.1f at the start, %.1f at "
+                  "the end (%d cores)._\n" % (time.strftime("%H:%M"), time.perf_counter() - t0,
+                                              l0, os.getloadavg()[0], os.cpu_count() or 0))
         log("%s: %.0f s" % (n, time.perf_counter() - t0))
         sys.stdout.flush()
     return 0

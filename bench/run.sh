@@ -18,4 +18,9 @@ set -u
 cd "$(dirname "$0")/.."
 [ -x build/bijparam ] || { echo "bench: build/bijparam missing: run 'make' first" >&2; exit 1; }
 command -v python3 >/dev/null || { echo "bench: python3 is needed" >&2; exit 1; }
+mkdir -p build/bench
+if [ -z "${BENCH_TOOL:-}" ]; then     # a snapshot: a rebuild mid-bench cannot mix versions
+    cp build/bijparam build/bench/bijparam-bench
+    export BENCH_TOOL=build/bench/bijparam-bench
+fi
 exec python3 bench/bench.py
