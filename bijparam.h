@@ -4219,8 +4219,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
                 if (nh < hist) nh++;
             }
         }
-        memcpy(x, xn, nv2 * sizeof(double));
-        memcpy(g, gn, nv2 * sizeof(double));
+        { double *tp = x; x = xn; xn = tp; tp = g; g = gn; gn = tp; }   /* accept: swap, no copy */
         memcpy(ch->uv, x, nv2 * sizeof(double));  /* visible to the progress callback */
         /* (5) convergence: relative decrease below tol three times running */
         if ((f - fn) <= o.tolerance * fabs(fn)) small++; else small = 0;
@@ -4577,7 +4576,9 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
    the same way, and the three 2D edge functions decide containment.  An
    edge shared by two triangles produces the same products in both (with
    opposite sign), so a ray through an edge or a vertex cannot slip between
-   neighbours.  Traversal is iterative with a fixed stack. */
+   neighbours; the box test widens each slab's exit by its rounding bound so
+   that the traversal cannot lose them either.  Traversal is iterative with
+   a fixed stack. */
 
 typedef struct bp__bvh_node {
     double   lo[3], hi[3];
@@ -4760,6 +4761,11 @@ static int bp__ray_box(const double *o, const double *d, const double *inv, cons
         t0 = (lo[k] - o[k]) * inv[k];
         t1 = (hi[k] - o[k]) * inv[k];
         if (t0 > t1) { double t = t0; t0 = t1; t1 = t; }
+        /* Rounding can make a ray through a box corner exit one slab an
+           ulp before it enters the next, and lose the node: widen the exit
+           by the bound on the rounding of the two operations above (Ize,
+           "Robust BVH ray traversal", 2013: 2 gamma_3). */
+        t1 += fabs(t1) * 2 * (3 * (DBL_EPSILON / 2) / (1 - 3 * (DBL_EPSILON / 2)));
         if (t0 > tmin) tmin = t0;
         if (t1 < tmax) tmax = t1;
         if (tmin > tmax) return 0;
