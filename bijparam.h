@@ -358,9 +358,10 @@ BPDEF bp_status bp_check(const uint32_t *triangles, uint32_t num_triangles,
    4.2), normalized to an area-weighted mean of 1 and floored at
    opt->views.floor; `out` has num_triangles entries. */
 BPDEF bp_status bp_visibility(const bp_mesh *mesh, const bp_options *opt, double *out, bp_error *err);
-/* Texel density of sec 4.3: the mean, over visible surface samples and
-   view directions of opt->views, of det of the Jacobian from texture to
-   screen space, with the atlas scaled to the mesh's 3D area.  Lower means
+/* Texel density of sec 4.3: the mean, over the visible texels (texture
+   area whose surface point is seen) and the view directions of opt->views,
+   of det of the Jacobian from texture to screen space -- the screen area of
+   a texel -- with the atlas scaled to the mesh's 3D area.  Lower means
    denser texels; the fig 4.8 ratio of a map against a reference map is
    reference / map. */
 BPDEF bp_status bp_texture_to_screen(const bp_mesh *mesh, const bp_atlas *atlas,
@@ -4824,7 +4825,21 @@ static int bp__bvh_occluded(const bp__bvh *B, const double *o, const double *d, 
    list.  V_t is normalized to an area-weighted mean of 1 (then a uniform
    visibility gives the isometric map) and floored (views.floor, default
    0.05): a triangle nobody sees would otherwise ask for zero area, which
-   the energy cannot reach.  Eq 4.1 uses V_t through opt->importance. */
+   the energy cannot reach.  Eq 4.1 uses V_t through opt->importance.
+
+   Texel density (sec 4.3, fig 4.8).  For a triangle t seen from r, a texel
+   covers det J = A3_t (n.r) / Auv_t of screen (orthographic, A3 the 3D
+   area, Auv its texture area once the atlas is scaled to the same total
+   area as the surface).  The dissertation averages det J "from texture
+   space to screen space" because its inverse is infinite for triangles
+   seen edge-on.  We average it over visible texels -- each sample of
+   triangle t weighted by Auv_t -- so that
+       mean det = sum_t A3_t E[n.r] / sum_t Auv_t P[visible],
+   and the ratio of the isometric map to a map is, up to the isometric map's
+   own distortion, the share of texture area that lies on visible surface
+   relative to the share of surface that is visible.  (Averaged over
+   surface area instead, eq 4.1's ideal map would tie with the isometric
+   one exactly: Auv proportional to V cancels.) */
 
 typedef struct bp__rng { uint64_t s; } bp__rng;
 
@@ -5083,12 +5098,11 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
     for (t = 0; t < m->num_triangles; t++) uv_area[t] *= a3 / auv;
     st = bp__vis_run(m, opt, uv_area, sums, err);
     if (st == BP_OK) {
-        /* samples are uniform within each triangle: weight them by area */
+        /* samples are uniform within each triangle; weighting them by the
+           triangle's texture area averages over texels (see the essay) */
         for (t = 0; t < m->num_triangles; t++) {
-            const uint32_t *tv = m->triangles + 3 * (size_t)t;
-            double w = 0.5 * bp__area2_3d(bp__pos(m, tv[0]), bp__pos(m, tv[1]), bp__pos(m, tv[2]));
-            num += w * sums[2 * (size_t)t];
-            den += w * sums[2 * (size_t)t + 1];
+            num += uv_area[t] * sums[2 * (size_t)t];
+            den += uv_area[t] * sums[2 * (size_t)t + 1];
         }
         *mean_det = den > 0 ? num / den : 0;
         bp__ok(err);
