@@ -4832,14 +4832,15 @@ static int bp__bvh_occluded(const bp__bvh *B, const double *o, const double *d, 
    area, Auv its texture area once the atlas is scaled to the same total
    area as the surface).  The dissertation averages det J "from texture
    space to screen space" because its inverse is infinite for triangles
-   seen edge-on.  We average it over visible texels -- each sample of
-   triangle t weighted by Auv_t -- so that
-       mean det = sum_t A3_t E[n.r] / sum_t Auv_t P[visible],
-   and the ratio of the isometric map to a map is, up to the isometric map's
-   own distortion, the share of texture area that lies on visible surface
-   relative to the share of surface that is visible.  (Averaged over
-   surface area instead, eq 4.1's ideal map would tie with the isometric
-   one exactly: Auv proportional to V cancels.) */
+   seen edge-on.  For each view direction r_j (K directions drawn from the
+   model and shared by all triangles) we average it over the visible
+   texels -- each sample of triangle t weighted by Auv_t --
+       M(r_j) = sum_t A3_t (n.r_j) [visible] / sum_t Auv_t [visible],
+   the screen area of the average visible texel, and report the mean of
+   M over the views.  Averaging per view first means that a map which
+   starves some views of texels (a side-view map seen from behind) pays
+   for it.  (Averaged over surface area instead, eq 4.1's ideal map would
+   tie with the isometric one exactly: Auv proportional to V cancels.) */
 
 typedef struct bp__rng { uint64_t s; } bp__rng;
 
@@ -4928,9 +4929,12 @@ typedef struct bp__vis_task {
     const bp_views *views;
     const bp__bvh *bvh;
     const double *uv_area;     /* texel density: UV area per mesh triangle (scaled) */
+    const double *dirs;        /* texel density: the shared view directions  */
+    uint32_t ndirs;
     double  tmin;              /* ray offset, relative to the mesh size      */
     uint32_t samples;
-    double *out;               /* per triangle: V_t, or (sum det, count)     */
+    double *out;               /* per triangle V_t, or per (chunk, direction)
+                                  the texel-weighted sums (num, den)          */
 } bp__vis_task;
 
 /* Sample point s of triangle t (stratified) and a view direction. */
@@ -4947,7 +4951,8 @@ static void bp__vis_sample(const bp__vis_task *T, uint32_t t, uint32_t s, bp__rn
     for (k = 0; k < 3; k++)
         p[k] = (1 - su) * bp__pos(T->m, tv[0])[k] + su * (1 - b) * bp__pos(T->m, tv[1])[k] +
                su * b * bp__pos(T->m, tv[2])[k];
-    bp__view_direction(T->views, rng, r);
+    if (T->dirs) memcpy(r, T->dirs + 3 * (size_t)(s % T->ndirs), 3 * sizeof(double));
+    else bp__view_direction(T->views, rng, r);
 }
 
 static void bp__triangle_normal(const bp_mesh *m, uint32_t t, double *n)
@@ -4971,7 +4976,7 @@ static void bp__vis_task_run(void *task, uint32_t chunk)
     if (t1 > T->m->num_triangles) t1 = T->m->num_triangles;
     for (t = t0; t < t1; t++) {
         bp__rng rng;
-        double n[3], sum = 0, cnt = 0;
+        double n[3], sum = 0;
         uint64_t seed = T->views->seed ^ ((uint64_t)t * 0xD1B54A32D192ED03ull);
         rng.s = bp__splitmix(&seed);
         bp__triangle_normal(T->m, t, n);
@@ -4981,23 +4986,25 @@ static void bp__vis_task_run(void *task, uint32_t chunk)
             c = n[0] * r[0] + n[1] * r[1] + n[2] * r[2];
             if (c <= 0 || (T->uv_area && !(T->uv_area[t] > 0))) continue;   /* no map here */
             if (bp__bvh_occluded(T->bvh, p, r, T->tmin, HUGE_VAL, t)) continue;
-            if (T->uv_area) {          /* det of texture -> screen: c A3 / A_uv */
+            if (T->uv_area) {
+                /* a visible texel of this triangle covers c A3 / Auv of
+                   screen; weighted by Auv (texel average): c A3 and Auv */
                 double a3 = 0.5 * bp__area2_3d(bp__pos(T->m, T->m->triangles[3 * (size_t)t]),
                                                bp__pos(T->m, T->m->triangles[3 * (size_t)t + 1]),
                                                bp__pos(T->m, T->m->triangles[3 * (size_t)t + 2]));
-                sum += c * a3 / T->uv_area[t];
-                cnt += 1;
+                double *slot = T->out + 2 * ((size_t)chunk * T->ndirs + s % T->ndirs);
+                slot[0] += c * a3;
+                slot[1] += T->uv_area[t];
             } else {
                 sum += c;
             }
         }
-        if (T->uv_area) { T->out[2 * (size_t)t] = sum; T->out[2 * (size_t)t + 1] = cnt; }
-        else T->out[t] = sum / T->samples;
+        if (!T->uv_area) T->out[t] = sum / T->samples;
     }
 }
 
-static bp_status bp__vis_run(const bp_mesh *m, const bp_options *opt, const double *uv_area, double *out,
-                             bp_error *err)
+static bp_status bp__vis_run(const bp_mesh *m, const bp_options *opt, const double *uv_area, const double *dirs,
+                             uint32_t ndirs, double *out, bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
     bp__bvh B;
@@ -5031,6 +5038,8 @@ static bp_status bp__vis_run(const bp_mesh *m, const bp_options *opt, const doub
     T.views = &opt->views;
     T.bvh = &B;
     T.uv_area = uv_area;
+    T.dirs = dirs;
+    T.ndirs = ndirs;
     T.tmin = 1e-7 * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                          (hi[2] - lo[2]) * (hi[2] - lo[2]));
     T.samples = opt->views.samples ? opt->views.samples : 64;
@@ -5048,7 +5057,7 @@ BPDEF bp_status bp_visibility(const bp_mesh *m, const bp_options *opt, double *o
     uint32_t t;
     double sum = 0, area = 0, fl;
     if (!out) return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "out must not be NULL");
-    if ((st = bp__vis_run(m, opt, NULL, out, err)) != BP_OK) return st;
+    if ((st = bp__vis_run(m, opt, NULL, NULL, 0, out, err)) != BP_OK) return st;
     for (t = 0; t < m->num_triangles; t++) {
         const uint32_t *tv = m->triangles + 3 * (size_t)t;
         double a2 = bp__area2_3d(bp__pos(m, tv[0]), bp__pos(m, tv[1]), bp__pos(m, tv[2]));
@@ -5067,15 +5076,23 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
                                      double *mean_det, bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
-    double *uv_area, *sums, a3 = 0, auv = 0, num = 0, den = 0;
-    uint32_t c, t;
+    double *uv_area, *sums, *dirs, a3 = 0, auv = 0, total = 0;
+    uint32_t c, t, j, K, nchunk, used = 0;
     bp_status st;
-    if (!m || !atlas || !mean_det || atlas->num_corners != 3 * m->num_triangles)
+    bp__rng rng;
+    uint64_t seed;
+    if (!m || !atlas || !mean_det || !opt || atlas->num_corners != 3 * m->num_triangles)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "bp_texture_to_screen needs the mesh and the atlas built from it");
+                        "bp_texture_to_screen needs the mesh, the atlas built from it and options with a view model");
+    K = opt->views.samples ? opt->views.samples : 64;
+    nchunk = (m->num_triangles + BP__VIS_CHUNK - 1) / BP__VIS_CHUNK;
     uv_area = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
-    sums = (double *)bp__alloc_array(&a, 2 * (size_t)m->num_triangles, sizeof(double));
-    if (!uv_area || !sums) { bp__free(&a, uv_area); bp__free(&a, sums); return bp__oom(err, "measuring texel density"); }
+    sums = (double *)bp__calloc_array(&a, 2 * (size_t)nchunk * K, sizeof(double));
+    dirs = (double *)bp__alloc_array(&a, 3 * (size_t)K, sizeof(double));
+    if (!uv_area || !sums || !dirs) {
+        bp__free(&a, uv_area); bp__free(&a, sums); bp__free(&a, dirs);
+        return bp__oom(err, "measuring texel density");
+    }
     for (t = 0; t < m->num_triangles; t++) uv_area[t] = 0;
     for (c = 0; c < atlas->num_charts; c++) {
         const bp_chart *ch = &atlas->charts[c];
@@ -5092,23 +5109,34 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
     }
     /* same total texture area as surface area (sec 4.2: fair comparison) */
     if (!(auv > 0)) {
-        bp__free(&a, uv_area); bp__free(&a, sums);
+        bp__free(&a, uv_area); bp__free(&a, sums); bp__free(&a, dirs);
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "the atlas has no mapped triangles");
     }
     for (t = 0; t < m->num_triangles; t++) uv_area[t] *= a3 / auv;
-    st = bp__vis_run(m, opt, uv_area, sums, err);
+    /* K directions drawn once from the view model and shared by every
+       triangle, so that each view's texels can be pooled */
+    seed = opt->views.seed ^ 0x5DEECE66Dull;
+    rng.s = bp__splitmix(&seed);
+    for (j = 0; j < K; j++) bp__view_direction(&opt->views, &rng, dirs + 3 * (size_t)j);
+    st = bp__vis_run(m, opt, uv_area, dirs, K, sums, err);
     if (st == BP_OK) {
-        /* samples are uniform within each triangle; weighting them by the
-           triangle's texture area averages over texels (see the essay) */
-        for (t = 0; t < m->num_triangles; t++) {
-            num += uv_area[t] * sums[2 * (size_t)t];
-            den += uv_area[t] * sums[2 * (size_t)t + 1];
+        /* per view: mean screen area of a visible texel; then the mean
+           over the views (a view that sees few texels weighs as much as
+           one that sees many) */
+        for (j = 0; j < K; j++) {
+            double num = 0, den = 0;
+            for (c = 0; c < nchunk; c++) {
+                num += sums[2 * ((size_t)c * K + j)];
+                den += sums[2 * ((size_t)c * K + j) + 1];
+            }
+            if (den > 0) { total += num / den; used++; }
         }
-        *mean_det = den > 0 ? num / den : 0;
+        *mean_det = used ? total / used : 0;
         bp__ok(err);
     }
     bp__free(&a, uv_area);
     bp__free(&a, sums);
+    bp__free(&a, dirs);
     return st;
 }
 

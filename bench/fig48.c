@@ -143,7 +143,7 @@ int main(int argc, char **argv)
         double A = 0, rsum = 0, fl_area = 0, mn = HUGE_VAL, mx = 0, e = 0, ea = 0, gsum = 0, vg = 0, sq = 0;
         uint32_t t, c;
         set_views(&o.views, col, front, side, up, elev, samples, floor_, 0);
-        bp__vis_run(&mesh, &o, NULL, raw, &err);
+        bp__vis_run(&mesh, &o, NULL, NULL, 0, raw, &err);
         bp_visibility(&mesh, &o, nv, &err);
         for (t = 0; t < mesh.num_triangles; t++) {
             const uint32_t *tv = mesh.triangles + 3 * (size_t)t;

@@ -486,7 +486,7 @@ static void test_sphere(void)
     opt.views.model = BP_VIEW_UNIFORM;
     opt.views.samples = N;
     opt.views.seed = 2024;
-    if (!BPT_CHECK(bp__vis_run(&T.m, &opt, NULL, raw, &err) == BP_OK, "sphere: raw visibility: %s", err.message)) goto done;
+    if (!BPT_CHECK(bp__vis_run(&T.m, &opt, NULL, NULL, 0, raw, &err) == BP_OK, "sphere: raw visibility: %s", err.message)) goto done;
     /* per sample: c = max(0, n.r), r uniform: E c = 1/4, E c^2 = 1/6, var = 5/48 */
     sigma = sqrt(5.0 / 48 / N);
     for (t = 0; t < nt; t++) {
@@ -521,7 +521,7 @@ static void test_sphere(void)
         opt.views.model = BP_VIEW_SIDE;
         memcpy(opt.views.direction, d, sizeof d);
         opt.views.samples = 16;
-        if (BPT_CHECK(bp__vis_run(&T.m, &opt, NULL, raw, &err) == BP_OK, "sphere: side visibility")) {
+        if (BPT_CHECK(bp__vis_run(&T.m, &opt, NULL, NULL, 0, raw, &err) == BP_OK, "sphere: side visibility")) {
             for (t = 0; t < nt; t++) {
                 double n[3], c;
                 bp__triangle_normal(&T.m, t, n);
@@ -546,7 +546,7 @@ static void test_sphere(void)
         opt.views.elevation = 40;
         opt.views.samples = N;
         opt.views.seed = 5;
-        if (BPT_CHECK(bp__vis_run(&T.m, &opt, NULL, raw, &err) == BP_OK, "sphere: ring visibility")) {
+        if (BPT_CHECK(bp__vis_run(&T.m, &opt, NULL, NULL, 0, raw, &err) == BP_OK, "sphere: ring visibility")) {
             for (t = 0; t < nt; t++) {
                 double n[3], nh;
                 bp__triangle_normal(&T.m, t, n);
@@ -584,7 +584,7 @@ static void test_cup_occlusion(void)
     opt.views.model = BP_VIEW_UNIFORM;
     opt.views.samples = N;
     opt.views.seed = 77;
-    if (BPT_CHECK(bp__vis_run(&T.m, &opt, NULL, raw, &err) == BP_OK, "cup: raw visibility: %s", err.message)) {
+    if (BPT_CHECK(bp__vis_run(&T.m, &opt, NULL, NULL, 0, raw, &err) == BP_OK, "cup: raw visibility: %s", err.message)) {
         for (t = 0; t < T.m.num_triangles; t++) {
             const uint32_t *tv = T.m.triangles + 3 * (size_t)t;
             double c[3] = { 0, 0, 0 }, n[3], rr, a = tri_area(&T.m, t);
