@@ -341,6 +341,11 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
 BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *mesh,
                                 const bp_options *opt, bp_error *err);
 BPDEF void      bp_atlas_free(bp_atlas *atlas);
+/* Mark chart `chart` as failed for the reason in `why` (copied into
+   chart.error); its map is freed and bp_atlas_pack / bp_write_obj skip it.
+   For callers that run the steps themselves and want bp_parameterize's
+   tolerant behaviour. */
+BPDEF void      bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *why);
 
 /* Exact bijectivity of a planar triangulation (one chart or several): every
    triangle positively oriented, no two boundary edges meeting except
@@ -4454,6 +4459,18 @@ static bp_status bp__atlas_verify(const bp_atlas *atlas, bp_error *err)
     return BP_OK;
 }
 
+BPDEF void bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *why)
+{
+    bp_chart *ch;
+    if (!atlas || chart >= atlas->num_charts) return;
+    ch = &atlas->charts[chart];
+    if (ch->error.status == BP_OK) atlas->num_failed++;
+    if (why && why->status != BP_OK) ch->error = *why;
+    else bp__fail(&ch->error, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart, -1, 0, "chart %u: failed", chart);
+    bp__free(&atlas->allocator, ch->uv);
+    ch->uv = NULL;
+}
+
 /* One chart, start map and optimization: the unit of work when charts are
    solved in parallel. */
 typedef struct bp__chart_job {
@@ -4543,10 +4560,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
             st = cs;
             if (err) *err = J.errs[c];
         } else {
-            atlas->charts[c].error = J.errs[c];
-            bp__free(&a, atlas->charts[c].uv);
-            atlas->charts[c].uv = NULL;
-            atlas->num_failed++;
+            bp_atlas_fail_chart(atlas, c, &J.errs[c]);
         }
     }
     bp__free(&a, J.status);

@@ -55,6 +55,8 @@ static const char usage_text[] =
     "  --tol X            relative energy decrease to stop (default 1e-7)\n"
     "  --max-seconds X    time limit per chart (0: none)\n"
     "  --normalize        scale the packed atlas into [0,1]^2\n"
+    "  --strict           a chart that cannot be flattened fails the whole run\n"
+    "                     (default: it is reported, the other charts are written)\n"
     "  --trace FILE       one line per iteration: chart iter seconds energy step\n"
     "  --threads N        threads (default 0: all cores; 1: serial)\n"
     "  --visibility uniform|front|ring|side   optimize texel density for a view\n"
@@ -304,6 +306,17 @@ static long chart_euler(const bp_chart *c)
     return (long)c->num_vertices - (long)edges + (long)c->num_triangles;
 }
 
+/* A chart-level failure (not out of memory, not a cancel) marks the chart
+   as failed and lets the others go on, unless --strict. */
+static int chart_failed(bp_atlas *atlas, uint32_t c, bp_status *st, bp_error *err, int strict)
+{
+    if (*st == BP_OK || *st == BP_ERR_OUT_OF_MEMORY || *st == BP_ERR_CANCELLED || *st == BP_ERR_IO || strict)
+        return 0;
+    bp_atlas_fail_chart(atlas, c, err);
+    *st = BP_OK;
+    return 1;
+}
+
 /* ---- progress and trace ------------------------------------------------- */
 
 /* --frames: an SVG of the chart every `every` iterations, and snapshots of
@@ -446,8 +459,8 @@ static void print_json(const char *input, bp_status status, const char *message,
     printf(",\"status\":");
     json_string(bp_status_string(status));
     if (message) { printf(",\"error\":"); json_string(message); }
-    printf(",\"charts\":%u,\"split_vertices\":%u,\"per_chart\":[",
-           (unsigned)atlas->num_charts, (unsigned)atlas->num_split);
+    printf(",\"charts\":%u,\"failed_charts\":%u,\"split_vertices\":%u,\"per_chart\":[",
+           (unsigned)atlas->num_charts, (unsigned)atlas->num_failed, (unsigned)atlas->num_split);
     for (c = 0; c < atlas->num_charts; c++) {
         const bp_chart *ch = atlas->charts + c;
         bp_check_report rep;
@@ -475,6 +488,9 @@ static void print_json(const char *input, bp_status status, const char *message,
         json_number(e_max);
         printf(",\"iterations\":%d,\"stop\":", ch->iterations);
         json_string(bp_stop_string(ch->stop));
+        printf(",\"error\":");
+        if (ch->error.status != BP_OK) json_string(ch->error.message);
+        else printf("null");
         printf(",\"seconds\":");
         json_number(ch->seconds);
         if (ch->uv)
@@ -661,6 +677,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--init-only")) opt.init_only = 1;
         else if (!strcmp(a, "--no-barrier")) opt.no_barrier = 1;
         else if (!strcmp(a, "--normalize")) opt.normalize = 1;
+        else if (!strcmp(a, "--strict")) opt.strict = 1;
         else if (a[0] == '-' && a[1] != '\0') return usage_error("unknown option '%s'", a);
         else if (input) return usage_error("more than one input file ('%s')", a);
         else input = a;
@@ -715,10 +732,12 @@ int main(int argc, char **argv)
     have_mesh = st == BP_OK;
     tm.read = now_seconds() - t0;
 
-    /* 2. charts */
+    /* 2. charts (a chart that cannot be flattened is reported and skipped;
+          the others are still solved and written, unless --strict) */
     if (st == BP_OK) {
         t0 = now_seconds();
         st = bp_atlas_build(&atlas, &mesh, &opt, &err);
+        if (st == BP_ERR_CHARTS_FAILED) st = BP_OK;
         tm.charts = now_seconds() - t0;
         rs.num_charts = atlas.num_charts;
         fs.mesh = &mesh;
@@ -749,9 +768,11 @@ int main(int argc, char **argv)
     opt.importance = importance;
     /* 3. start map and optimization, chart by chart */
     for (c = 0; st == BP_OK && c < atlas.num_charts; c++) {
+        if (atlas.charts[c].error.status != BP_OK) continue;   /* failed in step 2 */
         t0 = now_seconds();
         st = bp_chart_init(&atlas.charts[c], &mesh, &opt, &err);
         tm.init += now_seconds() - t0;
+        if (chart_failed(&atlas, c, &st, &err, opt.strict)) continue;
         if (st == BP_OK && fs.dir) {     /* frame 0: the start map */
             double e0 = 0;
             bp_chart_distortion(&atlas.charts[c], &mesh, opt.energy, &e0, NULL, NULL);
@@ -762,6 +783,7 @@ int main(int argc, char **argv)
         t0 = now_seconds();
         st = bp_chart_optimize(&atlas.charts[c], c, &mesh, &opt, &err);
         tm.optimize += now_seconds() - t0;
+        if (chart_failed(&atlas, c, &st, &err, opt.strict)) continue;
         if (st == BP_OK && fs.dir) {     /* the last frame, whatever K */
             const bp_chart *ch = &atlas.charts[c];
             keep_snapshot(&fs, c, ch->iterations, ch->energy_end, 1);
@@ -842,11 +864,18 @@ int main(int argc, char **argv)
         report_error(where, &err);
         status = 1;
     }
+    /* charts that failed: one line each, exit status 1, the rest written */
+    for (c = 0; c < atlas.num_charts; c++)
+        if (atlas.charts[c].error.status != BP_OK) {
+            report_error(input, &atlas.charts[c].error);
+            status = 1;
+        }
     if (json)
     {
         for (c = 0; c < atlas.num_charts; c++)
             if (atlas.charts[c].threads > ex.threads) ex.threads = atlas.charts[c].threads;
-        print_json(input, st, st == BP_OK ? NULL : err.message, &mesh, &atlas,
+        bp_status js = (st == BP_OK && atlas.num_failed) ? BP_ERR_CHARTS_FAILED : st;
+        print_json(input, js, st == BP_OK ? NULL : err.message, &mesh, &atlas,
                    opt.energy, &tm, &ex);
     }
 
