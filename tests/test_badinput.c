@@ -35,6 +35,19 @@
 #include <time.h>
 #include <unistd.h>
 
+/* Sanitizer builds (make asan) run several times slower: time limits that
+   include fixed costs are scaled by BPT_SLOW. */
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define BPT_SLOW 3
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define BPT_SLOW 3
+#endif
+#endif
+#ifndef BPT_SLOW
+#define BPT_SLOW 1
+#endif
+
 /* ---- helpers -------------------------------------------------------------- */
 
 static double now(void)
@@ -983,10 +996,20 @@ static void test_limits(void)
             if (BPT_CHECK(st == BP_OK, "hilbert, max_seconds 2: BP_OK (%s)", err.message)) {
                 uint32_t c;
                 int stopped = 0;
+                double per_iter = at.charts[0].iterations ? at.charts[0].seconds / at.charts[0].iterations : 0;
                 for (c = 0; c < at.num_charts; c++) stopped += at.charts[c].stop == BP_STOP_MAX_SECONDS;
-                BPT_CHECK(dt < 4.5 && all_mapped_valid(&at),
-                          "hilbert, max_seconds 2: returns in %.2f s (< 4.5: build, start map, 2 s, pack, verify), "
-                          "%u charts, %d stopped on time, valid", dt, (unsigned)at.num_charts, stopped);
+                /* the limit is checked after each iteration: the solve may
+                   overrun it by one iteration.  The whole call adds reading
+                   nothing (the mesh is in memory) but the build, the start
+                   map, packing and the final check: 1.3-2.2 s measured,
+                   ~3.8 s under AddressSanitizer (BPT_SLOW = 3). */
+                BPT_CHECK(at.charts[0].seconds <= 2 + per_iter + 0.1,
+                          "hilbert, max_seconds 2: the solve stopped after %.2f s (%d iterations of %.3f s)",
+                          at.charts[0].seconds, at.charts[0].iterations, per_iter);
+                BPT_CHECK(dt < 2 + 3.0 * BPT_SLOW && all_mapped_valid(&at),
+                          "hilbert, max_seconds 2: returns in %.2f s (< %.1f: build, start map, 2 s, pack, verify), "
+                          "%u charts, %d stopped on time, valid", dt, 2 + 3.0 * BPT_SLOW, (unsigned)at.num_charts,
+                          stopped);
             }
             bp_atlas_free(&at);
             bp_mesh_free(&m, NULL);
