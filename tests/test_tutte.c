@@ -1,0 +1,252 @@
+/* test_tutte.c - the start map and the sparse solver behind it.
+
+   (a) The sparse direct solver (>>sparse) against dense Gaussian
+       elimination written here: random symmetric positive definite
+       matrices with a mesh-like pattern (graph Laplacian + positive
+       diagonal) and random nonsymmetric, diagonally dominant M-matrices
+       (the mean-value case), several sizes; the nested-dissection order is
+       a permutation; the refined solution's residual is tiny.
+   (b) The start map of every chart of every mesh in tests/data that can be
+       flattened, with Tutte and with mean-value weights: exactly valid by
+       the complete bp_check (positive triangles, disjoint boundary loops,
+       one counter-clockwise loop, holes inside it), the outer loop on the
+       circle of the chart's area in counter-clockwise order, spaced by 3D
+       arc length, and every interior vertex at the weighted mean of its
+       neighbours (the linear system really solved).  The larger meshes of
+       ../shared/meshes are included when present. */
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include "bptest.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
+static double rng_unit(void)
+{
+    rng_state ^= rng_state >> 12;
+    rng_state ^= rng_state << 25;
+    rng_state ^= rng_state >> 27;
+    return (double)((rng_state * 2685821657736338717ull) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Dense solve of an n x n system (row-major a, overwritten) with partial
+   pivoting, the independent reference. */
+static void dense_solve(int n, double *a, double *b)
+{
+    int i, j, k;
+    for (k = 0; k < n; k++) {
+        int p = k;
+        for (i = k + 1; i < n; i++) if (fabs(a[i * n + k]) > fabs(a[p * n + k])) p = i;
+        if (p != k) {
+            double t;
+            for (j = 0; j < n; j++) { t = a[k * n + j]; a[k * n + j] = a[p * n + j]; a[p * n + j] = t; }
+            t = b[k]; b[k] = b[p]; b[p] = t;
+        }
+        for (i = k + 1; i < n; i++) {
+            double f = a[i * n + k] / a[k * n + k];
+            for (j = k; j < n; j++) a[i * n + j] -= f * a[k * n + j];
+            b[i] -= f * b[k];
+        }
+    }
+    for (k = n - 1; k >= 0; k--) {
+        double s = b[k];
+        for (j = k + 1; j < n; j++) s -= a[k * n + j] * b[j];
+        b[k] = s / a[k * n + k];
+    }
+}
+
+/* A random planar-ish graph on a jittered grid (each vertex linked to its
+   right, upper and one diagonal neighbour, some edges dropped), as a
+   matrix: symmetric -> Laplacian with weights + diagonal shift;
+   nonsymmetric -> row weights differ, diagonal = row sum + shift. */
+static void test_solver(int w, int h, int symmetric, double *worst_err, double *worst_res, int *perm_ok)
+{
+    int n = w * h, i, j;
+    double *dense = (double *)calloc((size_t)n * n, sizeof(double)), *copy = (double *)malloc((size_t)n * n * sizeof(double));
+    double *b = (double *)calloc(n, sizeof(double)), *xd = (double *)calloc(n, sizeof(double));
+    double *x = (double *)malloc(n * sizeof(double)), *work = (double *)malloc(3 * n * sizeof(double));
+    bp__trip *t = (bp__trip *)malloc((size_t)8 * n * sizeof(bp__trip));
+    size_t nt = 0;
+    bp__sparse A;
+    bp__factor F;
+    bp_allocator a;
+    uint32_t bad = 0, *seen;
+    memset(&a, 0, sizeof a);
+    memset(&A, 0, sizeof A);
+    for (j = 0; j < h; j++)
+        for (i = 0; i < w; i++) {
+            int v = j * w + i, nb[3], k;
+            nb[0] = i + 1 < w ? v + 1 : -1;
+            nb[1] = j + 1 < h ? v + w : -1;
+            nb[2] = (i + 1 < w && j + 1 < h) ? v + w + 1 : -1;
+            for (k = 0; k < 3; k++) {
+                double wij, wji;
+                if (nb[k] < 0 || (k == 2 && rng_unit() < 0.5) || rng_unit() < 0.05) continue;
+                wij = 0.1 + rng_unit();
+                wji = symmetric ? wij : 0.1 + rng_unit();
+                dense[v * n + nb[k]] -= wij; dense[v * n + v] += wij;
+                dense[nb[k] * n + v] -= wji; dense[nb[k] * n + nb[k]] += wji;
+            }
+        }
+    for (i = 0; i < n; i++) dense[i * n + i] += 0.01 + 0.1 * rng_unit();   /* Dirichlet-like shift */
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++)
+            if (dense[i * n + j] != 0 || i == j) { t[nt].i = (uint32_t)i; t[nt].j = (uint32_t)j; t[nt++].v = dense[i * n + j]; }
+    A.symmetric = symmetric;
+    bp__sparse_from_triplets(&a, (uint32_t)n, t, nt, &A);
+    for (i = 0; i < n; i++) b[i] = xd[i] = rng_unit() - 0.5;
+    memcpy(copy, dense, (size_t)n * n * sizeof(double));
+    dense_solve(n, copy, xd);
+    if (bp__factorize(&a, &A, &F, &bad) == BP_OK) {
+        double err = 0, res = 0, scale = 0;
+        seen = (uint32_t *)calloc(n, sizeof(uint32_t));
+        for (i = 0; i < n; i++) if (F.perm[i] < (uint32_t)n) seen[F.perm[i]]++;
+        for (i = 0; i < n; i++) if (seen[i] != 1) *perm_ok = 0;
+        free(seen);
+        bp__solve_refined(&A, &F, b, x, work);
+        for (i = 0; i < n; i++) {
+            double r = b[i];
+            for (j = 0; j < n; j++) r -= dense[i * n + j] * x[j];
+            if (fabs(r) > res) res = fabs(r);
+            if (fabs(x[i] - xd[i]) > err) err = fabs(x[i] - xd[i]);
+            if (fabs(xd[i]) > scale) scale = fabs(xd[i]);
+        }
+        if (err / scale > *worst_err) *worst_err = err / scale;
+        if (res > *worst_res) *worst_res = res;
+        bp__factor_free(&a, &F);
+    } else {
+        *worst_err = HUGE_VAL;
+    }
+    bp__sparse_free(&a, &A);
+    free(dense); free(copy); free(b); free(xd); free(x); free(work); free(t);
+}
+
+/* Tutte/Floater checks on one chart; returns the number of failed checks. */
+static int check_start(const bp_mesh *m, bp_chart *ch, int mvc, const char *name, uint32_t c)
+{
+    bp_options o;
+    bp_error e;
+    bp_check_report r;
+    uint32_t i, j, k;
+    double R, total = 0, acc = 0, worst_r = 0, worst_a = 0, worst_mean = 0;
+    int bad = 0, ccw = 1;
+    memset(&o, 0, sizeof o);
+    o.init = mvc ? BP_INIT_MEAN_VALUE : BP_INIT_TUTTE;
+    if (!BPT_CHECK(bp_chart_init(ch, m, &o, &e) == BP_OK, "%s chart %u (%s): start map: %s", name, c,
+                   mvc ? "mean value" : "Tutte", e.message))
+        return 1;
+    bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r);
+    if (r.flipped || r.degenerate || r.nonfinite || r.boundary_intersections || r.loop_orientation || r.nested) bad++;
+    /* the outer loop: on the circle of the chart's area, by 3D arc length */
+    R = sqrt(ch->area3d / 3.14159265358979323846);
+    for (j = ch->loop_start[0]; j < ch->loop_start[1]; j++) {
+        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < ch->loop_start[1] ? j + 1 : 0];
+        total += bp__dist3(bp__pos(m, ch->vertex[va]), bp__pos(m, ch->vertex[vb]));
+    }
+    for (j = ch->loop_start[0]; j < ch->loop_start[1]; j++) {
+        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < ch->loop_start[1] ? j + 1 : 0];
+        double x = ch->uv[2 * va], y = ch->uv[2 * va + 1], ang = atan2(y, x), want = 2 * 3.14159265358979323846 * acc / total;
+        double d = fabs(remainder(ang - want, 2 * 3.14159265358979323846));
+        if (fabs(sqrt(x * x + y * y) - R) > worst_r) worst_r = fabs(sqrt(x * x + y * y) - R);
+        if (d > worst_a) worst_a = d;
+        acc += bp__dist3(bp__pos(m, ch->vertex[va]), bp__pos(m, ch->vertex[vb]));
+        if (j > ch->loop_start[0] && j + 1 < ch->loop_start[1]) {
+            const double *p = ch->uv + 2 * ch->loop_vertices[j - 1], *q = ch->uv + 2 * va, *s = ch->uv + 2 * vb;
+            if (bp_orient2d(p, q, s) < 0) ccw = 0;
+        }
+    }
+    /* Tutte only: an interior vertex is the mean of its neighbours (holes
+       make fan-centre neighbours, so only vertices not on any loop whose
+       neighbours are not on holes are tested, via the chart's triangles) */
+    if (!mvc) {
+        uint32_t *onb = (uint32_t *)calloc(ch->num_vertices, sizeof(uint32_t));
+        double *sx = (double *)calloc(2 * (size_t)ch->num_vertices, sizeof(double));
+        uint32_t *deg = (uint32_t *)calloc(ch->num_vertices, sizeof(uint32_t));
+        bp__edge_rec *er = (bp__edge_rec *)malloc(3 * (size_t)ch->num_triangles * sizeof(bp__edge_rec));
+        size_t ne = 0, q;
+        for (j = 0; j < ch->loop_start[ch->num_loops]; j++) onb[ch->loop_vertices[j]] = 1;
+        for (i = 0; i < ch->num_triangles; i++)
+            for (k = 0; k < 3; k++) {
+                uint32_t va = ch->triangles[3 * i + k], vb = ch->triangles[3 * i + (k + 1) % 3];
+                er[ne].lo = va < vb ? va : vb; er[ne].hi = va < vb ? vb : va; er[ne].ce = 0; ne++;
+            }
+        qsort(er, ne, sizeof *er, bp__edge_cmp);
+        for (q = 0; q < ne; q++) {
+            if (q > 0 && er[q].lo == er[q - 1].lo && er[q].hi == er[q - 1].hi) continue;
+            sx[2 * er[q].lo] += ch->uv[2 * er[q].hi]; sx[2 * er[q].lo + 1] += ch->uv[2 * er[q].hi + 1]; deg[er[q].lo]++;
+            sx[2 * er[q].hi] += ch->uv[2 * er[q].lo]; sx[2 * er[q].hi + 1] += ch->uv[2 * er[q].lo + 1]; deg[er[q].hi]++;
+        }
+        for (i = 0; i < ch->num_vertices; i++) {
+            double dx, dy;
+            if (onb[i] || !deg[i]) continue;
+            dx = sx[2 * i] / deg[i] - ch->uv[2 * i];
+            dy = sx[2 * i + 1] / deg[i] - ch->uv[2 * i + 1];
+            if (sqrt(dx * dx + dy * dy) > worst_mean) worst_mean = sqrt(dx * dx + dy * dy);
+        }
+        free(onb); free(sx); free(deg); free(er);
+    }
+    if (worst_r > 1e-12 * R || worst_a > 1e-12 || !ccw || worst_mean > 1e-9 * R) bad++;
+    BPT_CHECK(!bad, "%s chart %u (%s, %u triangles, %u loops): exactly bijective (flip %u deg %u bnd %u loops %u nested %u), "
+              "outer loop on the circle (radius error %.1e R, angle error %.1e), counter-clockwise, %s%.1e R",
+              name, c, mvc ? "mean value" : "Tutte", ch->num_triangles, ch->num_loops, r.flipped, r.degenerate,
+              r.boundary_intersections, r.loop_orientation, r.nested, worst_r / R, worst_a,
+              mvc ? "" : "interior vertices at the mean of their neighbours within ", mvc ? 0.0 : worst_mean / R);
+    return bad;
+}
+
+static void check_mesh(const char *path)
+{
+    bp_mesh m;
+    bp_atlas at;
+    bp_error e;
+    bp_options o;
+    FILE *f = fopen(path, "rb");
+    uint32_t c;
+    int mvc;
+    if (!f) { printf("skip %s (not present)\n", path); return; }
+    fclose(f);
+    if (!BPT_CHECK(bp_read_mesh(path, &m, NULL, &e) == BP_OK, "%s: read: %s", path, e.message)) return;
+    memset(&o, 0, sizeof o);
+    if (bp_atlas_build(&at, &m, &o, &e) != BP_OK) {
+        BPT_CHECK(0, "%s: charts: %s", path, e.message);
+        bp_mesh_free(&m, NULL);
+        return;
+    }
+    for (mvc = 0; mvc < 2; mvc++)
+        for (c = 0; c < at.num_charts; c++) check_start(&m, &at.charts[c], mvc, path, c);
+    bp_atlas_free(&at);
+    bp_mesh_free(&m, NULL);
+}
+
+int main(void)
+{
+    static const int sizes[][2] = { { 3, 3 }, { 8, 5 }, { 12, 12 }, { 30, 7 }, { 25, 25 } };
+    double err_s = 0, res_s = 0, err_n = 0, res_n = 0;
+    int k, perm_ok = 1;
+    for (k = 0; k < 5; k++) {
+        int r;
+        for (r = 0; r < 4; r++) {
+            test_solver(sizes[k][0], sizes[k][1], 1, &err_s, &res_s, &perm_ok);
+            test_solver(sizes[k][0], sizes[k][1], 0, &err_n, &res_n, &perm_ok);
+        }
+    }
+    BPT_CHECK(perm_ok, "nested dissection orders are permutations");
+    BPT_CHECK(err_s < 1e-10 && res_s < 1e-12, "sparse LDL^T (symmetric) matches dense elimination: relative error %.1e, "
+              "residual %.1e (20 matrices up to 625 unknowns)", err_s, res_s);
+    BPT_CHECK(err_n < 1e-10 && res_n < 1e-12, "sparse LU on a symmetric pattern (nonsymmetric M-matrix) matches dense "
+              "elimination: relative error %.1e, residual %.1e", err_n, res_n);
+
+    check_mesh("tests/data/bishop_part_f1000.obj");
+    check_mesh("tests/data/camel_b.obj");
+    check_mesh("tests/data/cow_param_withSUV.obj");
+    check_mesh("tests/data/spot.obj");
+    check_mesh("tests/data/face_holes.off");
+    check_mesh("tests/data/mech-holes-shark.off");
+    check_mesh("tests/data/camelhead.off");
+    check_mesh("../shared/meshes/hilbert.obj");
+    check_mesh("../shared/meshes/beetle.off");
+    check_mesh("../shared/meshes/horse_cut.obj");
+    return bpt_finish();
+}
