@@ -1154,38 +1154,37 @@ static bp_status bp__builder_finish(bp__parser *ps, bp__mesh_builder *b, bp_mesh
    back from the last element read so far.  Returns 1-based-resolved 0-based
    indices (vt = -1 when absent); the range check against the final counts
    happens after the whole file is read, since OBJ allows forward use. */
+/* One OBJ index: 1-based, 0 invalid, negative counts back from the last of
+   the `count` elements read so far.  Returns the 0-based index in *out. */
+static bp_status bp__obj_index(bp__parser *ps, int64_t count, const char *what, int64_t *out)
+{
+    bp_status st;
+    int64_t i;
+    if ((st = bp__parse_int(ps, &i, what)) != BP_OK) return st;
+    if (i == 0)
+        return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: %s 0 is invalid (OBJ indices start at 1)", ps->line, what);
+    if (i < 0) {
+        if (-i > count)
+            return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                            "line %D: relative %s %D points before the first element", ps->line, what, i);
+        i = count + i + 1;
+    }
+    *out = i - 1;
+    return BP_OK;
+}
+
 static bp_status bp__obj_corner(bp__parser *ps, int64_t nv, int64_t nvt,
                                 int64_t *v, int64_t *vt)
 {
     bp_status st;
     int64_t i;
     *vt = -1;
-    if ((st = bp__parse_int(ps, &i, "vertex index")) != BP_OK) return st;
-    if (i == 0)
-        return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
-                        "line %D: vertex index 0 is invalid (OBJ indices start at 1)", ps->line);
-    if (i < 0) {
-        if (-i > nv)
-            return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
-                            "line %D: relative vertex index %D points before the first vertex", ps->line, i);
-        i = nv + i + 1;
-    }
-    *v = i - 1;
+    if ((st = bp__obj_index(ps, nv, "vertex index", v)) != BP_OK) return st;
     if (ps->p < ps->end && *ps->p == '/') {
         ps->p++;
-        if (ps->p < ps->end && *ps->p != '/') {
-            if ((st = bp__parse_int(ps, &i, "texture index")) != BP_OK) return st;
-            if (i == 0)
-                return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
-                                "line %D: texture index 0 is invalid (OBJ indices start at 1)", ps->line);
-            if (i < 0) {
-                if (-i > nvt)
-                    return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
-                                    "line %D: relative texture index %D points before the first vt", ps->line, i);
-                i = nvt + i + 1;
-            }
-            *vt = i - 1;
-        }
+        if (ps->p < ps->end && *ps->p != '/' && (st = bp__obj_index(ps, nvt, "texture index", vt)) != BP_OK)
+            return st;
         if (ps->p < ps->end && *ps->p == '/') {   /* normal index: read, ignored */
             ps->p++;
             if ((st = bp__parse_int(ps, &i, "normal index")) != BP_OK) return st;

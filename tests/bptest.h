@@ -13,6 +13,7 @@
 #define BPTEST_H
 #include <stdio.h>
 #include <stdarg.h>
+#include <stdint.h>
 
 static int bpt__passed = 0, bpt__failed = 0;
 
@@ -31,6 +32,19 @@ static int bpt__report(int ok, const char *file, int line, const char *fmt, ...)
 
 /* BPT_CHECK(cond, "what is being proven") */
 #define BPT_CHECK(cond, ...) bpt__report(!!(cond), __FILE__, __LINE__, __VA_ARGS__)
+
+/* Seeded xorshift64* random numbers (tests never use rand()); a test sets
+   bpt_rng_state to its own seed at the start of main. */
+static uint64_t bpt_rng_state = 0x9E3779B97F4A7C15ull;
+static inline uint64_t bpt_rng_u64(void)
+{
+    bpt_rng_state ^= bpt_rng_state >> 12;
+    bpt_rng_state ^= bpt_rng_state << 25;
+    bpt_rng_state ^= bpt_rng_state >> 27;
+    return bpt_rng_state * 2685821657736338717ull;
+}
+static inline double bpt_rng_unit(void) { return (double)(bpt_rng_u64() >> 11) * (1.0 / 9007199254740992.0); }
+static inline double bpt_rng_range(double a, double b) { return a + (b - a) * bpt_rng_unit(); }
 
 static int bpt_finish(void)
 {

@@ -27,17 +27,6 @@
 #include <string.h>
 #include <stdlib.h>
 
-/* ---- seeded xorshift64* ------------------------------------------------- */
-static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
-static uint64_t rng_u64(void)
-{
-    rng_state ^= rng_state >> 12;
-    rng_state ^= rng_state << 25;
-    rng_state ^= rng_state >> 27;
-    return rng_state * 2685821657736338717ull;
-}
-static double rng_unit(void) { return (double)(rng_u64() >> 11) * (1.0 / 9007199254740992.0); }
-static double rng_range(double a, double b) { return a + (b - a) * rng_unit(); }
 
 static const double PI = 3.14159265358979323846;
 static const char *const ENAME[] = { "symmetric Dirichlet", "conformal", "MIPS", "isometric", "max isometric" };
@@ -185,11 +174,11 @@ static bp__rest *solver_for_chart(bp__solver *S, const bp_allocator *a, const bp
 static void random_config(double P[3][3], double U[3][2], double *uv_scale)
 {
     for (;;) {
-        double s3 = exp(rng_range(log(0.1), log(10.0))), s2 = s3 * exp(rng_range(-1.0, 1.0));
+        double s3 = exp(bpt_rng_range(log(0.1), log(10.0))), s2 = s3 * exp(bpt_rng_range(-1.0, 1.0));
         int i, k;
-        for (i = 0; i < 3; i++) for (k = 0; k < 3; k++) P[i][k] = s3 * rng_range(-1, 1) + 5 * s3;
+        for (i = 0; i < 3; i++) for (k = 0; k < 3; k++) P[i][k] = s3 * bpt_rng_range(-1, 1) + 5 * s3;
         if (tri_quality(P[0], P[1], P[2], 3) < 15 * PI / 180) continue;
-        for (i = 0; i < 3; i++) for (k = 0; k < 2; k++) U[i][k] = s2 * rng_range(-1, 1) - 3 * s2;
+        for (i = 0; i < 3; i++) for (k = 0; k < 2; k++) U[i][k] = s2 * bpt_rng_range(-1, 1) - 3 * s2;
         if (orient(U[0], U[1], U[2]) < 0) {
             double tmp[2];
             memcpy(tmp, U[1], sizeof tmp); memcpy(U[1], U[2], sizeof tmp); memcpy(U[2], tmp, sizeof tmp);
@@ -277,8 +266,8 @@ static void test_triangle_energies(void)
         double err_iso[BP_ENERGY_COUNT] = { 0 }, err_sim[BP_ENERGY_COUNT] = { 0 }, err_str[BP_ENERGY_COUNT] = { 0 };
         int n;
         for (n = 0; n < 500; n++) {
-            double P[3][3], U[3][2], s, w, x, y, F[3][2], ang = rng_range(0, 2 * PI), c = cos(ang), sn = sin(ang);
-            double tx = rng_range(-10, 10), ty = rng_range(-10, 10), sa = exp(rng_range(-1.5, 1.5)), sb = exp(rng_range(-1.5, 1.5));
+            double P[3][3], U[3][2], s, w, x, y, F[3][2], ang = bpt_rng_range(0, 2 * PI), c = cos(ang), sn = sin(ang);
+            double tx = bpt_rng_range(-10, 10), ty = bpt_rng_range(-10, 10), sa = exp(bpt_rng_range(-1.5, 1.5)), sb = exp(bpt_rng_range(-1.5, 1.5));
             double V[3][2], W[3][2];
             bp__rest r;
             int i;
@@ -328,7 +317,7 @@ static void test_triangle_energies(void)
         int n = 0, skipped = 0, bad = 0;
         double worst = 0;
         while (n < 2000) {
-            double P[3][3], U[3][2], s, smax, smin, g[3][2], h, gnorm = 0, weight = rng_range(0.5, 2);
+            double P[3][3], U[3][2], s, smax, smin, g[3][2], h, gnorm = 0, weight = bpt_rng_range(0.5, 2);
             bp__rest r;
             int i, k;
             random_config(P, U, &s);
@@ -376,8 +365,8 @@ static void test_triangle_energies(void)
         double worst = 0;
         int smooth = kind == BP_ENERGY_SYMMETRIC_DIRICHLET || kind == BP_ENERGY_MIPS;
         for (n = 0; n < 1000; n++) {
-            double P[3][3], U[3][2], s, w, x, y, F[3][2], ang = rng_range(0, 2 * PI), c = cos(ang), sn = sin(ang);
-            double sc = exp(rng_range(-1, 1)), pert = (n % 5 == 0) ? 0 : pow(10.0, -rng_range(2, 6)), g[3][2], h, gnorm = 0;
+            double P[3][3], U[3][2], s, w, x, y, F[3][2], ang = bpt_rng_range(0, 2 * PI), c = cos(ang), sn = sin(ang);
+            double sc = exp(bpt_rng_range(-1, 1)), pert = (n % 5 == 0) ? 0 : pow(10.0, -bpt_rng_range(2, 6)), g[3][2], h, gnorm = 0;
             double smax, smin;
             bp__rest r;
             int i, k;
@@ -386,8 +375,8 @@ static void test_triangle_energies(void)
             bp__rest_shape(P[0], P[1], P[2], &w, &x, &y);
             F[0][0] = 0; F[0][1] = 0; F[1][0] = w; F[1][1] = 0; F[2][0] = x; F[2][1] = y;
             for (i = 0; i < 3; i++) {
-                U[i][0] = sc * (c * F[i][0] - sn * F[i][1]) + pert * w * rng_range(-1, 1) + 1;
-                U[i][1] = sc * (sn * F[i][0] + c * F[i][1]) + pert * w * rng_range(-1, 1) - 2;
+                U[i][0] = sc * (c * F[i][0] - sn * F[i][1]) + pert * w * bpt_rng_range(-1, 1) + 1;
+                U[i][1] = sc * (sn * F[i][0] + c * F[i][1]) + pert * w * bpt_rng_range(-1, 1) - 2;
             }
             ref_singular(P[0], P[1], P[2], U[0], U[1], U[2], &smax, &smin);
             if (!smooth && smax - smin < 2e-3 * smax) continue;
@@ -421,7 +410,7 @@ static void test_triangle_energies(void)
         int n, bad = 0, badv = 0;
         double worst = 0;
         for (n = 0; n < 2000; n++) {
-            double sa = exp(rng_range(-2, 2)), sb = sa * exp(rng_range(-3, -1e-3)), fa, fb, f, fp, fm, dum1, dum2, h, fd;
+            double sa = exp(bpt_rng_range(-2, 2)), sb = sa * exp(bpt_rng_range(-3, -1e-3)), fa, fb, f, fp, fm, dum1, dum2, h, fd;
             if (kind == BP_ENERGY_MAX_ISOMETRIC && fabs(sa * sb - 1) < 1e-3) continue;
             f = bp__energy_sv((bp_energy)kind, sa, sb, &fa, &fb);
             if (!(fabs(f - ref_energy(kind, sa, sb)) <= 1e-13 * f)) badv++;
@@ -480,7 +469,7 @@ static void make_polygon(int kind, uint32_t n, double *x)
 {
     uint32_t i;
     for (i = 0; i < n; i++) {
-        double th = 2 * PI * (i + rng_range(-0.3, 0.3)) / n, r = 1 + rng_range(-0.05, 0.05);
+        double th = 2 * PI * (i + bpt_rng_range(-0.3, 0.3)) / n, r = 1 + bpt_rng_range(-0.05, 0.05);
         if (kind == 0) { x[2 * i] = r * cos(th); x[2 * i + 1] = r * sin(th); }
         else if (kind == 1) { x[2 * i] = r * cos(th); x[2 * i + 1] = 0.12 * r * sin(th); }
         else { r *= 1 + 0.35 * cos(7 * th); x[2 * i] = r * cos(th); x[2 * i + 1] = r * sin(th); }
@@ -612,7 +601,7 @@ static void test_objective_on_chart(void)
             int is_boundary = 0;
             double save, fp, fm, dum, fd, e;
             for (k = 0; k < nb; k++) if (ch->loop_vertices[k] == i / 2) is_boundary = 1;
-            if (!is_boundary && rng_unit() > 0.25) continue;    /* all boundary coordinates, 1/4 of the rest */
+            if (!is_boundary && bpt_rng_unit() > 0.25) continue;    /* all boundary coordinates, 1/4 of the rest */
             save = x[i];
             x[i] = save + h; fp = bp__objective(&S, x, NULL, &dum);
             x[i] = save - h; fm = bp__objective(&S, x, NULL, &dum);
@@ -635,6 +624,7 @@ static void test_objective_on_chart(void)
 
 int main(void)
 {
+    bpt_rng_state = 0x9E3779B97F4A7C15ull;
     test_triangle_energies();
     test_barrier_gradient();
     test_objective_on_chart();

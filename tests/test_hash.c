@@ -26,16 +26,6 @@
 #include <string.h>
 #include <stdlib.h>
 
-static uint64_t rng_state = 0x2545F4914F6CDD1Dull;
-static uint64_t rng_u64(void)
-{
-    rng_state ^= rng_state >> 12;
-    rng_state ^= rng_state << 25;
-    rng_state ^= rng_state >> 27;
-    return rng_state * 2685821657736338717ull;
-}
-static double rng_unit(void) { return (double)(rng_u64() >> 11) * (1.0 / 9007199254740992.0); }
-static double rng_range(double a, double b) { return a + (b - a) * rng_unit(); }
 static const double PI = 3.14159265358979323846;
 
 /* ---- (a) the hash ------------------------------------------------------------ */
@@ -59,23 +49,23 @@ static void test_hash(void)
     int round, bad_exact = 0, bad_repeat = 0, bad_range = 0, queries = 0, fallback = 0, bad_cap = 0;
     long returned_total = 0, overlap_total = 0;
     for (round = 0; round < 300; round++) {
-        uint32_t n = 1 + (uint32_t)(rng_unit() * (round % 3 == 0 ? 40 : 600)), i, q, ng = 1 + (uint32_t)(rng_unit() * 3);
-        uint32_t mask = (1u << (1 + (int)(rng_unit() * 11))) - 1;   /* 2 .. 4096 buckets */
+        uint32_t n = 1 + (uint32_t)(bpt_rng_unit() * (round % 3 == 0 ? 40 : 600)), i, q, ng = 1 + (uint32_t)(bpt_rng_unit() * 3);
+        uint32_t mask = (1u << (1 + (int)(bpt_rng_unit() * 11))) - 1;   /* 2 .. 4096 buckets */
         double hs[3], *box = (double *)malloc(4 * n * sizeof(double));
         uint32_t *group = (uint32_t *)malloc(n * sizeof(uint32_t)), gstart[4];
         size_t need = 0;
         bp__hash H;
         visit_log L;
-        for (i = 0; i < 3; i++) hs[i] = exp(rng_range(log(0.01), log(1.0)));
+        for (i = 0; i < 3; i++) hs[i] = exp(bpt_rng_range(log(0.01), log(1.0)));
         /* items sorted by group, as boundary positions are by loop */
         for (i = 0; i <= ng; i++) gstart[i] = (uint32_t)((uint64_t)n * i / ng);
         for (q = 0; q < ng; q++)
             for (i = gstart[q]; i < gstart[q + 1]; i++) group[i] = q;
         for (i = 0; i < n; i++) {
-            double h = hs[group[i]], cx = rng_range(-3, 3), cy = rng_range(-3, 3), wx, wy;
-            int kind = (int)(rng_unit() * 3);
-            wx = kind == 0 ? 0 : kind == 1 ? rng_range(0, h) : rng_range(0, 8 * h);
-            wy = kind == 0 ? 0 : kind == 1 ? rng_range(0, h) : rng_range(0, 8 * h);
+            double h = hs[group[i]], cx = bpt_rng_range(-3, 3), cy = bpt_rng_range(-3, 3), wx, wy;
+            int kind = (int)(bpt_rng_unit() * 3);
+            wx = kind == 0 ? 0 : kind == 1 ? bpt_rng_range(0, h) : bpt_rng_range(0, 8 * h);
+            wy = kind == 0 ? 0 : kind == 1 ? bpt_rng_range(0, h) : bpt_rng_range(0, 8 * h);
             box[4 * i] = cx; box[4 * i + 1] = cy; box[4 * i + 2] = cx + wx; box[4 * i + 3] = cy + wy;
             need += (size_t)(cell(cx + wx, h) - cell(cx, h) + 1) * (size_t)(cell(cy + wy, h) - cell(cy, h) + 1);
         }
@@ -96,13 +86,13 @@ static void test_hash(void)
         L.n = n;
         L.count = (uint32_t *)calloc(n + 1, sizeof(uint32_t));
         for (q = 0; q < 40; q++) {
-            uint32_t g = (uint32_t)(rng_unit() * ng);
-            double h = hs[g], qx = rng_range(-4, 4), qy = rng_range(-4, 4), qw, qh;
+            uint32_t g = (uint32_t)(bpt_rng_unit() * ng);
+            double h = hs[g], qx = bpt_rng_range(-4, 4), qy = bpt_rng_range(-4, 4), qw, qh;
             int big = q % 13 == 12;
-            qw = big ? rng_range(3, 8) : rng_range(0, 3 * h);
-            qh = big ? rng_range(3, 8) : rng_range(0, 3 * h);
+            qw = big ? bpt_rng_range(3, 8) : bpt_rng_range(0, 3 * h);
+            qh = big ? bpt_rng_range(3, 8) : bpt_rng_range(0, 3 * h);
             if (q % 7 == 3 && n > 0) {        /* a query box that touches an item's box exactly */
-                uint32_t j = gstart[g] + (uint32_t)(rng_unit() * (gstart[g + 1] - gstart[g]));
+                uint32_t j = gstart[g] + (uint32_t)(bpt_rng_unit() * (gstart[g + 1] - gstart[g]));
                 if (j < gstart[g + 1]) { qx = box[4 * j + 2]; qy = box[4 * j + 3]; }
             }
             memset(L.count, 0, (n + 1) * sizeof(uint32_t));
@@ -242,12 +232,12 @@ static void test_barrier_polygons(void)
     double eps_list[6] = { 0.005, 0.05, 0.2, 0.6, 2.5, 20 };
     memset(&st, 0, sizeof st);
     for (rep = 0; rep < 120; rep++) {
-        uint32_t n = 10 + (uint32_t)(rng_unit() * 150), nh = rep % 3 == 0 ? 5 + (uint32_t)(rng_unit() * 30) : 0, N = n + nh, i;
+        uint32_t n = 10 + (uint32_t)(bpt_rng_unit() * 150), nh = rep % 3 == 0 ? 5 + (uint32_t)(bpt_rng_unit() * 30) : 0, N = n + nh, i;
         uint32_t ls[3], *lv = (uint32_t *)malloc(N * sizeof(uint32_t));
         double *x = (double *)malloc(2 * N * sizeof(double));
         int kind = rep % 3, e;
         for (i = 0; i < n; i++) {
-            double th = 2 * PI * (i + rng_range(-0.3, 0.3)) / n, r = 1 + rng_range(-0.05, 0.05);
+            double th = 2 * PI * (i + bpt_rng_range(-0.3, 0.3)) / n, r = 1 + bpt_rng_range(-0.05, 0.05);
             if (kind == 1) { x[2 * i] = r * cos(th); x[2 * i + 1] = 0.1 * r * sin(th); }
             else if (kind == 2) { r *= 1 + 0.4 * cos(5 * th); x[2 * i] = r * cos(th); x[2 * i + 1] = r * sin(th); }
             else { x[2 * i] = r * cos(th); x[2 * i + 1] = r * sin(th); }
@@ -260,7 +250,7 @@ static void test_barrier_polygons(void)
         /* vertex numbering shuffled: loop order != index order */
         for (i = 0; i < N; i++) lv[i] = i;
         for (i = N - 1; i > 0; i--) {
-            uint32_t j = (uint32_t)(rng_unit() * (i + 1)), t = lv[i];
+            uint32_t j = (uint32_t)(bpt_rng_unit() * (i + 1)), t = lv[i];
             double tx = x[2 * i], ty = x[2 * i + 1];
             lv[i] = lv[j]; lv[j] = t;
             (void)tx; (void)ty;
@@ -329,6 +319,7 @@ static void test_barrier_face_holes(void)
 
 int main(void)
 {
+    bpt_rng_state = 0x2545F4914F6CDD1Dull;
     test_hash();
     test_barrier_polygons();
     test_barrier_face_holes();

@@ -34,16 +34,6 @@
 #include <string.h>
 #include <stdlib.h>
 
-static uint64_t rng_state = 0xD1B54A32D192ED03ull;
-static uint64_t rng_u64(void)
-{
-    rng_state ^= rng_state >> 12;
-    rng_state ^= rng_state << 25;
-    rng_state ^= rng_state >> 27;
-    return rng_state * 2685821657736338717ull;
-}
-static double rng_unit(void) { return (double)(rng_u64() >> 11) * (1.0 / 9007199254740992.0); }
-static double rng_range(double a, double b) { return a + (b - a) * rng_unit(); }
 static const double PI = 3.14159265358979323846;
 
 /* ---- references ------------------------------------------------------------ */
@@ -164,7 +154,7 @@ static void random_triangle(double P[3][2], double scale)
 {
     do {
         int i;
-        for (i = 0; i < 3; i++) { P[i][0] = scale * rng_range(-1, 1) + 3 * scale; P[i][1] = scale * rng_range(-1, 1) - scale; }
+        for (i = 0; i < 3; i++) { P[i][0] = scale * bpt_rng_range(-1, 1) + 3 * scale; P[i][1] = scale * bpt_rng_range(-1, 1) - scale; }
         if ((P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[1][1] - P[0][1]) * (P[2][0] - P[0][0]) < 0) {
             double t0 = P[1][0], t1 = P[1][1];
             P[1][0] = P[2][0]; P[1][1] = P[2][1]; P[2][0] = t0; P[2][1] = t1;
@@ -205,10 +195,10 @@ static void test_triangle_case(void)
     int n, bad_safe = 0, bad_bf = 0, finite = 0, tangent_pairs = 0, nonfinite_ok = 0;
     double worst_root = 0, worst_rel = 0;
     for (n = 0; n < 3000; n++) {
-        double P[3][2], V[3][2], scale = exp(rng_range(-5, 5)), vs = scale * exp(rng_range(-2, 2)), tm, bf, T;
+        double P[3][2], V[3][2], scale = exp(bpt_rng_range(-5, 5)), vs = scale * exp(bpt_rng_range(-2, 2)), tm, bf, T;
         int i;
         random_triangle(P, scale);
-        for (i = 0; i < 3; i++) { V[i][0] = vs * rng_range(-1, 1); V[i][1] = vs * rng_range(-1, 1); }
+        for (i = 0; i < 3; i++) { V[i][0] = vs * bpt_rng_range(-1, 1); V[i][1] = vs * bpt_rng_range(-1, 1); }
         tm = bp__collinear_time(P[0], V[0], P[1], V[1], P[2], V[2], HUGE_VAL, 0);
         T = tm < HUGE_VAL ? 1.5 * tm : 50 * scale / vs;
         if (!check_triangle_answer((const double(*)[2])P, (const double(*)[2])V, tm, 50 * scale / vs, &worst_root)) bad_safe++;
@@ -250,9 +240,9 @@ static void test_triangle_case(void)
             long double g, b;
             int i;
             random_triangle(P, 1.0);
-            V[0][0] = rng_range(-1, 1); V[0][1] = rng_range(-1, 1);
+            V[0][0] = bpt_rng_range(-1, 1); V[0][1] = bpt_rng_range(-1, 1);
             V[1][0] = V[0][0]; V[1][1] = V[0][1];
-            V[2][0] = V[0][0] + rng_range(-1, 1); V[2][1] = V[0][1] + rng_range(-1, 1);
+            V[2][0] = V[0][0] + bpt_rng_range(-1, 1); V[2][1] = V[0][1] + bpt_rng_range(-1, 1);
             if (n % 2) for (i = 0; i < 2; i++) { double tmp = V[1][i]; V[1][i] = V[2][i] - V[0][i] + V[0][i]; V[2][i] = tmp; }
             tm = bp__collinear_time(P[0], V[0], P[1], V[1], P[2], V[2], HUGE_VAL, 0);
             g = det_at(P[0], V[0], P[1], V[1], P[2], V[2], 0);
@@ -277,8 +267,8 @@ static void test_triangle_case(void)
             long double r[2];
             int i, nr;
             random_triangle(P, 1.0);
-            W[0] = rng_range(-1, 1); W[1] = rng_range(-1, 1);
-            for (i = 0; i < 3; i++) { V[i][0] = W[0] + rho * rng_range(-1, 1); V[i][1] = W[1] + rho * rng_range(-1, 1); }
+            W[0] = bpt_rng_range(-1, 1); W[1] = bpt_rng_range(-1, 1);
+            for (i = 0; i < 3; i++) { V[i][0] = W[0] + rho * bpt_rng_range(-1, 1); V[i][1] = W[1] + rho * bpt_rng_range(-1, 1); }
             tm = bp__collinear_time(P[0], V[0], P[1], V[1], P[2], V[2], HUGE_VAL, 0);
             nr = ref_roots(P[0], V[0], P[1], V[1], P[2], V[2], r);
             {
@@ -303,15 +293,15 @@ static void test_triangle_case(void)
         int bad_cross = 0, bad_miss = 0, cross = 0, miss = 0, spurious = 0, tiny_total = 0, tiny_missed = 0, tiny_bad = 0;
         double worst = 0;
         for (n = 0; n < 4000; n++) {
-            double P[3][2], V[3][2], B0[2], VB[2], VC[2], C0[2], a, t0 = rng_range(0.5, 2), rel, delta, m00, m01, m10, m11,
+            double P[3][2], V[3][2], B0[2], VB[2], VC[2], C0[2], a, t0 = bpt_rng_range(0.5, 2), rel, delta, m00, m01, m10, m11,
                 r0, r1, dt, tm, A[2], VA[2];
             int crossing = n % 2, i, tiny = (n % 8) >= 6;
-            rel = tiny ? pow(10.0, -rng_range(8, 10)) : pow(10.0, -rng_range(2, 6));
+            rel = tiny ? pow(10.0, -bpt_rng_range(8, 10)) : pow(10.0, -bpt_rng_range(2, 6));
             delta = rel * t0;
             do {
-                B0[0] = rng_range(-1, 1); B0[1] = rng_range(-1, 1);
-                VB[0] = rng_range(-1, 1); VB[1] = rng_range(-1, 1);
-                VC[0] = rng_range(-1, 1); VC[1] = rng_range(-1, 1);
+                B0[0] = bpt_rng_range(-1, 1); B0[1] = bpt_rng_range(-1, 1);
+                VB[0] = bpt_rng_range(-1, 1); VB[1] = bpt_rng_range(-1, 1);
+                VC[0] = bpt_rng_range(-1, 1); VC[1] = bpt_rng_range(-1, 1);
                 a = VB[0] * VC[1] - VB[1] * VC[0];
             } while (fabs(a) < 0.1 || fabs(B0[0] * VB[1] - B0[1] * VB[0]) < 0.1);
             if (a < 0) { double t = VC[0]; VC[0] = VC[1]; VC[1] = t; a = -a; }
@@ -322,7 +312,7 @@ static void test_triangle_case(void)
             dt = m00 * m11 - m01 * m10;
             C0[0] = (r0 * m11 - m01 * r1) / dt;
             C0[1] = (m00 * r1 - m10 * r0) / dt;
-            A[0] = rng_range(-2, 2); A[1] = rng_range(-2, 2); VA[0] = rng_range(-1, 1); VA[1] = rng_range(-1, 1);
+            A[0] = bpt_rng_range(-2, 2); A[1] = bpt_rng_range(-2, 2); VA[0] = bpt_rng_range(-1, 1); VA[1] = bpt_rng_range(-1, 1);
             P[0][0] = A[0]; P[0][1] = A[1];
             V[0][0] = VA[0]; V[0][1] = VA[1];
             for (i = 0; i < 2; i++) {
@@ -389,14 +379,14 @@ static void test_edge_case(void)
         /* mode 0: random; 1: constructed contact inside the segment at t0;
            2: constructed collinearity outside the segment at t0 */
         for (i = 0; i < 2; i++) {
-            VA[i] = rng_range(-1, 1); VB[i] = rng_range(-1, 1); VP[i] = rng_range(-1, 1);
+            VA[i] = bpt_rng_range(-1, 1); VB[i] = bpt_rng_range(-1, 1); VP[i] = bpt_rng_range(-1, 1);
         }
         if (mode == 0) {
-            for (i = 0; i < 2; i++) { A[i] = rng_range(-1, 1); B[i] = rng_range(-1, 1); P[i] = rng_range(-1, 1); }
+            for (i = 0; i < 2; i++) { A[i] = bpt_rng_range(-1, 1); B[i] = bpt_rng_range(-1, 1); P[i] = bpt_rng_range(-1, 1); }
         } else {
-            double t0 = rng_range(0.1, 2), s0 = mode == 1 ? rng_range(0.02, 0.98) : (n % 2 ? rng_range(1.1, 2) : rng_range(-1, -0.1));
+            double t0 = bpt_rng_range(0.1, 2), s0 = mode == 1 ? bpt_rng_range(0.02, 0.98) : (n % 2 ? bpt_rng_range(1.1, 2) : bpt_rng_range(-1, -0.1));
             double A0[2], B0[2], P0[2];
-            for (i = 0; i < 2; i++) { A0[i] = rng_range(-1, 1); B0[i] = rng_range(-1, 1); }
+            for (i = 0; i < 2; i++) { A0[i] = bpt_rng_range(-1, 1); B0[i] = bpt_rng_range(-1, 1); }
             for (i = 0; i < 2; i++) {
                 P0[i] = A0[i] + s0 * (B0[i] - A0[i]);
                 A[i] = A0[i] - t0 * VA[i]; B[i] = B0[i] - t0 * VB[i]; P[i] = P0[i] - t0 * VP[i];
@@ -598,16 +588,16 @@ static void make_direction(int kind, const bp__solver *S, const double *x, doubl
         return;
     }
     if (kind == 0) {
-        for (i = 0; i < 2 * S->nv; i++) v[i] = size * rng_range(-0.05, 0.05);
+        for (i = 0; i < 2 * S->nv; i++) v[i] = size * bpt_rng_range(-0.05, 0.05);
         return;
     }
     {
         double k[4][2], ph[4], amp[4][2];
         int w;
         for (w = 0; w < 4; w++) {
-            double ang = rng_range(0, 2 * PI), kk = rng_range(0.5, 3) * 2 * PI / size;
-            k[w][0] = kk * cos(ang); k[w][1] = kk * sin(ang); ph[w] = rng_range(0, 2 * PI);
-            amp[w][0] = size * rng_range(-1, 1); amp[w][1] = size * rng_range(-1, 1);
+            double ang = bpt_rng_range(0, 2 * PI), kk = bpt_rng_range(0.5, 3) * 2 * PI / size;
+            k[w][0] = kk * cos(ang); k[w][1] = kk * sin(ang); ph[w] = bpt_rng_range(0, 2 * PI);
+            amp[w][0] = size * bpt_rng_range(-1, 1); amp[w][1] = size * bpt_rng_range(-1, 1);
         }
         for (i = 0; i < S->nv; i++) {
             double px = x[2 * i], py = x[2 * i + 1];
@@ -682,7 +672,7 @@ static void check_chart(const char *name, const bp_chart *ch, const bp_mesh *m, 
         if (d % 2 == 1 && interior != BP__NONE) {
             double vmax = 0, want;
             for (i = 0; i < 2 * S.nv; i++) if (fabs(v[i]) > vmax) vmax = fabs(v[i]);
-            want = 100 * S.mean_edge * S.nb / (rng_range(1.5, 3) * t_brute_b);
+            want = 100 * S.mean_edge * S.nb / (bpt_rng_range(1.5, 3) * t_brute_b);
             if (want > vmax) { v[2 * interior] = want; st->shrunk++; }
             t_brute_b = brute_step_bound(&S, ch->uv, v, 0);
         }
@@ -779,6 +769,7 @@ static void test_real_charts(void)
 
 int main(void)
 {
+    bpt_rng_state = 0xD1B54A32D192ED03ull;
     test_triangle_case();
     test_edge_case();
     test_real_charts();
