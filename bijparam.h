@@ -32,10 +32,10 @@
       >>predicates     exact orientation and segment tests           (robustness)
       >>io             OBJ / OFF reading, OBJ writing                 (BP_NO_STDIO)
       >>charts         seams, connected components, pinches, loops    (sec 3.1, 3.6)
-      >>rest           isometric flattening of each triangle          (sec 3.1)
       >>sparse         ordering + sparse LDL^T / LU direct solver
+      >>check          exact bijectivity check (the ground truth)
       >>tutte          Tutte / Floater start with filled holes        (sec 3.4.1, 3.6)
-      >>check          exact validity check (the ground truth)
+      >>rest           isometric flattening of each triangle          (sec 3.1)
       >>energy         distortion energies and gradients              (sec 3.2)
       >>barrier        boundary barrier with a spatial hash           (sec 3.3)
       >>stepbound      singularity-aware maximum step                 (sec 3.4.2)
