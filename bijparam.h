@@ -1854,12 +1854,18 @@ static bp_status bp__chart_loops(const bp_allocator *a, bp_chart *ch, const bp_m
     return BP_OK;
 }
 
-/* BP_OK when every chart is fine, else BP_ERR_CHARTS_FAILED with a message
-   that counts the failures and quotes the first. */
+/* BP_OK when every chart is fine; BP_ERR_CHARTS_FAILED with a message that
+   counts the failures and quotes the first when some failed; when all
+   failed, the first chart's own error (the caller then frees the atlas:
+   nothing in it is usable). */
 static bp_status bp__charts_status(const bp_atlas *atlas, bp_error *err)
 {
     uint32_t c;
     if (!atlas->num_failed) return bp__ok(err);
+    if (atlas->num_failed == atlas->num_charts) {
+        if (err) *err = atlas->charts[0].error;
+        return atlas->charts[0].error.status;
+    }
     for (c = 0; c < atlas->num_charts; c++)
         if (atlas->charts[c].error.status != BP_OK) {
             const bp_error *e = &atlas->charts[c].error;
@@ -2084,7 +2090,9 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
         }
     }
     bp__build_free(&a, &b);
-    return bp__charts_status(atlas, err);
+    st = bp__charts_status(atlas, err);
+    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) bp_atlas_free(atlas);
+    return st;
 }
 
 /* >>sparse =================================================================
@@ -4568,8 +4576,9 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     if (st == BP_ERR_CANCELLED) { bp_atlas_pack(atlas, opt, NULL); return st; }
     if (st == BP_OK) st = bp_atlas_pack(atlas, opt, err);
     if (st == BP_OK && !(opt && opt->no_barrier)) st = bp__atlas_verify(atlas, err);
-    if (st != BP_OK) { bp_atlas_free(atlas); return st; }
-    return bp__charts_status(atlas, err);
+    if (st == BP_OK) st = bp__charts_status(atlas, err);
+    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) bp_atlas_free(atlas);
+    return st;
 }
 
 /* >>bvh ====================================================================
