@@ -2446,12 +2446,21 @@ static int bp__factor_rows(const bp_allocator *a, bp__factor *F)
    interleaved xy).  z (2n doubles, permuted order) is shared by the tasks;
    each task owns a range of rows.  Forward: L z = q by rows; backward:
    D L^T r = z by columns; both are gathers, so each entry is computed by
-   the same operations in the same order on any schedule. */
+   the same operations in the same order on any schedule.
+
+   A separator's rows depend on each other only through the small block of
+   L inside the separator; most of each row's entries lie in the subtrees
+   below (forward) or in the separators above (backward), which are already
+   solved.  So a separator is done in two passes: a parallel one over its
+   rows that sums the entries outside the separator (in the row's own
+   order), and a sequential one that carries each running sum on through
+   the separator block.  The sums are the same, term by term, as one loop. */
 typedef struct bp__solve_task {
     const bp__factor *F;
-    double *z;
-    uint32_t ranges[2 * BP__ND_NODES];   /* [lo, hi) per task of a phase */
-    int backward;
+    double *z, *part;                   /* part: 2 per row, running sums   */
+    uint32_t ranges[2 * 160];           /* [lo, hi) per task of a phase    */
+    uint32_t split[160];                /* separator: its node's b or hi   */
+    int backward, mode;                 /* 0 whole rows, 1 outside part, 2 finish */
 } bp__solve_task;
 
 static void bp__solve_range(void *task, uint32_t k)
@@ -2459,24 +2468,36 @@ static void bp__solve_range(void *task, uint32_t k)
     bp__solve_task *T = (bp__solve_task *)task;
     const bp__factor *F = T->F;
     double *z = T->z;
-    uint32_t lo = T->ranges[2 * k], hi = T->ranges[2 * k + 1], i, p;
+    uint32_t lo = T->ranges[2 * k], hi = T->ranges[2 * k + 1], i, p, cut = T->split[k];
     if (!T->backward) {
         for (i = lo; i < hi; i++) {
             double sx = 0, sy = 0;
-            for (p = F->Rp[i]; p < F->Rp[i + 1]; p++) {
+            p = F->Rp[i];
+            if (T->mode == 2) { sx = T->part[2 * (size_t)i]; sy = T->part[2 * (size_t)i + 1]; }
+            if (T->mode == 2) while (p < F->Rp[i + 1] && F->Ri[p] < cut) p++;      /* done in pass 1 */
+            for (; p < F->Rp[i + 1]; p++) {
+                if (T->mode == 1 && F->Ri[p] >= cut) break;
                 sx += F->Rx[p] * z[2 * (size_t)F->Ri[p]];
                 sy += F->Rx[p] * z[2 * (size_t)F->Ri[p] + 1];
             }
+            if (T->mode == 1) { T->part[2 * (size_t)i] = sx; T->part[2 * (size_t)i + 1] = sy; continue; }
             z[2 * (size_t)i] -= sx;
             z[2 * (size_t)i + 1] -= sy;
         }
     } else {
+        /* columns are walked from the bottom row up: rows of the separators
+           above first, then the rows inside this range */
         for (i = hi; i-- > lo;) {
             double sx = 0, sy = 0;
-            for (p = F->Lp[i]; p < F->Lp[i + 1]; p++) {
-                sx += F->Lx[p] * z[2 * (size_t)F->Li[p]];
-                sy += F->Lx[p] * z[2 * (size_t)F->Li[p] + 1];
+            p = F->Lp[i + 1];
+            if (T->mode == 2) { sx = T->part[2 * (size_t)i]; sy = T->part[2 * (size_t)i + 1]; }
+            if (T->mode == 2) while (p > F->Lp[i] && F->Li[p - 1] >= cut) p--;   /* done in pass 1 */
+            for (; p > F->Lp[i]; p--) {
+                if (T->mode == 1 && F->Li[p - 1] < cut) break;
+                sx += F->Lx[p - 1] * z[2 * (size_t)F->Li[p - 1]];
+                sy += F->Lx[p - 1] * z[2 * (size_t)F->Li[p - 1] + 1];
             }
+            if (T->mode == 1) { T->part[2 * (size_t)i] = sx; T->part[2 * (size_t)i + 1] = sy; continue; }
             z[2 * (size_t)i] = z[2 * (size_t)i] / F->D[i] - sx;
             z[2 * (size_t)i + 1] = z[2 * (size_t)i + 1] / F->D[i] - sy;
         }
@@ -2492,8 +2513,9 @@ static int bp__nd_depth(uint32_t k)
 
 /* Phase 0 holds the subtrees that are solved whole (leaves of the recorded
    tree and the nodes at its deepest level); phase p > 0 the separators of
-   the split nodes at depth BP__ND_DEPTH - p. */
-static uint32_t bp__solve_phase(const bp__factor *F, int phase, uint32_t *ranges)
+   the split nodes at depth BP__ND_DEPTH - p, with split[] = the column (or
+   row) where the separator's own block begins (forward) or ends (backward). */
+static uint32_t bp__solve_phase(const bp__factor *F, int phase, int backward, uint32_t *ranges, uint32_t *split)
 {
     uint32_t k, n = 0;
     for (k = 0; k < BP__ND_NODES; k++) {
@@ -2501,31 +2523,71 @@ static uint32_t bp__solve_phase(const bp__factor *F, int phase, uint32_t *ranges
         int d = bp__nd_depth(k);
         if (!N->used) continue;
         if (phase == 0 && (!N->split || d == BP__ND_DEPTH)) {
-            ranges[2 * n] = N->lo; ranges[2 * n + 1] = N->hi; n++;
+            ranges[2 * n] = N->lo; ranges[2 * n + 1] = N->hi; split[n] = 0; n++;
         } else if (phase > 0 && N->split && d == BP__ND_DEPTH - phase && d < BP__ND_DEPTH) {
-            ranges[2 * n] = N->b; ranges[2 * n + 1] = N->hi; n++;
+            ranges[2 * n] = N->b; ranges[2 * n + 1] = N->hi; split[n] = backward ? N->hi : N->b; n++;
         }
     }
     return n;
 }
 
+/* Pass 1 over separator rows: their ranges cut into chunks of 64 rows. */
+static uint32_t bp__solve_chunks(const uint32_t *ranges, const uint32_t *split, uint32_t nr, uint32_t *cr,
+                                 uint32_t *cs, uint32_t cap)
+{
+    uint32_t k, n = 0, lo;
+    for (k = 0; k < nr; k++)
+        for (lo = ranges[2 * k]; lo < ranges[2 * k + 1]; lo += 64) {
+            if (n == cap) return 0;
+            cr[2 * n] = lo;
+            cr[2 * n + 1] = lo + 64 < ranges[2 * k + 1] ? lo + 64 : ranges[2 * k + 1];
+            cs[n++] = split[k];
+        }
+    return n;
+}
+
+static void bp__solve_phases(bp__solve_task *T, const bp__par *par, int backward)
+{
+    const bp__factor *F = T->F;
+    uint32_t ranges[2 * BP__ND_NODES], split[BP__ND_NODES], cnt, nc;
+    int phase, step = backward ? -1 : 1;
+    T->backward = backward;
+    for (phase = backward ? BP__ND_DEPTH : 0; phase >= 0 && phase <= BP__ND_DEPTH; phase += step) {
+        if ((cnt = bp__solve_phase(F, phase, backward, ranges, split)) == 0) continue;
+        if (phase == 0) {
+            memcpy(T->ranges, ranges, 2 * cnt * sizeof(uint32_t));
+            memcpy(T->split, split, cnt * sizeof(uint32_t));
+            T->mode = 0;
+            par->run(par->user, bp__solve_range, T, cnt);
+            continue;
+        }
+        nc = bp__solve_chunks(ranges, split, cnt, T->ranges, T->split, 160);
+        if (nc) {                                   /* pass 1: outside parts, in parallel */
+            T->mode = 1;
+            par->run(par->user, bp__solve_range, T, nc);
+            T->mode = 2;
+        } else {
+            T->mode = 0;                            /* too many chunks: one pass */
+        }
+        memcpy(T->ranges, ranges, 2 * cnt * sizeof(uint32_t));
+        memcpy(T->split, split, cnt * sizeof(uint32_t));
+        par->run(par->user, bp__solve_range, T, cnt);   /* pass 2 (or the only one) */
+    }
+}
+
 static void bp__precondition(const bp__factor *F, const bp__par *par, const double *q, double *r, double *z)
 {
     bp__solve_task T;
-    uint32_t n = F->n, j, cnt;
-    int phase;
+    uint32_t n = F->n, j;
     for (j = 0; j < n; j++) {
         z[2 * (size_t)j] = q[2 * (size_t)F->perm[j]];
         z[2 * (size_t)j + 1] = q[2 * (size_t)F->perm[j] + 1];
     }
     T.F = F;
     T.z = z;
-    T.backward = 0;
-    for (phase = 0; phase <= BP__ND_DEPTH; phase++)
-        if ((cnt = bp__solve_phase(F, phase, T.ranges)) > 0) par->run(par->user, bp__solve_range, &T, cnt);
-    T.backward = 1;
-    for (phase = BP__ND_DEPTH; phase >= 0; phase--)
-        if ((cnt = bp__solve_phase(F, phase, T.ranges)) > 0) par->run(par->user, bp__solve_range, &T, cnt);
+    T.part = z + 2 * (size_t)n;                 /* z has 4n doubles */
+    bp__solve_phases(&T, par, 0);
+    bp__solve_phases(&T, par, 1);
     for (j = 0; j < n; j++) {
         r[2 * (size_t)F->perm[j]] = z[2 * (size_t)j];
         r[2 * (size_t)F->perm[j] + 1] = z[2 * (size_t)j + 1];
@@ -4084,7 +4146,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     alpha = (double *)bp__alloc_array(&a, hist ? hist : 1, sizeof(double));
     edges = (bp__dedge *)bp__alloc_array(&a, nloop_v, sizeof(bp__dedge));
     rest_wxy = (double *)bp__alloc_array(&a, 3 * (size_t)S.nt, sizeof(double));
-    pwork = (double *)bp__alloc_array(&a, 3 * (size_t)S.nv, sizeof(double));
+    pwork = (double *)bp__alloc_array(&a, 4 * (size_t)S.nv, sizeof(double));
     if (!rest_wxy || !pwork || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha || !edges) {
         st = bp__oom(err, "optimizing a chart");
         goto done;
