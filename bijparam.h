@@ -708,6 +708,22 @@ typedef struct bp__pool {
     uint32_t        count, next;
 } bp__pool;
 
+/* Waking a sleeping thread costs tens of microseconds, longer than many of
+   the solver's tasks (a vector chunk takes a few), and an iteration has
+   dozens of parallel loops.  So a worker that finished a job, and the
+   caller waiting for the last task of one, first spin for a short while
+   (reading the job counters atomically), and only then sleep on the
+   condition variable.  Without GCC/Clang atomics they sleep at once. */
+#if defined(__GNUC__) || defined(__clang__)
+#define BP__SPIN_LIMIT 200000
+#define BP__LOAD(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
+#define BP__STORE(p, v) __atomic_store_n((p), (v), __ATOMIC_RELEASE)
+#else
+#define BP__SPIN_LIMIT 0
+#define BP__LOAD(p) (*(p))
+#define BP__STORE(p, v) (*(p) = (v))
+#endif
+
 /* Take task indices until none are left (called with the mutex held). */
 static void bp__pool_drain(bp__pool *P)
 {
@@ -723,31 +739,38 @@ static void *bp__pool_worker(void *arg)
 {
     bp__pool *P = (bp__pool *)arg;
     uint64_t seen = 0;
-    pthread_mutex_lock(&P->mu);
     for (;;) {
+        int spins;
+        for (spins = 0; spins < BP__SPIN_LIMIT && BP__LOAD(&P->gen) == seen && !BP__LOAD(&P->quit); spins++) {}
+        pthread_mutex_lock(&P->mu);
         while (!P->quit && P->gen == seen) pthread_cond_wait(&P->wake, &P->mu);
-        if (P->quit) break;
+        if (P->quit) { pthread_mutex_unlock(&P->mu); break; }
         seen = P->gen;
         bp__pool_drain(P);
-        if (--P->busy == 0) pthread_cond_signal(&P->done);
+        BP__STORE(&P->busy, P->busy - 1);
+        if (P->busy == 0) pthread_cond_signal(&P->done);
+        pthread_mutex_unlock(&P->mu);
     }
-    pthread_mutex_unlock(&P->mu);
     return NULL;
 }
 
 static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
 {
     bp__pool *P = (bp__pool *)user;
+    int spins;
     if (count <= 1 || P->nth == 0) { bp__serial_for(NULL, fn, task, count); return; }
     pthread_mutex_lock(&P->mu);
     P->fn = fn;
     P->task = task;
     P->count = count;
     P->next = 0;
-    P->busy = P->nth;
-    P->gen++;
+    BP__STORE(&P->busy, P->nth);
+    BP__STORE(&P->gen, P->gen + 1);
     pthread_cond_broadcast(&P->wake);
     bp__pool_drain(P);                         /* the caller works too */
+    pthread_mutex_unlock(&P->mu);
+    for (spins = 0; spins < BP__SPIN_LIMIT && BP__LOAD(&P->busy) > 0; spins++) {}
+    pthread_mutex_lock(&P->mu);
     while (P->busy > 0) pthread_cond_wait(&P->done, &P->mu);
     pthread_mutex_unlock(&P->mu);
 }
@@ -785,7 +808,7 @@ static void bp__pool_stop(const bp_allocator *a, bp__pool *P)
     int i;
     if (!P) return;
     pthread_mutex_lock(&P->mu);
-    P->quit = 1;
+    BP__STORE(&P->quit, 1);
     pthread_cond_broadcast(&P->wake);
     pthread_mutex_unlock(&P->mu);
     for (i = 0; i < P->nth; i++) pthread_join(P->th[i], NULL);
@@ -2134,8 +2157,8 @@ typedef struct bp__sparse {       /* n x n, compressed columns            */
    children 2k+1 (A) and 2k+2 (B); a node that was not split is a leaf.  Its
    subtrees are independent in the triangular solves, which is what lets
    the preconditioner run on several threads. */
-#define BP__ND_DEPTH 3
-#define BP__ND_NODES 15                 /* 2^(depth+1) - 1 */
+#define BP__ND_DEPTH 4
+#define BP__ND_NODES 31                 /* 2^(depth+1) - 1 */
 typedef struct bp__ndnode { uint32_t lo, a, b, hi; int used, split; } bp__ndnode;
 
 typedef struct bp__factor {
@@ -3451,9 +3474,9 @@ static void bp__hash_query(const bp__hash *H, uint32_t g, double x0, double y0, 
 }
 
 /* Work is split in fixed-size chunks of items (see >>threads). */
-#define BP__TRI_CHUNK  4096u
-#define BP__VERT_CHUNK 8192u
-#define BP__EDGE_CHUNK 512u
+#define BP__TRI_CHUNK  2048u
+#define BP__VERT_CHUNK 2048u
+#define BP__EDGE_CHUNK 128u
 
 /* A gradient contribution of the barrier, applied after the parallel part
    in chunk order. */
@@ -4077,16 +4100,84 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
     return st;
 }
 
-/* s.K s (s interleaved xy). */
-static double bp__quad_form(const bp__sparse *K, const double *s)
+/* s.K s (s interleaved xy), by column chunks whose partial sums are added
+   in order (see >>threads). */
+typedef struct bp__quad_task { const bp__sparse *K; const double *s; double *part; } bp__quad_task;
+#define BP__QUAD_CHUNK 2048u
+
+static void bp__quad_task_run(void *task, uint32_t c)
 {
-    uint32_t j, p;
+    bp__quad_task *T = (bp__quad_task *)task;
+    const bp__sparse *K = T->K;
+    const double *s = T->s;
+    uint32_t j, p, j1 = (c + 1) * BP__QUAD_CHUNK < K->n ? (c + 1) * BP__QUAD_CHUNK : K->n;
     double sum = 0;
-    for (j = 0; j < K->n; j++)
+    for (j = c * BP__QUAD_CHUNK; j < j1; j++)
         for (p = K->colp[j]; p < K->colp[j + 1]; p++)
             sum += K->val[p] * (s[2 * (size_t)K->row[p]] * s[2 * (size_t)j] +
                                 s[2 * (size_t)K->row[p] + 1] * s[2 * (size_t)j + 1]);
+    T->part[c] = sum;
+}
+
+static double bp__quad_form(const bp__sparse *K, const double *s, const bp__par *par, double *part)
+{
+    bp__quad_task T;
+    uint32_t c, nc = (K->n + BP__QUAD_CHUNK - 1) / BP__QUAD_CHUNK;
+    double sum = 0;
+    T.K = K;
+    T.s = s;
+    T.part = part;
+    par->run(par->user, bp__quad_task_run, &T, nc);
+    for (c = 0; c < nc; c++) sum += part[c];
     return sum;
+}
+
+/* The L-BFGS vector work in chunks (see >>threads): one task computes, on
+   its slice, out = base + c w (base NULL: 0; w NULL: nothing) and then the
+   dot products a.b and a2.b2 of the result; partial dots are added in
+   chunk order.  Fusing each update with the next dot halves the number of
+   synchronizations of the two-loop recursion. */
+#define BP__VEC_CHUNK 4096u
+
+typedef struct bp__vec_task {
+    double       *out;
+    const double *base, *w;
+    double        c;
+    const double *a, *b, *a2, *b2;
+    double       *part;          /* 2 per chunk */
+    uint32_t      n;
+} bp__vec_task;
+
+static void bp__vec_task_run(void *task, uint32_t k)
+{
+    bp__vec_task *T = (bp__vec_task *)task;
+    uint32_t i, i0 = k * BP__VEC_CHUNK, i1 = i0 + BP__VEC_CHUNK < T->n ? i0 + BP__VEC_CHUNK : T->n;
+    double d1 = 0, d2 = 0;
+    if (T->w)
+        for (i = i0; i < i1; i++) T->out[i] = (T->base ? T->base[i] : 0) + T->c * T->w[i];
+    if (T->a) for (i = i0; i < i1; i++) d1 += T->a[i] * T->b[i];
+    if (T->a2) for (i = i0; i < i1; i++) d2 += T->a2[i] * T->b2[i];
+    T->part[2 * k] = d1;
+    T->part[2 * k + 1] = d2;
+}
+
+/* Runs one fused operation over n doubles; *d1, *d2 (may be NULL) receive
+   the dots. */
+static void bp__vec_op(const bp__par *par, double *part, uint32_t n, double *out, const double *base, double c,
+                       const double *w, const double *a, const double *b, const double *a2, const double *b2,
+                       double *d1, double *d2)
+{
+    bp__vec_task T;
+    uint32_t k, nc = (n + BP__VEC_CHUNK - 1) / BP__VEC_CHUNK;
+    double s1 = 0, s2 = 0;
+    T.out = out; T.base = base; T.w = w; T.c = c;
+    T.a = a; T.b = b; T.a2 = a2; T.b2 = b2;
+    T.part = part;
+    T.n = n;
+    par->run(par->user, bp__vec_task_run, &T, nc);
+    for (k = 0; k < nc; k++) { s1 += part[2 * k]; s2 += part[2 * k + 1]; }
+    if (d1) *d1 = s1;
+    if (d2) *d2 = s2;
 }
 
 static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
@@ -4098,7 +4189,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     uint32_t t, i, nv2, nloop_v;
     int hist, it, small = 0, nh = 0, head = 0, gd_scale_set = 0;
     double *x = NULL, *g = NULL, *xn = NULL, *gn = NULL, *v = NULL, *sh = NULL, *yh = NULL, *rho = NULL, *alpha = NULL;
-    double *rest_wxy = NULL, *pwork = NULL;
+    double *rest_wxy = NULL, *pwork = NULL, *vpart = NULL;
     bp__sparse K;
     bp__factor KF;
     bp__par par;
@@ -4147,7 +4238,9 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     edges = (bp__dedge *)bp__alloc_array(&a, nloop_v, sizeof(bp__dedge));
     rest_wxy = (double *)bp__alloc_array(&a, 3 * (size_t)S.nt, sizeof(double));
     pwork = (double *)bp__alloc_array(&a, 4 * (size_t)S.nv, sizeof(double));
-    if (!rest_wxy || !pwork || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha || !edges) {
+    vpart = (double *)bp__alloc_array(&a, 2 * ((size_t)nv2 / BP__VEC_CHUNK + 1) + (size_t)S.nv / BP__QUAD_CHUNK + 1,
+                                      sizeof(double));
+    if (!rest_wxy || !pwork || !vpart || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha || !edges) {
         st = bp__oom(err, "optimizing a chart");
         goto done;
     }
@@ -4206,42 +4299,56 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     for (it = 0; it < o.max_iterations; it++) {
         double gv = 0, tmax, tt, fn = HUGE_VAL, edn = HUGE_VAL;
         int accepted = 0, tries;
-        /* (2) search direction */
-        for (i = 0; i < nv2; i++) v[i] = -g[i];
+        /* (2) search direction: v = -H g, with the L-BFGS two-loop recursion
+           (Algorithm 1) when there is history */
+#define BP__S(j) (sh + (size_t)(j) * nv2)
+#define BP__Y(j) (yh + (size_t)(j) * nv2)
         if (nh > 0) {
-            /* L-BFGS two-loop recursion (Algorithm 1) */
-            int j, idx;
-            double yy = 0, sy = 0, scale;
+            int j, idx = (head - 1 + hist) % hist, nxt;
+            double dot, yy = 0, sy = 0, scale;
+            bp__vec_op(&par, vpart, nv2, v, NULL, -1, g, BP__S(idx), v, NULL, NULL, &dot, NULL);
             for (j = 0; j < nh; j++) {
-                double dot = 0;
                 idx = (head - 1 - j + hist) % hist;
-                for (i = 0; i < nv2; i++) dot += sh[(size_t)idx * nv2 + i] * v[i];
                 alpha[idx] = rho[idx] * dot;
-                for (i = 0; i < nv2; i++) v[i] -= alpha[idx] * yh[(size_t)idx * nv2 + i];
+                nxt = (head - 2 - j + hist) % hist;
+                if (j + 1 < nh)                  /* v -= alpha y, then the next s.v */
+                    bp__vec_op(&par, vpart, nv2, v, v, -alpha[idx], BP__Y(idx), BP__S(nxt), v, NULL, NULL, &dot, NULL);
+                else {                           /* the last one, with y.y and s.y of the newest pair */
+                    int nw = (head - 1 + hist) % hist;
+                    bp__vec_op(&par, vpart, nv2, v, v, -alpha[idx], BP__Y(idx), BP__Y(nw), BP__Y(nw), BP__S(nw),
+                               BP__Y(nw), &yy, &sy);
+                }
             }
             idx = (head - 1 + hist) % hist;
-            for (i = 0; i < nv2; i++) {
-                yy += yh[(size_t)idx * nv2 + i] * yh[(size_t)idx * nv2 + i];
-                sy += sh[(size_t)idx * nv2 + i] * yh[(size_t)idx * nv2 + i];
-            }
             if (precond) {
                 /* H0 = K^-1 / sigma, sigma = s.y / s.K s */
-                scale = bp__quad_form(&K, sh + (size_t)idx * nv2) / sy;
+                scale = bp__quad_form(&K, BP__S(idx), &par, vpart) / sy;
                 bp__precondition(&KF, &par, v, v, pwork);
             } else {
                 scale = sy / yy;                 /* H0 = (s.y / y.y) I */
             }
-            for (i = 0; i < nv2; i++) v[i] *= scale;
+            idx = (head - nh + hist) % hist;     /* oldest pair first */
+            bp__vec_op(&par, vpart, nv2, v, NULL, scale, v, BP__Y(idx), v, NULL, NULL, &dot, NULL);
             for (j = nh - 1; j >= 0; j--) {
-                double dot = 0, beta;
+                double beta;
                 idx = (head - 1 - j + hist) % hist;
-                for (i = 0; i < nv2; i++) dot += yh[(size_t)idx * nv2 + i] * v[i];
                 beta = rho[idx] * dot;
-                for (i = 0; i < nv2; i++) v[i] += (alpha[idx] - beta) * sh[(size_t)idx * nv2 + i];
+                nxt = (head - j + hist) % hist;
+                if (j > 0)                       /* v += (alpha - beta) s, then the next y.v */
+                    bp__vec_op(&par, vpart, nv2, v, v, alpha[idx] - beta, BP__S(idx), BP__Y(nxt), v, NULL, NULL,
+                               &dot, NULL);
+                else                             /* the last one, with g.v for the line search */
+                    bp__vec_op(&par, vpart, nv2, v, v, alpha[idx] - beta, BP__S(idx), g, v, NULL, NULL, &gv, NULL);
             }
+        } else if (precond) {
+            bp__vec_op(&par, vpart, nv2, v, NULL, -1, g, NULL, NULL, NULL, NULL, NULL, NULL);
+            bp__precondition(&KF, &par, v, v, pwork);
+            bp__vec_op(&par, vpart, nv2, v, NULL, 0, NULL, g, v, NULL, NULL, &gv, NULL);
+        } else {
+            bp__vec_op(&par, vpart, nv2, v, NULL, -1, g, g, v, NULL, NULL, &gv, NULL);
         }
-        if (nh == 0 && precond) bp__precondition(&KF, &par, v, v, pwork);
-        for (i = 0; i < nv2; i++) gv += g[i] * v[i];
+#undef BP__S
+#undef BP__Y
         if (!(gv < 0)) {                          /* not a descent direction: restart */
             nh = 0;
             gv = 0;
@@ -4262,7 +4369,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
         if (tt > 0.9 * tmax) tt = 0.9 * tmax;
         for (tries = 0; tries < 60 && tt > 0; tries++, tt *= 0.5) {
             int valid;
-            for (i = 0; i < nv2; i++) xn[i] = x[i] + tt * v[i];
+            bp__vec_op(&par, vpart, nv2, xn, x, tt, v, NULL, NULL, NULL, NULL, NULL, NULL);
             fn = bp__objective(&S, xn, gn, &edn);
             if (S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
             if (!(fn <= f + 1e-4 * tt * gv)) continue;
@@ -4281,13 +4388,8 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
         if (hist) {
             double sy = 0, ss = 0, yy2 = 0;
             double *sp = sh + (size_t)head * nv2, *yp = yh + (size_t)head * nv2;
-            for (i = 0; i < nv2; i++) {
-                sp[i] = xn[i] - x[i];
-                yp[i] = gn[i] - g[i];
-                sy += sp[i] * yp[i];
-                ss += sp[i] * sp[i];
-                yy2 += yp[i] * yp[i];
-            }
+            bp__vec_op(&par, vpart, nv2, sp, xn, -1, x, sp, sp, NULL, NULL, &ss, NULL);
+            bp__vec_op(&par, vpart, nv2, yp, gn, -1, g, yp, yp, sp, yp, &yy2, &sy);
             if (sy > 1e-12 * sqrt(ss * yy2)) {
                 rho[head] = 1 / sy;
                 head = (head + 1) % hist;
@@ -4295,7 +4397,8 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
             }
         }
         { double *tp = x; x = xn; xn = tp; tp = g; g = gn; gn = tp; }   /* accept: swap, no copy */
-        memcpy(ch->uv, x, nv2 * sizeof(double));  /* visible to the progress callback */
+        /* the current map, visible to the progress callback */
+        bp__vec_op(&par, vpart, nv2, ch->uv, NULL, 1, x, NULL, NULL, NULL, NULL, NULL, NULL);
         /* (5) convergence: relative decrease below tol three times running */
         if ((f - fn) <= o.tolerance * fabs(fn)) small++; else small = 0;
         f = fn;
@@ -4335,7 +4438,7 @@ done:
     bp__solver_free(&S);
     bp__free(&a, x); bp__free(&a, g); bp__free(&a, xn); bp__free(&a, gn);
     bp__free(&a, v); bp__free(&a, sh); bp__free(&a, yh); bp__free(&a, rho); bp__free(&a, alpha);
-    bp__free(&a, edges); bp__free(&a, rest_wxy); bp__free(&a, pwork);
+    bp__free(&a, edges); bp__free(&a, rest_wxy); bp__free(&a, pwork); bp__free(&a, vpart);
     bp__sparse_free(&a, &K);
     bp__factor_free(&a, &KF);
     bp__par_end(&a, pool);

@@ -121,7 +121,8 @@ static void solver_hash_alloc(bp__solver *S, uint32_t nloop_v)
     (void)nloop_v;
     bp__solver_init(S, keep.a ? keep.a : &plain, keep.nv, keep.nt, keep.tri, keep.nloops, keep.loop_start,
                     keep.loop_vertices);
-    if (keep.rest) { bp__free(S->a, S->rest); S->rest = keep.rest; }
+    bp__free(S->a, S->rest);   /* the test owns its rest shapes (or has none) */
+    S->rest = keep.rest;
     S->energy = keep.energy; S->barrier = keep.barrier; S->eps = keep.eps; S->mean_edge = keep.mean_edge;
 }
 
