@@ -173,4 +173,7 @@ tsan:
 	    $(TSAN_ENV) $(BUILD)/tsan/bijparam $$m --threads 2 --max-iters 100 -o $(BUILD)/tsan/out/$$(basename $$m).obj || exit 1; \
 	done
 	$(if $(wildcard examples/thread_pool.c),$(TSAN_ENV) $(BUILD)/tsan/thread_pool tests/data/spot.obj 2)
+	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_threads.c -o $(BUILD)/tsan/test_threads $(LDLIBS)
+	BP_TEST_QUICK=1 $(TSAN_ENV) $(BUILD)/tsan/test_threads > $(BUILD)/tsan/test_threads.log || { tail -30 $(BUILD)/tsan/test_threads.log; exit 1; }
+	@tail -1 $(BUILD)/tsan/test_threads.log
 	@echo "tsan: no data race reported"

@@ -2168,7 +2168,8 @@ typedef struct bp__factor {
     uint32_t *Lp, *Li;            /* strictly lower L by columns          */
     double   *Lx, *Ux, *D;        /* Ux: strictly upper U, stored as U^T  */
     uint32_t *Rp, *Ri;            /* L by rows (built on demand)          */
-    double   *Rx;
+    float    *Lxf, *Rxf;          /* the preconditioner's L in single
+                                     precision, by columns and by rows    */
     bp__ndnode tree[BP__ND_NODES];
 } bp__factor;
 
@@ -2176,7 +2177,7 @@ static void bp__factor_free(const bp_allocator *a, bp__factor *f)
 {
     bp__free(a, f->perm); bp__free(a, f->iperm); bp__free(a, f->Lp);
     bp__free(a, f->Li); bp__free(a, f->Lx); bp__free(a, f->Ux); bp__free(a, f->D);
-    bp__free(a, f->Rp); bp__free(a, f->Ri); bp__free(a, f->Rx);
+    bp__free(a, f->Rp); bp__free(a, f->Ri); bp__free(a, f->Lxf); bp__free(a, f->Rxf);
     memset(f, 0, sizeof *f);
 }
 
@@ -2442,24 +2443,33 @@ static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const do
     for (j = 0; j < A->n; j++) x[j] += d[j];
 }
 
-/* L by rows, for the forward solve by gathers (each row i sums
-   L(i, j) z(j) in increasing j, whatever the schedule). */
+/* For the preconditioner: L in single precision, by columns (backward
+   solve) and by rows (forward solve by gathers: each row i sums L(i, j) z(j)
+   in increasing j, whatever the schedule).  A preconditioner only shapes the
+   search direction, so float coefficients (with double arithmetic) serve as
+   well and halve the factor's memory, which is the solver's peak.  The
+   double column copy is dropped before the row copy is made. */
 static int bp__factor_rows(const bp_allocator *a, bp__factor *F)
 {
     uint32_t n = F->n, j, p;
     uint32_t *cur;
+    F->Lxf = (float *)bp__alloc_array(a, F->Lp[n], sizeof(float));
+    if (!F->Lxf) return 0;
+    for (p = 0; p < F->Lp[n]; p++) F->Lxf[p] = (float)F->Lx[p];
+    bp__free(a, F->Lx);
+    F->Lx = NULL;
     F->Rp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
     F->Ri = (uint32_t *)bp__alloc_array(a, F->Lp[n], sizeof(uint32_t));
-    F->Rx = (double *)bp__alloc_array(a, F->Lp[n], sizeof(double));
+    F->Rxf = (float *)bp__alloc_array(a, F->Lp[n], sizeof(float));
     cur = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    if (!F->Rp || !F->Ri || !F->Rx || !cur) { bp__free(a, cur); return 0; }
+    if (!F->Rp || !F->Ri || !F->Rxf || !cur) { bp__free(a, cur); return 0; }
     for (p = 0; p < F->Lp[n]; p++) F->Rp[F->Li[p] + 1]++;
     for (j = 0; j < n; j++) F->Rp[j + 1] += F->Rp[j];
     for (j = 0; j < n; j++) cur[j] = F->Rp[j];
     for (j = 0; j < n; j++)                       /* columns in order: rows sorted */
         for (p = F->Lp[j]; p < F->Lp[j + 1]; p++) {
             F->Ri[cur[F->Li[p]]] = j;
-            F->Rx[cur[F->Li[p]]++] = F->Lx[p];
+            F->Rxf[cur[F->Li[p]]++] = F->Lxf[p];
         }
     bp__free(a, cur);
     return 1;
@@ -2500,8 +2510,8 @@ static void bp__solve_range(void *task, uint32_t k)
             if (T->mode == 2) while (p < F->Rp[i + 1] && F->Ri[p] < cut) p++;      /* done in pass 1 */
             for (; p < F->Rp[i + 1]; p++) {
                 if (T->mode == 1 && F->Ri[p] >= cut) break;
-                sx += F->Rx[p] * z[2 * (size_t)F->Ri[p]];
-                sy += F->Rx[p] * z[2 * (size_t)F->Ri[p] + 1];
+                sx += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p]];
+                sy += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p] + 1];
             }
             if (T->mode == 1) { T->part[2 * (size_t)i] = sx; T->part[2 * (size_t)i + 1] = sy; continue; }
             z[2 * (size_t)i] -= sx;
@@ -2517,8 +2527,8 @@ static void bp__solve_range(void *task, uint32_t k)
             if (T->mode == 2) while (p > F->Lp[i] && F->Li[p - 1] >= cut) p--;   /* done in pass 1 */
             for (; p > F->Lp[i]; p--) {
                 if (T->mode == 1 && F->Li[p - 1] < cut) break;
-                sx += F->Lx[p - 1] * z[2 * (size_t)F->Li[p - 1]];
-                sy += F->Lx[p - 1] * z[2 * (size_t)F->Li[p - 1] + 1];
+                sx += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1]];
+                sy += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1] + 1];
             }
             if (T->mode == 1) { T->part[2 * (size_t)i] = sx; T->part[2 * (size_t)i + 1] = sy; continue; }
             z[2 * (size_t)i] = z[2 * (size_t)i] / F->D[i] - sx;
