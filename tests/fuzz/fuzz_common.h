@@ -81,4 +81,35 @@ static inline int fuzz_report_valid(const bp_check_report *r)
     return !r->flipped && !r->degenerate && !r->nonfinite && !r->boundary_intersections && !r->loop_orientation &&
            !r->nested;
 }
+
+/* The parser harnesses (fuzz_obj.c, fuzz_off.c): one input through `parse`,
+   then the properties their comments list. */
+typedef bp_status (*fuzz_parse_fn)(const char *, size_t, bp_mesh *, const bp_allocator *, bp_error *);
+
+static inline int fuzz_parser(const uint8_t *data, size_t size, fuzz_parse_fn parse)
+{
+    char *text = fuzz_copy(data, size);
+    bp_mesh m;
+    bp_error err;
+    bp_status st;
+    memset(&m, 0xAB, sizeof m);
+    st = parse(text, size, &m, NULL, &err);
+    free(text);
+    if (st == BP_OK) {
+        bp_atlas at;
+        fuzz_check_mesh(&m);
+        st = bp_atlas_build(&at, &m, NULL, &err);
+        if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) {
+            fuzz_check_error(st, &err);
+            if (at.charts || at.num_charts) fuzz_fail("failed bp_atlas_build left charts");
+        }
+        bp_atlas_free(&at);
+        bp_mesh_free(&m, NULL);
+    } else {
+        fuzz_check_error(st, &err);
+        if (!fuzz_mesh_all_null(&m)) fuzz_fail("failed parse left the mesh non-zero");
+    }
+    return 0;
+}
+
 #endif

@@ -14,26 +14,5 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    char *text = fuzz_copy(data, size);
-    bp_mesh m;
-    bp_error err;
-    bp_status st;
-    memset(&m, 0xAB, sizeof m);
-    st = bp_parse_obj(text, size, &m, NULL, &err);
-    free(text);
-    if (st == BP_OK) {
-        bp_atlas at;
-        fuzz_check_mesh(&m);
-        st = bp_atlas_build(&at, &m, NULL, &err);
-        if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) {
-            fuzz_check_error(st, &err);
-            if (at.charts || at.num_charts) fuzz_fail("failed bp_atlas_build left charts");
-        }
-        bp_atlas_free(&at);
-        bp_mesh_free(&m, NULL);
-    } else {
-        fuzz_check_error(st, &err);
-        if (!fuzz_mesh_all_null(&m)) fuzz_fail("failed parse left the mesh non-zero");
-    }
-    return 0;
+    return fuzz_parser(data, size, bp_parse_obj);
 }
