@@ -4142,6 +4142,54 @@ static double bp__quad_form(const bp__sparse *K, const double *s, const bp__par 
     return sum;
 }
 
+/* The solver of one chart, set up as bp_chart_optimize uses it (and as the
+   tests check it): rest shapes of sec 3.1 with the importance of eq 4.1,
+   weights E_D = sum (A_t / mean area) E_t (so E_D / nt is the area-weighted
+   mean the report shows), the energy, and the barrier width eps -- a
+   quarter of the mean 3D boundary edge (sec 3.3) unless o->epsilon is set.
+   rest_wxy (3 per triangle, may be NULL) receives the flattened triangles
+   (w, x, y) for the preconditioner.  On failure the solver is freed. */
+static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
+                                  const bp_options *o, double *rest_wxy, bp_error *err)
+{
+    uint32_t t, L, k;
+    double total_area = 0, len = 0;
+    if (bp__solver_init(S, a, ch->num_vertices, ch->num_triangles, ch->triangles, ch->num_loops,
+                        ch->loop_start, ch->loop_vertices) != BP_OK)
+        return bp__oom(err, "optimizing a chart");
+    S->energy = o->energy;
+    S->barrier = !o->no_barrier;
+    for (t = 0; t < S->nt; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        double w, px, py, imp = o->importance ? o->importance[ch->face[t]] : 1, q;
+        bp__rest_shape(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]),
+                       bp__pos(m, ch->vertex[tr[2]]), &w, &px, &py);
+        /* importance I (eq 4.1): singular values scaled by I^-1/2 (the rest
+           shape grows by sqrt(I)) and the energy weighted by I */
+        if (!(imp > 0) || !(imp < HUGE_VAL)) {
+            bp__solver_free(S);
+            return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_TRIANGLE, ch->face[t], -1, 0,
+                            "importance of mesh triangle %u is %g: it must be positive and finite", ch->face[t], imp);
+        }
+        q = 1 / sqrt(imp);
+        S->rest[t].m00 = q / w;
+        S->rest[t].m01 = -q * px / (w * py);
+        S->rest[t].m11 = q / py;
+        S->rest[t].weight = 0.5 * w * py * imp;
+        total_area += 0.5 * w * py;
+        if (rest_wxy) { rest_wxy[3 * (size_t)t] = w; rest_wxy[3 * (size_t)t + 1] = px; rest_wxy[3 * (size_t)t + 2] = py; }
+    }
+    for (t = 0; t < S->nt; t++) S->rest[t].weight *= S->nt / total_area;
+    for (L = 0; L < S->nloops; L++)
+        for (k = S->loop_start[L]; k < S->loop_start[L + 1]; k++) {
+            uint32_t va = S->loop_vertices[k], vb = S->loop_vertices[k + 1 < S->loop_start[L + 1] ? k + 1 : S->loop_start[L]];
+            len += bp__dist3(bp__pos(m, ch->vertex[va]), bp__pos(m, ch->vertex[vb]));
+        }
+    S->mean_edge = len / S->nb;
+    S->eps = o->epsilon > 0 ? o->epsilon : S->mean_edge / 4;
+    return BP_OK;
+}
+
 /* The L-BFGS vector work in chunks (see >>threads): one task computes, on
    its slice, out = base + c w (base NULL: 0; w NULL: nothing) and then the
    dot products a.b and a2.b2 of the result; partial dots are added in
@@ -4206,7 +4254,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     void *pool = NULL;
     int precond = !opt || opt->direction == BP_DIRECTION_PRECONDITIONED;
     bp__dedge *edges = NULL;
-    double f, ed, total_area = 0, tlast = 1;
+    double f, ed, tlast = 1;
     bp_status st = BP_OK;
     double c0 = bp__seconds();
     memset(&S, 0, sizeof S);
@@ -4226,14 +4274,10 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     if (o.direction == BP_DIRECTION_GRADIENT) hist = 0;
     if (o.max_iterations <= 0) o.max_iterations = 10000;
     if (!(o.tolerance > 0)) o.tolerance = 1e-7;
-    if (bp__solver_init(&S, &a, ch->num_vertices, ch->num_triangles, ch->triangles, ch->num_loops,
-                        ch->loop_start, ch->loop_vertices) != BP_OK) {
-        st = bp__oom(err, "optimizing a chart");
-        goto done;
-    }
+    rest_wxy = (double *)bp__alloc_array(&a, 3 * (size_t)ch->num_triangles, sizeof(double));
+    if (!rest_wxy) { st = bp__oom(err, "optimizing a chart"); goto done; }
+    if ((st = bp__solver_chart(&S, &a, ch, m, &o, rest_wxy, err)) != BP_OK) goto done;
     S.par = par;
-    S.energy = o.energy;
-    S.barrier = !o.no_barrier;
     nloop_v = S.nb;
     nv2 = 2 * S.nv;
     x = (double *)bp__alloc_array(&a, nv2, sizeof(double));
@@ -4246,7 +4290,6 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     rho = (double *)bp__alloc_array(&a, hist ? hist : 1, sizeof(double));
     alpha = (double *)bp__alloc_array(&a, hist ? hist : 1, sizeof(double));
     edges = (bp__dedge *)bp__alloc_array(&a, nloop_v, sizeof(bp__dedge));
-    rest_wxy = (double *)bp__alloc_array(&a, 3 * (size_t)S.nt, sizeof(double));
     pwork = (double *)bp__alloc_array(&a, 4 * (size_t)S.nv, sizeof(double));
     vpart = (double *)bp__alloc_array(&a, 2 * ((size_t)nv2 / BP__VEC_CHUNK + 1) + (size_t)S.nv / BP__QUAD_CHUNK + 1,
                                       sizeof(double));
@@ -4254,47 +4297,11 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
         st = bp__oom(err, "optimizing a chart");
         goto done;
     }
-    /* rest shapes (sec 3.1) and weights: E_D = sum (A_t / mean area) E_t, so
-       E_D / nt is the area-weighted mean the report shows */
-    for (t = 0; t < S.nt; t++) {
-        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        double w, px, py;
-        bp__rest_shape(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]),
-                       bp__pos(m, ch->vertex[tr[2]]), &w, &px, &py);
-        /* importance I (eq 4.1): singular values scaled by I^-1/2 (the rest
-           shape grows by sqrt(I)) and the energy weighted by I */
-        double imp = o.importance ? o.importance[ch->face[t]] : 1, k;
-        if (!(imp > 0) || !(imp < HUGE_VAL)) {
-            st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_TRIANGLE, ch->face[t], -1, 0,
-                          "importance of mesh triangle %u is %g: it must be positive and finite", ch->face[t], imp);
-            goto done;
-        }
-        k = 1 / sqrt(imp);
-        S.rest[t].m00 = k / w;
-        S.rest[t].m01 = -k * px / (w * py);
-        S.rest[t].m11 = k / py;
-        S.rest[t].weight = 0.5 * w * py * imp;
-        total_area += 0.5 * w * py;
-        rest_wxy[3 * (size_t)t] = w; rest_wxy[3 * (size_t)t + 1] = px; rest_wxy[3 * (size_t)t + 2] = py;
-    }
     if (precond && (st = bp__laplacian(&a, &S, rest_wxy, &K, &KF)) != BP_OK) {
         if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "factoring the preconditioner");
         else st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
                            "chart %u: the Laplacian preconditioner could not be factored", chart_index);
         goto done;
-    }
-    for (t = 0; t < S.nt; t++) S.rest[t].weight *= S.nt / total_area;
-    /* barrier width: a quarter of the mean 3D boundary edge (sec 3.3) */
-    {
-        double len = 0;
-        uint32_t L, k;
-        for (L = 0; L < S.nloops; L++)
-            for (k = S.loop_start[L]; k < S.loop_start[L + 1]; k++) {
-                uint32_t va = S.loop_vertices[k], vb = S.loop_vertices[k + 1 < S.loop_start[L + 1] ? k + 1 : S.loop_start[L]];
-                len += bp__dist3(bp__pos(m, ch->vertex[va]), bp__pos(m, ch->vertex[vb]));
-            }
-        S.mean_edge = len / S.nb;
-        S.eps = o.epsilon > 0 ? o.epsilon : S.mean_edge / 4;
     }
     memcpy(x, ch->uv, nv2 * sizeof(double));
     f = bp__objective(&S, x, g, &ed);

@@ -136,38 +136,15 @@ static void solver_hash_free(bp__solver *S)
 static bp__rest *solver_for_chart(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
                                   bp_energy energy, int barrier, double eps)
 {
-    uint32_t t, L, k;
-    double total_area = 0, len = 0;
-    bp__rest *rest = (bp__rest *)malloc(ch->num_triangles * sizeof(bp__rest));
-    memset(S, 0, sizeof *S);
-    S->a = a;
-    S->energy = energy;
-    S->nv = ch->num_vertices;
-    S->nt = ch->num_triangles;
-    S->tri = ch->triangles;
-    S->nloops = ch->num_loops;
-    S->loop_start = ch->loop_start;
-    S->loop_vertices = ch->loop_vertices;
-    S->nb = ch->loop_start[ch->num_loops];
-    S->barrier = barrier;
-    for (t = 0; t < S->nt; t++) {
-        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        make_rest(m->positions + 3 * (size_t)ch->vertex[tr[0]], m->positions + 3 * (size_t)ch->vertex[tr[1]],
-                  m->positions + 3 * (size_t)ch->vertex[tr[2]], 1.0, &rest[t]);
-        rest[t].weight = 0.5 / (rest[t].m00 * rest[t].m11);      /* area = w y / 2 */
-        total_area += rest[t].weight;
-    }
-    for (t = 0; t < S->nt; t++) rest[t].weight *= S->nt / total_area;
-    S->rest = rest;
-    for (L = 0; L < S->nloops; L++)
-        for (k = S->loop_start[L]; k < S->loop_start[L + 1]; k++) {
-            uint32_t va = S->loop_vertices[k], vb = S->loop_vertices[k + 1 < S->loop_start[L + 1] ? k + 1 : S->loop_start[L]];
-            len += bp__dist3(bp__pos(m, ch->vertex[va]), bp__pos(m, ch->vertex[vb]));
-        }
-    S->mean_edge = len / S->nb;
-    S->eps = eps > 0 ? eps : S->mean_edge / 4;
-    solver_hash_alloc(S, S->nb);
-    return rest;
+    /* the library's own set-up (bp__solver_chart, as bp_chart_optimize);
+       the test frees the returned rest shapes itself (solver_hash_free) */
+    bp_options o;
+    memset(&o, 0, sizeof o);
+    o.energy = energy;
+    o.no_barrier = !barrier;
+    o.epsilon = eps > 0 ? eps : 0;
+    bp__solver_chart(S, a, ch, m, &o, NULL, NULL);
+    return S->rest;
 }
 
 /* ---- (a)-(e) per-triangle energies --------------------------------------- */

@@ -52,44 +52,11 @@ static int map_valid(const bp_chart *ch, const double *uv, bp_check_report *out)
 
 static void solver_for_chart(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m, bp_energy energy)
 {
-    uint32_t t, L, k, nb;
-    double total_area = 0, len = 0;
-    bp__rest *rest = (bp__rest *)malloc(ch->num_triangles * sizeof(bp__rest));
-    memset(S, 0, sizeof *S);
-    S->a = a;
-    S->energy = energy;
-    S->nv = ch->num_vertices;
-    S->nt = ch->num_triangles;
-    S->tri = ch->triangles;
-    S->nloops = ch->num_loops;
-    S->loop_start = ch->loop_start;
-    S->loop_vertices = ch->loop_vertices;
-    S->nb = nb = ch->loop_start[ch->num_loops];
-    S->barrier = 1;
-    for (t = 0; t < S->nt; t++) {
-        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        double w, x, y;
-        bp__rest_shape(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]), bp__pos(m, ch->vertex[tr[2]]), &w, &x, &y);
-        rest[t].m00 = 1 / w; rest[t].m01 = -x / (w * y); rest[t].m11 = 1 / y; rest[t].weight = 0.5 * w * y;
-        total_area += rest[t].weight;
-    }
-    for (t = 0; t < S->nt; t++) rest[t].weight *= S->nt / total_area;
-    S->rest = rest;
-    for (L = 0; L < S->nloops; L++)
-        for (k = S->loop_start[L]; k < S->loop_start[L + 1]; k++) {
-            uint32_t va = S->loop_vertices[k], vb = S->loop_vertices[k + 1 < S->loop_start[L + 1] ? k + 1 : S->loop_start[L]];
-            len += bp__dist3(bp__pos(m, ch->vertex[va]), bp__pos(m, ch->vertex[vb]));
-        }
-    S->mean_edge = len / nb;
-    S->eps = S->mean_edge / 4;
-    {
-        /* bp__solver_init allocates the workspace; keep what was set above */
-        bp__solver keep = *S;
-        bp__solver_init(S, a, keep.nv, keep.nt, keep.tri, keep.nloops, keep.loop_start, keep.loop_vertices);
-        bp__free(S->a, S->rest);
-        S->rest = keep.rest; S->energy = keep.energy; S->barrier = keep.barrier;
-        S->eps = keep.eps; S->mean_edge = keep.mean_edge;
-    }
+    /* the library's own set-up (bp__solver_chart, as bp_chart_optimize) */
+    bp_options o;
+    memset(&o, 0, sizeof o);
+    o.energy = energy;
+    bp__solver_chart(S, a, ch, m, &o, NULL, NULL);
 }
 
 static void solver_free(bp__solver *S)
