@@ -3249,15 +3249,12 @@ typedef struct bp__rest {
 static void bp__rest_shape(const double *p1, const double *p2, const double *p3, double *w,
                            double *x, double *y)
 {
-    double e1[3], e2[3], c[3];
+    double e1[3], e2[3];
     int k;
     for (k = 0; k < 3; k++) { e1[k] = p2[k] - p1[k]; e2[k] = p3[k] - p1[k]; }
-    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
     *w = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
     *x = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / *w;
-    *y = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / *w;
+    *y = bp__area2_3d(p1, p2, p3) / *w;            /* |e1 x e2| / w */
 }
 
 /* >>energy =================================================================
