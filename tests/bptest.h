@@ -46,6 +46,29 @@ static inline uint64_t bpt_rng_u64(void)
 static inline double bpt_rng_unit(void) { return (double)(bpt_rng_u64() >> 11) * (1.0 / 9007199254740992.0); }
 static inline double bpt_rng_range(double a, double b) { return a + (b - a) * bpt_rng_unit(); }
 
+#ifdef BP__IMPLEMENTATION_DONE
+/* For tests that build a bp__solver by hand over bare polygons: allocate
+   its workspace with bp__solver_init, keeping the fields the test set
+   (including its own rest shapes, which bpt_solver_free leaves to it). */
+static inline void bpt_solver_workspace(bp__solver *S, uint32_t nloop_v)
+{
+    static const bp_allocator plain = { NULL, NULL, NULL };
+    bp__solver keep = *S;
+    (void)nloop_v;
+    bp__solver_init(S, keep.a ? keep.a : &plain, keep.nv, keep.nt, keep.tri, keep.nloops, keep.loop_start,
+                    keep.loop_vertices);
+    bp__free(S->a, S->rest);
+    S->rest = keep.rest;
+    S->energy = keep.energy; S->barrier = keep.barrier; S->eps = keep.eps; S->mean_edge = keep.mean_edge;
+}
+
+static inline void bpt_solver_free(bp__solver *S)
+{
+    S->rest = NULL;           /* the test frees its rest shapes itself */
+    bp__solver_free(S);
+}
+#endif
+
 static int bpt_finish(void)
 {
     printf("BPTEST %d %d\n", bpt__passed, bpt__failed);

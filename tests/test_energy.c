@@ -112,32 +112,14 @@ typedef struct poly_solver {
     bp_allocator a;
 } poly_solver;
 
-/* bp__solver_init allocates the solver's workspace (hash, chunk slots,
-   corner lists); the fields the test set by hand are kept. */
-static void solver_hash_alloc(bp__solver *S, uint32_t nloop_v)
-{
-    static const bp_allocator plain = { NULL, NULL, NULL };
-    bp__solver keep = *S;
-    (void)nloop_v;
-    bp__solver_init(S, keep.a ? keep.a : &plain, keep.nv, keep.nt, keep.tri, keep.nloops, keep.loop_start,
-                    keep.loop_vertices);
-    bp__free(S->a, S->rest);   /* the test owns its rest shapes (or has none) */
-    S->rest = keep.rest;
-    S->energy = keep.energy; S->barrier = keep.barrier; S->eps = keep.eps; S->mean_edge = keep.mean_edge;
-}
 
-static void solver_hash_free(bp__solver *S)
-{
-    S->rest = NULL;           /* the test frees its rest shapes itself */
-    bp__solver_free(S);
-}
 
 /* The solver bp_chart_optimize builds, set up the same way by hand. */
 static bp__rest *solver_for_chart(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
                                   bp_energy energy, int barrier, double eps)
 {
     /* the library's own set-up (bp__solver_chart, as bp_chart_optimize);
-       the test frees the returned rest shapes itself (solver_hash_free) */
+       the test frees the returned rest shapes itself (bpt_solver_free) */
     bp_options o;
     memset(&o, 0, sizeof o);
     o.energy = energy;
@@ -487,7 +469,7 @@ static void test_barrier_gradient(void)
             S.nb = N;
             S.barrier = 1;
             S.eps = eps;
-            solver_hash_alloc(&S, N);
+            bpt_solver_workspace(&S, N);
             /* pairs within eps, and the closest (must not be 0) */
             for (L = 0; L < S.nloops; L++) {
                 uint32_t s0 = loop_start[L], m = loop_start[L + 1] - s0, e;
@@ -517,7 +499,7 @@ static void test_barrier_gradient(void)
             }
             if (!(f0 > 0) || !(f0 < HUGE_VAL)) bad++;
             trials++;
-            solver_hash_free(&S);
+            bpt_solver_free(&S);
             free(lv); free(x); free(g);
         }
     }
@@ -593,7 +575,7 @@ static void test_objective_on_chart(void)
         BPT_CHECK(bad == 0, "bishop phase %d (%s, eps %s): objective gradient == central differences on %u coordinates "
                   "(h = 1e-6 mean uv edge), max err/max(1,|g|) %.3g", phase, ENAME[energy], phase == 0 ? "default" : "2 uv edges",
                   checked, worst);
-        solver_hash_free(&S);
+        bpt_solver_free(&S);
         free(rest); free(x); free(g);
     }
     bp_atlas_free(&atlas);

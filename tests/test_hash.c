@@ -123,25 +123,7 @@ static void test_hash(void)
 
 /* ---- (b) the barrier sum -------------------------------------------------------- */
 
-/* bp__solver_init allocates the solver's workspace (hash, chunk slots,
-   corner lists); the fields the test set by hand are kept. */
-static void solver_hash_alloc(bp__solver *S, uint32_t nloop_v)
-{
-    static const bp_allocator plain = { NULL, NULL, NULL };
-    bp__solver keep = *S;
-    (void)nloop_v;
-    bp__solver_init(S, keep.a ? keep.a : &plain, keep.nv, keep.nt, keep.tri, keep.nloops, keep.loop_start,
-                    keep.loop_vertices);
-    bp__free(S->a, S->rest);   /* the test owns its rest shapes (or has none) */
-    S->rest = keep.rest;
-    S->energy = keep.energy; S->barrier = keep.barrier; S->eps = keep.eps; S->mean_edge = keep.mean_edge;
-}
 
-static void solver_hash_free(bp__solver *S)
-{
-    S->rest = NULL;           /* the test frees its rest shapes itself */
-    bp__solver_free(S);
-}
 
 /* The brute force, written from sec 3.3: for each loop, each edge (a, b),
    each vertex p of the same loop not on the edge, max(0, eps/dist - 1)^2,
@@ -206,7 +188,7 @@ static void compare_barrier(uint32_t nloops, const uint32_t *ls, const uint32_t 
     S.nb = ls[nloops];
     S.barrier = 1;
     S.eps = eps;
-    solver_hash_alloc(&S, S.nb);
+    bpt_solver_workspace(&S, S.nb);
     f1 = bp__barrier(&S, x, g1);
     f3 = bp__barrier(&S, x, NULL);
     f2 = brute_barrier(nloops, ls, lv, x, eps, g2, &pairs);
@@ -222,7 +204,7 @@ static void compare_barrier(uint32_t nloops, const uint32_t *ls, const uint32_t 
         if (e > st->worst_g) st->worst_g = e;
         if (!(e <= 1e-12)) st->bad_g++;
     }
-    solver_hash_free(&S);
+    bpt_solver_free(&S);
     free(g1); free(g2);
 }
 
