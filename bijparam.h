@@ -2479,7 +2479,12 @@ static int bp__factor_rows(const bp_allocator *a, bp__factor *F)
    interleaved xy).  z (2n doubles, permuted order) is shared by the tasks;
    each task owns a range of rows.  Forward: L z = q by rows; backward:
    D L^T r = z by columns; both are gathers, so each entry is computed by
-   the same operations in the same order on any schedule.
+   the same operations in the same order on any schedule.  A task also
+   moves its own rows between the old and the permuted order: it reads
+   q[perm[i]] into z[i] before its first pass over row i (forward) and
+   writes r[perm[i]] when row i is final (backward), so no serial loop
+   surrounds the solve.  (r may be q: every read of q ends before the
+   backward solve begins.)
 
    A separator's rows depend on each other only through the small block of
    L inside the separator; most of each row's entries lie in the subtrees
@@ -2487,13 +2492,19 @@ static int bp__factor_rows(const bp_allocator *a, bp__factor *F)
    solved.  So a separator is done in two passes: a parallel one over its
    rows that sums the entries outside the separator (in the row's own
    order), and a sequential one that carries each running sum on through
-   the separator block.  The sums are the same, term by term, as one loop. */
+   the separator block.  The sums are the same, term by term, as one loop.
+   The sequential pass is the only serial work of the top separator, and
+   the two coordinates are independent in it, so it runs as two tasks, one
+   per coordinate, each with exactly the arithmetic of the joint loop. */
 typedef struct bp__solve_task {
     const bp__factor *F;
+    const double *q;                    /* right-hand side, old order       */
+    double *r;                          /* result, old order                */
     double *z, *part;                   /* part: 2 per row, running sums   */
     uint32_t ranges[2 * 160];           /* [lo, hi) per task of a phase    */
     uint32_t split[160];                /* separator: its node's b or hi   */
     int backward, mode;                 /* 0 whole rows, 1 outside part, 2 finish */
+    int per_coord;                      /* task k: range k/2, coordinate k%2 */
 } bp__solve_task;
 
 static void bp__solve_range(void *task, uint32_t k)
@@ -2501,38 +2512,54 @@ static void bp__solve_range(void *task, uint32_t k)
     bp__solve_task *T = (bp__solve_task *)task;
     const bp__factor *F = T->F;
     double *z = T->z;
-    uint32_t lo = T->ranges[2 * k], hi = T->ranges[2 * k + 1], i, p, cut = T->split[k];
+    uint32_t r = T->per_coord ? k >> 1 : k, c0 = T->per_coord ? (k & 1) : 0, c1 = T->per_coord ? c0 + 1 : 2;
+    uint32_t lo = T->ranges[2 * r], hi = T->ranges[2 * r + 1], i, p, c, cut = T->split[r];
     if (!T->backward) {
         for (i = lo; i < hi; i++) {
-            double sx = 0, sy = 0;
-            p = F->Rp[i];
-            if (T->mode == 2) { sx = T->part[2 * (size_t)i]; sy = T->part[2 * (size_t)i + 1]; }
-            if (T->mode == 2) while (p < F->Rp[i + 1] && F->Ri[p] < cut) p++;      /* done in pass 1 */
-            for (; p < F->Rp[i + 1]; p++) {
-                if (T->mode == 1 && F->Ri[p] >= cut) break;
-                sx += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p]];
-                sy += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p] + 1];
+            double s[2] = { 0, 0 };
+            uint32_t p0 = F->Rp[i], p1 = F->Rp[i + 1];
+            if (T->mode != 2)                   /* the row's first pass: fetch q */
+                for (c = c0; c < c1; c++) z[2 * (size_t)i + c] = T->q[2 * (size_t)F->perm[i] + c];
+            if (T->mode == 2) {                 /* continue after pass 1's part */
+                for (c = c0; c < c1; c++) s[c] = T->part[2 * (size_t)i + c];
+                while (p0 < p1 && F->Ri[p0] < cut) p0++;
             }
-            if (T->mode == 1) { T->part[2 * (size_t)i] = sx; T->part[2 * (size_t)i + 1] = sy; continue; }
-            z[2 * (size_t)i] -= sx;
-            z[2 * (size_t)i + 1] -= sy;
+            if (T->mode == 1) while (p1 > p0 && F->Ri[p1 - 1] >= cut) p1--;
+            if (c1 - c0 == 2)
+                for (p = p0; p < p1; p++) {
+                    s[0] += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p]];
+                    s[1] += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p] + 1];
+                }
+            else
+                for (p = p0; p < p1; p++) s[c0] += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p] + c0];
+            for (c = c0; c < c1; c++) {
+                if (T->mode == 1) T->part[2 * (size_t)i + c] = s[c];
+                else z[2 * (size_t)i + c] -= s[c];
+            }
         }
     } else {
         /* columns are walked from the bottom row up: rows of the separators
            above first, then the rows inside this range */
         for (i = hi; i-- > lo;) {
-            double sx = 0, sy = 0;
-            p = F->Lp[i + 1];
-            if (T->mode == 2) { sx = T->part[2 * (size_t)i]; sy = T->part[2 * (size_t)i + 1]; }
-            if (T->mode == 2) while (p > F->Lp[i] && F->Li[p - 1] >= cut) p--;   /* done in pass 1 */
-            for (; p > F->Lp[i]; p--) {
-                if (T->mode == 1 && F->Li[p - 1] < cut) break;
-                sx += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1]];
-                sy += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1] + 1];
+            double s[2] = { 0, 0 };
+            uint32_t p0 = F->Lp[i], p1 = F->Lp[i + 1];
+            if (T->mode == 2) {
+                for (c = c0; c < c1; c++) s[c] = T->part[2 * (size_t)i + c];
+                while (p1 > p0 && F->Li[p1 - 1] >= cut) p1--;
             }
-            if (T->mode == 1) { T->part[2 * (size_t)i] = sx; T->part[2 * (size_t)i + 1] = sy; continue; }
-            z[2 * (size_t)i] = z[2 * (size_t)i] / F->D[i] - sx;
-            z[2 * (size_t)i + 1] = z[2 * (size_t)i + 1] / F->D[i] - sy;
+            if (T->mode == 1) while (p0 < p1 && F->Li[p0] < cut) p0++;
+            if (c1 - c0 == 2)
+                for (p = p1; p > p0; p--) {
+                    s[0] += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1]];
+                    s[1] += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1] + 1];
+                }
+            else
+                for (p = p1; p > p0; p--) s[c0] += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1] + c0];
+            for (c = c0; c < c1; c++) {
+                if (T->mode == 1) { T->part[2 * (size_t)i + c] = s[c]; continue; }
+                z[2 * (size_t)i + c] = z[2 * (size_t)i + c] / F->D[i] - s[c];
+                T->r[2 * (size_t)F->perm[i] + c] = z[2 * (size_t)i + c];
+            }
         }
     }
 }
@@ -2587,6 +2614,7 @@ static void bp__solve_phases(bp__solve_task *T, const bp__par *par, int backward
     T->backward = backward;
     for (phase = backward ? BP__ND_DEPTH : 0; phase >= 0 && phase <= BP__ND_DEPTH; phase += step) {
         if ((cnt = bp__solve_phase(F, phase, backward, ranges, split)) == 0) continue;
+        T->per_coord = 0;
         if (phase == 0) {
             memcpy(T->ranges, ranges, 2 * cnt * sizeof(uint32_t));
             memcpy(T->split, split, cnt * sizeof(uint32_t));
@@ -2604,27 +2632,21 @@ static void bp__solve_phases(bp__solve_task *T, const bp__par *par, int backward
         }
         memcpy(T->ranges, ranges, 2 * cnt * sizeof(uint32_t));
         memcpy(T->split, split, cnt * sizeof(uint32_t));
-        par->run(par->user, bp__solve_range, T, cnt);   /* pass 2 (or the only one) */
+        T->per_coord = 1;                           /* pass 2: a task per separator and coordinate */
+        par->run(par->user, bp__solve_range, T, 2 * cnt);
     }
 }
 
 static void bp__precondition(const bp__factor *F, const bp__par *par, const double *q, double *r, double *z)
 {
     bp__solve_task T;
-    uint32_t n = F->n, j;
-    for (j = 0; j < n; j++) {
-        z[2 * (size_t)j] = q[2 * (size_t)F->perm[j]];
-        z[2 * (size_t)j + 1] = q[2 * (size_t)F->perm[j] + 1];
-    }
     T.F = F;
+    T.q = q;
+    T.r = r;
     T.z = z;
-    T.part = z + 2 * (size_t)n;                 /* z has 4n doubles */
+    T.part = z + 2 * (size_t)F->n;              /* z has 4n doubles */
     bp__solve_phases(&T, par, 0);
     bp__solve_phases(&T, par, 1);
-    for (j = 0; j < n; j++) {
-        r[2 * (size_t)F->perm[j]] = z[2 * (size_t)j];
-        r[2 * (size_t)F->perm[j] + 1] = z[2 * (size_t)j + 1];
-    }
 }
 
 /* >>check ==================================================================
