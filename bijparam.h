@@ -2507,58 +2507,85 @@ typedef struct bp__solve_task {
     int per_coord;                      /* task k: range k/2, coordinate k%2 */
 } bp__solve_task;
 
+/* The first position in idx[p0, p1) (sorted) holding a value >= cut. */
+static uint32_t bp__lower_bound(const uint32_t *idx, uint32_t p0, uint32_t p1, uint32_t cut)
+{
+    while (p0 < p1) {
+        uint32_t m = p0 + (p1 - p0) / 2;
+        if (idx[m] < cut) p0 = m + 1; else p1 = m;
+    }
+    return p0;
+}
+
 static void bp__solve_range(void *task, uint32_t k)
 {
     bp__solve_task *T = (bp__solve_task *)task;
     const bp__factor *F = T->F;
-    double *z = T->z;
-    uint32_t r = T->per_coord ? k >> 1 : k, c0 = T->per_coord ? (k & 1) : 0, c1 = T->per_coord ? c0 + 1 : 2;
-    uint32_t lo = T->ranges[2 * r], hi = T->ranges[2 * r + 1], i, p, c, cut = T->split[r];
+    double *z = T->z, *part = T->part;
+    uint32_t r = T->per_coord ? k >> 1 : k, lo = T->ranges[2 * r], hi = T->ranges[2 * r + 1], i, p;
+    uint32_t cut = T->split[r], c = T->per_coord ? (k & 1) : 0;       /* single coordinate c */
+    int both = !T->per_coord, mode = T->mode;
     if (!T->backward) {
-        for (i = lo; i < hi; i++) {
-            double s[2] = { 0, 0 };
-            uint32_t p0 = F->Rp[i], p1 = F->Rp[i + 1];
-            if (T->mode != 2)                   /* the row's first pass: fetch q */
-                for (c = c0; c < c1; c++) z[2 * (size_t)i + c] = T->q[2 * (size_t)F->perm[i] + c];
-            if (T->mode == 2) {                 /* continue after pass 1's part */
-                for (c = c0; c < c1; c++) s[c] = T->part[2 * (size_t)i + c];
-                while (p0 < p1 && F->Ri[p0] < cut) p0++;
+        if (mode != 2)                            /* the rows' first pass: fetch q */
+            for (i = lo; i < hi; i++) {
+                z[2 * (size_t)i + c] = T->q[2 * (size_t)F->perm[i] + c];
+                if (both) z[2 * (size_t)i + 1] = T->q[2 * (size_t)F->perm[i] + 1];
             }
-            if (T->mode == 1) while (p1 > p0 && F->Ri[p1 - 1] >= cut) p1--;
-            if (c1 - c0 == 2)
+        for (i = lo; i < hi; i++) {
+            double sx = 0, sy = 0;
+            uint32_t p0 = F->Rp[i], p1 = F->Rp[i + 1];
+            if (mode == 2) {                      /* continue after pass 1's part */
+                sx = part[2 * (size_t)i + c];
+                sy = part[2 * (size_t)i + 1];
+                p0 = bp__lower_bound(F->Ri, p0, p1, cut);
+            } else if (mode == 1) {
+                p1 = bp__lower_bound(F->Ri, p0, p1, cut);
+            }
+            if (both)
                 for (p = p0; p < p1; p++) {
-                    s[0] += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p]];
-                    s[1] += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p] + 1];
+                    sx += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p]];
+                    sy += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p] + 1];
                 }
             else
-                for (p = p0; p < p1; p++) s[c0] += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p] + c0];
-            for (c = c0; c < c1; c++) {
-                if (T->mode == 1) T->part[2 * (size_t)i + c] = s[c];
-                else z[2 * (size_t)i + c] -= s[c];
+                for (p = p0; p < p1; p++) sx += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p] + c];
+            if (mode == 1) {
+                part[2 * (size_t)i + c] = sx;
+                if (both) part[2 * (size_t)i + 1] = sy;
+            } else {
+                z[2 * (size_t)i + c] -= sx;
+                if (both) z[2 * (size_t)i + 1] -= sy;
             }
         }
     } else {
         /* columns are walked from the bottom row up: rows of the separators
            above first, then the rows inside this range */
         for (i = hi; i-- > lo;) {
-            double s[2] = { 0, 0 };
+            double sx = 0, sy = 0;
             uint32_t p0 = F->Lp[i], p1 = F->Lp[i + 1];
-            if (T->mode == 2) {
-                for (c = c0; c < c1; c++) s[c] = T->part[2 * (size_t)i + c];
-                while (p1 > p0 && F->Li[p1 - 1] >= cut) p1--;
+            if (mode == 2) {
+                sx = part[2 * (size_t)i + c];
+                sy = part[2 * (size_t)i + 1];
+                p1 = bp__lower_bound(F->Li, p0, p1, cut);
+            } else if (mode == 1) {
+                p0 = bp__lower_bound(F->Li, p0, p1, cut);
             }
-            if (T->mode == 1) while (p0 < p1 && F->Li[p0] < cut) p0++;
-            if (c1 - c0 == 2)
+            if (both)
                 for (p = p1; p > p0; p--) {
-                    s[0] += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1]];
-                    s[1] += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1] + 1];
+                    sx += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1]];
+                    sy += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1] + 1];
                 }
             else
-                for (p = p1; p > p0; p--) s[c0] += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1] + c0];
-            for (c = c0; c < c1; c++) {
-                if (T->mode == 1) { T->part[2 * (size_t)i + c] = s[c]; continue; }
-                z[2 * (size_t)i + c] = z[2 * (size_t)i + c] / F->D[i] - s[c];
-                T->r[2 * (size_t)F->perm[i] + c] = z[2 * (size_t)i + c];
+                for (p = p1; p > p0; p--) sx += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1] + c];
+            if (mode == 1) {
+                part[2 * (size_t)i + c] = sx;
+                if (both) part[2 * (size_t)i + 1] = sy;
+                continue;
+            }
+            z[2 * (size_t)i + c] = z[2 * (size_t)i + c] / F->D[i] - sx;
+            T->r[2 * (size_t)F->perm[i] + c] = z[2 * (size_t)i + c];
+            if (both) {
+                z[2 * (size_t)i + 1] = z[2 * (size_t)i + 1] / F->D[i] - sy;
+                T->r[2 * (size_t)F->perm[i] + 1] = z[2 * (size_t)i + 1];
             }
         }
     }
@@ -3533,10 +3560,14 @@ typedef struct bp__solver {
     double    *hs;                 /* hash cell size per loop                 */
     double    *gc;                 /* 6 per triangle: corner gradients        */
     uint32_t  *vc_start, *vc_list; /* corners around each vertex (CSR)        */
-    double    *part;               /* one slot per chunk                      */
+    double    *part;               /* one slot per triangle chunk             */
+    double    *part_b;             /* one slot per boundary edge chunk        */
+    double    *part_o;             /* a flipped triangle in this chunk?       */
     uint32_t   nchunk_t, nchunk_v, nchunk_b;
     bp__vec   *rec;                /* barrier records per edge chunk          */
     int        oom;                /* a task could not grow its records       */
+    bp__dedge *edges;              /* the loops' edges, for the exact check   */
+    uint32_t   conflicts;          /* boundary conflicts found by that check  */
     bp__grid_ws ws;
 } bp__solver;
 
@@ -3550,7 +3581,7 @@ static void bp__solver_free(bp__solver *S)
     bp__free(a, S->rec);
     bp__free(a, S->rest); bp__free(a, S->hash.start); bp__free(a, S->hash.items); bp__free(a, S->hash.cell0);
     bp__free(a, S->box); bp__free(a, S->bl_loop); bp__free(a, S->hs); bp__free(a, S->gc);
-    bp__free(a, S->vc_start); bp__free(a, S->vc_list); bp__free(a, S->part);
+    bp__free(a, S->vc_start); bp__free(a, S->vc_list); bp__free(a, S->part); bp__free(a, S->edges);
     bp__free(a, S->ws.cellp); bp__free(a, S->ws.cells);
     memset(S, 0, sizeof *S);
 }
@@ -3578,7 +3609,7 @@ static bp_status bp__solver_init(bp__solver *S, const bp_allocator *a, uint32_t 
     S->nchunk_t = (nt + BP__TRI_CHUNK - 1) / BP__TRI_CHUNK;
     S->nchunk_v = (nv + BP__VERT_CHUNK - 1) / BP__VERT_CHUNK;
     S->nchunk_b = (nb + BP__EDGE_CHUNK - 1) / BP__EDGE_CHUNK;
-    nchunk = S->nchunk_t > S->nchunk_b ? S->nchunk_t : S->nchunk_b;
+    nchunk = 2 * S->nchunk_t + S->nchunk_b;
     S->hash.mask = 1;
     while (S->hash.mask + 1 < 2 * nb) S->hash.mask = 2 * S->hash.mask + 1;
     S->hash.cap = 32 * (size_t)nb + 64;
@@ -3594,14 +3625,21 @@ static bp_status bp__solver_init(bp__solver *S, const bp_allocator *a, uint32_t 
     S->vc_list = (uint32_t *)bp__alloc_array(a, 3 * (size_t)nt, sizeof(uint32_t));
     S->part = (double *)bp__alloc_array(a, nchunk ? nchunk : 1, sizeof(double));
     S->rec = (bp__vec *)bp__calloc_array(a, S->nchunk_b ? S->nchunk_b : 1, sizeof(bp__vec));
+    S->edges = (bp__dedge *)bp__alloc_array(a, nb ? nb : 1, sizeof(bp__dedge));
     if (!S->rest || !S->hash.start || !S->hash.items || !S->hash.cell0 || !S->box || !S->bl_loop || !S->hs || !S->gc ||
-        !S->vc_start || !S->vc_list || !S->part || !S->rec) {
+        !S->vc_start || !S->vc_list || !S->part || !S->rec || !S->edges) {
         bp__solver_free(S);
         return BP_ERR_OUT_OF_MEMORY;
     }
+    S->part_b = S->part + S->nchunk_t;
+    S->part_o = S->part_b + S->nchunk_b;
     for (c = 0; c < S->nchunk_b; c++) S->rec[c].elem = sizeof(bp__grec);
     for (L = 0; L < nloops; L++)
-        for (k = loop_start[L]; k < loop_start[L + 1]; k++) S->bl_loop[k] = L;
+        for (k = loop_start[L]; k < loop_start[L + 1]; k++) {
+            S->bl_loop[k] = L;
+            S->edges[k].a = loop_vertices[k];
+            S->edges[k].b = loop_vertices[k + 1 < loop_start[L + 1] ? k + 1 : loop_start[L]];
+        }
     S->hash.box = S->box;
     S->hash.group = S->bl_loop;
     S->hash.group_start = loop_start;
@@ -3622,8 +3660,41 @@ typedef struct bp__eval_task {
     const double *x;
     double       *g;
     const double *dir;          /* step bound: direction                      */
-    double        tmax;         /* step bound: bound from the triangles       */
+    double        tmax;         /* step bound: the bound so far; hash: sweep  */
 } bp__eval_task;
+
+/* Several kinds of tasks as one parallel loop: the groups are laid end to
+   end and task i runs in the group that holds it.  Work that would
+   otherwise run alone between two loops (building a hash, the exact
+   boundary check) becomes one task among the chunks of another loop, and
+   two loops that do not depend on each other share one join.  Each task
+   still writes only its own slots, so the result does not depend on the
+   schedule.  A long task goes first, so that it starts at once. */
+typedef struct bp__group { bp_task_fn fn; void *task; uint32_t count; } bp__group;
+typedef struct bp__groups { bp__group g[4]; uint32_t n, total; } bp__groups;
+
+static void bp__groups_task(void *task, uint32_t i)
+{
+    const bp__groups *G = (const bp__groups *)task;
+    uint32_t k;
+    for (k = 0; k < G->n; k++) {
+        if (i < G->g[k].count) { G->g[k].fn(G->g[k].task, i); return; }
+        i -= G->g[k].count;
+    }
+}
+
+static void bp__groups_add(bp__groups *G, bp_task_fn fn, void *task, uint32_t count)
+{
+    G->g[G->n].fn = fn;
+    G->g[G->n].task = task;
+    G->g[G->n++].count = count;
+    G->total += count;
+}
+
+static void bp__groups_run(const bp__par *par, const bp__groups *G)
+{
+    if (G->total) par->run(par->user, bp__groups_task, (void *)G, G->total);
+}
 
 static void bp__energy_task(void *task, uint32_t c)
 {
@@ -3641,6 +3712,21 @@ static void bp__energy_task(void *task, uint32_t c)
         else sum += S->rest[t].weight * e;
     }
     S->part[c] = sum;
+}
+
+/* Exact orientation of the triangles of a chunk: part_o[c] = 1 if one is
+   not positive. */
+static void bp__orient_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    bp__solver *S = T->S;
+    uint32_t t, t1 = (c + 1) * BP__TRI_CHUNK < S->nt ? (c + 1) * BP__TRI_CHUNK : S->nt;
+    double bad = 0;
+    for (t = c * BP__TRI_CHUNK; t < t1 && !bad; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        if (bp_orient2d(T->x + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1], T->x + 2 * (size_t)tr[2]) <= 0) bad = 1;
+    }
+    S->part_o[c] = bad;
 }
 
 /* g(v) = sum of its corners' gradients, in corner order. */
@@ -3723,6 +3809,35 @@ static double bp__loop_cell(const bp__solver *S, const double *x, uint32_t L)
     return len > S->eps ? len : S->eps;
 }
 
+/* Enter the boundary vertices into the hash: as points (v NULL, the
+   barrier) or as the boxes they sweep along U + t v for t in [0, tsweep]
+   (the step bound). */
+static void bp__hash_fill(bp__solver *S, const double *x, const double *v, double tsweep)
+{
+    uint32_t L, k;
+    for (L = 0; L < S->nloops; L++) S->hs[L] = bp__loop_cell(S, x, L);
+    for (k = 0; k < S->nb; k++) {
+        const double *p = x + 2 * (size_t)S->loop_vertices[k];
+        double qx = p[0], qy = p[1];
+        if (v) {
+            const double *d = v + 2 * (size_t)S->loop_vertices[k];
+            qx = p[0] + tsweep * d[0];
+            qy = p[1] + tsweep * d[1];
+        }
+        S->box[4 * k] = p[0] < qx ? p[0] : qx;  S->box[4 * k + 2] = p[0] < qx ? qx : p[0];
+        S->box[4 * k + 1] = p[1] < qy ? p[1] : qy;  S->box[4 * k + 3] = p[1] < qy ? qy : p[1];
+    }
+    while (!bp__hash_build(&S->hash, S->nb))
+        for (L = 0; L < S->nloops; L++) S->hs[L] *= 2;
+}
+
+static void bp__hash_fill_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    (void)c;
+    bp__hash_fill(T->S, T->x, T->dir, T->tmax);
+}
+
 static void bp__barrier_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
@@ -3750,31 +3865,17 @@ static void bp__barrier_task(void *task, uint32_t c)
                        bp__barrier_visit, &Q);
         sum += Q.acc;
     }
-    S->part[c] = sum;
+    S->part_b[c] = sum;
     if (Q.oom) S->oom = 1;
 }
 
-/* E_B at x; its gradient is added to g when given.  The vertices go into
-   the hash first (serial), then edge chunks query it in parallel, each
-   writing its sum and gradient records to its own slot. */
-static double bp__barrier(bp__solver *S, const double *x, double *g)
+/* The sum of the edge chunks' E_B, and their gradient records added to g
+   (when given), both in chunk order. */
+static double bp__barrier_finish(bp__solver *S, double *g)
 {
-    bp__eval_task T;
     double total = 0;
-    uint32_t L, k, c;
-    for (L = 0; L < S->nloops; L++) S->hs[L] = bp__loop_cell(S, x, L);
-    for (k = 0; k < S->nb; k++) {
-        const double *p = x + 2 * (size_t)S->loop_vertices[k];
-        S->box[4 * k] = S->box[4 * k + 2] = p[0];
-        S->box[4 * k + 1] = S->box[4 * k + 3] = p[1];
-    }
-    while (!bp__hash_build(&S->hash, S->nb))
-        for (L = 0; L < S->nloops; L++) S->hs[L] *= 2;
-    T.S = S;
-    T.x = x;
-    T.g = g;
-    S->par.run(S->par.user, bp__barrier_task, &T, S->nchunk_b);
-    for (c = 0; c < S->nchunk_b; c++) total += S->part[c];
+    uint32_t c;
+    for (c = 0; c < S->nchunk_b; c++) total += S->part_b[c];
     if (g)
         for (c = 0; c < S->nchunk_b; c++) {
             const bp__grec *r = (const bp__grec *)S->rec[c].data;
@@ -3787,25 +3888,74 @@ static double bp__barrier(bp__solver *S, const double *x, double *g)
     return total;
 }
 
+/* The exact boundary check of a trial map (bp_check's condition (b) on the
+   chart's own loop edges), as one task of the evaluation. */
+static void bp__conflict_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    bp__solver *S = T->S;
+    bp_check_report rep;
+    (void)c;
+    memset(&rep, 0, sizeof rep);
+    if (bp__boundary_conflicts(S->a, T->x, S->edges, S->nb, &rep, &S->ws) != BP_OK) S->oom = 1;
+    S->conflicts = (uint32_t)rep.boundary_intersections;
+}
+
 /* f = E_D + E_B at x (E_D = sum weight_t E_t); gradient into g if given.
    *ed receives E_D alone.  +inf outside the valid region.  The sums are
    taken per chunk and added in chunk order: the same bits for any number
-   of threads. */
-static double bp__objective(bp__solver *S, const double *x, double *g, double *ed)
+   of threads.
+
+   A trial point of the line search (`valid` given) needs more: whether it
+   is, exactly, a bijective map of the chart (every triangle positive by
+   orient2d and, with the barrier, no two boundary edges in conflict: the
+   full bp_check condition on the chart's own loops; loop orientation and
+   nesting cannot change along a path of valid maps).  Without the barrier
+   the map is only kept locally injective (fig 3.2, 3.3), and its boundary
+   may overlap.  And it needs nothing more when it fails the sufficient
+   decrease test: E_B >= 0, so E_D > fmax already rejects it, and the
+   evaluation stops there (returning E_D, which is above fmax).
+   Two parallel loops in all:
+     1. E_D over triangle chunks, and the barrier's hash (one task);
+     2. the per-vertex gradient gather, E_B over edge chunks and, for a
+        trial point, the orientation chunks and the exact boundary check
+        (one task). */
+static double bp__evaluate(bp__solver *S, const double *x, double *g, double *ed, double fmax, int *valid)
 {
     bp__eval_task T;
+    bp__groups G;
     double sum = 0;
     uint32_t c;
+    memset(&T, 0, sizeof T);
     T.S = S;
     T.x = x;
     T.g = g;
-    S->par.run(S->par.user, bp__energy_task, &T, S->nchunk_t);
+    memset(&G, 0, sizeof G);
+    if (S->barrier) bp__groups_add(&G, bp__hash_fill_task, &T, 1);
+    bp__groups_add(&G, bp__energy_task, &T, S->nchunk_t);
+    bp__groups_run(&S->par, &G);
     for (c = 0; c < S->nchunk_t; c++) sum += S->part[c];
-    if (sum == HUGE_VAL) { *ed = HUGE_VAL; return HUGE_VAL; }
-    if (g) S->par.run(S->par.user, bp__gather_task, &T, S->nchunk_v);
+    if (valid) *valid = 0;
     *ed = sum;
-    if (S->barrier) sum += bp__barrier(S, x, g);
+    if (sum == HUGE_VAL || sum > fmax) return sum;
+    memset(&G, 0, sizeof G);
+    if (S->barrier && valid) bp__groups_add(&G, bp__conflict_task, &T, 1);
+    if (valid) bp__groups_add(&G, bp__orient_task, &T, S->nchunk_t);
+    if (S->barrier) bp__groups_add(&G, bp__barrier_task, &T, S->nchunk_b);
+    if (g) bp__groups_add(&G, bp__gather_task, &T, S->nchunk_v);
+    S->conflicts = 0;
+    bp__groups_run(&S->par, &G);
+    if (S->barrier) sum += bp__barrier_finish(S, g);
+    if (valid) {
+        *valid = !S->conflicts;
+        for (c = 0; c < S->nchunk_t; c++) if (S->part_o[c] != 0) *valid = 0;
+    }
     return sum;
+}
+
+static double bp__objective(bp__solver *S, const double *x, double *g, double *ed)
+{
+    return bp__evaluate(S, x, g, ed, HUGE_VAL, NULL);
 }
 
 /* >>stepbound ==============================================================
@@ -3941,89 +4091,48 @@ static void bp__step_edge_task(void *task, uint32_t c)
         }
         bp__hash_query(&S->hash, L, bx0, by0, bx1, by1, bp__step_visit, &Q);
     }
-    S->part[c] = Q.tmax;
+    S->part_b[c] = Q.tmax;
 }
 
-/* The largest t such that the energy has no singularity on [0, t). */
-static double bp__step_bound(bp__solver *S, const double *x, const double *v)
+/* The largest t <= tcap such that the energy has no singularity on
+   [0, t).  The caller only needs the bound up to the step it would try
+   first, tcap; below tcap the result is exact.
+   The swept hash needs a sweep time before the triangles have given their
+   bound, so it is built for tcap as one task of the triangles' loop; when
+   the triangles then bound the step far below tcap, the boxes are too long
+   and the hash is rebuilt for the triangles' bound (serially, rarely). */
+static double bp__step_bound(bp__solver *S, const double *x, const double *v, double tcap)
 {
     bp__eval_task T;
-    double tmax = HUGE_VAL;
-    uint32_t c, L, k;
+    bp__groups G;
+    double tmax = HUGE_VAL, sweep = tcap;
+    uint32_t c;
+    memset(&T, 0, sizeof T);
     T.S = S;
     T.x = x;
     T.dir = v;
-    S->par.run(S->par.user, bp__step_tri_task, &T, S->nchunk_t);
-    for (c = 0; c < S->nchunk_t; c++) if (S->part[c] < tmax) tmax = S->part[c];
-    if (!S->barrier) return tmax;
     /* "In the extremely unlikely case that tmax = inf, it is set to a large
        positive value" (sec 3.4.2): here, the time to move 100 chart sizes. */
-    if (tmax == HUGE_VAL) {
+    if (!(sweep < HUGE_VAL)) {
         double vmax = 0;
         uint32_t i;
         for (i = 0; i < 2 * S->nv; i++) if (fabs(v[i]) > vmax) vmax = fabs(v[i]);
-        tmax = vmax > 0 ? 100 * S->mean_edge * S->nb / vmax : 1;
+        sweep = vmax > 0 ? 100 * S->mean_edge * S->nb / vmax : 1;
     }
-    /* every boundary vertex enters the cells its swept segment's box covers */
-    for (L = 0; L < S->nloops; L++) S->hs[L] = bp__loop_cell(S, x, L);
-    for (k = 0; k < S->nb; k++) {
-        const double *p = x + 2 * (size_t)S->loop_vertices[k];
-        const double *d = v + 2 * (size_t)S->loop_vertices[k];
-        double qx = p[0] + tmax * d[0], qy = p[1] + tmax * d[1];
-        S->box[4 * k] = p[0] < qx ? p[0] : qx;  S->box[4 * k + 2] = p[0] < qx ? qx : p[0];
-        S->box[4 * k + 1] = p[1] < qy ? p[1] : qy;  S->box[4 * k + 3] = p[1] < qy ? qy : p[1];
-    }
-    while (!bp__hash_build(&S->hash, S->nb))
-        for (L = 0; L < S->nloops; L++) S->hs[L] *= 2;
+    T.tmax = sweep;
+    memset(&G, 0, sizeof G);
+    if (S->barrier) bp__groups_add(&G, bp__hash_fill_task, &T, 1);
+    bp__groups_add(&G, bp__step_tri_task, &T, S->nchunk_t);
+    bp__groups_run(&S->par, &G);
+    for (c = 0; c < S->nchunk_t; c++) if (S->part[c] < tmax) tmax = S->part[c];
+    if (!S->barrier) return tmax < tcap ? tmax : tcap;
+    if (tmax > sweep) tmax = sweep;
+    /* every boundary vertex is in the cells its swept segment's box covers */
+    if (tmax < 0.25 * sweep) bp__hash_fill(S, x, v, tmax);
     T.tmax = tmax;
     S->par.run(S->par.user, bp__step_edge_task, &T, S->nchunk_b);
-    for (c = 0; c < S->nchunk_b; c++) if (S->part[c] < tmax) tmax = S->part[c];
+    for (c = 0; c < S->nchunk_b; c++) if (S->part_b[c] < tmax) tmax = S->part_b[c];
     return tmax;
-}
-
-static void bp__orient_task(void *task, uint32_t c)
-{
-    bp__eval_task *T = (bp__eval_task *)task;
-    bp__solver *S = T->S;
-    uint32_t t, t1 = (c + 1) * BP__TRI_CHUNK < S->nt ? (c + 1) * BP__TRI_CHUNK : S->nt;
-    double bad = 0;
-    for (t = c * BP__TRI_CHUNK; t < t1 && !bad; t++) {
-        const uint32_t *tr = S->tri + 3 * (size_t)t;
-        if (bp_orient2d(T->x + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1], T->x + 2 * (size_t)tr[2]) <= 0) bad = 1;
-    }
-    S->part[c] = bad;
-}
-
-/* Exact validity of the chart at x: every triangle positive and, when the
-   barrier is on, no two boundary edges of any loops in conflict (the full
-   bp_check condition, on the chart's own loop lists).  Without the barrier
-   the map is only kept locally injective (fig 3.2, 3.3): its boundary is
-   allowed to run over itself.  (Loop orientation and nesting need no check
-   here: they cannot change along a path of valid maps.) */
-static bp_status bp__chart_valid(bp__solver *S, const double *x, bp__dedge *edges, int *valid)
-{
-    bp_check_report rep;
-    bp__eval_task T;
-    uint32_t L, k, n = 0, c;
-    bp_status st;
-    *valid = 0;
-    T.S = S;
-    T.x = x;
-    S->par.run(S->par.user, bp__orient_task, &T, S->nchunk_t);
-    for (c = 0; c < S->nchunk_t; c++) if (S->part[c] != 0) return BP_OK;
-    if (!S->barrier) { *valid = 1; return BP_OK; }   /* injective only: the boundary may overlap */
-    for (L = 0; L < S->nloops; L++) {
-        uint32_t s0 = S->loop_start[L], s1 = S->loop_start[L + 1];
-        for (k = s0; k < s1; k++) {
-            edges[n].a = S->loop_vertices[k];
-            edges[n].b = S->loop_vertices[k + 1 < s1 ? k + 1 : s0];
-            n++;
-        }
-    }
-    memset(&rep, 0, sizeof rep);
-    st = bp__boundary_conflicts(S->a, x, edges, n, &rep, &S->ws);
-    *valid = st == BP_OK && rep.boundary_intersections == 0;
-    return st;
 }
 
 /* >>lbfgs ==================================================================
@@ -4263,7 +4372,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     bp_allocator a = bp__allocator_of(opt);
     bp__solver S;
     bp_options o;
-    uint32_t t, i, nv2, nloop_v;
+    uint32_t t, i, nv2;
     int hist, it, small = 0, nh = 0, head = 0, gd_scale_set = 0;
     double *x = NULL, *g = NULL, *xn = NULL, *gn = NULL, *v = NULL, *sh = NULL, *yh = NULL, *rho = NULL, *alpha = NULL;
     double *rest_wxy = NULL, *pwork = NULL, *vpart = NULL;
@@ -4272,7 +4381,6 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     bp__par par;
     void *pool = NULL;
     int precond = !opt || opt->direction == BP_DIRECTION_PRECONDITIONED;
-    bp__dedge *edges = NULL;
     double f, ed, tlast = 1;
     bp_status st = BP_OK;
     double c0 = bp__seconds();
@@ -4297,7 +4405,6 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     if (!rest_wxy) { st = bp__oom(err, "optimizing a chart"); goto done; }
     if ((st = bp__solver_chart(&S, &a, ch, m, &o, rest_wxy, err)) != BP_OK) goto done;
     S.par = par;
-    nloop_v = S.nb;
     nv2 = 2 * S.nv;
     x = (double *)bp__alloc_array(&a, nv2, sizeof(double));
     g = (double *)bp__alloc_array(&a, nv2, sizeof(double));
@@ -4308,11 +4415,10 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     yh = (double *)bp__alloc_array(&a, (size_t)nv2 * (hist ? hist : 1), sizeof(double));
     rho = (double *)bp__alloc_array(&a, hist ? hist : 1, sizeof(double));
     alpha = (double *)bp__alloc_array(&a, hist ? hist : 1, sizeof(double));
-    edges = (bp__dedge *)bp__alloc_array(&a, nloop_v, sizeof(bp__dedge));
     pwork = (double *)bp__alloc_array(&a, 4 * (size_t)S.nv, sizeof(double));
     vpart = (double *)bp__alloc_array(&a, 2 * ((size_t)nv2 / BP__VEC_CHUNK + 1) + (size_t)S.nv / BP__QUAD_CHUNK + 1,
                                       sizeof(double));
-    if (!rest_wxy || !pwork || !vpart || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha || !edges) {
+    if (!rest_wxy || !pwork || !vpart || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha) {
         st = bp__oom(err, "optimizing a chart");
         goto done;
     }
@@ -4400,19 +4506,15 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
             gd_scale_set = 1;
         }
         /* (3) the singularity-aware bound, (4) the line search */
-        tmax = bp__step_bound(&S, x, v);
-        tt = (nh > 0) ? 1.0 : 2 * tlast;
-        if (tt > 0.9 * tmax) tt = 0.9 * tmax;
+        tt = (nh > 0) ? 1.0 : 2 * tlast;         /* the first step to try ... */
+        tmax = bp__step_bound(&S, x, v, tt / 0.9);
+        if (tmax < tt / 0.9 && tt > 0.9 * tmax) tt = 0.9 * tmax;   /* ... at most 0.9 tmax */
         for (tries = 0; tries < 60 && tt > 0; tries++, tt *= 0.5) {
             int valid;
             bp__vec_op(&par, vpart, nv2, xn, x, tt, v, NULL, NULL, NULL, NULL, NULL, NULL);
-            fn = bp__objective(&S, xn, gn, &edn);
-            if (S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
+            fn = bp__evaluate(&S, xn, gn, &edn, f + 1e-4 * tt * gv, &valid);  /* f, gradient, exact check */
+            if (S.oom) { st = bp__oom(err, "evaluating a step"); goto done; }
             if (!(fn <= f + 1e-4 * tt * gv)) continue;
-            if ((st = bp__chart_valid(&S, xn, edges, &valid)) != BP_OK) {
-                st = bp__oom(err, "checking a step");
-                goto done;
-            }
             if (!valid) continue;                 /* floating point was wrong: shrink */
             accepted = 1;
             break;
@@ -4474,7 +4576,7 @@ done:
     bp__solver_free(&S);
     bp__free(&a, x); bp__free(&a, g); bp__free(&a, xn); bp__free(&a, gn);
     bp__free(&a, v); bp__free(&a, sh); bp__free(&a, yh); bp__free(&a, rho); bp__free(&a, alpha);
-    bp__free(&a, edges); bp__free(&a, rest_wxy); bp__free(&a, pwork); bp__free(&a, vpart);
+    bp__free(&a, rest_wxy); bp__free(&a, pwork); bp__free(&a, vpart);
     bp__sparse_free(&a, &K);
     bp__factor_free(&a, &KF);
     bp__par_end(&a, pool);

@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <stdarg.h>
 #include <stdint.h>
+#include <string.h>
 
 static int bpt__passed = 0, bpt__failed = 0;
 
@@ -66,6 +67,21 @@ static inline void bpt_solver_free(bp__solver *S)
 {
     S->rest = NULL;           /* the test frees its rest shapes itself */
     bp__solver_free(S);
+}
+
+/* E_B alone at x (gradient added to g when given), as the solver's
+   evaluation computes it: the points into the hash, then the edge chunks,
+   then their sums and records in chunk order. */
+static inline double bpt_barrier(bp__solver *S, const double *x, double *g)
+{
+    bp__eval_task T;
+    memset(&T, 0, sizeof T);
+    T.S = S;
+    T.x = x;
+    T.g = g;
+    bp__hash_fill(S, x, NULL, 0);
+    S->par.run(S->par.user, bp__barrier_task, &T, S->nchunk_b);
+    return bp__barrier_finish(S, g);
 }
 #endif
 

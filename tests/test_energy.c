@@ -482,14 +482,14 @@ static void test_barrier_gradient(void)
                         if (d / eps < mind_rel) mind_rel = d / eps;
                     }
             }
-            f0 = bp__barrier(&S, x, g);
+            f0 = bpt_barrier(&S, x, g);
             {
                 double gmax = 0;
                 for (i = 0; i < 2 * N; i++) if (fabs(g[i]) > gmax) gmax = fabs(g[i]);
                 for (i = 0; i < 2 * N; i++) {
                     double save = x[i], fp, fm, fd, err;
-                    x[i] = save + h; fp = bp__barrier(&S, x, NULL);
-                    x[i] = save - h; fm = bp__barrier(&S, x, NULL);
+                    x[i] = save + h; fp = bpt_barrier(&S, x, NULL);
+                    x[i] = save - h; fm = bpt_barrier(&S, x, NULL);
                     x[i] = save;
                     fd = (fp - fm) / (2 * h);
                     err = fabs(fd - g[i]) / (gmax > 1 ? gmax : 1);
@@ -550,7 +550,7 @@ static void test_objective_on_chart(void)
         memcpy(x, ch->uv, nv2 * sizeof(double));
         f = bp__objective(&S, x, g, &ed);
         f2 = bp__objective(&S, x, NULL, &ed2);
-        eb = bp__barrier(&S, x, NULL);
+        eb = bpt_barrier(&S, x, NULL);
         BPT_CHECK(f == f2 && ed == ed2 && fabs(f - (ed + eb)) <= 1e-12 * f,
                   "bishop phase %d: objective value is E_D + E_B with or without the gradient (E_D %.6g, E_B %.6g)", phase,
                   ed, eb);

@@ -12,7 +12,7 @@
          item whose cells meet the query's cells and every item whose box
          overlaps the query box; each item once.  Also across the stamp
          wrap-around, and build refusing a too-small capacity.
-     (b) bp__barrier (hash) equals a brute-force O(n^2) sum written here
+     (b) E_B through the hash (bpt_barrier) equals a brute-force O(n^2) sum written here
          (each loop, each edge, each vertex of the same loop not on the edge,
          max(0, eps/dist - 1)^2) to 1e-12 relative, gradient included, on
          jittered polygons and on the 7 real loops of face_holes.off (start
@@ -189,8 +189,8 @@ static void compare_barrier(uint32_t nloops, const uint32_t *ls, const uint32_t 
     S.barrier = 1;
     S.eps = eps;
     bpt_solver_workspace(&S, S.nb);
-    f1 = bp__barrier(&S, x, g1);
-    f3 = bp__barrier(&S, x, NULL);
+    f1 = bpt_barrier(&S, x, g1);
+    f3 = bpt_barrier(&S, x, NULL);
     f2 = brute_barrier(nloops, ls, lv, x, eps, g2, &pairs);
     st->cases++;
     st->pairs += pairs;
@@ -250,9 +250,9 @@ static void test_barrier_polygons(void)
         for (e = 0; e < 6; e++) compare_barrier(nh ? 2 : 1, ls, lv, N, x, eps_list[e], &st);
         free(lv); free(x);
     }
-    BPT_CHECK(st.bad == 0, "bp__barrier (hash) == brute-force O(n^2) sum to 1e-12 on %d polygon/eps cases (eps 0.005 .. 20 "
+    BPT_CHECK(st.bad == 0, "E_B (hash) == brute-force O(n^2) sum to 1e-12 on %d polygon/eps cases (eps 0.005 .. 20 "
               "on unit-size loops, %d nonzero, %ld pairs inside eps), worst rel %.3g", st.cases, st.nonzero, st.pairs, st.worst);
-    BPT_CHECK(st.bad_g == 0, "bp__barrier gradient == brute-force gradient to 1e-12 of max |g| (worst %.3g)", st.worst_g);
+    BPT_CHECK(st.bad_g == 0, "E_B gradient (hash) == brute-force gradient to 1e-12 of max |g| (worst %.3g)", st.worst_g);
 }
 
 static void test_barrier_face_holes(void)
@@ -293,7 +293,7 @@ static void test_barrier_face_holes(void)
             compare_barrier(ch->num_loops, ch->loop_start, ch->loop_vertices, ch->num_vertices, ch->uv, mult[e] * mean, &st);
     }
     BPT_CHECK(st.bad == 0 && st.nonzero >= 8, "face_holes (7 loops, start and optimized maps, eps 0.25 .. 400 mean uv "
-              "boundary edges): bp__barrier == brute force to 1e-12 (%d cases, %d nonzero, %ld pairs inside eps, worst rel %.3g)",
+              "boundary edges): E_B (hash) == brute force to 1e-12 (%d cases, %d nonzero, %ld pairs inside eps, worst rel %.3g)",
               st.cases, st.nonzero, st.pairs, st.worst);
     BPT_CHECK(st.bad_g == 0, "face_holes: barrier gradient == brute force to 1e-12 of max |g| (worst %.3g)", st.worst_g);
     bp_atlas_free(&atlas);

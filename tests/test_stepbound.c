@@ -605,7 +605,7 @@ static void check_chart(const char *name, const bp_chart *ch, const bp_mesh *m, 
         double t_hash, t_brute, t_tri, t_hash_b, t_brute_b, cap, saved;
         uint32_t nt_save = S.nt;
         make_direction(d % 4, &S, ch->uv, v, size);
-        t_hash = bp__step_bound(&S, ch->uv, v);
+        t_hash = bp__step_bound(&S, ch->uv, v, HUGE_VAL);
         t_brute = brute_step_bound(&S, ch->uv, v, 1);
         st->cases++;
         if (t_hash == t_brute) st->equal++;
@@ -638,7 +638,7 @@ static void check_chart(const char *name, const bp_chart *ch, const bp_mesh *m, 
             if (want > vmax) { v[2 * interior] = want; st->shrunk++; }
             t_brute_b = brute_step_bound(&S, ch->uv, v, 0);
         }
-        t_hash_b = bp__step_bound(&S, ch->uv, v);
+        t_hash_b = bp__step_bound(&S, ch->uv, v, HUGE_VAL);
         S.nt = nt_save;
         {
             double vmax = 0;
