@@ -2161,23 +2161,25 @@ typedef struct bp__sparse {       /* n x n, compressed columns            */
 #define BP__ND_NODES 31                 /* 2^(depth+1) - 1 */
 typedef struct bp__ndnode { uint32_t lo, a, b, hi; int used, split; } bp__ndnode;
 
+/* L is stored once, by rows, each row sorted by column: the row k computed
+   by the up-looking step is exactly what is stored, and both triangular
+   solves read rows (forward by gathers, backward by scatters). */
 typedef struct bp__factor {
     uint32_t  n;
     int       symmetric;
     uint32_t *perm, *iperm;       /* new -> old, old -> new               */
-    uint32_t *Lp, *Li;            /* strictly lower L by columns          */
-    double   *Lx, *Ux, *D;        /* Ux: strictly upper U, stored as U^T  */
-    uint32_t *Rp, *Ri;            /* L by rows (built on demand)          */
-    float    *Lxf, *Rxf;          /* the preconditioner's L in single
-                                     precision, by columns and by rows    */
+    uint32_t *Rp, *Ri;            /* strictly lower L by rows             */
+    double   *Rx, *Ux, *D;        /* L(i,j) at row i, column j; Ux there:
+                                     U(j,i) (U^T by rows); D: diagonal of U */
+    float    *Rxf;                /* the preconditioner's L in single
+                                     precision (it reuses Rx's storage)   */
     bp__ndnode tree[BP__ND_NODES];
 } bp__factor;
 
 static void bp__factor_free(const bp_allocator *a, bp__factor *f)
 {
-    bp__free(a, f->perm); bp__free(a, f->iperm); bp__free(a, f->Lp);
-    bp__free(a, f->Li); bp__free(a, f->Lx); bp__free(a, f->Ux); bp__free(a, f->D);
-    bp__free(a, f->Rp); bp__free(a, f->Ri); bp__free(a, f->Lxf); bp__free(a, f->Rxf);
+    bp__free(a, f->perm); bp__free(a, f->iperm); bp__free(a, f->Rp); bp__free(a, f->Ri);
+    bp__free(a, f->Rx); bp__free(a, f->Ux); bp__free(a, f->D); bp__free(a, f->Rxf);
     memset(f, 0, sizeof *f);
 }
 
@@ -2271,10 +2273,24 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
         for (ca = 0; level[queue[ca]] < m; ca++) {}
         for (cs = 0; ca + cs < cnt && level[queue[ca + cs]] == m; cs++) {}
         cb = cnt - ca - cs;
-        /* queue is in level order: [A | S | B] -> order [A | B | S] */
+        /* queue is in level order: [A | S | B] -> order [A | B | S].  A
+           vertex of level m with no neighbour at level m + 1 separates
+           nothing: it joins A, and the separator (and the fill) shrinks */
         memcpy(order + lo, queue, ca * sizeof(uint32_t));
-        memcpy(order + lo + ca, queue + ca + cs, cb * sizeof(uint32_t));
-        memcpy(order + lo + ca + cb, queue + ca, cs * sizeof(uint32_t));
+        {
+            uint32_t s0 = ca, keep = 0, s, q2;
+            for (s = s0; s < s0 + cs; s++) {
+                uint32_t v = queue[s];
+                int needed = 0;
+                for (q2 = A->colp[v]; q2 < A->colp[v + 1] && !needed; q2++)
+                    needed = owner[A->row[q2]] == lo && level[A->row[q2]] == m + 1;
+                if (needed) queue[s0 + keep++] = v;
+                else order[lo + ca++] = v;
+            }
+            memcpy(order + lo + ca, queue + s0 + cs, cb * sizeof(uint32_t));
+            memcpy(order + lo + ca + cb, queue + s0, keep * sizeof(uint32_t));
+            cs = keep;
+        }
         for (j = lo + ca; j < lo + ca + cb; j++) owner[order[j]] = lo + ca;
         for (j = lo + ca + cb; j < hi; j++) owner[order[j]] = BP__NONE;
         if (node < BP__ND_NODES) { tree[node].split = 1; tree[node].a = lo + ca; tree[node].b = lo + ca + cb; }
@@ -2285,31 +2301,134 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
     return 1;
 }
 
-/* Factor A (symmetric pattern).  Returns BP_OK, BP_ERR_OUT_OF_MEMORY, or
-   BP_ERR_NUMERICAL with *bad_row set when a pivot is zero or not finite. */
-static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row)
+/* The nodes of the recorded top of the nested-dissection tree, in the order
+   the triangular solves and the factorization may take them: phase 0 holds
+   the subtrees that are handled whole (leaves of the recorded tree and the
+   nodes at its deepest level), phase p > 0 the split nodes at depth
+   BP__ND_DEPTH - p, whose separators [b, hi) wait for both children.  The
+   nodes of one phase cover disjoint ranges. */
+static int bp__nd_depth(uint32_t k)
 {
-    uint32_t n = A->n, k, p, top;
-    uint32_t *parent = NULL, *mark = NULL, *stack = NULL, *path = NULL, *fill = NULL, *tpos = NULL, *cursor = NULL;
+    int d = 0;
+    while (k > 0) { k = (k - 1) / 2; d++; }
+    return d;
+}
+
+static uint32_t bp__nd_phase(const bp__factor *F, int phase, uint32_t *nodes)
+{
+    uint32_t k, n = 0;
+    for (k = 0; k < BP__ND_NODES; k++) {
+        const bp__ndnode *N = &F->tree[k];
+        int d = bp__nd_depth(k);
+        if (!N->used) continue;
+        if (phase == 0 ? (!N->split || d == BP__ND_DEPTH) : (N->split && d == BP__ND_DEPTH - phase && d < BP__ND_DEPTH))
+            nodes[n++] = k;
+    }
+    return n;
+}
+
+/* The numeric rows of one phase: task k computes the rows of node
+   nodes[k] (the whole range in phase 0, the separator otherwise).  Row k
+   reaches only columns of its own node, so tasks of one phase share the
+   dense work arrays x, y without touching the same entries. */
+typedef struct bp__fact_task {
+    const bp__sparse *A;
+    bp__factor *F;
+    const uint32_t *tpos;
+    double *x, *y;
+    uint32_t nodes[BP__ND_NODES];
+    int phase;
+} bp__fact_task;
+
+static void bp__fact_rows(void *task, uint32_t t)
+{
+    bp__fact_task *T = (bp__fact_task *)task;
+    const bp__sparse *A = T->A;
+    bp__factor *F = T->F;
+    const bp__ndnode *N = &F->tree[T->nodes[t]];
+    double *x = T->x, *y = T->y;
+    int sym = A->symmetric;
+    uint32_t k, p, q, r;
+    for (k = T->phase == 0 ? N->lo : N->b; k < N->hi; k++) {
+        uint32_t old = F->perm[k];
+        double dk;
+        for (p = A->colp[old]; p < A->colp[old + 1]; p++) {       /* scatter A(0:k, k), A(k, 0:k) */
+            uint32_t i = F->iperm[A->row[p]];
+            if (i > k) continue;
+            x[i] = A->val[p];
+            if (!sym) y[i] = A->val[T->tpos[p]];
+        }
+        dk = x[k];
+        x[k] = 0;
+        y[k] = 0;
+        /* the pattern of row k in increasing order is a topological order:
+           every entry a row j needs lies in row j's own pattern, below j */
+        for (q = F->Rp[k]; q < F->Rp[k + 1]; q++) {
+            uint32_t j = F->Ri[q];
+            double u = x[j], l;
+            for (r = F->Rp[j]; r < F->Rp[j + 1]; r++) u -= F->Rx[r] * x[F->Ri[r]];
+            x[j] = u;                                    /* U(j,k) */
+            if (sym) l = u / F->D[j];
+            else {
+                double w = y[j];
+                for (r = F->Rp[j]; r < F->Rp[j + 1]; r++) w -= F->Ux[r] * y[F->Ri[r]];
+                l = w / F->D[j];
+                y[j] = l;                                /* L(k,j) */
+                F->Ux[q] = u;
+            }
+            F->Rx[q] = l;
+            dk -= l * u;
+        }
+        for (q = F->Rp[k]; q < F->Rp[k + 1]; q++) x[F->Ri[q]] = y[F->Ri[q]] = 0;
+        F->D[k] = dk;            /* checked by the caller, in row order */
+    }
+}
+
+/* The pattern of row k of L, its "row subtree": the nodes on the etree
+   paths from each j < k with A(j,k) != 0 up to k (exclusive), written to
+   out in no particular order; returns their count.  mark[] must not hold k
+   before the call (stamps of earlier rows are fine). */
+static uint32_t bp__row_subtree(const bp__sparse *A, const bp__factor *F, const uint32_t *parent, uint32_t *mark,
+                                uint32_t k, uint32_t *out)
+{
+    uint32_t old = F->perm[k], p, j, m = 0;
+    mark[k] = k;
+    for (p = A->colp[old]; p < A->colp[old + 1]; p++)
+        for (j = F->iperm[A->row[p]]; j < k && mark[j] != k; j = parent[j]) {
+            mark[j] = k;
+            out[m++] = j;
+        }
+    return m;
+}
+
+/* Factor A (symmetric pattern).  Returns BP_OK, BP_ERR_OUT_OF_MEMORY, or
+   BP_ERR_NUMERICAL with *bad_row set when a pivot is zero or not finite.
+   The numeric rows run in parallel phases along the dissection tree when
+   par is given; every row is computed by the same operations either way. */
+static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
+                               const bp__par *par)
+{
+    uint32_t n = A->n, k, p, i;
+    uint32_t *parent = NULL, *mark = NULL, *cnt = NULL, *tpos = NULL, *cursor = NULL, *Cp = NULL, *Ci = NULL;
+    uint32_t *reach = NULL;
     double *x = NULL, *y = NULL;
     bp_status st = BP_ERR_OUT_OF_MEMORY;
     size_t nnzL = 0;
+    bp__fact_task T;
+    int phase;
     memset(F, 0, sizeof *F);
     F->n = n;
     F->symmetric = A->symmetric;
     F->perm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
     F->iperm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    F->Lp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    F->Rp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
     F->D = (double *)bp__alloc_array(a, n, sizeof(double));
     parent = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
     mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    stack = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    path = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    fill = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    x = (double *)bp__calloc_array(a, n, sizeof(double));
-    y = (double *)bp__calloc_array(a, n, sizeof(double));
-    if (!F->perm || !F->iperm || !F->Lp || !F->D || !parent || !mark || !stack || !path || !fill || !x || !y)
-        goto done;
+    cnt = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    Cp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    reach = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    if (!F->perm || !F->iperm || !F->Rp || !F->D || !parent || !mark || !cnt || !Cp || !reach) goto done;
     if (!A->symmetric) {
         /* tpos[p]: position of the transposed entry (using sorted rows) */
         size_t nnz = A->colp[n];
@@ -2323,109 +2442,104 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
     if (!bp__nd_order(a, A, F->perm, F->tree)) goto done;
     for (k = 0; k < n; k++) F->iperm[F->perm[k]] = k;
 
-    /* elimination tree (path holds the "ancestor" links) */
+    /* elimination tree (mark holds the "ancestor" links) */
     for (k = 0; k < n; k++) {
         uint32_t old = F->perm[k];
         parent[k] = BP__NONE;
-        path[k] = BP__NONE;
+        mark[k] = BP__NONE;
         for (p = A->colp[old]; p < A->colp[old + 1]; p++) {
-            uint32_t i = F->iperm[A->row[p]];
-            while (i != BP__NONE && i < k) {
-                uint32_t next = path[i];
-                path[i] = k;
-                if (next == BP__NONE) { parent[i] = k; break; }
-                i = next;
+            uint32_t j = F->iperm[A->row[p]];
+            while (j != BP__NONE && j < k) {
+                uint32_t next = mark[j];
+                mark[j] = k;
+                if (next == BP__NONE) { parent[j] = k; break; }
+                j = next;
             }
         }
     }
-    /* column counts from the row subtrees */
-    for (k = 0; k < n; k++) { fill[k] = 0; mark[k] = BP__NONE; }
+    /* The pattern of row k is its row subtree (bp__row_subtree).  Counted
+       first (row and column counts), then listed by columns (each column
+       comes out sorted, as k increases), then transposed into rows (each
+       row sorted). */
+    for (k = 0; k <= n; k++) Cp[k] = 0;
+    for (k = 0; k < n; k++) mark[k] = BP__NONE;
     for (k = 0; k < n; k++) {
-        uint32_t old = F->perm[k];
-        mark[k] = k;
-        for (p = A->colp[old]; p < A->colp[old + 1]; p++) {
-            uint32_t i = F->iperm[A->row[p]];
-            for (; i < k && mark[i] != k; i = parent[i]) { fill[i]++; mark[i] = k; }
-        }
-    }
-    F->Lp[0] = 0;
-    for (k = 0; k < n; k++) {
-        nnzL += fill[k];
+        uint32_t m = bp__row_subtree(A, F, parent, mark, k, reach);
+        F->Rp[k] = (uint32_t)nnzL;
+        nnzL += m;
         if (nnzL > 0xfffffff0u) goto done;
-        F->Lp[k + 1] = (uint32_t)nnzL;
+        for (i = 0; i < m; i++) Cp[reach[i] + 1]++;
     }
-    F->Li = (uint32_t *)bp__alloc_array(a, nnzL, sizeof(uint32_t));
-    F->Lx = (double *)bp__alloc_array(a, nnzL, sizeof(double));
-    if (!A->symmetric) F->Ux = (double *)bp__alloc_array(a, nnzL, sizeof(double));
-    if (!F->Li || !F->Lx || (!A->symmetric && !F->Ux)) goto done;
+    F->Rp[n] = (uint32_t)nnzL;
+    for (k = 0; k < n; k++) Cp[k + 1] += Cp[k];
+    Ci = (uint32_t *)bp__alloc_array(a, nnzL, sizeof(uint32_t));
+    F->Ri = (uint32_t *)bp__alloc_array(a, nnzL, sizeof(uint32_t));
+    if (!Ci || !F->Ri) goto done;
+    for (k = 0; k < n; k++) { cnt[k] = Cp[k]; mark[k] = BP__NONE; }
+    for (k = 0; k < n; k++) {
+        uint32_t m = bp__row_subtree(A, F, parent, mark, k, reach);
+        for (i = 0; i < m; i++) Ci[cnt[reach[i]]++] = k;
+    }
+    for (k = 0; k < n; k++) cnt[k] = F->Rp[k];
+    for (i = 0; i < n; i++)
+        for (p = Cp[i]; p < Cp[i + 1]; p++) F->Ri[cnt[Ci[p]]++] = i;
+    bp__free(a, Ci);
+    Ci = NULL;
 
     /* numeric, one row k at a time */
-    for (k = 0; k < n; k++) { fill[k] = 0; mark[k] = BP__NONE; }
-    for (k = 0; k < n; k++) {
-        uint32_t old = F->perm[k];
-        double dk;
-        top = n;
-        mark[k] = k;
-        for (p = A->colp[old]; p < A->colp[old + 1]; p++) {
-            uint32_t i = F->iperm[A->row[p]], len = 0;
-            if (i > k) continue;
-            x[i] = A->val[p];                              /* A(i,k) */
-            if (!A->symmetric) y[i] = A->val[tpos[p]];     /* A(k,i) */
-            for (; i < k && mark[i] != k; i = parent[i]) { path[len++] = i; mark[i] = k; }
-            while (len) stack[--top] = path[--len];        /* topological order */
-        }
-        dk = x[k];
-        x[k] = 0;
-        y[k] = 0;
-        for (; top < n; top++) {
-            uint32_t j = stack[top], q;
-            double ujk = x[j], lkj;
-            x[j] = 0;
-            if (A->symmetric) lkj = ujk / F->D[j];
-            else { lkj = y[j] / F->D[j]; y[j] = 0; }
-            for (q = F->Lp[j]; q < F->Lp[j] + fill[j]; q++) {
-                x[F->Li[q]] -= F->Lx[q] * ujk;
-                if (!A->symmetric) y[F->Li[q]] -= F->Ux[q] * lkj;
-            }
-            dk -= lkj * ujk;
-            q = F->Lp[j] + fill[j]++;
-            F->Li[q] = k;
-            F->Lx[q] = lkj;
-            if (!A->symmetric) F->Ux[q] = ujk;
-        }
-        if (!(dk != 0) || !(dk - dk == 0)) {
-            *bad_row = old;
+    F->Rx = (double *)bp__alloc_array(a, nnzL, sizeof(double));
+    if (!A->symmetric) F->Ux = (double *)bp__alloc_array(a, nnzL, sizeof(double));
+    x = (double *)bp__calloc_array(a, n, sizeof(double));
+    y = (double *)bp__calloc_array(a, n, sizeof(double));
+    if (!F->Rx || (!A->symmetric && !F->Ux) || !x || !y) goto done;
+    T.A = A;
+    T.F = F;
+    T.tpos = tpos;
+    T.x = x;
+    T.y = y;
+    for (phase = 0; phase <= BP__ND_DEPTH; phase++) {
+        uint32_t cntn = bp__nd_phase(F, phase, T.nodes);
+        T.phase = phase;
+        if (par) par->run(par->user, bp__fact_rows, &T, cntn);
+        else bp__serial_for(NULL, bp__fact_rows, &T, cntn);
+    }
+    for (k = 0; k < n; k++)
+        if (!(F->D[k] != 0) || !(F->D[k] - F->D[k] == 0)) {
+            *bad_row = F->perm[k];
             st = BP_ERR_NUMERICAL;
             goto done;
         }
-        F->D[k] = dk;
-    }
     st = BP_OK;
 done:
-    bp__free(a, parent); bp__free(a, mark); bp__free(a, stack); bp__free(a, path);
-    bp__free(a, fill); bp__free(a, x); bp__free(a, y); bp__free(a, tpos); bp__free(a, cursor);
+    bp__free(a, parent); bp__free(a, mark); bp__free(a, cnt); bp__free(a, Cp); bp__free(a, Ci); bp__free(a, reach);
+    bp__free(a, x); bp__free(a, y); bp__free(a, tpos); bp__free(a, cursor);
     if (st != BP_OK) bp__factor_free(a, F);
     return st;
 }
 
-/* x = A^-1 b through the factors; z is workspace of size n. */
+/* x = A^-1 b through the factors; z is workspace of size n.  Forward
+   L z = b by rows (gathers); backward U x = z by rows of U^T (scatters:
+   x_i is final once every later row has been subtracted). */
 static void bp__factor_solve(const bp__factor *F, const double *b, double *x, double *z)
 {
-    uint32_t n = F->n, j, q;
-    for (j = 0; j < n; j++) z[j] = b[F->perm[j]];
-    for (j = 0; j < n; j++)                          /* L z = b (unit) */
-        for (q = F->Lp[j]; q < F->Lp[j + 1]; q++) z[F->Li[q]] -= F->Lx[q] * z[j];
-    for (j = n; j-- > 0;) {                           /* U x = z        */
-        double s = 0;
-        if (F->symmetric) {
-            for (q = F->Lp[j]; q < F->Lp[j + 1]; q++) s += F->Lx[q] * z[F->Li[q]];
-            z[j] = z[j] / F->D[j] - s;
-        } else {
-            for (q = F->Lp[j]; q < F->Lp[j + 1]; q++) s += F->Ux[q] * z[F->Li[q]];
-            z[j] = (z[j] - s) / F->D[j];
+    uint32_t n = F->n, i, q;
+    for (i = 0; i < n; i++) z[i] = b[F->perm[i]];
+    for (i = 0; i < n; i++) {                        /* L z = b (unit)   */
+        double s = z[i];
+        for (q = F->Rp[i]; q < F->Rp[i + 1]; q++) s -= F->Rx[q] * z[F->Ri[q]];
+        z[i] = s;
+    }
+    if (F->symmetric) {                              /* D L^T x = z      */
+        for (i = 0; i < n; i++) z[i] /= F->D[i];
+        for (i = n; i-- > 0;)
+            for (q = F->Rp[i]; q < F->Rp[i + 1]; q++) z[F->Ri[q]] -= F->Rx[q] * z[i];
+    } else {                                         /* U x = z          */
+        for (i = n; i-- > 0;) {
+            z[i] /= F->D[i];
+            for (q = F->Rp[i]; q < F->Rp[i + 1]; q++) z[F->Ri[q]] -= F->Ux[q] * z[i];
         }
     }
-    for (j = 0; j < n; j++) x[F->perm[j]] = z[j];
+    for (i = 0; i < n; i++) x[F->perm[i]] = z[i];
 }
 
 /* Solve with one step of iterative refinement: x += A^-1 (b - A x).
@@ -2443,69 +2557,77 @@ static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const do
     for (j = 0; j < A->n; j++) x[j] += d[j];
 }
 
-/* For the preconditioner: L in single precision, by columns (backward
-   solve) and by rows (forward solve by gathers: each row i sums L(i, j) z(j)
-   in increasing j, whatever the schedule).  A preconditioner only shapes the
-   search direction, so float coefficients (with double arithmetic) serve as
-   well and halve the factor's memory, which is the solver's peak.  The
-   double column copy is dropped before the row copy is made. */
-static int bp__factor_rows(const bp_allocator *a, bp__factor *F)
+/* For the preconditioner: L in single precision.  A preconditioner only
+   shapes the search direction, so float coefficients (with double
+   arithmetic) serve as well, and they halve the memory the solves stream
+   through.  The factorization itself needs double (the regularized
+   Laplacian's last pivot is 1e-8 of its diagonal), so the conversion
+   happens afterwards, in place: float p goes to bytes [4p, 4p + 4) of the
+   double array, which only overlap doubles already read.  The bytes are
+   moved with memcpy, which is exact about aliasing. */
+static void bp__factor_single(bp__factor *F)
 {
-    uint32_t n = F->n, j, p;
-    uint32_t *cur;
-    F->Lxf = (float *)bp__alloc_array(a, F->Lp[n], sizeof(float));
-    if (!F->Lxf) return 0;
-    for (p = 0; p < F->Lp[n]; p++) F->Lxf[p] = (float)F->Lx[p];
-    bp__free(a, F->Lx);
-    F->Lx = NULL;
-    F->Rp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    F->Ri = (uint32_t *)bp__alloc_array(a, F->Lp[n], sizeof(uint32_t));
-    F->Rxf = (float *)bp__alloc_array(a, F->Lp[n], sizeof(float));
-    cur = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    if (!F->Rp || !F->Ri || !F->Rxf || !cur) { bp__free(a, cur); return 0; }
-    for (p = 0; p < F->Lp[n]; p++) F->Rp[F->Li[p] + 1]++;
-    for (j = 0; j < n; j++) F->Rp[j + 1] += F->Rp[j];
-    for (j = 0; j < n; j++) cur[j] = F->Rp[j];
-    for (j = 0; j < n; j++)                       /* columns in order: rows sorted */
-        for (p = F->Lp[j]; p < F->Lp[j + 1]; p++) {
-            F->Ri[cur[F->Li[p]]] = j;
-            F->Rxf[cur[F->Li[p]]++] = F->Lxf[p];
-        }
-    bp__free(a, cur);
-    return 1;
+    size_t p, nnz = F->Rp[F->n];
+    unsigned char *buf = (unsigned char *)F->Rx;
+    for (p = 0; p < nnz; p++) {
+        double d;
+        float f;
+        memcpy(&d, buf + sizeof d * p, sizeof d);
+        f = (float)d;
+        memcpy(buf + sizeof f * p, &f, sizeof f);
+    }
+    F->Rxf = (float *)(void *)buf;
+    F->Rx = NULL;
 }
 
 /* The preconditioner solve r = K^-1 q for both coordinates at once (q, r
-   interleaved xy).  z (2n doubles, permuted order) is shared by the tasks;
-   each task owns a range of rows.  Forward: L z = q by rows; backward:
-   D L^T r = z by columns; both are gathers, so each entry is computed by
-   the same operations in the same order on any schedule.  A task also
-   moves its own rows between the old and the permuted order: it reads
-   q[perm[i]] into z[i] before its first pass over row i (forward) and
-   writes r[perm[i]] when row i is final (backward), so no serial loop
-   surrounds the solve.  (r may be q: every read of q ends before the
-   backward solve begins.)
+   interleaved xy), in phases along the dissection tree.  z (x then y, n
+   doubles each, permuted order) and acc (the same: running sums) are
+   shared by the tasks, with the coordinates apart so that the two tasks of
+   a per-coordinate pass never write the same cache line; each
+   task owns a range of rows, and moves its rows between the old and the
+   permuted order itself (q[perm[i]] into z[i] before row i's first pass,
+   r[perm[i]] out when row i is final), so no serial loop surrounds the
+   solve.  (r may be q: every read of q ends before the backward solve.)
 
-   A separator's rows depend on each other only through the small block of
-   L inside the separator; most of each row's entries lie in the subtrees
-   below (forward) or in the separators above (backward), which are already
-   solved.  So a separator is done in two passes: a parallel one over its
-   rows that sums the entries outside the separator (in the row's own
-   order), and a sequential one that carries each running sum on through
-   the separator block.  The sums are the same, term by term, as one loop.
-   The sequential pass is the only serial work of the top separator, and
-   the two coordinates are independent in it, so it runs as two tasks, one
-   per coordinate, each with exactly the arithmetic of the joint loop. */
+   Forward, L z = q, by rows: z_i -= sum_j L(i,j) z_j, a gather, bottom-up
+   (leaves first, the top separator last).  A separator's rows depend on
+   each other only through the small block of L inside the separator; most
+   of each row's entries lie in the subtrees below, which are solved.  So a
+   separator takes two passes: a parallel one over its rows that sums the
+   entries outside the separator, and a sequential one that carries each
+   running sum on through the separator block.
+
+   Backward, D L^T x = z, by rows again but as a scatter, top-down: once
+   x_i = z_i / D_i - acc_i is final, row i adds L(i,j) x_i to acc_j of
+   every j in it.  Again a separator takes two passes: a sequential one
+   through its own block, which finishes its x, and a parallel one that
+   scatters its rows into the columns below, cut into column ranges.
+
+   Every sum is taken in an order fixed by the factor alone (a row's
+   entries in column order forward; the rows in decreasing order backward),
+   so the bits do not depend on the schedule.  The sequential passes are
+   the only serial work of the top separator, and the two coordinates are
+   independent in them, so they run as two tasks, one per coordinate. */
 typedef struct bp__solve_task {
     const bp__factor *F;
     const double *q;                    /* right-hand side, old order       */
     double *r;                          /* result, old order                */
-    double *z, *part;                   /* part: 2 per row, running sums   */
-    uint32_t ranges[2 * 160];           /* [lo, hi) per task of a phase    */
-    uint32_t split[160];                /* separator: its node's b or hi   */
-    int backward, mode;                 /* 0 whole rows, 1 outside part, 2 finish */
+    double *z, *acc;                    /* 2n each: x block, then y block   */
+    uint32_t lo[160], hi[160];          /* rows (or columns) of each task   */
+    uint32_t b[160], top[160];          /* its separator [b, top)           */
+    int mode;                           /* see bp__solve_range              */
     int per_coord;                      /* task k: range k/2, coordinate k%2 */
 } bp__solve_task;
+
+enum {
+    BP__FWD_WHOLE,      /* forward, rows [lo, hi) complete                   */
+    BP__FWD_OUTSIDE,    /* forward pass 1: the entries in columns < b        */
+    BP__FWD_FINISH,     /* forward pass 2: the rest, after pass 1            */
+    BP__BWD_WHOLE,      /* backward, rows [lo, hi) complete                  */
+    BP__BWD_BLOCK,      /* backward pass 1: x of [lo, hi), scattered >= lo    */
+    BP__BWD_BELOW       /* backward pass 2: rows [b, top) into columns [lo, hi) */
+};
 
 /* The first position in idx[p0, p1) (sorted) holding a value >= cut. */
 static uint32_t bp__lower_bound(const uint32_t *idx, uint32_t p0, uint32_t p1, uint32_t cut)
@@ -2521,159 +2643,147 @@ static void bp__solve_range(void *task, uint32_t k)
 {
     bp__solve_task *T = (bp__solve_task *)task;
     const bp__factor *F = T->F;
-    double *z = T->z, *part = T->part;
-    uint32_t r = T->per_coord ? k >> 1 : k, lo = T->ranges[2 * r], hi = T->ranges[2 * r + 1], i, p;
-    uint32_t cut = T->split[r], c = T->per_coord ? (k & 1) : 0;       /* single coordinate c */
+    const float *Lx = F->Rxf;
+    const uint32_t *Ri = F->Ri;
+    size_t n = F->n;
+    uint32_t r = T->per_coord ? k >> 1 : k, lo = T->lo[r], hi = T->hi[r], cut = T->b[r], i, p;
+    uint32_t c = T->per_coord ? (k & 1) : 0;          /* the (first) coordinate */
     int both = !T->per_coord, mode = T->mode;
-    if (!T->backward) {
-        if (mode != 2)                            /* the rows' first pass: fetch q */
+    double *zx = T->z + c * n, *zy = T->z + n, *ax = T->acc + c * n, *ay = T->acc + n;
+    if (mode <= BP__FWD_FINISH) {
+        if (mode != BP__FWD_FINISH)                       /* the rows' first pass: fetch q */
             for (i = lo; i < hi; i++) {
-                z[2 * (size_t)i + c] = T->q[2 * (size_t)F->perm[i] + c];
-                if (both) z[2 * (size_t)i + 1] = T->q[2 * (size_t)F->perm[i] + 1];
+                zx[i] = T->q[2 * (size_t)F->perm[i] + c];
+                if (both) zy[i] = T->q[2 * (size_t)F->perm[i] + 1];
             }
         for (i = lo; i < hi; i++) {
             double sx = 0, sy = 0;
             uint32_t p0 = F->Rp[i], p1 = F->Rp[i + 1];
-            if (mode == 2) {                      /* continue after pass 1's part */
-                sx = part[2 * (size_t)i + c];
-                sy = part[2 * (size_t)i + 1];
-                p0 = bp__lower_bound(F->Ri, p0, p1, cut);
-            } else if (mode == 1) {
-                p1 = bp__lower_bound(F->Ri, p0, p1, cut);
+            if (mode == BP__FWD_FINISH) {                 /* continue pass 1's sums */
+                sx = ax[i];
+                if (both) sy = ay[i];
+                p0 = bp__lower_bound(Ri, p0, p1, cut);
+            } else if (mode == BP__FWD_OUTSIDE) {
+                p1 = bp__lower_bound(Ri, p0, p1, cut);
             }
             if (both)
                 for (p = p0; p < p1; p++) {
-                    sx += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p]];
-                    sy += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p] + 1];
+                    sx += (double)Lx[p] * zx[Ri[p]];
+                    sy += (double)Lx[p] * zy[Ri[p]];
                 }
             else
-                for (p = p0; p < p1; p++) sx += (double)F->Rxf[p] * z[2 * (size_t)F->Ri[p] + c];
-            if (mode == 1) {
-                part[2 * (size_t)i + c] = sx;
-                if (both) part[2 * (size_t)i + 1] = sy;
-            } else {
-                z[2 * (size_t)i + c] -= sx;
-                if (both) z[2 * (size_t)i + 1] -= sy;
+                for (p = p0; p < p1; p++) sx += (double)Lx[p] * zx[Ri[p]];
+            if (mode == BP__FWD_OUTSIDE) {
+                ax[i] = sx;
+                if (both) ay[i] = sy;
+            } else {                                      /* final; acc starts the backward sums */
+                zx[i] -= sx;
+                ax[i] = 0;
+                if (both) { zy[i] -= sy; ay[i] = 0; }
             }
+        }
+    } else if (mode != BP__BWD_BELOW) {
+        for (i = hi; i-- > lo;) {
+            double xx = zx[i] / F->D[i] - ax[i], xy = 0;
+            uint32_t p0 = F->Rp[i], p1 = F->Rp[i + 1];
+            zx[i] = xx;
+            T->r[2 * (size_t)F->perm[i] + c] = xx;
+            if (both) {
+                xy = zy[i] / F->D[i] - ay[i];
+                zy[i] = xy;
+                T->r[2 * (size_t)F->perm[i] + 1] = xy;
+            }
+            if (mode == BP__BWD_BLOCK) p0 = bp__lower_bound(Ri, p0, p1, lo);
+            if (both)
+                for (p = p0; p < p1; p++) {
+                    ax[Ri[p]] += (double)Lx[p] * xx;
+                    ay[Ri[p]] += (double)Lx[p] * xy;
+                }
+            else
+                for (p = p0; p < p1; p++) ax[Ri[p]] += (double)Lx[p] * xx;
         }
     } else {
-        /* columns are walked from the bottom row up: rows of the separators
-           above first, then the rows inside this range */
-        for (i = hi; i-- > lo;) {
-            double sx = 0, sy = 0;
-            uint32_t p0 = F->Lp[i], p1 = F->Lp[i + 1];
-            if (mode == 2) {
-                sx = part[2 * (size_t)i + c];
-                sy = part[2 * (size_t)i + 1];
-                p1 = bp__lower_bound(F->Li, p0, p1, cut);
-            } else if (mode == 1) {
-                p0 = bp__lower_bound(F->Li, p0, p1, cut);
-            }
-            if (both)
-                for (p = p1; p > p0; p--) {
-                    sx += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1]];
-                    sy += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1] + 1];
-                }
-            else
-                for (p = p1; p > p0; p--) sx += (double)F->Lxf[p - 1] * z[2 * (size_t)F->Li[p - 1] + c];
-            if (mode == 1) {
-                part[2 * (size_t)i + c] = sx;
-                if (both) part[2 * (size_t)i + 1] = sy;
-                continue;
-            }
-            z[2 * (size_t)i + c] = z[2 * (size_t)i + c] / F->D[i] - sx;
-            T->r[2 * (size_t)F->perm[i] + c] = z[2 * (size_t)i + c];
-            if (both) {
-                z[2 * (size_t)i + 1] = z[2 * (size_t)i + 1] / F->D[i] - sy;
-                T->r[2 * (size_t)F->perm[i] + 1] = z[2 * (size_t)i + 1];
+        /* rows [b, top) of a separator, already final, into columns [lo, hi) */
+        for (i = T->top[r]; i-- > cut;) {
+            double xx = zx[i], xy = zy[i];
+            uint32_t p0 = bp__lower_bound(Ri, F->Rp[i], F->Rp[i + 1], lo);
+            uint32_t p1 = bp__lower_bound(Ri, p0, F->Rp[i + 1], hi);
+            for (p = p0; p < p1; p++) {
+                ax[Ri[p]] += (double)Lx[p] * xx;
+                ay[Ri[p]] += (double)Lx[p] * xy;
             }
         }
     }
 }
 
-static int bp__nd_depth(uint32_t k)
+/* One parallel loop of the solve over n tasks described in T. */
+static void bp__solve_run(bp__solve_task *T, const bp__par *par, int mode, int per_coord, uint32_t n)
 {
-    int d = 0;
-    while (k > 0) { k = (k - 1) / 2; d++; }
-    return d;
-}
-
-/* Phase 0 holds the subtrees that are solved whole (leaves of the recorded
-   tree and the nodes at its deepest level); phase p > 0 the separators of
-   the split nodes at depth BP__ND_DEPTH - p, with split[] = the column (or
-   row) where the separator's own block begins (forward) or ends (backward). */
-static uint32_t bp__solve_phase(const bp__factor *F, int phase, int backward, uint32_t *ranges, uint32_t *split)
-{
-    uint32_t k, n = 0;
-    for (k = 0; k < BP__ND_NODES; k++) {
-        const bp__ndnode *N = &F->tree[k];
-        int d = bp__nd_depth(k);
-        if (!N->used) continue;
-        if (phase == 0 && (!N->split || d == BP__ND_DEPTH)) {
-            ranges[2 * n] = N->lo; ranges[2 * n + 1] = N->hi; split[n] = 0; n++;
-        } else if (phase > 0 && N->split && d == BP__ND_DEPTH - phase && d < BP__ND_DEPTH) {
-            ranges[2 * n] = N->b; ranges[2 * n + 1] = N->hi; split[n] = backward ? N->hi : N->b; n++;
-        }
-    }
-    return n;
-}
-
-/* Pass 1 over separator rows: their ranges cut into chunks of 64 rows. */
-static uint32_t bp__solve_chunks(const uint32_t *ranges, const uint32_t *split, uint32_t nr, uint32_t *cr,
-                                 uint32_t *cs, uint32_t cap)
-{
-    uint32_t k, n = 0, lo;
-    for (k = 0; k < nr; k++)
-        for (lo = ranges[2 * k]; lo < ranges[2 * k + 1]; lo += 64) {
-            if (n == cap) return 0;
-            cr[2 * n] = lo;
-            cr[2 * n + 1] = lo + 64 < ranges[2 * k + 1] ? lo + 64 : ranges[2 * k + 1];
-            cs[n++] = split[k];
-        }
-    return n;
-}
-
-static void bp__solve_phases(bp__solve_task *T, const bp__par *par, int backward)
-{
-    const bp__factor *F = T->F;
-    uint32_t ranges[2 * BP__ND_NODES], split[BP__ND_NODES], cnt, nc;
-    int phase, step = backward ? -1 : 1;
-    T->backward = backward;
-    for (phase = backward ? BP__ND_DEPTH : 0; phase >= 0 && phase <= BP__ND_DEPTH; phase += step) {
-        if ((cnt = bp__solve_phase(F, phase, backward, ranges, split)) == 0) continue;
-        T->per_coord = 0;
-        if (phase == 0) {
-            memcpy(T->ranges, ranges, 2 * cnt * sizeof(uint32_t));
-            memcpy(T->split, split, cnt * sizeof(uint32_t));
-            T->mode = 0;
-            par->run(par->user, bp__solve_range, T, cnt);
-            continue;
-        }
-        nc = bp__solve_chunks(ranges, split, cnt, T->ranges, T->split, 160);
-        if (nc) {                                   /* pass 1: outside parts, in parallel */
-            T->mode = 1;
-            par->run(par->user, bp__solve_range, T, nc);
-            T->mode = 2;
-        } else {
-            T->mode = 0;                            /* too many chunks: one pass */
-        }
-        memcpy(T->ranges, ranges, 2 * cnt * sizeof(uint32_t));
-        memcpy(T->split, split, cnt * sizeof(uint32_t));
-        T->per_coord = 1;                           /* pass 2: a task per separator and coordinate */
-        par->run(par->user, bp__solve_range, T, 2 * cnt);
-    }
+    T->mode = mode;
+    T->per_coord = per_coord;
+    par->run(par->user, bp__solve_range, T, per_coord ? 2 * n : n);
 }
 
 static void bp__precondition(const bp__factor *F, const bp__par *par, const double *q, double *r, double *z)
 {
     bp__solve_task T;
+    uint32_t nodes[BP__ND_NODES], cnt, k, n, lo;
+    int phase;
     T.F = F;
     T.q = q;
     T.r = r;
     T.z = z;
-    T.part = z + 2 * (size_t)F->n;              /* z has 4n doubles */
-    bp__solve_phases(&T, par, 0);
-    bp__solve_phases(&T, par, 1);
+    T.acc = z + 2 * (size_t)F->n;               /* z has 4n doubles */
+    /* forward, bottom-up */
+    for (phase = 0; phase <= BP__ND_DEPTH; phase++) {
+        if ((cnt = bp__nd_phase(F, phase, nodes)) == 0) continue;
+        if (phase == 0) {
+            for (k = 0; k < cnt; k++) { T.lo[k] = F->tree[nodes[k]].lo; T.hi[k] = F->tree[nodes[k]].hi; T.b[k] = 0; }
+            bp__solve_run(&T, par, BP__FWD_WHOLE, 0, cnt);
+            continue;
+        }
+        n = 0;                                   /* pass 1: separator rows in chunks of 64 */
+        for (k = 0; k < cnt; k++)
+            for (lo = F->tree[nodes[k]].b; lo < F->tree[nodes[k]].hi && n < 160; lo += 64, n++) {
+                T.lo[n] = lo;
+                T.hi[n] = lo + 64 < F->tree[nodes[k]].hi ? lo + 64 : F->tree[nodes[k]].hi;
+                T.b[n] = F->tree[nodes[k]].b;
+            }
+        if (n < 160) bp__solve_run(&T, par, BP__FWD_OUTSIDE, 0, n);
+        for (k = 0; k < cnt; k++) { T.lo[k] = F->tree[nodes[k]].b; T.hi[k] = F->tree[nodes[k]].hi; T.b[k] = T.lo[k]; }
+        /* pass 2, or the only pass when the chunks were too many */
+        bp__solve_run(&T, par, n < 160 ? BP__FWD_FINISH : BP__FWD_WHOLE, 1, cnt);
+    }
+    /* backward, top-down */
+    for (phase = BP__ND_DEPTH; phase >= 0; phase--) {
+        if ((cnt = bp__nd_phase(F, phase, nodes)) == 0) continue;
+        if (phase == 0) {
+            for (k = 0; k < cnt; k++) { T.lo[k] = F->tree[nodes[k]].lo; T.hi[k] = F->tree[nodes[k]].hi; }
+            bp__solve_run(&T, par, BP__BWD_WHOLE, 0, cnt);
+            continue;
+        }
+        for (k = 0; k < cnt; k++) { T.lo[k] = F->tree[nodes[k]].b; T.hi[k] = F->tree[nodes[k]].hi; }
+        bp__solve_run(&T, par, BP__BWD_BLOCK, 1, cnt);
+        /* pass 2: the columns below, cut along the tree: each child's two
+           children and separator (the separators below hold most entries) */
+        n = 0;
+        for (k = 0; k < cnt; k++) {
+            const bp__ndnode *N = &F->tree[nodes[k]];
+            uint32_t ch, cut3[4], j;
+            for (ch = 2 * nodes[k] + 1; ch <= 2 * nodes[k] + 2; ch++) {
+                const bp__ndnode *C = &F->tree[ch];
+                cut3[0] = ch == 2 * nodes[k] + 1 ? N->lo : N->a;
+                cut3[3] = ch == 2 * nodes[k] + 1 ? N->a : N->b;
+                cut3[1] = cut3[2] = cut3[3];
+                if (C->used && C->split && C->lo == cut3[0] && C->hi == cut3[3]) { cut3[1] = C->a; cut3[2] = C->b; }
+                for (j = 0; j < 3; j++)
+                    if (cut3[j + 1] > cut3[j]) {
+                        T.lo[n] = cut3[j]; T.hi[n] = cut3[j + 1]; T.b[n] = N->b; T.top[n++] = N->hi;
+                    }
+            }
+        }
+        bp__solve_run(&T, par, BP__BWD_BELOW, 0, n);
+    }
 }
 
 /* >>check ==================================================================
@@ -3228,7 +3338,7 @@ BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *
             for (p = A.colp[cj]; p < nnz; p++) if (A.row[p] == cj) A.val[p] = diag;
         }
         A.colp[nfree] = nnz;
-        st = bp__factorize(&a, &A, &F, &bad);
+        st = bp__factorize(&a, &A, &F, &bad, NULL);
         if (st == BP_ERR_NUMERICAL) {
             uint32_t bv = 0;
             for (i = 0; i < nv; i++) if (idx[i] == bad) bv = ch->vertex[i];
@@ -4233,8 +4343,8 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
     K->symmetric = 1;
     if (!bp__sparse_from_triplets(a, S->nv, t, n, K)) { bp__free(a, t); return BP_ERR_OUT_OF_MEMORY; }
     bp__free(a, t);
-    st = bp__factorize(a, K, F, &bad);
-    if (st == BP_OK && !bp__factor_rows(a, F)) st = BP_ERR_OUT_OF_MEMORY;
+    st = bp__factorize(a, K, F, &bad, &S->par);
+    if (st == BP_OK) bp__factor_single(F);
     return st;
 }
 
@@ -4405,6 +4515,16 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     if (!rest_wxy) { st = bp__oom(err, "optimizing a chart"); goto done; }
     if ((st = bp__solver_chart(&S, &a, ch, m, &o, rest_wxy, err)) != BP_OK) goto done;
     S.par = par;
+    /* the preconditioner first: its factorization is the memory peak, and
+       the flattened rest triangles are not needed after it */
+    if (precond && (st = bp__laplacian(&a, &S, rest_wxy, &K, &KF)) != BP_OK) {
+        if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "factoring the preconditioner");
+        else st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
+                           "chart %u: the Laplacian preconditioner could not be factored", chart_index);
+        goto done;
+    }
+    bp__free(&a, rest_wxy);
+    rest_wxy = NULL;
     nv2 = 2 * S.nv;
     x = (double *)bp__alloc_array(&a, nv2, sizeof(double));
     g = (double *)bp__alloc_array(&a, nv2, sizeof(double));
@@ -4418,14 +4538,8 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     pwork = (double *)bp__alloc_array(&a, 4 * (size_t)S.nv, sizeof(double));
     vpart = (double *)bp__alloc_array(&a, 2 * ((size_t)nv2 / BP__VEC_CHUNK + 1) + (size_t)S.nv / BP__QUAD_CHUNK + 1,
                                       sizeof(double));
-    if (!rest_wxy || !pwork || !vpart || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha) {
+    if (!pwork || !vpart || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha) {
         st = bp__oom(err, "optimizing a chart");
-        goto done;
-    }
-    if (precond && (st = bp__laplacian(&a, &S, rest_wxy, &K, &KF)) != BP_OK) {
-        if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "factoring the preconditioner");
-        else st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
-                           "chart %u: the Laplacian preconditioner could not be factored", chart_index);
         goto done;
     }
     memcpy(x, ch->uv, nv2 * sizeof(double));

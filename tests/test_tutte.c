@@ -13,7 +13,12 @@
        circle of the chart's area in counter-clockwise order, spaced by 3D
        arc length, and every interior vertex at the weighted mean of its
        neighbours (the linear system really solved).  The larger meshes of
-       ../shared/meshes are included when present. */
+       ../shared/meshes are included when present.
+   (c) The preconditioner of the optimizer (the rest-shape Laplacian of a
+       real chart, factored and solved in phases along the dissection tree):
+       the factor and the solve give the same bits under three task orders
+       (serial, backwards, odd then even), the single-precision solve agrees
+       with the double one, and the double one solves K r = q. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -99,7 +104,7 @@ static void test_solver(int w, int h, int symmetric, double *worst_err, double *
     for (i = 0; i < n; i++) b[i] = xd[i] = rng_unit() - 0.5;
     memcpy(copy, dense, (size_t)n * n * sizeof(double));
     dense_solve(n, copy, xd);
-    if (bp__factorize(&a, &A, &F, &bad) == BP_OK) {
+    if (bp__factorize(&a, &A, &F, &bad, NULL) == BP_OK) {
         double err = 0, res = 0, scale = 0;
         seen = (uint32_t *)calloc(n, sizeof(uint32_t));
         for (i = 0; i < n; i++) if (F.perm[i] < (uint32_t)n) seen[F.perm[i]]++;
@@ -196,6 +201,103 @@ static int check_start(const bp_mesh *m, bp_chart *ch, int mvc, const char *name
     return bad;
 }
 
+/* Task orders that a thread pool could produce. */
+static void backwards_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+{
+    (void)user;
+    while (count--) fn(task, count);
+}
+
+static void odd_even_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+{
+    uint32_t i;
+    (void)user;
+    for (i = 1; i < count; i += 2) fn(task, i);
+    for (i = 0; i < count; i += 2) fn(task, i);
+}
+
+static void check_precondition(const char *path)
+{
+    static const bp_parallel_for_fn orders[3] = { bp__serial_for, backwards_for, odd_even_for };
+    bp_mesh m;
+    bp_atlas at;
+    bp_error e;
+    bp_options o;
+    bp_allocator a = bp__allocator_of(NULL);
+    bp__solver S;
+    bp__sparse K[3];
+    bp__factor F[3], Fd;
+    double *rw, *q, *r[3], *z, *rd, *col, *work, mean[2] = { 0, 0 }, err = 0, big = 0, res = 0, qmax = 0;
+    uint32_t c, best = 0, n, i, j, p, bad;
+    int k, same_factor = 1, same_solve = 1, nodes;
+    FILE *f = fopen(path, "rb");
+    if (!f) { printf("skip %s (not present)\n", path); return; }
+    fclose(f);
+    memset(&o, 0, sizeof o);
+    if (!BPT_CHECK(bp_read_mesh(path, &m, NULL, &e) == BP_OK, "%s: read: %s", path, e.message)) return;
+    if (!BPT_CHECK(bp_atlas_build(&at, &m, &o, &e) == BP_OK, "%s: charts: %s", path, e.message)) {
+        bp_mesh_free(&m, NULL);
+        return;
+    }
+    for (c = 0; c < at.num_charts; c++) if (at.charts[c].num_triangles > at.charts[best].num_triangles) best = c;
+    rw = (double *)malloc(3 * sizeof(double) * at.charts[best].num_triangles);
+    bp__solver_chart(&S, &a, &at.charts[best], &m, &o, rw, &e);
+    n = S.nv;
+    q = (double *)malloc(2 * sizeof(double) * n);
+    z = (double *)malloc(4 * sizeof(double) * n);
+    rd = (double *)malloc(2 * sizeof(double) * n);
+    col = (double *)malloc(2 * sizeof(double) * n);
+    work = (double *)malloc(3 * sizeof(double) * n);
+    for (i = 0; i < 2 * n; i++) { q[i] = rng_unit() - 0.5; mean[i & 1] += q[i] / n; }
+    for (i = 0; i < 2 * n; i++) { q[i] -= mean[i & 1]; if (fabs(q[i]) > qmax) qmax = fabs(q[i]); }  /* no translation part */
+    for (k = 0; k < 3; k++) {
+        S.par.run = orders[k];
+        S.par.user = NULL;
+        memset(&K[k], 0, sizeof K[k]);
+        BPT_CHECK(bp__laplacian(&a, &S, rw, &K[k], &F[k]) == BP_OK, "%s: Laplacian factored (order %d)", path, k);
+        r[k] = (double *)malloc(2 * sizeof(double) * n);
+        bp__precondition(&F[k], &S.par, q, r[k], z);
+        if (k > 0) {
+            same_factor &= F[k].Rp[n] == F[0].Rp[n] && !memcmp(F[k].Ri, F[0].Ri, F[0].Rp[n] * sizeof(uint32_t)) &&
+                           !memcmp(F[k].Rxf, F[0].Rxf, F[0].Rp[n] * sizeof(float)) &&
+                           !memcmp(F[k].D, F[0].D, n * sizeof(double));
+            same_solve &= !memcmp(r[k], r[0], 2 * n * sizeof(double));
+        }
+    }
+    for (nodes = 0, i = 0; i < BP__ND_NODES; i++) nodes += F[0].tree[i].used && F[0].tree[i].split;
+    BPT_CHECK(same_factor, "%s (%u unknowns, %d separators in the phase tree, nnz(L) %u): the factor has the same bits "
+              "under three task orders", path, n, nodes, F[0].Rp[n]);
+    BPT_CHECK(same_solve, "%s: the preconditioner solve has the same bits under three task orders", path);
+    /* against the double factor and its serial solve, per coordinate */
+    BPT_CHECK(bp__factorize(&a, &K[0], &Fd, &bad, NULL) == BP_OK, "%s: double factor", path);
+    for (j = 0; j < 2; j++) {
+        double *b = work, *x = work + n;
+        for (i = 0; i < n; i++) b[i] = q[2 * i + j];
+        bp__factor_solve(&Fd, b, x, z);
+        for (i = 0; i < n; i++) rd[2 * i + j] = x[i];
+    }
+    for (i = 0; i < 2 * n; i++) {
+        if (fabs(r[0][i] - rd[i]) > err) err = fabs(r[0][i] - rd[i]);
+        if (fabs(rd[i]) > big) big = fabs(rd[i]);
+    }
+    for (i = 0; i < 2 * n; i++) col[i] = 0;                    /* K rd */
+    for (j = 0; j < n; j++)
+        for (p = K[0].colp[j]; p < K[0].colp[j + 1]; p++) {
+            col[2 * K[0].row[p]] += K[0].val[p] * rd[2 * j];
+            col[2 * K[0].row[p] + 1] += K[0].val[p] * rd[2 * j + 1];
+        }
+    for (i = 0; i < 2 * n; i++) if (fabs(col[i] - q[i]) > res) res = fabs(col[i] - q[i]);
+    BPT_CHECK(err < 1e-3 * big, "%s: the single-precision solve matches the double one to 1e-3 (float L; max difference %.2g of max |r| %.2g)",
+              path, err, big);
+    BPT_CHECK(res < 1e-8 * qmax, "%s: the double factor solves K r = q (residual %.2g of max |q| %.2g)", path, res, qmax);
+    for (k = 0; k < 3; k++) { bp__factor_free(&a, &F[k]); bp__sparse_free(&a, &K[k]); free(r[k]); }
+    bp__factor_free(&a, &Fd);
+    bp__solver_free(&S);
+    free(rw); free(q); free(z); free(rd); free(col); free(work);
+    bp_atlas_free(&at);
+    bp_mesh_free(&m, NULL);
+}
+
 static void check_mesh(const char *path)
 {
     bp_mesh m;
@@ -238,6 +340,9 @@ int main(void)
     BPT_CHECK(err_n < 1e-10 && res_n < 1e-12, "sparse LU on a symmetric pattern (nonsymmetric M-matrix) matches dense "
               "elimination: relative error %.1e, residual %.1e", err_n, res_n);
 
+    check_precondition("tests/data/camel_b.obj");
+    check_precondition("tests/data/camelhead.off");
+    check_precondition("../shared/meshes/horse_cut.obj");
     check_mesh("tests/data/bishop_part_f1000.obj");
     check_mesh("tests/data/camel_b.obj");
     check_mesh("tests/data/cow_param_withSUV.obj");
