@@ -718,21 +718,34 @@ typedef struct bp__pool {
 #define BP__SPIN_LIMIT 200000
 #define BP__LOAD(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
 #define BP__STORE(p, v) __atomic_store_n((p), (v), __ATOMIC_RELEASE)
+#define BP__ATOMICS 1
 #else
 #define BP__SPIN_LIMIT 0
 #define BP__LOAD(p) (*(p))
 #define BP__STORE(p, v) (*(p) = (v))
+#define BP__ATOMICS 0
 #endif
 
-/* Take task indices until none are left (called with the mutex held). */
+/* Take task indices until none are left (called with the mutex held, which
+   it keeps between tasks only without atomics: with them a task index is
+   claimed by one atomic increment, and the lock is free while tasks run). */
 static void bp__pool_drain(bp__pool *P)
 {
+#if BP__ATOMICS
+    bp_task_fn fn = P->fn;
+    void *task = P->task;
+    uint32_t count = P->count, i;
+    pthread_mutex_unlock(&P->mu);
+    while ((i = __atomic_fetch_add(&P->next, 1u, __ATOMIC_RELAXED)) < count) fn(task, i);
+    pthread_mutex_lock(&P->mu);
+#else
     while (P->next < P->count) {
         uint32_t i = P->next++;
         pthread_mutex_unlock(&P->mu);
         P->fn(P->task, i);
         pthread_mutex_lock(&P->mu);
     }
+#endif
 }
 
 static void *bp__pool_worker(void *arg)
