@@ -328,7 +328,8 @@ BPDEF const char *bp_stop_string(bp_stop s);
 /* Split a mesh into validated charts with boundary loops (no map yet). */
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *mesh,
                                const bp_options *opt, bp_error *err);
-/* The start map of one chart (Tutte or Floater, holes filled, sec 3.6). */
+/* The start map of one chart (Tutte or Floater, holes filled, sec 3.6).
+   Charts of 4096 vertices or more factor their system on opt->threads. */
 BPDEF bp_status bp_chart_init(bp_chart *chart, const bp_mesh *mesh,
                               const bp_options *opt, bp_error *err);
 /* Minimize distortion keeping the map bijective at every iteration (chap 3). */
@@ -2831,6 +2832,32 @@ static int bp__dedge_cmp(const void *pa, const void *pb)
     return x->a < y->a ? -1 : x->a > y->a;
 }
 
+/* Sort directed edges as bp__dedge_cmp orders them, in linear time on a
+   mesh: a counting sort by the smaller end, then each vertex's few edges by
+   insertion (a comparison sort for a vertex of very high valence).  tmp
+   holds n edges, start nv + 1 counters. */
+static void bp__dedge_sort(bp__dedge *de, size_t n, uint32_t nv, bp__dedge *tmp, uint32_t *start)
+{
+    size_t k, m, lo = 0;
+    uint32_t v;
+    for (v = 0; v <= nv; v++) start[v] = 0;
+    for (k = 0; k < n; k++) start[(de[k].a < de[k].b ? de[k].a : de[k].b) + 1]++;
+    for (v = 0; v < nv; v++) start[v + 1] += start[v];
+    for (k = 0; k < n; k++) tmp[start[de[k].a < de[k].b ? de[k].a : de[k].b]++] = de[k];
+    for (v = 0; v < nv; v++) {                     /* bucket v is [lo, start[v]) */
+        size_t hi = start[v];
+        if (hi - lo > 32) qsort(tmp + lo, hi - lo, sizeof *tmp, bp__dedge_cmp);
+        else
+            for (k = lo + 1; k < hi; k++) {
+                bp__dedge e = tmp[k];
+                for (m = k; m > lo && bp__dedge_cmp(&tmp[m - 1], &e) > 0; m--) tmp[m] = tmp[m - 1];
+                tmp[m] = e;
+            }
+        lo = hi;
+    }
+    memcpy(de, tmp, n * sizeof *de);
+}
+
 /* Do boundary edges e and f (distinct) violate (b)? */
 static int bp__edges_conflict(const double *uv, const bp__dedge *e, const bp__dedge *f)
 {
@@ -3129,7 +3156,14 @@ BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, ui
             de[3 * (size_t)t + k].a = tris[3 * (size_t)t + k];
             de[3 * (size_t)t + k].b = tris[3 * (size_t)t + (k + 1) % 3];
         }
-    qsort(de, 3 * (size_t)nt, sizeof *de, bp__dedge_cmp);
+    {
+        bp__dedge *tmp = (bp__dedge *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof *tmp);
+        uint32_t *start = (uint32_t *)bp__alloc_array(&a, (size_t)nv + 1, sizeof(uint32_t));
+        if (!tmp || !start) { bp__free(&a, tmp); bp__free(&a, start); bp__free(&a, de); return BP_ERR_OUT_OF_MEMORY; }
+        bp__dedge_sort(de, 3 * (size_t)nt, nv, tmp, start);
+        bp__free(&a, tmp);
+        bp__free(&a, start);
+    }
     for (e = 0; e < 3 * (size_t)nt;) {
         size_t g = e + 1;
         while (g < 3 * (size_t)nt && ((de[g].a == de[e].a && de[g].b == de[e].b) ||
@@ -3208,7 +3242,8 @@ static int bp__u32_cmp(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp_error *err)
+static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
     uint32_t nv, nh, N, nt, nfan, t, k, i, j, nfree = 0, p;
@@ -3351,7 +3386,7 @@ BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *
             for (p = A.colp[cj]; p < nnz; p++) if (A.row[p] == cj) A.val[p] = diag;
         }
         A.colp[nfree] = nnz;
-        st = bp__factorize(&a, &A, &F, &bad, NULL);
+        st = bp__factorize(&a, &A, &F, &bad, runner);
         if (st == BP_ERR_NUMERICAL) {
             uint32_t bv = 0;
             for (i = 0; i < nv; i++) if (idx[i] == bad) bv = ch->vertex[i];
@@ -3396,6 +3431,23 @@ done:
     bp__free(&a, cnt); bp__free(&a, w); bp__free(&a, rhs); bp__free(&a, sol); bp__free(&a, work);
     bp__free(&a, A.colp); bp__free(&a, A.row); bp__free(&a, A.val);
     bp__factor_free(&a, &F);
+    return st;
+}
+
+/* The public entry point: the factorization's rows run on the threads of
+   opt (a pool for this call) when the chart is large enough to gain. */
+BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    void *pool = NULL;
+    bp__par par;
+    bp_status st;
+    par.run = bp__serial_for;
+    par.user = NULL;
+    par.threads = 1;
+    if (ch && ch->num_vertices >= 4096) par = bp__par_begin(&a, opt, &pool);
+    st = bp__chart_init(ch, m, opt, &par, err);
+    bp__par_end(&a, pool);
     return st;
 }
 
@@ -4288,31 +4340,46 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
 
 typedef struct bp__trip { uint32_t i, j; double v; } bp__trip;
 
-static int bp__trip_cmp(const void *pa, const void *pb)
-{
-    const bp__trip *a = (const bp__trip *)pa, *b = (const bp__trip *)pb;
-    if (a->j != b->j) return a->j < b->j ? -1 : 1;
-    return a->i < b->i ? -1 : a->i > b->i;
-}
-
-/* Compressed columns from triplets (duplicates summed).  Sorts `t`. */
+/* Compressed columns from triplets (duplicates summed, in input order).
+   A counting sort by column, then each column (a vertex's neighbours,
+   a few dozen entries) by row with a stable insertion sort: linear time on
+   a mesh, where a comparison sort of all triplets was the set-up's largest
+   serial cost.  The order equals the stable sort by (column, row).  `t` is
+   only read. */
 static int bp__sparse_from_triplets(const bp_allocator *a, uint32_t n, bp__trip *t, size_t nt,
                                     bp__sparse *A)
 {
-    size_t k, w = 0;
-    uint32_t j;
-    qsort(t, nt, sizeof *t, bp__trip_cmp);
-    for (k = 0; k < nt; k++) {
-        if (w > 0 && t[w - 1].i == t[k].i && t[w - 1].j == t[k].j) t[w - 1].v += t[k].v;
-        else t[w++] = t[k];
-    }
+    size_t k, w = 0, m;
+    uint32_t j, *ord = (uint32_t *)bp__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
     A->n = n;
-    A->colp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    A->row = (uint32_t *)bp__alloc_array(a, w, sizeof(uint32_t));
-    A->val = (double *)bp__alloc_array(a, w, sizeof(double));
-    if (!A->colp || !A->row || !A->val) return 0;
-    for (k = 0; k < w; k++) { A->colp[t[k].j + 1]++; A->row[k] = t[k].i; A->val[k] = t[k].v; }
-    for (j = 0; j < n; j++) A->colp[j + 1] += A->colp[j];
+    A->colp = (uint32_t *)bp__calloc_array(a, (size_t)n + 2, sizeof(uint32_t));
+    if (!ord || !A->colp || nt > 0xfffffff0u) { bp__free(a, ord); return 0; }
+    for (k = 0; k < nt; k++) A->colp[t[k].j + 2]++;
+    for (j = 0; j < n; j++) A->colp[j + 2] += A->colp[j + 1];
+    for (k = 0; k < nt; k++) ord[A->colp[t[k].j + 1]++] = (uint32_t)k;   /* column j: [colp[j], colp[j+1]) */
+    for (j = 0; j < n; j++)
+        for (k = A->colp[j] + 1; k < A->colp[j + 1]; k++) {
+            uint32_t o = ord[k];
+            for (m = k; m > A->colp[j] && t[ord[m - 1]].i > t[o].i; m--) ord[m] = ord[m - 1];
+            ord[m] = o;
+        }
+    for (k = 0; k < nt; k++)                       /* distinct entries */
+        if (k == 0 || t[ord[k]].j != t[ord[k - 1]].j || t[ord[k]].i != t[ord[k - 1]].i) w++;
+    A->row = (uint32_t *)bp__alloc_array(a, w ? w : 1, sizeof(uint32_t));
+    A->val = (double *)bp__alloc_array(a, w ? w : 1, sizeof(double));
+    if (!A->row || !A->val) { bp__free(a, ord); return 0; }
+    w = 0;
+    for (j = 0; j < n; j++) {
+        size_t c0 = w, k1 = A->colp[j + 1];
+        for (k = A->colp[j]; k < k1; k++) {
+            const bp__trip *e = &t[ord[k]];
+            if (w > c0 && A->row[w - 1] == e->i) A->val[w - 1] += e->v;
+            else { A->row[w] = e->i; A->val[w++] = e->v; }
+        }
+        A->colp[j] = (uint32_t)c0;
+    }
+    A->colp[n] = (uint32_t)w;
+    bp__free(a, ord);
     return 1;
 }
 
@@ -4927,7 +4994,7 @@ static void bp__chart_task(void *task, uint32_t c)
         J->status[c] = BP_OK;
         return;
     }
-    st = bp_chart_init(&J->atlas->charts[c], J->m, J->opt, &J->errs[c]);
+    st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, J->inner, &J->errs[c]);
     if (st == BP_OK && !(J->opt && J->opt->init_only))
         st = bp__chart_optimize(&J->atlas->charts[c], c, J->m, J->opt, J->inner, &J->errs[c]);
     J->status[c] = st;
