@@ -3704,6 +3704,10 @@ static void bp__hash_query(const bp__hash *H, uint32_t g, double x0, double y0, 
         }
 }
 
+/* The swept hash of the step bound is built by BP__HASH_TASKS tasks (see
+   bp__step_hash). */
+#define BP__HASH_TASKS 4u
+
 /* Work is split in fixed-size chunks of items (see >>threads). */
 #define BP__TRI_CHUNK  2048u
 #define BP__VERT_CHUNK 2048u
@@ -3742,6 +3746,7 @@ typedef struct bp__solver {
     bp__vec   *rec;                /* barrier records per edge chunk          */
     int        oom;                /* a task could not grow its records       */
     bp__dedge *edges;              /* the loops' edges, for the exact check   */
+    uint32_t  *hcnt;               /* per-task bucket counts of the swept hash */
     uint32_t   conflicts;          /* boundary conflicts found by that check  */
     bp__grid_ws ws;
 } bp__solver;
@@ -3757,6 +3762,7 @@ static void bp__solver_free(bp__solver *S)
     bp__free(a, S->rest); bp__free(a, S->hash.start); bp__free(a, S->hash.items); bp__free(a, S->hash.cell0);
     bp__free(a, S->box); bp__free(a, S->bl_loop); bp__free(a, S->hs); bp__free(a, S->gc);
     bp__free(a, S->vc_start); bp__free(a, S->vc_list); bp__free(a, S->part); bp__free(a, S->edges);
+    bp__free(a, S->hcnt);
     bp__free(a, S->ws.cellp); bp__free(a, S->ws.cells);
     memset(S, 0, sizeof *S);
 }
@@ -3801,8 +3807,9 @@ static bp_status bp__solver_init(bp__solver *S, const bp_allocator *a, uint32_t 
     S->part = (double *)bp__alloc_array(a, nchunk ? nchunk : 1, sizeof(double));
     S->rec = (bp__vec *)bp__calloc_array(a, S->nchunk_b ? S->nchunk_b : 1, sizeof(bp__vec));
     S->edges = (bp__dedge *)bp__alloc_array(a, nb ? nb : 1, sizeof(bp__dedge));
+    S->hcnt = (uint32_t *)bp__alloc_array(a, BP__HASH_TASKS * ((size_t)S->hash.mask + 1), sizeof(uint32_t));
     if (!S->rest || !S->hash.start || !S->hash.items || !S->hash.cell0 || !S->box || !S->bl_loop || !S->hs || !S->gc ||
-        !S->vc_start || !S->vc_list || !S->part || !S->rec || !S->edges) {
+        !S->vc_start || !S->vc_list || !S->part || !S->rec || !S->edges || !S->hcnt) {
         bp__solver_free(S);
         return BP_ERR_OUT_OF_MEMORY;
     }
@@ -3987,11 +3994,10 @@ static double bp__loop_cell(const bp__solver *S, const double *x, uint32_t L)
 /* Enter the boundary vertices into the hash: as points (v NULL, the
    barrier) or as the boxes they sweep along U + t v for t in [0, tsweep]
    (the step bound). */
-static void bp__hash_fill(bp__solver *S, const double *x, const double *v, double tsweep)
+static void bp__hash_boxes(bp__solver *S, const double *x, const double *v, double tsweep, uint32_t k0, uint32_t k1)
 {
-    uint32_t L, k;
-    for (L = 0; L < S->nloops; L++) S->hs[L] = bp__loop_cell(S, x, L);
-    for (k = 0; k < S->nb; k++) {
+    uint32_t k;
+    for (k = k0; k < k1; k++) {
         const double *p = x + 2 * (size_t)S->loop_vertices[k];
         double qx = p[0], qy = p[1];
         if (v) {
@@ -4002,8 +4008,112 @@ static void bp__hash_fill(bp__solver *S, const double *x, const double *v, doubl
         S->box[4 * k] = p[0] < qx ? p[0] : qx;  S->box[4 * k + 2] = p[0] < qx ? qx : p[0];
         S->box[4 * k + 1] = p[1] < qy ? p[1] : qy;  S->box[4 * k + 3] = p[1] < qy ? qy : p[1];
     }
+}
+
+static void bp__hash_fill(bp__solver *S, const double *x, const double *v, double tsweep)
+{
+    uint32_t L;
+    for (L = 0; L < S->nloops; L++) S->hs[L] = bp__loop_cell(S, x, L);
+    bp__hash_boxes(S, x, v, tsweep, 0, S->nb);
     while (!bp__hash_build(&S->hash, S->nb))
         for (L = 0; L < S->nloops; L++) S->hs[L] *= 2;
+}
+
+/* The swept hash in parallel: its counting sort split in BP__HASH_TASKS
+   item ranges.  Each task counts its items' cells into its own bucket
+   counters (and computes their boxes); the counters are turned into write
+   offsets bucket by bucket, task by task; each task then writes its items.
+   A bucket thus lists task 0's items, then task 1's, ..., each in item
+   order: exactly the serial bp__hash_build's layout, so the queries see
+   the same table on any schedule. */
+typedef struct bp__hash_job {
+    bp__solver   *S;
+    const double *x, *v;
+    double        tsweep;
+    size_t        total[BP__HASH_TASKS];
+    int           over[BP__HASH_TASKS];
+} bp__hash_job;
+
+#define BP__HASH_RANGE(n, t) (uint32_t)((uint64_t)(n) * (t) / BP__HASH_TASKS)
+
+static void bp__hash_count_task(void *task, uint32_t t)
+{
+    bp__hash_job *J = (bp__hash_job *)task;
+    bp__solver *S = J->S;
+    bp__hash *H = &S->hash;
+    uint32_t i, i0 = BP__HASH_RANGE(S->nb, t), i1 = BP__HASH_RANGE(S->nb, t + 1);
+    uint32_t *cnt = S->hcnt + (size_t)t * (H->mask + 1);
+    size_t total = 0;
+    bp__hash_boxes(S, J->x, J->v, J->tsweep, i0, i1);
+    memset(cnt, 0, ((size_t)H->mask + 1) * sizeof(uint32_t));
+    J->over[t] = 0;
+    for (i = i0; i < i1; i++) {
+        const double *bx = H->box + 4 * (size_t)i;
+        uint32_t g = H->group[i];
+        double h = H->h[g];
+        int64_t x0 = bp__cell_of(bx[0], h), x1 = bp__cell_of(bx[2], h), ix;
+        int64_t y0 = bp__cell_of(bx[1], h), y1 = bp__cell_of(bx[3], h), iy;
+        if ((double)(x1 - x0 + 1) * (double)(y1 - y0 + 1) > (double)(H->cap - total)) { J->over[t] = 1; return; }
+        H->cell0[2 * (size_t)i] = x0;
+        H->cell0[2 * (size_t)i + 1] = y0;
+        for (iy = y0; iy <= y1; iy++)
+            for (ix = x0; ix <= x1; ix++) { cnt[bp__hash_cell(H, ix, iy, g)]++; total++; }
+    }
+    J->total[t] = total;
+}
+
+static void bp__hash_place_task(void *task, uint32_t t)
+{
+    bp__hash_job *J = (bp__hash_job *)task;
+    bp__solver *S = J->S;
+    bp__hash *H = &S->hash;
+    uint32_t i, i0 = BP__HASH_RANGE(S->nb, t), i1 = BP__HASH_RANGE(S->nb, t + 1);
+    uint32_t *cnt = S->hcnt + (size_t)t * (H->mask + 1);
+    for (i = i0; i < i1; i++) {
+        const double *bx = H->box + 4 * (size_t)i;
+        uint32_t g = H->group[i];
+        double h = H->h[g];
+        int64_t x0 = H->cell0[2 * (size_t)i], x1 = bp__cell_of(bx[2], h), ix;
+        int64_t y0 = H->cell0[2 * (size_t)i + 1], y1 = bp__cell_of(bx[3], h), iy;
+        for (iy = y0; iy <= y1; iy++)
+            for (ix = x0; ix <= x1; ix++) H->items[cnt[bp__hash_cell(H, ix, iy, g)]++] = i;
+    }
+}
+
+/* Enter the boundary vertices swept along U + t v, t in [0, tsweep]: the
+   count tasks, the offsets (serial, a pass over the buckets), the place
+   tasks; the cells double while the entries would not fit. */
+static void bp__step_hash(bp__solver *S, const double *x, const double *v, double tsweep)
+{
+    bp__hash *H = &S->hash;
+    bp__hash_job J;
+    uint32_t L, b, t;
+    memset(&J, 0, sizeof J);
+    J.S = S;
+    J.x = x;
+    J.v = v;
+    J.tsweep = tsweep;
+    for (L = 0; L < S->nloops; L++) S->hs[L] = bp__loop_cell(S, x, L);
+    for (;;) {
+        size_t total = 0, run = 0;
+        int over = 0;
+        S->par.run(S->par.user, bp__hash_count_task, &J, BP__HASH_TASKS);
+        for (t = 0; t < BP__HASH_TASKS; t++) { over |= J.over[t]; total += J.total[t]; }
+        if (!over && total <= H->cap) {
+            for (b = 0; b <= H->mask; b++) {
+                H->start[b] = (uint32_t)run;
+                for (t = 0; t < BP__HASH_TASKS; t++) {
+                    uint32_t *c = S->hcnt + (size_t)t * (H->mask + 1) + b, k = *c;
+                    *c = (uint32_t)run;
+                    run += k;
+                }
+            }
+            H->start[H->mask + 1] = (uint32_t)run;
+            break;
+        }
+        for (L = 0; L < S->nloops; L++) S->hs[L] *= 2;
+    }
+    S->par.run(S->par.user, bp__hash_place_task, &J, BP__HASH_TASKS);
 }
 
 static void bp__hash_fill_task(void *task, uint32_t c)
@@ -4271,39 +4381,33 @@ static void bp__step_edge_task(void *task, uint32_t c)
 
 /* The largest t <= tcap such that the energy has no singularity on
    [0, t).  The caller only needs the bound up to the step it would try
-   first, tcap; below tcap the result is exact.
-   The swept hash needs a sweep time before the triangles have given their
-   bound, so it is built for tcap as one task of the triangles' loop; when
-   the triangles then bound the step far below tcap, the boxes are too long
-   and the hash is rebuilt for the triangles' bound (serially, rarely). */
+   first, tcap; below tcap the result is exact.  The triangles' bound comes
+   first: the boundary vertices then sweep only up to it (in practice it is
+   usually well below tcap, and the swept boxes, hence the hash, stay
+   small). */
 static double bp__step_bound(bp__solver *S, const double *x, const double *v, double tcap)
 {
     bp__eval_task T;
-    bp__groups G;
-    double tmax = HUGE_VAL, sweep = tcap;
+    double tmax = HUGE_VAL;
     uint32_t c;
     memset(&T, 0, sizeof T);
     T.S = S;
     T.x = x;
     T.dir = v;
+    S->par.run(S->par.user, bp__step_tri_task, &T, S->nchunk_t);
+    for (c = 0; c < S->nchunk_t; c++) if (S->part[c] < tmax) tmax = S->part[c];
+    if (tmax > tcap) tmax = tcap;
+    if (!S->barrier) return tmax;
     /* "In the extremely unlikely case that tmax = inf, it is set to a large
        positive value" (sec 3.4.2): here, the time to move 100 chart sizes. */
-    if (!(sweep < HUGE_VAL)) {
+    if (tmax == HUGE_VAL) {
         double vmax = 0;
         uint32_t i;
         for (i = 0; i < 2 * S->nv; i++) if (fabs(v[i]) > vmax) vmax = fabs(v[i]);
-        sweep = vmax > 0 ? 100 * S->mean_edge * S->nb / vmax : 1;
+        tmax = vmax > 0 ? 100 * S->mean_edge * S->nb / vmax : 1;
     }
-    T.tmax = sweep;
-    memset(&G, 0, sizeof G);
-    if (S->barrier) bp__groups_add(&G, bp__hash_fill_task, &T, 1);
-    bp__groups_add(&G, bp__step_tri_task, &T, S->nchunk_t);
-    bp__groups_run(&S->par, &G);
-    for (c = 0; c < S->nchunk_t; c++) if (S->part[c] < tmax) tmax = S->part[c];
-    if (!S->barrier) return tmax < tcap ? tmax : tcap;
-    if (tmax > sweep) tmax = sweep;
-    /* every boundary vertex is in the cells its swept segment's box covers */
-    if (tmax < 0.25 * sweep) bp__hash_fill(S, x, v, tmax);
+    /* every boundary vertex enters the cells its swept segment's box covers */
+    bp__step_hash(S, x, v, tmax);
     T.tmax = tmax;
     S->par.run(S->par.user, bp__step_edge_task, &T, S->nchunk_b);
     for (c = 0; c < S->nchunk_b; c++) if (S->part_b[c] < tmax) tmax = S->part_b[c];
