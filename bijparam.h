@@ -2140,13 +2140,13 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
 
    1. Ordering.  Elimination creates fill; on mesh graphs nested dissection
       keeps it near O(n log n).  We split the graph by a level set of a
-      breadth-first search from a pseudo-peripheral vertex (the middle level
-      is a separator: no edge jumps over a BFS level), order both halves
-      first and the separator last, and recurse.  Disconnected pieces are
-      ordered one after the other.
+      breadth-first search from a pseudo-peripheral vertex (a level is a
+      separator: no edge jumps over a BFS level), order both halves first
+      and the separator last, and recurse.  Disconnected pieces are ordered
+      one after the other.
    2. Symbolic.  The elimination tree (Liu's algorithm with path compression)
       and, for each row k, the "row subtree" reach of A(0:k-1, k) in it give
-      the exact pattern of L, so its storage is allocated once.
+      the exact pattern of L, so its storage is allocated once, by rows.
    3. Numeric, up-looking.  Row k of L and column k of U are the solutions of
       two sparse triangular systems with that pattern:
           L(0:k,0:k) U(0:k,k) = A(0:k,k),    U(0:k,0:k)^T L(k,0:k)^T = A(k,0:k)^T,
@@ -2155,6 +2155,11 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
       is the LDL^T (square-root free Cholesky) factorization.  Both systems
       solved here -- the uniform Laplacian (SPD) and the mean-value one
       (diagonally dominant M-matrix) -- are stable without pivoting.
+      Solved by gathers along rows already computed, row k is exactly what
+      is stored, so L exists once, by rows, sorted (no column copy: 8 bytes
+      per entry in the preconditioner's single precision, against 16 for L
+      by columns and by rows).  Rows in disjoint subtrees of the dissection
+      never meet, so they are computed in parallel phases.
    The start map's solves are followed by one step of iterative refinement;
    the preconditioner's (which only shapes a search direction) are not. */
 
@@ -2169,8 +2174,8 @@ typedef struct bp__sparse {       /* n x n, compressed columns            */
 /* The top of the nested-dissection tree: node k covers the permuted range
    [lo, hi) = [A | B | S] with A = [lo, a), B = [a, b), S = [b, hi) and
    children 2k+1 (A) and 2k+2 (B); a node that was not split is a leaf.  Its
-   subtrees are independent in the triangular solves, which is what lets
-   the preconditioner run on several threads. */
+   subtrees are independent in the factorization and the triangular solves,
+   which is what lets them run on several threads. */
 #define BP__ND_DEPTH 4
 #define BP__ND_NODES 31                 /* 2^(depth+1) - 1 */
 typedef struct bp__ndnode { uint32_t lo, a, b, hi; int used, split; } bp__ndnode;
