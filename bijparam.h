@@ -2346,59 +2346,132 @@ static uint32_t bp__nd_phase(const bp__factor *F, int phase, uint32_t *nodes)
     return n;
 }
 
-/* The numeric rows of one phase: task k computes the rows of node
-   nodes[k] (the whole range in phase 0, the separator otherwise).  Row k
-   reaches only columns of its own node, so tasks of one phase share the
-   dense work arrays x, y without touching the same entries. */
+/* The first position in idx[p0, p1) (sorted) holding a value >= cut. */
+static uint32_t bp__lower_bound(const uint32_t *idx, uint32_t p0, uint32_t p1, uint32_t cut)
+{
+    while (p0 < p1) {
+        uint32_t m = p0 + (p1 - p0) / 2;
+        if (idx[m] < cut) p0 = m + 1; else p1 = m;
+    }
+    return p0;
+}
+
+/* The numeric rows of one phase.  Row k reaches only columns of its own
+   node, so the tasks of one phase share dense work arrays without touching
+   the same entries.  Phase 0 computes the subtrees whole (mode WHOLE, the
+   arrays x, y).  A separator [b, hi) takes two passes, as in the solves:
+   its rows depend on each other only through the separator's own block,
+   while most of their entries (and work) lie in the columns below b.
+     OUTSIDE: the rows in BP__FACT_PARTS chunks, in parallel, compute their
+       entries below b (each chunk with its own arrays xs, ys, since the
+       rows of one separator reach the same columns) and park them: U(j,k)
+       in Rx (symmetric) or Ux, L(k,j) in Rx (unsymmetric);
+     INSIDE: one task per separator takes its rows in order, reloads the
+       parked values, computes the entries inside the block and finishes
+       the row (L, D) exactly as WHOLE does.
+   Every value, and the order of every sum, is the one-pass algorithm's. */
+#define BP__FACT_PARTS 4u
+enum { BP__FACT_WHOLE, BP__FACT_OUTSIDE, BP__FACT_INSIDE };
+
 typedef struct bp__fact_task {
     const bp__sparse *A;
     bp__factor *F;
     const uint32_t *tpos;
-    double *x, *y;
+    double *x, *y, *xs, *ys;        /* xs, ys: BP__FACT_PARTS arrays of n   */
     uint32_t nodes[BP__ND_NODES];
-    int phase;
+    int mode;
 } bp__fact_task;
+
+/* Row k's entries q in [q0, q1), in increasing column j: U(j,k) by a
+   gather along row j into x[j] and, unsymmetric, L(k,j) along row j of
+   U^T into y[j].  Every entry a row j needs lies in row j's own pattern,
+   below j, hence earlier in this order (a topological order). */
+static void bp__fact_entries(const bp__factor *F, int sym, uint32_t q0, uint32_t q1, double *x, double *y)
+{
+    uint32_t q, r;
+    for (q = q0; q < q1; q++) {
+        uint32_t j = F->Ri[q];
+        double u = x[j];
+        for (r = F->Rp[j]; r < F->Rp[j + 1]; r++) u -= F->Rx[r] * x[F->Ri[r]];
+        x[j] = u;
+        if (!sym) {
+            double w = y[j];
+            for (r = F->Rp[j]; r < F->Rp[j + 1]; r++) w -= F->Ux[r] * y[F->Ri[r]];
+            y[j] = w / F->D[j];
+        }
+    }
+}
+
+/* x[i], y[i] = A(i,k), A(k,i) for the (permuted) rows lo <= i < hi. */
+static void bp__fact_scatter(const bp__fact_task *T, uint32_t k, uint32_t lo, uint32_t hi, double *x, double *y)
+{
+    const bp__sparse *A = T->A;
+    uint32_t old = T->F->perm[k], p;
+    for (p = A->colp[old]; p < A->colp[old + 1]; p++) {
+        uint32_t i = T->F->iperm[A->row[p]];
+        if (i < lo || i >= hi) continue;
+        x[i] = A->val[p];
+        if (!A->symmetric) y[i] = A->val[T->tpos[p]];
+    }
+}
 
 static void bp__fact_rows(void *task, uint32_t t)
 {
     bp__fact_task *T = (bp__fact_task *)task;
-    const bp__sparse *A = T->A;
     bp__factor *F = T->F;
-    const bp__ndnode *N = &F->tree[T->nodes[t]];
+    int sym = T->A->symmetric;
+    uint32_t part = T->mode == BP__FACT_OUTSIDE ? t % BP__FACT_PARTS : 0;
+    const bp__ndnode *N = &F->tree[T->nodes[T->mode == BP__FACT_OUTSIDE ? t / BP__FACT_PARTS : t]];
+    uint32_t k, q, k0 = T->mode == BP__FACT_WHOLE ? N->lo : N->b, k1 = N->hi;
     double *x = T->x, *y = T->y;
-    int sym = A->symmetric;
-    uint32_t k, p, q, r;
-    for (k = T->phase == 0 ? N->lo : N->b; k < N->hi; k++) {
-        uint32_t old = F->perm[k];
+    if (T->mode == BP__FACT_OUTSIDE) {
+        k0 = N->b + (uint32_t)((uint64_t)(N->hi - N->b) * part / BP__FACT_PARTS);
+        k1 = N->b + (uint32_t)((uint64_t)(N->hi - N->b) * (part + 1) / BP__FACT_PARTS);
+        x = T->xs + (size_t)part * F->n;
+        y = sym ? y : T->ys + (size_t)part * F->n;
+    }
+    for (k = k0; k < k1; k++) {
+        uint32_t qb = F->Rp[k], qe = F->Rp[k + 1];
         double dk;
-        for (p = A->colp[old]; p < A->colp[old + 1]; p++) {       /* scatter A(0:k, k), A(k, 0:k) */
-            uint32_t i = F->iperm[A->row[p]];
-            if (i > k) continue;
-            x[i] = A->val[p];
-            if (!sym) y[i] = A->val[T->tpos[p]];
-        }
-        dk = x[k];
-        x[k] = 0;
-        y[k] = 0;
-        /* the pattern of row k in increasing order is a topological order:
-           every entry a row j needs lies in row j's own pattern, below j */
-        for (q = F->Rp[k]; q < F->Rp[k + 1]; q++) {
-            uint32_t j = F->Ri[q];
-            double u = x[j], l;
-            for (r = F->Rp[j]; r < F->Rp[j + 1]; r++) u -= F->Rx[r] * x[F->Ri[r]];
-            x[j] = u;                                    /* U(j,k) */
-            if (sym) l = u / F->D[j];
-            else {
-                double w = y[j];
-                for (r = F->Rp[j]; r < F->Rp[j + 1]; r++) w -= F->Ux[r] * y[F->Ri[r]];
-                l = w / F->D[j];
-                y[j] = l;                                /* L(k,j) */
-                F->Ux[q] = u;
+        if (T->mode == BP__FACT_OUTSIDE) {           /* the entries below b, parked */
+            qe = bp__lower_bound(F->Ri, qb, qe, N->b);
+            bp__fact_scatter(T, k, 0, N->b, x, y);
+            bp__fact_entries(F, sym, qb, qe, x, y);
+            for (q = qb; q < qe; q++) {
+                uint32_t j = F->Ri[q];
+                if (sym) F->Rx[q] = x[j];
+                else { F->Ux[q] = x[j]; F->Rx[q] = y[j]; }
+                x[j] = 0;
+                if (!sym) y[j] = 0;
             }
+            continue;
+        }
+        if (T->mode == BP__FACT_INSIDE) {            /* reload them, then the block */
+            uint32_t qm = bp__lower_bound(F->Ri, qb, qe, N->b);
+            bp__fact_scatter(T, k, N->b, k + 1, x, y);
+            for (q = qb; q < qm; q++) {
+                x[F->Ri[q]] = sym ? F->Rx[q] : F->Ux[q];
+                if (!sym) y[F->Ri[q]] = F->Rx[q];
+            }
+            dk = x[k];
+            x[k] = 0;
+            y[k] = 0;
+            bp__fact_entries(F, sym, qm, qe, x, y);
+        } else {
+            bp__fact_scatter(T, k, 0, k + 1, x, y);
+            dk = x[k];
+            x[k] = 0;
+            y[k] = 0;
+            bp__fact_entries(F, sym, qb, qe, x, y);
+        }
+        for (q = qb; q < qe; q++) {                  /* L(k,j), U(j,k), D(k) */
+            uint32_t j = F->Ri[q];
+            double u = x[j], l = sym ? u / F->D[j] : y[j];
             F->Rx[q] = l;
+            if (!sym) F->Ux[q] = u;
             dk -= l * u;
         }
-        for (q = F->Rp[k]; q < F->Rp[k + 1]; q++) x[F->Ri[q]] = y[F->Ri[q]] = 0;
+        for (q = qb; q < qe; q++) x[F->Ri[q]] = y[F->Ri[q]] = 0;
         F->D[k] = dk;            /* checked by the caller, in row order */
     }
 }
@@ -2430,10 +2503,11 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
     uint32_t n = A->n, k, p, i;
     uint32_t *parent = NULL, *mark = NULL, *cnt = NULL, *tpos = NULL, *cursor = NULL, *Cp = NULL, *Ci = NULL;
     uint32_t *reach = NULL;
-    double *x = NULL, *y = NULL;
+    double *x = NULL, *y = NULL, *xs = NULL, *ys = NULL;
     bp_status st = BP_ERR_OUT_OF_MEMORY;
     size_t nnzL = 0;
     bp__fact_task T;
+    bp__par serial;
     int phase;
     memset(F, 0, sizeof *F);
     F->n = n;
@@ -2510,17 +2584,31 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
     if (!A->symmetric) F->Ux = (double *)bp__alloc_array(a, nnzL, sizeof(double));
     x = (double *)bp__calloc_array(a, n, sizeof(double));
     y = (double *)bp__calloc_array(a, n, sizeof(double));
-    if (!F->Rx || (!A->symmetric && !F->Ux) || !x || !y) goto done;
+    xs = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
+    if (!A->symmetric) ys = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
+    if (!F->Rx || (!A->symmetric && (!F->Ux || !ys)) || !x || !y || !xs) goto done;
     T.A = A;
     T.F = F;
     T.tpos = tpos;
     T.x = x;
     T.y = y;
+    T.xs = xs;
+    T.ys = ys;
+    serial.run = bp__serial_for;
+    serial.user = NULL;
+    serial.threads = 1;
+    if (!par) par = &serial;
     for (phase = 0; phase <= BP__ND_DEPTH; phase++) {
         uint32_t cntn = bp__nd_phase(F, phase, T.nodes);
-        T.phase = phase;
-        if (par) par->run(par->user, bp__fact_rows, &T, cntn);
-        else bp__serial_for(NULL, bp__fact_rows, &T, cntn);
+        if (phase == 0) {
+            T.mode = BP__FACT_WHOLE;
+            par->run(par->user, bp__fact_rows, &T, cntn);
+            continue;
+        }
+        T.mode = BP__FACT_OUTSIDE;
+        par->run(par->user, bp__fact_rows, &T, cntn * BP__FACT_PARTS);
+        T.mode = BP__FACT_INSIDE;
+        par->run(par->user, bp__fact_rows, &T, cntn);
     }
     for (k = 0; k < n; k++)
         if (!(F->D[k] != 0) || !(F->D[k] - F->D[k] == 0)) {
@@ -2531,7 +2619,7 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
     st = BP_OK;
 done:
     bp__free(a, parent); bp__free(a, mark); bp__free(a, cnt); bp__free(a, Cp); bp__free(a, Ci); bp__free(a, reach);
-    bp__free(a, x); bp__free(a, y); bp__free(a, tpos); bp__free(a, cursor);
+    bp__free(a, x); bp__free(a, y); bp__free(a, xs); bp__free(a, ys); bp__free(a, tpos); bp__free(a, cursor);
     if (st != BP_OK) bp__factor_free(a, F);
     return st;
 }
@@ -2647,16 +2735,6 @@ enum {
     BP__BWD_BLOCK,      /* backward pass 1: x of [lo, hi), scattered >= lo    */
     BP__BWD_BELOW       /* backward pass 2: rows [b, top) into columns [lo, hi) */
 };
-
-/* The first position in idx[p0, p1) (sorted) holding a value >= cut. */
-static uint32_t bp__lower_bound(const uint32_t *idx, uint32_t p0, uint32_t p1, uint32_t cut)
-{
-    while (p0 < p1) {
-        uint32_t m = p0 + (p1 - p0) / 2;
-        if (idx[m] < cut) p0 = m + 1; else p1 = m;
-    }
-    return p0;
-}
 
 static void bp__solve_range(void *task, uint32_t k)
 {
