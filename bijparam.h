@@ -2335,13 +2335,21 @@ static int bp__nd_depth(uint32_t k)
 
 static uint32_t bp__nd_phase(const bp__factor *F, int phase, uint32_t *nodes)
 {
-    uint32_t k, n = 0;
+    uint32_t k, n = 0, i;
     for (k = 0; k < BP__ND_NODES; k++) {
         const bp__ndnode *N = &F->tree[k];
         int d = bp__nd_depth(k);
         if (!N->used) continue;
         if (phase == 0 ? (!N->split || d == BP__ND_DEPTH) : (N->split && d == BP__ND_DEPTH - phase && d < BP__ND_DEPTH))
             nodes[n++] = k;
+    }
+    /* the largest range first: the pool hands tasks out in index order, and
+       a large subtree taken last would leave the other threads idle (the
+       order changes no result) */
+    for (k = 1; k < n; k++) {
+        uint32_t v = nodes[k], sz = F->tree[v].hi - F->tree[v].lo;
+        for (i = k; i > 0 && F->tree[nodes[i - 1]].hi - F->tree[nodes[i - 1]].lo < sz; i--) nodes[i] = nodes[i - 1];
+        nodes[i] = v;
     }
     return n;
 }
@@ -2824,7 +2832,7 @@ static void bp__solve_run(bp__solve_task *T, const bp__par *par, int mode, int p
 static void bp__precondition(const bp__factor *F, const bp__par *par, const double *q, double *r, double *z)
 {
     bp__solve_task T;
-    uint32_t nodes[BP__ND_NODES], cnt, k, n, lo;
+    uint32_t nodes[BP__ND_NODES], cnt, k, n, lo, step;
     int phase;
     T.F = F;
     T.q = q;
@@ -2839,11 +2847,15 @@ static void bp__precondition(const bp__factor *F, const bp__par *par, const doub
             bp__solve_run(&T, par, BP__FWD_WHOLE, 0, cnt);
             continue;
         }
-        n = 0;                                   /* pass 1: separator rows in chunks of 64 */
+        /* pass 1: the separators' rows in chunks of 16 rows or more, at
+           most about 120 chunks in all */
+        for (n = 0, k = 0; k < cnt; k++) n += F->tree[nodes[k]].hi - F->tree[nodes[k]].b;
+        step = n / 120 + 1 > 16 ? n / 120 + 1 : 16;
+        n = 0;
         for (k = 0; k < cnt; k++)
-            for (lo = F->tree[nodes[k]].b; lo < F->tree[nodes[k]].hi && n < 160; lo += 64, n++) {
+            for (lo = F->tree[nodes[k]].b; lo < F->tree[nodes[k]].hi && n < 160; lo += step, n++) {
                 T.lo[n] = lo;
-                T.hi[n] = lo + 64 < F->tree[nodes[k]].hi ? lo + 64 : F->tree[nodes[k]].hi;
+                T.hi[n] = lo + step < F->tree[nodes[k]].hi ? lo + step : F->tree[nodes[k]].hi;
                 T.b[n] = F->tree[nodes[k]].b;
             }
         if (n < 160) bp__solve_run(&T, par, BP__FWD_OUTSIDE, 0, n);
