@@ -4129,15 +4129,21 @@ typedef struct bp__hash_job {
     int           over[BP__HASH_TASKS];
 } bp__hash_job;
 
-#define BP__HASH_RANGE(n, t) (uint32_t)((uint64_t)(n) * (t) / BP__HASH_TASKS)
+/* Task t's items [*i0, *i1) and its bucket counters. */
+static uint32_t *bp__hash_part(const bp__hash_job *J, uint32_t t, uint32_t *i0, uint32_t *i1)
+{
+    const bp__solver *S = J->S;
+    *i0 = (uint32_t)((uint64_t)S->nb * t / BP__HASH_TASKS);
+    *i1 = (uint32_t)((uint64_t)S->nb * (t + 1) / BP__HASH_TASKS);
+    return S->hcnt + (size_t)t * (S->hash.mask + 1);
+}
 
 static void bp__hash_count_task(void *task, uint32_t t)
 {
     bp__hash_job *J = (bp__hash_job *)task;
     bp__solver *S = J->S;
     bp__hash *H = &S->hash;
-    uint32_t i, i0 = BP__HASH_RANGE(S->nb, t), i1 = BP__HASH_RANGE(S->nb, t + 1);
-    uint32_t *cnt = S->hcnt + (size_t)t * (H->mask + 1);
+    uint32_t i, i0, i1, *cnt = bp__hash_part(J, t, &i0, &i1);
     size_t total = 0;
     bp__hash_boxes(S, J->x, J->v, J->tsweep, i0, i1);
     memset(cnt, 0, ((size_t)H->mask + 1) * sizeof(uint32_t));
@@ -4160,10 +4166,8 @@ static void bp__hash_count_task(void *task, uint32_t t)
 static void bp__hash_place_task(void *task, uint32_t t)
 {
     bp__hash_job *J = (bp__hash_job *)task;
-    bp__solver *S = J->S;
-    bp__hash *H = &S->hash;
-    uint32_t i, i0 = BP__HASH_RANGE(S->nb, t), i1 = BP__HASH_RANGE(S->nb, t + 1);
-    uint32_t *cnt = S->hcnt + (size_t)t * (H->mask + 1);
+    bp__hash *H = &J->S->hash;
+    uint32_t i, i0, i1, *cnt = bp__hash_part(J, t, &i0, &i1);
     for (i = i0; i < i1; i++) {
         const double *bx = H->box + 4 * (size_t)i;
         uint32_t g = H->group[i];

@@ -63,6 +63,21 @@ static inline void bpt_solver_workspace(bp__solver *S, uint32_t nloop_v)
     S->energy = keep.energy; S->barrier = keep.barrier; S->eps = keep.eps; S->mean_edge = keep.mean_edge;
 }
 
+/* Task orders a thread pool could produce, for determinism tests. */
+static inline void bpt_backwards_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+{
+    (void)user;
+    while (count--) fn(task, count);
+}
+
+static inline void bpt_odd_even_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+{
+    uint32_t i;
+    (void)user;
+    for (i = 1; i < count; i += 2) fn(task, i);
+    for (i = 0; i < count; i += 2) fn(task, i);
+}
+
 static inline void bpt_solver_free(bp__solver *S)
 {
     S->rest = NULL;           /* the test frees its rest shapes itself */

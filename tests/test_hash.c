@@ -305,23 +305,9 @@ static void test_barrier_face_holes(void)
     bp_mesh_free(&mesh, NULL);
 }
 
-static void backwards_for(void *user, bp_task_fn fn, void *task, uint32_t count)
-{
-    (void)user;
-    while (count--) fn(task, count);
-}
-
-static void odd_even_for(void *user, bp_task_fn fn, void *task, uint32_t count)
-{
-    uint32_t i;
-    (void)user;
-    for (i = 1; i < count; i += 2) fn(task, i);
-    for (i = 0; i < count; i += 2) fn(task, i);
-}
-
 static void test_swept_hash(const char *path)
 {
-    static const bp_parallel_for_fn orders[3] = { bp__serial_for, backwards_for, odd_even_for };
+    static const bp_parallel_for_fn orders[3] = { bp__serial_for, bpt_backwards_for, bpt_odd_even_for };
     bp_mesh mesh;
     bp_atlas atlas;
     bp_error err;

@@ -201,24 +201,9 @@ static int check_start(const bp_mesh *m, bp_chart *ch, int mvc, const char *name
     return bad;
 }
 
-/* Task orders that a thread pool could produce. */
-static void backwards_for(void *user, bp_task_fn fn, void *task, uint32_t count)
-{
-    (void)user;
-    while (count--) fn(task, count);
-}
-
-static void odd_even_for(void *user, bp_task_fn fn, void *task, uint32_t count)
-{
-    uint32_t i;
-    (void)user;
-    for (i = 1; i < count; i += 2) fn(task, i);
-    for (i = 0; i < count; i += 2) fn(task, i);
-}
-
 static void check_precondition(const char *path)
 {
-    static const bp_parallel_for_fn orders[3] = { bp__serial_for, backwards_for, odd_even_for };
+    static const bp_parallel_for_fn orders[3] = { bp__serial_for, bpt_backwards_for, bpt_odd_even_for };
     bp_mesh m;
     bp_atlas at;
     bp_error e;
