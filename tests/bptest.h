@@ -15,6 +15,7 @@
 #include <stdarg.h>
 #include <stdint.h>
 #include <string.h>
+#include <stdlib.h>
 
 static int bpt__passed = 0, bpt__failed = 0;
 
@@ -46,6 +47,47 @@ static inline uint64_t bpt_rng_u64(void)
 }
 static inline double bpt_rng_unit(void) { return (double)(bpt_rng_u64() >> 11) * (1.0 / 9007199254740992.0); }
 static inline double bpt_rng_range(double a, double b) { return a + (b - a) * bpt_rng_unit(); }
+
+/* The decimal number n appears in msg as a whole number (error messages
+   must name the element). */
+static inline int bpt_has_number(const char *msg, long long n)
+{
+    char num[32];
+    size_t k;
+    const char *p = msg;
+    sprintf(num, "%lld", n);
+    k = strlen(num);
+    while ((p = strstr(p, num)) != NULL) {
+        int before = p > msg && p[-1] >= '0' && p[-1] <= '9';
+        int after = p[k] >= '0' && p[k] <= '9';
+        if (!before && !after) return 1;
+        p++;
+    }
+    return 0;
+}
+
+/* An in-memory mesh whose arrays the test owns (free with bpt_mesh_free,
+   which also frees corner_uv and uvs when the test set them with malloc). */
+static inline bp_mesh bpt_mesh_new(uint32_t nv, uint32_t nt)
+{
+    bp_mesh m;
+    memset(&m, 0, sizeof m);
+    m.num_vertices = nv;
+    m.num_triangles = nt;
+    m.num_faces = nt;
+    m.positions = (double *)calloc(3 * (size_t)nv + 1, sizeof(double));
+    m.triangles = (uint32_t *)calloc(3 * (size_t)nt + 1, sizeof(uint32_t));
+    return m;
+}
+
+static inline void bpt_mesh_free(bp_mesh *m)
+{
+    free(m->positions);
+    free(m->triangles);
+    free(m->corner_uv);
+    free(m->uvs);
+    memset(m, 0, sizeof *m);
+}
 
 #ifdef BP__IMPLEMENTATION_DONE
 /* For tests that build a bp__solver by hand over bare polygons: allocate

@@ -109,26 +109,7 @@ static int atlas_valid(const bp_atlas *at)
     return 1;
 }
 
-/* ---- meshes ----------------------------------------------------------------- */
-
-static bp_mesh mesh_new(uint32_t nv, uint32_t nt)
-{
-    bp_mesh m;
-    memset(&m, 0, sizeof m);
-    m.num_vertices = nv;
-    m.num_triangles = nt;
-    m.num_faces = nt;
-    m.positions = (double *)calloc(3 * (size_t)nv + 1, sizeof(double));
-    m.triangles = (uint32_t *)calloc(3 * (size_t)nt + 1, sizeof(uint32_t));
-    return m;
-}
-
-static void mesh_free(bp_mesh *m)
-{
-    free(m->positions);
-    free(m->triangles);
-    memset(m, 0, sizeof *m);
-}
+/* ---- meshes (bpt_mesh_new in bptest.h) -------------------------------------- */
 
 /* A curved nx x ny grid without the quads (2,2) and (nx-3, ny-3): a disk
    with two holes.  extra_tetra appends a tetrahedron (a closed chart). */
@@ -141,7 +122,7 @@ static bp_mesh holed_grid(int nx, int ny, int extra_tetra)
     for (j = 0; j < ny; j++)
         for (i = 0; i < nx; i++)
             if (!BP_HOLE(i, j)) nt += 2;
-    m = mesh_new(nv + (extra_tetra ? 4 : 0), nt + (extra_tetra ? 4 : 0));
+    m = bpt_mesh_new(nv + (extra_tetra ? 4 : 0), nt + (extra_tetra ? 4 : 0));
     for (j = 0; j <= ny; j++)
         for (i = 0; i <= nx; i++) {
             double *p = m.positions + 3 * (size_t)(j * (nx + 1) + i);
@@ -173,7 +154,7 @@ static bp_mesh holed_grid(int nx, int ny, int extra_tetra)
 /* a followed by b (b's vertices renumbered, shifted by dx in x) */
 static bp_mesh concat(const bp_mesh *a, const bp_mesh *b, double dx)
 {
-    bp_mesh m = mesh_new(a->num_vertices + b->num_vertices, a->num_triangles + b->num_triangles);
+    bp_mesh m = bpt_mesh_new(a->num_vertices + b->num_vertices, a->num_triangles + b->num_triangles);
     uint32_t i;
     memcpy(m.positions, a->positions, 3 * a->num_vertices * sizeof(double));
     memcpy(m.triangles, a->triangles, 3 * a->num_triangles * sizeof(uint32_t));
@@ -362,13 +343,13 @@ int main(void)
         P.opt.parallel_for = reverse_for;
         sweep("bp_parameterize 3 charts as tasks of a user parallel_for (10 iterations)", call_parameterize, &P,
               BP_ERR_CHARTS_FAILED);
-        mesh_free(&twin);
-        mesh_free(&disk);
+        bpt_mesh_free(&twin);
+        bpt_mesh_free(&disk);
     }
 
     /* visibility on a small closed mesh: a tetrahedron (the mixed mesh's
        last 4 triangles are one, and visibility needs no charts) */
-    small = mesh_new(4, 4);
+    small = bpt_mesh_new(4, 4);
     memcpy(small.positions, mixed.positions + 3 * (mixed.num_vertices - 4), 12 * sizeof(double));
     {
         uint32_t i;
@@ -438,9 +419,9 @@ int main(void)
     }
 
     bp_mesh_free(&bishop, NULL);
-    mesh_free(&holed);
-    mesh_free(&mixed);
-    mesh_free(&small);
+    bpt_mesh_free(&holed);
+    bpt_mesh_free(&mixed);
+    bpt_mesh_free(&small);
     BPT_CHECK(now() - t0 < 60, "test_alloc ran in %.1f s (< 60 s)", now() - t0);
     return bpt_finish();
 }

@@ -57,23 +57,6 @@ static double now(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-/* The decimal number n appears in msg as a whole number. */
-static int has_number(const char *msg, long long n)
-{
-    char num[32];
-    size_t k;
-    const char *p = msg;
-    sprintf(num, "%lld", n);
-    k = strlen(num);
-    while ((p = strstr(p, num)) != NULL) {
-        int before = p > msg && p[-1] >= '0' && p[-1] <= '9';
-        int after = p[k] >= '0' && p[k] <= '9';
-        if (!before && !after) return 1;
-        p++;
-    }
-    return 0;
-}
-
 static int report_valid(const bp_check_report *r)
 {
     return !r->flipped && !r->degenerate && !r->nonfinite && !r->boundary_intersections &&
@@ -128,28 +111,6 @@ static int all_mapped_valid(const bp_atlas *at)
     return at->num_charts > 0 && atlas_valid(at);
 }
 
-/* An in-memory mesh whose arrays this file owns (free with mesh_free). */
-static bp_mesh mesh_new(uint32_t nv, uint32_t nt)
-{
-    bp_mesh m;
-    memset(&m, 0, sizeof m);
-    m.num_vertices = nv;
-    m.num_triangles = nt;
-    m.num_faces = nt;
-    m.positions = (double *)calloc(3 * (size_t)nv + 1, sizeof(double));
-    m.triangles = (uint32_t *)calloc(3 * (size_t)nt + 1, sizeof(uint32_t));
-    return m;
-}
-
-static void mesh_free(bp_mesh *m)
-{
-    free(m->positions);
-    free(m->triangles);
-    free(m->corner_uv);
-    free(m->uvs);
-    memset(m, 0, sizeof *m);
-}
-
 static void set_v(bp_mesh *m, uint32_t v, double x, double y, double z)
 {
     m->positions[3 * v] = x; m->positions[3 * v + 1] = y; m->positions[3 * v + 2] = z;
@@ -173,7 +134,7 @@ static bp_mesh grid(int nx, int ny, hole_fn hole, double bump)
     for (j = 0; j < ny; j++)
         for (i = 0; i < nx; i++)
             if (!hole || !hole(i, j, nx, ny)) nt += 2;
-    m = mesh_new((uint32_t)((nx + 1) * (ny + 1)), nt);
+    m = bpt_mesh_new((uint32_t)((nx + 1) * (ny + 1)), nt);
     for (j = 0; j <= ny; j++)
         for (i = 0; i <= nx; i++)
             set_v(&m, (uint32_t)(j * (nx + 1) + i), i, j, bump * sin(0.7 * i) * cos(0.5 * j));
@@ -242,12 +203,12 @@ static void expect_obj_el(const char *what, const char *text, bp_status want, in
               want_parsed ? "pipeline" : "parser", bp_status_string(st), parsed, err.message);
     if (!want_parsed && line > 0)
         BPT_CHECK(err.line == line && err.element == BP_ELEMENT_LINE && err.index == line &&
-                      has_number(err.message, line),
+                      bpt_has_number(err.message, line),
                   "%s: names line %lld (err.line %lld, element %d, index %lld): \"%s\"", what, line, (long long)err.line,
                   (int)err.element, (long long)err.index, err.message);
     if (want_parsed)
-        BPT_CHECK(err.line == line && err.element == el && err.index == index && has_number(err.message, index) &&
-                      (index2 < -1 || (err.index2 == index2 && (index2 < 0 || has_number(err.message, index2)))),
+        BPT_CHECK(err.line == line && err.element == el && err.index == index && bpt_has_number(err.message, index) &&
+                      (index2 < -1 || (err.index2 == index2 && (index2 < 0 || bpt_has_number(err.message, index2)))),
                   "%s: err.line %lld (want %lld), element %d index %lld/%lld (want %d %lld/%lld) named in \"%s\"",
                   what, (long long)err.line, line, (int)err.element, (long long)err.index, (long long)err.index2,
                   (int)el, (long long)index, (long long)index2, err.message);
@@ -271,7 +232,7 @@ static void expect_mem(const char *what, const bp_mesh *m, bp_status want, bp_el
     BPT_CHECK(st == want && err.status == want, "%s: %s (got %s: \"%s\")", what, bp_status_string(want),
               bp_status_string(st), err.message);
     BPT_CHECK(err.element == el && err.index == index && (index2 < -1 || err.index2 == index2) &&
-                  (index < 0 || has_number(err.message, index)) && (index2 < 0 || has_number(err.message, index2)),
+                  (index < 0 || bpt_has_number(err.message, index)) && (index2 < 0 || bpt_has_number(err.message, index2)),
               "%s: names element %d index %lld/%lld (got element %d index %lld/%lld): \"%s\"", what, (int)el,
               (long long)index, (long long)index2, (int)err.element, (long long)err.index, (long long)err.index2,
               err.message);
@@ -307,9 +268,9 @@ static void test_empty(void)
     /* in memory: no arrays at all, and vertices without triangles */
     memset(&m, 0, sizeof m);
     expect_mem("zeroed bp_mesh", &m, BP_ERR_EMPTY, BP_ELEMENT_NONE, -1, -1);
-    m = mesh_new(3, 0);
+    m = bpt_mesh_new(3, 0);
     expect_mem("bp_mesh with 3 vertices and 0 triangles", &m, BP_ERR_EMPTY, BP_ELEMENT_NONE, -1, -1);
-    mesh_free(&m);
+    bpt_mesh_free(&m);
     st = bp_parameterize(NULL, NULL, NULL, &err);
     BPT_CHECK(st == BP_ERR_INVALID_ARGUMENT && err.message[0], "bp_parameterize(NULL atlas): invalid argument (%s)",
               err.message);
@@ -335,19 +296,19 @@ static void test_nonfinite(void)
             m.positions[3 * 4 + 2] = vals[i];  /* vertex 4: used by triangles 2, 3 */
             sprintf(what, "in-memory vertex 4 with z = %g", vals[i]);
             expect_mem(what, &m, BP_ERR_NONFINITE, BP_ELEMENT_VERTEX, 4, -2);
-            mesh_free(&m);
+            bpt_mesh_free(&m);
         }
     }
     /* an unused vertex may hold anything */
     {
-        bp_mesh m = grid(2, 2, NULL, 0.2), m2 = mesh_new(m.num_vertices + 2, m.num_triangles);
+        bp_mesh m = grid(2, 2, NULL, 0.2), m2 = bpt_mesh_new(m.num_vertices + 2, m.num_triangles);
         memcpy(m2.positions, m.positions, 3 * m.num_vertices * sizeof(double));
         memcpy(m2.triangles, m.triangles, 3 * m.num_triangles * sizeof(uint32_t));
         set_v(&m2, m.num_vertices, NAN, INFINITY, -INFINITY);
         set_v(&m2, m.num_vertices + 1, 1e300, -1e300, 0);   /* far away: must not change the size scale */
         expect_fine("unreferenced vertices (one NaN/Inf, one at 1e300)", &m2, NULL, NULL);
-        mesh_free(&m);
-        mesh_free(&m2);
+        bpt_mesh_free(&m);
+        bpt_mesh_free(&m2);
     }
 }
 
@@ -364,7 +325,7 @@ static void test_indices(void)
         m.triangles[3 * 2 + 1] = 99;       /* triangle 2 */
         expect_mem("in-memory vertex index 99 (of 6)", &m, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, 2, -1);
         BPT_CHECK(1, "(the message also names the index 99)");
-        mesh_free(&m);
+        bpt_mesh_free(&m);
     }
     {
         bp_mesh m = grid(2, 1, NULL, 0);
@@ -375,7 +336,7 @@ static void test_indices(void)
         for (i = 0; i < 3 * m.num_triangles; i++) m.corner_uv[i] = m.triangles[i];
         m.corner_uv[3 * 3] = 6;            /* triangle 3 */
         expect_mem("in-memory uv index 6 (of 6)", &m, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, 3, -1);
-        mesh_free(&m);
+        bpt_mesh_free(&m);
     }
 }
 
@@ -386,12 +347,12 @@ static void test_indices(void)
    twice its area is h (the edge has length 1). */
 static bp_mesh grid_with_needle(double h)
 {
-    bp_mesh g = grid(4, 4, NULL, 0.3), m = mesh_new(g.num_vertices + 1, g.num_triangles + 1);
+    bp_mesh g = grid(4, 4, NULL, 0.3), m = bpt_mesh_new(g.num_vertices + 1, g.num_triangles + 1);
     memcpy(m.positions, g.positions, 3 * g.num_vertices * sizeof(double));
     memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
     set_v(&m, g.num_vertices, 0.5 * (g.positions[3] + g.positions[6]), -h, 0.5 * (g.positions[5] + g.positions[8]));
     set_t(&m, g.num_triangles, 1, g.num_vertices, 2);
-    mesh_free(&g);
+    bpt_mesh_free(&g);
     return m;
 }
 
@@ -423,7 +384,7 @@ static void test_degenerate(void)
         set_v(&m, c, 2 * m.positions[3 * b] - m.positions[3 * a], 2 * m.positions[3 * b + 1] - m.positions[3 * a + 1],
               2 * m.positions[3 * b + 2] - m.positions[3 * a + 2]);
         expect_mem("in-memory collinear triangle 5", &m, BP_ERR_DEGENERATE, BP_ELEMENT_TRIANGLE, 5, -1);
-        mesh_free(&m);
+        bpt_mesh_free(&m);
     }
     /* Needles.  The library rejects a triangle when twice its area is
        <= 1e-12 x the squared bounding-box diagonal of the used vertices.
@@ -438,7 +399,7 @@ static void test_degenerate(void)
             bp_mesh m = grid_with_needle(1.0);
             double d2 = bbox_diag2(&m), h;
             char what[96];
-            mesh_free(&m);
+            bpt_mesh_free(&m);
             h = rel[i] * d2;               /* twice the area / diag^2 = rel */
             m = grid_with_needle(h);
             sprintf(what, "needle with 2A = %g diag^2", rel[i]);
@@ -451,7 +412,7 @@ static void test_degenerate(void)
             } else {
                 expect_mem(what, &m, BP_ERR_DEGENERATE, BP_ELEMENT_TRIANGLE, 32, -1);
             }
-            mesh_free(&m);
+            bpt_mesh_free(&m);
         }
     }
 }
@@ -466,7 +427,7 @@ static void test_topology(void)
         static const char *const name[3] = { "same order", "rotated", "reversed" };
         int i;
         for (i = 0; i < 3; i++) {
-            bp_mesh g = grid(3, 3, NULL, 0.2), m = mesh_new(g.num_vertices, g.num_triangles + 1);
+            bp_mesh g = grid(3, 3, NULL, 0.2), m = bpt_mesh_new(g.num_vertices, g.num_triangles + 1);
             char what[80];
             memcpy(m.positions, g.positions, 3 * g.num_vertices * sizeof(double));
             memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
@@ -475,15 +436,15 @@ static void test_topology(void)
             sprintf(what, "duplicate of triangle 8 as triangle 18 (%s)", name[i]);
             BPT_CHECK(g.triangles[24] == 5 && g.triangles[25] == 6 && g.triangles[26] == 10, "grid triangle 8 is 5 6 10");
             expect_mem(what, &m, BP_ERR_DUPLICATE_FACE, BP_ELEMENT_TRIANGLE, 18, 8);
-            mesh_free(&g);
-            mesh_free(&m);
+            bpt_mesh_free(&g);
+            bpt_mesh_free(&m);
         }
     }
     expect_obj_el("OBJ duplicate face", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\nf 2 3 1\n",
                   BP_ERR_DUPLICATE_FACE, 1, 7, BP_ELEMENT_TRIANGLE, 2, 0);
     /* non-manifold edge 5-7: three triangles on it */
     {
-        bp_mesh m = mesh_new(8, 3);
+        bp_mesh m = bpt_mesh_new(8, 3);
         set_v(&m, 5, 0, 0, 0); set_v(&m, 7, 1, 0, 0);
         set_v(&m, 0, 0.5, 1, 0); set_v(&m, 1, 0.5, -1, 0); set_v(&m, 2, 0.5, 0, 1);
         set_v(&m, 3, 9, 9, 9); set_v(&m, 4, 9, 8, 9); set_v(&m, 6, 8, 9, 9);   /* unused */
@@ -491,19 +452,19 @@ static void test_topology(void)
         set_t(&m, 1, 7, 5, 1);
         set_t(&m, 2, 5, 7, 2);
         expect_mem("three triangles on edge 5-7", &m, BP_ERR_NONMANIFOLD, BP_ELEMENT_EDGE, 5, 7);
-        mesh_free(&m);
+        bpt_mesh_free(&m);
     }
     expect_obj_el("OBJ non-manifold edge",
                "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\n# third\nf 1 5 2\n",
                   BP_ERR_NONMANIFOLD, 1, 9, BP_ELEMENT_EDGE, 0, 1);
     /* inconsistent orientation: triangles 0 (0 1 2) and 1 (0 1 3) both run 0->1 */
     {
-        bp_mesh m = mesh_new(4, 2);
+        bp_mesh m = bpt_mesh_new(4, 2);
         set_v(&m, 0, 0, 0, 0); set_v(&m, 1, 1, 0, 0); set_v(&m, 2, 0, 1, 0); set_v(&m, 3, 0, -1, 0.1);
         set_t(&m, 0, 0, 1, 2);
         set_t(&m, 1, 0, 1, 3);
         expect_mem("neighbours with opposite orientation on edge 0-1", &m, BP_ERR_ORIENTATION, BP_ELEMENT_EDGE, 0, 1);
-        mesh_free(&m);
+        bpt_mesh_free(&m);
     }
     expect_obj_el("OBJ flipped neighbour", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 3 4\n",
                   BP_ERR_ORIENTATION, 1, 6, BP_ELEMENT_EDGE, 1, 2);
@@ -526,7 +487,7 @@ static void test_bowtie(void)
 {
     bp_atlas at;
     {
-        bp_mesh m = mesh_new(5, 2);
+        bp_mesh m = bpt_mesh_new(5, 2);
         set_v(&m, 0, 0, 0, 0);
         set_v(&m, 1, 1, 0.2, 0); set_v(&m, 2, 1, -0.2, 0.1);   /* (0 2 1) faces +z... any orientation */
         set_v(&m, 3, -1, 0.3, 0); set_v(&m, 4, -1, -0.3, 0.2);
@@ -537,7 +498,7 @@ static void test_bowtie(void)
             BPT_CHECK(at.num_charts == 2 && at.num_split == 0, "bowtie: 2 charts, 0 split (%u, %u)",
                       (unsigned)at.num_charts, (unsigned)at.num_split);
         bp_atlas_free(&at);
-        mesh_free(&m);
+        bpt_mesh_free(&m);
     }
     {
         bp_mesh m = grid(4, 4, diagonal_holes, 0.25);
@@ -555,7 +516,7 @@ static void test_bowtie(void)
                       (unsigned)ch->num_loops, (unsigned)ch->num_vertices);
         }
         bp_atlas_free(&at);
-        mesh_free(&m);
+        bpt_mesh_free(&m);
     }
 }
 
@@ -573,7 +534,7 @@ static void tetra(bp_mesh *m, uint32_t v0, uint32_t t0, double ox)
 
 static void test_closed(void)
 {
-    bp_mesh m = mesh_new(4, 4);
+    bp_mesh m = bpt_mesh_new(4, 4);
     bp_atlas at;
     bp_error err;
     bp_options o = defaults();
@@ -585,7 +546,7 @@ static void test_closed(void)
     st = bp_parameterize(&at, &m, &o, &err);
     BPT_CHECK(st == BP_ERR_TOPOLOGY && err.status == st && err.element == BP_ELEMENT_CHART && err.index == 0 &&
                   at.charts == NULL && strstr(err.message, "closed") && !strstr(err.message, "others") &&
-                  has_number(err.message, 0),
+                  bpt_has_number(err.message, 0),
               "tetrahedron (its only chart fails): BP_ERR_TOPOLOGY naming chart 0, says closed, atlas freed (%s, "
               "element %d, index %lld): \"%s\"",
               bp_status_string(st), (int)err.element, (long long)err.index, err.message);
@@ -597,7 +558,7 @@ static void test_closed(void)
               "tetrahedron, strict: BP_ERR_TOPOLOGY naming chart 0, atlas freed (%s): \"%s\"", bp_status_string(st),
               err.message);
     bp_atlas_free(&at);
-    mesh_free(&m);
+    bpt_mesh_free(&m);
 
     /* genus 1 with two boundary loops */
     {
@@ -607,7 +568,7 @@ static void test_closed(void)
             st = bp_parameterize(&at, &t, &o, &err);
             BPT_CHECK(st == BP_ERR_TOPOLOGY && at.charts == NULL && strstr(err.message, "genus 1") &&
                           strstr(err.message, "seams") && err.element == BP_ELEMENT_CHART && err.index == 0 &&
-                          has_number(err.message, 0) && err.line > 0,
+                          bpt_has_number(err.message, 0) && err.line > 0,
                       "torus_with_holes: BP_ERR_TOPOLOGY 'genus 1', says seams, names chart 0, err.line %lld: \"%s\"",
                       (long long)err.line, err.message);
             bp_atlas_free(&at);
@@ -626,7 +587,7 @@ static void test_closed(void)
    bp_write_obj writes the tetrahedron's faces without vt. */
 static void test_mixed(void)
 {
-    bp_mesh g = grid(3, 3, NULL, 0.2), m = mesh_new(g.num_vertices + 4, g.num_triangles + 4);
+    bp_mesh g = grid(3, 3, NULL, 0.2), m = bpt_mesh_new(g.num_vertices + 4, g.num_triangles + 4);
     bp_atlas at;
     bp_error err;
     bp_options o = defaults();
@@ -637,9 +598,9 @@ static void test_mixed(void)
     tetra(&m, g.num_vertices, g.num_triangles, 10);
     st = bp_parameterize(&at, &m, &o, &err);
     BPT_CHECK(st == BP_ERR_CHARTS_FAILED && err.element == BP_ELEMENT_CHART && err.index == 1 &&
-                  has_number(err.message, 1),
+                  bpt_has_number(err.message, 1),
               "grid + tetrahedron: BP_ERR_CHARTS_FAILED naming chart 1 (%s): \"%s\"", bp_status_string(st), err.message);
-    if (st != BP_ERR_CHARTS_FAILED) { mesh_free(&g); mesh_free(&m); bp_atlas_free(&at); return; }
+    if (st != BP_ERR_CHARTS_FAILED) { bpt_mesh_free(&g); bpt_mesh_free(&m); bp_atlas_free(&at); return; }
     BPT_CHECK(at.num_charts == 2 && at.num_failed == 1 && at.charts[0].uv && at.charts[0].error.status == BP_OK &&
                   chart_valid(&at.charts[0]) && atlas_valid(&at),
               "grid + tetrahedron: the grid is mapped and passes bp_check");
@@ -673,8 +634,8 @@ static void test_mixed(void)
         rmdir(dir);
     }
     bp_atlas_free(&at);
-    mesh_free(&g);
-    mesh_free(&m);
+    bpt_mesh_free(&g);
+    bpt_mesh_free(&m);
 }
 
 /* ---- legal but unusual --------------------------------------------------------- */
@@ -684,11 +645,11 @@ static void test_legal(void)
     bp_atlas at;
     /* a single triangle */
     {
-        bp_mesh m = mesh_new(3, 1);
+        bp_mesh m = bpt_mesh_new(3, 1);
         set_v(&m, 0, 0, 0, 0); set_v(&m, 1, 3, 0, 1); set_v(&m, 2, 0.2, 1, -1);
         set_t(&m, 0, 0, 1, 2);
         expect_fine("a single triangle", &m, NULL, NULL);
-        mesh_free(&m);
+        bpt_mesh_free(&m);
     }
     /* duplicated vertices at one position: a cut from the boundary to the
        middle of a 4x4 grid (vertices 1, 6, 11 on column 1... here the
@@ -698,7 +659,7 @@ static void test_legal(void)
     {
         bp_mesh g = grid(4, 4, NULL, 0.2), m;
         uint32_t t, k, extra = 3, copy[25];
-        m = mesh_new(g.num_vertices + extra, g.num_triangles);
+        m = bpt_mesh_new(g.num_vertices + extra, g.num_triangles);
         memcpy(m.positions, g.positions, 3 * g.num_vertices * sizeof(double));
         memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
         for (k = 0; k < 25; k++) copy[k] = k;
@@ -745,8 +706,8 @@ static void test_legal(void)
         bp_atlas_free(&at);
         /* and a full cut: column 2 duplicated on every row -> two charts */
         memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
-        mesh_free(&m);
-        m = mesh_new(g.num_vertices + 5, g.num_triangles);
+        bpt_mesh_free(&m);
+        m = bpt_mesh_new(g.num_vertices + 5, g.num_triangles);
         memcpy(m.positions, g.positions, 3 * g.num_vertices * sizeof(double));
         memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
         for (k = 0; k < 25; k++) copy[k] = k;
@@ -762,8 +723,8 @@ static void test_legal(void)
         if (expect_fine("duplicated vertices along a full column: two charts that touch in 3D", &m, NULL, &at))
             BPT_CHECK(at.num_charts == 2, "full cut: two charts (%u)", (unsigned)at.num_charts);
         bp_atlas_free(&at);
-        mesh_free(&m);
-        mesh_free(&g);
+        bpt_mesh_free(&m);
+        bpt_mesh_free(&g);
     }
     /* vt seams that pinch: spot.obj has 4 pinch vertices */
     {
@@ -808,7 +769,7 @@ static void test_many_holes(void)
                   bp_stop_string(at.charts[0].stop), dt);
     }
     bp_atlas_free(&at);
-    mesh_free(&m);
+    bpt_mesh_free(&m);
 }
 
 /* Scale: the method is scale-free (see test_optimize.c test_scale for the
@@ -837,7 +798,7 @@ static void test_scale(void)
     if (!BPT_CHECK(bp_parameterize(&at, &base, &o, &err) == BP_OK && all_mapped_valid(&at), "two-hole grid at scale 1"))
     {
         bp_atlas_free(&at);
-        mesh_free(&base);
+        bpt_mesh_free(&base);
         return;
     }
     nv = at.charts[0].num_vertices;
@@ -873,10 +834,10 @@ static void test_scale(void)
                       at.charts[0].iterations, it0);
         }
         bp_atlas_free(&at);
-        mesh_free(&m);
+        bpt_mesh_free(&m);
     }
     free(ref);
-    mesh_free(&base);
+    bpt_mesh_free(&base);
 }
 
 /* ---- status strings ----------------------------------------------------------- */

@@ -106,23 +106,6 @@ static int mesh_all_null(const bp_mesh *m)
            !m->triangle_line && !m->triangle_face;
 }
 
-/* The message names the line: the decimal number appears as a whole word. */
-static int message_has_number(const char *msg, long long n)
-{
-    char num[32];
-    size_t k = 0;
-    const char *p = msg;
-    sprintf(num, "%lld", n);
-    k = strlen(num);
-    while ((p = strstr(p, num)) != NULL) {
-        int before = p > msg && p[-1] >= '0' && p[-1] <= '9';
-        int after = p[k] >= '0' && p[k] <= '9';
-        if (!before && !after) return 1;
-        p++;
-    }
-    return 0;
-}
-
 /* A parsed mesh is consistent: every index in range, every number finite. */
 static int mesh_consistent(const bp_mesh *m)
 {
@@ -166,7 +149,7 @@ static void expect_error(int fmt, const char *what, const char *text,
               status2 >= 0 ? " or " : "", status2 >= 0 ? bp_status_string((bp_status)status2) : "");
     BPT_CHECK(err.status == st, "%s %s: err.status matches the return value", fmt_name[fmt], what);
     if (line > 0) {
-        BPT_CHECK(err.line == line && message_has_number(err.message, line),
+        BPT_CHECK(err.line == line && bpt_has_number(err.message, line),
                   "%s %s: err.line %lld (expected %ld), message \"%s\"", fmt_name[fmt],
                   what, (long long)err.line, line, err.message);
     } else {
@@ -451,7 +434,7 @@ static void test_off(void)
             st = parse(OFF, cases[i].text, strlen(cases[i].text), &m, &a, &err);
             BPT_CHECK(st == BP_ERR_PARSE || st == BP_ERR_INDEX,
                       "OFF %s: rejected (%s: %s)", cases[i].what, bp_status_string(st), err.message);
-            BPT_CHECK(err.line >= 2 && err.line <= cases[i].last + 1 && message_has_number(err.message, err.line),
+            BPT_CHECK(err.line >= 2 && err.line <= cases[i].last + 1 && bpt_has_number(err.message, err.line),
                       "OFF %s: err.line %lld names where the data ran out, message \"%s\"",
                       cases[i].what, (long long)err.line, err.message);
             BPT_CHECK(mesh_all_null(&m) && counter_balanced(), "OFF %s: nothing left allocated (%ld/%ld)",
@@ -548,7 +531,7 @@ static void test_files(void)
     write_file(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 3\nf 1 2 7\n");
     counter_reset();
     st = bp_read_obj(path, &m, &a, &err);
-    BPT_CHECK(st == BP_ERR_INDEX && err.line == 6 && message_has_number(err.message, 6) && mesh_all_null(&m) &&
+    BPT_CHECK(st == BP_ERR_INDEX && err.line == 6 && bpt_has_number(err.message, 6) && mesh_all_null(&m) &&
               counter_balanced(), "bp_read_obj: a bad file names line 6 (%s, line %lld: %s)",
               bp_status_string(st), (long long)err.line, err.message);
     remove(path);

@@ -1,11 +1,5 @@
-/* fuzz_off.c - libFuzzer harness for bp_parse_off.
-
-   Properties: never crash or read past the input; BP_OK gives a consistent
-   mesh (indices in range, finite numbers, ordered triangle_line and
-   triangle_face) that bp_mesh_free releases; a failure leaves the mesh
-   zeroed (nothing allocated: LeakSanitizer) and names its line.  Every
-   accepted mesh also goes through bp_atlas_build, which must either build
-   or fail with a message, and never crash. */
+/* fuzz_off.c - libFuzzer harness for bp_parse_off: the properties of
+   fuzz_obj.c (fuzz_common.h's fuzz_parser checks them), on OFF text. */
 #ifndef BP_FUZZ_EXTERNAL_IMPL  /* else bijparam.h is compiled once, separately */
 #define BP_IMPLEMENTATION
 #endif
