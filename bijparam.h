@@ -2178,7 +2178,12 @@ typedef struct bp__sparse {       /* n x n, compressed columns            */
    which is what lets them run on several threads. */
 #define BP__ND_DEPTH 4
 #define BP__ND_NODES 31                 /* 2^(depth+1) - 1 */
-typedef struct bp__ndnode { uint32_t lo, a, b, hi; int used, split; } bp__ndnode;
+typedef struct bp__ndnode {
+    uint32_t lo, a, b, hi;
+    int used, split;
+    uint32_t ncut, poff;          /* separator: column ranges of the solve
+                                     plan, and where its rows' cuts start */
+} bp__ndnode;
 
 /* L is stored once, by rows, each row sorted by column: the row k computed
    by the up-looking step is exactly what is stored, and both triangular
@@ -2192,6 +2197,7 @@ typedef struct bp__factor {
                                      U(j,i) (U^T by rows); D: diagonal of U */
     float    *Rxf;                /* the preconditioner's L in single
                                      precision (it reuses Rx's storage)   */
+    uint32_t *cutp;               /* the solve plan (bp__solve_plan)      */
     bp__ndnode tree[BP__ND_NODES];
 } bp__factor;
 
@@ -2199,6 +2205,7 @@ static void bp__factor_free(const bp_allocator *a, bp__factor *f)
 {
     bp__free(a, f->perm); bp__free(a, f->iperm); bp__free(a, f->Rp); bp__free(a, f->Ri);
     bp__free(a, f->Rx); bp__free(a, f->Ux); bp__free(a, f->D); bp__free(a, f->Rxf);
+    bp__free(a, f->cutp);
     memset(f, 0, sizeof *f);
 }
 
@@ -2719,18 +2726,89 @@ static void bp__factor_single(bp__factor *F)
    through its own block, which finishes its x, and a parallel one that
    scatters its rows into the columns below, cut into column ranges.
 
+   Where each pass starts and stops inside a separator's row is looked up
+   in the solve plan (bp__solve_plan below), not searched for: a binary
+   search per row and pass cost a third of the whole solve on camelhead.
+
    Every sum is taken in an order fixed by the factor alone (a row's
    entries in column order forward; the rows in decreasing order backward),
-   so the bits do not depend on the schedule.  The sequential passes are
-   the only serial work of the top separator, and the two coordinates are
-   independent in them, so they run as two tasks, one per coordinate. */
+   so the bits do not depend on the schedule or on the plan's column
+   ranges.  The sequential passes are the only serial work of the top
+   separator, and the two coordinates are independent in them, so they run
+   as two tasks, one per coordinate. */
+
+/* The solve plan.  A separator [b, hi) of node N has its backward scatter
+   cut into N->ncut column ranges [c_r, c_r+1) with c_0 = lo and
+   c_ncut = b, chosen so that each range holds about the same number of
+   entries (the ranges are the tasks of that pass, and equal tasks balance
+   on any number of threads).  For each row i of the separator the plan
+   stores the ncut + 1 positions where its entries reach c_0 .. c_ncut, at
+   cutp[poff + (i - b)(ncut + 1) + r]; the last one is also where the
+   forward pass 1 stops and the sequential passes start.  It depends on
+   the pattern only, and costs (ncut + 1) words per separator row. */
+#define BP__PLAN_ENTRIES 8192u            /* about this many per range ... */
+#define BP__PLAN_RANGES  8u               /* ... and at most this many      */
+
+static const uint32_t *bp__row_cuts(const bp__factor *F, const bp__ndnode *N, uint32_t i)
+{
+    return F->cutp + N->poff + (size_t)(i - N->b) * (N->ncut + 1);
+}
+
+static int bp__solve_plan(const bp_allocator *a, bp__factor *F)
+{
+    uint32_t k, i, r, c, *cnt;
+    size_t off = 0;
+    for (k = 0; k < BP__ND_NODES; k++) {
+        bp__ndnode *N = &F->tree[k];
+        size_t e = 0;
+        N->ncut = N->poff = 0;
+        if (!N->used || !N->split || bp__nd_depth(k) >= BP__ND_DEPTH) continue;
+        for (i = N->b; i < N->hi; i++) e += bp__lower_bound(F->Ri, F->Rp[i], F->Rp[i + 1], N->b) - F->Rp[i];
+        N->ncut = (uint32_t)(e / BP__PLAN_ENTRIES < BP__PLAN_RANGES ? e / BP__PLAN_ENTRIES : BP__PLAN_RANGES);
+        if (N->ncut == 0) N->ncut = 1;
+        N->poff = (uint32_t)off;
+        off += (size_t)(N->hi - N->b) * (N->ncut + 1);
+    }
+    F->cutp = (uint32_t *)bp__alloc_array(a, off ? off : 1, sizeof(uint32_t));
+    cnt = (uint32_t *)bp__alloc_array(a, F->n ? F->n : 1, sizeof(uint32_t));
+    if (!F->cutp || !cnt) { bp__free(a, cnt); return 0; }
+    for (k = 0; k < BP__ND_NODES; k++) {
+        bp__ndnode *N = &F->tree[k];
+        uint32_t cut[BP__PLAN_RANGES + 1];
+        size_t e = 0, run = 0;
+        if (!N->ncut) continue;
+        /* entries per column below b, then cuts at equal shares */
+        memset(cnt + N->lo, 0, (N->b - N->lo) * sizeof(uint32_t));
+        for (i = N->b; i < N->hi; i++) {
+            uint32_t p, p1 = bp__lower_bound(F->Ri, F->Rp[i], F->Rp[i + 1], N->b);
+            for (p = F->Rp[i]; p < p1; p++) cnt[F->Ri[p]]++;
+            e += p1 - F->Rp[i];
+        }
+        cut[0] = N->lo;
+        for (r = 1, c = N->lo; r < N->ncut; r++) {
+            while (c < N->b && run < e * r / N->ncut) run += cnt[c++];
+            cut[r] = c;
+        }
+        cut[N->ncut] = N->b;
+        for (i = N->b; i < N->hi; i++) {
+            uint32_t *pos = F->cutp + N->poff + (size_t)(i - N->b) * (N->ncut + 1), q = F->Rp[i];
+            for (r = 0; r <= N->ncut; r++) pos[r] = q = bp__lower_bound(F->Ri, q, F->Rp[i + 1], cut[r]);
+        }
+    }
+    bp__free(a, cnt);
+    return 1;
+}
+
+#define BP__SOLVE_TASKS 160
 typedef struct bp__solve_task {
     const bp__factor *F;
     const double *q;                    /* right-hand side, old order       */
     double *r;                          /* result, old order                */
     double *z, *acc;                    /* 2n each: x block, then y block   */
-    uint32_t lo[160], hi[160];          /* rows (or columns) of each task   */
-    uint32_t b[160], top[160];          /* its separator [b, top)           */
+    uint32_t lo[BP__SOLVE_TASKS];       /* rows [lo, hi) of each task       */
+    uint32_t hi[BP__SOLVE_TASKS];
+    uint8_t node[BP__SOLVE_TASKS];      /* its separator's tree node        */
+    uint8_t part[BP__SOLVE_TASKS];      /* BELOW: its column range          */
     int mode;                           /* see bp__solve_range              */
     int per_coord;                      /* task k: range k/2, coordinate k%2 */
 } bp__solve_task;
@@ -2740,8 +2818,8 @@ enum {
     BP__FWD_OUTSIDE,    /* forward pass 1: the entries in columns < b        */
     BP__FWD_FINISH,     /* forward pass 2: the rest, after pass 1            */
     BP__BWD_WHOLE,      /* backward, rows [lo, hi) complete                  */
-    BP__BWD_BLOCK,      /* backward pass 1: x of [lo, hi), scattered >= lo    */
-    BP__BWD_BELOW       /* backward pass 2: rows [b, top) into columns [lo, hi) */
+    BP__BWD_BLOCK,      /* backward pass 1: x of [lo, hi), scattered >= b     */
+    BP__BWD_BELOW       /* backward pass 2: rows [b, hi) into column range part */
 };
 
 static void bp__solve_range(void *task, uint32_t k)
@@ -2751,8 +2829,9 @@ static void bp__solve_range(void *task, uint32_t k)
     const float *Lx = F->Rxf;
     const uint32_t *Ri = F->Ri;
     size_t n = F->n;
-    uint32_t r = T->per_coord ? k >> 1 : k, lo = T->lo[r], hi = T->hi[r], cut = T->b[r], i, p;
+    uint32_t t = T->per_coord ? k >> 1 : k, lo = T->lo[t], hi = T->hi[t], i, p;
     uint32_t c = T->per_coord ? (k & 1) : 0;          /* the (first) coordinate */
+    const bp__ndnode *N = &F->tree[T->node[t]];       /* (WHOLE modes: unused) */
     int both = !T->per_coord, mode = T->mode;
     double *zx = T->z + c * n, *zy = T->z + n, *ax = T->acc + c * n, *ay = T->acc + n;
     if (mode <= BP__FWD_FINISH) {
@@ -2767,9 +2846,9 @@ static void bp__solve_range(void *task, uint32_t k)
             if (mode == BP__FWD_FINISH) {                 /* continue pass 1's sums */
                 sx = ax[i];
                 if (both) sy = ay[i];
-                p0 = bp__lower_bound(Ri, p0, p1, cut);
+                p0 = bp__row_cuts(F, N, i)[N->ncut];
             } else if (mode == BP__FWD_OUTSIDE) {
-                p1 = bp__lower_bound(Ri, p0, p1, cut);
+                p1 = bp__row_cuts(F, N, i)[N->ncut];
             }
             if (both)
                 for (p = p0; p < p1; p++) {
@@ -2798,7 +2877,7 @@ static void bp__solve_range(void *task, uint32_t k)
                 zy[i] = xy;
                 T->r[2 * (size_t)F->perm[i] + 1] = xy;
             }
-            if (mode == BP__BWD_BLOCK) p0 = bp__lower_bound(Ri, p0, p1, lo);
+            if (mode == BP__BWD_BLOCK) p0 = bp__row_cuts(F, N, i)[N->ncut];
             if (both)
                 for (p = p0; p < p1; p++) {
                     ax[Ri[p]] += (double)Lx[p] * xx;
@@ -2808,12 +2887,12 @@ static void bp__solve_range(void *task, uint32_t k)
                 for (p = p0; p < p1; p++) ax[Ri[p]] += (double)Lx[p] * xx;
         }
     } else {
-        /* rows [b, top) of a separator, already final, into columns [lo, hi) */
-        for (i = T->top[r]; i-- > cut;) {
+        /* the separator's rows, already final, into column range part */
+        uint32_t part = T->part[t];
+        for (i = N->hi; i-- > N->b;) {
             double xx = zx[i], xy = zy[i];
-            uint32_t p0 = bp__lower_bound(Ri, F->Rp[i], F->Rp[i + 1], lo);
-            uint32_t p1 = bp__lower_bound(Ri, p0, F->Rp[i + 1], hi);
-            for (p = p0; p < p1; p++) {
+            const uint32_t *cut = bp__row_cuts(F, N, i);
+            for (p = cut[part]; p < cut[part + 1]; p++) {
                 ax[Ri[p]] += (double)Lx[p] * xx;
                 ay[Ri[p]] += (double)Lx[p] * xy;
             }
@@ -2839,11 +2918,12 @@ static void bp__precondition(const bp__factor *F, const bp__par *par, const doub
     T.r = r;
     T.z = z;
     T.acc = z + 2 * (size_t)F->n;               /* z has 4n doubles */
+    memset(T.node, 0, sizeof T.node);
     /* forward, bottom-up */
     for (phase = 0; phase <= BP__ND_DEPTH; phase++) {
         if ((cnt = bp__nd_phase(F, phase, nodes)) == 0) continue;
         if (phase == 0) {
-            for (k = 0; k < cnt; k++) { T.lo[k] = F->tree[nodes[k]].lo; T.hi[k] = F->tree[nodes[k]].hi; T.b[k] = 0; }
+            for (k = 0; k < cnt; k++) { T.lo[k] = F->tree[nodes[k]].lo; T.hi[k] = F->tree[nodes[k]].hi; }
             bp__solve_run(&T, par, BP__FWD_WHOLE, 0, cnt);
             continue;
         }
@@ -2853,15 +2933,15 @@ static void bp__precondition(const bp__factor *F, const bp__par *par, const doub
         step = n / 120 + 1 > 16 ? n / 120 + 1 : 16;
         n = 0;
         for (k = 0; k < cnt; k++)
-            for (lo = F->tree[nodes[k]].b; lo < F->tree[nodes[k]].hi && n < 160; lo += step, n++) {
+            for (lo = F->tree[nodes[k]].b; lo < F->tree[nodes[k]].hi && n < BP__SOLVE_TASKS; lo += step, n++) {
                 T.lo[n] = lo;
                 T.hi[n] = lo + step < F->tree[nodes[k]].hi ? lo + step : F->tree[nodes[k]].hi;
-                T.b[n] = F->tree[nodes[k]].b;
+                T.node[n] = (uint8_t)nodes[k];
             }
-        if (n < 160) bp__solve_run(&T, par, BP__FWD_OUTSIDE, 0, n);
-        for (k = 0; k < cnt; k++) { T.lo[k] = F->tree[nodes[k]].b; T.hi[k] = F->tree[nodes[k]].hi; T.b[k] = T.lo[k]; }
+        if (n < BP__SOLVE_TASKS) bp__solve_run(&T, par, BP__FWD_OUTSIDE, 0, n);
+        for (k = 0; k < cnt; k++) { T.lo[k] = F->tree[nodes[k]].b; T.hi[k] = F->tree[nodes[k]].hi; T.node[k] = (uint8_t)nodes[k]; }
         /* pass 2, or the only pass when the chunks were too many */
-        bp__solve_run(&T, par, n < 160 ? BP__FWD_FINISH : BP__FWD_WHOLE, 1, cnt);
+        bp__solve_run(&T, par, n < BP__SOLVE_TASKS ? BP__FWD_FINISH : BP__FWD_WHOLE, 1, cnt);
     }
     /* backward, top-down */
     for (phase = BP__ND_DEPTH; phase >= 0; phase--) {
@@ -2871,26 +2951,11 @@ static void bp__precondition(const bp__factor *F, const bp__par *par, const doub
             bp__solve_run(&T, par, BP__BWD_WHOLE, 0, cnt);
             continue;
         }
-        for (k = 0; k < cnt; k++) { T.lo[k] = F->tree[nodes[k]].b; T.hi[k] = F->tree[nodes[k]].hi; }
+        for (k = 0; k < cnt; k++) { T.lo[k] = F->tree[nodes[k]].b; T.hi[k] = F->tree[nodes[k]].hi; T.node[k] = (uint8_t)nodes[k]; }
         bp__solve_run(&T, par, BP__BWD_BLOCK, 1, cnt);
-        /* pass 2: the columns below, cut along the tree: each child's two
-           children and separator (the separators below hold most entries) */
-        n = 0;
-        for (k = 0; k < cnt; k++) {
-            const bp__ndnode *N = &F->tree[nodes[k]];
-            uint32_t ch, cut3[4], j;
-            for (ch = 2 * nodes[k] + 1; ch <= 2 * nodes[k] + 2; ch++) {
-                const bp__ndnode *C = &F->tree[ch];
-                cut3[0] = ch == 2 * nodes[k] + 1 ? N->lo : N->a;
-                cut3[3] = ch == 2 * nodes[k] + 1 ? N->a : N->b;
-                cut3[1] = cut3[2] = cut3[3];
-                if (C->used && C->split && C->lo == cut3[0] && C->hi == cut3[3]) { cut3[1] = C->a; cut3[2] = C->b; }
-                for (j = 0; j < 3; j++)
-                    if (cut3[j + 1] > cut3[j]) {
-                        T.lo[n] = cut3[j]; T.hi[n] = cut3[j + 1]; T.b[n] = N->b; T.top[n++] = N->hi;
-                    }
-            }
-        }
+        /* pass 2: the plan's column ranges of every separator of the phase */
+        for (n = 0, k = 0; k < cnt; k++)
+            for (lo = 0; lo < F->tree[nodes[k]].ncut; lo++, n++) { T.node[n] = (uint8_t)nodes[k]; T.part[n] = (uint8_t)lo; }
         bp__solve_run(&T, par, BP__BWD_BELOW, 0, n);
     }
 }
@@ -4627,7 +4692,10 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
     if (!bp__sparse_from_triplets(a, S->nv, t, n, K)) { bp__free(a, t); return BP_ERR_OUT_OF_MEMORY; }
     bp__free(a, t);
     st = bp__factorize(a, K, F, &bad, &S->par);
-    if (st == BP_OK) bp__factor_single(F);
+    if (st == BP_OK) {
+        bp__factor_single(F);
+        if (!bp__solve_plan(a, F)) st = BP_ERR_OUT_OF_MEMORY;
+    }
     return st;
 }
 

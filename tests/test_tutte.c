@@ -201,6 +201,58 @@ static int check_start(const bp_mesh *m, bp_chart *ch, int mvc, const char *name
     return bad;
 }
 
+/* The solve plan against a linear scan of every separator row: the first
+   cut is the row's start, the last one its first entry at or above b, the
+   cuts increase, the column ranges of one separator never overlap (so the
+   backward tasks write disjoint sums), and each range holds at most its
+   share of the entries plus one column's worth. */
+static void check_plan(const char *path, const bp__factor *F)
+{
+    uint32_t k, i, r, p, seps = 0, ranges = 0, bad = 0, worst_node = 0;
+    double worst = 0;
+    for (k = 0; k < BP__ND_NODES; k++) {
+        const bp__ndnode *N = &F->tree[k];
+        uint32_t lo_col[BP__PLAN_RANGES], hi_col[BP__PLAN_RANGES], colmax = 0, c;
+        size_t ent[BP__PLAN_RANGES], e = 0;
+        if (!N->ncut) continue;
+        seps++;
+        ranges += N->ncut;
+        bad += N->ncut > BP__PLAN_RANGES;
+        if (N->ncut > BP__PLAN_RANGES) continue;
+        for (r = 0; r < N->ncut; r++) { lo_col[r] = UINT32_MAX; hi_col[r] = 0; ent[r] = 0; }
+        for (i = N->b; i < N->hi; i++) {
+            const uint32_t *cut = bp__row_cuts(F, N, i);
+            uint32_t first_b = F->Rp[i];
+            while (first_b < F->Rp[i + 1] && F->Ri[first_b] < N->b) first_b++;
+            bad += cut[0] != F->Rp[i] || cut[N->ncut] != first_b;
+            for (r = 0; r < N->ncut; r++) {
+                bad += cut[r] > cut[r + 1];
+                for (p = cut[r]; p < cut[r + 1]; p++) {
+                    if (F->Ri[p] < lo_col[r]) lo_col[r] = F->Ri[p];
+                    if (F->Ri[p] > hi_col[r]) hi_col[r] = F->Ri[p];
+                    ent[r]++;
+                }
+            }
+        }
+        for (c = N->lo; c < N->b; c++) {               /* the densest column */
+            uint32_t m = 0;
+            for (i = N->b; i < N->hi; i++)
+                for (p = F->Rp[i]; p < F->Rp[i + 1]; p++) m += F->Ri[p] == c;
+            if (m > colmax) colmax = m;
+        }
+        for (r = 0; r < N->ncut; r++) e += ent[r];
+        for (r = 0; r < N->ncut; r++) {
+            double share = (double)ent[r] / ((double)e / N->ncut);
+            bad += r + 1 < N->ncut && ent[r] && ent[r + 1] && hi_col[r] >= lo_col[r + 1];
+            bad += ent[r] > e / N->ncut + colmax + 1;
+            if (share > worst) { worst = share; worst_node = k; }
+        }
+    }
+    BPT_CHECK(seps > 0 && bad == 0, "%s: solve plan of %u separators, %u column ranges: the cuts are where a scan puts "
+              "them, the ranges are disjoint and within one column of their share (largest %.2f of the mean, node %u)",
+              path, seps, ranges, worst, worst_node);
+}
+
 static void check_precondition(const char *path)
 {
     static const bp_parallel_for_fn orders[3] = { bp__serial_for, bpt_backwards_for, bpt_odd_even_for };
@@ -253,6 +305,7 @@ static void check_precondition(const char *path)
     BPT_CHECK(same_factor, "%s (%u unknowns, %d separators in the phase tree, nnz(L) %u): the factor has the same bits "
               "under three task orders", path, n, nodes, F[0].Rp[n]);
     BPT_CHECK(same_solve, "%s: the preconditioner solve has the same bits under three task orders", path);
+    check_plan(path, &F[0]);
     /* against the double factor and its serial solve, per coordinate */
     BPT_CHECK(bp__factorize(&a, &K[0], &Fd, &bad, NULL) == BP_OK, "%s: double factor", path);
     for (j = 0; j < 2; j++) {
