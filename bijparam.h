@@ -4814,53 +4814,214 @@ static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp
     return BP_OK;
 }
 
-/* The L-BFGS vector work in chunks (see >>threads): one task computes, on
-   its slice, out = base + c w (base NULL: 0; w NULL: nothing) and then the
-   dot products a.b and a2.b2 of the result; partial dots are added in
-   chunk order.  Fusing each update with the next dot halves the number of
-   synchronizations of the two-loop recursion. */
+/* The L-BFGS vector work in chunks (see >>threads).  One pass over n
+   doubles computes, on each chunk,
+       out = c0 base + c_1 w_1 + ... + c_nw w_nw     (out NULL: nothing;
+                                                     base NULL: 0)
+   term by term in that order, and then the dot products A_k . B_k
+   (k < nd) of the vectors as they are after that; the partial dots of the
+   chunks are added in chunk order.  out may be base (the update is
+   elementwise).  A pass costs one join and one sweep of its vectors, so
+   the solver asks for as much as it can in each. */
 #define BP__VEC_CHUNK 4096u
 
 typedef struct bp__vec_task {
-    double       *out;
-    const double *base, *w;
-    double        c;
-    const double *a, *b, *a2, *b2;
-    double       *part;          /* 2 per chunk */
-    uint32_t      n;
+    double             *out;
+    const double       *base;
+    double              c0;
+    const double *const *w;
+    const double       *c;
+    const double *const *A, *const *B;
+    uint32_t            nw, nd, n;
+    double             *part;            /* nd per chunk                     */
 } bp__vec_task;
 
 static void bp__vec_task_run(void *task, uint32_t k)
 {
     bp__vec_task *T = (bp__vec_task *)task;
-    uint32_t i, i0 = k * BP__VEC_CHUNK, i1 = i0 + BP__VEC_CHUNK < T->n ? i0 + BP__VEC_CHUNK : T->n;
-    double d1 = 0, d2 = 0;
-    if (T->w)
-        for (i = i0; i < i1; i++) T->out[i] = (T->base ? T->base[i] : 0) + T->c * T->w[i];
-    if (T->a) for (i = i0; i < i1; i++) d1 += T->a[i] * T->b[i];
-    if (T->a2) for (i = i0; i < i1; i++) d2 += T->a2[i] * T->b2[i];
-    T->part[2 * k] = d1;
-    T->part[2 * k + 1] = d2;
+    uint32_t i, j, i0 = k * BP__VEC_CHUNK, i1 = i0 + BP__VEC_CHUNK < T->n ? i0 + BP__VEC_CHUNK : T->n;
+    if (T->out) {
+        if (T->base) for (i = i0; i < i1; i++) T->out[i] = T->c0 * T->base[i];
+        else for (i = i0; i < i1; i++) T->out[i] = 0;
+        for (j = 0; j < T->nw; j++) {
+            const double *w = T->w[j], c = T->c[j];
+            for (i = i0; i < i1; i++) T->out[i] += c * w[i];
+        }
+    }
+    for (j = 0; j < T->nd; j++) {
+        const double *a = T->A[j], *b = T->B[j];
+        double d0 = 0, d1 = 0, d2 = 0, d3 = 0;
+        for (i = i0; i + 4 <= i1; i += 4) {      /* four sums: not one long chain of dependent adds */
+            d0 += a[i] * b[i];
+            d1 += a[i + 1] * b[i + 1];
+            d2 += a[i + 2] * b[i + 2];
+            d3 += a[i + 3] * b[i + 3];
+        }
+        for (; i < i1; i++) d0 += a[i] * b[i];
+        T->part[(size_t)k * T->nd + j] = (d0 + d1) + (d2 + d3);
+    }
 }
 
-/* Runs one fused operation over n doubles; *d1, *d2 (may be NULL) receive
-   the dots. */
-static void bp__vec_op(const bp__par *par, double *part, uint32_t n, double *out, const double *base, double c,
-                       const double *w, const double *a, const double *b, const double *a2, const double *b2,
-                       double *d1, double *d2)
+/* Runs one pass; dot[k] receives A_k . B_k.  part: nd per chunk. */
+static void bp__vec_pass(const bp__par *par, double *part, uint32_t n, double *out, double c0, const double *base,
+                         uint32_t nw, const double *const *w, const double *c,
+                         uint32_t nd, const double *const *A, const double *const *B, double *dot)
 {
     bp__vec_task T;
-    uint32_t k, nc = (n + BP__VEC_CHUNK - 1) / BP__VEC_CHUNK;
-    double s1 = 0, s2 = 0;
-    T.out = out; T.base = base; T.w = w; T.c = c;
-    T.a = a; T.b = b; T.a2 = a2; T.b2 = b2;
+    uint32_t k, j, nc = (n + BP__VEC_CHUNK - 1) / BP__VEC_CHUNK;
+    T.out = out; T.base = base; T.c0 = c0;
+    T.w = w; T.c = c; T.nw = nw;
+    T.A = A; T.B = B; T.nd = nd;
     T.part = part;
     T.n = n;
     par->run(par->user, bp__vec_task_run, &T, nc);
-    for (k = 0; k < nc; k++) { s1 += part[2 * k]; s2 += part[2 * k + 1]; }
-    if (d1) *d1 = s1;
-    if (d2) *d2 = s2;
+    for (j = 0; j < nd; j++) {
+        double s = 0;
+        for (k = 0; k < nc; k++) s += part[(size_t)k * nd + j];
+        dot[j] = s;
+    }
 }
+
+/* The common case: out = base + c w (base NULL: c w), with up to one dot. */
+static void bp__vec_axpy(const bp__par *par, double *part, uint32_t n, double *out, const double *base, double c,
+                         const double *w, const double *a, const double *b, double *dot)
+{
+    bp__vec_pass(par, part, n, out, 1, base, 1, &w, &c, a ? 1u : 0u, &a, &b, dot);
+}
+
+/* The L-BFGS memory (Algorithm 1; Nocedal & Wright, Algorithm 7.4): the
+   last m pairs s = x_new - x, y = g_new - g in a ring of slots, and the
+   search direction v = -H g by the two-loop recursion
+       q = g;  for j newest..oldest: alpha_j = rho_j s_j.q,  q -= alpha_j y_j
+       r = H0 q;  for j oldest..newest: beta_j = rho_j y_j.r,  r += (alpha_j - beta_j) s_j
+   with rho_j = 1 / s_j.y_j.  Written out, every dot product the loops take
+   is a dot with g, with p = K^-1 q, or between two stored vectors:
+       s_j.q = s_j.g - sum_{l newer than j} alpha_l s_j.y_l
+       y_j.r = scale y_j.p + sum_{l older than j} (alpha_l - beta_l) s_l.y_j
+   (H0 = scale K^-1).  The products s_i.y_j are kept in the Gram matrix SY,
+   to which each new pair adds its row and column, so the recursion takes
+   four passes over the vectors, (a) s_j.g, (b) q, (c) y_j.p, (d) v = -r
+   with g.v, instead of 2m + 2, with scalar work in between (the
+   "vector-free" form of Chen, Wang and Zhou, NIPS 2014).  The result is
+   the recursion's, up to rounding; tests/test_optimize.c compares the two. */
+typedef struct bp__lbfgs {
+    int hist, nh, head;               /* slots, pairs stored, next slot   */
+    uint32_t n;                       /* vector length                    */
+    double *s, *y;                    /* hist vectors each                */
+    double *rho, *sy, *yy, *SY;       /* per slot; SY(i, j) = s_i . y_j   */
+    double *alpha, *coef, *sg, *yr;   /* per age (0: the newest pair)     */
+    double *vc, *vd;                  /* a pass's coefficients and dots   */
+    const double **vA, **vB;          /* a pass's vectors                 */
+    double *part;                     /* partial dots: 2 hist + 2 per chunk */
+} bp__lbfgs;
+
+static void bp__lbfgs_free(const bp_allocator *a, bp__lbfgs *L)
+{
+    bp__free(a, L->s); bp__free(a, L->y); bp__free(a, L->rho); bp__free(a, (void *)L->vA); bp__free(a, L->part);
+    memset(L, 0, sizeof *L);
+}
+
+static int bp__lbfgs_init(const bp_allocator *a, bp__lbfgs *L, int hist, uint32_t n)
+{
+    size_t h1 = (size_t)hist + 1;
+    memset(L, 0, sizeof *L);
+    L->hist = hist;
+    L->n = n;
+    L->s = (double *)bp__alloc_array(a, (size_t)n * (hist ? hist : 1), sizeof(double));
+    L->y = (double *)bp__alloc_array(a, (size_t)n * (hist ? hist : 1), sizeof(double));
+    L->rho = (double *)bp__alloc_array(a, 10 * h1 + h1 * h1, sizeof(double));
+    L->vA = (const double **)bp__alloc_array(a, 4 * h1, sizeof(const double *));
+    L->part = (double *)bp__alloc_array(a, 2 * h1 * ((size_t)n / BP__VEC_CHUNK + 1), sizeof(double));
+    if (!L->s || !L->y || !L->rho || !L->vA || !L->part) { bp__lbfgs_free(a, L); return 0; }
+    L->sy = L->rho + h1; L->yy = L->sy + h1; L->alpha = L->yy + h1; L->coef = L->alpha + h1;
+    L->sg = L->coef + h1; L->yr = L->sg + h1; L->vc = L->yr + h1; L->vd = L->vc + h1; L->SY = L->vd + 2 * h1;
+    L->vB = L->vA + 2 * h1;
+    return 1;
+}
+
+#define BP__S(L, k) ((L)->s + (size_t)(k) * (L)->n)
+#define BP__Y(L, k) ((L)->y + (size_t)(k) * (L)->n)
+#define BP__SLOT(L, j) (((L)->head - 1 - (j) + (L)->hist) % (L)->hist)   /* the pair of age j */
+
+/* v = -H g (needs nh > 0); returns g.v.  K, KF: H0 = K^-1 / sigma with
+   sigma = s.y / s.K s of the newest pair (pwork: 4n/2 doubles); K NULL:
+   H0 = (s.y / y.y) I. */
+static double bp__lbfgs_direction(bp__lbfgs *L, const bp__par *par, const double *g, double *v,
+                                  const bp__sparse *K, const bp__factor *KF, double *pwork, double *qpart)
+{
+    int j, l, nh = L->nh, nw = BP__SLOT(L, 0);
+    uint32_t n = L->n;
+    double scale, gv;
+    for (j = 0; j < nh; j++) { L->vA[j] = BP__S(L, BP__SLOT(L, j)); L->vB[j] = g; }
+    bp__vec_pass(par, L->part, n, NULL, 0, NULL, 0, NULL, NULL, (uint32_t)nh, L->vA, L->vB, L->sg);      /* (a) */
+    for (j = 0; j < nh; j++) {
+        double sq = L->sg[j];
+        for (l = 0; l < j; l++) sq -= L->alpha[l] * L->SY[(size_t)BP__SLOT(L, j) * L->hist + BP__SLOT(L, l)];
+        L->alpha[j] = L->rho[BP__SLOT(L, j)] * sq;
+    }
+    for (j = 0; j < nh; j++) { L->vA[j] = BP__Y(L, BP__SLOT(L, j)); L->vc[j] = -L->alpha[j]; }
+    bp__vec_pass(par, L->part, n, v, 1, g, (uint32_t)nh, L->vA, L->vc, 0, NULL, NULL, NULL);              /* (b) */
+    if (K) {
+        scale = bp__quad_form(K, BP__S(L, nw), par, qpart) / L->sy[nw];
+        bp__precondition(KF, par, v, v, pwork);
+    } else {
+        scale = L->sy[nw] / L->yy[nw];
+    }
+    for (j = 0; j < nh; j++) { L->vA[j] = BP__Y(L, BP__SLOT(L, j)); L->vB[j] = v; }
+    bp__vec_pass(par, L->part, n, NULL, 0, NULL, 0, NULL, NULL, (uint32_t)nh, L->vA, L->vB, L->yr);      /* (c) */
+    for (j = nh - 1; j >= 0; j--) {
+        double yrj = scale * L->yr[j];
+        for (l = nh - 1; l > j; l--) yrj += L->coef[l] * L->SY[(size_t)BP__SLOT(L, l) * L->hist + BP__SLOT(L, j)];
+        L->coef[j] = L->alpha[j] - L->rho[BP__SLOT(L, j)] * yrj;
+    }
+    for (j = 0; j < nh; j++) { L->vA[j] = BP__S(L, BP__SLOT(L, j)); L->vc[j] = -L->coef[j]; }
+    L->vB[0] = g; L->vB[1] = v;
+    bp__vec_pass(par, L->part, n, v, -scale, v, (uint32_t)nh, L->vA, L->vc, 1, L->vB, L->vB + 1, &gv);  /* (d) */
+    return gv;
+}
+
+/* Store s = x_new - x and y = g_new - g in the slot of the oldest pair: s
+   with s.s in one pass, then y with y.y, s.y and the new row and column of
+   SY in another.  The pair is dropped when the curvature s.y is not
+   positive; the oldest pair is then gone too (its slot was written). */
+static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, const double *xn, const double *g,
+                           const double *gn)
+{
+    double ss, *sp, *yp;
+    int j, nd = 2;
+    if (!L->hist) return;
+    sp = BP__S(L, L->head);
+    yp = BP__Y(L, L->head);
+    bp__vec_axpy(par, L->part, L->n, sp, xn, -1, x, sp, sp, &ss);
+    L->vA[0] = yp; L->vB[0] = yp;
+    L->vA[1] = sp; L->vB[1] = yp;
+    for (j = 0; j < L->nh; j++)
+        if (BP__SLOT(L, j) != L->head) {
+            L->vA[nd] = BP__S(L, BP__SLOT(L, j)); L->vB[nd++] = yp;    /* s_j . y */
+            L->vA[nd] = sp; L->vB[nd++] = BP__Y(L, BP__SLOT(L, j));    /* s . y_j */
+        }
+    L->vc[0] = -1;
+    bp__vec_pass(par, L->part, L->n, yp, 1, gn, 1, &g, L->vc, (uint32_t)nd, L->vA, L->vB, L->vd);
+    if (L->vd[1] > 1e-12 * sqrt(ss * L->vd[0])) {
+        int h = L->head;
+        L->rho[h] = 1 / L->vd[1];
+        L->sy[h] = L->vd[1];
+        L->yy[h] = L->vd[0];
+        L->SY[(size_t)h * L->hist + h] = L->vd[1];
+        for (nd = 2, j = 0; j < L->nh; j++)
+            if (BP__SLOT(L, j) != h) {
+                L->SY[(size_t)BP__SLOT(L, j) * L->hist + h] = L->vd[nd++];
+                L->SY[(size_t)h * L->hist + BP__SLOT(L, j)] = L->vd[nd++];
+            }
+        L->head = (h + 1) % L->hist;
+        if (L->nh < L->hist) L->nh++;
+    } else if (L->nh == L->hist) {
+        L->nh--;
+    }
+}
+#undef BP__S
+#undef BP__Y
+#undef BP__SLOT
 
 static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
                                     const bp_options *opt, const bp__par *runner, bp_error *err)
@@ -4869,9 +5030,10 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     bp__solver S;
     bp_options o;
     uint32_t t, i, nv2;
-    int hist, it, small = 0, nh = 0, head = 0, gd_scale_set = 0;
-    double *x = NULL, *g = NULL, *xn = NULL, *gn = NULL, *v = NULL, *sh = NULL, *yh = NULL, *rho = NULL, *alpha = NULL;
+    int hist, it, small = 0, gd_scale_set = 0;
+    double *x = NULL, *g = NULL, *xn = NULL, *gn = NULL, *v = NULL;
     double *rest_wxy = NULL, *pwork = NULL, *vpart = NULL;
+    bp__lbfgs L;
     bp__sparse K;
     bp__factor KF;
     bp__par par;
@@ -4884,6 +5046,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     memset(&o, 0, sizeof o);
     memset(&K, 0, sizeof K);
     memset(&KF, 0, sizeof KF);
+    memset(&L, 0, sizeof L);
     if (opt) o = *opt;
     if (!ch || !m || !ch->uv || !ch->num_loops)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart_index, -1, 0,
@@ -4917,14 +5080,10 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     xn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
     gn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
     v = (double *)bp__alloc_array(&a, nv2, sizeof(double));
-    sh = (double *)bp__alloc_array(&a, (size_t)nv2 * (hist ? hist : 1), sizeof(double));
-    yh = (double *)bp__alloc_array(&a, (size_t)nv2 * (hist ? hist : 1), sizeof(double));
-    rho = (double *)bp__alloc_array(&a, hist ? hist : 1, sizeof(double));
-    alpha = (double *)bp__alloc_array(&a, hist ? hist : 1, sizeof(double));
     pwork = (double *)bp__alloc_array(&a, 4 * (size_t)S.nv, sizeof(double));
     vpart = (double *)bp__alloc_array(&a, 2 * ((size_t)nv2 / BP__VEC_CHUNK + 1) + (size_t)S.nv / BP__QUAD_CHUNK + 1,
                                       sizeof(double));
-    if (!pwork || !vpart || !x || !g || !xn || !gn || !v || !sh || !yh || !rho || !alpha) {
+    if (!pwork || !vpart || !x || !g || !xn || !gn || !v || !bp__lbfgs_init(&a, &L, hist, nv2)) {
         st = bp__oom(err, "optimizing a chart");
         goto done;
     }
@@ -4941,77 +5100,39 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     for (it = 0; it < o.max_iterations; it++) {
         double gv = 0, tmax, tt, fn = HUGE_VAL, edn = HUGE_VAL;
         int accepted = 0, tries;
-        /* (2) search direction: v = -H g, with the L-BFGS two-loop recursion
-           (Algorithm 1) when there is history */
-#define BP__S(j) (sh + (size_t)(j) * nv2)
-#define BP__Y(j) (yh + (size_t)(j) * nv2)
-        if (nh > 0) {
-            int j, idx = (head - 1 + hist) % hist, nxt;
-            double dot, yy = 0, sy = 0, scale;
-            bp__vec_op(&par, vpart, nv2, v, NULL, -1, g, BP__S(idx), v, NULL, NULL, &dot, NULL);
-            for (j = 0; j < nh; j++) {
-                idx = (head - 1 - j + hist) % hist;
-                alpha[idx] = rho[idx] * dot;
-                nxt = (head - 2 - j + hist) % hist;
-                if (j + 1 < nh)                  /* v -= alpha y, then the next s.v */
-                    bp__vec_op(&par, vpart, nv2, v, v, -alpha[idx], BP__Y(idx), BP__S(nxt), v, NULL, NULL, &dot, NULL);
-                else {                           /* the last one, with y.y and s.y of the newest pair */
-                    int nw = (head - 1 + hist) % hist;
-                    bp__vec_op(&par, vpart, nv2, v, v, -alpha[idx], BP__Y(idx), BP__Y(nw), BP__Y(nw), BP__S(nw),
-                               BP__Y(nw), &yy, &sy);
-                }
-            }
-            idx = (head - 1 + hist) % hist;
-            if (precond) {
-                /* H0 = K^-1 / sigma, sigma = s.y / s.K s */
-                scale = bp__quad_form(&K, BP__S(idx), &par, vpart) / sy;
-                bp__precondition(&KF, &par, v, v, pwork);
-            } else {
-                scale = sy / yy;                 /* H0 = (s.y / y.y) I */
-            }
-            idx = (head - nh + hist) % hist;     /* oldest pair first */
-            bp__vec_op(&par, vpart, nv2, v, NULL, scale, v, BP__Y(idx), v, NULL, NULL, &dot, NULL);
-            for (j = nh - 1; j >= 0; j--) {
-                double beta;
-                idx = (head - 1 - j + hist) % hist;
-                beta = rho[idx] * dot;
-                nxt = (head - j + hist) % hist;
-                if (j > 0)                       /* v += (alpha - beta) s, then the next y.v */
-                    bp__vec_op(&par, vpart, nv2, v, v, alpha[idx] - beta, BP__S(idx), BP__Y(nxt), v, NULL, NULL,
-                               &dot, NULL);
-                else                             /* the last one, with g.v for the line search */
-                    bp__vec_op(&par, vpart, nv2, v, v, alpha[idx] - beta, BP__S(idx), g, v, NULL, NULL, &gv, NULL);
-            }
+        /* (2) search direction: v = -H g (L-BFGS, above), or with no
+           pairs yet -K^-1 g (preconditioned) or -g */
+        if (L.nh > 0) {
+            gv = bp__lbfgs_direction(&L, &par, g, v, precond ? &K : NULL, &KF, pwork, vpart);
         } else if (precond) {
-            bp__vec_op(&par, vpart, nv2, v, NULL, -1, g, NULL, NULL, NULL, NULL, NULL, NULL);
+            const double *gp = g, *vp = v;
+            bp__vec_axpy(&par, vpart, nv2, v, NULL, -1, g, NULL, NULL, NULL);
             bp__precondition(&KF, &par, v, v, pwork);
-            bp__vec_op(&par, vpart, nv2, v, NULL, 0, NULL, g, v, NULL, NULL, &gv, NULL);
+            bp__vec_pass(&par, vpart, nv2, NULL, 0, NULL, 0, NULL, NULL, 1, &gp, &vp, &gv);
         } else {
-            bp__vec_op(&par, vpart, nv2, v, NULL, -1, g, g, v, NULL, NULL, &gv, NULL);
+            bp__vec_axpy(&par, vpart, nv2, v, NULL, -1, g, g, v, &gv);
         }
-#undef BP__S
-#undef BP__Y
         if (!(gv < 0)) {                          /* not a descent direction: restart */
-            nh = 0;
+            L.nh = 0;
             gv = 0;
             for (i = 0; i < nv2; i++) { v[i] = -g[i]; gv -= g[i] * g[i]; }
         }
         if (gv == 0) { ch->stop = BP_STOP_CONVERGED; break; }
         /* first step of gradient descent: move the fastest vertex by about
            a tenth of a boundary edge; later ones start from twice the last */
-        if (nh == 0 && (!gd_scale_set || hist == 0)) {
+        if (L.nh == 0 && (!gd_scale_set || hist == 0)) {
             double vmax = 0;
             for (i = 0; i < nv2; i++) if (fabs(v[i]) > vmax) vmax = fabs(v[i]);
             if (!gd_scale_set) tlast = 0.05 * S.mean_edge / vmax;
             gd_scale_set = 1;
         }
         /* (3) the singularity-aware bound, (4) the line search */
-        tt = (nh > 0) ? 1.0 : 2 * tlast;         /* the first step to try ... */
+        tt = (L.nh > 0) ? 1.0 : 2 * tlast;       /* the first step to try ... */
         tmax = bp__step_bound(&S, x, v, tt / 0.9);
         if (tmax < tt / 0.9 && tt > 0.9 * tmax) tt = 0.9 * tmax;   /* ... at most 0.9 tmax */
         for (tries = 0; tries < 60 && tt > 0; tries++, tt *= 0.5) {
             int valid;
-            bp__vec_op(&par, vpart, nv2, xn, x, tt, v, NULL, NULL, NULL, NULL, NULL, NULL);
+            bp__vec_axpy(&par, vpart, nv2, xn, x, tt, v, NULL, NULL, NULL);
             fn = bp__evaluate(&S, xn, gn, &edn, f + 1e-4 * tt * gv, &valid);  /* f, gradient, exact check */
             if (S.oom) { st = bp__oom(err, "evaluating a step"); goto done; }
             if (!(fn <= f + 1e-4 * tt * gv)) continue;
@@ -5021,22 +5142,10 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
         }
         if (!accepted) { ch->stop = BP_STOP_NO_PROGRESS; break; }
         tlast = tt;
-        /* L-BFGS memory: s = x_new - x, y = g_new - g (skipped when the
-           curvature s.y is not positive) */
-        if (hist) {
-            double sy = 0, ss = 0, yy2 = 0;
-            double *sp = sh + (size_t)head * nv2, *yp = yh + (size_t)head * nv2;
-            bp__vec_op(&par, vpart, nv2, sp, xn, -1, x, sp, sp, NULL, NULL, &ss, NULL);
-            bp__vec_op(&par, vpart, nv2, yp, gn, -1, g, yp, yp, sp, yp, &yy2, &sy);
-            if (sy > 1e-12 * sqrt(ss * yy2)) {
-                rho[head] = 1 / sy;
-                head = (head + 1) % hist;
-                if (nh < hist) nh++;
-            }
-        }
+        bp__lbfgs_push(&L, &par, x, xn, g, gn);     /* the new pair s, y */
         { double *tp = x; x = xn; xn = tp; tp = g; g = gn; gn = tp; }   /* accept: swap, no copy */
         /* the current map, visible to the progress callback */
-        bp__vec_op(&par, vpart, nv2, ch->uv, NULL, 1, x, NULL, NULL, NULL, NULL, NULL, NULL);
+        bp__vec_pass(&par, vpart, nv2, ch->uv, 1, x, 0, NULL, NULL, 0, NULL, NULL, NULL);
         /* (5) convergence: relative decrease below tol three times running */
         if ((f - fn) <= o.tolerance * fabs(fn)) small++; else small = 0;
         f = fn;
@@ -5075,7 +5184,8 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
 done:
     bp__solver_free(&S);
     bp__free(&a, x); bp__free(&a, g); bp__free(&a, xn); bp__free(&a, gn);
-    bp__free(&a, v); bp__free(&a, sh); bp__free(&a, yh); bp__free(&a, rho); bp__free(&a, alpha);
+    bp__free(&a, v);
+    bp__lbfgs_free(&a, &L);
     bp__free(&a, rest_wxy); bp__free(&a, pwork); bp__free(&a, vpart);
     bp__sparse_free(&a, &K);
     bp__factor_free(&a, &KF);

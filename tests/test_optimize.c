@@ -29,7 +29,9 @@
          (bit for bit: every operation scales exactly), and scaled by 1e3
          and 1e-3 the same map up to rounding of the input (to 1e-6 of the
          chart size after 20 iterations; same energy to 1e-6 at convergence,
-         see test_scale for the measured divergence in between). */
+         see test_scale for the measured divergence in between);
+     (i) the L-BFGS direction (four passes with the Gram matrix s_i.y_j)
+         equals the textbook two-loop recursion on the same pairs. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -532,6 +534,136 @@ static void test_scale(void)
     bp_mesh_free(&mesh, NULL);
 }
 
+/* (i) The vector-free two-loop recursion (bp__lbfgs_direction, which keeps
+   the Gram matrix s_i.y_j and makes four passes) against the textbook
+   recursion written out here, on the same pairs: random steps on camel_b's
+   vertices with positive curvature, two pairs of negative curvature (one
+   while the memory is filling, which is dropped, one when it is full,
+   which also loses the oldest pair), with H0 the scaled identity and the
+   scaled Laplacian preconditioner.  Same direction to 1e-10 (rounding). */
+static double dotn(const double *a, const double *b, uint32_t n)
+{
+    double d = 0;
+    uint32_t i;
+    for (i = 0; i < n; i++) d += a[i] * b[i];
+    return d;
+}
+
+static void reference_direction(int np, double *const *Sv, double *const *Yv, const double *g, double *v, uint32_t n,
+                                const bp__sparse *K, const bp__factor *KF, const bp__par *par, double *z)
+{
+    double a[16], scale, *q = v;
+    uint32_t i, j, p;
+    int k;
+    for (i = 0; i < n; i++) q[i] = g[i];
+    for (k = np - 1; k >= 0; k--) {                   /* newest first */
+        a[k] = dotn(Sv[k], q, n) / dotn(Sv[k], Yv[k], n);
+        for (i = 0; i < n; i++) q[i] -= a[k] * Yv[k][i];
+    }
+    if (K) {                                          /* s.Ks / s.y of the newest pair */
+        double sks = 0;
+        for (j = 0; j < K->n; j++)
+            for (p = K->colp[j]; p < K->colp[j + 1]; p++)
+                sks += Sv[np - 1][2 * K->row[p]] * K->val[p] * Sv[np - 1][2 * j] +
+                       Sv[np - 1][2 * K->row[p] + 1] * K->val[p] * Sv[np - 1][2 * j + 1];
+        scale = sks / dotn(Sv[np - 1], Yv[np - 1], n);
+        bp__precondition(KF, par, q, q, z);
+    } else {
+        scale = dotn(Sv[np - 1], Yv[np - 1], n) / dotn(Yv[np - 1], Yv[np - 1], n);
+    }
+    for (i = 0; i < n; i++) q[i] *= scale;
+    for (k = 0; k < np; k++) {                        /* oldest first */
+        double b = dotn(Yv[k], q, n) / dotn(Sv[k], Yv[k], n);
+        for (i = 0; i < n; i++) q[i] += (a[k] - b) * Sv[k][i];
+    }
+    for (i = 0; i < n; i++) v[i] = -q[i];
+}
+
+static void test_lbfgs_direction(void)
+{
+    bp_mesh m;
+    bp_atlas at;
+    bp_error e;
+    bp_options o;
+    bp_allocator a = bp__allocator_of(NULL);
+    bp__solver S;
+    bp__sparse K;
+    bp__factor KF;
+    bp__lbfgs L;
+    double *rw, *x, *xn, *g, *gn, *v, *vr, *z, *Sv[8], *Yv[8], worst = 0;
+    uint32_t n, i;
+    int push, np = 0, k, hist = 5, same_count = 1, checks = 0, pre;
+    memset(&o, 0, sizeof o);
+    memset(&S, 0, sizeof S);
+    memset(&K, 0, sizeof K);
+    bpt_rng_state = 0x1bf5;
+    if (!BPT_CHECK(bp_read_mesh("tests/data/camel_b.obj", &m, NULL, &e) == BP_OK, "camel_b: %s", e.message)) return;
+    if (!BPT_CHECK(bp_atlas_build(&at, &m, &o, &e) == BP_OK, "camel_b charts: %s", e.message)) {
+        bp_mesh_free(&m, NULL);
+        return;
+    }
+    rw = (double *)malloc(3 * sizeof(double) * at.charts[0].num_triangles);
+    bp__solver_chart(&S, &a, &at.charts[0], &m, &o, rw, &e);
+    BPT_CHECK(bp__laplacian(&a, &S, rw, &K, &KF) == BP_OK, "camel_b: Laplacian factored");
+    n = 2 * S.nv;
+    x = (double *)malloc(n * sizeof(double)); xn = (double *)malloc(n * sizeof(double));
+    g = (double *)malloc(n * sizeof(double)); gn = (double *)malloc(n * sizeof(double));
+    v = (double *)malloc(n * sizeof(double)); vr = (double *)malloc(n * sizeof(double));
+    z = (double *)malloc(4 * S.nv * sizeof(double));
+    for (k = 0; k < 8; k++) { Sv[k] = (double *)malloc(n * sizeof(double)); Yv[k] = (double *)malloc(n * sizeof(double)); }
+    BPT_CHECK(bp__lbfgs_init(&a, &L, hist, n), "L-BFGS memory allocated");
+    for (i = 0; i < n; i++) { x[i] = bpt_rng_range(-1, 1); g[i] = bpt_rng_range(-1, 1); }
+    for (push = 0; push < 11; push++) {
+        int bad = push == 3 || push == 8;             /* negative curvature */
+        double *t;
+        for (i = 0; i < n; i++) {
+            double s = bpt_rng_range(-0.1, 0.1);
+            xn[i] = x[i] + s;
+            gn[i] = g[i] + (bad ? -s : s * bpt_rng_range(0.5, 2) + bpt_rng_range(-1e-3, 1e-3));
+        }
+        bp__lbfgs_push(&L, &S.par, x, xn, g, gn);
+        if (!bad) {                                    /* the reference memory: append, drop the oldest */
+            if (np == hist) { t = Sv[0]; memmove(Sv, Sv + 1, (size_t)(hist - 1) * sizeof *Sv); Sv[hist - 1] = t;
+                              t = Yv[0]; memmove(Yv, Yv + 1, (size_t)(hist - 1) * sizeof *Yv); Yv[hist - 1] = t; np--; }
+            for (i = 0; i < n; i++) { Sv[np][i] = xn[i] - x[i]; Yv[np][i] = gn[i] - g[i]; }
+            np++;
+        } else if (np == hist) {                       /* its slot held the oldest pair */
+            t = Sv[0]; memmove(Sv, Sv + 1, (size_t)(hist - 1) * sizeof *Sv); Sv[hist - 1] = t;
+            t = Yv[0]; memmove(Yv, Yv + 1, (size_t)(hist - 1) * sizeof *Yv); Yv[hist - 1] = t;
+            np--;
+        }
+        same_count &= L.nh == np;
+        t = x; x = xn; xn = t;
+        t = g; g = gn; gn = t;
+        if (L.nh != np || np == 0) continue;
+        for (pre = 0; pre < 2; pre++) {
+            double gv, gvr, big = 0, diff = 0;
+            gv = bp__lbfgs_direction(&L, &S.par, g, v, pre ? &K : NULL, &KF, z, vr);
+            reference_direction(np, Sv, Yv, g, vr, n, pre ? &K : NULL, &KF, &S.par, z);
+            gvr = dotn(g, vr, n);
+            for (i = 0; i < n; i++) {
+                if (fabs(vr[i]) > big) big = fabs(vr[i]);
+                if (fabs(v[i] - vr[i]) > diff) diff = fabs(v[i] - vr[i]);
+            }
+            if (diff / big > worst) worst = diff / big;
+            if (fabs(gv - gvr) > 1e-10 * fabs(gvr)) worst = 1;
+            checks++;
+        }
+    }
+    BPT_CHECK(same_count, "L-BFGS keeps the pairs the textbook rule keeps (a pair of negative curvature is dropped, "
+              "and takes the oldest with it when the memory is full)");
+    BPT_CHECK(checks == 22 && worst < 1e-10, "the four-pass recursion gives the textbook two-loop direction and g.v "
+              "(%d directions, identity and preconditioned H0; largest difference %.2g of max |v|)", checks, worst);
+    bp__lbfgs_free(&a, &L);
+    for (k = 0; k < 8; k++) { free(Sv[k]); free(Yv[k]); }
+    free(x); free(xn); free(g); free(gn); free(v); free(vr); free(z); free(rw);
+    bp__factor_free(&a, &KF);
+    bp__sparse_free(&a, &K);
+    bp__solver_free(&S);
+    bp_atlas_free(&at);
+    bp_mesh_free(&m, NULL);
+}
+
 int main(void)
 {
     test_every_iteration("tests/data/bishop_part_f1000.obj", 0, 1, BP_DIRECTION_PRECONDITIONED);
@@ -544,5 +676,6 @@ int main(void)
     test_cancel_and_gradient();
     test_packed_spot();
     test_scale();
+    test_lbfgs_direction();
     return bpt_finish();
 }
