@@ -4944,7 +4944,8 @@ static int bp__lbfgs_init(const bp_allocator *a, bp__lbfgs *L, int hist, uint32_
 #define BP__SLOT(L, j) (((L)->head - 1 - (j) + (L)->hist) % (L)->hist)   /* the pair of age j */
 
 /* v = -H g (needs nh > 0); returns g.v.  K, KF: H0 = K^-1 / sigma with
-   sigma = s.y / s.K s of the newest pair (pwork: 4n/2 doubles); K NULL:
+   sigma = s.y / s.K s of the newest pair (pwork: 2n doubles, qpart: the
+   quad form's partial sums); K NULL:
    H0 = (s.y / y.y) I. */
 static double bp__lbfgs_direction(bp__lbfgs *L, const bp__par *par, const double *g, double *v,
                                   const bp__sparse *K, const bp__factor *KF, double *pwork, double *qpart)
