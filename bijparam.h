@@ -3903,10 +3903,31 @@ static void bp__hash_query(const bp__hash *H, uint32_t g, double x0, double y0, 
    bp__step_hash). */
 #define BP__HASH_TASKS 4u
 
-/* Work is split in fixed-size chunks of items (see >>threads). */
+/* Work is split in chunks of items (see >>threads): at most BP__*_CHUNK
+   items each, all of nearly the same size (chunk c of nc holds items
+   n c / nc up to n (c + 1) / nc), and, when there is more than one, a
+   multiple of four of them.  Both depend on n alone.  Fixed-size chunks
+   left a short one at the end: camelhead's 22704 triangles made 11 full
+   chunks and one of 176, so of two threads, one had 12288 triangles to
+   evaluate and the other 10416, and the first finished 9% after the
+   second, in every energy evaluation.  Equal chunks in a multiple of four
+   give 2 and 4 threads equal blocks. */
 #define BP__TRI_CHUNK  2048u
 #define BP__VERT_CHUNK 2048u
 #define BP__EDGE_CHUNK 128u
+
+static uint32_t bp__nchunks(uint32_t n, uint32_t size)
+{
+    uint32_t nc = n / size + (n % size != 0);
+    if (nc > 1) nc = (nc + 3u) & ~3u;
+    return nc < n ? nc : n;
+}
+
+/* The first item of chunk c of nc over n items (c = nc: n). */
+static uint32_t bp__chunk_at(uint32_t n, uint32_t nc, uint32_t c)
+{
+    return (uint32_t)((uint64_t)n * c / nc);
+}
 
 /* A gradient contribution of the barrier, applied after the parallel part
    in chunk order. */
@@ -3982,9 +4003,9 @@ static bp_status bp__solver_init(bp__solver *S, const bp_allocator *a, uint32_t 
     S->loop_vertices = loop_vertices;
     S->nb = nb;
     S->barrier = 1;
-    S->nchunk_t = (nt + BP__TRI_CHUNK - 1) / BP__TRI_CHUNK;
-    S->nchunk_v = (nv + BP__VERT_CHUNK - 1) / BP__VERT_CHUNK;
-    S->nchunk_b = (nb + BP__EDGE_CHUNK - 1) / BP__EDGE_CHUNK;
+    S->nchunk_t = bp__nchunks(nt, BP__TRI_CHUNK);
+    S->nchunk_v = bp__nchunks(nv, BP__VERT_CHUNK);
+    S->nchunk_b = bp__nchunks(nb, BP__EDGE_CHUNK);
     nchunk = 2 * S->nchunk_t + S->nchunk_b;
     S->hash.mask = 1;
     while (S->hash.mask + 1 < 2 * nb) S->hash.mask = 2 * S->hash.mask + 1;
@@ -4077,9 +4098,9 @@ static void bp__energy_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
-    uint32_t t, t1 = (c + 1) * BP__TRI_CHUNK < S->nt ? (c + 1) * BP__TRI_CHUNK : S->nt;
+    uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
     double sum = 0;
-    for (t = c * BP__TRI_CHUNK; t < t1; t++) {
+    for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1; t++) {
         const uint32_t *tr = S->tri + 3 * (size_t)t;
         double *gc = T->g ? S->gc + 6 * (size_t)t : NULL, e;
         if (gc) { gc[0] = gc[1] = gc[2] = gc[3] = gc[4] = gc[5] = 0; }
@@ -4097,9 +4118,9 @@ static void bp__orient_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
-    uint32_t t, t1 = (c + 1) * BP__TRI_CHUNK < S->nt ? (c + 1) * BP__TRI_CHUNK : S->nt;
+    uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
     double bad = 0;
-    for (t = c * BP__TRI_CHUNK; t < t1 && !bad; t++) {
+    for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1 && !bad; t++) {
         const uint32_t *tr = S->tri + 3 * (size_t)t;
         if (bp_orient2d(T->x + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1], T->x + 2 * (size_t)tr[2]) <= 0) bad = 1;
     }
@@ -4111,8 +4132,8 @@ static void bp__gather_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
-    uint32_t v, v1 = (c + 1) * BP__VERT_CHUNK < S->nv ? (c + 1) * BP__VERT_CHUNK : S->nv, p;
-    for (v = c * BP__VERT_CHUNK; v < v1; v++) {
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p;
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
         double gx = 0, gy = 0;
         for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
             gx += S->gc[2 * (size_t)S->vc_list[p]];
@@ -4326,7 +4347,7 @@ static void bp__barrier_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
-    uint32_t e, e1 = (c + 1) * BP__EDGE_CHUNK < S->nb ? (c + 1) * BP__EDGE_CHUNK : S->nb;
+    uint32_t e, e1 = bp__chunk_at(S->nb, S->nchunk_b, c + 1);
     bp__edge_query Q;
     double sum = 0;
     memset(&Q, 0, sizeof Q);
@@ -4335,7 +4356,7 @@ static void bp__barrier_task(void *task, uint32_t c)
     Q.rec = &S->rec[c];
     Q.grad = T->g != NULL;
     S->rec[c].count = 0;
-    for (e = c * BP__EDGE_CHUNK; e < e1; e++) {
+    for (e = bp__chunk_at(S->nb, S->nchunk_b, c); e < e1; e++) {
         uint32_t L = S->bl_loop[e];
         const double *p, *q;
         Q.s0 = S->loop_start[L];
@@ -4527,9 +4548,9 @@ static void bp__step_tri_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
-    uint32_t t, t1 = (c + 1) * BP__TRI_CHUNK < S->nt ? (c + 1) * BP__TRI_CHUNK : S->nt;
+    uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
     double tmax = HUGE_VAL;
-    for (t = c * BP__TRI_CHUNK; t < t1; t++) {
+    for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1; t++) {
         const uint32_t *tr = S->tri + 3 * (size_t)t;
         tmax = bp__collinear_time(T->x + 2 * (size_t)tr[0], T->dir + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1],
                                   T->dir + 2 * (size_t)tr[1], T->x + 2 * (size_t)tr[2], T->dir + 2 * (size_t)tr[2],
@@ -4545,14 +4566,14 @@ static void bp__step_edge_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
-    uint32_t e, e1 = (c + 1) * BP__EDGE_CHUNK < S->nb ? (c + 1) * BP__EDGE_CHUNK : S->nb;
+    uint32_t e, e1 = bp__chunk_at(S->nb, S->nchunk_b, c + 1);
     bp__edge_query Q;
     memset(&Q, 0, sizeof Q);
     Q.S = S;
     Q.x = T->x;
     Q.dir = T->dir;
     Q.tmax = T->tmax;
-    for (e = c * BP__EDGE_CHUNK; e < e1; e++) {
+    for (e = bp__chunk_at(S->nb, S->nchunk_b, c); e < e1; e++) {
         uint32_t L = S->bl_loop[e], va, vb;
         const double *p, *q, *dp, *dq;
         double xs[4], ys[4], bx0, by0, bx1, by1;
@@ -4736,7 +4757,7 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
 
 /* s.K s (s interleaved xy), by column chunks whose partial sums are added
    in order (see >>threads). */
-typedef struct bp__quad_task { const bp__sparse *K; const double *s; double *part; } bp__quad_task;
+typedef struct bp__quad_task { const bp__sparse *K; const double *s; double *part; uint32_t nc; } bp__quad_task;
 #define BP__QUAD_CHUNK 2048u
 
 static void bp__quad_task_run(void *task, uint32_t c)
@@ -4744,9 +4765,9 @@ static void bp__quad_task_run(void *task, uint32_t c)
     bp__quad_task *T = (bp__quad_task *)task;
     const bp__sparse *K = T->K;
     const double *s = T->s;
-    uint32_t j, p, j1 = (c + 1) * BP__QUAD_CHUNK < K->n ? (c + 1) * BP__QUAD_CHUNK : K->n;
+    uint32_t j, p, j1 = bp__chunk_at(K->n, T->nc, c + 1);
     double sum = 0;
-    for (j = c * BP__QUAD_CHUNK; j < j1; j++)
+    for (j = bp__chunk_at(K->n, T->nc, c); j < j1; j++)
         for (p = K->colp[j]; p < K->colp[j + 1]; p++)
             sum += K->val[p] * (s[2 * (size_t)K->row[p]] * s[2 * (size_t)j] +
                                 s[2 * (size_t)K->row[p] + 1] * s[2 * (size_t)j + 1]);
@@ -4756,8 +4777,9 @@ static void bp__quad_task_run(void *task, uint32_t c)
 static double bp__quad_form(const bp__sparse *K, const double *s, const bp__par *par, double *part)
 {
     bp__quad_task T;
-    uint32_t c, nc = (K->n + BP__QUAD_CHUNK - 1) / BP__QUAD_CHUNK;
+    uint32_t c, nc = bp__nchunks(K->n, BP__QUAD_CHUNK);
     double sum = 0;
+    T.nc = nc;
     T.K = K;
     T.s = s;
     T.part = part;
@@ -4822,8 +4844,22 @@ static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp
    (k < nd) of the vectors as they are after that; the partial dots of the
    chunks are added in chunk order.  out may be base (the update is
    elementwise).  A pass costs one join and one sweep of its vectors, so
-   the solver asks for as much as it can in each. */
+   the solver asks for as much as it can in each.
+   The chunks hold whole xy pairs: for a vector of 2 nv coordinates, chunk
+   c is the x and y of the vertices of the gradient gather's chunk c, so
+   each core meets again the vertices it gathered. */
 #define BP__VEC_CHUNK 4096u
+
+static uint32_t bp__vec_nchunks(uint32_t n)
+{
+    return bp__nchunks(n / 2 + n % 2, BP__VEC_CHUNK / 2);
+}
+
+/* The first coordinate of chunk k of nc (k = nc: n). */
+static uint32_t bp__vec_chunk_at(uint32_t n, uint32_t nc, uint32_t k)
+{
+    return k < nc ? 2 * bp__chunk_at(n / 2, nc, k) : n;
+}
 
 typedef struct bp__vec_task {
     double             *out;
@@ -4832,14 +4868,14 @@ typedef struct bp__vec_task {
     const double *const *w;
     const double       *c;
     const double *const *A, *const *B;
-    uint32_t            nw, nd, n;
+    uint32_t            nw, nd, n, nc;
     double             *part;            /* nd per chunk                     */
 } bp__vec_task;
 
 static void bp__vec_task_run(void *task, uint32_t k)
 {
     bp__vec_task *T = (bp__vec_task *)task;
-    uint32_t i, j, i0 = k * BP__VEC_CHUNK, i1 = i0 + BP__VEC_CHUNK < T->n ? i0 + BP__VEC_CHUNK : T->n;
+    uint32_t i, j, i0 = bp__vec_chunk_at(T->n, T->nc, k), i1 = bp__vec_chunk_at(T->n, T->nc, k + 1);
     if (T->out) {
         if (T->base) for (i = i0; i < i1; i++) T->out[i] = T->c0 * T->base[i];
         else for (i = i0; i < i1; i++) T->out[i] = 0;
@@ -4868,7 +4904,8 @@ static void bp__vec_pass(const bp__par *par, double *part, uint32_t n, double *o
                          uint32_t nd, const double *const *A, const double *const *B, double *dot)
 {
     bp__vec_task T;
-    uint32_t k, j, nc = (n + BP__VEC_CHUNK - 1) / BP__VEC_CHUNK;
+    uint32_t k, j, nc = bp__vec_nchunks(n);
+    T.nc = nc;
     T.out = out; T.base = base; T.c0 = c0;
     T.w = w; T.c = c; T.nw = nw;
     T.A = A; T.B = B; T.nd = nd;
@@ -4931,7 +4968,7 @@ static int bp__lbfgs_init(const bp_allocator *a, bp__lbfgs *L, int hist, uint32_
     L->y = (double *)bp__alloc_array(a, (size_t)n * (hist ? hist : 1), sizeof(double));
     L->rho = (double *)bp__alloc_array(a, 10 * h1 + h1 * h1, sizeof(double));
     L->vA = (const double **)bp__alloc_array(a, 4 * h1, sizeof(const double *));
-    L->part = (double *)bp__alloc_array(a, 2 * h1 * ((size_t)n / BP__VEC_CHUNK + 1), sizeof(double));
+    L->part = (double *)bp__alloc_array(a, 2 * h1 * ((size_t)bp__vec_nchunks(n) + 1), sizeof(double));
     if (!L->s || !L->y || !L->rho || !L->vA || !L->part) { bp__lbfgs_free(a, L); return 0; }
     L->sy = L->rho + h1; L->yy = L->sy + h1; L->alpha = L->yy + h1; L->coef = L->alpha + h1;
     L->sg = L->coef + h1; L->yr = L->sg + h1; L->vc = L->yr + h1; L->vd = L->vc + h1; L->SY = L->vd + 2 * h1;
@@ -5082,7 +5119,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     gn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
     v = (double *)bp__alloc_array(&a, nv2, sizeof(double));
     pwork = (double *)bp__alloc_array(&a, 4 * (size_t)S.nv, sizeof(double));
-    vpart = (double *)bp__alloc_array(&a, 2 * ((size_t)nv2 / BP__VEC_CHUNK + 1) + (size_t)S.nv / BP__QUAD_CHUNK + 1,
+    vpart = (double *)bp__alloc_array(&a, 2 * ((size_t)bp__vec_nchunks(nv2) + 1) + (size_t)bp__nchunks(S.nv, BP__QUAD_CHUNK) + 1,
                                       sizeof(double));
     if (!pwork || !vpart || !x || !g || !xn || !gn || !v || !bp__lbfgs_init(&a, &L, hist, nv2)) {
         st = bp__oom(err, "optimizing a chart");
