@@ -190,10 +190,44 @@ static void check_chunks(void)
     BPT_CHECK(vec, "vector chunks are the vertex chunks, doubled (odd lengths covered too)");
 }
 
+/* Groups of tasks run as one loop (bp__groups): every task of every group
+   runs exactly once, including empty groups and single tasks. */
+typedef struct { uint32_t *hits; } group_rec;
+static group_rec recs[4];
+static void rec_task(void *task, uint32_t i)
+{
+    ((group_rec *)task)->hits[i]++;
+}
+static void check_groups(void)
+{
+    static const uint32_t counts[][4] = { { 1, 12, 0, 0 }, { 1, 12, 1, 8 }, { 0, 44, 3, 22 }, { 5, 7, 0, 0 },
+                                          { 1, 1, 1, 1 }, { 100, 3, 17, 64 }, { 2, 0, 9, 1 } };
+    size_t c;
+    int once = 1;
+    for (c = 0; c < sizeof counts / sizeof *counts; c++) {
+        bp__groups G;
+        bp__par par;
+        uint32_t k, i;
+        memset(&G, 0, sizeof G);
+        par.run = reverse_for; par.user = NULL; par.threads = 1;
+        for (k = 0; k < 4; k++) {
+            recs[k].hits = (uint32_t *)calloc(counts[c][k] + 1, sizeof(uint32_t));
+            bp__groups_add(&G, rec_task, &recs[k], counts[c][k]);
+        }
+        bp__groups_run(&par, &G);
+        for (k = 0; k < 4; k++) {
+            for (i = 0; i < counts[c][k]; i++) if (recs[k].hits[i] != 1) once = 0;
+            free(recs[k].hits);
+        }
+    }
+    BPT_CHECK(once, "groups: every task of every group runs exactly once");
+}
+
 int main(void)
 {
     quick = getenv("BP_TEST_QUICK") != NULL;
     check_chunks();
+    check_groups();
     if (quick) {
         check_mesh("tests/data/bishop_part_f1000.obj");
         check_mesh("tests/data/spot.obj");
