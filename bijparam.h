@@ -1690,6 +1690,49 @@ static void bp__uf_union(uint32_t *parent, uint32_t x, uint32_t y)
     if (x < y) parent[y] = x; else parent[x] = y;  /* smallest index is the root */
 }
 
+/* Sort n records of `size` bytes (at most 32) into the order of cmp, a
+   total order whose first criterion is key(record) in [0, nkeys), in
+   linear time on a mesh: a counting sort by the key, then each key's few
+   records by insertion (qsort for a bucket of more than 32, a vertex of
+   very high valence).  The order is qsort's with the same cmp.  tmp holds n
+   records, start nkeys + 1 counters. */
+static void bp__bucket_sort(void *base, size_t n, size_t size, uint32_t nkeys, uint32_t (*key)(const void *),
+                            int (*cmp)(const void *, const void *), void *tmp, uint32_t *start)
+{
+    unsigned char *r = (unsigned char *)base, *t = (unsigned char *)tmp, rec[32];
+    size_t k, m, lo = 0;
+    uint32_t v;
+    for (v = 0; v <= nkeys; v++) start[v] = 0;
+    for (k = 0; k < n; k++) start[key(r + k * size) + 1]++;
+    for (v = 0; v < nkeys; v++) start[v + 1] += start[v];
+    for (k = 0; k < n; k++) memcpy(t + (size_t)start[key(r + k * size)]++ * size, r + k * size, size);
+    for (v = 0; v < nkeys; v++) {                  /* bucket v is [lo, start[v]) */
+        size_t hi = start[v];
+        if (hi - lo > 32) qsort(t + lo * size, hi - lo, size, cmp);
+        else
+            for (k = lo + 1; k < hi; k++) {
+                memcpy(rec, t + k * size, size);
+                for (m = k; m > lo && cmp(t + (m - 1) * size, rec) > 0; m--) memcpy(t + m * size, t + (m - 1) * size, size);
+                memcpy(t + m * size, rec, size);
+            }
+        lo = hi;
+    }
+    memcpy(base, tmp, n * size);
+}
+
+/* The same with its own scratch; 0 if that could not be allocated. */
+static int bp__sort_by_key(const bp_allocator *a, void *base, size_t n, size_t size, uint32_t nkeys,
+                           uint32_t (*key)(const void *), int (*cmp)(const void *, const void *))
+{
+    void *tmp = bp__alloc_array(a, n, size);
+    uint32_t *start = (uint32_t *)bp__alloc_array(a, (size_t)nkeys + 1, sizeof(uint32_t));
+    int ok = tmp && start;
+    if (ok) bp__bucket_sort(base, n, size, nkeys, key, cmp, tmp, start);
+    bp__free(a, tmp);
+    bp__free(a, start);
+    return ok;
+}
+
 typedef struct bp__edge_rec {
     uint32_t lo, hi;   /* mesh vertices, lo < hi                           */
     uint32_t ce;       /* corner edge 3*t+i: from corner i to corner i+1    */
@@ -1703,6 +1746,8 @@ static int bp__edge_cmp(const void *pa, const void *pb)
     return a->ce < b->ce ? -1 : a->ce > b->ce;
 }
 
+static uint32_t bp__edge_key(const void *p) { return ((const bp__edge_rec *)p)->lo; }
+
 typedef struct bp__tri_key { uint32_t v[3], t; } bp__tri_key;
 
 static int bp__tri_key_cmp(const void *pa, const void *pb)
@@ -1713,6 +1758,8 @@ static int bp__tri_key_cmp(const void *pa, const void *pb)
         if (a->v[i] != b->v[i]) return a->v[i] < b->v[i] ? -1 : 1;
     return a->t < b->t ? -1 : a->t > b->t;
 }
+
+static uint32_t bp__tri_key_key(const void *p) { return ((const bp__tri_key *)p)->v[0]; }
 
 typedef struct bp__vkey { uint32_t chart, v, uv; } bp__vkey;
 
@@ -1988,7 +2035,10 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
         if (v[0] > v[1]) { x = v[0]; v[0] = v[1]; v[1] = x; }
         b.keys[t].t = t;
     }
-    qsort(b.keys, nt, sizeof *b.keys, bp__tri_key_cmp);
+    if (!bp__sort_by_key(&a, b.keys, nt, sizeof *b.keys, m->num_vertices, bp__tri_key_key, bp__tri_key_cmp)) {
+        bp__build_free(&a, &b);
+        return bp__oom(err, "building charts");
+    }
     for (t = 1; t < nt; t++)
         if (!memcmp(b.keys[t].v, b.keys[t - 1].v, 3 * sizeof(uint32_t))) {
             uint32_t t0 = b.keys[t - 1].t, t1 = b.keys[t].t;
@@ -2009,7 +2059,10 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
             r->hi = va < vb ? vb : va;
             r->ce = 3 * t + k;
         }
-    qsort(b.edges, nc, sizeof *b.edges, bp__edge_cmp);
+    if (!bp__sort_by_key(&a, b.edges, nc, sizeof *b.edges, m->num_vertices, bp__edge_key, bp__edge_cmp)) {
+        bp__build_free(&a, &b);
+        return bp__oom(err, "building charts");
+    }
     for (t = 0; t < nt; t++) b.tri_uf[t] = t;
     for (i = 0; i < nc; i++) { b.corner_uf[i] = i; b.glued[i] = BP__NONE; }
     for (e = 0; e < nc; ) {
@@ -3027,30 +3080,10 @@ static int bp__dedge_cmp(const void *pa, const void *pb)
     return x->a < y->a ? -1 : x->a > y->a;
 }
 
-/* Sort directed edges as bp__dedge_cmp orders them, in linear time on a
-   mesh: a counting sort by the smaller end, then each vertex's few edges by
-   insertion (a comparison sort for a vertex of very high valence).  tmp
-   holds n edges, start nv + 1 counters. */
-static void bp__dedge_sort(bp__dedge *de, size_t n, uint32_t nv, bp__dedge *tmp, uint32_t *start)
+static uint32_t bp__dedge_key(const void *p)
 {
-    size_t k, m, lo = 0;
-    uint32_t v;
-    for (v = 0; v <= nv; v++) start[v] = 0;
-    for (k = 0; k < n; k++) start[(de[k].a < de[k].b ? de[k].a : de[k].b) + 1]++;
-    for (v = 0; v < nv; v++) start[v + 1] += start[v];
-    for (k = 0; k < n; k++) tmp[start[de[k].a < de[k].b ? de[k].a : de[k].b]++] = de[k];
-    for (v = 0; v < nv; v++) {                     /* bucket v is [lo, start[v]) */
-        size_t hi = start[v];
-        if (hi - lo > 32) qsort(tmp + lo, hi - lo, sizeof *tmp, bp__dedge_cmp);
-        else
-            for (k = lo + 1; k < hi; k++) {
-                bp__dedge e = tmp[k];
-                for (m = k; m > lo && bp__dedge_cmp(&tmp[m - 1], &e) > 0; m--) tmp[m] = tmp[m - 1];
-                tmp[m] = e;
-            }
-        lo = hi;
-    }
-    memcpy(de, tmp, n * sizeof *de);
+    const bp__dedge *e = (const bp__dedge *)p;
+    return e->a < e->b ? e->a : e->b;
 }
 
 /* Do boundary edges e and f (distinct) violate (b)? */
@@ -3355,7 +3388,7 @@ BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, ui
         bp__dedge *tmp = (bp__dedge *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof *tmp);
         uint32_t *start = (uint32_t *)bp__alloc_array(&a, (size_t)nv + 1, sizeof(uint32_t));
         if (!tmp || !start) { bp__free(&a, tmp); bp__free(&a, start); bp__free(&a, de); return BP_ERR_OUT_OF_MEMORY; }
-        bp__dedge_sort(de, 3 * (size_t)nt, nv, tmp, start);
+        bp__bucket_sort(de, 3 * (size_t)nt, sizeof *de, nv, bp__dedge_key, bp__dedge_cmp, tmp, start);
         bp__free(&a, tmp);
         bp__free(&a, start);
     }

@@ -22,7 +22,12 @@
          tasks, is the table of the serial bp__hash_build (same bucket
          offsets, same items in the same order) under three task orders, on
          the real charts of face_holes (7 loops) and camelhead, for random
-         directions and sweep times that force the cells to grow. */
+         directions and sweep times that force the cells to grow.
+     (d) The linear-time sort of the chart builder and the exact check
+         (bp__bucket_sort: counting sort by vertex, then insertion, or
+         qsort for a bucket above 32) puts corner edges, triangle keys and
+         directed edges in exactly qsort's order, for few vertices (large
+         buckets, one vertex of very high valence) and many (small ones). */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -357,6 +362,47 @@ static void test_swept_hash(const char *path)
     bp_mesh_free(&mesh, NULL);
 }
 
+static void test_bucket_sort(void)
+{
+    static const uint32_t nvs[] = { 1, 3, 40, 1000, 100000 };
+    size_t c, k;
+    int same_e = 1, same_t = 1, same_d = 1, big = 0;
+    for (c = 0; c < sizeof nvs / sizeof *nvs; c++) {
+        uint32_t nv = nvs[c], n = 3000, i;
+        bp__edge_rec *e = (bp__edge_rec *)malloc(n * sizeof *e), *e2 = (bp__edge_rec *)malloc(n * sizeof *e), *te = (bp__edge_rec *)malloc(n * sizeof *e);
+        bp__tri_key *t = (bp__tri_key *)malloc(n * sizeof *t), *t2 = (bp__tri_key *)malloc(n * sizeof *t), *tt = (bp__tri_key *)malloc(n * sizeof *t);
+        bp__dedge *d = (bp__dedge *)malloc(n * sizeof *d), *d2 = (bp__dedge *)malloc(n * sizeof *d), *td = (bp__dedge *)malloc(n * sizeof *d);
+        uint32_t *start = (uint32_t *)malloc(((size_t)nv + 1) * sizeof(uint32_t)), *cnt = (uint32_t *)calloc(nv, sizeof(uint32_t));
+        for (i = 0; i < n; i++) {
+            uint32_t a = (uint32_t)(bpt_rng_u64() % nv), b = (uint32_t)(bpt_rng_u64() % nv), x = (uint32_t)(bpt_rng_u64() % nv);
+            if (i % 5 == 0) a = 0;                        /* a vertex of high valence */
+            e[i].lo = a < b ? a : b; e[i].hi = a < b ? b : a;
+            e[i].ce = 3 * i + (uint32_t)(bpt_rng_u64() % 3);          /* unique, as corner edges are */
+            t[i].v[0] = a < b ? (a < x ? a : x) : (b < x ? b : x); t[i].v[1] = b; t[i].v[2] = x; t[i].t = n - i;
+            d[i].a = a; d[i].b = b;
+            cnt[e[i].lo]++;
+        }
+        for (k = 0; k < nv; k++) if (cnt[k] > 32) big = 1;
+        memcpy(e2, e, n * sizeof *e); memcpy(t2, t, n * sizeof *t); memcpy(d2, d, n * sizeof *d);
+        qsort(e2, n, sizeof *e2, bp__edge_cmp);
+        qsort(t2, n, sizeof *t2, bp__tri_key_cmp);
+        qsort(d2, n, sizeof *d2, bp__dedge_cmp);
+        bp__bucket_sort(e, n, sizeof *e, nv, bp__edge_key, bp__edge_cmp, te, start);
+        bp__bucket_sort(t, n, sizeof *t, nv, bp__tri_key_key, bp__tri_key_cmp, tt, start);
+        bp__bucket_sort(d, n, sizeof *d, nv, bp__dedge_key, bp__dedge_cmp, td, start);
+        /* qsort's order is unique where the order is total; directed edges
+           may tie (the same a and b twice): compare the keys then */
+        if (memcmp(e, e2, n * sizeof *e)) same_e = 0;
+        if (memcmp(t, t2, n * sizeof *t)) same_t = 0;
+        for (i = 0; i < n; i++) if (bp__dedge_cmp(&d[i], &d2[i]) != 0) same_d = 0;
+        free(e); free(e2); free(te); free(t); free(t2); free(tt); free(d); free(d2); free(td); free(start); free(cnt);
+    }
+    BPT_CHECK(big, "bucket sort: some bucket holds more than 32 records (the qsort branch ran)");
+    BPT_CHECK(same_e, "bucket sort: corner edges in qsort's order (1 to 100000 vertices)");
+    BPT_CHECK(same_t, "bucket sort: triangle keys in qsort's order");
+    BPT_CHECK(same_d, "bucket sort: directed edges in qsort's order");
+}
+
 int main(void)
 {
     bpt_rng_state = 0x2545F4914F6CDD1Dull;
@@ -365,5 +411,6 @@ int main(void)
     test_barrier_face_holes();
     test_swept_hash("tests/data/face_holes.off");
     test_swept_hash("tests/data/camelhead.off");
+    test_bucket_sort();
     return bpt_finish();
 }
