@@ -150,7 +150,7 @@ static void check_chunks(void)
     size_t a, b;
     int cover = 1, limit = 1, equal = 1, four = 1, vec = 1, count = 0;
     for (a = 0; a < sizeof ns / sizeof *ns; a++) {
-        uint32_t n = ns[a], nv, nc, c;
+        uint32_t n = ns[a], nc, c;
         for (b = 0; b < sizeof sizes / sizeof *sizes; b++) {
             uint32_t size = sizes[b], lo, hi, mn = UINT32_MAX, mx = 0;
             nc = bp__nchunks(n, size);
@@ -168,13 +168,12 @@ static void check_chunks(void)
             if (nc && mx - mn > 1) equal = 0;
             count++;
         }
-        /* a vector of 2 nv coordinates against the gather's nv vertices */
-        nv = n;
-        if (nv <= UINT32_MAX / 2) {
-            uint32_t nvec = bp__vec_nchunks(2 * nv), nvert = bp__nchunks(nv, BP__VERT_CHUNK);
+        /* a vector of 2 n coordinates against the gather's n vertices */
+        {
+            uint32_t nvec = bp__vec_nchunks(2 * n), nvert = bp__nchunks(n, BP__VERT_CHUNK);
             if (nvec != nvert) vec = 0;
             for (c = 0; c <= nvec && vec; c++)
-                if (bp__vec_chunk_at(2 * nv, nvec, c) != 2 * bp__chunk_at(nv, nvert ? nvert : 1, c)) vec = 0;
+                if (bp__vec_chunk_at(2 * n, nvec, c) != 2 * bp__chunk_at(n, nvert ? nvert : 1, c)) vec = 0;
         }
         /* an odd length: the last chunk takes the odd coordinate */
         nc = bp__vec_nchunks(2 * n + 1);
