@@ -1,4 +1,4 @@
-/* bijparam.h - v0.1.0 - bijective free-boundary mesh parameterization - MIT license
+/* bijparam.h - v0.2.0 - bijective free-boundary mesh parameterization - MIT license
    (see the end of this file)
 
    bijparam flattens triangle-mesh charts into the plane (UV space) with a map
@@ -75,6 +75,13 @@
 */
 #ifndef BIJPARAM_H
 #define BIJPARAM_H
+
+/* The version of this header (semantic versioning: a MINOR step adds, a
+   MAJOR step may break; CHANGELOG.md lists what changed). */
+#define BP_VERSION_MAJOR 0
+#define BP_VERSION_MINOR 2
+#define BP_VERSION_PATCH 0
+#define BP_VERSION_STRING "0.2.0"
 
 /* >>api ====================================================================*/
 
