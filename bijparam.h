@@ -1229,10 +1229,6 @@ static bp_status bp__builder_finish(bp__parser *ps, bp__mesh_builder *b, bp_mesh
     return BP_OK;
 }
 
-/* One OBJ face corner: v, v/vt, v/vt/vn or v//vn.  Negative indices count
-   back from the last element read so far.  Returns 1-based-resolved 0-based
-   indices (vt = -1 when absent); the range check against the final counts
-   happens after the whole file is read, since OBJ allows forward use. */
 /* One OBJ index: 1-based, 0 invalid, negative counts back from the last of
    the `count` elements read so far.  Returns the 0-based index in *out. */
 static bp_status bp__obj_index(bp__parser *ps, int64_t count, const char *what, int64_t *out)
@@ -1253,137 +1249,164 @@ static bp_status bp__obj_index(bp__parser *ps, int64_t count, const char *what, 
     return BP_OK;
 }
 
+/* Where the parts of one corner stand in the text (the OBJ writer that
+   streams the user's file copies the v and vn parts as they were written). */
+typedef struct bp__corner_text {
+    const char *v, *v_end;     /* the vertex index as written               */
+    const char *vn, *vn_end;   /* the normal index, or vn == NULL           */
+} bp__corner_text;
+
+/* One OBJ face corner: v, v/vt, v/vt/vn or v//vn.  Negative indices count
+   back from the last element read so far (nv vertices, nvt vt).  Returns
+   0-based indices (vt = -1 when absent); the range check against the final
+   counts happens after the whole file is read, since OBJ allows forward
+   use.  The normal index is checked to be an integer and otherwise kept
+   only as text (in *span, which may be NULL). */
 static bp_status bp__obj_corner(bp__parser *ps, int64_t nv, int64_t nvt,
-                                int64_t *v, int64_t *vt)
+                                int64_t *v, int64_t *vt, bp__corner_text *span)
 {
+    bp__corner_text s;
     bp_status st;
     int64_t i;
     *vt = -1;
+    s.v = ps->p;
+    s.vn = s.vn_end = NULL;
     if ((st = bp__obj_index(ps, nv, "vertex index", v)) != BP_OK) return st;
+    s.v_end = ps->p;
     if (ps->p < ps->end && *ps->p == '/') {
         ps->p++;
         if (ps->p < ps->end && *ps->p != '/' && (st = bp__obj_index(ps, nvt, "texture index", vt)) != BP_OK)
             return st;
-        if (ps->p < ps->end && *ps->p == '/') {   /* normal index: read, ignored */
+        if (ps->p < ps->end && *ps->p == '/') {
             ps->p++;
+            s.vn = ps->p;
             if ((st = bp__parse_int(ps, &i, "normal index")) != BP_OK) return st;
+            s.vn_end = ps->p;
         }
     }
     if (!(ps->p >= ps->end || bp__is_space(*ps->p) || bp__is_eol(*ps->p) || *ps->p == '#'))
         return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
                         "line %D: unexpected character '%s' in a face corner", ps->line,
                         *ps->p == '/' ? "/" : "?");
+    if (span) *span = s;
+    return BP_OK;
+}
+
+/* The phases of bp__parse_obj: one function per statement it reads (v, vt,
+   f), then the checks that need the whole file. */
+static bp_status bp__obj_vertex(bp__parser *ps, bp__mesh_builder *b)
+{
+    static const char *const what[3] = { "x coordinate", "y coordinate", "z coordinate" };
+    double x[3];
+    bp_status st;
+    int k;
+    for (k = 0; k < 3; k++)
+        if ((st = bp__parse_double(ps, &x[k], what[k])) != BP_OK) return st;
+    if (b->pos.count / 3 >= 0xfffffffeu)
+        return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: too many vertices", ps->line);
+    for (k = 0; k < 3; k++)
+        if (!bp__vec_push(ps->a, &b->pos, &x[k])) return bp__oom(ps->err, "reading vertices");
+    return BP_OK;
+}
+
+static bp_status bp__obj_texcoord(bp__parser *ps, bp__mesh_builder *b)
+{
+    double x[2];
+    bp_status st;
+    int k;
+    if ((st = bp__parse_double(ps, &x[0], "u coordinate")) != BP_OK) return st;
+    if (bp__at_eol(ps)) x[1] = 0;                  /* 1D texture: v = 0 */
+    else if ((st = bp__parse_double(ps, &x[1], "v coordinate")) != BP_OK) return st;
+    for (k = 0; k < 2; k++)
+        if (!bp__vec_push(ps->a, &b->uv, &x[k])) return bp__oom(ps->err, "reading vt");
+    return BP_OK;
+}
+
+/* The corners of one `f` line into fv / ft (0-based uint32 vertex and uv
+   indices, ft = BP__NONE without vt), then its fan into the builder. */
+static bp_status bp__obj_face(bp__parser *ps, bp__mesh_builder *b, bp__vec *fv, bp__vec *ft)
+{
+    int64_t nv = (int64_t)(b->pos.count / 3), nvt = (int64_t)(b->uv.count / 2);
+    int has_vt = -1;
+    bp_status st;
+    fv->count = ft->count = 0;
+    while (!bp__at_eol(ps)) {
+        int64_t v = 0, vt = -1;
+        uint32_t v32, t32;
+        if ((st = bp__obj_corner(ps, nv, nvt, &v, &vt, NULL)) != BP_OK) return st;
+        if (has_vt >= 0 && has_vt != (vt >= 0))
+            return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                            "line %D: some corners of this face have a texture index and some do not", ps->line);
+        has_vt = vt >= 0;
+        if (v >= 0xfffffffeLL || vt >= 0xfffffffeLL)
+            return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                            "line %D: index %D is out of range", ps->line, (v > vt ? v : vt) + 1);
+        v32 = (uint32_t)v;
+        t32 = vt >= 0 ? (uint32_t)vt : BP__NONE;
+        if (!bp__vec_push(ps->a, fv, &v32) || !bp__vec_push(ps->a, ft, &t32))
+            return bp__oom(ps->err, "reading faces");
+    }
+    if (fv->count < 3)
+        return bp__fail(ps->err, BP_ERR_POLYGON, BP_ELEMENT_LINE, ps->line, -1, ps->line,
+                        "line %D: a face needs at least 3 corners, this one has %u", ps->line, (unsigned)fv->count);
+    if (has_vt) b->any_vt = 1; else b->any_plain = 1;
+    return bp__builder_face(ps, b, (uint32_t *)fv->data, (uint32_t *)ft->data, fv->count);
+}
+
+/* After the whole file: every index in range of the final counts, and the
+   uv indices of corners written without vt (see the essay above). */
+static bp_status bp__obj_finish_indices(bp__parser *ps, bp__mesh_builder *b)
+{
+    uint32_t nv = (uint32_t)(b->pos.count / 3), nvt = (uint32_t)(b->uv.count / 2);
+    uint32_t *tri = (uint32_t *)b->tri.data, *cuv = (uint32_t *)b->cuv.data;
+    uint32_t *line = (uint32_t *)b->line.data;
+    double zero = 0;
+    size_t i;
+    for (i = 0; i < b->tri.count; i++) {
+        if (tri[i] >= nv)
+            return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, line[i / 3], -1, line[i / 3],
+                            "line %u: vertex index %u is out of range (the file has %u vertices)",
+                            line[i / 3], tri[i] + 1, nv);
+        if (cuv[i] != BP__NONE && cuv[i] >= nvt)
+            return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, line[i / 3], -1, line[i / 3],
+                            "line %u: texture index %u is out of range (the file has %u vt)",
+                            line[i / 3], cuv[i] + 1, nvt);
+    }
+    if (!b->any_vt) {
+        b->cuv.count = 0;    /* no seams at all */
+        return BP_OK;
+    }
+    if (!b->any_plain) return BP_OK;
+    if ((uint64_t)nvt + nv >= 0xfffffffeu)
+        return bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_NONE, -1, -1, 0, "too many texture coordinates");
+    for (i = 0; i < 2 * (size_t)nv; i++)
+        if (!bp__vec_push(ps->a, &b->uv, &zero)) return bp__oom(ps->err, "reading vt");
+    cuv = (uint32_t *)b->cuv.data;
+    for (i = 0; i < b->tri.count; i++)
+        if (cuv[i] == BP__NONE) cuv[i] = nvt + tri[i];
     return BP_OK;
 }
 
 static bp_status bp__parse_obj(bp__parser *ps, bp_mesh *mesh)
 {
     bp__mesh_builder b;
-    bp__vec fv, ft;               /* corners of the current face (int64)    */
+    bp__vec fv, ft;               /* corners of the current face (uint32)   */
     bp_status st = BP_OK;
-    size_t i;
     bp__builder_init(&b);
     memset(&fv, 0, sizeof fv); memset(&ft, 0, sizeof ft);
     fv.elem = ft.elem = sizeof(uint32_t);
-    while (ps->p < ps->end) {
+    while (ps->p < ps->end && st == BP_OK) {
         bp__skip_space(ps);
-        if (bp__keyword(ps, "v")) {
-            double x[3];
-            int k;
-            for (k = 0; k < 3 && st == BP_OK; k++)
-                st = bp__parse_double(ps, &x[k], k == 0 ? "x coordinate" : k == 1 ? "y coordinate" : "z coordinate");
-            if (st != BP_OK) break;
-            if (b.pos.count / 3 >= 0xfffffffeu) {
-                st = bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
-                              "line %D: too many vertices", ps->line);
-                break;
-            }
-            for (k = 0; k < 3; k++)
-                if (!bp__vec_push(ps->a, &b.pos, &x[k])) { st = bp__oom(ps->err, "reading vertices"); break; }
-            if (st != BP_OK) break;
-        } else if (bp__keyword(ps, "vt")) {
-            double x[2];
-            int k;
-            st = bp__parse_double(ps, &x[0], "u coordinate");
-            if (st == BP_OK) {
-                if (bp__at_eol(ps)) x[1] = 0;          /* 1D texture: v = 0 */
-                else st = bp__parse_double(ps, &x[1], "v coordinate");
-            }
-            if (st != BP_OK) break;
-            for (k = 0; k < 2; k++)
-                if (!bp__vec_push(ps->a, &b.uv, &x[k])) { st = bp__oom(ps->err, "reading vt"); break; }
-            if (st != BP_OK) break;
-        } else if (bp__keyword(ps, "f")) {
-            int64_t nv = (int64_t)(b.pos.count / 3), nvt = (int64_t)(b.uv.count / 2);
-            int has_vt = -1;
-            fv.count = ft.count = 0;
-            while (!bp__at_eol(ps)) {
-                int64_t v = 0, vt = -1;
-                uint32_t v32, t32;
-                if ((st = bp__obj_corner(ps, nv, nvt, &v, &vt)) != BP_OK) break;
-                if (has_vt >= 0 && has_vt != (vt >= 0)) {
-                    st = bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
-                                  "line %D: some corners of this face have a texture index and some do not", ps->line);
-                    break;
-                }
-                has_vt = vt >= 0;
-                if (v >= 0xfffffffeLL || vt >= 0xfffffffeLL) {
-                    st = bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, ps->line, -1, ps->line,
-                                  "line %D: index %D is out of range", ps->line, (v > vt ? v : vt) + 1);
-                    break;
-                }
-                v32 = (uint32_t)v;
-                t32 = vt >= 0 ? (uint32_t)vt : BP__NONE;
-                if (!bp__vec_push(ps->a, &fv, &v32) || !bp__vec_push(ps->a, &ft, &t32)) {
-                    st = bp__oom(ps->err, "reading faces");
-                    break;
-                }
-            }
-            if (st != BP_OK) break;
-            if (fv.count < 3) {
-                st = bp__fail(ps->err, BP_ERR_POLYGON, BP_ELEMENT_LINE, ps->line, -1, ps->line,
-                              "line %D: a face needs at least 3 corners, this one has %u", ps->line, (unsigned)fv.count);
-                break;
-            }
-            if (has_vt) b.any_vt = 1; else b.any_plain = 1;
-            if ((st = bp__builder_face(ps, &b, (uint32_t *)fv.data, (uint32_t *)ft.data, fv.count)) != BP_OK) break;
-        }
+        if (bp__keyword(ps, "v")) st = bp__obj_vertex(ps, &b);
+        else if (bp__keyword(ps, "vt")) st = bp__obj_texcoord(ps, &b);
+        else if (bp__keyword(ps, "f")) st = bp__obj_face(ps, &b, &fv, &ft);
         /* Anything else (vn, o, g, s, usemtl, mtllib, l, comments) is skipped. */
-        bp__next_line(ps);
+        if (st == BP_OK) bp__next_line(ps);
     }
     bp__free(ps->a, fv.data);
     bp__free(ps->a, ft.data);
-    /* Range checks against the final counts, and the uv indices of corners
-       written without vt (see the essay above). */
-    if (st == BP_OK) {
-        uint32_t nv = (uint32_t)(b.pos.count / 3), nvt = (uint32_t)(b.uv.count / 2);
-        uint32_t *tri = (uint32_t *)b.tri.data, *cuv = (uint32_t *)b.cuv.data;
-        uint32_t *line = (uint32_t *)b.line.data;
-        for (i = 0; i < b.tri.count && st == BP_OK; i++) {
-            if (tri[i] >= nv)
-                st = bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, line[i / 3], -1, line[i / 3],
-                              "line %u: vertex index %u is out of range (the file has %u vertices)",
-                              line[i / 3], tri[i] + 1, nv);
-            else if (cuv[i] != BP__NONE && cuv[i] >= nvt)
-                st = bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_LINE, line[i / 3], -1, line[i / 3],
-                              "line %u: texture index %u is out of range (the file has %u vt)",
-                              line[i / 3], cuv[i] + 1, nvt);
-        }
-        if (st == BP_OK && b.any_vt && b.any_plain) {
-            double zero = 0;
-            if ((uint64_t)nvt + nv >= 0xfffffffeu)
-                st = bp__fail(ps->err, BP_ERR_INDEX, BP_ELEMENT_NONE, -1, -1, 0, "too many texture coordinates");
-            for (i = 0; i < 2 * (size_t)nv && st == BP_OK; i++)
-                if (!bp__vec_push(ps->a, &b.uv, &zero)) st = bp__oom(ps->err, "reading vt");
-            if (st == BP_OK) {
-                cuv = (uint32_t *)b.cuv.data;
-                for (i = 0; i < b.tri.count; i++)
-                    if (cuv[i] == BP__NONE) cuv[i] = nvt + tri[i];
-            }
-        } else if (st == BP_OK && !b.any_vt) {
-            b.cuv.count = 0;    /* no seams at all */
-        }
-    }
+    if (st == BP_OK) st = bp__obj_finish_indices(ps, &b);
     if (st == BP_OK) st = bp__builder_finish(ps, &b, mesh);
     if (st != BP_OK) bp__builder_free(ps->a, &b);
     return st;
