@@ -403,9 +403,24 @@ BPDEF bp_status bp_read_off(const char *path, bp_mesh *mesh,
 /* Reads .obj or .off by extension (case-insensitive). */
 BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh,
                              const bp_allocator *alloc, bp_error *err);
-/* Writes v in input order, one vt per chart vertex, f v/vt in face order. */
+/* Writers.  Both write `path` directly and, on any error, remove what
+   they wrote (no half-written file); the messages give the reason
+   (strerror).  bp_write_obj writes the mesh alone: v in input order, one vt
+   per chart vertex, f v/vt in face order (polygons as read).
+   bp_write_obj_from keeps everything else of the OBJ file `source` the
+   mesh was read from: every line comes back byte for byte and in order
+   (vn, usemtl, mtllib, g, o, s, l, comments, unknown statements, CRLF),
+   except that the old vt lines are replaced by the new ones (placed where
+   the first vt or f line was) and each f corner gets its new vt index,
+   keeping its v and vn indices as written.  Faces of failed charts keep v
+   (and vn) without vt.  `source` must be the file the mesh was read from
+   (checked face by face: BP_ERR_INVALID_ARGUMENT otherwise) and another
+   path than `path` (the same string is refused; the library cannot tell
+   two names of one file apart -- the tool compares device and inode). */
 BPDEF bp_status bp_write_obj(const char *path, const bp_mesh *mesh,
                              const bp_atlas *atlas, bp_error *err);
+BPDEF bp_status bp_write_obj_from(const char *path, const char *source, const bp_mesh *mesh,
+                                  const bp_atlas *atlas, bp_error *err);
 #endif
 /* The same parsers on text in memory (used by the fuzzers). */
 BPDEF bp_status bp_parse_obj(const char *text, size_t length, bp_mesh *mesh,
@@ -441,6 +456,7 @@ BPDEF void      bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc);
 #include <time.h>
 #ifndef BP_NO_STDIO
 #include <stdio.h>
+#include <errno.h>      /* the reason of a failed file operation (strerror) */
 #endif
 
 #if defined(BP_MALLOC) != defined(BP_FREE)
@@ -1541,13 +1557,64 @@ BPDEF bp_status bp_parse_off(const char *text, size_t length, bp_mesh *mesh,
 }
 
 #ifndef BP_NO_STDIO
+/* Why a file operation failed, for the message: strerror(errno) when the C
+   library set errno (POSIX always does), else nothing. */
+static const char *bp__io_reason(int e)
+{
+    return e ? strerror(e) : "unknown reason";
+}
+
+/* The whole file into one allocation (*text, *length; free with bp__free).
+   A directory opens on POSIX but cannot be read: its EISDIR says so. */
+static bp_status bp__load_file(const char *path, const bp_allocator *a, char **text,
+                               size_t *length, bp_error *err)
+{
+    FILE *f;
+    char *buf = NULL;
+    size_t len = 0, cap = 0;
+    int e;
+    *text = NULL;
+    *length = 0;
+    errno = 0;
+    f = fopen(path, "rb");
+    if (!f)
+        return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot open '%s': %s",
+                        path, bp__io_reason(errno));
+    for (;;) {                                  /* read in growing chunks */
+        size_t got;
+        if (len == cap) {
+            size_t ncap = cap ? cap * 2 : 1 << 16;
+            char *nb = ncap > cap ? (char *)bp__alloc(a, ncap) : NULL;
+            if (!nb) { bp__free(a, buf); fclose(f); return bp__oom(err, "reading the file"); }
+            if (len) memcpy(nb, buf, len);
+            bp__free(a, buf);
+            buf = nb;
+            cap = ncap;
+        }
+        errno = 0;
+        got = fread(buf + len, 1, cap - len, f);
+        len += got;
+        if (got == 0) break;
+    }
+    e = errno;
+    if (ferror(f)) {
+        bp__free(a, buf);
+        fclose(f);
+        return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot read '%s': %s",
+                        path, bp__io_reason(e));
+    }
+    fclose(f);
+    *text = buf;
+    *length = len;
+    return BP_OK;
+}
+
 static bp_status bp__read_file(const char *path, bp_mesh *mesh, const bp_allocator *alloc,
                                bp_error *err, int off)
 {
     bp_allocator a;
-    FILE *f;
-    char *buf = NULL;
-    size_t len = 0, cap = 0;
+    char *buf;
+    size_t len;
     bp_status st;
     memset(&a, 0, sizeof a);
     if (alloc) a = *alloc;
@@ -1555,30 +1622,7 @@ static bp_status bp__read_file(const char *path, bp_mesh *mesh, const bp_allocat
     if (!path || !mesh)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                         "path and mesh must not be NULL");
-    f = fopen(path, "rb");
-    if (!f)
-        return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot open '%s'", path);
-    for (;;) {                                  /* read in growing chunks */
-        size_t got;
-        if (len == cap) {
-            size_t ncap = cap ? cap * 2 : 1 << 16;
-            char *nb = ncap > cap ? (char *)bp__alloc(&a, ncap) : NULL;
-            if (!nb) { bp__free(&a, buf); fclose(f); return bp__oom(err, "reading the file"); }
-            if (len) memcpy(nb, buf, len);
-            bp__free(&a, buf);
-            buf = nb;
-            cap = ncap;
-        }
-        got = fread(buf + len, 1, cap - len, f);
-        len += got;
-        if (got == 0) break;
-    }
-    if (ferror(f)) {
-        bp__free(&a, buf);
-        fclose(f);
-        return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "error while reading '%s'", path);
-    }
-    fclose(f);
+    if ((st = bp__load_file(path, &a, &buf, &len, err)) != BP_OK) return st;
     st = bp__parse_text(buf, len, mesh, &a, err, off);
     bp__free(&a, buf);
     return st;
@@ -1615,64 +1659,375 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
                     "'%s': unknown file type (expected .obj or .off)", path ? path : "(null)");
 }
 
-/* OBJ output keeps the input's vertices and faces in their order (so the 3D
-   geometry is untouched) and adds one `vt` per chart vertex; faces split by
-   the fan triangulation of the reader are written back as the polygons they
-   came from. */
+/* ---- writing ------------------------------------------------------------
+
+   Two writers.  bp_write_obj writes a new OBJ from the mesh alone: v in
+   input order, one vt per chart vertex, f v/vt in face order.  Whatever
+   else the file had (normals, materials, groups, comments) is not in a
+   bp_mesh, so it is gone.  bp_write_obj_from keeps it: it streams the
+   file the mesh was read from and copies every line byte for byte, in
+   order, except the texture coordinates it replaces:
+
+     - every old `vt` line goes; the new ones (one per chart vertex, charts
+       in order) go where the first `vt` or `f` line was, whichever comes
+       first, so every face refers backwards to them;
+     - each `f` line keeps its text (the `f`, the spacing, a trailing
+       comment, the line ending) and each corner keeps its vertex and
+       normal index exactly as written -- a relative index such as -1 still
+       means the same element, since no v or vn line moves relative to the
+       faces -- and gets the absolute index of its new vt;
+     - a face of a chart that failed keeps v (and vn) without vt.
+
+   A polygon is one `f` line whose fan triangles (0, i, i+1) are the mesh
+   triangles t .. t+n-3; its corner k is corner 0 of every fan triangle
+   (k = 0) or a corner of one or two of them.  The charts glue the fan
+   triangles along their diagonals, so all of them give the corner the
+   same chart vertex.  If they do not (a diagonal that is also a
+   non-manifold edge, or fan triangles in a failed and a valid chart), one
+   polygon cannot carry both, and that polygon is written as its fan
+   triangles, one `f` line each (the only change to the line structure).
+   The writer checks as it goes that the file's faces are the mesh's
+   triangles: a mesh from another file is refused, not mislabelled.
+
+   Neither writer leaves a half-written file behind: on any error the file
+   at `path` is closed and removed.  They write `path` directly; replacing
+   a file atomically (write a temporary next to it, then rename) needs
+   POSIX, and the tool does it (examples/bijparam.c). */
+
+typedef struct bp__out {
+    FILE *f;
+    int   ok, e;            /* e: errno of the first failed write         */
+} bp__out;
+
+static void bp__out_bytes(bp__out *o, const char *p, size_t n)
+{
+    if (o->ok && n && fwrite(p, 1, n, o->f) != n) { o->ok = 0; o->e = errno; }
+}
+
+static void bp__out_str(bp__out *o, const char *s) { bp__out_bytes(o, s, strlen(s)); }
+
+static void bp__out_uint(bp__out *o, uint64_t v)
+{
+    char buf[24];
+    size_t n = 0;
+    bp__fmt_uint(buf, &n, sizeof buf, v);
+    bp__out_bytes(o, buf, n);
+}
+
+static void bp__out_vt(bp__out *o, double u, double v, const char *eol)
+{
+    if (o->ok && fprintf(o->f, "vt %.17g %.17g%s", u, v, eol) < 0) { o->ok = 0; o->e = errno; }
+}
+
+static bp_status bp__out_open(bp__out *o, const char *path, bp_error *err)
+{
+    errno = 0;
+    o->f = fopen(path, "wb");
+    o->ok = o->f != NULL;
+    o->e = 0;
+    if (!o->f)
+        return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot open '%s' for writing: %s",
+                        path, bp__io_reason(errno));
+    return BP_OK;
+}
+
+/* Close; if anything failed (a write here, or `st` from the caller), remove
+   the partial file. */
+static bp_status bp__out_close(bp__out *o, const char *path, bp_status st, bp_error *err)
+{
+    errno = 0;
+    if (fclose(o->f) != 0 && o->ok) { o->ok = 0; o->e = errno; }
+    if (st == BP_OK && !o->ok)
+        st = bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot write '%s': %s",
+                      path, bp__io_reason(o->e));
+    if (st != BP_OK) remove(path);
+    return st == BP_OK ? bp__ok(err) : st;
+}
+
+/* 0-based index of the first new vt of each chart (charts without a map
+   have none). */
+static uint32_t *bp__vt_base(const bp_atlas *atlas, const bp_allocator *a)
+{
+    uint32_t *base = (uint32_t *)bp__alloc_array(a, (size_t)atlas->num_charts + 1, sizeof *base);
+    uint32_t c;
+    if (!base) return NULL;
+    base[0] = 0;
+    for (c = 0; c < atlas->num_charts; c++)
+        base[c + 1] = base[c] + (atlas->charts[c].uv ? atlas->charts[c].num_vertices : 0);
+    return base;
+}
+
+static void bp__out_vt_block(bp__out *o, const bp_atlas *atlas, const char *eol)
+{
+    uint32_t c, i;
+    for (c = 0; c < atlas->num_charts; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        for (i = 0; ch->uv && i < ch->num_vertices; i++) bp__out_vt(o, ch->uv[2 * i], ch->uv[2 * i + 1], eol);
+    }
+}
+
+/* The new vt (0-based) of corner k of mesh triangle t, BP__NONE in a chart
+   without a map. */
+static uint32_t bp__corner_vt(const bp_atlas *atlas, const uint32_t *base, uint32_t t, int k)
+{
+    uint32_t c = atlas->corner_chart[3 * (size_t)t + k];
+    return atlas->charts[c].uv ? base[c] + atlas->corner_vertex[3 * (size_t)t + k] : BP__NONE;
+}
+
 BPDEF bp_status bp_write_obj(const char *path, const bp_mesh *mesh,
                              const bp_atlas *atlas, bp_error *err)
 {
-    FILE *f;
-    uint32_t c, i, t, *base;
-    int ok = 1;
+    bp__out o;
+    uint32_t i, t, *base;
     bp_allocator a;
+    bp_status st;
     if (!path || !mesh || !atlas || atlas->num_corners != 3 * mesh->num_triangles)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                         "bp_write_obj needs a path, the mesh and the atlas built from it");
     a = atlas->allocator;
-    base = (uint32_t *)bp__alloc_array(&a, (size_t)atlas->num_charts + 1, sizeof *base);
-    if (!base) return bp__oom(err, "writing the OBJ file");
-    base[0] = 0;
-    for (c = 0; c < atlas->num_charts; c++)
-        base[c + 1] = base[c] + (atlas->charts[c].uv ? atlas->charts[c].num_vertices : 0);
-    f = fopen(path, "wb");
-    if (!f) {
-        bp__free(&a, base);
-        return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot open '%s' for writing", path);
-    }
-    ok &= fprintf(f, "# written by bijparam 0.1.0: %u vertices, %u charts\n",
-                  mesh->num_vertices, atlas->num_charts) > 0;
-    for (i = 0; i < mesh->num_vertices && ok; i++)
-        ok &= fprintf(f, "v %.17g %.17g %.17g\n", mesh->positions[3 * i],
-                      mesh->positions[3 * i + 1], mesh->positions[3 * i + 2]) > 0;
-    for (c = 0; c < atlas->num_charts && ok; c++) {
-        const bp_chart *ch = &atlas->charts[c];
-        for (i = 0; ch->uv && i < ch->num_vertices && ok; i++)
-            ok &= fprintf(f, "vt %.17g %.17g\n", ch->uv[2 * i], ch->uv[2 * i + 1]) > 0;
-    }
-    for (t = 0; t < mesh->num_triangles && ok; ) {
+    if (!(base = bp__vt_base(atlas, &a))) return bp__oom(err, "writing the OBJ file");
+    if ((st = bp__out_open(&o, path, err)) != BP_OK) { bp__free(&a, base); return st; }
+    if (fprintf(o.f, "# written by bijparam " BP_VERSION_STRING ": %u vertices, %u charts\n",
+                mesh->num_vertices, atlas->num_charts) < 0) { o.ok = 0; o.e = errno; }
+    for (i = 0; i < mesh->num_vertices && o.ok; i++)
+        if (fprintf(o.f, "v %.17g %.17g %.17g\n", mesh->positions[3 * i],
+                    mesh->positions[3 * i + 1], mesh->positions[3 * i + 2]) < 0) { o.ok = 0; o.e = errno; }
+    bp__out_vt_block(&o, atlas, "\n");
+    for (t = 0; t < mesh->num_triangles && o.ok; ) {
         uint32_t end = t + 1, k;
+        int mapped = atlas->charts[atlas->corner_chart[3 * t]].uv != NULL;
         if (mesh->triangle_face)
             while (end < mesh->num_triangles && mesh->triangle_face[end] == mesh->triangle_face[t]) end++;
-#define BP__CORNER(tt, kk) mesh->triangles[3 * (tt) + (kk)] + 1, \
-        base[atlas->corner_chart[3 * (tt) + (kk)]] + atlas->corner_vertex[3 * (tt) + (kk)] + 1
-        if (!atlas->charts[atlas->corner_chart[3 * t]].uv) {
-            /* a chart that failed has no map: its faces keep their geometry only */
-            ok &= fprintf(f, "f %u %u %u", mesh->triangles[3 * t] + 1, mesh->triangles[3 * t + 1] + 1,
-                          mesh->triangles[3 * t + 2] + 1) > 0;
-            for (k = t + 1; k < end && ok; k++) ok &= fprintf(f, " %u", mesh->triangles[3 * k + 2] + 1) > 0;
-        } else {
-            ok &= fprintf(f, "f %u/%u %u/%u %u/%u", BP__CORNER(t, 0), BP__CORNER(t, 1), BP__CORNER(t, 2)) > 0;
-            for (k = t + 1; k < end && ok; k++) ok &= fprintf(f, " %u/%u", BP__CORNER(k, 2)) > 0;
+        /* corners 0, 1, 2 of the first fan triangle, then corner 2 of each
+           further one; a chart that failed has no map: geometry only */
+        bp__out_str(&o, "f");
+        for (k = 0; k < 3 + (end - t - 1); k++) {
+            uint32_t tt = k < 3 ? t : t + k - 2, kk = k < 3 ? k : 2;
+            bp__out_str(&o, " ");
+            bp__out_uint(&o, (uint64_t)mesh->triangles[3 * tt + kk] + 1);
+            if (mapped) {
+                bp__out_str(&o, "/");
+                bp__out_uint(&o, (uint64_t)bp__corner_vt(atlas, base, tt, (int)kk) + 1);
+            }
         }
-#undef BP__CORNER
-        ok &= fputc('\n', f) != EOF;
+        bp__out_str(&o, "\n");
         t = end;
     }
     bp__free(&a, base);
-    if (fclose(f) != 0) ok = 0;
-    if (!ok) return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "error while writing '%s'", path);
-    return bp__ok(err);
+    return bp__out_close(&o, path, BP_OK, err);
+}
+
+/* bp_write_obj_from: the state of one pass over the source text. */
+typedef struct bp__src_corner {
+    bp__corner_text text;
+    const char *pre;          /* the spacing before the corner             */
+    uint32_t    v, vt;        /* 0-based vertex; new vt (BP__NONE: none)   */
+    int         vt_set;
+} bp__src_corner;
+
+typedef struct bp__rewriter {
+    bp__parser      ps;       /* cursor in the source text                 */
+    bp__out        *o;
+    const bp_mesh  *mesh;
+    const bp_atlas *atlas;
+    const uint32_t *base;     /* bp__vt_base                               */
+    const char     *eol;      /* line ending of the vt lines: the file's own */
+    int64_t         nv, nvt;  /* v and vt lines passed so far              */
+    uint32_t        t;        /* mesh triangle of the next face            */
+    int             vt_done;  /* the new vt are written                    */
+    bp__vec         corners;  /* bp__src_corner of the current face        */
+} bp__rewriter;
+
+/* The line ending the file uses first: "\r\n", "\r" or "\n" (default). */
+static const char *bp__eol_of(const char *p, const char *end)
+{
+    for (; p < end; p++) {
+        if (*p == '\n') return "\n";
+        if (*p == '\r') return p + 1 < end && p[1] == '\n' ? "\r\n" : "\r";
+    }
+    return "\n";
+}
+
+/* One corner as written, with its new vt. */
+static void bp__out_corner(bp__out *o, const bp__src_corner *c, uint32_t vt)
+{
+    bp__out_bytes(o, c->text.v, (size_t)(c->text.v_end - c->text.v));
+    if (vt != BP__NONE) {
+        bp__out_str(o, "/");
+        bp__out_uint(o, (uint64_t)vt + 1);
+    }
+    if (c->text.vn) {
+        bp__out_str(o, vt != BP__NONE ? "/" : "//");
+        bp__out_bytes(o, c->text.vn, (size_t)(c->text.vn_end - c->text.vn));
+    }
+}
+
+/* The corners of the `f` line at the cursor, with the spacing before
+   each; *tail gets where the spacing after the last one starts. */
+static bp_status bp__rewrite_read_corners(bp__rewriter *r, const char **tail)
+{
+    bp__parser *ps = &r->ps;
+    bp_status st;
+    r->corners.count = 0;
+    for (;;) {
+        bp__src_corner c;
+        int64_t v, vt;
+        memset(&c, 0, sizeof c);
+        c.pre = ps->p;
+        if (bp__at_eol(ps)) { *tail = c.pre; return BP_OK; }
+        if ((st = bp__obj_corner(ps, r->nv, r->nvt, &v, &vt, &c.text)) != BP_OK) return st;
+        c.v = v < 0xffffffffLL ? (uint32_t)v : BP__NONE;
+        if (!bp__vec_push(ps->a, &r->corners, &c)) return bp__oom(ps->err, "writing the OBJ file");
+    }
+}
+
+/* Check that the n corners are mesh triangles t .. t+n-3 (fan order, one
+   source face) and give each corner its new vt; *agree = 0 when the fan
+   triangles give one corner two different vt (see the essay). */
+static bp_status bp__rewrite_match(bp__rewriter *r, int *agree)
+{
+    const bp_mesh *m = r->mesh;
+    bp__src_corner *c = (bp__src_corner *)r->corners.data;
+    size_t n = r->corners.count, j;
+    uint32_t t = r->t;
+    *agree = 1;
+    if (n < 3)
+        return bp__fail(r->ps.err, BP_ERR_POLYGON, BP_ELEMENT_LINE, r->ps.line, -1, r->ps.line,
+                        "line %D: a face needs at least 3 corners, this one has %u", r->ps.line, (unsigned)n);
+    if ((uint64_t)t + n - 2 > m->num_triangles)
+        return bp__fail(r->ps.err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_LINE, r->ps.line, -1, r->ps.line,
+                        "line %D: the file has more faces than the mesh has triangles (%u); "
+                        "was the mesh read from this file?", r->ps.line, m->num_triangles);
+    for (j = 0; j + 2 < n; j++) {
+        uint32_t tt = t + (uint32_t)j, pc[3];
+        int k;
+        pc[0] = 0; pc[1] = (uint32_t)j + 1; pc[2] = (uint32_t)j + 2;
+        for (k = 0; k < 3; k++) {
+            uint32_t vt = bp__corner_vt(r->atlas, r->base, tt, k);
+            bp__src_corner *cc = &c[pc[k]];
+            if (m->triangles[3 * (size_t)tt + k] != cc->v ||
+                (m->triangle_face && m->triangle_face[tt] != m->triangle_face[t]))
+                return bp__fail(r->ps.err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_LINE, r->ps.line, -1, r->ps.line,
+                                "line %D: the face does not match triangle %u of the mesh (vertices %u %u %u); "
+                                "was the mesh read from this file?", r->ps.line, tt + 1,
+                                m->triangles[3 * (size_t)tt] + 1, m->triangles[3 * (size_t)tt + 1] + 1,
+                                m->triangles[3 * (size_t)tt + 2] + 1);
+            if (!cc->vt_set) { cc->vt = vt; cc->vt_set = 1; }
+            else if (cc->vt != vt) *agree = 0;
+        }
+    }
+    if (m->triangle_face && t + n - 2 < m->num_triangles && m->triangle_face[t + n - 2] == m->triangle_face[t])
+        return bp__fail(r->ps.err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_LINE, r->ps.line, -1, r->ps.line,
+                        "line %D: the face has fewer corners than its polygon in the mesh; "
+                        "was the mesh read from this file?", r->ps.line);
+    return BP_OK;
+}
+
+/* One `f` line: `line` is its start, the cursor is after the keyword. */
+static bp_status bp__rewrite_face(bp__rewriter *r, const char *line)
+{
+    bp__parser *ps = &r->ps;
+    bp__src_corner *c;
+    const char *tail = NULL, *term;
+    size_t n, j, k;
+    int agree;
+    bp_status st;
+    if ((st = bp__rewrite_read_corners(r, &tail)) != BP_OK) return st;
+    if ((st = bp__rewrite_match(r, &agree)) != BP_OK) return st;
+    c = (bp__src_corner *)r->corners.data;
+    n = r->corners.count;
+    bp__next_line(ps);                            /* [tail, ps->p): the rest */
+    for (term = tail; term < ps->p && !bp__is_eol(*term); term++) {}
+    if (agree) {
+        bp__out_bytes(r->o, line, (size_t)(c[0].pre - line));
+        for (k = 0; k < n; k++) {
+            bp__out_bytes(r->o, c[k].pre, (size_t)(c[k].text.v - c[k].pre));
+            bp__out_corner(r->o, &c[k], c[k].vt);
+        }
+    } else {
+        for (j = 0; j + 2 < n; j++) {             /* one line per fan triangle */
+            if (j && term < ps->p) bp__out_bytes(r->o, term, (size_t)(ps->p - term));
+            else if (j) bp__out_str(r->o, r->eol);    /* the last line had none */
+            bp__out_str(r->o, "f");
+            for (k = 0; k < 3; k++) {
+                size_t pc = k == 0 ? 0 : j + k;
+                bp__out_str(r->o, " ");
+                bp__out_corner(r->o, &c[pc], bp__corner_vt(r->atlas, r->base, r->t + (uint32_t)j, (int)k));
+            }
+        }
+    }
+    bp__out_bytes(r->o, tail, (size_t)(ps->p - tail));
+    r->t += (uint32_t)(n - 2);
+    return BP_OK;
+}
+
+/* The pass: copy, drop or rewrite each line. */
+static bp_status bp__rewrite_obj(bp__rewriter *r)
+{
+    bp__parser *ps = &r->ps;
+    bp_status st = BP_OK;
+    while (ps->p < ps->end && st == BP_OK && r->o->ok) {
+        const char *line = ps->p;
+        int is_vt, is_f;
+        bp__skip_space(ps);
+        is_vt = bp__keyword(ps, "vt");
+        is_f = !is_vt && bp__keyword(ps, "f");
+        if ((is_vt || is_f) && !r->vt_done) {
+            bp__out_vt_block(r->o, r->atlas, r->eol);
+            r->vt_done = 1;
+        }
+        if (is_f) { st = bp__rewrite_face(r, line); continue; }
+        if (is_vt) r->nvt++;
+        else if (bp__keyword(ps, "v")) r->nv++;
+        bp__next_line(ps);
+        if (!is_vt) bp__out_bytes(r->o, line, (size_t)(ps->p - line));
+    }
+    if (st == BP_OK && r->o->ok && r->t != r->mesh->num_triangles)
+        st = bp__fail(ps->err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                      "the file's faces make %u triangles, the mesh has %u; was the mesh read from this file?",
+                      r->t, r->mesh->num_triangles);
+    return st;
+}
+
+BPDEF bp_status bp_write_obj_from(const char *path, const char *source, const bp_mesh *mesh,
+                                  const bp_atlas *atlas, bp_error *err)
+{
+    bp__rewriter r;
+    bp__out o;
+    bp_allocator a;
+    char *text = NULL;
+    size_t len = 0;
+    uint32_t *base;
+    bp_status st;
+    if (!path || !source || !mesh || !atlas || atlas->num_corners != 3 * mesh->num_triangles)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_write_obj_from needs two paths, the mesh and the atlas built from it");
+    if (!strcmp(path, source))
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "'%s' is the source file: write to another path", path);
+    a = atlas->allocator;
+    if ((st = bp__load_file(source, &a, &text, &len, err)) != BP_OK) return st;
+    if (!(base = bp__vt_base(atlas, &a))) { bp__free(&a, text); return bp__oom(err, "writing the OBJ file"); }
+    if ((st = bp__out_open(&o, path, err)) == BP_OK) {
+        memset(&r, 0, sizeof r);
+        r.ps.p = text;
+        r.ps.end = text + len;
+        r.ps.line = 1;
+        r.ps.a = &a;
+        r.ps.err = err;
+        r.o = &o;
+        r.mesh = mesh;
+        r.atlas = atlas;
+        r.base = base;
+        r.eol = bp__eol_of(text, text + len);
+        r.corners.elem = sizeof(bp__src_corner);
+        st = bp__rewrite_obj(&r);
+        bp__free(&a, r.corners.data);
+        st = bp__out_close(&o, path, st, err);
+    }
+    bp__free(&a, base);
+    bp__free(&a, text);
+    return st;
 }
 #endif /* BP_NO_STDIO */
 
