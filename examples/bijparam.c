@@ -4,9 +4,12 @@
    chart a bijective start map (Tutte or Floater), minimizes its distortion
    while keeping the map bijective at every step, packs the charts side by
    side and, when asked, writes the mesh back as OBJ with the new `vt`
-   coordinates.  It shows every public step of the library in the order a
-   program calls them (bp_read_mesh, bp_atlas_build, bp_chart_init,
-   bp_chart_optimize, bp_atlas_pack, bp_write_obj), how the options map onto
+   coordinates: an OBJ input is streamed through bp_write_obj_from, so every
+   other line of the user's file (normals, materials, groups, comments)
+   comes back unchanged; an OFF input is written by bp_write_obj.  It shows
+   every public step of the library in the order a program calls them
+   (bp_read_mesh, bp_atlas_build, bp_chart_init, bp_chart_optimize,
+   bp_atlas_pack, bp_write_obj_from / bp_write_obj), how the options map onto
    bp_options, how a progress callback traces the solve, and how bp_check
    proves the result.  With --demo it flattens a built-in "wavy cone" (fig
    3.3 of the dissertation) whose isometric flattening overlaps itself, so
@@ -18,15 +21,30 @@
    from the chart's uv inside the progress callback, where it is the
    current valid map).
 
+   Writing is safe: the result goes into a temporary file created next to
+   OUT (before the work starts, so a bad -o fails at once), which is renamed
+   over OUT only when complete; on an error, a cancel or SIGINT / SIGTERM /
+   SIGHUP the temporary is removed.  An output that is the input file
+   (same device and inode, whatever the spelling) is refused unless
+   --force.  After a run that wrote OUT, one line on stderr says so; a
+   successful run without -o says "no output written (use -o FILE)".  Both
+   are left out with --quiet; with --json the report's "output" field says
+   it instead.
+
+   Messages name vertices, faces and lines as the file numbers them (OBJ
+   from 1), while bp_error.index stays 0-based.
+
    Exit status: 0 success, 1 input rejected or a step failed (one line on
    stderr: "bijparam: error: FILE:LINE: what" or "bijparam: error: FILE: what"),
-   2 usage error. */
+   2 usage error (one line, then "see bijparam --help"). */
 #define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700        /* realpath */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
 #include <time.h>
 #include <unistd.h>
 #include <sys/resource.h>
@@ -40,7 +58,10 @@
 static const char usage_text[] =
     "usage: bijparam [options] INPUT.(obj|off) [-o OUT.obj]\n"
     "       bijparam [options] --demo [-o OUT.obj]\n"
-    "  -o FILE            write the mesh with the new uv map (OBJ)\n"
+    "  -o FILE            write the mesh with the new uv map (OBJ); an OBJ input\n"
+    "                     keeps every other line of its file (vn, usemtl, g, ...)\n"
+    "  --force            allow -o (or --svg, --png, --trace) to replace the input\n"
+    "  -q, --quiet        no line saying where the result went\n"
     "  --json             print a one-line JSON report on stdout\n"
     "  --demo             use the built-in wavy cone instead of a file\n"
     "  --init tutte|mvc   start map (default tutte)\n"
@@ -85,7 +106,9 @@ static const char usage_text[] =
     "                     DIR/chartC_iterNNNNN.svg, and DIR/strip.svg: snapshots\n"
     "                     of the largest chart side by side\n"
     "  --frames-every K   iterations between frames (default 10)\n"
-    "  -h, --help         show this help\n";
+    "  -h, --help         show this help\n"
+    "  --version          print the version\n"
+    "messages number vertices, faces and lines as the file does (OBJ from 1)\n";
 
 static const char *const energy_names[] = { "sd", "conformal", "mips", "iso", "maxiso" };
 static const char *const view_names[] = { "none", "uniform", "front", "ring", "side" };
@@ -125,7 +148,7 @@ static double *read_importance(const char *path, const bp_mesh *m, char *msg, si
     for (i = 0; i < n; i++) {
         if (fscanf(f, "%lf", &face[i]) != 1 || !(face[i] > 0) || !(face[i] - face[i] == 0)) {
             snprintf(msg, msz, "importance of face %u is missing, not a number or not > 0 (need %u weights)",
-                     (unsigned)i, (unsigned)n);
+                     (unsigned)i + 1, (unsigned)n);
             free(face); free(w); fclose(f);
             return NULL;
         }
@@ -170,8 +193,75 @@ static int usage_error(const char *fmt, const char *arg)
 {
     fprintf(stderr, "bijparam: ");
     fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\n%s", usage_text);
+    fprintf(stderr, "\nsee bijparam --help\n");
     return 2;
+}
+
+/* ---- safe output -------------------------------------------------------- */
+
+/* Do two paths name the same existing file (device and inode, so that
+   "a.obj", "./a.obj" and a symlink to it all match)? */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (!a || !b || stat(a, &sa) != 0 || stat(b, &sb) != 0) return 0;
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+/* The temporary file the result is written to, known to the signal handler
+   so that an interrupted run leaves nothing behind.  (The library keeps no
+   globals; this program may.) */
+static char temp_path[4096];
+static volatile sig_atomic_t temp_live = 0;
+
+static void on_signal(int sig)
+{
+    if (temp_live) unlink(temp_path);          /* async-signal-safe */
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+/* Create DIR/.NAME.bijparam-XXXXXX next to `target` (a symlink is followed,
+   so the link keeps pointing at the replaced file), with the mode the
+   target has or, for a new file, 0666 minus the umask.  `final` gets the
+   path to rename onto.  Returns 0 and sets *why to errno on failure. */
+static int temp_create(const char *target, char *final, size_t final_size, int *why)
+{
+    char *real = realpath(target, NULL);
+    const char *t = real ? real : target, *slash = strrchr(t, '/');
+    size_t dir = slash ? (size_t)(slash - t) + 1 : 0;
+    struct stat st;
+    mode_t mode, mask;
+    int fd;
+    if (strlen(t) + 24 >= sizeof temp_path || strlen(t) >= final_size) {
+        free(real);
+        *why = ENAMETOOLONG;
+        return 0;
+    }
+    snprintf(final, final_size, "%s", t);
+    snprintf(temp_path, sizeof temp_path, "%.*s.%s.bijparam-XXXXXX", (int)dir, t, t + dir);
+    free(real);
+    mask = umask(0);
+    umask(mask);
+    mode = stat(final, &st) == 0 ? (mode_t)(st.st_mode & 07777) : (mode_t)(0666 & ~mask);
+    fd = mkstemp(temp_path);
+    if (fd < 0) { *why = errno; return 0; }
+    temp_live = 1;
+    if (fchmod(fd, mode) != 0) { *why = errno; close(fd); unlink(temp_path); temp_live = 0; return 0; }
+    close(fd);
+    return 1;
+}
+
+static void temp_discard(void)
+{
+    if (temp_live) unlink(temp_path);
+    temp_live = 0;
+}
+
+static int ends_with_obj(const char *s)
+{
+    size_t n = strlen(s);
+    return n >= 4 && s[n - 4] == '.' && (s[n - 3] | 32) == 'o' && (s[n - 2] | 32) == 'b' && (s[n - 1] | 32) == 'j';
 }
 
 /* "file:line: message" when the library knows the line, else "file: message".
@@ -462,13 +552,16 @@ typedef struct extra_report {
     double density_map, density_iso;
 } extra_report;
 
-static void print_json(const char *input, bp_status status, const char *message,
+static void print_json(const char *input, const char *output, bp_status status, const char *message,
                        const bp_mesh *mesh, const bp_atlas *atlas, bp_energy energy,
                        const timings *tm, const extra_report *ex)
 {
     uint32_t c, l;
     printf("{\"input\":");
     json_string(input);
+    printf(",\"output\":");              /* the file written, or null */
+    if (output) json_string(output);
+    else printf("null");
     printf(",\"status\":");
     json_string(bp_status_string(status));
     if (message) { printf(",\"error\":"); json_string(message); }
@@ -562,8 +655,8 @@ int main(int argc, char **argv)
     bpd_svg_options svg_opt;
     bpd_render_options png_opt;
     frames_state fs;
-    char *tmp_path = NULL;
-    int json = 0, demo = 0, have_mesh = 0, i, status = 0;
+    char final_path[4096];
+    int json = 0, demo = 0, have_mesh = 0, i, status = 0, force = 0, quiet = 0, wrote = 0;
     uint32_t c;
     double t0;
 
@@ -685,6 +778,9 @@ int main(int argc, char **argv)
             }
         }
         else if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_text, stdout); return 0; }
+        else if (!strcmp(a, "--version")) { printf("bijparam %s\n", BP_VERSION_STRING); return 0; }
+        else if (!strcmp(a, "--force")) force = 1;
+        else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) quiet = 1;
         else if (!strcmp(a, "--json")) json = 1;
         else if (!strcmp(a, "--demo")) demo = 1;
         else if (!strcmp(a, "--init-only")) opt.init_only = 1;
@@ -697,6 +793,17 @@ int main(int argc, char **argv)
     }
     if (demo && input) return usage_error("--demo takes no input file ('%s')", input);
     if (!demo && !input) return usage_error("%s", "no input file");
+    if (!force) {           /* an output that would replace an input file */
+        const char *outs[4], *flags[4] = { "-o", "--svg", "--png", "--trace" };
+        int k;
+        outs[0] = output; outs[1] = svg_path; outs[2] = png_path; outs[3] = trace_path;
+        for (k = 0; k < 4; k++)
+            if (!demo && (same_file(outs[k], input) || same_file(outs[k], importance_path))) {
+                fprintf(stderr, "bijparam: %s '%s' is an input file; add --force to replace it\n"
+                        "see bijparam --help\n", flags[k], outs[k]);
+                return 2;
+            }
+    }
     if (demo) input = "<demo>";
     if (!elevation_set) opt.views.elevation = 30;
 
@@ -732,6 +839,22 @@ int main(int argc, char **argv)
         rs.frames = &fs;
     }
 
+    /* 0. the temporary the result goes into, created now so that an output
+          that cannot be written fails before the work, removed on any
+          error or signal */
+    if (output) {
+        int why = 0;
+        if (!temp_create(output, final_path, sizeof final_path, &why)) {
+            fprintf(stderr, "bijparam: error: %s: cannot create a file next to it: %s\n",
+                    output, strerror(why));
+            if (rs.trace) fclose(rs.trace);
+            return 1;
+        }
+        signal(SIGINT, on_signal);
+        signal(SIGTERM, on_signal);
+        signal(SIGHUP, on_signal);
+    }
+
     /* 1. read */
     t0 = now_seconds();
     if (demo) {
@@ -740,7 +863,13 @@ int main(int argc, char **argv)
             snprintf(err.message, sizeof err.message, "out of memory building the demo mesh");
         }
     } else {
-        st = bp_read_mesh(input, &mesh, NULL, &err);
+        struct stat sb;
+        if (stat(input, &sb) == 0 && S_ISDIR(sb.st_mode)) {
+            st = BP_ERR_IO;    /* before the extension test of bp_read_mesh */
+            memset(&err, 0, sizeof err);
+            snprintf(err.message, sizeof err.message, "is a directory, not an .obj or .off file");
+        } else
+            st = bp_read_mesh(input, &mesh, NULL, &err);
     }
     have_mesh = st == BP_OK;
     tm.read = now_seconds() - t0;
@@ -834,30 +963,27 @@ int main(int argc, char **argv)
             bp_atlas_free(&iso);
         }
     }
-    /* 5. write: into OUT.tmp, renamed only when complete */
+    /* 5. write: into the temporary, renamed over OUT only when complete.
+          An OBJ input is streamed (every other line of the user's file
+          kept); an OFF input or the demo mesh is written from the mesh. */
     if (st == BP_OK && output) {
-        size_t n = strlen(output);
         t0 = now_seconds();
-        tmp_path = (char *)malloc(n + 5);
-        if (!tmp_path) {
-            st = BP_ERR_OUT_OF_MEMORY;
-            snprintf(err.message, sizeof err.message, "out of memory");
-        } else {
-            memcpy(tmp_path, output, n);
-            memcpy(tmp_path + n, ".tmp", 5);
-            where = output;
-            memset(&err, 0, sizeof err);
-            st = bp_write_obj(tmp_path, &mesh, &atlas, &err);
-            if (st == BP_OK && rename(tmp_path, output) != 0) {
-                st = BP_ERR_IO;
-                err.line = 0;
-                snprintf(err.message, sizeof err.message,
-                         "cannot rename %s to %s: %s", tmp_path, output, strerror(errno));
-            }
-            if (st != BP_OK) remove(tmp_path);
+        where = output;
+        memset(&err, 0, sizeof err);
+        if (!demo && ends_with_obj(input))
+            st = bp_write_obj_from(temp_path, input, &mesh, &atlas, &err);
+        else
+            st = bp_write_obj(temp_path, &mesh, &atlas, &err);
+        if (st == BP_OK && rename(temp_path, final_path) != 0) {
+            st = BP_ERR_IO;
+            err.line = 0;
+            snprintf(err.message, sizeof err.message,
+                     "cannot rename the finished result onto it: %s", strerror(errno));
         }
+        if (st == BP_OK) { temp_live = 0; wrote = 1; }
         tm.write = now_seconds() - t0;
     }
+    temp_discard();                       /* on any failure before or here */
 
     /* 6. pictures of the packed atlas (examples/bp_draw.h) */
     if (st == BP_OK && svg_path && !bpd_write_atlas_svg(svg_path, &mesh, &atlas, &svg_opt)) {
@@ -888,13 +1014,17 @@ int main(int argc, char **argv)
         for (c = 0; c < atlas.num_charts; c++)
             if (atlas.charts[c].threads > ex.threads) ex.threads = atlas.charts[c].threads;
         bp_status js = (st == BP_OK && atlas.num_failed) ? BP_ERR_CHARTS_FAILED : st;
-        print_json(input, js, st == BP_OK ? NULL : err.message, &mesh, &atlas,
+        print_json(input, wrote ? output : NULL, js, st == BP_OK ? NULL : err.message, &mesh, &atlas,
                    opt.energy, &tm, &ex);
+    } else if (!quiet && wrote) {
+        fprintf(stderr, "bijparam: wrote %s (%u chart%s%s)\n", output, (unsigned)atlas.num_charts,
+                atlas.num_charts == 1 ? "" : "s", atlas.num_failed ? "; failed charts without vt" : "");
+    } else if (!quiet && status == 0 && !output) {
+        fprintf(stderr, "bijparam: no output written (use -o FILE)\n");
     }
 
     if (rs.trace) fclose(rs.trace);
     for (i = 0; i < fs.nsnap; i++) free(fs.snap[i]);
-    free(tmp_path);
     free(importance);
     bp_atlas_free(&atlas);
     if (have_mesh) {
