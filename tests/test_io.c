@@ -678,7 +678,7 @@ static void compare_rewrite(const char *src, size_t src_n, const char *out, size
             char v1[16][16], t1[16][16], n1[16][16], v2[16][16], t2[16][16], n2[16][16];
             int k1 = face_corners(a.start[i], a.len[i], v1, t1, n1, 16);
             int k2 = face_corners(b.start[j], b.len[j], v2, t2, n2, 16), k;
-            const char *ha = memchr(a.start[i], '#', a.len[i]), *hb = memchr(b.start[j], '#', b.len[j]);
+            const char *ha = (const char *)memchr(a.start[i], '#', a.len[i]), *hb = (const char *)memchr(b.start[j], '#', b.len[j]);
             faces++;
             if (k1 != k2 || k1 < 3 || !line_is(b.start[j], b.len[j], "f")) bad_face++;
             for (k = 0; k < k1 && k1 == k2; k++) {
@@ -1023,6 +1023,71 @@ static void test_fuzz(void)
               FUZZ_ROUNDS, accepted, bad, the_counter.allocs);
 }
 
+/* Mutations of the asset as the source of bp_write_obj_from, with the mesh
+   and atlas of the original: the writer must never crash or leak, must
+   leave no file when it fails, and must succeed whenever the mutated text
+   still reads to the same triangles and faces (then it is the file the mesh
+   could have been read from). */
+static void test_write_from_fuzz(void)
+{
+    char dir[] = "/tmp/bptest_wz_XXXXXX", src[256], out[256], buf[2048];
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    bp_allocator a = counting(), saved;
+    long i, ok = 0, refused = 0, bad = 0;
+    if (!mkdtemp(dir)) { BPT_CHECK(0, "mkdtemp"); return; }
+    sprintf(src, "%s/m.obj", dir);
+    sprintf(out, "%s/m_uv.obj", dir);
+    memset(&opt, 0, sizeof opt);
+    opt.threads = 1;
+    if (bp_parse_obj(asset_obj, sizeof asset_obj - 1, &m, NULL, &err) != BP_OK ||
+        bp_parameterize(&atlas, &m, &opt, &err) != BP_OK) {
+        BPT_CHECK(0, "asset for the writer fuzz: %s", err.message);
+        rmdir(dir);
+        return;
+    }
+    counter_reset();
+    saved = atlas.allocator;
+    atlas.allocator = a;              /* the writer's tables through the counter */
+    for (i = 0; i < FUZZ_ROUNDS / 4; i++) {
+        size_t len = sizeof asset_obj - 1;
+        int edits = 1 + (int)(rng() % 4), e, same;
+        bp_mesh mm;
+        bp_status st, pst;
+        memcpy(buf, asset_obj, len);
+        for (e = 0; e < edits; e++) {
+            size_t pos = (size_t)(rng() % len);
+            switch (rng() % 4) {
+            case 0: buf[pos] = "0123456789-/ \n\r#fvt"[rng() % 19]; break;
+            case 1: memmove(buf + pos, buf + pos + 1, len - pos - 1); len--; break;
+            case 2: if (len + 1 < sizeof buf) { memmove(buf + pos + 1, buf + pos, len - pos); buf[pos] = "1-/ \n"[rng() % 5]; len++; } break;
+            default: len = pos > 0 ? pos : 1; break;
+            }
+        }
+        write_bytes(src, buf, len);
+        pst = bp_parse_obj(buf, len, &mm, NULL, &err);
+        same = pst == BP_OK && mm.num_triangles == m.num_triangles && mm.num_faces == m.num_faces &&
+               !memcmp(mm.triangles, m.triangles, 3 * sizeof(uint32_t) * m.num_triangles) &&
+               !memcmp(mm.triangle_face, m.triangle_face, sizeof(uint32_t) * m.num_triangles);
+        if (pst == BP_OK) bp_mesh_free(&mm, NULL);
+        st = bp_write_obj_from(out, src, &m, &atlas, &err);
+        if (st == BP_OK) ok++;
+        else refused++;
+        if ((st != BP_OK && (file_exists(out) || !err.message[0])) || (same && st != BP_OK)) bad++;
+        remove(out);
+    }
+    BPT_CHECK(bad == 0 && counter_balanced() && ok > 0 && refused > 0,
+              "%d mutated sources through bp_write_obj_from: no crash, no leak, no file left on failure, success whenever the text reads to the same faces (%ld written, %ld refused, %ld bad)",
+              FUZZ_ROUNDS / 4, ok, refused, bad);
+    atlas.allocator = saved;
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+    remove(src);
+    rmdir(dir);
+}
+
 int main(void)
 {
     test_obj_ok();
@@ -1033,5 +1098,6 @@ int main(void)
     test_write_from();
     test_write_from_split();
     test_fuzz();
+    test_write_from_fuzz();
     return bpt_finish();
 }
