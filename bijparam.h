@@ -3693,21 +3693,243 @@ static int bp__u32_cmp(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* The working state of one start map, in the order bp__chart_init's phases
+   fill it. */
+typedef struct bp__tutte {
+    uint32_t nv, N, nt;           /* chart vertices, + hole centres, filled triangles */
+    uint32_t *tri;                /* 3*nt: the chart's triangles, then the hole fans */
+    double   *pos;                /* 3*N: 3D positions, centres at hole centroids */
+    uint32_t *adjp, *adj, ne;     /* sorted neighbour lists (both directions) */
+    double   *w;                  /* w[e] = w_{i, adj[e]}                    */
+    uint32_t *idx, nfree;         /* free-vertex number, BP__NONE when fixed */
+    bp__sparse A;
+    double   *rhs, *sol, *work;
+} bp__tutte;
+
+static void bp__tutte_free(const bp_allocator *a, bp__tutte *T)
+{
+    bp__free(a, T->tri); bp__free(a, T->pos); bp__free(a, T->adjp); bp__free(a, T->adj);
+    bp__free(a, T->w); bp__free(a, T->idx); bp__free(a, T->rhs); bp__free(a, T->sol); bp__free(a, T->work);
+    bp__free(a, T->A.colp); bp__free(a, T->A.row); bp__free(a, T->A.val);
+}
+
+/* Phase 1, the filled chart: real triangles, then one fan per hole to a
+   centre at the hole loop's 3D centroid (reverse twins of the hole's
+   boundary edges, so the filled chart is a disk). */
+static int bp__tutte_fill(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, const bp_mesh *m)
+{
+    uint32_t t, i, j, k, nfan = ch->loop_start[ch->num_loops] - ch->loop_start[1];
+    T->nv = ch->num_vertices;
+    T->N = T->nv + ch->num_loops - 1;
+    T->nt = ch->num_triangles + nfan;
+    T->tri = (uint32_t *)bp__alloc_array(a, 3 * (size_t)T->nt, sizeof(uint32_t));
+    T->pos = (double *)bp__alloc_array(a, 3 * (size_t)T->N, sizeof(double));
+    if (!T->tri || !T->pos) return 0;
+    memcpy(T->tri, ch->triangles, 3 * (size_t)ch->num_triangles * sizeof(uint32_t));
+    for (i = 0; i < T->nv; i++) memcpy(T->pos + 3 * (size_t)i, bp__pos(m, ch->vertex[i]), 3 * sizeof(double));
+    for (t = ch->num_triangles, i = 1; i < ch->num_loops; i++) {
+        uint32_t s0 = ch->loop_start[i], s1 = ch->loop_start[i + 1], c = T->nv + i - 1;
+        double cen[3] = { 0, 0, 0 };
+        for (j = s0; j < s1; j++) {
+            uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < s1 ? j + 1 : s0];
+            for (k = 0; k < 3; k++) cen[k] += T->pos[3 * (size_t)va + k] / (s1 - s0);
+            T->tri[3 * (size_t)t] = vb; T->tri[3 * (size_t)t + 1] = va; T->tri[3 * (size_t)t + 2] = c;
+            t++;
+        }
+        memcpy(T->pos + 3 * (size_t)c, cen, sizeof cen);
+    }
+    return 1;
+}
+
+/* Phase 2, adjacency: both directions of every triangle edge, sorted and
+   deduplicated per vertex (counting sort into place, then qsort per row). */
+static int bp__tutte_adjacency(const bp_allocator *a, bp__tutte *T)
+{
+    uint32_t t, k, i, e, N = T->N, *cnt = (uint32_t *)bp__alloc_array(a, (size_t)N + 1, sizeof(uint32_t));
+    T->adjp = (uint32_t *)bp__calloc_array(a, (size_t)N + 1, sizeof(uint32_t));
+    T->adj = (uint32_t *)bp__alloc_array(a, 6 * (size_t)T->nt, sizeof(uint32_t));
+    if (!cnt || !T->adjp || !T->adj) { bp__free(a, cnt); return 0; }
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) { T->adjp[T->tri[3 * t + k] + 1]++; T->adjp[T->tri[3 * t + (k + 1) % 3] + 1]++; }
+    for (i = 0; i < N; i++) T->adjp[i + 1] += T->adjp[i];
+    memcpy(cnt, T->adjp, ((size_t)N + 1) * sizeof(uint32_t));
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t va = T->tri[3 * t + k], vb = T->tri[3 * t + (k + 1) % 3];
+            T->adj[cnt[va]++] = vb;
+            T->adj[cnt[vb]++] = va;
+        }
+    bp__free(a, cnt);
+    for (T->ne = 0, i = 0; i < N; i++) {
+        uint32_t s0 = T->adjp[i], s1 = T->adjp[i + 1], last = BP__NONE;
+        qsort(T->adj + s0, s1 - s0, sizeof(uint32_t), bp__u32_cmp);
+        T->adjp[i] = T->ne;
+        for (e = s0; e < s1; e++)
+            if (T->adj[e] != last) T->adj[T->ne++] = last = T->adj[e];
+    }
+    T->adjp[N] = T->ne;
+    return 1;
+}
+
+/* Phase 3, the weights: 1 (Tutte), or Floater's mean-value weights
+   (tan(alpha/2) + tan(beta/2)) / |p_i - p_j| summed over the two triangles
+   of edge ij; anything not positive and finite becomes 1. */
+static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
+{
+    uint32_t t, k, e;
+    T->w = (double *)bp__calloc_array(a, T->ne, sizeof(double));
+    if (!T->w) return 0;
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t vi = T->tri[3 * t + k], vj = T->tri[3 * t + (k + 1) % 3], vk = T->tri[3 * t + (k + 2) % 3];
+            uint32_t ej = bp__adj_find(T->adjp, T->adj, vi, vj), ek = bp__adj_find(T->adjp, T->adj, vi, vk);
+            if (!mvc) {
+                T->w[ej] = T->w[ek] = 1;
+            } else {
+                const double *pi = T->pos + 3 * (size_t)vi, *pj = T->pos + 3 * (size_t)vj, *pk = T->pos + 3 * (size_t)vk;
+                double th = tan(0.5 * bp__angle3(pi, pj, pk));
+                T->w[ej] += th / bp__dist3(pi, pj);
+                T->w[ek] += th / bp__dist3(pi, pk);
+            }
+        }
+    for (e = 0; e < T->ne; e++)
+        if (!(T->w[e] > 0) || !(T->w[e] - T->w[e] == 0)) T->w[e] = 1;   /* keep every weight positive */
+    return 1;
+}
+
+/* Phase 4, the outer loop on the circle of the chart's 3D area, R =
+   sqrt(area / pi), spaced by 3D arc length; every other vertex is free and
+   numbered in vertex order. */
+static int bp__tutte_circle(const bp_allocator *a, bp__tutte *T, bp_chart *ch)
+{
+    uint32_t i, j, l0 = ch->loop_start[0], l1 = ch->loop_start[1];
+    double R = sqrt(ch->area3d / 3.14159265358979323846), total = 0, acc = 0;
+    T->idx = (uint32_t *)bp__calloc_array(a, T->N, sizeof(uint32_t));
+    if (!T->idx) return 0;
+    for (j = l0; j < l1; j++) {
+        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < l1 ? j + 1 : 0];
+        total += bp__dist3(T->pos + 3 * (size_t)va, T->pos + 3 * (size_t)vb);
+        T->idx[va] = BP__NONE;                   /* fixed */
+    }
+    for (j = l0; j < l1; j++) {
+        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < l1 ? j + 1 : 0];
+        double ang = 2 * 3.14159265358979323846 * acc / total;
+        ch->uv[2 * (size_t)va] = R * cos(ang);
+        ch->uv[2 * (size_t)va + 1] = R * sin(ang);
+        acc += bp__dist3(T->pos + 3 * (size_t)va, T->pos + 3 * (size_t)vb);
+    }
+    for (T->nfree = 0, i = 0; i < T->N; i++) if (T->idx[i] != BP__NONE) T->idx[i] = T->nfree++;
+    return 1;
+}
+
+/* Phase 5, the system sum_j w_ij (u_i - u_j) = 0 over the free vertices,
+   column by column, fixed neighbours moved to the right-hand side (both
+   coordinates: rhs[0, nfree) and rhs[nfree, 2 nfree)). */
+static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, int mvc)
+{
+    uint32_t j, e, p, nnz = 0, nfree = T->nfree;
+    bp__sparse *A = &T->A;
+    A->n = nfree;
+    A->symmetric = !mvc;
+    A->colp = (uint32_t *)bp__alloc_array(a, (size_t)nfree + 1, sizeof(uint32_t));
+    A->row = (uint32_t *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(uint32_t));
+    A->val = (double *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(double));
+    T->rhs = (double *)bp__calloc_array(a, 2 * (size_t)nfree, sizeof(double));
+    T->sol = (double *)bp__alloc_array(a, 2 * (size_t)nfree, sizeof(double));
+    T->work = (double *)bp__alloc_array(a, 3 * (size_t)nfree, sizeof(double));
+    if (!A->colp || !A->row || !A->val || !T->rhs || !T->sol || !T->work) return 0;
+    for (j = 0; j < T->N; j++) {
+        uint32_t cj = T->idx[j];
+        double diag = 0;
+        int diag_done = 0;
+        if (cj == BP__NONE) continue;
+        A->colp[cj] = nnz;
+        for (e = T->adjp[j]; e < T->adjp[j + 1]; e++) {
+            uint32_t vi = T->adj[e];
+            diag += T->w[e];
+            if (T->idx[vi] == BP__NONE) {         /* fixed neighbour -> rhs */
+                T->rhs[cj] += T->w[e] * ch->uv[2 * (size_t)vi];
+                T->rhs[nfree + cj] += T->w[e] * ch->uv[2 * (size_t)vi + 1];
+            }
+        }
+        /* rows in increasing free index: adj is sorted by vertex and the
+           free numbering is increasing in vertex, so it stays sorted */
+        for (e = T->adjp[j]; e < T->adjp[j + 1]; e++) {
+            uint32_t vi = T->adj[e];
+            if (T->idx[vi] == BP__NONE) continue;
+            if (!diag_done && vi > j) { A->row[nnz] = cj; A->val[nnz++] = 0; diag_done = 1; }
+            A->row[nnz] = T->idx[vi];
+            A->val[nnz++] = -T->w[bp__adj_find(T->adjp, T->adj, vi, j)];
+        }
+        if (!diag_done) { A->row[nnz] = cj; A->val[nnz++] = 0; }
+        for (p = A->colp[cj]; p < nnz; p++) if (A->row[p] == cj) A->val[p] = diag;
+    }
+    A->colp[nfree] = nnz;
+    return 1;
+}
+
+/* Phase 6, factor and solve (with iterative refinement); the free
+   vertices' uv from the solution.  BP_ERR_NUMERICAL names the vertex of a
+   zero pivot. */
+static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *ch, const bp__par *runner,
+                                 bp_error *err)
+{
+    bp__factor F;
+    uint32_t bad = 0, i, nfree = T->nfree;
+    bp_status st;
+    memset(&F, 0, sizeof F);
+    st = bp__factorize(a, &T->A, &F, &bad, runner);
+    if (st == BP_ERR_NUMERICAL) {
+        uint32_t bv = 0;
+        for (i = 0; i < T->nv; i++) if (T->idx[i] == bad) bv = ch->vertex[i];
+        bp__factor_free(a, &F);
+        return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, bv, -1, 0,
+                        "the start-map system is singular at vertex %u", bv + 1);
+    }
+    if (st != BP_OK) { bp__factor_free(a, &F); return bp__oom(err, "computing the start map"); }
+    bp__solve_refined(&T->A, &F, T->rhs, T->sol, T->work);
+    bp__solve_refined(&T->A, &F, T->rhs + nfree, T->sol + nfree, T->work);
+    bp__factor_free(a, &F);
+    for (i = 0; i < T->nv; i++)
+        if (T->idx[i] != BP__NONE) {
+            ch->uv[2 * (size_t)i] = T->sol[T->idx[i]];
+            ch->uv[2 * (size_t)i + 1] = T->sol[nfree + T->idx[i]];
+        }
+    return BP_OK;
+}
+
+/* Phase 7, the exact check of the rounded start map. */
+static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, bp_error *err)
+{
+    bp_check_report rep;
+    bp_status st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep);
+    if (st != BP_OK) return bp__oom(err, "computing the start map");
+    if (bp__report_valid(&rep)) return BP_OK;
+    if (rep.first_bad_triangle >= 0) {
+        uint32_t bt = ch->face[rep.first_bad_triangle];
+        char n0[48], n1[48];
+        return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, bt, -1, bp__tri_line(m, bt),
+                        "the start map of the chart with %s is not valid in floating point: %s is %s",
+                        bp__tri_name(m, ch->face[0], n0), bp__tri_name(m, bt, n1),
+                        rep.flipped ? "flipped" : "degenerate");
+    }
+    {
+        uint32_t bv = ch->vertex[rep.first_bad_edge[0]];
+        char n0[48];
+        return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, bv, -1, 0,
+                        "the start map of the chart with %s has touching boundary edges at vertex %u",
+                        bp__tri_name(m, ch->face[0], n0), bv + 1);
+    }
+}
+
+/* The start map in the seven phases above. */
 static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                 bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
-    uint32_t nv, nh, N, nt, nfan, t, k, i, j, nfree = 0, p;
-    uint32_t *tri = NULL, *adjp = NULL, *adj = NULL, *idx = NULL, *cnt = NULL;
-    double *pos = NULL, *w = NULL, *rhs = NULL, *sol = NULL, *work = NULL;
-    bp__sparse A;
-    bp__factor F;
-    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    bp__tutte T;
+    bp_status st = BP_OK;
     int mvc = opt && opt->init == BP_INIT_MEAN_VALUE;
-    uint32_t bad = 0, e, ne;
-    double R, total = 0, acc = 0;
-    memset(&A, 0, sizeof A);
-    memset(&F, 0, sizeof F);
     if (ch && ch->error.status != BP_OK) {
         if (err) *err = ch->error;
         return ch->error.status;                 /* a chart that cannot be flattened */
@@ -3715,174 +3937,18 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     if (!ch || !m || !ch->num_loops)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                         "bp_chart_init needs a chart from bp_atlas_build and its mesh");
-    nv = ch->num_vertices;
-    nh = ch->num_loops - 1;
-    N = nv + nh;
-    nfan = ch->loop_start[ch->num_loops] - ch->loop_start[1];
-    nt = ch->num_triangles + nfan;
-    if (!ch->uv) ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)nv, sizeof(double));
-    tri = (uint32_t *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof(uint32_t));
-    pos = (double *)bp__alloc_array(&a, 3 * (size_t)N, sizeof(double));
-    idx = (uint32_t *)bp__alloc_array(&a, N, sizeof(uint32_t));
-    adjp = (uint32_t *)bp__calloc_array(&a, (size_t)N + 1, sizeof(uint32_t));
-    adj = (uint32_t *)bp__alloc_array(&a, 6 * (size_t)nt, sizeof(uint32_t));
-    cnt = (uint32_t *)bp__alloc_array(&a, (size_t)N + 1, sizeof(uint32_t));
-    if (!ch->uv || !tri || !pos || !idx || !adjp || !adj || !cnt) goto fail;
-
-    /* the filled chart: real triangles, then one fan per hole */
-    memcpy(tri, ch->triangles, 3 * (size_t)ch->num_triangles * sizeof(uint32_t));
-    for (i = 0; i < nv; i++) memcpy(pos + 3 * (size_t)i, bp__pos(m, ch->vertex[i]), 3 * sizeof(double));
-    for (t = ch->num_triangles, i = 1; i < ch->num_loops; i++) {
-        uint32_t s0 = ch->loop_start[i], s1 = ch->loop_start[i + 1], c = nv + i - 1;
-        double cen[3] = { 0, 0, 0 };
-        for (j = s0; j < s1; j++) {
-            uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < s1 ? j + 1 : s0];
-            for (k = 0; k < 3; k++) cen[k] += pos[3 * (size_t)va + k] / (s1 - s0);
-            tri[3 * (size_t)t] = vb; tri[3 * (size_t)t + 1] = va; tri[3 * (size_t)t + 2] = c;  /* reverse twin */
-            t++;
-        }
-        memcpy(pos + 3 * (size_t)c, cen, sizeof cen);
-    }
-    /* adjacency (both directions of every triangle edge), sorted, deduped */
-    for (t = 0; t < nt; t++)
-        for (k = 0; k < 3; k++) { adjp[tri[3 * t + k] + 1]++; adjp[tri[3 * t + (k + 1) % 3] + 1]++; }
-    for (i = 0; i < N; i++) adjp[i + 1] += adjp[i];
-    memcpy(cnt, adjp, ((size_t)N + 1) * sizeof(uint32_t));
-    for (t = 0; t < nt; t++)
-        for (k = 0; k < 3; k++) {
-            uint32_t va = tri[3 * t + k], vb = tri[3 * t + (k + 1) % 3];
-            adj[cnt[va]++] = vb;
-            adj[cnt[vb]++] = va;
-        }
-    for (ne = 0, i = 0; i < N; i++) {
-        uint32_t s0 = adjp[i], s1 = adjp[i + 1], last = BP__NONE;
-        qsort(adj + s0, s1 - s0, sizeof(uint32_t), bp__u32_cmp);
-        adjp[i] = ne;
-        for (e = s0; e < s1; e++)
-            if (adj[e] != last) adj[ne++] = last = adj[e];
-    }
-    adjp[N] = ne;
-    /* weights w[e] = w_{i, adj[e]} */
-    w = (double *)bp__calloc_array(&a, ne, sizeof(double));
-    if (!w) goto fail;
-    for (t = 0; t < nt; t++)
-        for (k = 0; k < 3; k++) {
-            uint32_t vi = tri[3 * t + k], vj = tri[3 * t + (k + 1) % 3], vk = tri[3 * t + (k + 2) % 3];
-            if (!mvc) {
-                w[bp__adj_find(adjp, adj, vi, vj)] = 1;
-                w[bp__adj_find(adjp, adj, vi, vk)] = 1;
-            } else {
-                const double *pi = pos + 3 * (size_t)vi, *pj = pos + 3 * (size_t)vj, *pk = pos + 3 * (size_t)vk;
-                double th = tan(0.5 * bp__angle3(pi, pj, pk));
-                w[bp__adj_find(adjp, adj, vi, vj)] += th / bp__dist3(pi, pj);
-                w[bp__adj_find(adjp, adj, vi, vk)] += th / bp__dist3(pi, pk);
-            }
-        }
-    for (e = 0; e < ne; e++)
-        if (!(w[e] > 0) || !(w[e] - w[e] == 0)) w[e] = 1;   /* keep every weight positive */
-
-    /* the outer loop on the circle of the chart's area, by arc length */
-    for (i = 0; i < N; i++) idx[i] = 0;
-    R = sqrt(ch->area3d / 3.14159265358979323846);
-    for (j = ch->loop_start[0]; j < ch->loop_start[1]; j++) {
-        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < ch->loop_start[1] ? j + 1 : 0];
-        total += bp__dist3(pos + 3 * (size_t)va, pos + 3 * (size_t)vb);
-        idx[va] = BP__NONE;                   /* fixed */
-    }
-    for (j = ch->loop_start[0]; j < ch->loop_start[1]; j++) {
-        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < ch->loop_start[1] ? j + 1 : 0];
-        double ang = 2 * 3.14159265358979323846 * acc / total;
-        ch->uv[2 * (size_t)va] = R * cos(ang);
-        ch->uv[2 * (size_t)va + 1] = R * sin(ang);
-        acc += bp__dist3(pos + 3 * (size_t)va, pos + 3 * (size_t)vb);
-    }
-    for (i = 0; i < N; i++) if (idx[i] != BP__NONE) idx[i] = nfree++;
-
-    /* the system over the free vertices, column by column */
-    if (nfree > 0) {
-        uint32_t nnz = 0;
-        A.n = nfree;
-        A.symmetric = !mvc;
-        A.colp = (uint32_t *)bp__alloc_array(&a, (size_t)nfree + 1, sizeof(uint32_t));
-        A.row = (uint32_t *)bp__alloc_array(&a, (size_t)ne + nfree, sizeof(uint32_t));
-        A.val = (double *)bp__alloc_array(&a, (size_t)ne + nfree, sizeof(double));
-        rhs = (double *)bp__calloc_array(&a, 2 * (size_t)nfree, sizeof(double));
-        sol = (double *)bp__alloc_array(&a, 2 * (size_t)nfree, sizeof(double));
-        work = (double *)bp__alloc_array(&a, 3 * (size_t)nfree, sizeof(double));
-        if (!A.colp || !A.row || !A.val || !rhs || !sol || !work) goto fail;
-        for (j = 0; j < N; j++) {
-            uint32_t cj = idx[j];
-            double diag = 0;
-            int diag_done = 0;
-            if (cj == BP__NONE) continue;
-            A.colp[cj] = nnz;
-            for (e = adjp[j]; e < adjp[j + 1]; e++) {
-                uint32_t vi = adj[e];
-                diag += w[e];
-                if (idx[vi] == BP__NONE) {         /* fixed neighbour -> rhs */
-                    rhs[cj] += w[e] * ch->uv[2 * (size_t)vi];
-                    rhs[nfree + cj] += w[e] * ch->uv[2 * (size_t)vi + 1];
-                }
-            }
-            /* rows in increasing free index: adj is sorted by vertex and the
-               free numbering is increasing in vertex, so it stays sorted */
-            for (e = adjp[j]; e < adjp[j + 1]; e++) {
-                uint32_t vi = adj[e];
-                if (idx[vi] == BP__NONE) continue;
-                if (!diag_done && vi > j) { A.row[nnz] = cj; A.val[nnz++] = 0; diag_done = 1; }
-                A.row[nnz] = idx[vi];
-                A.val[nnz++] = -w[bp__adj_find(adjp, adj, vi, j)];
-            }
-            if (!diag_done) { A.row[nnz] = cj; A.val[nnz++] = 0; }
-            for (p = A.colp[cj]; p < nnz; p++) if (A.row[p] == cj) A.val[p] = diag;
-        }
-        A.colp[nfree] = nnz;
-        st = bp__factorize(&a, &A, &F, &bad, runner);
-        if (st == BP_ERR_NUMERICAL) {
-            uint32_t bv = 0;
-            for (i = 0; i < nv; i++) if (idx[i] == bad) bv = ch->vertex[i];
-            st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, bv, -1, 0,
-                          "the start-map system is singular at mesh vertex %u", bv);
-            goto done;
-        }
-        if (st != BP_OK) goto fail;
-        bp__solve_refined(&A, &F, rhs, sol, work);
-        bp__solve_refined(&A, &F, rhs + nfree, sol + nfree, work);
-        for (i = 0; i < nv; i++)
-            if (idx[i] != BP__NONE) {
-                ch->uv[2 * (size_t)i] = sol[idx[i]];
-                ch->uv[2 * (size_t)i + 1] = sol[nfree + idx[i]];
-            }
-    }
-    {
-        bp_check_report rep;
-        st = bp_check(ch->triangles, ch->num_triangles, ch->uv, nv, &a, &rep);
-        if (st != BP_OK) goto fail;
-        if (!bp__report_valid(&rep)) {
-            uint32_t bt = rep.first_bad_triangle >= 0 ? ch->face[rep.first_bad_triangle] : 0;
-            if (rep.first_bad_triangle >= 0)
-                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, bt, -1, bp__tri_line(m, bt),
-                              "the start map of the chart with mesh triangle %u is not valid in floating point: "
-                              "triangle %u is %s", ch->face[0], bt, rep.flipped ? "flipped" : "degenerate");
-            else
-                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, ch->vertex[rep.first_bad_edge[0]], -1, 0,
-                              "the start map of the chart with mesh triangle %u has touching boundary edges at mesh vertex %u",
-                              ch->face[0], ch->vertex[rep.first_bad_edge[0]]);
-            goto done;
-        }
-    }
-    st = bp__ok(err);
+    memset(&T, 0, sizeof T);
+    if (!ch->uv) ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)ch->num_vertices, sizeof(double));
+    if (!ch->uv || !bp__tutte_fill(&a, &T, ch, m) || !bp__tutte_adjacency(&a, &T) || !bp__tutte_weights(&a, &T, mvc) ||
+        !bp__tutte_circle(&a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(&a, &T, ch, mvc)))
+        st = bp__oom(err, "computing the start map");
+    if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(&a, &T, ch, runner, err);
+    if (st == BP_OK) st = bp__tutte_verify(&a, ch, m, err);
+    bp__tutte_free(&a, &T);
+    if (st != BP_OK) return st;
     ch->stop = BP_STOP_NONE;
     ch->iterations = 0;
-    goto done;
-fail:
-    st = bp__oom(err, "computing the start map");
-done:
-    bp__free(&a, tri); bp__free(&a, pos); bp__free(&a, idx); bp__free(&a, adjp); bp__free(&a, adj);
-    bp__free(&a, cnt); bp__free(&a, w); bp__free(&a, rhs); bp__free(&a, sol); bp__free(&a, work);
-    bp__free(&a, A.colp); bp__free(&a, A.row); bp__free(&a, A.val);
-    bp__factor_free(&a, &F);
-    return st;
+    return bp__ok(err);
 }
 
 /* The public entry point: the factorization's rows run on the threads of
