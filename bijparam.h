@@ -20,9 +20,10 @@
        bp_mesh mesh;  bp_atlas atlas;  bp_error err;
        bp_options opt;  memset(&opt, 0, sizeof opt);   -- zero means "defaults"
        if (bp_read_obj("cow.obj", &mesh, NULL, &err) != BP_OK) { puts(err.message); return 1; }
-       if (bp_parameterize(&atlas, &mesh, &opt, &err) != BP_OK) { puts(err.message); return 1; }
-       bp_write_obj("cow_uv.obj", &mesh, &atlas, &err);
-       bp_atlas_free(&atlas);  bp_mesh_free(&mesh, NULL);
+       st = bp_parameterize(&atlas, &mesh, &opt, &err);   -- bp_status st
+       if (st != BP_OK) puts(err.message);    -- BP_ERR_CHARTS_FAILED: the others are valid
+       if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) bp_write_obj("cow_uv.obj", &mesh, &atlas, &err);
+       bp_atlas_free(&atlas);  bp_mesh_free(&mesh, NULL);   -- a zeroed atlas frees harmlessly
 
    CONTENTS  (search for the banner text, e.g. ">>predicates")
    --------
@@ -62,6 +63,9 @@
    - Every index is 0-based uint32_t; file line numbers are 1-based.
    - Every function that can fail returns a bp_status and, if given a
      bp_error, fills it with a message that names the offending element.
+     Messages number vertices and triangles as an OBJ file does, from 1
+     ("triangle 29 (line 31), vertices 2 8 7"; a polygon split into a fan
+     is named as its face), while bp_error.index / index2 stay 0-based.
    - The library keeps no global state, never prints, never exits.  Every
      allocation goes through the allocator in bp_options (or the one passed
      to the I/O functions); NULL means BP_MALLOC/BP_FREE.
@@ -72,6 +76,25 @@
    - Structures whose fields say "0 = default" may be zero-initialized
      (memset, `= {0}` in C, `= {}` in C++).  After a failed call that fills
      a bp_mesh or bp_atlas, the structure is zeroed and safe to free.
+   - The one failure rule of bp_atlas_build and bp_parameterize: two
+     statuses keep the atlas, BP_ERR_CHARTS_FAILED (some charts failed, not
+     in strict mode) and, for bp_parameterize, BP_ERR_CANCELLED.  Then every
+     chart is either valid -- mapped, packed without overlap and verified
+     exactly -- or a reported failure (chart.error says why, chart.uv is
+     NULL), and the caller must bp_atlas_free the atlas.  Every other error
+     leaves the atlas zeroed (freeing it is harmless).  When every chart
+     fails, the call returns the first chart's own status, not
+     BP_ERR_CHARTS_FAILED.
+   - Mesh defects are global or local.  Global, failing the whole call: no
+     triangles, an index out of range, a used vertex that is NaN or
+     infinite, two triangles on the same vertices, an edge of more than two
+     triangles, neighbours of opposite orientation.  Local, failing only
+     the chart they lie in (unless strict): a triangle that repeats a
+     vertex or has (near) zero area (twice the area at most 1e-12 of the
+     squared bounding-box diagonal), a chart that is closed or of genus > 0.
+     The tests are scale-free: a mesh valid at one scale is valid at every
+     representable scale, and bp_parameterize solves meshes of extreme size
+     (beyond 2^+-100) on an exactly rescaled copy.
 */
 #ifndef BIJPARAM_H
 #define BIJPARAM_H
@@ -267,11 +290,13 @@ typedef struct bp_options {
                                      map gives triangle t about importance[t] times
                                      its 3D area (eq 4.1); NULL = 1 everywhere     */
     bp_views      views;          /* visibility-aware maps (chapter 4)         */
-    int           strict;         /* nonzero: a chart that cannot be flattened
-                                     fails the whole call.  Zero (default): it
-                                     is reported in chart.error, the others are
-                                     still solved, and the call returns
-                                     BP_ERR_CHARTS_FAILED with the atlas kept  */
+    int           strict;         /* nonzero: any defect or chart failure fails
+                                     the whole call.  Zero (default): a chart
+                                     that cannot be flattened (a local defect,
+                                     see CONVENTIONS) is reported in
+                                     chart.error, the others are still solved,
+                                     and the call returns BP_ERR_CHARTS_FAILED
+                                     with the atlas kept: free it             */
 } bp_options;
 
 /* One chart: a connected piece of the mesh cut along seams.  Chart vertices
@@ -332,7 +357,9 @@ BPDEF const char *bp_status_string(bp_status s);
 BPDEF const char *bp_energy_name(bp_energy e);
 BPDEF const char *bp_stop_string(bp_stop s);
 
-/* Split a mesh into validated charts with boundary loops (no map yet). */
+/* Split a mesh into validated charts with boundary loops (no map yet).
+   BP_ERR_CHARTS_FAILED keeps the atlas with the failed charts reported in
+   chart.error; any other error zeroes it (CONVENTIONS: the failure rule). */
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *mesh,
                                const bp_options *opt, bp_error *err);
 /* The start map of one chart (Tutte or Floater, holes filled, sec 3.6).
@@ -345,7 +372,10 @@ BPDEF bp_status bp_chart_optimize(bp_chart *chart, uint32_t chart_index,
                                   bp_error *err);
 /* Place the charts side by side without overlap (and into [0,1]^2 if asked). */
 BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err);
-/* Everything: build, init, optimize, pack.  On failure the atlas is freed. */
+/* Everything: build, init, optimize, pack, and an exact check of the packed
+   atlas.  BP_OK: every chart mapped.  BP_ERR_CHARTS_FAILED (not strict) and
+   BP_ERR_CANCELLED: the atlas is kept, every chart valid or reported failed,
+   and must be freed; any other error zeroes it (CONVENTIONS). */
 BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *mesh,
                                 const bp_options *opt, bp_error *err);
 BPDEF void      bp_atlas_free(bp_atlas *atlas);
@@ -2176,10 +2206,32 @@ static double bp__area2_3d(const double *a, const double *b, const double *c)
     return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
-/* "line 12: " or "" for messages about a triangle. */
+/* The file line of triangle t, or 0 when the mesh does not record it. */
 static int64_t bp__tri_line(const bp_mesh *m, uint32_t t)
 {
     return m->triangle_line ? (int64_t)m->triangle_line[t] : 0;
+}
+
+static void bp__format(char *out, size_t cap, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    bp__vformat(out, cap, fmt, ap);
+    va_end(ap);
+}
+
+/* Messages name mesh elements the way the user's file numbers them: from 1
+   (bp_error.index stays 0-based, see CONVENTIONS).  Triangle t is "triangle
+   t+1"; when the reader split polygons into fans it is named by its source
+   face, "face f+1"; the file line follows when the mesh records it:
+   "triangle 29 (line 31)".  buf holds at least 48 characters. */
+static const char *bp__tri_name(const bp_mesh *m, uint32_t t, char *buf)
+{
+    int face = m->triangle_face && m->num_faces != m->num_triangles;
+    uint32_t n = (face ? m->triangle_face[t] : t) + 1;
+    if (m->triangle_line) bp__format(buf, 48, "%s %u (line %u)", face ? "face" : "triangle", n, m->triangle_line[t]);
+    else bp__format(buf, 48, "%s %u", face ? "face" : "triangle", n);
+    return buf;
 }
 
 static void bp__chart_free(const bp_allocator *a, bp_chart *c)
@@ -2204,14 +2256,43 @@ BPDEF void bp_atlas_free(bp_atlas *atlas)
     memset(atlas, 0, sizeof *atlas);
 }
 
-/* Input validation that needs no adjacency: sizes, index ranges, finite
-   coordinates, repeated corners, (near) zero 3D area.  "Near zero" is
-   relative to the mesh: twice the area below 1e-12 diag^2, where diag is the
-   bounding-box diagonal of the referenced vertices. */
-static bp_status bp__validate_mesh(const bp_mesh *m, bp_error *err)
+/* --- mesh validation -----------------------------------------------------
+
+   Two kinds of defect, told apart by what they break.
+     Global: no triangles, too many, a vertex or uv index out of range, a
+       used vertex with a NaN or infinite coordinate.  Nothing can be built
+       on such a mesh (the adjacency itself would read out of bounds, the
+       size scale is undefined), so they fail the whole call.  So do the
+       defects that decide what the charts *are* -- two triangles on the
+       same three vertices, an edge shared by three or more triangles,
+       neighbours of opposite orientation (found while gluing, below):
+       which triangles belong together is then not defined.
+     Local: a triangle that repeats a vertex, or whose 3D area is zero or
+       near zero.  It spoils only the chart it lies in (its rest shape,
+       eq 3.1, has no inverse).  Such a triangle is kept out of the gluing
+       but put into the chart of its neighbours, and that chart fails with
+       the triangle named in chart.error; the other charts are solved
+       (BP_ERR_CHARTS_FAILED).  With opt.strict the first one fails the
+       whole call, as every defect does.
+
+   "Near zero" is relative and therefore scale-free: twice the area below
+   1e-12 diag^2, diag the bounding-box diagonal of the used vertices.  To
+   keep it so at every representable scale (products of coordinates near
+   1e300 overflow, near 1e-300 underflow) the test runs on coordinates
+   rescaled by powers of two, which are exact: p is divided by 2^e1, the
+   power of two just above max |p| (so |p| / 2^e1 < 1 and differences
+   cannot overflow), and differences then by 2^e2, the power just above the
+   rescaled extent.  A mesh scaled by a power of two is judged bit for bit
+   as the unscaled one; any other factor only rounds the input. */
+
+typedef struct bp__mesh_scale { int e1, e2; double diag2; } bp__mesh_scale;
+
+/* Global checks (above), and the exponents of the used vertices. */
+static bp_status bp__validate_global(const bp_mesh *m, bp__mesh_scale *sc, bp_error *err)
 {
     uint32_t t, k;
-    double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX }, diag2;
+    double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX }, big = 0, ext = 0;
+    char nm[48];
     if (!m || !m->positions || !m->triangles)
         return bp__fail(err, m && m->num_triangles == 0 ? BP_ERR_EMPTY : BP_ERR_INVALID_ARGUMENT,
                         BP_ELEMENT_NONE, -1, -1, 0, "the mesh has no vertex or triangle array");
@@ -2225,41 +2306,106 @@ static bp_status bp__validate_mesh(const bp_mesh *m, bp_error *err)
         for (k = 0; k < 3; k++) {
             if (tri[k] >= m->num_vertices)
                 return bp__fail(err, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
-                                "triangle %u: vertex index %u is out of range (the mesh has %u vertices)",
-                                t, tri[k], m->num_vertices);
+                                "%s: vertex %u is out of range (the mesh has %u vertices, numbered from 1)",
+                                bp__tri_name(m, t, nm), tri[k] + 1, m->num_vertices);
             if (m->corner_uv && m->corner_uv[3 * (size_t)t + k] >= m->num_uvs)
                 return bp__fail(err, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
-                                "triangle %u: uv index %u is out of range (the mesh has %u uvs)",
-                                t, m->corner_uv[3 * (size_t)t + k], m->num_uvs);
+                                "%s: uv %u is out of range (the mesh has %u uvs, numbered from 1)",
+                                bp__tri_name(m, t, nm), m->corner_uv[3 * (size_t)t + k] + 1, m->num_uvs);
         }
         for (k = 0; k < 3; k++) {
             const double *p = bp__pos(m, tri[k]);
             int j;
             for (j = 0; j < 3; j++) {
                 if (!(p[j] - p[j] == 0))
-                    return bp__fail(err, BP_ERR_NONFINITE, BP_ELEMENT_VERTEX, tri[k], -1, 0,
-                                    "vertex %u (used by triangle %u) has a coordinate that is NaN or infinite",
-                                    tri[k], t);
+                    return bp__fail(err, BP_ERR_NONFINITE, BP_ELEMENT_VERTEX, tri[k], -1, bp__tri_line(m, t),
+                                    "vertex %u (used by %s) has a coordinate that is NaN or infinite",
+                                    tri[k] + 1, bp__tri_name(m, t, nm));
                 if (p[j] < lo[j]) lo[j] = p[j];
                 if (p[j] > hi[j]) hi[j] = p[j];
             }
         }
-        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
-            return bp__fail(err, BP_ERR_DEGENERATE, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
-                            "triangle %u uses vertex %u twice", t,
-                            tri[0] == tri[1] || tri[0] == tri[2] ? tri[0] : tri[1]);
     }
-    diag2 = (hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-            (hi[2] - lo[2]) * (hi[2] - lo[2]);
-    for (t = 0; t < m->num_triangles; t++) {
-        const uint32_t *tri = m->triangles + 3 * (size_t)t;
-        double a2 = bp__area2_3d(bp__pos(m, tri[0]), bp__pos(m, tri[1]), bp__pos(m, tri[2]));
-        if (!(a2 > 1e-12 * diag2))
-            return bp__fail(err, BP_ERR_DEGENERATE, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
-                            "triangle %u (vertices %u %u %u) has zero or near-zero area %g (mesh size %g)",
-                            t, tri[0], tri[1], tri[2], 0.5 * a2, sqrt(diag2));
+    for (k = 0; k < 3; k++) {
+        if (fabs(lo[k]) > big) big = fabs(lo[k]);
+        if (fabs(hi[k]) > big) big = fabs(hi[k]);
+    }
+    (void)frexp(big, &sc->e1);                    /* big < 2^e1 (e1 = 0 for 0) */
+    for (k = 0; k < 3; k++) {
+        double d = ldexp(hi[k], -sc->e1) - ldexp(lo[k], -sc->e1);  /* <= 2: no overflow */
+        if (d > ext) ext = d;
+    }
+    (void)frexp(ext, &sc->e2);
+    sc->diag2 = 0;
+    for (k = 0; k < 3; k++) {
+        double d = ldexp(ldexp(hi[k], -sc->e1) - ldexp(lo[k], -sc->e1), -sc->e2);
+        sc->diag2 += d * d;
     }
     return BP_OK;
+}
+
+/* b - a in the rescaled units of bp__mesh_scale. */
+static void bp__scaled_diff(const double *a, const double *b, const bp__mesh_scale *sc, double *d)
+{
+    int k;
+    for (k = 0; k < 3; k++) d[k] = ldexp(ldexp(b[k], -sc->e1) - ldexp(a[k], -sc->e1), -sc->e2);
+}
+
+/* Twice the area of triangle t in the rescaled units. */
+static double bp__area2_scaled(const bp_mesh *m, uint32_t t, const bp__mesh_scale *sc)
+{
+    const uint32_t *tri = m->triangles + 3 * (size_t)t;
+    double u[3], v[3], n[3];
+    bp__scaled_diff(bp__pos(m, tri[0]), bp__pos(m, tri[1]), sc, u);
+    bp__scaled_diff(bp__pos(m, tri[0]), bp__pos(m, tri[2]), sc, v);
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+    return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+/* The local defect of triangle t: 0 (none), 1 a repeated vertex, 2 (near)
+   zero area. */
+static int bp__tri_defect(const bp_mesh *m, uint32_t t, const bp__mesh_scale *sc)
+{
+    const uint32_t *tri = m->triangles + 3 * (size_t)t;
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) return 1;
+    return bp__area2_scaled(m, t, sc) > 1e-12 * sc->diag2 ? 0 : 2;
+}
+
+static bp_status bp__tri_defect_error(const bp_mesh *m, uint32_t t, const bp__mesh_scale *sc, bp_error *err)
+{
+    const uint32_t *tri = m->triangles + 3 * (size_t)t;
+    char nm[48];
+    if (bp__tri_defect(m, t, sc) == 1)
+        return bp__fail(err, BP_ERR_DEGENERATE, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
+                        "%s, vertices %u %u %u, uses vertex %u twice", bp__tri_name(m, t, nm), tri[0] + 1,
+                        tri[1] + 1, tri[2] + 1, (tri[0] == tri[1] || tri[0] == tri[2] ? tri[0] : tri[1]) + 1);
+    return bp__fail(err, BP_ERR_DEGENERATE, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
+                    "%s, vertices %u %u %u, has zero or near-zero area: twice its area is %g of the "
+                    "squared mesh size (at most 1e-12 is degenerate)", bp__tri_name(m, t, nm), tri[0] + 1,
+                    tri[1] + 1, tri[2] + 1, bp__area2_scaled(m, t, sc) / sc->diag2);
+}
+
+/* The local defects: with bad == NULL the first one is an error (strict);
+   otherwise bad[t] is set to the defect of each triangle. */
+static bp_status bp__find_defects(const bp_mesh *m, const bp__mesh_scale *sc, unsigned char *bad, bp_error *err)
+{
+    uint32_t t;
+    for (t = 0; t < m->num_triangles; t++) {
+        int d = bp__tri_defect(m, t, sc);
+        if (d && !bad) return bp__tri_defect_error(m, t, sc, err);
+        if (bad) bad[t] = (unsigned char)d;
+    }
+    return BP_OK;
+}
+
+/* The whole validation with every defect an error (bp_visibility). */
+static bp_status bp__validate_mesh(const bp_mesh *m, bp_error *err)
+{
+    bp__mesh_scale sc;
+    bp_status st = bp__validate_global(m, &sc, err);
+    return st != BP_OK ? st : bp__find_defects(m, &sc, NULL, err);
 }
 
 /* Working arrays of bp_atlas_build, freed together. */
@@ -2269,6 +2415,8 @@ typedef struct bp__build {
     uint32_t *tri_uf, *corner_uf, *glued, *chart_of_root, *vert_of_root;
     uint32_t *next, *loop_id;
     bp__vkey *vkeys;
+    unsigned char *bad;           /* local defect of each triangle (0: none) */
+    bp__mesh_scale scale;
 } bp__build;
 
 static void bp__build_free(const bp_allocator *a, bp__build *b)
@@ -2276,7 +2424,7 @@ static void bp__build_free(const bp_allocator *a, bp__build *b)
     bp__free(a, b->edges); bp__free(a, b->keys); bp__free(a, b->tri_uf);
     bp__free(a, b->corner_uf); bp__free(a, b->glued); bp__free(a, b->chart_of_root);
     bp__free(a, b->vert_of_root); bp__free(a, b->next); bp__free(a, b->loop_id);
-    bp__free(a, b->vkeys);
+    bp__free(a, b->vkeys); bp__free(a, b->bad);
 }
 
 /* Boundary loops of one chart from its triangles: next[v] is the end of the
@@ -2306,8 +2454,8 @@ static bp_status bp__chart_loops(const bp_allocator *a, bp_chart *ch, const bp_m
         do { loop_id[w] = nloops; w = next[w]; } while (w != v && w != BP__NONE && loop_id[w] == BP__NONE);
         if (w != v)
             return bp__fail(err, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, chart_index, -1, 0,
-                            "chart %u: boundary at mesh vertex %u does not close into a loop",
-                            chart_index, ch->vertex[v]);
+                            "chart %u: the boundary at vertex %u does not close into a loop",
+                            chart_index, ch->vertex[v] + 1);
         nloops++;
     }
     ch->num_loops = nloops;
@@ -2380,152 +2528,181 @@ static bp_status bp__charts_status(const bp_atlas *atlas, bp_error *err)
     return bp__ok(err);
 }
 
-BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
-                               const bp_options *opt, bp_error *err)
-{
-    bp_allocator a = bp__allocator_of(opt);
-    bp__build b;
-    bp_status st;
-    uint32_t nt, nc, t, k, i, c, nchart = 0;
-    size_t e;
-    if (!atlas)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "atlas must not be NULL");
-    memset(atlas, 0, sizeof *atlas);
-    atlas->allocator = a;
-    if ((st = bp__validate_mesh(m, err)) != BP_OK) return st;
-    nt = m->num_triangles;
-    nc = 3 * nt;
-    memset(&b, 0, sizeof b);
-    b.edges = (bp__edge_rec *)bp__alloc_array(&a, nc, sizeof *b.edges);
-    b.keys = (bp__tri_key *)bp__alloc_array(&a, nt, sizeof *b.keys);
-    b.tri_uf = (uint32_t *)bp__alloc_array(&a, nt, sizeof(uint32_t));
-    b.corner_uf = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
-    b.glued = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
-    b.chart_of_root = (uint32_t *)bp__alloc_array(&a, nt, sizeof(uint32_t));
-    b.vert_of_root = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
-    b.next = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
-    b.loop_id = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
-    if (!b.edges || !b.keys || !b.tri_uf || !b.corner_uf || !b.glued || !b.chart_of_root ||
-        !b.vert_of_root || !b.next || !b.loop_id) {
-        bp__build_free(&a, &b);
-        return bp__oom(err, "building charts");
-    }
+/* bp_atlas_build runs in named phases, each over the whole mesh:
+     validate   the global checks, then the local defects (strict: errors)
+     duplicates two triangles on the same three vertices
+     glue       mesh edges, manifoldness, orientation; triangles and
+                corners merged into charts and chart vertices
+     charts     charts numbered by their smallest triangle, their arrays
+     pinches    chart vertices that share a (mesh vertex, uv) key
+     topology   boundary loops and Euler characteristic of each chart
+   Any phase can fail the whole call; the topology phase and the local
+   defects fail single charts unless opt.strict is set. */
 
-    /* 1. duplicate triangles: equal sorted vertex triples */
+static bp_status bp__build_alloc(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
+{
+    uint32_t nt = m->num_triangles;
+    size_t nc = 3 * (size_t)nt;
+    b->edges = (bp__edge_rec *)bp__alloc_array(a, nc, sizeof *b->edges);
+    b->keys = (bp__tri_key *)bp__alloc_array(a, nt, sizeof *b->keys);
+    b->tri_uf = (uint32_t *)bp__alloc_array(a, nt, sizeof(uint32_t));
+    b->corner_uf = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
+    b->glued = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
+    b->chart_of_root = (uint32_t *)bp__alloc_array(a, nt, sizeof(uint32_t));
+    b->vert_of_root = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
+    b->next = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
+    b->loop_id = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
+    b->bad = (unsigned char *)bp__calloc_array(a, nt, 1);
+    if (!b->edges || !b->keys || !b->tri_uf || !b->corner_uf || !b->glued || !b->chart_of_root ||
+        !b->vert_of_root || !b->next || !b->loop_id || !b->bad)
+        return bp__oom(err, "building charts");
+    return BP_OK;
+}
+
+/* Duplicate triangles: equal sorted vertex triples. */
+static bp_status bp__find_duplicates(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
+{
+    uint32_t t, nt = m->num_triangles;
+    char n0[48], n1[48];
     for (t = 0; t < nt; t++) {
-        uint32_t *v = b.keys[t].v, x;
+        uint32_t *v = b->keys[t].v, x;
         memcpy(v, m->triangles + 3 * (size_t)t, 3 * sizeof(uint32_t));
         if (v[0] > v[1]) { x = v[0]; v[0] = v[1]; v[1] = x; }
         if (v[1] > v[2]) { x = v[1]; v[1] = v[2]; v[2] = x; }
         if (v[0] > v[1]) { x = v[0]; v[0] = v[1]; v[1] = x; }
-        b.keys[t].t = t;
+        b->keys[t].t = t;
     }
-    if (!bp__sort_by_key(&a, b.keys, nt, sizeof *b.keys, m->num_vertices, bp__tri_key_key, bp__tri_key_cmp)) {
-        bp__build_free(&a, &b);
+    if (!bp__sort_by_key(a, b->keys, nt, sizeof *b->keys, m->num_vertices, bp__tri_key_key, bp__tri_key_cmp))
         return bp__oom(err, "building charts");
-    }
     for (t = 1; t < nt; t++)
-        if (!memcmp(b.keys[t].v, b.keys[t - 1].v, 3 * sizeof(uint32_t))) {
-            uint32_t t0 = b.keys[t - 1].t, t1 = b.keys[t].t;
-            bp__build_free(&a, &b);
+        if (!memcmp(b->keys[t].v, b->keys[t - 1].v, 3 * sizeof(uint32_t))) {
+            uint32_t t0 = b->keys[t - 1].t, t1 = b->keys[t].t;
+            const uint32_t *v = m->triangles + 3 * (size_t)t1;
             return bp__fail(err, BP_ERR_DUPLICATE_FACE, BP_ELEMENT_TRIANGLE, t1, t0, bp__tri_line(m, t1),
-                            "triangles %u and %u use the same vertices %u %u %u", t0, t1,
-                            m->triangles[3 * (size_t)t1], m->triangles[3 * (size_t)t1 + 1],
-                            m->triangles[3 * (size_t)t1 + 2]);
+                            "%s and %s use the same vertices %u %u %u", bp__tri_name(m, t0, n0),
+                            bp__tri_name(m, t1, n1), v[0] + 1, v[1] + 1, v[2] + 1);
         }
+    return BP_OK;
+}
 
-    /* 2. edges: sort corner edges by their unordered vertex pair; each group
-          is one mesh edge.  Check manifoldness and orientation, and glue. */
+/* Do corner edges ce0 and ce1 (of one mesh edge) carry the same uv index
+   at each of its two mesh vertices (always, without corner_uv)? */
+static int bp__same_uv_at_edge(const bp_mesh *m, uint32_t ce0, uint32_t ce1)
+{
+    uint32_t a0 = ce0, b0 = ce0 - ce0 % 3 + (ce0 % 3 + 1) % 3, a1 = ce1, b1 = ce1 - ce1 % 3 + (ce1 % 3 + 1) % 3;
+    if (!m->corner_uv) return 1;
+    if (m->triangles[a0] == m->triangles[a1])
+        return m->corner_uv[a0] == m->corner_uv[a1] && m->corner_uv[b0] == m->corner_uv[b1];
+    return m->corner_uv[a0] == m->corner_uv[b1] && m->corner_uv[b0] == m->corner_uv[a1];
+}
+
+/* Glue one mesh edge, the corner edges edges[e, g) of the same vertex pair.
+   Triangles with a local defect take no part (their corners stay apart)
+   but join the chart of the triangles across the edge. */
+static bp_status bp__glue_edge(bp__build *b, const bp_mesh *m, size_t e, size_t g, bp_error *err)
+{
+    uint32_t good[3], ng = 0, lo = b->edges[e].lo, hi = b->edges[e].hi;
+    size_t i;
+    char n0[48], n1[48], n2[48];
+    for (i = e; i < g; i++)
+        if (!b->bad[b->edges[i].ce / 3] && ng++ < 3) good[ng - 1] = b->edges[i].ce;
+    for (i = e; i < g && ng <= 2; i++) {
+        uint32_t ce = b->edges[i].ce, j;
+        if (!b->bad[ce / 3]) continue;
+        for (j = 0; j < ng; j++)
+            if (bp__same_uv_at_edge(m, ce, good[j])) bp__uf_union(b->tri_uf, ce / 3, good[j] / 3);
+    }
+    if (ng > 2)
+        return bp__fail(err, BP_ERR_NONMANIFOLD, BP_ELEMENT_EDGE, lo, hi, bp__tri_line(m, good[2] / 3),
+                        "edge %u-%u is shared by %u triangles (%s, %s, %s%s): a surface edge may have at most two",
+                        lo + 1, hi + 1, ng, bp__tri_name(m, good[0] / 3, n0), bp__tri_name(m, good[1] / 3, n1),
+                        bp__tri_name(m, good[2] / 3, n2), ng > 3 ? ", ..." : "");
+    if (ng == 2) {
+        uint32_t c0 = good[0], c1 = good[1];
+        uint32_t t0 = c0 / 3, k0 = c0 % 3, t1 = c1 / 3, k1 = c1 % 3;
+        uint32_t a0 = 3 * t0 + k0, b0 = 3 * t0 + (k0 + 1) % 3;   /* corners of the edge in t0 */
+        uint32_t a1 = 3 * t1 + k1, b1 = 3 * t1 + (k1 + 1) % 3;   /* corners of the edge in t1 */
+        if (m->triangles[a0] == m->triangles[a1])
+            return bp__fail(err, BP_ERR_ORIENTATION, BP_ELEMENT_EDGE, lo, hi, bp__tri_line(m, t1),
+                            "%s and %s both run along edge %u-%u in the same direction: their orientations disagree",
+                            bp__tri_name(m, t0, n0), bp__tri_name(m, t1, n1), lo + 1, hi + 1);
+        /* opposite directions: a0 pairs with b1 (same mesh vertex), b0 with a1 */
+        if (!m->corner_uv || (m->corner_uv[a0] == m->corner_uv[b1] && m->corner_uv[b0] == m->corner_uv[a1])) {
+            bp__uf_union(b->tri_uf, t0, t1);
+            bp__uf_union(b->corner_uf, a0, b1);
+            bp__uf_union(b->corner_uf, b0, a1);
+            b->glued[c0] = c1;
+            b->glued[c1] = c0;
+        }
+    }
+    return BP_OK;
+}
+
+/* Edges: sort the corner edges by their unordered vertex pair; each group
+   is one mesh edge. */
+static bp_status bp__glue(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
+{
+    uint32_t t, k, nt = m->num_triangles;
+    size_t e, g, i, nc = 3 * (size_t)nt;
+    bp_status st;
     for (t = 0; t < nt; t++)
         for (k = 0; k < 3; k++) {
             uint32_t va = m->triangles[3 * (size_t)t + k], vb = m->triangles[3 * (size_t)t + (k + 1) % 3];
-            bp__edge_rec *r = &b.edges[3 * (size_t)t + k];
+            bp__edge_rec *r = &b->edges[3 * (size_t)t + k];
             r->lo = va < vb ? va : vb;
             r->hi = va < vb ? vb : va;
             r->ce = 3 * t + k;
         }
-    if (!bp__sort_by_key(&a, b.edges, nc, sizeof *b.edges, m->num_vertices, bp__edge_key, bp__edge_cmp)) {
-        bp__build_free(&a, &b);
+    if (!bp__sort_by_key(a, b->edges, nc, sizeof *b->edges, m->num_vertices, bp__edge_key, bp__edge_cmp))
         return bp__oom(err, "building charts");
+    for (t = 0; t < nt; t++) b->tri_uf[t] = t;
+    for (i = 0; i < nc; i++) { b->corner_uf[i] = (uint32_t)i; b->glued[i] = BP__NONE; }
+    for (e = 0; e < nc; e = g) {
+        for (g = e + 1; g < nc && b->edges[g].lo == b->edges[e].lo && b->edges[g].hi == b->edges[e].hi; g++) {}
+        if ((st = bp__glue_edge(b, m, e, g, err)) != BP_OK) return st;
     }
-    for (t = 0; t < nt; t++) b.tri_uf[t] = t;
-    for (i = 0; i < nc; i++) { b.corner_uf[i] = i; b.glued[i] = BP__NONE; }
-    for (e = 0; e < nc; ) {
-        size_t g = e + 1;
-        while (g < nc && b.edges[g].lo == b.edges[e].lo && b.edges[g].hi == b.edges[e].hi) g++;
-        if (g - e > 2) {
-            uint32_t lo = b.edges[e].lo, hi = b.edges[e].hi;
-            uint32_t t0 = b.edges[e].ce / 3, t1 = b.edges[e + 1].ce / 3, t2 = b.edges[e + 2].ce / 3;
-            bp__build_free(&a, &b);
-            return bp__fail(err, BP_ERR_NONMANIFOLD, BP_ELEMENT_EDGE, lo, hi, bp__tri_line(m, t2),
-                            "edge %u-%u is shared by %u triangles (%u, %u, %u, ...): a surface edge may have at most two",
-                            lo, hi, (unsigned)(g - e), t0, t1, t2);
-        }
-        if (g - e == 2) {
-            uint32_t c0 = b.edges[e].ce, c1 = b.edges[e + 1].ce;
-            uint32_t t0 = c0 / 3, k0 = c0 % 3, t1 = c1 / 3, k1 = c1 % 3;
-            uint32_t a0 = 3 * t0 + k0, b0 = 3 * t0 + (k0 + 1) % 3;   /* corners of edge in t0 */
-            uint32_t a1 = 3 * t1 + k1, b1 = 3 * t1 + (k1 + 1) % 3;   /* corners of edge in t1 */
-            if (m->triangles[a0] == m->triangles[a1]) {
-                uint32_t lo = b.edges[e].lo, hi = b.edges[e].hi;
-                bp__build_free(&a, &b);
-                return bp__fail(err, BP_ERR_ORIENTATION, BP_ELEMENT_EDGE, lo, hi, bp__tri_line(m, t1),
-                                "triangles %u and %u both run along edge %u-%u in the same direction: their orientations disagree",
-                                t0, t1, lo, hi);
-            }
-            /* opposite directions: a0 pairs with b1 (same mesh vertex), b0 with a1 */
-            if (!m->corner_uv || (m->corner_uv[a0] == m->corner_uv[b1] && m->corner_uv[b0] == m->corner_uv[a1])) {
-                bp__uf_union(b.tri_uf, t0, t1);
-                bp__uf_union(b.corner_uf, a0, b1);
-                bp__uf_union(b.corner_uf, b0, a1);
-                b.glued[c0] = c1;
-                b.glued[c1] = c0;
-            }
-        }
-        e = g;
-    }
+    return BP_OK;
+}
 
-    /* 3. number the charts by their smallest triangle, and chart vertices by
-          first appearance in the chart's triangles (deterministic). */
-    for (t = 0; t < nt; t++) b.chart_of_root[t] = BP__NONE;
+/* Number the charts by their smallest triangle and the chart vertices by
+   first appearance in the chart's triangles (deterministic), and fill each
+   chart's arrays. */
+static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *atlas, const bp_mesh *m,
+                                 bp_error *err)
+{
+    uint32_t t, k, c, nt = m->num_triangles, nchart = 0;
+    size_t i, nc = 3 * (size_t)nt;
+    for (t = 0; t < nt; t++) b->chart_of_root[t] = BP__NONE;
     for (t = 0; t < nt; t++) {
-        uint32_t r = bp__uf_find(b.tri_uf, t);
-        if (b.chart_of_root[r] == BP__NONE) b.chart_of_root[r] = nchart++;
+        uint32_t r = bp__uf_find(b->tri_uf, t);
+        if (b->chart_of_root[r] == BP__NONE) b->chart_of_root[r] = nchart++;
     }
     atlas->num_charts = nchart;
-    atlas->num_corners = nc;
-    atlas->charts = (bp_chart *)bp__calloc_array(&a, nchart, sizeof(bp_chart));
-    atlas->corner_chart = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
-    atlas->corner_vertex = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
-    if (!atlas->charts || !atlas->corner_chart || !atlas->corner_vertex) {
-        bp__build_free(&a, &b);
-        bp_atlas_free(atlas);
-        return bp__oom(err, "building charts");
-    }
-    for (i = 0; i < nc; i++) b.vert_of_root[i] = BP__NONE;
+    atlas->num_corners = (uint32_t)nc;
+    atlas->charts = (bp_chart *)bp__calloc_array(a, nchart, sizeof(bp_chart));
+    atlas->corner_chart = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
+    atlas->corner_vertex = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
+    if (!atlas->charts || !atlas->corner_chart || !atlas->corner_vertex) return bp__oom(err, "building charts");
+    for (i = 0; i < nc; i++) b->vert_of_root[i] = BP__NONE;
     for (t = 0; t < nt; t++) {
         bp_chart *ch;
-        c = b.chart_of_root[bp__uf_find(b.tri_uf, t)];
+        c = b->chart_of_root[bp__uf_find(b->tri_uf, t)];
         ch = &atlas->charts[c];
         ch->num_triangles++;
         for (k = 0; k < 3; k++) {
-            uint32_t r = bp__uf_find(b.corner_uf, 3 * t + k);
-            if (b.vert_of_root[r] == BP__NONE) b.vert_of_root[r] = ch->num_vertices++;
+            uint32_t r = bp__uf_find(b->corner_uf, 3 * t + k);
+            if (b->vert_of_root[r] == BP__NONE) b->vert_of_root[r] = ch->num_vertices++;
             atlas->corner_chart[3 * t + k] = c;
-            atlas->corner_vertex[3 * t + k] = b.vert_of_root[r];
+            atlas->corner_vertex[3 * t + k] = b->vert_of_root[r];
         }
     }
     for (c = 0; c < nchart; c++) {
         bp_chart *ch = &atlas->charts[c];
-        ch->vertex = (uint32_t *)bp__alloc_array(&a, ch->num_vertices, sizeof(uint32_t));
-        ch->vertex_uv = (uint32_t *)bp__alloc_array(&a, ch->num_vertices, sizeof(uint32_t));
-        ch->triangles = (uint32_t *)bp__alloc_array(&a, 3 * (size_t)ch->num_triangles, sizeof(uint32_t));
-        ch->face = (uint32_t *)bp__alloc_array(&a, ch->num_triangles, sizeof(uint32_t));
-        if (!ch->vertex || !ch->vertex_uv || !ch->triangles || !ch->face) {
-            bp__build_free(&a, &b);
-            bp_atlas_free(atlas);
-            return bp__oom(err, "building charts");
-        }
+        ch->vertex = (uint32_t *)bp__alloc_array(a, ch->num_vertices, sizeof(uint32_t));
+        ch->vertex_uv = (uint32_t *)bp__alloc_array(a, ch->num_vertices, sizeof(uint32_t));
+        ch->triangles = (uint32_t *)bp__alloc_array(a, 3 * (size_t)ch->num_triangles, sizeof(uint32_t));
+        ch->face = (uint32_t *)bp__alloc_array(a, ch->num_triangles, sizeof(uint32_t));
+        if (!ch->vertex || !ch->vertex_uv || !ch->triangles || !ch->face) return bp__oom(err, "building charts");
         ch->num_triangles = 0;
     }
     for (t = 0; t < nt; t++) {
@@ -2541,66 +2718,105 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m,
         ch->area3d += 0.5 * bp__area2_3d(bp__pos(m, m->triangles[3 * t]), bp__pos(m, m->triangles[3 * t + 1]),
                                          bp__pos(m, m->triangles[3 * t + 2]));
     }
+    return BP_OK;
+}
 
-    /* 4. pinch repairs: chart vertices per distinct (mesh vertex, uv) key */
-    {
-        size_t nv_total = 0, j, w = 0;
-        for (c = 0; c < nchart; c++) nv_total += atlas->charts[c].num_vertices;
-        b.vkeys = (bp__vkey *)bp__alloc_array(&a, nv_total, sizeof *b.vkeys);
-        if (!b.vkeys) { bp__build_free(&a, &b); bp_atlas_free(atlas); return bp__oom(err, "building charts"); }
-        for (c = 0; c < nchart; c++)
-            for (i = 0; i < atlas->charts[c].num_vertices; i++) {
-                b.vkeys[w].chart = c;
-                b.vkeys[w].v = atlas->charts[c].vertex[i];
-                b.vkeys[w].uv = atlas->charts[c].vertex_uv[i];
-                w++;
-            }
-        qsort(b.vkeys, nv_total, sizeof *b.vkeys, bp__vkey_cmp);
-        for (j = 1; j < nv_total; j++)
-            if (!bp__vkey_cmp(&b.vkeys[j], &b.vkeys[j - 1])) {
-                atlas->charts[b.vkeys[j].chart].split_vertices++;
-                atlas->num_split++;
-            }
+/* Pinch repairs: the chart vertices beyond one per distinct (chart, mesh
+   vertex, uv) key. */
+static bp_status bp__count_pinches(const bp_allocator *a, bp__build *b, bp_atlas *atlas, bp_error *err)
+{
+    size_t nv_total = 0, j, w = 0;
+    uint32_t c, i;
+    for (c = 0; c < atlas->num_charts; c++) nv_total += atlas->charts[c].num_vertices;
+    b->vkeys = (bp__vkey *)bp__alloc_array(a, nv_total, sizeof *b->vkeys);
+    if (!b->vkeys) return bp__oom(err, "building charts");
+    for (c = 0; c < atlas->num_charts; c++)
+        for (i = 0; i < atlas->charts[c].num_vertices; i++) {
+            b->vkeys[w].chart = c;
+            b->vkeys[w].v = atlas->charts[c].vertex[i];
+            b->vkeys[w].uv = atlas->charts[c].vertex_uv[i];
+            w++;
+        }
+    qsort(b->vkeys, nv_total, sizeof *b->vkeys, bp__vkey_cmp);
+    for (j = 1; j < nv_total; j++)
+        if (!bp__vkey_cmp(&b->vkeys[j], &b->vkeys[j - 1])) {
+            atlas->charts[b->vkeys[j].chart].split_vertices++;
+            atlas->num_split++;
+        }
+    return BP_OK;
+}
+
+/* Chart c's verdict in ch->error: its first triangle with a local defect,
+   else its boundary loops and Euler characteristic chi = V - E + F =
+   2 - 2g - b, which must be that of a disk with holes (g = 0, b >= 1).
+   Returns a status only for what ends the whole call (out of memory, a
+   boundary that does not close); the verdict is in ch->error. */
+static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b, bp_atlas *atlas, uint32_t c,
+                                    const bp_mesh *m, bp_error *err)
+{
+    bp_chart *ch = &atlas->charts[c];
+    int64_t chi, ne, g2;
+    uint32_t t, t0 = ch->face[0], nl;
+    bp_status st;
+    char nm[48];
+    for (t = 0; t < ch->num_triangles; t++)
+        if (b->bad[ch->face[t]]) {
+            bp__tri_defect_error(m, ch->face[t], &b->scale, &ch->error);
+            return BP_OK;
+        }
+    if ((st = bp__chart_loops(a, ch, m, b->next, b->loop_id, b->glued, c, err)) != BP_OK) return st;
+    nl = ch->num_loops;
+    ne = ((int64_t)3 * ch->num_triangles + ch->loop_start[nl]) / 2;
+    chi = (int64_t)ch->num_vertices - ne + ch->num_triangles;
+    g2 = 2 - (int64_t)nl - chi;     /* = 2g */
+    if (nl > 0 && g2 == 0) {
+        bp__ok(&ch->error);
+        return BP_OK;
     }
+    if (nl == 0 && chi == 2)
+        bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
+                 "chart %u (from %s, %u triangles) is a closed surface with no boundary: it cannot be "
+                 "flattened without seams; cut it into disks first (for example with vt seams)",
+                 c, bp__tri_name(m, t0, nm), ch->num_triangles);
+    else
+        bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
+                 "chart %u (from %s) has genus %D and %u boundary loops (Euler characteristic %D): only "
+                 "disks and disks with holes can be flattened; it needs seams that cut it into disks",
+                 c, bp__tri_name(m, t0, nm), g2 / 2, nl, chi);
+    return BP_OK;
+}
 
-    /* 5. boundary loops and topology of each chart */
-    for (c = 0; c < nchart; c++) {
-        bp_chart *ch = &atlas->charts[c];
-        int64_t chi, ne, g2;
-        uint32_t nbe = 0;
-        st = bp__chart_loops(&a, ch, m, b.next, b.loop_id, b.glued, c, err);
-        if (st != BP_OK) { bp__build_free(&a, &b); bp_atlas_free(atlas); return st; }
-        nbe = ch->loop_start[ch->num_loops];
-        ne = ((int64_t)3 * ch->num_triangles + nbe) / 2;
-        chi = (int64_t)ch->num_vertices - ne + ch->num_triangles;
-        g2 = 2 - (int64_t)ch->num_loops - chi;     /* = 2g */
-        if (ch->num_loops == 0 || g2 != 0) {
-            uint32_t t0 = ch->face[0], nl = ch->num_loops;
-            int64_t g = g2 / 2, ntri = ch->num_triangles;
-            if (g2 == 2 - chi && chi == 2)
-                bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
-                         "chart %u (from mesh triangle %u, %D triangles) is a closed surface "
-                         "with no boundary: it cannot be flattened without seams; cut it "
-                         "into disks first (for example with vt seams)", c, t0, ntri);
-            else
-                bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
-                         "chart %u (from mesh triangle %u) has genus %D and %u boundary loops "
-                         "(Euler characteristic %D): only disks and disks with holes can be "
-                         "flattened; it needs seams that cut it into disks",
-                         c, t0, g, nl, chi);
-            if (opt && opt->strict) {
-                if (err) *err = ch->error;
-                bp__build_free(&a, &b);
-                bp_atlas_free(atlas);
-                return BP_ERR_TOPOLOGY;
-            }
-            atlas->num_failed++;
-        } else {
-            bp__ok(&ch->error);
+BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    bp__build b;
+    bp_status st;
+    uint32_t c;
+    int strict = opt && opt->strict;
+    if (!atlas)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "atlas must not be NULL");
+    memset(atlas, 0, sizeof *atlas);
+    atlas->allocator = a;
+    memset(&b, 0, sizeof b);
+    if ((st = bp__validate_global(m, &b.scale, err)) != BP_OK) return st;
+    if (strict && (st = bp__find_defects(m, &b.scale, NULL, err)) != BP_OK) return st;
+    st = bp__build_alloc(&a, &b, m, err);
+    if (st == BP_OK && !strict) bp__find_defects(m, &b.scale, b.bad, NULL);
+    if (st == BP_OK) st = bp__find_duplicates(&a, &b, m, err);
+    if (st == BP_OK) st = bp__glue(&a, &b, m, err);
+    if (st == BP_OK) st = bp__make_charts(&a, &b, atlas, m, err);
+    if (st == BP_OK) st = bp__count_pinches(&a, &b, atlas, err);
+    for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
+        st = bp__chart_topology(&a, &b, atlas, c, m, err);
+        if (st != BP_OK || atlas->charts[c].error.status == BP_OK) continue;
+        atlas->num_failed++;
+        if (strict) {
+            if (err) *err = atlas->charts[c].error;
+            st = atlas->charts[c].error.status;
         }
     }
     bp__build_free(&a, &b);
-    st = bp__charts_status(atlas, err);
+    if (st == BP_OK) st = bp__charts_status(atlas, err);
     if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) bp_atlas_free(atlas);
     return st;
 }
@@ -3855,21 +4071,243 @@ static int bp__u32_cmp(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* The working state of one start map, in the order bp__chart_init's phases
+   fill it. */
+typedef struct bp__tutte {
+    uint32_t nv, N, nt;           /* chart vertices, + hole centres, filled triangles */
+    uint32_t *tri;                /* 3*nt: the chart's triangles, then the hole fans */
+    double   *pos;                /* 3*N: 3D positions, centres at hole centroids */
+    uint32_t *adjp, *adj, ne;     /* sorted neighbour lists (both directions) */
+    double   *w;                  /* w[e] = w_{i, adj[e]}                    */
+    uint32_t *idx, nfree;         /* free-vertex number, BP__NONE when fixed */
+    bp__sparse A;
+    double   *rhs, *sol, *work;
+} bp__tutte;
+
+static void bp__tutte_free(const bp_allocator *a, bp__tutte *T)
+{
+    bp__free(a, T->tri); bp__free(a, T->pos); bp__free(a, T->adjp); bp__free(a, T->adj);
+    bp__free(a, T->w); bp__free(a, T->idx); bp__free(a, T->rhs); bp__free(a, T->sol); bp__free(a, T->work);
+    bp__free(a, T->A.colp); bp__free(a, T->A.row); bp__free(a, T->A.val);
+}
+
+/* Phase 1, the filled chart: real triangles, then one fan per hole to a
+   centre at the hole loop's 3D centroid (reverse twins of the hole's
+   boundary edges, so the filled chart is a disk). */
+static int bp__tutte_fill(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, const bp_mesh *m)
+{
+    uint32_t t, i, j, k, nfan = ch->loop_start[ch->num_loops] - ch->loop_start[1];
+    T->nv = ch->num_vertices;
+    T->N = T->nv + ch->num_loops - 1;
+    T->nt = ch->num_triangles + nfan;
+    T->tri = (uint32_t *)bp__alloc_array(a, 3 * (size_t)T->nt, sizeof(uint32_t));
+    T->pos = (double *)bp__alloc_array(a, 3 * (size_t)T->N, sizeof(double));
+    if (!T->tri || !T->pos) return 0;
+    memcpy(T->tri, ch->triangles, 3 * (size_t)ch->num_triangles * sizeof(uint32_t));
+    for (i = 0; i < T->nv; i++) memcpy(T->pos + 3 * (size_t)i, bp__pos(m, ch->vertex[i]), 3 * sizeof(double));
+    for (t = ch->num_triangles, i = 1; i < ch->num_loops; i++) {
+        uint32_t s0 = ch->loop_start[i], s1 = ch->loop_start[i + 1], c = T->nv + i - 1;
+        double cen[3] = { 0, 0, 0 };
+        for (j = s0; j < s1; j++) {
+            uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < s1 ? j + 1 : s0];
+            for (k = 0; k < 3; k++) cen[k] += T->pos[3 * (size_t)va + k] / (s1 - s0);
+            T->tri[3 * (size_t)t] = vb; T->tri[3 * (size_t)t + 1] = va; T->tri[3 * (size_t)t + 2] = c;
+            t++;
+        }
+        memcpy(T->pos + 3 * (size_t)c, cen, sizeof cen);
+    }
+    return 1;
+}
+
+/* Phase 2, adjacency: both directions of every triangle edge, sorted and
+   deduplicated per vertex (counting sort into place, then qsort per row). */
+static int bp__tutte_adjacency(const bp_allocator *a, bp__tutte *T)
+{
+    uint32_t t, k, i, e, N = T->N, *cnt = (uint32_t *)bp__alloc_array(a, (size_t)N + 1, sizeof(uint32_t));
+    T->adjp = (uint32_t *)bp__calloc_array(a, (size_t)N + 1, sizeof(uint32_t));
+    T->adj = (uint32_t *)bp__alloc_array(a, 6 * (size_t)T->nt, sizeof(uint32_t));
+    if (!cnt || !T->adjp || !T->adj) { bp__free(a, cnt); return 0; }
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) { T->adjp[T->tri[3 * t + k] + 1]++; T->adjp[T->tri[3 * t + (k + 1) % 3] + 1]++; }
+    for (i = 0; i < N; i++) T->adjp[i + 1] += T->adjp[i];
+    memcpy(cnt, T->adjp, ((size_t)N + 1) * sizeof(uint32_t));
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t va = T->tri[3 * t + k], vb = T->tri[3 * t + (k + 1) % 3];
+            T->adj[cnt[va]++] = vb;
+            T->adj[cnt[vb]++] = va;
+        }
+    bp__free(a, cnt);
+    for (T->ne = 0, i = 0; i < N; i++) {
+        uint32_t s0 = T->adjp[i], s1 = T->adjp[i + 1], last = BP__NONE;
+        qsort(T->adj + s0, s1 - s0, sizeof(uint32_t), bp__u32_cmp);
+        T->adjp[i] = T->ne;
+        for (e = s0; e < s1; e++)
+            if (T->adj[e] != last) T->adj[T->ne++] = last = T->adj[e];
+    }
+    T->adjp[N] = T->ne;
+    return 1;
+}
+
+/* Phase 3, the weights: 1 (Tutte), or Floater's mean-value weights
+   (tan(alpha/2) + tan(beta/2)) / |p_i - p_j| summed over the two triangles
+   of edge ij; anything not positive and finite becomes 1. */
+static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
+{
+    uint32_t t, k, e;
+    T->w = (double *)bp__calloc_array(a, T->ne, sizeof(double));
+    if (!T->w) return 0;
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t vi = T->tri[3 * t + k], vj = T->tri[3 * t + (k + 1) % 3], vk = T->tri[3 * t + (k + 2) % 3];
+            uint32_t ej = bp__adj_find(T->adjp, T->adj, vi, vj), ek = bp__adj_find(T->adjp, T->adj, vi, vk);
+            if (!mvc) {
+                T->w[ej] = T->w[ek] = 1;
+            } else {
+                const double *pi = T->pos + 3 * (size_t)vi, *pj = T->pos + 3 * (size_t)vj, *pk = T->pos + 3 * (size_t)vk;
+                double th = tan(0.5 * bp__angle3(pi, pj, pk));
+                T->w[ej] += th / bp__dist3(pi, pj);
+                T->w[ek] += th / bp__dist3(pi, pk);
+            }
+        }
+    for (e = 0; e < T->ne; e++)
+        if (!(T->w[e] > 0) || !(T->w[e] - T->w[e] == 0)) T->w[e] = 1;   /* keep every weight positive */
+    return 1;
+}
+
+/* Phase 4, the outer loop on the circle of the chart's 3D area, R =
+   sqrt(area / pi), spaced by 3D arc length; every other vertex is free and
+   numbered in vertex order. */
+static int bp__tutte_circle(const bp_allocator *a, bp__tutte *T, bp_chart *ch)
+{
+    uint32_t i, j, l0 = ch->loop_start[0], l1 = ch->loop_start[1];
+    double R = sqrt(ch->area3d / 3.14159265358979323846), total = 0, acc = 0;
+    T->idx = (uint32_t *)bp__calloc_array(a, T->N, sizeof(uint32_t));
+    if (!T->idx) return 0;
+    for (j = l0; j < l1; j++) {
+        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < l1 ? j + 1 : 0];
+        total += bp__dist3(T->pos + 3 * (size_t)va, T->pos + 3 * (size_t)vb);
+        T->idx[va] = BP__NONE;                   /* fixed */
+    }
+    for (j = l0; j < l1; j++) {
+        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < l1 ? j + 1 : 0];
+        double ang = 2 * 3.14159265358979323846 * acc / total;
+        ch->uv[2 * (size_t)va] = R * cos(ang);
+        ch->uv[2 * (size_t)va + 1] = R * sin(ang);
+        acc += bp__dist3(T->pos + 3 * (size_t)va, T->pos + 3 * (size_t)vb);
+    }
+    for (T->nfree = 0, i = 0; i < T->N; i++) if (T->idx[i] != BP__NONE) T->idx[i] = T->nfree++;
+    return 1;
+}
+
+/* Phase 5, the system sum_j w_ij (u_i - u_j) = 0 over the free vertices,
+   column by column, fixed neighbours moved to the right-hand side (both
+   coordinates: rhs[0, nfree) and rhs[nfree, 2 nfree)). */
+static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, int mvc)
+{
+    uint32_t j, e, p, nnz = 0, nfree = T->nfree;
+    bp__sparse *A = &T->A;
+    A->n = nfree;
+    A->symmetric = !mvc;
+    A->colp = (uint32_t *)bp__alloc_array(a, (size_t)nfree + 1, sizeof(uint32_t));
+    A->row = (uint32_t *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(uint32_t));
+    A->val = (double *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(double));
+    T->rhs = (double *)bp__calloc_array(a, 2 * (size_t)nfree, sizeof(double));
+    T->sol = (double *)bp__alloc_array(a, 2 * (size_t)nfree, sizeof(double));
+    T->work = (double *)bp__alloc_array(a, 3 * (size_t)nfree, sizeof(double));
+    if (!A->colp || !A->row || !A->val || !T->rhs || !T->sol || !T->work) return 0;
+    for (j = 0; j < T->N; j++) {
+        uint32_t cj = T->idx[j];
+        double diag = 0;
+        int diag_done = 0;
+        if (cj == BP__NONE) continue;
+        A->colp[cj] = nnz;
+        for (e = T->adjp[j]; e < T->adjp[j + 1]; e++) {
+            uint32_t vi = T->adj[e];
+            diag += T->w[e];
+            if (T->idx[vi] == BP__NONE) {         /* fixed neighbour -> rhs */
+                T->rhs[cj] += T->w[e] * ch->uv[2 * (size_t)vi];
+                T->rhs[nfree + cj] += T->w[e] * ch->uv[2 * (size_t)vi + 1];
+            }
+        }
+        /* rows in increasing free index: adj is sorted by vertex and the
+           free numbering is increasing in vertex, so it stays sorted */
+        for (e = T->adjp[j]; e < T->adjp[j + 1]; e++) {
+            uint32_t vi = T->adj[e];
+            if (T->idx[vi] == BP__NONE) continue;
+            if (!diag_done && vi > j) { A->row[nnz] = cj; A->val[nnz++] = 0; diag_done = 1; }
+            A->row[nnz] = T->idx[vi];
+            A->val[nnz++] = -T->w[bp__adj_find(T->adjp, T->adj, vi, j)];
+        }
+        if (!diag_done) { A->row[nnz] = cj; A->val[nnz++] = 0; }
+        for (p = A->colp[cj]; p < nnz; p++) if (A->row[p] == cj) A->val[p] = diag;
+    }
+    A->colp[nfree] = nnz;
+    return 1;
+}
+
+/* Phase 6, factor and solve (with iterative refinement); the free
+   vertices' uv from the solution.  BP_ERR_NUMERICAL names the vertex of a
+   zero pivot. */
+static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *ch, const bp__par *runner,
+                                 bp_error *err)
+{
+    bp__factor F;
+    uint32_t bad = 0, i, nfree = T->nfree;
+    bp_status st;
+    memset(&F, 0, sizeof F);
+    st = bp__factorize(a, &T->A, &F, &bad, runner);
+    if (st == BP_ERR_NUMERICAL) {
+        uint32_t bv = 0;
+        for (i = 0; i < T->nv; i++) if (T->idx[i] == bad) bv = ch->vertex[i];
+        bp__factor_free(a, &F);
+        return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, bv, -1, 0,
+                        "the start-map system is singular at vertex %u", bv + 1);
+    }
+    if (st != BP_OK) { bp__factor_free(a, &F); return bp__oom(err, "computing the start map"); }
+    bp__solve_refined(&T->A, &F, T->rhs, T->sol, T->work);
+    bp__solve_refined(&T->A, &F, T->rhs + nfree, T->sol + nfree, T->work);
+    bp__factor_free(a, &F);
+    for (i = 0; i < T->nv; i++)
+        if (T->idx[i] != BP__NONE) {
+            ch->uv[2 * (size_t)i] = T->sol[T->idx[i]];
+            ch->uv[2 * (size_t)i + 1] = T->sol[nfree + T->idx[i]];
+        }
+    return BP_OK;
+}
+
+/* Phase 7, the exact check of the rounded start map. */
+static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, bp_error *err)
+{
+    bp_check_report rep;
+    bp_status st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep);
+    if (st != BP_OK) return bp__oom(err, "computing the start map");
+    if (bp__report_valid(&rep)) return BP_OK;
+    if (rep.first_bad_triangle >= 0) {
+        uint32_t bt = ch->face[rep.first_bad_triangle];
+        char n0[48], n1[48];
+        return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, bt, -1, bp__tri_line(m, bt),
+                        "the start map of the chart with %s is not valid in floating point: %s is %s",
+                        bp__tri_name(m, ch->face[0], n0), bp__tri_name(m, bt, n1),
+                        rep.flipped ? "flipped" : "degenerate");
+    }
+    {
+        uint32_t bv = ch->vertex[rep.first_bad_edge[0]];
+        char n0[48];
+        return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, bv, -1, 0,
+                        "the start map of the chart with %s has touching boundary edges at vertex %u",
+                        bp__tri_name(m, ch->face[0], n0), bv + 1);
+    }
+}
+
+/* The start map in the seven phases above. */
 static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                 bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
-    uint32_t nv, nh, N, nt, nfan, t, k, i, j, nfree = 0, p;
-    uint32_t *tri = NULL, *adjp = NULL, *adj = NULL, *idx = NULL, *cnt = NULL;
-    double *pos = NULL, *w = NULL, *rhs = NULL, *sol = NULL, *work = NULL;
-    bp__sparse A;
-    bp__factor F;
-    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    bp__tutte T;
+    bp_status st = BP_OK;
     int mvc = opt && opt->init == BP_INIT_MEAN_VALUE;
-    uint32_t bad = 0, e, ne;
-    double R, total = 0, acc = 0;
-    memset(&A, 0, sizeof A);
-    memset(&F, 0, sizeof F);
     if (ch && ch->error.status != BP_OK) {
         if (err) *err = ch->error;
         return ch->error.status;                 /* a chart that cannot be flattened */
@@ -3877,174 +4315,18 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     if (!ch || !m || !ch->num_loops)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                         "bp_chart_init needs a chart from bp_atlas_build and its mesh");
-    nv = ch->num_vertices;
-    nh = ch->num_loops - 1;
-    N = nv + nh;
-    nfan = ch->loop_start[ch->num_loops] - ch->loop_start[1];
-    nt = ch->num_triangles + nfan;
-    if (!ch->uv) ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)nv, sizeof(double));
-    tri = (uint32_t *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof(uint32_t));
-    pos = (double *)bp__alloc_array(&a, 3 * (size_t)N, sizeof(double));
-    idx = (uint32_t *)bp__alloc_array(&a, N, sizeof(uint32_t));
-    adjp = (uint32_t *)bp__calloc_array(&a, (size_t)N + 1, sizeof(uint32_t));
-    adj = (uint32_t *)bp__alloc_array(&a, 6 * (size_t)nt, sizeof(uint32_t));
-    cnt = (uint32_t *)bp__alloc_array(&a, (size_t)N + 1, sizeof(uint32_t));
-    if (!ch->uv || !tri || !pos || !idx || !adjp || !adj || !cnt) goto fail;
-
-    /* the filled chart: real triangles, then one fan per hole */
-    memcpy(tri, ch->triangles, 3 * (size_t)ch->num_triangles * sizeof(uint32_t));
-    for (i = 0; i < nv; i++) memcpy(pos + 3 * (size_t)i, bp__pos(m, ch->vertex[i]), 3 * sizeof(double));
-    for (t = ch->num_triangles, i = 1; i < ch->num_loops; i++) {
-        uint32_t s0 = ch->loop_start[i], s1 = ch->loop_start[i + 1], c = nv + i - 1;
-        double cen[3] = { 0, 0, 0 };
-        for (j = s0; j < s1; j++) {
-            uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < s1 ? j + 1 : s0];
-            for (k = 0; k < 3; k++) cen[k] += pos[3 * (size_t)va + k] / (s1 - s0);
-            tri[3 * (size_t)t] = vb; tri[3 * (size_t)t + 1] = va; tri[3 * (size_t)t + 2] = c;  /* reverse twin */
-            t++;
-        }
-        memcpy(pos + 3 * (size_t)c, cen, sizeof cen);
-    }
-    /* adjacency (both directions of every triangle edge), sorted, deduped */
-    for (t = 0; t < nt; t++)
-        for (k = 0; k < 3; k++) { adjp[tri[3 * t + k] + 1]++; adjp[tri[3 * t + (k + 1) % 3] + 1]++; }
-    for (i = 0; i < N; i++) adjp[i + 1] += adjp[i];
-    memcpy(cnt, adjp, ((size_t)N + 1) * sizeof(uint32_t));
-    for (t = 0; t < nt; t++)
-        for (k = 0; k < 3; k++) {
-            uint32_t va = tri[3 * t + k], vb = tri[3 * t + (k + 1) % 3];
-            adj[cnt[va]++] = vb;
-            adj[cnt[vb]++] = va;
-        }
-    for (ne = 0, i = 0; i < N; i++) {
-        uint32_t s0 = adjp[i], s1 = adjp[i + 1], last = BP__NONE;
-        qsort(adj + s0, s1 - s0, sizeof(uint32_t), bp__u32_cmp);
-        adjp[i] = ne;
-        for (e = s0; e < s1; e++)
-            if (adj[e] != last) adj[ne++] = last = adj[e];
-    }
-    adjp[N] = ne;
-    /* weights w[e] = w_{i, adj[e]} */
-    w = (double *)bp__calloc_array(&a, ne, sizeof(double));
-    if (!w) goto fail;
-    for (t = 0; t < nt; t++)
-        for (k = 0; k < 3; k++) {
-            uint32_t vi = tri[3 * t + k], vj = tri[3 * t + (k + 1) % 3], vk = tri[3 * t + (k + 2) % 3];
-            if (!mvc) {
-                w[bp__adj_find(adjp, adj, vi, vj)] = 1;
-                w[bp__adj_find(adjp, adj, vi, vk)] = 1;
-            } else {
-                const double *pi = pos + 3 * (size_t)vi, *pj = pos + 3 * (size_t)vj, *pk = pos + 3 * (size_t)vk;
-                double th = tan(0.5 * bp__angle3(pi, pj, pk));
-                w[bp__adj_find(adjp, adj, vi, vj)] += th / bp__dist3(pi, pj);
-                w[bp__adj_find(adjp, adj, vi, vk)] += th / bp__dist3(pi, pk);
-            }
-        }
-    for (e = 0; e < ne; e++)
-        if (!(w[e] > 0) || !(w[e] - w[e] == 0)) w[e] = 1;   /* keep every weight positive */
-
-    /* the outer loop on the circle of the chart's area, by arc length */
-    for (i = 0; i < N; i++) idx[i] = 0;
-    R = sqrt(ch->area3d / 3.14159265358979323846);
-    for (j = ch->loop_start[0]; j < ch->loop_start[1]; j++) {
-        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < ch->loop_start[1] ? j + 1 : 0];
-        total += bp__dist3(pos + 3 * (size_t)va, pos + 3 * (size_t)vb);
-        idx[va] = BP__NONE;                   /* fixed */
-    }
-    for (j = ch->loop_start[0]; j < ch->loop_start[1]; j++) {
-        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < ch->loop_start[1] ? j + 1 : 0];
-        double ang = 2 * 3.14159265358979323846 * acc / total;
-        ch->uv[2 * (size_t)va] = R * cos(ang);
-        ch->uv[2 * (size_t)va + 1] = R * sin(ang);
-        acc += bp__dist3(pos + 3 * (size_t)va, pos + 3 * (size_t)vb);
-    }
-    for (i = 0; i < N; i++) if (idx[i] != BP__NONE) idx[i] = nfree++;
-
-    /* the system over the free vertices, column by column */
-    if (nfree > 0) {
-        uint32_t nnz = 0;
-        A.n = nfree;
-        A.symmetric = !mvc;
-        A.colp = (uint32_t *)bp__alloc_array(&a, (size_t)nfree + 1, sizeof(uint32_t));
-        A.row = (uint32_t *)bp__alloc_array(&a, (size_t)ne + nfree, sizeof(uint32_t));
-        A.val = (double *)bp__alloc_array(&a, (size_t)ne + nfree, sizeof(double));
-        rhs = (double *)bp__calloc_array(&a, 2 * (size_t)nfree, sizeof(double));
-        sol = (double *)bp__alloc_array(&a, 2 * (size_t)nfree, sizeof(double));
-        work = (double *)bp__alloc_array(&a, 3 * (size_t)nfree, sizeof(double));
-        if (!A.colp || !A.row || !A.val || !rhs || !sol || !work) goto fail;
-        for (j = 0; j < N; j++) {
-            uint32_t cj = idx[j];
-            double diag = 0;
-            int diag_done = 0;
-            if (cj == BP__NONE) continue;
-            A.colp[cj] = nnz;
-            for (e = adjp[j]; e < adjp[j + 1]; e++) {
-                uint32_t vi = adj[e];
-                diag += w[e];
-                if (idx[vi] == BP__NONE) {         /* fixed neighbour -> rhs */
-                    rhs[cj] += w[e] * ch->uv[2 * (size_t)vi];
-                    rhs[nfree + cj] += w[e] * ch->uv[2 * (size_t)vi + 1];
-                }
-            }
-            /* rows in increasing free index: adj is sorted by vertex and the
-               free numbering is increasing in vertex, so it stays sorted */
-            for (e = adjp[j]; e < adjp[j + 1]; e++) {
-                uint32_t vi = adj[e];
-                if (idx[vi] == BP__NONE) continue;
-                if (!diag_done && vi > j) { A.row[nnz] = cj; A.val[nnz++] = 0; diag_done = 1; }
-                A.row[nnz] = idx[vi];
-                A.val[nnz++] = -w[bp__adj_find(adjp, adj, vi, j)];
-            }
-            if (!diag_done) { A.row[nnz] = cj; A.val[nnz++] = 0; }
-            for (p = A.colp[cj]; p < nnz; p++) if (A.row[p] == cj) A.val[p] = diag;
-        }
-        A.colp[nfree] = nnz;
-        st = bp__factorize(&a, &A, &F, &bad, runner);
-        if (st == BP_ERR_NUMERICAL) {
-            uint32_t bv = 0;
-            for (i = 0; i < nv; i++) if (idx[i] == bad) bv = ch->vertex[i];
-            st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, bv, -1, 0,
-                          "the start-map system is singular at mesh vertex %u", bv);
-            goto done;
-        }
-        if (st != BP_OK) goto fail;
-        bp__solve_refined(&A, &F, rhs, sol, work);
-        bp__solve_refined(&A, &F, rhs + nfree, sol + nfree, work);
-        for (i = 0; i < nv; i++)
-            if (idx[i] != BP__NONE) {
-                ch->uv[2 * (size_t)i] = sol[idx[i]];
-                ch->uv[2 * (size_t)i + 1] = sol[nfree + idx[i]];
-            }
-    }
-    {
-        bp_check_report rep;
-        st = bp_check(ch->triangles, ch->num_triangles, ch->uv, nv, &a, &rep);
-        if (st != BP_OK) goto fail;
-        if (!bp__report_valid(&rep)) {
-            uint32_t bt = rep.first_bad_triangle >= 0 ? ch->face[rep.first_bad_triangle] : 0;
-            if (rep.first_bad_triangle >= 0)
-                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, bt, -1, bp__tri_line(m, bt),
-                              "the start map of the chart with mesh triangle %u is not valid in floating point: "
-                              "triangle %u is %s", ch->face[0], bt, rep.flipped ? "flipped" : "degenerate");
-            else
-                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, ch->vertex[rep.first_bad_edge[0]], -1, 0,
-                              "the start map of the chart with mesh triangle %u has touching boundary edges at mesh vertex %u",
-                              ch->face[0], ch->vertex[rep.first_bad_edge[0]]);
-            goto done;
-        }
-    }
-    st = bp__ok(err);
+    memset(&T, 0, sizeof T);
+    if (!ch->uv) ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)ch->num_vertices, sizeof(double));
+    if (!ch->uv || !bp__tutte_fill(&a, &T, ch, m) || !bp__tutte_adjacency(&a, &T) || !bp__tutte_weights(&a, &T, mvc) ||
+        !bp__tutte_circle(&a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(&a, &T, ch, mvc)))
+        st = bp__oom(err, "computing the start map");
+    if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(&a, &T, ch, runner, err);
+    if (st == BP_OK) st = bp__tutte_verify(&a, ch, m, err);
+    bp__tutte_free(&a, &T);
+    if (st != BP_OK) return st;
     ch->stop = BP_STOP_NONE;
     ch->iterations = 0;
-    goto done;
-fail:
-    st = bp__oom(err, "computing the start map");
-done:
-    bp__free(&a, tri); bp__free(&a, pos); bp__free(&a, idx); bp__free(&a, adjp); bp__free(&a, adj);
-    bp__free(&a, cnt); bp__free(&a, w); bp__free(&a, rhs); bp__free(&a, sol); bp__free(&a, work);
-    bp__free(&a, A.colp); bp__free(&a, A.row); bp__free(&a, A.val);
-    bp__factor_free(&a, &F);
-    return st;
+    return bp__ok(err);
 }
 
 /* The public entry point: the factorization's rows run on the threads of
@@ -5872,40 +6154,51 @@ static void bp__chart_task(void *task, uint32_t c)
     J->status[c] = st;
 }
 
-/* Charts are independent, so with several threads and no dominant chart
-   (none holds more than half of the triangles) the charts themselves are
-   the parallel tasks, each solved with serial loops; otherwise the charts
-   go one after the other and their loops run in parallel.  Either way each
-   chart's result is bit-identical to a serial solve. */
-BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+/* Every chart's state after the solve is one of two: a valid map, or a
+   reported failure (chart.error set, uv NULL).  So every chart is visited,
+   also after a cancelled one: a chart that failed loses its map
+   (bp_atlas_fail_chart), a cancelled chart keeps its last valid map.  Out
+   of memory, and in strict mode any failure, end the call (returned with
+   err).  Otherwise the result is BP_OK or BP_ERR_CANCELLED (err: the first
+   cancelled chart). */
+static bp_status bp__collect(bp_atlas *atlas, const bp__chart_job *J, int strict, bp_error *err)
 {
-    bp_status st;
-    bp_allocator a;
+    bp_status st = BP_OK;
+    uint32_t c;
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_status cs = J->status[c];
+        if (cs == BP_OK) continue;
+        if (cs == BP_ERR_OUT_OF_MEMORY || (strict && cs != BP_ERR_CANCELLED)) {
+            if (err) *err = J->errs[c];
+            return cs;
+        }
+        if (cs != BP_ERR_CANCELLED) bp_atlas_fail_chart(atlas, c, &J->errs[c]);
+        else if (st == BP_OK) {
+            st = cs;
+            if (err) *err = J->errs[c];
+        }
+    }
+    return st;
+}
+
+/* Start map and optimization of every chart.  Charts are independent, so
+   with several threads and no dominant chart (none holds more than half of
+   the triangles) the charts themselves are the parallel tasks, each solved
+   with serial loops; otherwise the charts go one after the other and their
+   loops run in parallel.  Either way each chart's result is bit-identical
+   to a serial solve.  Returns as bp__collect. */
+static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
     bp__par par, serial;
     bp__chart_job J;
     void *pool = NULL;
     uint32_t c, largest = 0;
-    bp_options local;
-    double *imp = NULL;
-    st = bp_atlas_build(atlas, m, opt, err);
-    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) return st;
-    a = atlas->allocator;
-    if (opt && opt->views.model != BP_VIEW_NONE && !opt->init_only) {
-        /* chapter 4: visibility (times the user's importance) drives eq 4.1 */
-        imp = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
-        if (!imp) { bp_atlas_free(atlas); return bp__oom(err, "computing visibility"); }
-        if ((st = bp_visibility(m, opt, imp, err)) != BP_OK) { bp__free(&a, imp); bp_atlas_free(atlas); return st; }
-        if (opt->importance)
-            for (c = 0; c < m->num_triangles; c++) imp[c] *= opt->importance[c];
-        local = *opt;
-        local.importance = imp;
-        opt = &local;
-    }
+    bp_status st;
     J.status = (bp_status *)bp__alloc_array(&a, atlas->num_charts, sizeof(bp_status));
     J.errs = (bp_error *)bp__calloc_array(&a, atlas->num_charts, sizeof(bp_error));
     if (!J.status || !J.errs) {
-        bp__free(&a, J.status); bp__free(&a, J.errs); bp__free(&a, imp);
-        bp_atlas_free(atlas);
+        bp__free(&a, J.status); bp__free(&a, J.errs);
         return bp__oom(err, "starting the solve");
     }
     J.atlas = atlas;
@@ -5924,29 +6217,105 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
         bp__serial_for(NULL, bp__chart_task, &J, atlas->num_charts);
     }
     bp__par_end(&a, pool);
-    /* Out of memory and (in strict mode) any failure end the call; a
-       cancelled chart keeps its last valid map and so does the atlas;
-       otherwise a chart that failed is reported in its `error`, loses its
-       map, and the others go on. */
-    st = BP_OK;
-    for (c = 0; c < atlas->num_charts && st == BP_OK; c++) {
-        bp_status cs = J.status[c];
-        if (cs == BP_OK) continue;
-        if (cs == BP_ERR_OUT_OF_MEMORY || cs == BP_ERR_CANCELLED || (opt && opt->strict)) {
-            st = cs;
-            if (err) *err = J.errs[c];
-        } else {
-            bp_atlas_fail_chart(atlas, c, &J.errs[c]);
-        }
-    }
+    st = bp__collect(atlas, &J, opt && opt->strict, err);
     bp__free(&a, J.status);
     bp__free(&a, J.errs);
+    return st;
+}
+
+/* Extreme scales.  The map is scale-invariant, but the arithmetic is not:
+   rest shapes and energies multiply squared lengths, which overflow above
+   ~1e77 and underflow below ~1e-77.  When the mesh's size (bp__mesh_scale:
+   about 2^(e1+e2)) is beyond 2^+-100, bp_parameterize solves a copy
+   rescaled by the power of two 2^k that brings its size near 1 -- exact,
+   so the copy is the same shape -- and scales the map back by 2^-k.  That
+   is exact too unless a coordinate leaves the normal range (underflow
+   near 1e-308, overflow near 1e308); then the chart fails with
+   BP_ERR_NUMERICAL instead of carrying a map that is not the solved one.
+   Meshes of ordinary size are solved as given, bit for bit. */
+static bp_status bp__rescaled_mesh(const bp_allocator *a, const bp_mesh *m, bp_mesh *ms, int *k, bp_error *err)
+{
+    bp__mesh_scale sc;
+    size_t i;
+    bp_status st = bp__validate_global(m, &sc, err);
+    *k = 0;
+    if (st != BP_OK) return st;
+    *ms = *m;
+    if (sc.e1 + sc.e2 >= -100 && sc.e1 + sc.e2 <= 100) return BP_OK;
+    *k = -(sc.e1 + sc.e2);
+    ms->positions = (double *)bp__alloc_array(a, 3 * (size_t)m->num_vertices, sizeof(double));
+    if (!ms->positions) return bp__oom(err, "rescaling the mesh");
+    for (i = 0; i < 3 * (size_t)m->num_vertices; i++) ms->positions[i] = ldexp(m->positions[i], *k);
+    return BP_OK;
+}
+
+/* The map of the rescaled copy, back in the mesh's units (see above). */
+static void bp__unscale_atlas(bp_atlas *atlas, int k, int normalized)
+{
+    uint32_t c, i;
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_chart *ch = &atlas->charts[c];
+        int exact = 1;
+        ch->area3d = ldexp(ch->area3d, -2 * k);
+        if (!ch->uv || normalized) continue;     /* [0,1]^2 is its own scale */
+        for (i = 0; i < 2 * ch->num_vertices && exact; i++)
+            exact = ldexp(ldexp(ch->uv[i], -k), k) == ch->uv[i];
+        if (exact) {
+            for (i = 0; i < 2 * ch->num_vertices; i++) ch->uv[i] = ldexp(ch->uv[i], -k);
+        } else {
+            bp_error why;
+            bp__fail(&why, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
+                     "chart %u: its map was solved on the mesh rescaled by 2^%d, but a coordinate underflows "
+                     "or overflows when scaled back to the mesh's size: use normalize, or rescale the mesh",
+                     c, k);
+            bp_atlas_fail_chart(atlas, c, &why);
+        }
+    }
+}
+
+/* The whole pipeline.  Its failure rule (CONVENTIONS): BP_ERR_CHARTS_FAILED
+   and BP_ERR_CANCELLED keep the atlas -- every chart a valid map or a
+   reported failure, packed and verified -- and any other error frees it. */
+BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_status st;
+    bp_allocator a = bp__allocator_of(opt);
+    bp_options local;
+    bp_mesh ms;
+    bp_error cancel;
+    double *imp = NULL;
+    int k = 0;
+    uint32_t t;
+    if (!atlas) return bp_atlas_build(atlas, m, opt, err);
+    memset(atlas, 0, sizeof *atlas);
+    if ((st = bp__rescaled_mesh(&a, m, &ms, &k, err)) != BP_OK) return st;
+    if (opt) local = *opt;
+    else memset(&local, 0, sizeof local);
+    if (k) local.epsilon = ldexp(local.epsilon, k);     /* a barrier width is a length */
+    st = bp_atlas_build(atlas, &ms, &local, err);
+    if ((st == BP_OK || st == BP_ERR_CHARTS_FAILED) && local.views.model != BP_VIEW_NONE && !local.init_only) {
+        /* chapter 4: visibility (times the user's importance) drives eq 4.1 */
+        imp = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
+        st = imp ? bp_visibility(&ms, &local, imp, err) : bp__oom(err, "computing visibility");
+        if (st == BP_OK && local.importance)
+            for (t = 0; t < m->num_triangles; t++) imp[t] *= local.importance[t];
+        local.importance = imp;
+    }
+    if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {
+        st = bp__solve_charts(atlas, &ms, &local, &cancel);
+        if (st != BP_OK && st != BP_ERR_CANCELLED && err) *err = cancel;
+    }
+    if (st == BP_OK || st == BP_ERR_CANCELLED) {
+        bp_status ps = bp_atlas_pack(atlas, &local, err);
+        if (ps == BP_OK && !local.no_barrier) ps = bp__atlas_verify(atlas, err);
+        if (ps == BP_OK && k) bp__unscale_atlas(atlas, k, local.normalize);
+        if (ps != BP_OK) st = ps;
+        else if (st == BP_ERR_CANCELLED) { if (err) *err = cancel; }
+        else st = bp__charts_status(atlas, err);
+    }
     bp__free(&a, imp);
-    if (st == BP_ERR_CANCELLED) { bp_atlas_pack(atlas, opt, NULL); return st; }
-    if (st == BP_OK) st = bp_atlas_pack(atlas, opt, err);
-    if (st == BP_OK && !(opt && opt->no_barrier)) st = bp__atlas_verify(atlas, err);
-    if (st == BP_OK) st = bp__charts_status(atlas, err);
-    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) bp_atlas_free(atlas);
+    if (k) bp__free(&a, ms.positions);
+    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED && st != BP_ERR_CANCELLED) bp_atlas_free(atlas);
     return st;
 }
 

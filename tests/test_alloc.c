@@ -333,6 +333,29 @@ int main(void)
     sweep("bp_parameterize good + closed, MIPS, plain L-BFGS (5 iterations)", call_parameterize, &P,
           BP_ERR_CHARTS_FAILED);
 
+    /* a mesh of extreme size (2^-400): solved on a rescaled copy, one more
+       allocation path; and a local defect (a zero-area triangle fails only
+       its chart) */
+    {
+        bp_mesh tiny = holed_grid(6, 6, 0), flat = holed_grid(6, 6, 1);
+        uint32_t i;
+        for (i = 0; i < 3 * tiny.num_vertices; i++) tiny.positions[i] = ldexp(tiny.positions[i], -400);
+        memset(&P, 0, sizeof P);
+        P.m = &tiny;
+        P.opt.max_iterations = 5;
+        sweep("bp_parameterize disk with 2 holes at scale 2^-400 (5 iterations)", call_parameterize, &P, BP_OK);
+        /* the tetrahedron's last vertex onto its first edge: a zero-area
+           triangle (and the tetrahedron is no longer the only defect) */
+        for (i = 0; i < 3; i++)
+            flat.positions[3 * (flat.num_vertices - 1) + i] = 0.5 * (flat.positions[3 * (flat.num_vertices - 4) + i] +
+                                                                     flat.positions[3 * (flat.num_vertices - 3) + i]);
+        P.m = &flat;
+        sweep("bp_parameterize good chart + chart with a zero-area triangle", call_parameterize, &P,
+              BP_ERR_CHARTS_FAILED);
+        bpt_mesh_free(&tiny);
+        bpt_mesh_free(&flat);
+    }
+
     /* charts as parallel tasks (a user parallel_for): two holed disks of
        equal size and a closed chart */
     {

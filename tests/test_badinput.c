@@ -22,7 +22,7 @@
      holes (timed), coordinates scaled by 1e-6 and 1e6, vt seams that pinch
      (spot.obj), a good chart next to a closed one (uv, bp_check,
      bp_write_obj), every bp_status string, cancellation at many
-     iterations, max_iterations and max_seconds (hilbert.obj if present). */
+     iterations, max_iterations and max_seconds. */
 #define _POSIX_C_SOURCE 200809L
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
@@ -182,6 +182,14 @@ static bp_status pipeline_obj(const char *text, const bp_options *opt, bp_error 
     return st;
 }
 
+/* Messages name vertices and triangles as the file numbers them, from 1,
+   while bp_error.index is 0-based (charts keep their 0-based index): the
+   number a message must contain for element el with index i. */
+static long long named(bp_element el, int64_t i)
+{
+    return el == BP_ELEMENT_VERTEX || el == BP_ELEMENT_TRIANGLE || el == BP_ELEMENT_EDGE ? i + 1 : i;
+}
+
 /* Expect status `want` from OBJ text, naming file line `line`.  A parser
    error names the line in its message ("line N: ...").  An error found
    later by bp_parameterize names the element (triangle, edge, chart) in
@@ -207,8 +215,9 @@ static void expect_obj_el(const char *what, const char *text, bp_status want, in
                   "%s: names line %lld (err.line %lld, element %d, index %lld): \"%s\"", what, line, (long long)err.line,
                   (int)err.element, (long long)err.index, err.message);
     if (want_parsed)
-        BPT_CHECK(err.line == line && err.element == el && err.index == index && bpt_has_number(err.message, index) &&
-                      (index2 < -1 || (err.index2 == index2 && (index2 < 0 || bpt_has_number(err.message, index2)))),
+        BPT_CHECK(err.line == line && err.element == el && err.index == index &&
+                      bpt_has_number(err.message, named(el, index)) &&
+                      (index2 < -1 || (err.index2 == index2 && (index2 < 0 || bpt_has_number(err.message, named(el, index2))))),
                   "%s: err.line %lld (want %lld), element %d index %lld/%lld (want %d %lld/%lld) named in \"%s\"",
                   what, (long long)err.line, line, (int)err.element, (long long)err.index, (long long)err.index2,
                   (int)el, (long long)index, (long long)index2, err.message);
@@ -232,7 +241,8 @@ static void expect_mem(const char *what, const bp_mesh *m, bp_status want, bp_el
     BPT_CHECK(st == want && err.status == want, "%s: %s (got %s: \"%s\")", what, bp_status_string(want),
               bp_status_string(st), err.message);
     BPT_CHECK(err.element == el && err.index == index && (index2 < -1 || err.index2 == index2) &&
-                  (index < 0 || bpt_has_number(err.message, index)) && (index2 < 0 || bpt_has_number(err.message, index2)),
+                  (index < 0 || bpt_has_number(err.message, named(el, index))) &&
+                  (index2 < 0 || bpt_has_number(err.message, named(el, index2))),
               "%s: names element %d index %lld/%lld (got element %d index %lld/%lld): \"%s\"", what, (int)el,
               (long long)index, (long long)index2, (int)err.element, (long long)err.index, (long long)err.index2,
               err.message);
@@ -322,9 +332,14 @@ static void test_indices(void)
     expect_obj("OBJ vt index past the end", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n", BP_ERR_INDEX, 0, 5);
     {
         bp_mesh m = grid(2, 1, NULL, 0);
+        bp_atlas at;
+        bp_error err;
         m.triangles[3 * 2 + 1] = 99;       /* triangle 2 */
         expect_mem("in-memory vertex index 99 (of 6)", &m, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, 2, -1);
-        BPT_CHECK(1, "(the message also names the index 99)");
+        bp_parameterize(&at, &m, NULL, &err);
+        BPT_CHECK(bpt_has_number(err.message, 100) && bpt_has_number(err.message, 3) && bpt_has_number(err.message, 6),
+                  "in-memory vertex index 99: the message names vertex 100 and triangle 3 as a file numbers them, "
+                  "and the 6 vertices: \"%s\"", err.message);
         bpt_mesh_free(&m);
     }
     {
@@ -405,10 +420,15 @@ static void test_degenerate(void)
             sprintf(what, "needle with 2A = %g diag^2", rel[i]);
             if (rel[i] > 1e-12) {
                 bp_options o = defaults();
-                double t0 = now();
+                bp_atlas at;
+                memset(&at, 0, sizeof at);
                 o.max_iterations = 200;
-                expect_fine(what, &m, &o, NULL);
-                BPT_CHECK(now() - t0 < 10, "%s: finishes (%.2f s)", what, now() - t0);
+                if (expect_fine(what, &m, &o, &at))
+                    BPT_CHECK(at.charts[0].iterations >= 1 && at.charts[0].iterations <= 200 &&
+                                  at.charts[0].stop != BP_STOP_NONE && at.charts[0].stop != BP_STOP_CANCELLED,
+                              "%s: optimized (%d iterations, stop %s)", what, at.charts[0].iterations,
+                              bp_stop_string(at.charts[0].stop));
+                bp_atlas_free(&at);
             } else {
                 expect_mem(what, &m, BP_ERR_DEGENERATE, BP_ELEMENT_TRIANGLE, 32, -1);
             }
@@ -758,15 +778,18 @@ static void test_many_holes(void)
     bp_mesh m = grid(90, 90, many_holes, 0.5);
     bp_options o = defaults();
     bp_atlas at;
-    double t0 = now(), dt;
+    double t0 = now();
     memset(&at, 0, sizeof at);
     if (expect_fine("grid with 1936 holes, default options", &m, &o, &at)) {
-        dt = now() - t0;
         BPT_CHECK(at.num_charts == 1 && at.charts[0].num_loops == 1937,
                   "many holes: one chart with 1937 loops (%u)", (unsigned)at.charts[0].num_loops);
-        BPT_CHECK(dt < 30, "many holes: %u triangles, %u loops, %d iterations (%s) in %.2f s (< 30 s)",
+        /* states, not wall time (a loaded machine is slow, not wrong) */
+        BPT_CHECK(at.charts[0].iterations >= 1 && (at.charts[0].stop == BP_STOP_CONVERGED ||
+                                                   at.charts[0].stop == BP_STOP_NO_PROGRESS ||
+                                                   at.charts[0].stop == BP_STOP_MAX_ITERATIONS),
+                  "many holes: %u triangles, %u loops, optimized: %d iterations, stop %s (%.2f s, not asserted)",
                   (unsigned)m.num_triangles, (unsigned)at.charts[0].num_loops, at.charts[0].iterations,
-                  bp_stop_string(at.charts[0].stop), dt);
+                  bp_stop_string(at.charts[0].stop), now() - t0);
     }
     bp_atlas_free(&at);
     bpt_mesh_free(&m);
@@ -924,6 +947,282 @@ static void test_cancel_sweep(void)
     bp_mesh_free(&m, NULL);
 }
 
+/* ---- cancellation: every chart valid or reported --------------------------------- */
+
+/* After any bp_parameterize that keeps the atlas, every chart is either a
+   valid map (error BP_OK, uv checked exactly) or a reported failure (error
+   set, uv NULL), num_failed counts the failures, and the mapped charts are
+   packed without overlap.  Returns the number of charts that break it. */
+static uint32_t charts_in_a_state(const bp_atlas *at)
+{
+    uint32_t c, broken = 0, failed = 0;
+    for (c = 0; c < at->num_charts; c++) {
+        const bp_chart *ch = &at->charts[c];
+        if (ch->error.status != BP_OK) { failed++; broken += ch->uv != NULL; }
+        else broken += !chart_valid(ch);
+    }
+    return broken + (failed != at->num_failed) + !atlas_valid(at);
+}
+
+typedef struct chart_cancel { uint32_t chart; int at, calls_after; } chart_cancel;
+
+static int cancel_chart_cb(void *user, uint32_t chart, int iteration, double e, double step)
+{
+    chart_cancel *s = (chart_cancel *)user;
+    (void)e; (void)step;
+    return chart == s->chart && iteration >= s->at;
+}
+
+/* spot (13 charts): cancel one chart at its k-th iteration, while another
+   chart -- before or after it -- fails in the solve (a negative importance
+   on one of its triangles: BP_ERR_INVALID_ARGUMENT from the optimizer,
+   after its start map was made).  The call returns BP_ERR_CANCELLED with
+   the atlas kept; the cancelled chart keeps its last valid map
+   (BP_STOP_CANCELLED at iteration k); the failing chart is reported with uv
+   NULL, whatever its place; every other chart is valid; the packed atlas
+   is valid as a whole. */
+static void test_cancel_states(void)
+{
+    static const uint32_t cancel_chart[4] = { 0, 0, 6, 12 }, fail_chart[4] = { 12, 5, 2, 1 };
+    static const int ks[4] = { 1, 5, 20, 3 };
+    bp_mesh m;
+    bp_error err;
+    bp_atlas at;
+    double *imp;
+    int i;
+    uint32_t t;
+    if (!BPT_CHECK(bp_read_obj("tests/data/spot.obj", &m, NULL, &err) == BP_OK, "read spot")) return;
+    if (!BPT_CHECK(bp_atlas_build(&at, &m, NULL, &err) == BP_OK && at.num_charts == 13, "spot: 13 charts")) {
+        bp_atlas_free(&at);
+        bp_mesh_free(&m, NULL);
+        return;
+    }
+    imp = (double *)malloc(m.num_triangles * sizeof *imp);
+    for (i = 0; i < 4; i++) {
+        bp_options o = defaults();
+        chart_cancel s;
+        bp_status st;
+        bp_atlas r;
+        uint32_t bad_face = at.charts[fail_chart[i]].face[0], broken;
+        const bp_chart *cc, *fc;
+        for (t = 0; t < m.num_triangles; t++) imp[t] = 1;
+        imp[bad_face] = -1;
+        s.chart = cancel_chart[i];
+        s.at = ks[i];
+        o.progress = cancel_chart_cb;
+        o.progress_user = &s;
+        o.importance = imp;
+        o.max_iterations = 60;
+        st = bp_parameterize(&r, &m, &o, &err);
+        if (!BPT_CHECK(st == BP_ERR_CANCELLED && r.charts && r.num_charts == 13,
+                       "spot, cancel chart %u at iteration %d, chart %u fails: BP_ERR_CANCELLED, atlas kept (%s: %s)",
+                       (unsigned)s.chart, s.at, (unsigned)fail_chart[i], bp_status_string(st), err.message)) {
+            bp_atlas_free(&r);
+            continue;
+        }
+        cc = &r.charts[s.chart];
+        fc = &r.charts[fail_chart[i]];
+        broken = charts_in_a_state(&r);
+        BPT_CHECK(err.element == BP_ELEMENT_CHART && err.index == (int64_t)s.chart && cc->stop == BP_STOP_CANCELLED &&
+                      cc->iterations == s.at && cc->error.status == BP_OK && chart_valid(cc),
+                  "  the cancelled chart %u: named in err, stop %s at %d, its last map valid", (unsigned)s.chart,
+                  bp_stop_string(cc->stop), cc->iterations);
+        BPT_CHECK(fc->error.status == BP_ERR_INVALID_ARGUMENT && fc->uv == NULL && r.num_failed == 1,
+                  "  the failing chart %u: reported (%s), uv %s, num_failed %u", (unsigned)fail_chart[i],
+                  bp_status_string(fc->error.status), fc->uv ? "kept" : "NULL", (unsigned)r.num_failed);
+        BPT_CHECK(broken == 0, "  every chart valid or reported, the packed atlas valid (%u broken)", (unsigned)broken);
+        bp_atlas_free(&r);
+    }
+    free(imp);
+    bp_atlas_free(&at);
+    bp_mesh_free(&m, NULL);
+}
+
+/* ---- local defects fail their chart only ------------------------------------------ */
+
+/* Two squares far apart (charts 0 and 1); the second also holds a zero-area
+   triangle, f 5 9 6 on line 15 (x = 5, 7, 6 on one line), glued to it along
+   edge 5-6.  Default: chart 1 fails naming the triangle as the file does
+   (triangle 5, line 15, vertices 5 9 6; err.index 4), chart 0 is solved,
+   BP_ERR_CHARTS_FAILED.  Strict: the whole call fails with the triangle. */
+static const char two_squares_obj[] =
+    "# two squares, the second with a zero-area triangle\n"
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+    "v 5 0 0\nv 6 0 0\nv 6 1 0\nv 5 1 0\nv 7 0 0\n"
+    "f 1 2 3\nf 1 3 4\nf 5 6 7\nf 5 7 8\n"
+    "f 5 9 6\n";
+
+static void test_local_defects(void)
+{
+    bp_mesh m;
+    bp_error err;
+    bp_atlas at;
+    bp_options o = defaults();
+    bp_status st;
+    if (!BPT_CHECK(parse_obj(two_squares_obj, &m, &err) == BP_OK, "parse two squares")) return;
+    st = bp_parameterize(&at, &m, &o, &err);
+    BPT_CHECK(st == BP_ERR_CHARTS_FAILED && err.element == BP_ELEMENT_CHART && err.index == 1,
+              "square + square with a zero-area triangle: BP_ERR_CHARTS_FAILED naming chart 1 (%s): \"%s\"",
+              bp_status_string(st), err.message);
+    if (st == BP_ERR_CHARTS_FAILED && at.num_charts == 2) {
+        const bp_error *e = &at.charts[1].error;
+        BPT_CHECK(e->status == BP_ERR_DEGENERATE && e->element == BP_ELEMENT_TRIANGLE && e->index == 4 &&
+                      e->line == 15 && strstr(e->message, "triangle 5 (line 15)") &&
+                      strstr(e->message, "vertices 5 9 6") && at.charts[1].uv == NULL,
+                  "  chart 1: BP_ERR_DEGENERATE, index 4, line 15, message \"%s\" names triangle 5, line 15, "
+                  "vertices 5 9 6 as the file does; uv NULL", e->message);
+        BPT_CHECK(at.charts[1].num_triangles == 3 && at.num_failed == 1 && charts_in_a_state(&at) == 0 &&
+                      at.charts[0].uv && chart_valid(&at.charts[0]),
+                  "  the defective triangle is in its neighbours' chart (3 triangles); chart 0 mapped and valid");
+    }
+    bp_atlas_free(&at);
+    o.strict = 1;
+    st = bp_parameterize(&at, &m, &o, &err);
+    BPT_CHECK(st == BP_ERR_DEGENERATE && err.element == BP_ELEMENT_TRIANGLE && err.index == 4 && err.line == 15 &&
+                  at.charts == NULL,
+              "strict: BP_ERR_DEGENERATE for the whole call, triangle index 4 line 15, atlas zeroed (%s): \"%s\"",
+              bp_status_string(st), err.message);
+    bp_atlas_free(&at);
+    bp_mesh_free(&m, NULL);
+    /* a triangle repeating a vertex inside the second of two grids: the
+       grid fails, the first is solved */
+    {
+        bp_mesh g = grid(3, 3, NULL, 0.2);
+        uint32_t nv = g.num_vertices, nt = g.num_triangles, i;
+        bp_mesh two = bpt_mesh_new(2 * nv, 2 * nt);
+        for (i = 0; i < nv; i++) {
+            set_v(&two, i, g.positions[3 * i], g.positions[3 * i + 1], g.positions[3 * i + 2]);
+            set_v(&two, nv + i, g.positions[3 * i] + 10, g.positions[3 * i + 1], g.positions[3 * i + 2]);
+        }
+        for (i = 0; i < 3 * nt; i++) {
+            two.triangles[i] = g.triangles[i];
+            two.triangles[3 * nt + i] = g.triangles[i] + nv;
+        }
+        two.triangles[3 * (nt + 7) + 2] = two.triangles[3 * (nt + 7)];   /* triangle nt+7: a b a */
+        st = bp_parameterize(&at, &two, NULL, &err);
+        BPT_CHECK(st == BP_ERR_CHARTS_FAILED && at.num_charts == 2 && at.num_failed == 1 &&
+                      at.charts[1].error.status == BP_ERR_DEGENERATE && at.charts[1].error.index == nt + 7 &&
+                      bpt_has_number(at.charts[1].error.message, nt + 8) && strstr(at.charts[1].error.message, "twice") &&
+                      at.charts[0].uv && charts_in_a_state(&at) == 0,
+                  "two grids, the second with a triangle that repeats a vertex: it fails naming triangle %u, the first "
+                  "is solved (%s: \"%s\")", (unsigned)(nt + 8), bp_status_string(st),
+                  at.num_charts == 2 ? at.charts[1].error.message : err.message);
+        bp_atlas_free(&at);
+        bpt_mesh_free(&two);
+        bpt_mesh_free(&g);
+    }
+}
+
+/* ---- extreme scales ------------------------------------------------------------------ */
+
+/* Is the chart's map, divided by 2^e (exact when it round-trips), valid?
+   Scaling by a power of two is exact, so validity is unchanged, and the
+   check then runs at a size where its products cannot over- or underflow. */
+static int chart_valid_at(const bp_chart *ch, int e)
+{
+    bp_chart copy = *ch;
+    uint32_t i;
+    int ok;
+    if (!ch->uv) return 0;
+    copy.uv = (double *)malloc(2 * ch->num_vertices * sizeof(double));
+    for (i = 0; i < 2 * ch->num_vertices; i++) {
+        copy.uv[i] = ldexp(ch->uv[i], -e);
+        if (ldexp(copy.uv[i], e) != ch->uv[i]) { free(copy.uv); return 0; }
+    }
+    ok = chart_valid(&copy);
+    free(copy.uv);
+    return ok;
+}
+
+/* bishop_part_f1000 (1 chart) and the needle grids scaled by powers of two
+   and by 1e150, 1e-150, 1e300, 1e-300: bp_atlas_build judges each as at
+   scale 1 (the needle of relative area 1e-6 is legal, 1e-13 degenerate,
+   with a relative area in the message, not "nan" or "0"); bp_parameterize
+   gives a valid map (checked after an exact rescale) or fails with
+   BP_ERR_NUMERICAL saying why -- never a wrong map. */
+static void test_extreme_scales(void)
+{
+    static const double factors[8] = { 0x1p500, 0x1p-500, 1e150, 1e-150, 1e300, 1e-300, 0x1p1000, 0x1p-1000 };
+    bp_mesh base, m;
+    bp_error err;
+    int f;
+    double *ref = NULL;
+    uint32_t ref_nv = 0;
+    if (!BPT_CHECK(bp_read_obj("tests/data/bishop_part_f1000.obj", &base, NULL, &err) == BP_OK, "read bishop")) return;
+    {
+        bp_options o = defaults();
+        bp_atlas at;
+        o.max_iterations = 20;
+        if (BPT_CHECK(bp_parameterize(&at, &base, &o, &err) == BP_OK, "bishop at scale 1 (%s)", err.message)) {
+            ref_nv = at.charts[0].num_vertices;
+            ref = (double *)malloc(2 * ref_nv * sizeof(double));
+            memcpy(ref, at.charts[0].uv, 2 * ref_nv * sizeof(double));
+        }
+        bp_atlas_free(&at);
+    }
+    for (f = 0; f < 8; f++) {
+        bp_options o = defaults();
+        bp_atlas at;
+        bp_status st;
+        uint32_t i;
+        int e;
+        (void)frexp(factors[f], &e);
+        e -= 1;                                   /* 2^e <= factor < 2^(e+1) */
+        m = base;
+        m.positions = (double *)malloc(3 * base.num_vertices * sizeof(double));
+        for (i = 0; i < 3 * base.num_vertices; i++) m.positions[i] = base.positions[i] * factors[f];
+        st = bp_atlas_build(&at, &m, NULL, &err);
+        BPT_CHECK(st == BP_OK && at.num_charts == 1 && at.num_failed == 0,
+                  "bishop x %g: bp_atlas_build agrees with scale 1 (%s: %s)", factors[f], bp_status_string(st),
+                  err.message);
+        bp_atlas_free(&at);
+        o.max_iterations = 20;
+        st = bp_parameterize(&at, &m, &o, &err);
+        if (st == BP_OK) {
+            BPT_CHECK(chart_valid_at(&at.charts[0], e) && at.charts[0].iterations >= 1,
+                      "bishop x %g: bp_parameterize BP_OK and the map (/ 2^%d) is valid, %d iterations", factors[f], e,
+                      at.charts[0].iterations);
+            if (ldexp(1, e) == factors[f] && ref) {
+                /* a power of two is exact all the way: the same map, bit for bit */
+                uint32_t same = at.charts[0].num_vertices == ref_nv;
+                for (i = 0; same && i < 2 * ref_nv; i++) same = ldexp(at.charts[0].uv[i], -e) == ref[i];
+                BPT_CHECK(same, "bishop x 2^%d: the map is the scale-1 map times 2^%d, bit for bit", e, e);
+            }
+        }
+        else
+            BPT_CHECK(st == BP_ERR_NUMERICAL && strstr(err.message, "scale") && at.charts == NULL,
+                      "bishop x %g: not solvable, says why (%s: \"%s\")", factors[f], bp_status_string(st),
+                      err.message);
+        bp_atlas_free(&at);
+        free(m.positions);
+        /* the needles of test_degenerate, scaled */
+        {
+            double rel[2] = { 1e-6, 1e-13 };
+            int k;
+            for (k = 0; k < 2; k++) {
+                bp_mesh n = grid_with_needle(1.0);
+                double d2 = bbox_diag2(&n);
+                bpt_mesh_free(&n);
+                n = grid_with_needle(rel[k] * d2);
+                for (i = 0; i < 3 * n.num_vertices; i++) n.positions[i] *= factors[f];
+                st = bp_atlas_build(&at, &n, NULL, &err);
+                if (k == 0)
+                    BPT_CHECK(st == BP_OK, "needle 2A = 1e-6 diag^2 x %g: legal as at scale 1 (%s: %s)", factors[f],
+                              bp_status_string(st), err.message);
+                else
+                    BPT_CHECK(st == BP_ERR_DEGENERATE && err.index == 32 && !strstr(err.message, "nan") &&
+                                  !strstr(err.message, "inf") && strstr(err.message, "e-13"),
+                              "needle 2A = 1e-13 diag^2 x %g: degenerate as at scale 1, with its relative area: \"%s\"",
+                              factors[f], err.message);
+                bp_atlas_free(&at);
+                bpt_mesh_free(&n);
+            }
+        }
+    }
+    free(ref);
+    bp_mesh_free(&base, NULL);
+}
+
 static void test_limits(void)
 {
     bp_mesh m;
@@ -942,39 +1241,35 @@ static void test_limits(void)
         bp_atlas_free(&at);
     }
     bp_mesh_free(&m, NULL);
-    /* max_seconds on a large mesh (only if the shared meshes are there) */
-    if (access("../shared/meshes/hilbert.obj", R_OK) == 0) {
-        if (BPT_CHECK(bp_read_obj("../shared/meshes/hilbert.obj", &m, NULL, &err) == BP_OK, "read hilbert.obj")) {
+    /* max_seconds: a limit far below one iteration stops every chart after
+       its first iteration (the limit is checked after each one), with a
+       valid map, on bishop (1 chart) and spot (13 charts); without it the
+       same charts run on (so the limit is what stopped them). */
+    {
+        static const char *const files[2] = { "tests/data/bishop_part_f1000.obj", "tests/data/spot.obj" };
+        int f;
+        for (f = 0; f < 2; f++) {
             bp_options o = defaults();
-            double t0, dt;
-            bp_status st;
-            o.max_seconds = 2;
-            t0 = now();
-            st = bp_parameterize(&at, &m, &o, &err);
-            dt = now() - t0;
-            if (BPT_CHECK(st == BP_OK, "hilbert, max_seconds 2: BP_OK (%s)", err.message)) {
-                uint32_t c;
-                int stopped = 0;
-                double per_iter = at.charts[0].iterations ? at.charts[0].seconds / at.charts[0].iterations : 0;
-                for (c = 0; c < at.num_charts; c++) stopped += at.charts[c].stop == BP_STOP_MAX_SECONDS;
-                /* the limit is checked after each iteration: the solve may
-                   overrun it by one iteration.  The whole call adds reading
-                   nothing (the mesh is in memory) but the build, the start
-                   map, packing and the final check: 1.3-2.2 s measured,
-                   ~3.8 s under AddressSanitizer (BPT_SLOW = 3). */
-                BPT_CHECK(at.charts[0].seconds <= 2 + per_iter + 0.1,
-                          "hilbert, max_seconds 2: the solve stopped after %.2f s (%d iterations of %.3f s)",
-                          at.charts[0].seconds, at.charts[0].iterations, per_iter);
-                BPT_CHECK(dt < 2 + 3.0 * BPT_SLOW && all_mapped_valid(&at),
-                          "hilbert, max_seconds 2: returns in %.2f s (< %.1f: build, start map, 2 s, pack, verify), "
-                          "%u charts, %d stopped on time, valid", dt, 2 + 3.0 * BPT_SLOW, (unsigned)at.num_charts,
-                          stopped);
+            uint32_t c, stopped = 0, ran_on = 0;
+            if (!BPT_CHECK(bp_read_obj(files[f], &m, NULL, &err) == BP_OK, "read %s", files[f])) continue;
+            o.max_seconds = 1e-300;
+            if (BPT_CHECK(bp_parameterize(&at, &m, &o, &err) == BP_OK, "%s, max_seconds 1e-300: BP_OK (%s)", files[f],
+                          err.message)) {
+                for (c = 0; c < at.num_charts; c++)
+                    stopped += at.charts[c].stop == BP_STOP_MAX_SECONDS && at.charts[c].iterations == 1;
+                BPT_CHECK(stopped == at.num_charts && all_mapped_valid(&at),
+                          "%s, max_seconds 1e-300: %u of %u charts stopped by the limit after 1 iteration, valid",
+                          files[f], (unsigned)stopped, (unsigned)at.num_charts);
             }
+            bp_atlas_free(&at);
+            o.max_seconds = 0;
+            o.max_iterations = 3;
+            if (bp_parameterize(&at, &m, &o, &err) == BP_OK)
+                for (c = 0; c < at.num_charts; c++) ran_on += at.charts[c].iterations > 1;
+            BPT_CHECK(ran_on > 0, "%s without the limit: %u charts run past 1 iteration", files[f], (unsigned)ran_on);
             bp_atlas_free(&at);
             bp_mesh_free(&m, NULL);
         }
-    } else {
-        printf("skip: ../shared/meshes/hilbert.obj not present (max_seconds on a large mesh)\n");
     }
 }
 
@@ -992,6 +1287,9 @@ int main(void)
     test_legal();
     test_scale();
     test_cancel_sweep();
+    test_cancel_states();
+    test_local_defects();
+    test_extreme_scales();
     test_limits();
     test_many_holes();
     return bpt_finish();

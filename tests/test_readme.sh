@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# test_readme.sh - the README's example program is what it says it is.
+#
+# Extracts the first ```c block of README.md (the "Use" section), compiles it
+# warning-free (-Wall -Wextra -pedantic -Werror) as C99 with gcc and as C++11
+# with g++ (and with clang / clang++ when installed; a missing clang is
+# reported, not counted), with AddressSanitizer (leaks included) for the C
+# build, and runs it:
+#   - on a mesh whose one chart fails (a closed tetrahedron) next to a good
+#     disk: prints the BP_ERR_CHARTS_FAILED message, writes the file with vt
+#     on the disk's faces and none on the tetrahedron's, exits 1, no leak;
+#   - on a good mesh (the disk alone): prints nothing, writes the file, 0;
+#   - on a mesh whose only chart fails: prints the error, writes nothing, 1;
+#   - with a missing input: prints the error, writes nothing, 1.
+# Prints one "ok"/"FAIL" line per check and a final "BPTEST <passed> <failed>".
+set -u
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+CC=${CC:-gcc}
+CXX=${CXX:-g++}
+WARN="-Wall -Wextra -pedantic -Werror"
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/bp_readme.XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+passed=0
+failed=0
+ok()   { echo "ok   test_readme.sh: $*"; passed=$((passed + 1)); }
+fail() { echo "FAIL test_readme.sh: $*"; failed=$((failed + 1)); }
+
+awk '/^```c$/ { if (!done) { on = 1; next } } /^```$/ { if (on) { on = 0; done = 1 } } on' "$ROOT/README.md" >"$TMP/example.c"
+if grep -q 'bp_parameterize' "$TMP/example.c" && grep -q 'int main' "$TMP/example.c"; then
+    ok "README.md: extracted the example ($(wc -l <"$TMP/example.c") lines, calls bp_parameterize)"
+else
+    fail "README.md: no \`\`\`c block with main and bp_parameterize found"
+fi
+cp "$TMP/example.c" "$TMP/example.cpp"
+
+# a 3x3 grid (a disk, faces 1-18) and a tetrahedron (closed, faces 19-22)
+{
+    for j in 0 1 2 3; do for i in 0 1 2 3; do echo "v $i $j 0.$((i * j))"; done; done
+    echo "v 10 0 0"; echo "v 11 0 0"; echo "v 10 1 0"; echo "v 10 0 1"
+    for j in 0 1 2; do for i in 0 1 2; do
+        a=$((j * 4 + i + 1)); b=$((a + 1)); c=$((a + 5)); d=$((a + 4))
+        echo "f $a $b $c"; echo "f $a $c $d"
+    done; done
+} >"$TMP/disk.obj"
+cp "$TMP/disk.obj" "$TMP/mixed.obj"
+printf 'f 17 19 18\nf 17 18 20\nf 17 20 19\nf 18 19 20\n' >>"$TMP/mixed.obj"
+{ grep '^v ' "$TMP/mixed.obj"; printf 'f 17 19 18\nf 17 18 20\nf 17 20 19\nf 18 19 20\n'; } >"$TMP/closed.obj"
+
+# run_example BIN label: the four runs above
+run_example() {
+    local bin=$1 label=$2 out rc
+    rm -f "$TMP/out.obj"
+    out=$("$bin" "$TMP/mixed.obj" "$TMP/out.obj" 2>&1); rc=$?
+    if [ $rc -eq 1 ] && echo "$out" | grep -q 'charts failed' && [ -s "$TMP/out.obj" ] &&
+       [ "$(grep -c '^f [0-9]*/[0-9]*' "$TMP/out.obj")" -eq 18 ] &&
+       [ "$(grep -c '^f [0-9]* [0-9]* [0-9]*$' "$TMP/out.obj")" -eq 4 ] && [ "$(grep -c '^vt ' "$TMP/out.obj")" -ge 16 ] &&
+       ! echo "$out" | grep -q 'LeakSanitizer\|AddressSanitizer'; then
+        ok "$label: one chart fails: says so, writes the 18 disk faces with vt and the 4 closed ones without, exits 1, no leak"
+    else
+        fail "$label on disk + tetrahedron: exit $rc, output: $(echo "$out" | head -n 3)"
+    fi
+    rm -f "$TMP/out.obj"
+    out=$("$bin" "$TMP/disk.obj" "$TMP/out.obj" 2>&1); rc=$?
+    if [ $rc -eq 0 ] && [ -z "$out" ] && [ "$(grep -c '^f [0-9]*/[0-9]*' "$TMP/out.obj" 2>/dev/null)" = 18 ]; then
+        ok "$label: a good mesh: silent, every face written with vt, exits 0"
+    else
+        fail "$label on the disk: exit $rc, output: $(echo "$out" | head -n 3)"
+    fi
+    rm -f "$TMP/out.obj"
+    out=$("$bin" "$TMP/closed.obj" "$TMP/out.obj" 2>&1); rc=$?
+    if [ $rc -eq 1 ] && echo "$out" | grep -q 'closed' && [ ! -e "$TMP/out.obj" ] &&
+       ! echo "$out" | grep -q 'Sanitizer'; then
+        ok "$label: the only chart fails: prints why, writes nothing, exits 1, no leak"
+    else
+        fail "$label on the tetrahedron alone: exit $rc, file $( [ -e "$TMP/out.obj" ] && echo written || echo absent), output: $(echo "$out" | head -n 3)"
+    fi
+    out=$("$bin" "$TMP/missing.obj" "$TMP/out.obj" 2>&1); rc=$?
+    if [ $rc -eq 1 ] && [ -n "$out" ] && [ ! -e "$TMP/out.obj" ]; then
+        ok "$label: a missing input: prints the error, writes nothing, exits 1"
+    else
+        fail "$label on a missing file: exit $rc, output: $(echo "$out" | head -n 3)"
+    fi
+}
+
+# compile "label" compiler std src: -Werror build, then run_example
+compile_and_run() {
+    local label=$1 cc=$2 std=$3 src=$4; shift 4
+    if $cc -std=$std -O1 $WARN "$@" -I"$ROOT" "$src" -o "$TMP/example" -lm >"$TMP/log" 2>&1; then
+        ok "$label -std=$std $WARN $*: the README example compiles"
+        run_example "$TMP/example" "$label"
+    else
+        fail "$label -std=$std $WARN $*: the README example compiles"; sed 's/^/     | /' "$TMP/log" | head -n 20
+    fi
+}
+compile_and_run gcc "$CC" c99 "$TMP/example.c" -fsanitize=address -fno-omit-frame-pointer
+compile_and_run g++ "$CXX" c++11 "$TMP/example.cpp"
+if command -v clang >/dev/null 2>&1; then
+    compile_and_run clang clang c99 "$TMP/example.c"
+    compile_and_run clang++ clang++ c++11 "$TMP/example.cpp"
+else
+    echo "note: clang not installed, the README example was not built with it (not counted)"
+fi
+echo "BPTEST $passed $failed"
+[ "$failed" -eq 0 ]
