@@ -177,3 +177,41 @@ tsan:
 	BP_TEST_QUICK=1 $(TSAN_ENV) $(BUILD)/tsan/test_threads > $(BUILD)/tsan/test_threads.log || { tail -30 $(BUILD)/tsan/test_threads.log; exit 1; }
 	@tail -1 $(BUILD)/tsan/test_threads.log
 	@echo "tsan: no data race reported"
+
+# ---- installation (header, tool, pkg-config file) --------------------------
+#
+#   make install   PREFIX=/usr/local (default) and DESTDIR= (staging root):
+#                  $(PREFIX)/include/bijparam.h, $(PREFIX)/bin/bijparam and
+#                  $(PREFIX)/share/pkgconfig/bijparam.pc, generated from
+#                  bijparam.pc.in with the version of BP_VERSION_STRING in
+#                  bijparam.h.  The .pc file goes to share/ because nothing
+#                  in it depends on the architecture (header only, as
+#                  Eigen's); pkg-config searches <prefix>/share/pkgconfig.
+#                  BINDIR, INCLUDEDIR and PKGCONFIGDIR override the places.
+#   make uninstall the same variables: removes exactly those three files.
+#
+# CMake installs the same files plus a CMake package (see CMakeLists.txt).
+.PHONY: install uninstall
+PREFIX ?= /usr/local
+BINDIR ?= $(PREFIX)/bin
+INCLUDEDIR ?= $(PREFIX)/include
+PKGCONFIGDIR ?= $(PREFIX)/share/pkgconfig
+INSTALL ?= install
+BP_VERSION := $(shell sed -n 's/^\#define BP_VERSION_STRING "\([0-9][0-9.]*\)".*/\1/p' bijparam.h)
+
+# Regenerated on every install: the file records PREFIX, which make cannot
+# see change.  includedir is written relative to ${prefix} when it lies
+# under it, so `pkg-config --define-prefix` can relocate the tree.
+install: $(TOOL)
+	@test -n "$(BP_VERSION)" || { echo "install: no BP_VERSION_STRING \"X.Y.Z\" in bijparam.h"; exit 1; }
+	@mkdir -p $(BUILD)
+	sed -e 's|@BP_PC_PREFIX@|$(PREFIX)|' \
+	    -e 's|@BP_PC_INCLUDEDIR@|$(patsubst $(PREFIX)/%,$${prefix}/%,$(INCLUDEDIR))|' \
+	    -e 's|@BP_PC_VERSION@|$(BP_VERSION)|' bijparam.pc.in > $(BUILD)/bijparam.pc
+	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(INCLUDEDIR) $(DESTDIR)$(PKGCONFIGDIR)
+	$(INSTALL) -m 755 $(TOOL) $(DESTDIR)$(BINDIR)/bijparam
+	$(INSTALL) -m 644 bijparam.h $(DESTDIR)$(INCLUDEDIR)/bijparam.h
+	$(INSTALL) -m 644 $(BUILD)/bijparam.pc $(DESTDIR)$(PKGCONFIGDIR)/bijparam.pc
+
+uninstall:
+	rm -f $(DESTDIR)$(BINDIR)/bijparam $(DESTDIR)$(INCLUDEDIR)/bijparam.h $(DESTDIR)$(PKGCONFIGDIR)/bijparam.pc
