@@ -389,8 +389,6 @@ static void check_mesh(const Expect &x)
 
     /* facts of the reference alone, against the README */
     {
-        int chi = 0;
-        for (size_t i = 0; i < ref.size(); i++) chi += ref[i].chi;
         int failed = 0, pinch_extra = 0;
         for (size_t i = 0; i < ref.size(); i++) { failed += ref[i].failed_faces; pinch_extra += ref[i].pinch_extra; }
         BPT_CHECK(failed == 0, "%s: OpenMesh accepts every face of every chart (%d refused)", name, failed);
