@@ -481,10 +481,10 @@ static void print_json(const char *input, bp_status status, const char *message,
         memset(&rep, 0, sizeof rep);
         if (ch->uv)
             bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices,
-                     NULL, &rep);
+                     NULL, &rep, NULL);
         /* not optimized (--init-only): report the distortion of the start map */
         if (ch->uv && ch->stop == BP_STOP_NONE &&
-            bp_chart_distortion(ch, mesh, energy, &e_start, &e_max, NULL) == BP_OK)
+            bp_chart_distortion(ch, mesh, energy, &e_start, &e_max, NULL, NULL) == BP_OK)
             e_end = e_start;
         printf("%s{\"index\":%u,\"vertices\":%u,\"faces\":%u,\"loops\":[",
                c ? "," : "", (unsigned)c, (unsigned)ch->num_vertices,
@@ -788,7 +788,7 @@ int main(int argc, char **argv)
         if (chart_failed(&atlas, c, &st, &err, opt.strict)) continue;
         if (st == BP_OK && fs.dir) {     /* frame 0: the start map */
             double e0 = 0;
-            bp_chart_distortion(&atlas.charts[c], &mesh, opt.energy, &e0, NULL, NULL);
+            bp_chart_distortion(&atlas.charts[c], &mesh, opt.energy, &e0, NULL, NULL, NULL);
             keep_snapshot(&fs, c, 0, e0, 0);
             if (!write_frame(&fs, c, 0, e0)) st = BP_ERR_IO;
         }

@@ -336,9 +336,9 @@ int main(int argc, char **argv)
         st = bp_chart_init(&atlas.charts[c], &mesh, &opt, &err);
         if (st == BP_OK) st = bp_chart_optimize(&atlas.charts[c], c, &mesh, &opt, &err);
         if (st == BP_OK) st = bp_check(atlas.charts[c].triangles, atlas.charts[c].num_triangles,
-                                       atlas.charts[c].uv, atlas.charts[c].num_vertices, &a, &rep);
+                                       atlas.charts[c].uv, atlas.charts[c].num_vertices, &a, &rep, &err);
         if (st == BP_OK) st = bp_chart_distortion(&atlas.charts[c], &mesh, BP_ENERGY_SYMMETRIC_DIRICHLET,
-                                                  &mean, &max, NULL);
+                                                  &mean, &max, NULL, &err);
     }
     if (st != BP_OK) { printf("init/optimize/check: %s\n", err.message); return 1; }
     st = bp_atlas_pack(&atlas, &opt, &err);
