@@ -640,6 +640,15 @@ static void bp__vformat(char *out, size_t cap, const char *fmt, va_list ap)
 
 /* Record a failure: status, the element it concerns, and a message.  Returns
    the status so that callers can write `return bp__fail(...)`. */
+/* Format into a buffer (the same conversions as bp__fail). */
+static void bp__format(char *out, size_t cap, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    bp__vformat(out, cap, fmt, ap);
+    va_end(ap);
+}
+
 static bp_status bp__fail(bp_error *err, bp_status status, bp_element element,
                           int64_t index, int64_t index2, int64_t line,
                           const char *fmt, ...)
@@ -5536,10 +5545,13 @@ static bp_status bp__opt_check_start(const bp_allocator *a, const bp_chart *ch, 
         const char *what = rep.nonfinite ? "not finite" : "degenerate (zero area)";
         if (!rep.nonfinite && bp_orient2d(ch->uv + 2 * (size_t)tr[0], ch->uv + 2 * (size_t)tr[1], ch->uv + 2 * (size_t)tr[2]) < 0)
             what = "flipped";
+        char where[48];
+        where[0] = 0;
+        if (bp__tri_line(m, f) > 0) bp__format(where, sizeof where, " (line %D)", bp__tri_line(m, f));
         return bp__fail(err, rep.nonfinite ? BP_ERR_NONFINITE : BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, f, -1,
                         bp__tri_line(m, f),
-                        "chart %u: the start map is not valid: triangle %u (line %D), vertices %u %u %u, is %s "
-                        "(%u flipped, %u degenerate, %u with NaN/Inf)", chart_index, f + 1, bp__tri_line(m, f),
+                        "chart %u: the start map is not valid: triangle %u%s, vertices %u %u %u, is %s "
+                        "(%u flipped, %u degenerate, %u with NaN/Inf)", chart_index, f + 1, where,
                         ch->vertex[tr[0]] + 1, ch->vertex[tr[1]] + 1, ch->vertex[tr[2]] + 1, what,
                         rep.flipped, rep.degenerate, rep.nonfinite);
     }
