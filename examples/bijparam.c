@@ -620,8 +620,9 @@ static void explain(const check_names *N, uint32_t c, const double *uv, const ui
         char d[160];
         if (N->first) cc = chart_of(N, r->first_bad_edge[1], &lc);
         name_vertex(N, cc, lc, d, sizeof d);
-        printf("    boundary edges meet: the edge %s - %s and the edge from %s%s\n", a, b, d,
-               N->first && ca != cc ? " (another chart)" : "");
+        printf("    boundary edges meet: the edge %s - %s and the edge from %s%s%s\n", a, b, d,
+               N->first && ca != cc ? " (another chart)" : "",
+               !strcmp(a, d) ? " (one file vertex and vt used twice on the boundary: the chart is pinched there)" : "");
     } else if (r->nested)
         printf("    the piece with %s lies on the piece with %s\n", a, b);
     else

@@ -483,11 +483,111 @@ static void overlapping_start(void)
     bpt_mesh_free(&m);
 }
 
+/* ---- the loop count of the line search ------------------------------------ */
+
+/* bp__loop_sign on random star-shaped polygons (simple by construction:
+   increasing angles around a centre, counter-clockwise; reversed,
+   clockwise), on a coarse lattice so that ties of the lexicographic
+   minimum and collinear neighbours occur. */
+static void loop_signs(void)
+{
+    int i, wrong = 0, skipped = 0;
+    for (i = 0; i < 2000; i++) {
+        double uv[2 * 40];
+        bp__dedge e[40], r[40];
+        uint32_t n = 3 + rnd(30), k, start[2] = { 0, 0 };
+        int lattice = i % 2;
+        double step = 2 * 3.14159265358979 / n;
+        for (k = 0; k < n; k++) {
+            double ang = step * (k + bpt_rng_range(0.05, 0.95)), rad = bpt_rng_range(0.3, 1.0);
+            uv[2 * k] = lattice ? floor(rad * cos(ang) * 64) / 64 : rad * cos(ang);
+            uv[2 * k + 1] = lattice ? floor(rad * sin(ang) * 64) / 64 : rad * sin(ang);
+        }
+        for (k = 0; k < n; k++) {
+            e[k].a = k; e[k].b = (k + 1) % n;
+            r[k].a = (n - k) % n; r[k].b = (2 * n - k - 1) % n;
+        }
+        /* lattice rounding may make the polygon non-simple: use it only if
+           bp_check says the fan around an added centre is valid */
+        if (lattice) {
+            double fan[2 * 41];
+            uint32_t tri[3 * 40];
+            memcpy(fan, uv, sizeof(double) * 2 * n);
+            fan[2 * n] = 0; fan[2 * n + 1] = 0;
+            for (k = 0; k < n; k++) { tri[3 * k] = n; tri[3 * k + 1] = k; tri[3 * k + 2] = (k + 1) % n; }
+            {
+                bp_check_report rep;
+                if (bp_check(tri, n, fan, n + 1, NULL, &rep, NULL) != BP_OK) { skipped++; continue; }
+            }
+        }
+        start[1] = n;
+        if (bp__loop_sign(uv, e, n, NULL) != 1 || bp__loop_sign(uv, r, n, NULL) != -1 ||
+            bp__ccw_loops(uv, e, start, 1) != 1 || bp__ccw_loops(uv, r, start, 1) != 0)
+            wrong++;
+    }
+    BPT_CHECK(wrong == 0 && skipped < 200, "bp__loop_sign: +1 on %d random counter-clockwise simple polygons, -1 "
+              "reversed (%d wrong; %d lattice polygons not simple after rounding, left out)", 2000 - skipped, wrong, skipped);
+}
+
+/* The line search's acceptance (bp__evaluate with `valid`) rejects a map
+   whose loop count is wrong even though its triangles are positive and its
+   boundary edges do not meet: a disk chart given its loop reversed (so the
+   only loop runs clockwise).  The objective stays finite, so the rejection
+   is the loop count's. */
+static void acceptance_counts_loops(void)
+{
+    const uint32_t n = 6;
+    bp_mesh m = bpt_mesh_new((n + 1) * (n + 1), 2 * n * n);
+    bp_atlas at;
+    bp_options opt;
+    bp_error e;
+    bp_allocator a;
+    bp__solver S;
+    bp_chart *ch;
+    uint32_t i, j, nl;
+    int valid = -1, valid_rev = -1;
+    double ed, f, frev;
+    memset(&opt, 0, sizeof opt);
+    memset(&a, 0, sizeof a);
+    for (j = 0; j <= n; j++)
+        for (i = 0; i <= n; i++) {
+            m.positions[3 * (j * (n + 1) + i)] = i;
+            m.positions[3 * (j * (n + 1) + i) + 1] = j;
+        }
+    for (j = 0; j < n; j++)
+        for (i = 0; i < n; i++) {
+            uint32_t v = j * (n + 1) + i, t[6] = { v, v + 1, v + n + 2, v, v + n + 2, v + n + 1 };
+            memcpy(m.triangles + 6 * (j * n + i), t, sizeof t);
+        }
+    if (!BPT_CHECK(bp_atlas_build(&at, &m, &opt, &e) == BP_OK && bp_chart_init(&at.charts[0], &m, &opt, &e) == BP_OK,
+                   "grid disk: chart and start map (%s)", e.message)) { bpt_mesh_free(&m); return; }
+    ch = &at.charts[0];
+    bp__solver_chart(&S, &a, ch, &m, &opt, NULL, NULL);
+    f = bp__evaluate(&S, ch->uv, NULL, &ed, HUGE_VAL, &valid);
+    bp__solver_free(&S);
+    nl = ch->loop_start[1];
+    for (i = 0; i < nl / 2; i++) {                 /* reverse the loop in place */
+        uint32_t x = ch->loop_vertices[i];
+        ch->loop_vertices[i] = ch->loop_vertices[nl - 1 - i];
+        ch->loop_vertices[nl - 1 - i] = x;
+    }
+    bp__solver_chart(&S, &a, ch, &m, &opt, NULL, NULL);
+    frev = bp__evaluate(&S, ch->uv, NULL, &ed, HUGE_VAL, &valid_rev);
+    bp__solver_free(&S);
+    BPT_CHECK(valid == 1 && f < HUGE_VAL, "the Tutte map of a grid disk is accepted by the line search's exact check");
+    BPT_CHECK(valid_rev == 0 && frev < HUGE_VAL, "the same map with its only loop reversed (clockwise): finite "
+              "objective (%g), positive triangles, no meeting edges, but rejected: no counter-clockwise loop", frev);
+    bp_atlas_free(&at);
+    bpt_mesh_free(&m);
+}
+
 int main(void)
 {
     bpt_rng_state = 0x5EED0C4ECull;
     named_cases();
     random_agreement();
     overlapping_start();
+    loop_signs();
+    acceptance_counts_loops();
     return bpt_finish();
 }

@@ -54,6 +54,17 @@ flips=$(sed -n 's/.* \([0-9][0-9]*\) flipped,.*/\1/p' "$TMP/spot.out" | awk '{ s
 if [ $rc -eq 1 ] && [ "$flips" -gt 0 ]; then ok "spot.obj: NOT bijective (exit 1), $flips flipped triangles over its charts"
 else fail "spot.obj: exit $rc, $flips flipped"; sed 's/^/     | /' "$TMP/spot.out" | head; fi
 
+# two one-triangle charts (separate vt): apart, then one on top of the other
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 2 0\nvt 3 0\nvt 2 1\nf 1/1 2/2 3/3\nf 4/4 5/5 6/6\n' >"$TMP/two.obj"
+"$TOOL" --check "$TMP/two.obj" >"$TMP/two.out" 2>&1; rc=$?
+if [ $rc -eq 0 ] && grep -q 'no two charts overlap' "$TMP/two.out"; then ok "two charts side by side: exit 0"
+else fail "two charts side by side: exit $rc"; sed 's/^/     | /' "$TMP/two.out"; fi
+sed 's/^vt 2 0$/vt 0.2 0.2/; s/^vt 3 0$/vt 0.4 0.2/; s/^vt 2 1$/vt 0.2 0.4/' "$TMP/two.obj" >"$TMP/over.obj"
+"$TOOL" --check "$TMP/over.obj" >"$TMP/over.out" 2>&1; rc=$?
+if [ $rc -eq 1 ] && grep -q 'charts overlap' "$TMP/over.out" && grep -Eq 'vertex [456] \(vt [456]\)' "$TMP/over.out"; then
+    ok "a chart on top of another: exit 1, naming a vertex of the inner one: $(grep -E '^    ' "$TMP/over.out" | head -n 1)"
+else fail "a chart on top of another: exit $rc"; sed 's/^/     | /' "$TMP/over.out"; fi
+
 "$TOOL" --check >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] && ok "--check without a file: usage error (exit 2)" || fail "--check without a file: exit $rc"
 "$TOOL" --check --demo >/dev/null 2>&1; rc=$?
