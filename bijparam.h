@@ -352,7 +352,11 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *mesh,
    Charts of 4096 vertices or more factor their system on opt->threads. */
 BPDEF bp_status bp_chart_init(bp_chart *chart, const bp_mesh *mesh,
                               const bp_options *opt, bp_error *err);
-/* Minimize distortion keeping the map bijective at every iteration (chap 3). */
+/* Minimize distortion keeping the map bijective at every iteration (chap 3).
+   The start map in chart->uv (bp_chart_init's or your own) is checked with
+   bp_check first: an invalid one fails with BP_ERR_NOT_BIJECTIVE (or
+   BP_ERR_NONFINITE) naming the triangle or the boundary edges; without the
+   barrier only its triangles' orientation is required. */
 BPDEF bp_status bp_chart_optimize(bp_chart *chart, uint32_t chart_index,
                                   const bp_mesh *mesh, const bp_options *opt,
                                   bp_error *err);
@@ -4019,18 +4023,30 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     }
     {
         bp_check_report rep;
-        st = bp_check(ch->triangles, ch->num_triangles, ch->uv, nv, &a, &rep, NULL);
-        if (!bp__check_verdict_status(st)) goto fail;
+        bp_error why;
+        st = bp_check(ch->triangles, ch->num_triangles, ch->uv, nv, &a, &rep, &why);
+        if (st == BP_ERR_OUT_OF_MEMORY) goto fail;
+        if (!bp__check_verdict_status(st)) {
+            st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, ch->face[0], -1, 0,
+                          "the start map of the chart with mesh triangle %u could not be checked: %s", ch->face[0],
+                          why.message);
+            goto done;
+        }
         if (!bp__report_valid(&rep)) {
             uint32_t bt = rep.first_bad_triangle >= 0 ? ch->face[rep.first_bad_triangle] : 0;
             if (rep.first_bad_triangle >= 0)
                 st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, bt, -1, bp__tri_line(m, bt),
                               "the start map of the chart with mesh triangle %u is not valid in floating point: "
-                              "triangle %u is %s", ch->face[0], bt, rep.flipped ? "flipped" : "degenerate");
-            else
+                              "triangle %u is %s", ch->face[0], bt,
+                              rep.nonfinite ? "not finite" : rep.flipped ? "flipped" : "degenerate");
+            else if (rep.first_bad_edge[0] >= 0)
                 st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, ch->vertex[rep.first_bad_edge[0]], -1, 0,
                               "the start map of the chart with mesh triangle %u has touching boundary edges at mesh vertex %u",
                               ch->face[0], ch->vertex[rep.first_bad_edge[0]]);
+            else                       /* loops or the precondition: no edge pair to name */
+                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, ch->face[0], -1, 0,
+                              "the start map of the chart with mesh triangle %u is not valid (chart indices): %s",
+                              ch->face[0], why.message);
             goto done;
         }
     }
