@@ -5,7 +5,9 @@
 #   - a valid parameterization (cow_param_withSUV.obj) passes: exit 0;
 #   - a copy of it with ONE vt moved far away fails: exit 1, and the first
 #     bad element printed names that vt (as the file numbers it, from 1);
-#   - spot.obj (whose vt has a mirrored chart) fails with exit 1;
+#   - spot.obj (whose vt has a mirrored chart) fails with exit 1, and the
+#     tool's own parameterization of spot passes;
+#   - two charts side by side pass, one on top of the other fails;
 #   - usage errors exit 2; the input file is not modified;
 #   - when the independent checker /work/shared/tools/uvcheck.py (or
 #     $UVCHECK) is present, its exit status agrees on all three files
@@ -64,6 +66,15 @@ sed 's/^vt 2 0$/vt 0.2 0.2/; s/^vt 3 0$/vt 0.4 0.2/; s/^vt 2 1$/vt 0.2 0.4/' "$T
 if [ $rc -eq 1 ] && grep -q 'charts overlap' "$TMP/over.out" && grep -Eq 'vertex [456] \(vt [456]\)' "$TMP/over.out"; then
     ok "a chart on top of another: exit 1, naming a vertex of the inner one: $(grep -E '^    ' "$TMP/over.out" | head -n 1)"
 else fail "a chart on top of another: exit $rc"; sed 's/^/     | /' "$TMP/over.out"; fi
+
+# the tool's own output for spot (its charts re-parameterized) passes --check
+if "$TOOL" --threads 1 "$SPOT" -o "$TMP/spot_new.obj" >/dev/null 2>&1; then
+    "$TOOL" --check "$TMP/spot_new.obj" >"$TMP/new.out" 2>&1; rc=$?
+    if [ $rc -eq 0 ] && grep -q 'no two charts overlap' "$TMP/new.out"; then ok "spot parameterized by bijparam: --check passes (every chart, no overlap)"
+    else fail "spot parameterized by bijparam: --check exit $rc"; sed 's/^/     | /' "$TMP/new.out" | grep -v ': bijective' | head; fi
+else
+    fail "bijparam could not parameterize spot.obj"
+fi
 
 "$TOOL" --check >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] && ok "--check without a file: usage error (exit 2)" || fail "--check without a file: exit $rc"
