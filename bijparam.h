@@ -4846,10 +4846,13 @@ static void bp__conflict_task(void *task, uint32_t c)
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
     bp_check_report rep;
+    bp_status st;
     (void)c;
     memset(&rep, 0, sizeof rep);
-    if (bp__boundary_conflicts(S->a, T->x, S->edges, S->nb, &rep, &S->ws, NULL) != BP_OK) S->oom = 1;
+    st = bp__boundary_conflicts(S->a, T->x, S->edges, S->nb, &rep, &S->ws, NULL);
+    if (st == BP_ERR_OUT_OF_MEMORY) S->oom = 1;
     S->conflicts = (uint32_t)rep.boundary_intersections;
+    if (st != BP_OK) S->conflicts = 1;                     /* (an extent beyond DBL_MAX: not decided) */
     if (!S->conflicts && !S->oom && bp__ccw_loops(T->x, S->edges, S->loop_start, S->nloops) != 1) S->conflicts = 1;
 }
 
