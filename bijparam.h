@@ -3748,6 +3748,9 @@ static bp_status bp__check_verdict(const uint32_t *tris, uint32_t nt, const bp_c
     }
 }
 
+/* bp_check in order: indices; finiteness and the magnitude range; a copy
+   scaled into the exact range if needed; (a) per triangle; the
+   precondition and the boundary edges; (b); (c) and (d); the verdict. */
 BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
                          const bp_allocator *alloc, bp_check_report *rep, bp_error *err)
 {
@@ -3787,7 +3790,8 @@ BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, ui
     bp__free(&a, de);
     bp__free(&a, scaled);
     if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "checking a map");
-    if (st != BP_OK) return bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "bp_check failed");
+    if (st != BP_OK)
+        return bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "bp_check: the boundary's extent overflows");
     return bp__check_verdict(tris, nt, rep, &first, err);
 }
 
