@@ -229,8 +229,12 @@ typedef enum bp_stop {
 
 /* Progress: called once per iteration of each chart, after the step was
    accepted; during the call the chart's `uv` holds the current map, which
-   is exactly valid.  Return nonzero to cancel; the chart then keeps this
-   last valid (bijective) map. */
+   is exactly valid: every triangle positively oriented (exact predicates)
+   and, unless no_barrier is set, the chart bijective (no two boundary
+   edges meet and exactly one boundary loop is counter-clockwise: all of
+   bp_check for one chart, see >>check).  With no_barrier only the
+   orientation is guaranteed.  Return nonzero to cancel; the chart then
+   keeps this last valid map. */
 typedef int (*bp_progress_fn)(void *user, uint32_t chart, int iteration,
                               double mean_energy, double step);
 
@@ -338,19 +342,28 @@ typedef struct bp_atlas {
     bp_allocator allocator;
 } bp_atlas;
 
-/* Result of the exact validity check. */
+/* Result of the exact validity check (see bp_check).  The counts describe
+   the whole map; the first_* fields name the first bad element in the
+   caller's own 0-based indices. */
 typedef struct bp_check_report {
     uint32_t flipped;              /* signed area < 0 (exact)                 */
     uint32_t degenerate;           /* signed area == 0 (exact)                */
-    uint32_t nonfinite;            /* a uv coordinate is NaN/Inf              */
+    uint32_t nonfinite;            /* triangles with a NaN/Inf coordinate     */
     uint32_t boundary_intersections; /* pairs of boundary edges that meet     */
     uint32_t loop_orientation;     /* connected pieces without exactly one
                                       counter-clockwise boundary loop, plus
                                       pinched boundary vertices               */
-    uint32_t nested;               /* pieces lying inside another piece      */
-    int64_t  first_bad_triangle;   /* chart-local triangle, or -1             */
+    uint32_t nested;               /* pieces lying on another piece           */
+    int64_t  first_bad_triangle;   /* triangle index, or -1                   */
     int64_t  first_bad_edge[2];    /* start vertices of the first pair of
                                       boundary edges that meet, or -1         */
+    /* the precondition: an oriented manifold triangulation */
+    uint32_t nonmanifold_edges;    /* edges used by more than two triangles   */
+    uint32_t misoriented_edges;    /* edges used twice in one direction: a
+                                      triangle listed twice, or neighbours of
+                                      opposite orientation                    */
+    int64_t  first_nonmanifold_edge[2]; /* vertices of the first edge counted
+                                      in either of the two, or -1             */
 } bp_check_report;
 
 BPDEF const char *bp_status_string(bp_status s);
@@ -366,7 +379,11 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *mesh,
    Charts of 4096 vertices or more factor their system on opt->threads. */
 BPDEF bp_status bp_chart_init(bp_chart *chart, const bp_mesh *mesh,
                               const bp_options *opt, bp_error *err);
-/* Minimize distortion keeping the map bijective at every iteration (chap 3). */
+/* Minimize distortion keeping the map bijective at every iteration (chap 3).
+   The start map in chart->uv (bp_chart_init's or your own) is checked with
+   bp_check first: an invalid one fails with BP_ERR_NOT_BIJECTIVE (or
+   BP_ERR_NONFINITE) naming the triangle or the boundary edges; without the
+   barrier only its triangles' orientation is required. */
 BPDEF bp_status bp_chart_optimize(bp_chart *chart, uint32_t chart_index,
                                   const bp_mesh *mesh, const bp_options *opt,
                                   bp_error *err);
@@ -385,18 +402,38 @@ BPDEF void      bp_atlas_free(bp_atlas *atlas);
    tolerant behaviour. */
 BPDEF void      bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *why);
 
-/* Exact bijectivity of a planar triangulation (one chart or several): every
-   triangle positively oriented, no two boundary edges meeting except
+/* Exact bijectivity of a planar triangulation (one chart or several):
+   every triangle positively oriented, no two boundary edges meeting except
    consecutive ones at their shared vertex, each connected piece bounded by
-   exactly one counter-clockwise loop, and no piece inside another.
-   Boundary edges are found from the triangles themselves, which must form
-   an oriented manifold (as charts do). */
+   exactly one counter-clockwise loop, and no piece on another.  The
+   triangles must form an oriented manifold (each edge used once, or twice in
+   opposite directions), as charts do; bp_check verifies that too.  Boundary
+   edges are found from the triangles themselves.  Every finite coordinate is
+   handled exactly (a map outside the predicates' range is scaled by a power
+   of two), except maps whose nonzero magnitudes span more than 2^994.
+
+   Returns BP_OK only for a valid map.  A verdict of "not valid" fills the
+   report and names the first bad element in err (0-based indices into your
+   arrays; err may be NULL):
+     BP_ERR_NONMANIFOLD / BP_ERR_ORIENTATION  the precondition fails (edge named;
+                              only the triangle counts are filled then),
+     BP_ERR_NONFINITE         a NaN or infinite coordinate (triangle named),
+     BP_ERR_NOT_BIJECTIVE     a flipped or degenerate triangle, two boundary
+                              edges that meet, a wrongly oriented or nested
+                              piece (triangle, edges or vertices named).
+   Failures to check: BP_ERR_INVALID_ARGUMENT (NULL arrays, or the range
+   above), BP_ERR_INDEX (a vertex index >= num_vertices), BP_ERR_OUT_OF_MEMORY. */
 BPDEF bp_status bp_check(const uint32_t *triangles, uint32_t num_triangles,
                          const double *uv, uint32_t num_vertices,
-                         const bp_allocator *alloc, bp_check_report *report);
+                         const bp_allocator *alloc, bp_check_report *report, bp_error *err);
 
-/* Per-triangle distortion of a chart's map under an energy (area-weighted
-   mean and max).  per_triangle may be NULL. */
+/* Per-triangle distortion of a chart's map under an energy: the
+   area-weighted mean and the max of E_t, each optional, and E_t of every
+   chart triangle into per_triangle (NULL: not wanted).  err may be NULL. */
+BPDEF bp_status bp_chart_distortion(const bp_chart *chart, const bp_mesh *mesh,
+                                    bp_energy energy, double *mean, double *max,
+                                    double *per_triangle, bp_error *err);
+
 /* Chapter 4.  Visibility V_t of each mesh triangle under opt->views (eq
    4.2), normalized to an area-weighted mean of 1 and floored at
    opt->views.floor; `out` has num_triangles entries. */
@@ -410,13 +447,11 @@ BPDEF bp_status bp_visibility(const bp_mesh *mesh, const bp_options *opt, double
 BPDEF bp_status bp_texture_to_screen(const bp_mesh *mesh, const bp_atlas *atlas,
                                      const bp_options *opt, double *mean_det, bp_error *err);
 
-BPDEF bp_status bp_chart_distortion(const bp_chart *chart, const bp_mesh *mesh,
-                                    bp_energy energy, double *mean, double *max,
-                                    double *per_triangle);
-
 /* Exact sign of the orientation of (a, b, c): +1 counter-clockwise, -1
-   clockwise, 0 collinear.  Correct for all finite doubles whose products
-   neither overflow nor underflow. */
+   clockwise, 0 collinear.  Exact whenever every nonzero coordinate has a
+   magnitude in [2^-485, 2^510) (about 1.0e-146 to 3.3e153): then no product
+   overflows and no rounding error underflows (see >>predicates).  bp_check
+   scales maps outside that range by a power of two first. */
 BPDEF int bp_orient2d(const double a[2], const double b[2], const double c[2]);
 /* Exact: do closed segments [a,b] and [c,d] share a point? */
 BPDEF int bp_segments_intersect(const double a[2], const double b[2],
@@ -653,8 +688,18 @@ static void bp__vformat(char *out, size_t cap, const char *fmt, va_list ap)
     out[n] = 0;
 }
 
+/* Format into a buffer (the same conversions as bp__fail). */
+static void bp__format(char *out, size_t cap, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    bp__vformat(out, cap, fmt, ap);
+    va_end(ap);
+}
+
 /* Record a failure: status, the element it concerns, and a message.  Returns
    the status so that callers can write `return bp__fail(...)`. */
+
 static bp_status bp__fail(bp_error *err, bp_status status, bp_element element,
                           int64_t index, int64_t index2, int64_t line,
                           const char *fmt, ...)
@@ -997,9 +1042,35 @@ static void bp__par_end(const bp_allocator *a, void *pool)
       sign of a nonoverlapping expansion is the sign of its largest (last
       nonzero) component.
 
-   The only inputs this cannot decide are those whose products overflow or
-   whose rounding errors underflow (coordinates beyond ~1e150 or below
-   ~1e-150); the solver never produces such coordinates. */
+   The range on which this is exact.  Both stages are exact (the filter's
+   bound holds, every fma error term is representable) as long as no
+   product overflows and no rounding error underflows.  A sufficient
+   condition on the input: every nonzero coordinate has a magnitude in
+   [2^-485, 2^510).  Above: |coordinate differences| < 2^511, so every
+   product is below 2^1022 and the twelve-term sum below 2^1024.  Below:
+   a double of magnitude >= 2^-485 is a multiple of u = 2^-537, so every
+   coordinate, every (rounded) difference and every product is a multiple
+   of u^2 = 2^-1074, the smallest subnormal: results in the subnormal range
+   are then exact, and rounding errors of the products are representable.
+   bp_check scales maps outside the range by a power of two (exact), the
+   line search treats a trial map outside it as invalid.
+
+   The arithmetic must be IEEE double as written: each operation rounded
+   once to double (no x87 extended intermediates, FLT_EVAL_METHOD == 0), no
+   reassociation or "x - x == 0" shortcuts (-ffast-math breaks TwoSum and
+   the NaN tests), and a correctly rounded fma (C99 requires one; without
+   the instruction the C library emulates it).  A compiler that says
+   otherwise is refused below.  FLT_EVAL_METHOD == -1 ("indeterminable") is
+   refused too, since nothing then promises double rounding; define
+   BP_TRUST_FLT_EVAL_METHOD if you know that your target rounds each double
+   operation to double anyway. */
+
+#if defined(__FAST_MATH__)
+#error "bijparam.h: compiled with -ffast-math (__FAST_MATH__): the exact predicates need strict IEEE double arithmetic (no reassociation, NaN and Inf respected); compile bijparam without -ffast-math"
+#endif
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0 && !defined(BP_TRUST_FLT_EVAL_METHOD)
+#error "bijparam.h: FLT_EVAL_METHOD != 0: double expressions are evaluated in a wider or unknown precision, which breaks the exact predicates (they need each operation rounded once to double, e.g. SSE2 -mfpmath=sse rather than x87)"
+#endif
 
 /* x + y = a + b exactly (Knuth's TwoSum; no branch, any magnitudes). */
 static double bp__two_sum(double a, double b, double *y)
@@ -2210,14 +2281,6 @@ static double bp__area2_3d(const double *a, const double *b, const double *c)
 static int64_t bp__tri_line(const bp_mesh *m, uint32_t t)
 {
     return m->triangle_line ? (int64_t)m->triangle_line[t] : 0;
-}
-
-static void bp__format(char *out, size_t cap, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    bp__vformat(out, cap, fmt, ap);
-    va_end(ap);
 }
 
 /* Messages name mesh elements the way the user's file numbers them: from 1
@@ -3651,17 +3714,54 @@ static void bp__precondition(const bp__factor *F, const bp__par *par, const doub
 
 /* >>check ==================================================================
 
-   The exact validity check is the ground truth of every test.  A planar
-   triangulation with an oriented-manifold connectivity (as every chart is)
-   is mapped bijectively when
-     (a) every triangle has positive signed area (exact orient2d), and
+   The exact validity check is the ground truth of every test.  Its
+   precondition: the triangles form an oriented manifold -- each undirected
+   edge is used once (a boundary edge) or twice in opposite directions (an
+   interior edge).  bp_check verifies that first, from the same sorted list
+   of directed edges that gives it the boundary: an edge used twice in one
+   direction (a triangle listed twice, or two neighbours of opposite
+   orientation) or by more than two triangles is reported, never passed.
+
+   A planar map of such a triangulation is bijective when
+     (a) every triangle has positive signed area (exact orient2d),
      (b) no two boundary edges share a point, except two edges that share a
-         vertex index, which may meet at that vertex only.
-   Why (a)+(b) suffice: with positive triangles the number of preimages of a
-   generic point p equals the sum, over the boundary loops, of their winding
-   numbers around p.  Simple, pairwise disjoint loops have winding numbers
-   0 or +-1; counts are never negative, so holes (clockwise) lie inside the
-   outer loop (counter-clockwise) and every point has at most one preimage.
+         vertex index, which may meet at that vertex only,
+     (c) each connected piece has exactly one counter-clockwise boundary
+         loop (all its other loops run clockwise), and
+     (d) no piece lies inside another one.
+   Why: with positive triangles, the number of triangles covering a generic
+   point p is the sum, over the boundary loops, of their winding numbers
+   around p (the boundary of the 2-chain of triangles is the 1-cycle of
+   boundary edges, and the degree of a chain at p is the winding number of
+   its boundary).  By (b) the loops are simple, pairwise disjoint polygons,
+   so each winds 0 or +1 around p (counter-clockwise) or 0 or -1
+   (clockwise).  With (c), a piece covers p at most once (one +1, the rest
+   <= 0) and at least zero times, and by (d) two pieces do not cover the
+   same p.  A point covered at most once everywhere also rules out branch
+   points (around one, nearby points are covered twice), so the map is a
+   local homeomorphism and injective.
+
+   What (c) catches, by Hopf's Umlaufsatz: a simple closed polygon has
+   turning number +1 or -1, and for a map with positive triangles of a disk
+   with h holes (Euler characteristic chi = 1 - h) the Gauss-Bonnet sum of
+   the exterior angles gives
+       sum over loops of turning numbers = chi + B,
+   where B >= 0 is the total branching: an interior vertex whose angles sum
+   to 2 pi (1 + b) adds b, a boundary vertex whose angles exceed 2 pi adds
+   the extra turns (the Poincare-Hopf count of an immersion with branch
+   points).  With k counter-clockwise and h + 1 - k clockwise loops,
+   2k - h - 1 = 1 - h + B, i.e. k = 1 + B/2: exactly one counter-clockwise
+   loop if and only if the map has no branch point.  A simple polygon's
+   orientation is decided exactly by orient2d at its lexicographically
+   smallest vertex (convex there, and not collinear once (a) and (b) hold),
+   so (c) costs O(boundary length).  This is also why the line search
+   (>>lbfgs) needs only (a), (b) and (c) for one chart.
+
+   Exactness needs every nonzero coordinate in [2^-485, 2^510) in magnitude
+   (the range of >>predicates).  A map outside it is scaled by a power of
+   two, which changes no orientation and loses no bit while the scaled
+   coordinates stay normal; a map whose coordinates span more than 2^994
+   (say 1e-300 next to 1e+300) cannot be decided and is refused.
 
    Boundary edges are found from the triangles (directed edges without a
    reverse twin) so the check does not trust the chart's loop lists.  The
@@ -3687,6 +3787,16 @@ static uint32_t bp__dedge_key(const void *p)
     return e->a < e->b ? e->a : e->b;
 }
 
+/* The exact range of bp_orient2d (>>predicates): 0, or a magnitude in
+   [2^-485, 2^510).  The two literals are those powers of two exactly. */
+#define BP__EXACT_MIN 1.0010415475915505e-146
+#define BP__EXACT_MAX 3.3519519824856493e+153
+static int bp__exact_range(double v)
+{
+    double m = fabs(v);
+    return m == 0 || (m >= BP__EXACT_MIN && m < BP__EXACT_MAX);
+}
+
 /* Do boundary edges e and f (distinct) violate (b)? */
 static int bp__edges_conflict(const double *uv, const bp__dedge *e, const bp__dedge *f)
 {
@@ -3707,8 +3817,6 @@ static int bp__edges_conflict(const double *uv, const bp__dedge *e, const bp__de
     return bp__in_box(sv, p, q) || bp__in_box(sv, q, p);
 }
 
-/* Condition (b) for the boundary edges de[0..nb): counts conflicting pairs
-   into rep->boundary_intersections.  Uses a grid as described above. */
 /* Reusable storage of the exact boundary check (grown, never shrunk). */
 typedef struct bp__grid_ws {
     uint32_t *cellp, *cells;
@@ -3725,13 +3833,19 @@ static int bp__ws_grow(const bp_allocator *a, uint32_t **p, size_t *cap, size_t 
     return *p != NULL;
 }
 
+/* Condition (b) for the boundary edges de[0..nb): counts conflicting pairs
+   into rep->boundary_intersections and keeps the first pair in first[0..1]
+   (when given).  Uses a grid as described above.  The cell size h is the
+   mean edge length, grown so that there are at most ~50 nb cells even when
+   the edges are short and far apart (the extent of coordinates in the
+   exact range cannot overflow). */
 static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv, const bp__dedge *de,
-                                        uint32_t nb, bp_check_report *rep, bp__grid_ws *ws)
+                                        uint32_t nb, bp_check_report *rep, bp__grid_ws *ws, bp__dedge *first)
 {
     bp__grid_ws tmp = { NULL, NULL, 0, 0 }, *w = ws ? ws : &tmp;
     uint32_t *cellp = NULL, *cells = NULL, i, k;
     bp_status st = BP_OK;
-    double lo[2] = { DBL_MAX, DBL_MAX }, hi[2] = { -DBL_MAX, -DBL_MAX }, h, len = 0;
+    double lo[2] = { DBL_MAX, DBL_MAX }, hi[2] = { -DBL_MAX, -DBL_MAX }, h, len = 0, ex, ey;
     size_t ncell, gx, gy;
     if (nb < 2) return BP_OK;
     for (i = 0; i < nb; i++) {
@@ -3742,13 +3856,18 @@ static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv,
         }
         len += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]));
     }
-    /* cells about one mean edge long, at most ~16 per edge */
+    ex = hi[0] - lo[0];
+    ey = hi[1] - lo[1];
+    if (!(ex < HUGE_VAL && ey < HUGE_VAL && len < HUGE_VAL)) return BP_ERR_INVALID_ARGUMENT;
+    /* cells about one mean edge long, at most ~16 per edge, and never more
+       than 16 nb along one axis */
     h = len / nb;
-    if ((hi[0] - lo[0]) * (hi[1] - lo[1]) > 16.0 * nb * h * h)
-        h = sqrt((hi[0] - lo[0]) * (hi[1] - lo[1]) / (16.0 * nb));
+    if (ex * ey > 16.0 * nb * h * h) h = sqrt(ex * ey / (16.0 * nb));
+    if (ex > 16.0 * nb * h) h = ex / (16.0 * nb);
+    if (ey > 16.0 * nb * h) h = ey / (16.0 * nb);
     if (!(h > 0)) h = 1;
-    gx = (size_t)((hi[0] - lo[0]) / h) + 1;
-    gy = (size_t)((hi[1] - lo[1]) / h) + 1;
+    gx = (size_t)(ex / h) + 1;
+    gy = (size_t)(ey / h) + 1;
     ncell = gx * gy;
     {
         /* counting sort of (edge, cell) incidences; a long edge is entered
@@ -3803,6 +3922,7 @@ static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv,
                         if (rep->boundary_intersections == 0) {
                             rep->first_bad_edge[0] = e1->a;
                             rep->first_bad_edge[1] = e2->a;
+                            if (first) { first[0] = *e1; first[1] = *e2; }
                         }
                         rep->boundary_intersections++;
                     }
@@ -3833,131 +3953,253 @@ static int bp__winding(const double *uv, const bp__dedge *e, uint32_t n, const d
     return w;
 }
 
-/* The global part of the check, once triangles and boundary edges are
-   known to be fine.  Why it is needed: positive triangles and simple,
-   disjoint loops give each point p a number of preimages equal to the sum
-   of the loops' winding numbers around p.  That sum is at most one
-   everywhere exactly when each connected piece has one counter-clockwise
-   loop (its outer boundary; the others, holes, run clockwise) and no piece
-   lies in the region covered by another.  Two nested components, or a hole
-   loop running counter-clockwise around a doubly covered region, pass the
-   local tests and fail these. */
-static bp_status bp__loop_topology(const bp_allocator *a, const uint32_t *tris, uint32_t nt, const double *uv,
-                                   uint32_t nv, bp__dedge *de, uint32_t nb, bp_check_report *rep)
+/* Orientation of the closed loop e[0..n) (consecutive directed edges,
+   e[j].b == e[j+1].a): the exact turn at its lexicographically smallest
+   vertex, +1 counter-clockwise, -1 clockwise.  For a simple polygon this
+   is its orientation: the smallest vertex is a convex corner, and its two
+   neighbours are not on one ray from it (they would make two boundary
+   edges overlap, which (b) excludes).  The box of the loop goes to box[4]
+   (min x, min y, max x, max y) when given. */
+static int bp__loop_sign(const double *uv, const bp__dedge *e, uint32_t n, double *box)
 {
-    uint32_t *out = NULL, *uf = NULL, *loop_of = NULL, *ccw_count = NULL, *outer = NULL, *lstart = NULL;
-    bp__dedge *le = NULL;
-    int *lsign = NULL;
-    double *lbox = NULL;
-    uint32_t i, t, k, nl = 0, pos = 0;
-    bp_status st = BP_ERR_OUT_OF_MEMORY;
-    out = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
-    uf = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
-    loop_of = (uint32_t *)bp__alloc_array(a, nb, sizeof(uint32_t));
-    le = (bp__dedge *)bp__alloc_array(a, nb, sizeof(bp__dedge));
-    lstart = (uint32_t *)bp__alloc_array(a, (size_t)nb + 1, sizeof(uint32_t));
-    if (!out || !uf || !loop_of || !le || !lstart) goto done;
-    for (i = 0; i < nv; i++) { out[i] = BP__NONE; uf[i] = i; }
-    for (i = 0; i < nb; i++) {
-        if (out[de[i].a] != BP__NONE) rep->loop_orientation++;    /* pinched vertex */
-        out[de[i].a] = i;
-        loop_of[i] = BP__NONE;
+    uint32_t j, best = 0;
+    for (j = 1; j < n; j++) {
+        const double *p = uv + 2 * (size_t)e[j].a, *q = uv + 2 * (size_t)e[best].a;
+        if (p[0] < q[0] || (p[0] == q[0] && p[1] < q[1])) best = j;
     }
-    if (rep->loop_orientation) { st = BP_OK; goto done; }
-    for (t = 0; t < nt; t++)
-        for (k = 0; k < 3; k++) bp__uf_union(uf, tris[3 * (size_t)t + k], tris[3 * (size_t)t + (k + 1) % 3]);
-    /* trace the loops into le[] (consecutive edges), lstart[] per loop */
+    if (box) {
+        box[0] = box[1] = DBL_MAX;
+        box[2] = box[3] = -DBL_MAX;
+        for (j = 0; j < n; j++) {
+            const double *p = uv + 2 * (size_t)e[j].a;
+            if (p[0] < box[0]) box[0] = p[0];
+            if (p[1] < box[1]) box[1] = p[1];
+            if (p[0] > box[2]) box[2] = p[0];
+            if (p[1] > box[3]) box[3] = p[1];
+        }
+    }
+    return bp_orient2d(uv + 2 * (size_t)e[best == 0 ? n - 1 : best - 1].a, uv + 2 * (size_t)e[best].a,
+                       uv + 2 * (size_t)e[best].b);
+}
+
+/* The number of counter-clockwise loops among the nl loops stored in e
+   (loop L is e[start[L] .. start[L+1])). */
+static uint32_t bp__ccw_loops(const double *uv, const bp__dedge *e, const uint32_t *start, uint32_t nl)
+{
+    uint32_t L, k = 0;
+    for (L = 0; L < nl; L++)
+        if (start[L + 1] > start[L] && bp__loop_sign(uv, e + start[L], start[L + 1] - start[L], NULL) > 0) k++;
+    return k;
+}
+
+/* What bp_check found first, for its message. */
+enum {
+    BP__BAD_NONE = 0, BP__BAD_NONMANIFOLD, BP__BAD_MISORIENTED, BP__BAD_PINCH, BP__BAD_OPEN,
+    BP__BAD_CCW, BP__BAD_NESTED
+};
+typedef struct bp__check_first {
+    int      kind;          /* BP__BAD_*: the first failure of (c), (d) or the precondition */
+    uint32_t v0, v1, count; /* its vertices (an edge, or a piece's vertex), a count */
+    bp__dedge pair[2];      /* first pair of boundary edges that meet (b) */
+} bp__check_first;
+
+/* The loops of condition (c) and (d), traced from the boundary edges
+   de[0..nb) into le (consecutive edges), loop L being le[lstart[L] ..
+   lstart[L+1]).  Each boundary vertex must start exactly one boundary edge
+   (else the boundary is pinched there) and every chain must close. */
+typedef struct bp__loops {
+    bp__dedge *le;
+    uint32_t  *lstart, nl;
+    uint32_t  *piece;        /* union-find over vertices: connected pieces */
+    int       *sign;         /* per loop */
+    double    *box;          /* 4 per loop */
+} bp__loops;
+
+static int bp__loops_trace(const bp__dedge *de, uint32_t nb, uint32_t *out, uint32_t *loop_of, bp__loops *Lp,
+                           bp_check_report *rep, bp__check_first *first)
+{
+    uint32_t i, pos = 0;
+    for (i = 0; i < nb; i++) loop_of[i] = BP__NONE;
+    for (i = 0; i < nb; i++) {
+        if (out[de[i].a] != BP__NONE) {                   /* pinched vertex */
+            if (!rep->loop_orientation) { first->kind = BP__BAD_PINCH; first->v0 = de[i].a; }
+            rep->loop_orientation++;
+        }
+        out[de[i].a] = i;
+    }
+    if (rep->loop_orientation) return 0;
+    Lp->nl = 0;
     for (i = 0; i < nb; i++) {
         uint32_t e = i;
         if (loop_of[i] != BP__NONE) continue;
-        lstart[nl] = pos;
+        Lp->lstart[Lp->nl] = pos;
         while (loop_of[e] == BP__NONE) {
-            loop_of[e] = nl;
-            le[pos++] = de[e];
+            loop_of[e] = Lp->nl;
+            Lp->le[pos++] = de[e];
             e = out[de[e].b];
-            if (e == BP__NONE) { rep->loop_orientation++; st = BP_OK; goto done; }   /* open chain */
+            if (e == BP__NONE) {                          /* open chain */
+                rep->loop_orientation++;
+                first->kind = BP__BAD_OPEN;
+                first->v0 = Lp->le[pos - 1].b;
+                return 0;
+            }
         }
-        nl++;
+        Lp->nl++;
     }
-    lstart[nl] = pos;
-    lsign = (int *)bp__alloc_array(a, nl, sizeof(int));
-    lbox = (double *)bp__alloc_array(a, 4 * (size_t)nl, sizeof(double));
-    ccw_count = (uint32_t *)bp__calloc_array(a, nv, sizeof(uint32_t));
-    outer = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
-    if (!lsign || !lbox || !ccw_count || !outer) goto done;
-    /* orientation of each loop: the sign of the turn at its lowest-leftmost
-       vertex, which is convex in a simple polygon */
-    for (i = 0; i < nl; i++) {
-        uint32_t j, best = lstart[i], n = lstart[i + 1] - lstart[i], root;
-        double *bx = lbox + 4 * (size_t)i;
-        bx[0] = bx[1] = DBL_MAX; bx[2] = bx[3] = -DBL_MAX;
-        for (j = lstart[i]; j < lstart[i + 1]; j++) {
-            const double *p = uv + 2 * (size_t)le[j].a, *q = uv + 2 * (size_t)le[best].a;
-            if (p[0] < q[0] || (p[0] == q[0] && p[1] < q[1])) best = j;
-            if (p[0] < bx[0]) bx[0] = p[0];
-            if (p[1] < bx[1]) bx[1] = p[1];
-            if (p[0] > bx[2]) bx[2] = p[0];
-            if (p[1] > bx[3]) bx[3] = p[1];
+    Lp->lstart[Lp->nl] = pos;
+    return 1;
+}
+
+/* (c): exactly one counter-clockwise loop per connected piece.  ccw is
+   scratch of nv counters. */
+static void bp__loops_per_piece(const double *uv, bp__loops *Lp, uint32_t nv, uint32_t *ccw,
+                                bp_check_report *rep, bp__check_first *first)
+{
+    uint32_t i;
+    for (i = 0; i < nv; i++) ccw[i] = 0;
+    for (i = 0; i < Lp->nl; i++) {
+        Lp->sign[i] = bp__loop_sign(uv, Lp->le + Lp->lstart[i], Lp->lstart[i + 1] - Lp->lstart[i], Lp->box + 4 * (size_t)i);
+        if (Lp->sign[i] > 0) ccw[bp__uf_find(Lp->piece, Lp->le[Lp->lstart[i]].a)]++;
+    }
+    for (i = 0; i < Lp->nl; i++) {
+        uint32_t root = bp__uf_find(Lp->piece, Lp->le[Lp->lstart[i]].a);
+        if (ccw[root] == BP__NONE) continue;            /* piece already counted */
+        if (ccw[root] != 1) {
+            if (!rep->loop_orientation) {
+                first->kind = BP__BAD_CCW;
+                first->v0 = Lp->le[Lp->lstart[i]].a;
+                first->count = ccw[root];
+            }
+            rep->loop_orientation++;
         }
-        {
-            uint32_t prev = best == lstart[i] ? lstart[i] + n - 1 : best - 1;
-            lsign[i] = bp_orient2d(uv + 2 * (size_t)le[prev].a, uv + 2 * (size_t)le[best].a, uv + 2 * (size_t)le[best].b);
-        }
-        root = bp__uf_find(uf, le[lstart[i]].a);
-        if (lsign[i] > 0) ccw_count[root]++;
+        ccw[root] = BP__NONE;
     }
-    /* each piece with a boundary: exactly one counter-clockwise loop
-       (outer[] is reused as a "piece already counted" mark) */
-    for (i = 0; i < nv; i++) outer[i] = 0;
-    for (i = 0; i < nl; i++) {
-        uint32_t root = bp__uf_find(uf, le[lstart[i]].a);
-        if (!outer[root] && ccw_count[root] != 1) rep->loop_orientation++;
-        outer[root] = 1;
-    }
-    if (rep->loop_orientation) { st = BP_OK; goto done; }
-    /* nesting: a vertex of each piece's outer loop must not be covered by
-       another piece (sum of that piece's loop windings) */
-    for (i = 0; i < nl; i++) {
-        uint32_t rb, j;
+}
+
+/* (d): a vertex of each piece's outer (counter-clockwise) loop must not be
+   covered by another piece, i.e. the sum of that piece's loop windings
+   around it must be 0.  (Boundaries do not meet, so a piece overlapping
+   another has a whole outer loop inside it.) */
+static void bp__loops_nested(const double *uv, const bp__loops *Lp, bp_check_report *rep, bp__check_first *first)
+{
+    uint32_t i, j, l;
+    for (i = 0; i < Lp->nl; i++) {
+        uint32_t rb;
         const double *p;
-        if (lsign[i] <= 0) continue;
-        rb = bp__uf_find(uf, le[lstart[i]].a);
-        p = uv + 2 * (size_t)le[lstart[i]].a;
-        for (j = 0; j < nl; j++) {
-            const double *bx = lbox + 4 * (size_t)j;
-            uint32_t ra, l;
+        if (Lp->sign[i] <= 0) continue;
+        rb = bp__uf_find(Lp->piece, Lp->le[Lp->lstart[i]].a);
+        p = uv + 2 * (size_t)Lp->le[Lp->lstart[i]].a;
+        for (j = 0; j < Lp->nl; j++) {
+            const double *bx = Lp->box + 4 * (size_t)j;
+            uint32_t ra;
             int w = 0;
-            if (lsign[j] <= 0 || j == i) continue;
-            ra = bp__uf_find(uf, le[lstart[j]].a);
+            if (Lp->sign[j] <= 0 || j == i) continue;
+            ra = bp__uf_find(Lp->piece, Lp->le[Lp->lstart[j]].a);
             if (ra == rb || p[0] < bx[0] || p[0] > bx[2] || p[1] < bx[1] || p[1] > bx[3]) continue;
-            for (l = 0; l < nl; l++)
-                if (bp__uf_find(uf, le[lstart[l]].a) == ra)
-                    w += bp__winding(uv, le + lstart[l], lstart[l + 1] - lstart[l], p);
-            if (w > 0) rep->nested++;
+            for (l = 0; l < Lp->nl; l++)
+                if (bp__uf_find(Lp->piece, Lp->le[Lp->lstart[l]].a) == ra)
+                    w += bp__winding(uv, Lp->le + Lp->lstart[l], Lp->lstart[l + 1] - Lp->lstart[l], p);
+            if (w > 0) {
+                if (!rep->nested) {
+                    first->kind = BP__BAD_NESTED;
+                    first->v0 = Lp->le[Lp->lstart[i]].a;
+                    first->v1 = Lp->le[Lp->lstart[j]].a;
+                }
+                rep->nested++;
+            }
         }
     }
+}
+
+/* Conditions (c) and (d), once (a) and (b) hold.  Two nested pieces, or a
+   hole loop running counter-clockwise around a doubly covered region, pass
+   (a) and (b) and fail these. */
+static bp_status bp__loop_topology(const bp_allocator *a, const uint32_t *tris, uint32_t nt, const double *uv,
+                                   uint32_t nv, const bp__dedge *de, uint32_t nb, bp_check_report *rep,
+                                   bp__check_first *first)
+{
+    uint32_t *out, *loop_of, i, t, k;
+    bp__loops Lp;
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    memset(&Lp, 0, sizeof Lp);
+    out = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
+    loop_of = (uint32_t *)bp__alloc_array(a, nb, sizeof(uint32_t));
+    Lp.piece = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
+    Lp.le = (bp__dedge *)bp__alloc_array(a, nb, sizeof(bp__dedge));
+    Lp.lstart = (uint32_t *)bp__alloc_array(a, (size_t)nb + 1, sizeof(uint32_t));
+    Lp.sign = (int *)bp__alloc_array(a, nb, sizeof(int));
+    Lp.box = (double *)bp__alloc_array(a, 4 * (size_t)nb, sizeof(double));
+    if (!out || !loop_of || !Lp.piece || !Lp.le || !Lp.lstart || !Lp.sign || !Lp.box) goto done;
     st = BP_OK;
+    for (i = 0; i < nv; i++) { out[i] = BP__NONE; Lp.piece[i] = i; }
+    if (!bp__loops_trace(de, nb, out, loop_of, &Lp, rep, first)) goto done;
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) bp__uf_union(Lp.piece, tris[3 * (size_t)t + k], tris[3 * (size_t)t + (k + 1) % 3]);
+    bp__loops_per_piece(uv, &Lp, nv, out, rep, first);     /* out[] reused as counters */
+    if (!rep->loop_orientation) bp__loops_nested(uv, &Lp, rep, first);
 done:
-    bp__free(a, out); bp__free(a, uf); bp__free(a, loop_of); bp__free(a, le); bp__free(a, lstart);
-    bp__free(a, lsign); bp__free(a, lbox); bp__free(a, ccw_count); bp__free(a, outer);
+    bp__free(a, out); bp__free(a, loop_of); bp__free(a, Lp.piece); bp__free(a, Lp.le); bp__free(a, Lp.lstart);
+    bp__free(a, Lp.sign); bp__free(a, Lp.box);
     return st;
 }
 
-BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
-                         const bp_allocator *alloc, bp_check_report *rep)
+/* --- bp_check in phases ---------------------------------------------------- */
+
+/* Every coordinate the triangles use: finite (else the triangle is counted
+   in rep->nonfinite), and the largest and smallest nonzero magnitude of the
+   finite ones. */
+static void bp__check_finite(const uint32_t *tris, uint32_t nt, const double *uv, bp_check_report *rep,
+                             double *maxabs, double *minabs)
 {
-    bp_allocator a;
-    bp__dedge *de = NULL;
-    uint32_t t, k, nb = 0;
-    size_t e;
-    memset(&a, 0, sizeof a);
-    if (alloc) a = *alloc;
-    if (!rep || (!tris && nt) || (!uv && nv)) return BP_ERR_INVALID_ARGUMENT;
-    memset(rep, 0, sizeof *rep);
-    rep->first_bad_triangle = rep->first_bad_edge[0] = rep->first_bad_edge[1] = -1;
-    for (t = 0; t < nt; t++)
-        for (k = 0; k < 3; k++)
-            if (tris[3 * (size_t)t + k] >= nv) return BP_ERR_INDEX;
+    uint32_t t, k;
+    *maxabs = 0;
+    *minabs = HUGE_VAL;
+    for (t = 0; t < nt; t++) {
+        int fin = 1;
+        for (k = 0; k < 6; k++) {
+            double c = uv[2 * (size_t)tris[3 * (size_t)t + k / 2] + k % 2], m = fabs(c);
+            if (!(c - c == 0)) { fin = 0; continue; }
+            if (m > *maxabs) *maxabs = m;
+            if (m > 0 && m < *minabs) *minabs = m;
+        }
+        if (!fin) {
+            if (!rep->nonfinite) rep->first_bad_triangle = t;
+            rep->nonfinite++;
+        }
+    }
+}
+
+/* A copy of uv scaled by 2^s when the finite magnitudes [minabs, maxabs]
+   leave the exact range (else *scaled = NULL: use uv as it is).  The
+   scaling is exact: every scaled coordinate stays a normal double. */
+static bp_status bp__check_scale(const bp_allocator *a, const double *uv, uint32_t nv, double maxabs, double minabs,
+                                 double **scaled, bp_error *err)
+{
+    int emax, emin, s = 0;
+    size_t i;
+    *scaled = NULL;
+    if (maxabs < BP__EXACT_MAX && (minabs >= BP__EXACT_MIN || minabs == HUGE_VAL)) return BP_OK;
+    emax = ilogb(maxabs);                    /* 2^emax <= maxabs < 2^(emax+1) */
+    emin = ilogb(minabs);
+    if (emax - emin > 994)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_check: the coordinates range from %g to %g in magnitude, a ratio above 2^994; "
+                        "no power-of-two scaling brings both into the range [2^-485, 2^510) where the exact "
+                        "predicates are exact", minabs, maxabs);
+    if (emax > 509) s = 509 - emax;
+    else s = -485 - emin;
+    *scaled = (double *)bp__alloc_array(a, 2 * (size_t)nv, sizeof(double));
+    if (!*scaled) return bp__oom(err, "scaling the map for the exact check");
+    for (i = 0; i < 2 * (size_t)nv; i++) (*scaled)[i] = ldexp(uv[i], s);
+    return BP_OK;
+}
+
+/* (a): the exact orientation of every triangle with finite corners (the
+   sign of the first bad one into first->count: 0 degenerate, 1 flipped). */
+static void bp__check_orientation(const uint32_t *tris, uint32_t nt, const double *uv, bp_check_report *rep,
+                                  bp__check_first *first)
+{
+    uint32_t t, k;
     for (t = 0; t < nt; t++) {
         const uint32_t *tr = tris + 3 * (size_t)t;
         int o, fin = 1;
@@ -3965,54 +4207,192 @@ BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, ui
             const double *p = uv + 2 * (size_t)tr[k];
             if (!(p[0] - p[0] == 0) || !(p[1] - p[1] == 0)) fin = 0;
         }
-        if (!fin) {
-            rep->nonfinite++;
-            if (rep->first_bad_triangle < 0) rep->first_bad_triangle = t;
-            continue;
-        }
+        if (!fin) continue;
         o = bp_orient2d(uv + 2 * (size_t)tr[0], uv + 2 * (size_t)tr[1], uv + 2 * (size_t)tr[2]);
         if (o <= 0) {
             if (o < 0) rep->flipped++; else rep->degenerate++;
-            if (rep->first_bad_triangle < 0) rep->first_bad_triangle = t;
+            if (!rep->nonfinite && (rep->first_bad_triangle < 0 || rep->first_bad_triangle > t)) {
+                rep->first_bad_triangle = t;
+                first->count = o < 0;
+            }
         }
     }
-    if (rep->nonfinite) return BP_OK;      /* boundary geometry meaningless */
-    /* boundary edges: directed edges whose reverse is absent */
-    de = (bp__dedge *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof *de);
-    if (!de) return BP_ERR_OUT_OF_MEMORY;
+}
+
+/* The precondition and the boundary: the directed edges sorted so that the
+   uses of one undirected edge are adjacent (a->b before b->a), then each
+   group classified.  One use: a boundary edge, kept in (*out)[0..*nb).  a->b
+   and b->a: interior.  Two uses in one direction: misoriented.  More than
+   two: nonmanifold. */
+static bp_status bp__check_edges(const bp_allocator *a, const uint32_t *tris, uint32_t nt, uint32_t nv,
+                                 bp_check_report *rep, bp__check_first *first, bp__dedge **out, uint32_t *nb)
+{
+    bp__dedge *de = (bp__dedge *)bp__alloc_array(a, 3 * (size_t)nt, sizeof *de);
+    bp__dedge *tmp = (bp__dedge *)bp__alloc_array(a, 3 * (size_t)nt, sizeof *tmp);
+    uint32_t *start = (uint32_t *)bp__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    uint32_t t, k, n = 0;
+    size_t e, m = 3 * (size_t)nt;
+    *out = NULL;
+    *nb = 0;
+    if (!de || !tmp || !start) { bp__free(a, de); bp__free(a, tmp); bp__free(a, start); return BP_ERR_OUT_OF_MEMORY; }
     for (t = 0; t < nt; t++)
         for (k = 0; k < 3; k++) {
             de[3 * (size_t)t + k].a = tris[3 * (size_t)t + k];
             de[3 * (size_t)t + k].b = tris[3 * (size_t)t + (k + 1) % 3];
         }
-    {
-        bp__dedge *tmp = (bp__dedge *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof *tmp);
-        uint32_t *start = (uint32_t *)bp__alloc_array(&a, (size_t)nv + 1, sizeof(uint32_t));
-        if (!tmp || !start) { bp__free(&a, tmp); bp__free(&a, start); bp__free(&a, de); return BP_ERR_OUT_OF_MEMORY; }
-        bp__bucket_sort(de, 3 * (size_t)nt, sizeof *de, nv, bp__dedge_key, bp__dedge_cmp, tmp, start);
-        bp__free(&a, tmp);
-        bp__free(&a, start);
-    }
-    for (e = 0; e < 3 * (size_t)nt;) {
+    bp__bucket_sort(de, m, sizeof *de, nv, bp__dedge_key, bp__dedge_cmp, tmp, start);
+    bp__free(a, tmp);
+    bp__free(a, start);
+    for (e = 0; e < m;) {
         size_t g = e + 1;
-        while (g < 3 * (size_t)nt && ((de[g].a == de[e].a && de[g].b == de[e].b) ||
-                                      (de[g].a == de[e].b && de[g].b == de[e].a))) g++;
-        if (g - e == 1) de[nb++] = de[e];
+        while (g < m && ((de[g].a == de[e].a && de[g].b == de[e].b) || (de[g].a == de[e].b && de[g].b == de[e].a))) g++;
+        if (g - e == 1) {
+            de[n++] = de[e];
+        } else if (g - e > 2 || (de[e].a == de[e + 1].a && de[e].a != de[e].b)) {
+            int nonman = g - e > 2;
+            if (!rep->nonmanifold_edges && !rep->misoriented_edges) {
+                first->kind = nonman ? BP__BAD_NONMANIFOLD : BP__BAD_MISORIENTED;
+                first->v0 = de[e].a;
+                first->v1 = de[e].b;
+                first->count = (uint32_t)(g - e);
+                rep->first_nonmanifold_edge[0] = de[e].a;
+                rep->first_nonmanifold_edge[1] = de[e].b;
+            }
+            if (nonman) rep->nonmanifold_edges++; else rep->misoriented_edges++;
+        }
         e = g;
     }
-    {
-        bp_status st = bp__boundary_conflicts(&a, uv, de, nb, rep, NULL);
-        if (st == BP_OK && !rep->flipped && !rep->degenerate && !rep->boundary_intersections)
-            st = bp__loop_topology(&a, tris, nt, uv, nv, de, nb, rep);
-        bp__free(&a, de);
-        return st;
+    *out = de;
+    *nb = n;
+    return BP_OK;
+}
+
+/* Up to three triangles that use the edge {u, v}, into tl (returns how many). */
+static uint32_t bp__edge_triangles(const uint32_t *tris, uint32_t nt, uint32_t u, uint32_t v, uint32_t *tl)
+{
+    uint32_t t, k, n = 0;
+    for (t = 0; t < nt && n < 3; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t p = tris[3 * (size_t)t + k], q = tris[3 * (size_t)t + (k + 1) % 3];
+            if ((p == u && q == v) || (p == v && q == u)) { tl[n++] = t; break; }
+        }
+    return n;
+}
+
+/* The verdict: BP_OK for a valid map, else the status of the first
+   failure in the order precondition, non-finite, (a), (b), (c), (d), with
+   err naming its elements in the caller's own (0-based) indices. */
+static bp_status bp__check_verdict(const uint32_t *tris, uint32_t nt, const bp_check_report *rep,
+                                   const bp__check_first *first, bp_error *err)
+{
+    if (rep->nonmanifold_edges || rep->misoriented_edges) {
+        uint32_t tl[3] = { 0, 0, 0 }, n = bp__edge_triangles(tris, nt, first->v0, first->v1, tl);
+        if (first->kind == BP__BAD_NONMANIFOLD)
+            return bp__fail(err, BP_ERR_NONMANIFOLD, BP_ELEMENT_EDGE, first->v0, first->v1, 0,
+                            "bp_check: edge %u-%u is used by %u triangles (triangle indices %u, %u, %u%s): the "
+                            "triangles do not form a manifold, which the check needs",
+                            first->v0, first->v1, first->count, tl[0], tl[1], tl[2], first->count > 3 ? ", ..." : "");
+        return bp__fail(err, BP_ERR_ORIENTATION, BP_ELEMENT_EDGE, first->v0, first->v1, 0,
+                        "bp_check: edge %u-%u is used twice in the direction %u->%u (triangle indices %u and %u): "
+                        "a triangle listed twice, or two neighbours of opposite orientation",
+                        first->v0, first->v1, first->v0, first->v1, tl[0], n > 1 ? tl[1] : tl[0]);
     }
+    if (rep->nonfinite || rep->flipped || rep->degenerate) {
+        uint32_t t = (uint32_t)rep->first_bad_triangle;
+        const uint32_t *tr = tris + 3 * (size_t)t;
+        if (rep->nonfinite)
+            return bp__fail(err, BP_ERR_NONFINITE, BP_ELEMENT_TRIANGLE, t, -1, 0,
+                            "bp_check: triangle index %u (vertices %u %u %u) has a NaN or infinite coordinate "
+                            "(%u such triangles)", t, tr[0], tr[1], tr[2], rep->nonfinite);
+        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, t, -1, 0,
+                        "bp_check: triangle index %u (vertices %u %u %u) is %s (%u flipped and %u degenerate "
+                        "triangles in all)", t, tr[0], tr[1], tr[2],
+                        first->count ? "flipped (negative signed area)" : "degenerate (zero signed area)",
+                        rep->flipped, rep->degenerate);
+    }
+    if (rep->boundary_intersections)
+        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_EDGE, first->pair[0].a, first->pair[0].b, 0,
+                        "bp_check: boundary edges %u-%u and %u-%u meet (%u such pairs)", first->pair[0].a,
+                        first->pair[0].b, first->pair[1].a, first->pair[1].b, rep->boundary_intersections);
+    switch (first->kind) {
+    case BP__BAD_PINCH:
+        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_VERTEX, first->v0, -1, 0,
+                        "bp_check: vertex %u starts two boundary edges (the boundary is pinched there)", first->v0);
+    case BP__BAD_OPEN:
+        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_VERTEX, first->v0, -1, 0,
+                        "bp_check: the boundary stops at vertex %u", first->v0);
+    case BP__BAD_CCW:
+        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_VERTEX, first->v0, -1, 0,
+                        "bp_check: the connected piece with boundary vertex %u has %u counter-clockwise boundary "
+                        "loops, not exactly one (%s)", first->v0, first->count,
+                        first->count ? "it wraps around a point more than once" : "it is mirrored");
+    case BP__BAD_NESTED:
+        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_VERTEX, first->v0, first->v1, 0,
+                        "bp_check: the piece with boundary vertex %u lies on top of the piece with boundary vertex %u",
+                        first->v0, first->v1);
+    default:
+        return bp__ok(err);
+    }
+}
+
+/* bp_check in order: indices; finiteness and the magnitude range; a copy
+   scaled into the exact range if needed; (a) per triangle; the
+   precondition and the boundary edges; (b); (c) and (d); the verdict. */
+BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
+                         const bp_allocator *alloc, bp_check_report *rep, bp_error *err)
+{
+    bp_allocator a;
+    bp__dedge *de = NULL;
+    bp__check_first first;
+    double *scaled = NULL, maxabs, minabs;
+    const double *x;
+    uint32_t t, k, nb = 0;
+    bp_status st;
+    memset(&a, 0, sizeof a);
+    memset(&first, 0, sizeof first);
+    if (alloc) a = *alloc;
+    if (!rep || (!tris && nt) || (!uv && nv))
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_check needs a report, and triangle and uv arrays when their counts are not zero");
+    memset(rep, 0, sizeof *rep);
+    rep->first_bad_triangle = rep->first_bad_edge[0] = rep->first_bad_edge[1] = -1;
+    rep->first_nonmanifold_edge[0] = rep->first_nonmanifold_edge[1] = -1;
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++)
+            if (tris[3 * (size_t)t + k] >= nv)
+                return bp__fail(err, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, t, -1, 0,
+                                "bp_check: triangle index %u uses vertex %u, but there are %u vertices", t,
+                                tris[3 * (size_t)t + k], nv);
+    bp__check_finite(tris, nt, uv, rep, &maxabs, &minabs);
+    if ((st = bp__check_scale(&a, uv, nv, maxabs, minabs, &scaled, err)) != BP_OK) return st;
+    x = scaled ? scaled : uv;
+    bp__check_orientation(tris, nt, x, rep, &first);
+    st = bp__check_edges(&a, tris, nt, nv, rep, &first, &de, &nb);
+    if (st == BP_OK && !rep->nonfinite && !rep->nonmanifold_edges && !rep->misoriented_edges) {
+        /* boundary geometry is meaningful: (b), then (c) and (d) */
+        st = bp__boundary_conflicts(&a, x, de, nb, rep, NULL, first.pair);
+        if (st == BP_OK && !rep->flipped && !rep->degenerate && !rep->boundary_intersections)
+            st = bp__loop_topology(&a, tris, nt, x, nv, de, nb, rep, &first);
+    }
+    bp__free(&a, de);
+    bp__free(&a, scaled);
+    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "checking a map");
+    if (st != BP_OK)
+        return bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "bp_check: the boundary's extent overflows");
+    return bp__check_verdict(tris, nt, rep, &first, err);
 }
 
 static int bp__report_valid(const bp_check_report *r)
 {
     return !r->flipped && !r->degenerate && !r->nonfinite && !r->boundary_intersections &&
-           !r->loop_orientation && !r->nested;
+           !r->loop_orientation && !r->nested && !r->nonmanifold_edges && !r->misoriented_edges;
+}
+
+/* Is st a verdict of bp_check (a report was filled), not a failure to check? */
+static int bp__check_verdict_status(bp_status st)
+{
+    return st == BP_OK || st == BP_ERR_NOT_BIJECTIVE || st == BP_ERR_NONFINITE || st == BP_ERR_NONMANIFOLD ||
+           st == BP_ERR_ORIENTATION;
 }
 
 /* >>tutte ==================================================================
@@ -4276,28 +4656,38 @@ static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *
     return BP_OK;
 }
 
-/* Phase 7, the exact check of the rounded start map. */
+/* Phase 7, the exact check of the rounded start map.  A verdict of
+   bp_check other than BP_OK is reported as BP_ERR_NUMERICAL: the start map
+   is valid in exact arithmetic (Tutte's theorem), so only rounding can
+   break it. */
 static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, bp_error *err)
 {
     bp_check_report rep;
-    bp_status st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep);
-    if (st != BP_OK) return bp__oom(err, "computing the start map");
+    bp_error why;
+    char n0[48], n1[48];
+    bp_status st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, &why);
+    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "computing the start map");
+    if (!bp__check_verdict_status(st))
+        return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, ch->face[0], -1, 0,
+                        "the start map of the chart with %s could not be checked: %s",
+                        bp__tri_name(m, ch->face[0], n0), why.message);
     if (bp__report_valid(&rep)) return BP_OK;
     if (rep.first_bad_triangle >= 0) {
         uint32_t bt = ch->face[rep.first_bad_triangle];
-        char n0[48], n1[48];
         return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, bt, -1, bp__tri_line(m, bt),
                         "the start map of the chart with %s is not valid in floating point: %s is %s",
                         bp__tri_name(m, ch->face[0], n0), bp__tri_name(m, bt, n1),
-                        rep.flipped ? "flipped" : "degenerate");
+                        rep.nonfinite ? "not finite" : rep.flipped ? "flipped" : "degenerate");
     }
-    {
+    if (rep.first_bad_edge[0] >= 0) {
         uint32_t bv = ch->vertex[rep.first_bad_edge[0]];
-        char n0[48];
         return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, bv, -1, 0,
                         "the start map of the chart with %s has touching boundary edges at vertex %u",
                         bp__tri_name(m, ch->face[0], n0), bv + 1);
     }
+    return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, ch->face[0], -1, 0,   /* loops or the precondition */
+                    "the start map of the chart with %s is not valid: %s", bp__tri_name(m, ch->face[0], n0),
+                    why.message);
 }
 
 /* The start map in the seven phases above. */
@@ -4813,13 +5203,20 @@ static void bp__energy_task(void *task, uint32_t c)
 }
 
 /* Exact orientation of the triangles of a chunk: part_o[c] = 1 if one is
-   not positive. */
+   not positive.  Each chunk also checks the same share of the vertices'
+   coordinates against the predicates' exact range (see >>check; never met
+   in practice, but outside it a sign would not be proven): one pass over
+   the coordinates in all, instead of six tests per triangle. */
 static void bp__orient_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
     uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
+    size_t i, i1 = 2 * (size_t)bp__chunk_at(S->nv, S->nchunk_t, c + 1);
+    int out = 0;
     double bad = 0;
+    for (i = 2 * (size_t)bp__chunk_at(S->nv, S->nchunk_t, c); i < i1; i++) out |= !bp__exact_range(T->x[i]);
+    if (out) bad = 1;
     for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1 && !bad; t++) {
         const uint32_t *tr = S->tri + 3 * (size_t)t;
         if (bp_orient2d(T->x + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1], T->x + 2 * (size_t)tr[2]) <= 0) bad = 1;
@@ -5093,17 +5490,28 @@ static double bp__barrier_finish(bp__solver *S, double *g)
     return total;
 }
 
-/* The exact boundary check of a trial map (bp_check's condition (b) on the
-   chart's own loop edges), as one task of the evaluation. */
+/* The exact boundary check of a trial map, as one task of the evaluation:
+   bp_check's conditions (b) and (c) on the chart's own loops.  (b) no two
+   boundary edges meet (S->conflicts counts the pairs); (c) exactly one
+   loop is counter-clockwise, else S->conflicts is set too.  Together with
+   (a), the exact orientation of bp__orient_task, this proves the map
+   bijective: a chart is one connected disk with holes, so (d) does not
+   arise, and by the argument in >>check (a) + (b) + (c) leave each point
+   covered at most once.  (c) is O(number of loops + boundary length) and
+   is only evaluated when (b) holds (the loops are then simple). */
 static void bp__conflict_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
     bp_check_report rep;
+    bp_status st;
     (void)c;
     memset(&rep, 0, sizeof rep);
-    if (bp__boundary_conflicts(S->a, T->x, S->edges, S->nb, &rep, &S->ws) != BP_OK) S->oom = 1;
+    st = bp__boundary_conflicts(S->a, T->x, S->edges, S->nb, &rep, &S->ws, NULL);
+    if (st == BP_ERR_OUT_OF_MEMORY) S->oom = 1;
     S->conflicts = (uint32_t)rep.boundary_intersections;
+    if (st != BP_OK) S->conflicts = 1;                     /* (an extent beyond DBL_MAX: not decided) */
+    if (!S->conflicts && !S->oom && bp__ccw_loops(T->x, S->edges, S->loop_start, S->nloops) != 1) S->conflicts = 1;
 }
 
 /* f = E_D + E_B at x (E_D = sum weight_t E_t); gradient into g if given.
@@ -5112,12 +5520,12 @@ static void bp__conflict_task(void *task, uint32_t c)
    of threads.
 
    A trial point of the line search (`valid` given) needs more: whether it
-   is, exactly, a bijective map of the chart (every triangle positive by
-   orient2d and, with the barrier, no two boundary edges in conflict: the
-   full bp_check condition on the chart's own loops; loop orientation and
-   nesting cannot change along a path of valid maps).  Without the barrier
-   the map is only kept locally injective (fig 3.2, 3.3), and its boundary
-   may overlap.  And it needs nothing more when it fails the sufficient
+   is, exactly, a bijective map of the chart: every triangle positive by
+   orient2d and, with the barrier, no two boundary edges in conflict and
+   exactly one counter-clockwise loop (bp__conflict_task; that is all of
+   bp_check for one connected chart).  Without the barrier only the
+   triangles' orientation is checked (fig 3.2, 3.3): the boundary may
+   overlap.  And it needs nothing more when it fails the sufficient
    decrease test: E_B >= 0, so E_D > fmax already rejects it, and the
    evaluation stops there (returning E_D, which is above fmax).
    Two parallel loops in all:
@@ -5142,7 +5550,7 @@ static double bp__evaluate(bp__solver *S, const double *x, double *g, double *ed
     for (c = 0; c < S->nchunk_t; c++) sum += S->part[c];
     if (valid) *valid = 0;
     *ed = sum;
-    if (sum == HUGE_VAL || sum > fmax) return sum;
+    if (!(sum < HUGE_VAL && sum <= fmax)) return sum;     /* also NaN: no exact check of NaN */
     memset(&G, 0, sizeof G);
     if (S->barrier && valid) bp__groups_add(&G, bp__conflict_task, &T, 1);
     if (valid) bp__groups_add(&G, bp__orient_task, &T, S->nchunk_t);
@@ -5344,7 +5752,11 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
    initial scaling s.y / y.y) or plain gradient descent for comparison.
    Floating point cannot defeat the guarantee: the step bound is computed in
    floating point, so every accepted step is re-checked with the exact
-   predicates and halved until the check passes. */
+   predicates -- every triangle positive, no two boundary edges meeting,
+   exactly one counter-clockwise loop, which for one chart is all of
+   bp_check (see >>check for why the loop count completes it) -- and halved
+   until the check passes.  The start map itself is checked with bp_check
+   before the first iteration, whoever computed it. */
 
 
 /* Preconditioning (beyond the dissertation).  Algorithm 1 starts each
@@ -5761,173 +6173,265 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
 #undef BP__Y
 #undef BP__SLOT
 
+/* bp__chart_optimize in its phases.  The state of one solve: */
+typedef struct bp__opt {
+    bp_allocator a;
+    bp_options   o;              /* opt with the defaults filled in          */
+    bp__solver   S;
+    bp__lbfgs    L;
+    bp__sparse   K;              /* the preconditioner (if any) and its factor */
+    bp__factor   KF;
+    bp__par      par;
+    int          precond, hist, gd_scale_set;
+    uint32_t     nv2;
+    double      *x, *g, *xn, *gn, *v, *pwork, *vpart;
+    double       tlast;          /* the last accepted step                   */
+} bp__opt;
+
+static void bp__opt_free(bp__opt *P)
+{
+    bp__solver_free(&P->S);
+    bp__free(&P->a, P->x); bp__free(&P->a, P->g); bp__free(&P->a, P->xn); bp__free(&P->a, P->gn);
+    bp__free(&P->a, P->v); bp__free(&P->a, P->pwork); bp__free(&P->a, P->vpart);
+    bp__lbfgs_free(&P->a, &P->L);
+    bp__sparse_free(&P->a, &P->K);
+    bp__factor_free(&P->a, &P->KF);
+}
+
+/* Phase 1: the start map in chart->uv must be exactly valid, whoever put
+   it there (bp_chart_init, or the caller's own map): with the barrier the
+   whole of bp_check, without it every triangle positively oriented (such a
+   map may overlap itself).  The elements are named as the mesh numbers
+   them. */
+static bp_status bp__opt_check_start(const bp_allocator *a, const bp_chart *ch, uint32_t chart_index,
+                                     const bp_mesh *m, int barrier, bp_error *err)
+{
+    bp_check_report rep;
+    bp_error why;
+    bp_status st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, &why);
+    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "checking the start map");
+    if (!bp__check_verdict_status(st))
+        return bp__fail(err, st, BP_ELEMENT_CHART, chart_index, -1, 0, "chart %u: the start map could not be checked: %s",
+                        chart_index, why.message);
+    if (st == BP_OK || (!barrier && !rep.flipped && !rep.degenerate && !rep.nonfinite && !rep.nonmanifold_edges &&
+                        !rep.misoriented_edges))
+        return BP_OK;
+    if (rep.first_bad_triangle >= 0 && (rep.nonfinite || rep.flipped || rep.degenerate)) {
+        uint32_t t = (uint32_t)rep.first_bad_triangle, f = ch->face[t];
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        const char *what = rep.nonfinite ? "not finite" : "degenerate (zero area)";
+        if (!rep.nonfinite && bp_orient2d(ch->uv + 2 * (size_t)tr[0], ch->uv + 2 * (size_t)tr[1], ch->uv + 2 * (size_t)tr[2]) < 0)
+            what = "flipped";
+        char where[48];
+        where[0] = 0;
+        if (bp__tri_line(m, f) > 0) bp__format(where, sizeof where, " (line %D)", bp__tri_line(m, f));
+        return bp__fail(err, rep.nonfinite ? BP_ERR_NONFINITE : BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, f, -1,
+                        bp__tri_line(m, f),
+                        "chart %u: the start map is not valid: triangle %u%s, vertices %u %u %u, is %s "
+                        "(%u flipped, %u degenerate, %u with NaN/Inf)", chart_index, f + 1, where,
+                        ch->vertex[tr[0]] + 1, ch->vertex[tr[1]] + 1, ch->vertex[tr[2]] + 1, what,
+                        rep.flipped, rep.degenerate, rep.nonfinite);
+    }
+    if (rep.boundary_intersections) {
+        uint32_t v0 = ch->vertex[rep.first_bad_edge[0]], v1 = ch->vertex[rep.first_bad_edge[1]];
+        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_EDGE, v0, v1, 0,
+                        "chart %u: the start map overlaps itself: the boundary edges from vertex %u and from "
+                        "vertex %u meet (%u such pairs)", chart_index, v0 + 1, v1 + 1, rep.boundary_intersections);
+    }
+    return bp__fail(err, st, BP_ELEMENT_CHART, chart_index, -1, 0,
+                    "chart %u: the start map is not bijective (%s; the indices are the chart's)", chart_index,
+                    why.message);
+}
+
+/* Phase 2: options, solver, preconditioner, vectors; x = the start map. */
+static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, const bp_mesh *m, bp_error *err)
+{
+    double *rest_wxy;
+    bp_status st;
+    uint32_t nv2;
+    P->hist = P->o.history > 0 ? P->o.history : 5;
+    if (P->o.direction == BP_DIRECTION_GRADIENT) P->hist = 0;
+    if (P->o.max_iterations <= 0) P->o.max_iterations = 10000;
+    if (!(P->o.tolerance > 0)) P->o.tolerance = 1e-7;
+    rest_wxy = (double *)bp__alloc_array(&P->a, 3 * (size_t)ch->num_triangles, sizeof(double));
+    if (!rest_wxy) return bp__oom(err, "optimizing a chart");
+    if ((st = bp__solver_chart(&P->S, &P->a, ch, m, &P->o, rest_wxy, err)) != BP_OK) { bp__free(&P->a, rest_wxy); return st; }
+    P->S.par = P->par;
+    /* the preconditioner first: its factorization is the memory peak, and
+       the flattened rest triangles are not needed after it */
+    if (P->precond && (st = bp__laplacian(&P->a, &P->S, rest_wxy, &P->K, &P->KF)) != BP_OK) {
+        bp__free(&P->a, rest_wxy);
+        if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "factoring the preconditioner");
+        return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
+                        "chart %u: the Laplacian preconditioner could not be factored", chart_index);
+    }
+    bp__free(&P->a, rest_wxy);
+    nv2 = P->nv2 = 2 * P->S.nv;
+    P->x = (double *)bp__alloc_array(&P->a, nv2, sizeof(double));
+    P->g = (double *)bp__alloc_array(&P->a, nv2, sizeof(double));
+    P->xn = (double *)bp__alloc_array(&P->a, nv2, sizeof(double));
+    P->gn = (double *)bp__alloc_array(&P->a, nv2, sizeof(double));
+    P->v = (double *)bp__alloc_array(&P->a, nv2, sizeof(double));
+    P->pwork = (double *)bp__alloc_array(&P->a, 4 * (size_t)P->S.nv, sizeof(double));
+    P->vpart = (double *)bp__alloc_array(&P->a, 2 * ((size_t)bp__vec_nchunks(nv2) + 1) +
+                                         (size_t)bp__nchunks(P->S.nv, BP__QUAD_CHUNK) + 1, sizeof(double));
+    if (!P->pwork || !P->vpart || !P->x || !P->g || !P->xn || !P->gn || !P->v ||
+        !bp__lbfgs_init(&P->a, &P->L, P->hist, nv2))
+        return bp__oom(err, "optimizing a chart");
+    memcpy(P->x, ch->uv, nv2 * sizeof(double));
+    return BP_OK;
+}
+
+/* Phase 3 (step 2 of each iteration): the search direction v = -H g
+   (L-BFGS, above), or with no pairs yet -K^-1 g (preconditioned) or -g;
+   returns g.v (0: converged).  Also sets the first step of gradient
+   descent: move the fastest vertex by about a tenth of a boundary edge. */
+static double bp__opt_direction(bp__opt *P)
+{
+    double gv = 0, *g = P->g, *v = P->v;
+    uint32_t i, nv2 = P->nv2;
+    if (P->L.nh > 0) {
+        gv = bp__lbfgs_direction(&P->L, &P->par, g, v, P->precond ? &P->K : NULL, &P->KF, P->pwork, P->vpart);
+    } else if (P->precond) {
+        const double *gp = g, *vp = v;
+        bp__vec_axpy(&P->par, P->vpart, nv2, v, NULL, -1, g, NULL, NULL, NULL);
+        bp__precondition(&P->KF, &P->par, v, v, P->pwork);
+        bp__vec_pass(&P->par, P->vpart, nv2, NULL, 0, NULL, 0, NULL, NULL, 1, &gp, &vp, &gv);
+    } else {
+        bp__vec_axpy(&P->par, P->vpart, nv2, v, NULL, -1, g, g, v, &gv);
+    }
+    if (!(gv < 0)) {                          /* not a descent direction: restart */
+        P->L.nh = 0;
+        gv = 0;
+        for (i = 0; i < nv2; i++) { v[i] = -g[i]; gv -= g[i] * g[i]; }
+    }
+    if (gv != 0 && P->L.nh == 0 && (!P->gd_scale_set || P->hist == 0)) {
+        double vmax = 0;
+        for (i = 0; i < nv2; i++) if (fabs(v[i]) > vmax) vmax = fabs(v[i]);
+        if (!P->gd_scale_set) P->tlast = 0.05 * P->S.mean_edge / vmax;
+        P->gd_scale_set = 1;
+    }
+    return gv;
+}
+
+/* Phase 4 (steps 3 and 4): the singularity-aware bound tmax, then the
+   backtracking line search from min(first step, 0.9 tmax): the first t with
+   sufficient decrease whose map xn passes the exact check (bp__evaluate:
+   orientation, boundary conflicts, one counter-clockwise loop) is
+   accepted.  Returns 1 with *t, *fn, *edn set, 0 if no step was found,
+   -1 when out of memory. */
+static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, double *fn, double *edn)
+{
+    double tt = (P->L.nh > 0) ? 1.0 : 2 * P->tlast;     /* the first step to try ... */
+    double tmax = bp__step_bound(&P->S, P->x, P->v, tt / 0.9);
+    int tries;
+    if (tmax < tt / 0.9 && tt > 0.9 * tmax) tt = 0.9 * tmax;   /* ... at most 0.9 tmax */
+    for (tries = 0; tries < 60 && tt > 0; tries++, tt *= 0.5) {
+        int valid;
+        bp__vec_axpy(&P->par, P->vpart, P->nv2, P->xn, P->x, tt, P->v, NULL, NULL, NULL);
+        *fn = bp__evaluate(&P->S, P->xn, P->gn, edn, f + 1e-4 * tt * gv, &valid);  /* f, gradient, exact check */
+        if (P->S.oom) return -1;
+        if (!(*fn <= f + 1e-4 * tt * gv)) continue;
+        if (!valid) continue;                 /* floating point was wrong: shrink */
+        *t = tt;
+        return 1;
+    }
+    return 0;
+}
+
+/* Phase 5: the chart's report from the final map x (already in ch->uv). */
+static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, double ed, double c0, bp_error *err)
+{
+    double emax = 0;
+    uint32_t t;
+    ch->energy_end = ed / P->S.nt;
+    for (t = 0; t < P->S.nt; t++) {
+        const uint32_t *tr = P->S.tri + 3 * (size_t)t;
+        double e = bp__triangle_energy(P->S.energy, &P->S.rest[t], P->x + 2 * (size_t)tr[0],
+                                       P->x + 2 * (size_t)tr[1], P->x + 2 * (size_t)tr[2], NULL, NULL, NULL);
+        if (e > emax) emax = e;
+    }
+    ch->energy_max = emax;
+    ch->seconds = bp__seconds() - c0;
+    if (ch->stop == BP_STOP_CANCELLED)
+        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_CHART, chart_index, -1, 0,
+                        "chart %u: cancelled by the progress callback after %d iterations (the map is the last valid one)",
+                        chart_index, ch->iterations);
+    return bp__ok(err);
+}
+
+/* The optimization of one chart (sec 3.4, 3.5): phases 1 and 2, then the
+   iterations, each (1) energy and gradient (from the line search of the
+   previous one), (2) direction, (3)+(4) step bound and line search, (5)
+   convergence test, and phase 5.  The map in ch->uv is replaced only by
+   accepted iterates, each exactly valid; the progress callback sees each. */
 static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
                                     const bp_options *opt, const bp__par *runner, bp_error *err)
 {
-    bp_allocator a = bp__allocator_of(opt);
-    bp__solver S;
-    bp_options o;
-    uint32_t t, i, nv2;
-    int hist, it, small = 0, gd_scale_set = 0;
-    double *x = NULL, *g = NULL, *xn = NULL, *gn = NULL, *v = NULL;
-    double *rest_wxy = NULL, *pwork = NULL, *vpart = NULL;
-    bp__lbfgs L;
-    bp__sparse K;
-    bp__factor KF;
-    bp__par par;
+    bp__opt P;
     void *pool = NULL;
-    int precond = !opt || opt->direction == BP_DIRECTION_PRECONDITIONED;
-    double f, ed, tlast = 1;
-    bp_status st = BP_OK;
+    int it, small = 0;
+    double f, ed;
+    bp_status st;
     double c0 = bp__seconds();
-    memset(&S, 0, sizeof S);
-    memset(&o, 0, sizeof o);
-    memset(&K, 0, sizeof K);
-    memset(&KF, 0, sizeof KF);
-    memset(&L, 0, sizeof L);
-    if (opt) o = *opt;
+    memset(&P, 0, sizeof P);
+    P.a = bp__allocator_of(opt);
+    P.tlast = 1;
+    P.precond = !opt || opt->direction == BP_DIRECTION_PRECONDITIONED;
+    if (opt) P.o = *opt;
     if (!ch || !m || !ch->uv || !ch->num_loops)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart_index, -1, 0,
                         "bp_chart_optimize needs a chart with a start map (bp_chart_init)");
-    if ((int)o.energy < 0 || (int)o.energy >= (int)BP_ENERGY_COUNT)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)o.energy);
-    if (runner) par = *runner;
-    else par = bp__par_begin(&a, opt, &pool);
-    ch->threads = par.threads;
-    hist = o.history > 0 ? o.history : 5;
-    if (o.direction == BP_DIRECTION_GRADIENT) hist = 0;
-    if (o.max_iterations <= 0) o.max_iterations = 10000;
-    if (!(o.tolerance > 0)) o.tolerance = 1e-7;
-    rest_wxy = (double *)bp__alloc_array(&a, 3 * (size_t)ch->num_triangles, sizeof(double));
-    if (!rest_wxy) { st = bp__oom(err, "optimizing a chart"); goto done; }
-    if ((st = bp__solver_chart(&S, &a, ch, m, &o, rest_wxy, err)) != BP_OK) goto done;
-    S.par = par;
-    /* the preconditioner first: its factorization is the memory peak, and
-       the flattened rest triangles are not needed after it */
-    if (precond && (st = bp__laplacian(&a, &S, rest_wxy, &K, &KF)) != BP_OK) {
-        if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "factoring the preconditioner");
-        else st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
-                           "chart %u: the Laplacian preconditioner could not be factored", chart_index);
-        goto done;
-    }
-    bp__free(&a, rest_wxy);
-    rest_wxy = NULL;
-    nv2 = 2 * S.nv;
-    x = (double *)bp__alloc_array(&a, nv2, sizeof(double));
-    g = (double *)bp__alloc_array(&a, nv2, sizeof(double));
-    xn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
-    gn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
-    v = (double *)bp__alloc_array(&a, nv2, sizeof(double));
-    pwork = (double *)bp__alloc_array(&a, 4 * (size_t)S.nv, sizeof(double));
-    vpart = (double *)bp__alloc_array(&a, 2 * ((size_t)bp__vec_nchunks(nv2) + 1) + (size_t)bp__nchunks(S.nv, BP__QUAD_CHUNK) + 1,
-                                      sizeof(double));
-    if (!pwork || !vpart || !x || !g || !xn || !gn || !v || !bp__lbfgs_init(&a, &L, hist, nv2)) {
-        st = bp__oom(err, "optimizing a chart");
-        goto done;
-    }
-    memcpy(x, ch->uv, nv2 * sizeof(double));
-    f = bp__objective(&S, x, g, &ed);
-    if (S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
+    if ((int)P.o.energy < 0 || (int)P.o.energy >= (int)BP_ENERGY_COUNT)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)P.o.energy);
+    if ((st = bp__opt_check_start(&P.a, ch, chart_index, m, !P.o.no_barrier, err)) != BP_OK) return st;
+    if (runner) P.par = *runner;
+    else P.par = bp__par_begin(&P.a, opt, &pool);
+    ch->threads = P.par.threads;
+    if ((st = bp__opt_setup(&P, ch, chart_index, m, err)) != BP_OK) goto done;
+    f = bp__objective(&P.S, P.x, P.g, &ed);
+    if (P.S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
     if (!(f < HUGE_VAL)) {
-        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart_index, -1, 0,
-                      "chart %u: the start map is not valid (a triangle is flipped or degenerate)", chart_index);
+        st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
+                      "chart %u: the start map is exactly valid but its energy is not finite in floating point "
+                      "(a triangle too thin, or coordinates too large)", chart_index);
         goto done;
     }
-    ch->energy_start = ed / S.nt;
+    ch->energy_start = ed / P.S.nt;
     ch->stop = BP_STOP_MAX_ITERATIONS;
-    for (it = 0; it < o.max_iterations; it++) {
-        double gv = 0, tmax, tt, fn = HUGE_VAL, edn = HUGE_VAL;
-        int accepted = 0, tries;
-        /* (2) search direction: v = -H g (L-BFGS, above), or with no
-           pairs yet -K^-1 g (preconditioned) or -g */
-        if (L.nh > 0) {
-            gv = bp__lbfgs_direction(&L, &par, g, v, precond ? &K : NULL, &KF, pwork, vpart);
-        } else if (precond) {
-            const double *gp = g, *vp = v;
-            bp__vec_axpy(&par, vpart, nv2, v, NULL, -1, g, NULL, NULL, NULL);
-            bp__precondition(&KF, &par, v, v, pwork);
-            bp__vec_pass(&par, vpart, nv2, NULL, 0, NULL, 0, NULL, NULL, 1, &gp, &vp, &gv);
-        } else {
-            bp__vec_axpy(&par, vpart, nv2, v, NULL, -1, g, g, v, &gv);
-        }
-        if (!(gv < 0)) {                          /* not a descent direction: restart */
-            L.nh = 0;
-            gv = 0;
-            for (i = 0; i < nv2; i++) { v[i] = -g[i]; gv -= g[i] * g[i]; }
-        }
+    for (it = 0; it < P.o.max_iterations; it++) {
+        double gv = bp__opt_direction(&P), tt = 0, fn = HUGE_VAL, edn = HUGE_VAL;
+        int found;
         if (gv == 0) { ch->stop = BP_STOP_CONVERGED; break; }
-        /* first step of gradient descent: move the fastest vertex by about
-           a tenth of a boundary edge; later ones start from twice the last */
-        if (L.nh == 0 && (!gd_scale_set || hist == 0)) {
-            double vmax = 0;
-            for (i = 0; i < nv2; i++) if (fabs(v[i]) > vmax) vmax = fabs(v[i]);
-            if (!gd_scale_set) tlast = 0.05 * S.mean_edge / vmax;
-            gd_scale_set = 1;
-        }
-        /* (3) the singularity-aware bound, (4) the line search */
-        tt = (L.nh > 0) ? 1.0 : 2 * tlast;       /* the first step to try ... */
-        tmax = bp__step_bound(&S, x, v, tt / 0.9);
-        if (tmax < tt / 0.9 && tt > 0.9 * tmax) tt = 0.9 * tmax;   /* ... at most 0.9 tmax */
-        for (tries = 0; tries < 60 && tt > 0; tries++, tt *= 0.5) {
-            int valid;
-            bp__vec_axpy(&par, vpart, nv2, xn, x, tt, v, NULL, NULL, NULL);
-            fn = bp__evaluate(&S, xn, gn, &edn, f + 1e-4 * tt * gv, &valid);  /* f, gradient, exact check */
-            if (S.oom) { st = bp__oom(err, "evaluating a step"); goto done; }
-            if (!(fn <= f + 1e-4 * tt * gv)) continue;
-            if (!valid) continue;                 /* floating point was wrong: shrink */
-            accepted = 1;
-            break;
-        }
-        if (!accepted) { ch->stop = BP_STOP_NO_PROGRESS; break; }
-        tlast = tt;
-        bp__lbfgs_push(&L, &par, x, xn, g, gn);     /* the new pair s, y */
-        { double *tp = x; x = xn; xn = tp; tp = g; g = gn; gn = tp; }   /* accept: swap, no copy */
-        /* the current map, visible to the progress callback */
-        bp__vec_pass(&par, vpart, nv2, ch->uv, 1, x, 0, NULL, NULL, 0, NULL, NULL, NULL);
+        found = bp__opt_line_search(&P, f, gv, &tt, &fn, &edn);
+        if (found < 0) { st = bp__oom(err, "evaluating a step"); goto done; }
+        if (!found) { ch->stop = BP_STOP_NO_PROGRESS; break; }
+        P.tlast = tt;
+        bp__lbfgs_push(&P.L, &P.par, P.x, P.xn, P.g, P.gn);     /* the new pair s, y */
+        { double *tp = P.x; P.x = P.xn; P.xn = tp; tp = P.g; P.g = P.gn; P.gn = tp; }   /* accept: swap, no copy */
+        /* the current (exactly valid) map, visible to the progress callback */
+        bp__vec_pass(&P.par, P.vpart, P.nv2, ch->uv, 1, P.x, 0, NULL, NULL, 0, NULL, NULL, NULL);
         /* (5) convergence: relative decrease below tol three times running */
-        if ((f - fn) <= o.tolerance * fabs(fn)) small++; else small = 0;
+        if ((f - fn) <= P.o.tolerance * fabs(fn)) small++; else small = 0;
         f = fn;
         ed = edn;
         ch->iterations = it + 1;
-        if (o.progress && o.progress(o.progress_user, chart_index, it + 1, ed / S.nt, tt)) {
+        if (P.o.progress && P.o.progress(P.o.progress_user, chart_index, it + 1, ed / P.S.nt, tt)) {
             ch->stop = BP_STOP_CANCELLED;
             break;
         }
         if (small >= 3) { ch->stop = BP_STOP_CONVERGED; break; }
-        if (o.max_seconds > 0 && bp__seconds() - c0 > o.max_seconds) {
+        if (P.o.max_seconds > 0 && bp__seconds() - c0 > P.o.max_seconds) {
             ch->stop = BP_STOP_MAX_SECONDS;
             break;
         }
     }
     /* every accepted x passed the exact check, so x is the last valid map */
-    memcpy(ch->uv, x, nv2 * sizeof(double));
-    ch->energy_end = ed / S.nt;
-    {
-        double emax = 0;
-        for (t = 0; t < S.nt; t++) {
-            const uint32_t *tr = S.tri + 3 * (size_t)t;
-            double e = bp__triangle_energy(S.energy, &S.rest[t], x + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1],
-                                           x + 2 * (size_t)tr[2], NULL, NULL, NULL);
-            if (e > emax) emax = e;
-        }
-        ch->energy_max = emax;
-    }
-    ch->seconds = bp__seconds() - c0;
-    if (ch->stop == BP_STOP_CANCELLED)
-        st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_CHART, chart_index, -1, 0,
-                      "chart %u: cancelled by the progress callback after %d iterations (the map is the last valid one)",
-                      chart_index, ch->iterations);
-    else
-        st = bp__ok(err);
+    memcpy(ch->uv, P.x, P.nv2 * sizeof(double));
+    st = bp__opt_finish(&P, ch, chart_index, ed, c0, err);
 done:
-    bp__solver_free(&S);
-    bp__free(&a, x); bp__free(&a, g); bp__free(&a, xn); bp__free(&a, gn);
-    bp__free(&a, v);
-    bp__lbfgs_free(&a, &L);
-    bp__free(&a, rest_wxy); bp__free(&a, pwork); bp__free(&a, vpart);
-    bp__sparse_free(&a, &K);
-    bp__factor_free(&a, &KF);
-    bp__par_end(&a, pool);
+    bp__opt_free(&P);
+    bp__par_end(&P.a, pool);
     return st;
 }
 
@@ -5939,11 +6443,15 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
 
 /* Area-weighted mean and max of E_t for a chart's current map. */
 BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_energy energy,
-                                    double *mean, double *max, double *per_triangle)
+                                    double *mean, double *max, double *per_triangle, bp_error *err)
 {
     uint32_t t;
     double sum = 0, area = 0, emax = 0;
-    if (!ch || !m || !ch->uv || (int)energy < 0 || (int)energy >= (int)BP_ENERGY_COUNT) return BP_ERR_INVALID_ARGUMENT;
+    if (!ch || !m || !ch->uv)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_chart_distortion needs a chart with a map (uv) and its mesh");
+    if ((int)energy < 0 || (int)energy >= (int)BP_ENERGY_COUNT)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)energy);
     for (t = 0; t < ch->num_triangles; t++) {
         const uint32_t *tr = ch->triangles + 3 * (size_t)t;
         bp__rest r;
@@ -5960,7 +6468,7 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
     }
     if (mean) *mean = sum / area;
     if (max) *max = emax;
-    return BP_OK;
+    return bp__ok(err);
 }
 
 /* >>driver =================================================================
@@ -5996,8 +6504,9 @@ static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const doubl
     bp_status st;
     if (!save) return BP_ERR_OUT_OF_MEMORY;
     memcpy(save, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
-    st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &before);
-    if (st != BP_OK) { bp__free(a, save); return st; }
+    /* the verdicts themselves may be "not bijective" (without the barrier) */
+    st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &before, NULL);
+    if (!bp__check_verdict_status(st)) { bp__free(a, save); return st; }
     for (attempt = 0; attempt < 8; attempt++) {
         bp_check_report rep;
         double jig = attempt ? 1 + attempt * 1e-7 : 1;
@@ -6005,10 +6514,11 @@ static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const doubl
             ch->uv[2 * i] = s * (save[2 * i] - lo[0]) + ox * jig;
             ch->uv[2 * i + 1] = s * (save[2 * i + 1] - lo[1]) + oy * jig;
         }
-        st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep);
-        if (st != BP_OK) { bp__free(a, save); return st; }
+        st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, NULL);
+        if (!bp__check_verdict_status(st)) { bp__free(a, save); return st; }
         if (rep.flipped <= before.flipped && rep.degenerate <= before.degenerate && rep.nonfinite <= before.nonfinite &&
-            rep.boundary_intersections <= before.boundary_intersections) {
+            rep.boundary_intersections <= before.boundary_intersections &&
+            rep.loop_orientation <= before.loop_orientation && rep.nested <= before.nested) {
             bp__free(a, save);
             return BP_OK;
         }
@@ -6089,6 +6599,7 @@ static bp_status bp__atlas_verify(const bp_atlas *atlas, bp_error *err)
     uint32_t c, nt = 0, nv = 0, t, i, *tri, ov = 0, ot = 0;
     double *uv;
     bp_check_report rep;
+    bp_error why;
     bp_status st;
     for (c = 0; c < atlas->num_charts; c++)
         if (atlas->charts[c].uv) { nt += atlas->charts[c].num_triangles; nv += atlas->charts[c].num_vertices; }
@@ -6104,16 +6615,18 @@ static bp_status bp__atlas_verify(const bp_atlas *atlas, bp_error *err)
         ot += ch->num_triangles;
         ov += ch->num_vertices;
     }
-    st = bp_check(tri, nt, uv, nv, &a, &rep);
+    st = bp_check(tri, nt, uv, nv, &a, &rep, &why);
     bp__free(&a, tri);
     bp__free(&a, uv);
     if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "verifying the atlas");
-    if (st != BP_OK) return bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "verifying the atlas failed");
-    if (!bp__report_valid(&rep))
+    if (!bp__check_verdict_status(st)) return bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "verifying the atlas failed: %s", why.message);
+    if (st != BP_OK)
         return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
                         "the final atlas is not bijective (%u flipped, %u degenerate, %u boundary "
-                        "intersections, %u loop-orientation and %u nesting problems): this is a bug",
-                        rep.flipped, rep.degenerate, rep.boundary_intersections, rep.loop_orientation, rep.nested);
+                        "intersections, %u loop-orientation and %u nesting problems; indices of the "
+                        "concatenated charts: %s): this is a bug",
+                        rep.flipped, rep.degenerate, rep.boundary_intersections, rep.loop_orientation, rep.nested,
+                        why.message);
     return BP_OK;
 }
 

@@ -52,7 +52,7 @@ static int check_atlas(const bp_atlas *A)
     for (c = 0; c < A->num_charts; c++) {
         bp_check_report r;
         const bp_chart *ch = &A->charts[c];
-        if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r) != BP_OK) bad++;
+        if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, NULL) != BP_OK) bad++;
     }
     return bad == 0;
 }
@@ -160,7 +160,7 @@ int main(int argc, char **argv)
         }
         for (c = 0; c < maps[col].num_charts; c++) {
             double m_, x_;
-            bp_chart_distortion(&maps[col].charts[c], &mesh, BP_ENERGY_SYMMETRIC_DIRICHLET, &m_, &x_, NULL);
+            bp_chart_distortion(&maps[col].charts[c], &mesh, BP_ENERGY_SYMMETRIC_DIRICHLET, &m_, &x_, NULL, NULL);
             e += m_ * maps[col].charts[c].area3d; ea += maps[col].charts[c].area3d;
         }
         printf("| %s | %.4f | %.1f%% | %.3f / %.3f | %.3f | %.3f | %.3f |\n", names[col], rsum / A, 100 * fl_area / A, mn, mx,

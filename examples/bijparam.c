@@ -64,6 +64,8 @@ static const char usage_text[] =
     "  -q, --quiet        no line saying where the result went\n"
     "  --json             print a one-line JSON report on stdout\n"
     "  --demo             use the built-in wavy cone instead of a file\n"
+    "  --check            only check the file's own vt charts exactly (each chart\n"
+    "                     bijective, no two overlapping): exit 0 yes, 1 no\n"
     "  --init tutte|mvc   start map (default tutte)\n"
     "  --init-only        stop after the start map\n"
     "  --energy sd|conformal|mips|iso|maxiso   distortion (default sd)\n"
@@ -574,10 +576,10 @@ static void print_json(const char *input, const char *output, bp_status status, 
         memset(&rep, 0, sizeof rep);
         if (ch->uv)
             bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices,
-                     NULL, &rep);
+                     NULL, &rep, NULL);
         /* not optimized (--init-only): report the distortion of the start map */
         if (ch->uv && ch->stop == BP_STOP_NONE &&
-            bp_chart_distortion(ch, mesh, energy, &e_start, &e_max, NULL) == BP_OK)
+            bp_chart_distortion(ch, mesh, energy, &e_start, &e_max, NULL, NULL) == BP_OK)
             e_end = e_start;
         printf("%s{\"index\":%u,\"vertices\":%u,\"faces\":%u,\"loops\":[",
                c ? "," : "", (unsigned)c, (unsigned)ch->num_vertices,
@@ -638,6 +640,181 @@ static void print_json(const char *input, const char *output, bp_status status, 
 
 /* ---- main --------------------------------------------------------------- */
 
+/* ---- --check: the exact check of the file's own vt charts ----------------
+
+   Nothing is optimized or written: the charts are the file's (edges cut
+   where the vt indices differ, bp_atlas_build), each chart's coordinates
+   are the file's vt (chart.vertex_uv), and bp_check decides each chart,
+   then all charts together (two charts overlapping).  Elements are named
+   as the file numbers them: faces and lines, vertices and vt from 1. */
+
+typedef struct check_names {
+    const bp_mesh *m;
+    const bp_atlas *at;
+    const uint32_t *first;    /* first global vertex of each chart (all-charts check) */
+} check_names;
+
+/* "vertex 12 (vt 40)" for chart c's vertex i */
+static void name_vertex(const check_names *N, uint32_t c, uint32_t i, char *out, size_t cap)
+{
+    const bp_chart *ch = &N->at->charts[c];
+    snprintf(out, cap, "vertex %lu (vt %lu)", (unsigned long)ch->vertex[i] + 1, (unsigned long)ch->vertex_uv[i] + 1);
+}
+
+/* "face 17 (line 2045), vertices 5 6 7 (vt 8 9 10)" for chart c's triangle t */
+static void name_face(const check_names *N, uint32_t c, uint32_t t, char *out, size_t cap)
+{
+    const bp_chart *ch = &N->at->charts[c];
+    const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+    uint32_t f = ch->face[t], face = N->m->triangle_face ? N->m->triangle_face[f] : f;
+    char line[32] = "";
+    if (N->m->triangle_line) snprintf(line, sizeof line, " (line %lu)", (unsigned long)N->m->triangle_line[f]);
+    snprintf(out, cap, "face %lu%s, vertices %lu %lu %lu (vt %lu %lu %lu)", (unsigned long)face + 1, line,
+             (unsigned long)ch->vertex[tr[0]] + 1, (unsigned long)ch->vertex[tr[1]] + 1,
+             (unsigned long)ch->vertex[tr[2]] + 1, (unsigned long)ch->vertex_uv[tr[0]] + 1,
+             (unsigned long)ch->vertex_uv[tr[1]] + 1, (unsigned long)ch->vertex_uv[tr[2]] + 1);
+}
+
+/* global vertex -> (chart, local) of the all-charts check */
+static uint32_t chart_of(const check_names *N, int64_t g, uint32_t *local)
+{
+    uint32_t c = 0;
+    while (c + 1 < N->at->num_charts && N->first[c + 1] <= (uint64_t)g) c++;
+    *local = (uint32_t)(g - N->first[c]);
+    return c;
+}
+
+/* One line naming what bp_check found first.  tri_chart / tri_local: the
+   chart and triangle of err->index for a triangle; vertices are mapped
+   through N->first when given (the all-charts check), else belong to c. */
+static void explain(const check_names *N, uint32_t c, const double *uv, const uint32_t *tris,
+                    const bp_check_report *r, const bp_error *e, uint32_t tri_chart, uint32_t tri_local)
+{
+    char a[160], b[160];
+    uint32_t ca = c, cb = c, la, lb;
+    if (e->element == BP_ELEMENT_TRIANGLE) {
+        const uint32_t *tr = tris + 3 * (size_t)e->index;
+        const char *what = r->nonfinite ? "has a NaN or infinite vt coordinate"
+                         : bp_orient2d(uv + 2 * (size_t)tr[0], uv + 2 * (size_t)tr[1], uv + 2 * (size_t)tr[2]) < 0
+                               ? "is flipped (negative area in UV)" : "has zero area in UV";
+        name_face(N, tri_chart, tri_local, a, sizeof a);
+        printf("    first bad triangle: %s %s\n", a, what);
+        return;
+    }
+    la = (uint32_t)e->index;
+    lb = (uint32_t)(e->index2 >= 0 ? e->index2 : 0);
+    if (N->first) { ca = chart_of(N, e->index, &la); if (e->index2 >= 0) cb = chart_of(N, e->index2, &lb); }
+    name_vertex(N, ca, la, a, sizeof a);
+    if (e->index2 >= 0) name_vertex(N, cb, lb, b, sizeof b);
+    if (e->status == BP_ERR_NONMANIFOLD || e->status == BP_ERR_ORIENTATION)
+        printf("    the edge %s - %s is used by more than two faces or twice in one direction\n", a, b);
+    else if (r->boundary_intersections) {
+        uint32_t cc = c, lc = (uint32_t)r->first_bad_edge[1];
+        char d[160];
+        if (N->first) cc = chart_of(N, r->first_bad_edge[1], &lc);
+        name_vertex(N, cc, lc, d, sizeof d);
+        printf("    boundary edges meet: the edge %s - %s and the edge from %s%s%s\n", a, b, d,
+               N->first && ca != cc ? " (another chart)" : "",
+               !strcmp(a, d) ? " (one file vertex and vt used twice on the boundary: the chart is pinched there)" : "");
+    } else if (r->nested)
+        printf("    the piece with %s lies on the piece with %s\n", a, b);
+    else
+        printf("    at %s: the boundary is pinched, or the piece is mirrored or wraps around twice\n", a);
+}
+
+static int run_check(const char *input)
+{
+    bp_mesh mesh;
+    bp_atlas at;
+    bp_options opt;
+    bp_error err;
+    bp_status st;
+    check_names N;
+    uint32_t c, i, bad = 0, nt = 0, nv = 0, *tri = NULL, *first = NULL;
+    double *all = NULL;
+    int overlap = 0;
+    memset(&opt, 0, sizeof opt);
+    memset(&at, 0, sizeof at);
+    st = bp_read_mesh(input, &mesh, NULL, &err);
+    if (st != BP_OK) { report_error(input, &err); return 1; }
+    if (!mesh.corner_uv || !mesh.uvs) {
+        fprintf(stderr, "bijparam: error: %s: --check needs texture coordinates (vt in every face)\n", input);
+        bp_mesh_free(&mesh, NULL);
+        return 1;
+    }
+    st = bp_atlas_build(&at, &mesh, &opt, &err);
+    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) { report_error(input, &err); bp_mesh_free(&mesh, NULL); return 1; }
+    N.m = &mesh; N.at = &at; N.first = NULL;
+    printf("%s: %u charts from its vt, %u faces\n", input, (unsigned)at.num_charts, (unsigned)mesh.num_faces);
+    first = (uint32_t *)calloc((size_t)at.num_charts + 1, sizeof *first);
+    for (c = 0; c < at.num_charts; c++) { nt += at.charts[c].num_triangles; nv += at.charts[c].num_vertices; }
+    tri = (uint32_t *)malloc(3 * (size_t)nt * sizeof *tri + 1);
+    all = (double *)malloc(2 * (size_t)nv * sizeof *all + 1);
+    if (!first || !tri || !all) { fprintf(stderr, "bijparam: error: out of memory\n"); bad = 1; goto done; }
+    nt = nv = 0;
+    for (c = 0; c < at.num_charts; c++) {
+        const bp_chart *ch = &at.charts[c];
+        bp_check_report r;
+        bp_error e;
+        double *uv = all + 2 * (size_t)nv;
+        first[c] = nv;
+        for (i = 0; i < ch->num_vertices; i++) {
+            uv[2 * i] = mesh.uvs[2 * (size_t)ch->vertex_uv[i]];
+            uv[2 * i + 1] = mesh.uvs[2 * (size_t)ch->vertex_uv[i] + 1];
+        }
+        for (i = 0; i < 3 * ch->num_triangles; i++) tri[3 * (size_t)nt + i] = ch->triangles[i] + nv;
+        nt += ch->num_triangles;
+        nv += ch->num_vertices;
+        if (ch->error.status != BP_OK) {          /* closed or higher-genus chart */
+            printf("chart %u: %u faces: NOT bijective: %s\n", (unsigned)c, (unsigned)ch->num_triangles, ch->error.message);
+            bad++;
+            continue;
+        }
+        st = bp_check(ch->triangles, ch->num_triangles, uv, ch->num_vertices, NULL, &r, &e);
+        if (st == BP_OK) {
+            printf("chart %u: %u faces: bijective\n", (unsigned)c, (unsigned)ch->num_triangles);
+            continue;
+        }
+        bad++;
+        printf("chart %u: %u faces: NOT bijective (%s): %u flipped, %u degenerate, %u with NaN/Inf, "
+               "%u boundary intersections, %u loop problems, %u nested pieces\n", (unsigned)c,
+               (unsigned)ch->num_triangles, bp_status_string(st), r.flipped, r.degenerate, r.nonfinite,
+               r.boundary_intersections, r.loop_orientation, r.nested);
+        explain(&N, c, uv, ch->triangles, &r, &e, c, (uint32_t)(e.index >= 0 ? e.index : 0));
+    }
+    first[at.num_charts] = nv;
+    if (!bad && at.num_charts > 1) {
+        bp_check_report r;
+        bp_error e;
+        st = bp_check(tri, nt, all, nv, NULL, &r, &e);
+        if (st != BP_OK) {
+            uint32_t tc = 0, tl = 0;
+            overlap = 1;
+            N.first = first;
+            if (e.element == BP_ELEMENT_TRIANGLE) {
+                uint32_t t = (uint32_t)e.index;
+                while (tc + 1 < at.num_charts && t >= at.charts[tc].num_triangles) { t -= at.charts[tc].num_triangles; tc++; }
+                tl = t;
+            }
+            printf("all charts together: charts overlap (%s): %u boundary intersections, %u nested pieces\n",
+                   bp_status_string(st), r.boundary_intersections, r.nested);
+            explain(&N, 0, all, tri, &r, &e, tc, tl);
+        } else {
+            printf("all charts together: no two charts overlap\n");
+        }
+    }
+    if (bad || overlap)
+        printf("result: NOT bijective (%u of %u charts fail%s)\n", (unsigned)bad, (unsigned)at.num_charts,
+               overlap ? ", charts overlap" : "");
+    else
+        printf("result: bijective (%u charts, none overlapping)\n", (unsigned)at.num_charts);
+done:
+    free(first); free(tri); free(all);
+    bp_atlas_free(&at);
+    bp_mesh_free(&mesh, NULL);
+    return bad || overlap ? 1 : 0;
+}
+
 int main(int argc, char **argv)
 {
     bp_options opt;
@@ -656,7 +833,7 @@ int main(int argc, char **argv)
     bpd_render_options png_opt;
     frames_state fs;
     char final_path[4096];
-    int json = 0, demo = 0, have_mesh = 0, i, status = 0, force = 0, quiet = 0, wrote = 0;
+    int json = 0, demo = 0, have_mesh = 0, i, status = 0, force = 0, quiet = 0, wrote = 0, check = 0;
     uint32_t c;
     double t0;
 
@@ -783,6 +960,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) quiet = 1;
         else if (!strcmp(a, "--json")) json = 1;
         else if (!strcmp(a, "--demo")) demo = 1;
+        else if (!strcmp(a, "--check")) check = 1;
         else if (!strcmp(a, "--init-only")) opt.init_only = 1;
         else if (!strcmp(a, "--no-barrier")) opt.no_barrier = 1;
         else if (!strcmp(a, "--normalize")) opt.normalize = 1;
@@ -793,6 +971,8 @@ int main(int argc, char **argv)
     }
     if (demo && input) return usage_error("--demo takes no input file ('%s')", input);
     if (!demo && !input) return usage_error("%s", "no input file");
+    if (check && demo) return usage_error("%s", "--check takes an input file, not --demo");
+    if (check) return run_check(input);
     if (!force) {           /* an output that would replace an input file */
         const char *outs[4], *flags[4] = { "-o", "--svg", "--png", "--trace" };
         int k;
@@ -917,7 +1097,7 @@ int main(int argc, char **argv)
         if (chart_failed(&atlas, c, &st, &err, opt.strict)) continue;
         if (st == BP_OK && fs.dir) {     /* frame 0: the start map */
             double e0 = 0;
-            bp_chart_distortion(&atlas.charts[c], &mesh, opt.energy, &e0, NULL, NULL);
+            bp_chart_distortion(&atlas.charts[c], &mesh, opt.energy, &e0, NULL, NULL, NULL);
             keep_snapshot(&fs, c, 0, e0, 0);
             if (!write_frame(&fs, c, 0, e0)) st = BP_ERR_IO;
         }

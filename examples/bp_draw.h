@@ -169,10 +169,10 @@ static int bpd__values(const bp_mesh *m, const bp_chart *chart, const double *uv
     bp_chart c = *chart;               /* a shallow copy that looks at uv */
     c.uv = (double *)uv;
     if (bp_chart_distortion(&c, m, o->energy, mean, max,
-                            o->color == BPD_COLOR_ENERGY ? val : NULL) != BP_OK)
+                            o->color == BPD_COLOR_ENERGY ? val : NULL, NULL) != BP_OK)
         return 0;
     if (o->color == BPD_COLOR_ANGLE) {
-        if (bp_chart_distortion(&c, m, BP_ENERGY_CONFORMAL, NULL, NULL, val) != BP_OK) return 0;
+        if (bp_chart_distortion(&c, m, BP_ENERGY_CONFORMAL, NULL, NULL, val, NULL) != BP_OK) return 0;
     } else if (o->color == BPD_COLOR_AREA) {
         double a3 = 0, a2 = 0, s;
         uint32_t t;

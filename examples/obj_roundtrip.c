@@ -69,8 +69,7 @@ int main(int argc, char **argv)
             p[0] = back.uvs[2 * ch->vertex_uv[i]];
             p[1] = back.uvs[2 * ch->vertex_uv[i] + 1];
         }
-        bp_check(ch->triangles, ch->num_triangles, uv, ch->num_vertices, NULL, &rep);
-        if (rep.flipped || rep.degenerate || rep.boundary_intersections) ok = 0;
+        if (bp_check(ch->triangles, ch->num_triangles, uv, ch->num_vertices, NULL, &rep, NULL) != BP_OK) ok = 0;
     }
     printf("%s: %s\n", out, ok ? "same charts and faces, every chart's written map is valid"
                                : "MISMATCH");

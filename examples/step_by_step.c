@@ -33,10 +33,10 @@ static int on_step(void *user, uint32_t chart, int iteration, double energy, dou
     watch *w = (watch *)user;
     bp_check_report rep;
     const bp_chart *c = w->chart;
-    bp_check(c->triangles, c->num_triangles, c->uv, c->num_vertices, NULL, &rep);
-    if (rep.flipped || rep.degenerate || rep.boundary_intersections) w->bad++;
+    int valid = bp_check(c->triangles, c->num_triangles, c->uv, c->num_vertices, NULL, &rep, NULL) == BP_OK;
+    if (!valid) w->bad++;
     printf("  chart %u  iteration %3d  energy %.6f  step %.3g  %s\n", (unsigned)chart, iteration,
-           energy, step, rep.flipped || rep.boundary_intersections ? "INVALID" : "valid");
+           energy, step, valid ? "valid" : "INVALID");
     return 0;
 }
 

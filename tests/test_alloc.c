@@ -102,7 +102,7 @@ static int atlas_valid(const bp_atlas *at)
         const bp_chart *ch = &at->charts[c];
         bp_check_report r;
         if (!ch->uv) continue;
-        if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r) != BP_OK) return 0;
+        if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, NULL) != BP_OK) return 0;
         if (r.flipped || r.degenerate || r.nonfinite || r.boundary_intersections || r.loop_orientation || r.nested)
             return 0;
     }
@@ -285,9 +285,12 @@ static bp_status call_check(void *ctx, const bp_allocator *a, int *valid)
 {
     check_ctx *K = (check_ctx *)ctx;
     bp_check_report r;
-    bp_status st = bp_check(K->ch->triangles, K->ch->num_triangles, K->ch->uv, K->ch->num_vertices, a, &r);
-    *valid = st != BP_OK || (!r.flipped && !r.boundary_intersections && !r.loop_orientation && !r.nested);
-    return st;
+    bp_status st = bp_check(K->ch->triangles, K->ch->num_triangles, K->ch->uv, K->ch->num_vertices, a, &r, NULL);
+    /* out of memory: no verdict; otherwise the map is valid and must be
+       found so (a verdict of "not bijective" is a wrong answer here) */
+    *valid = st == BP_ERR_OUT_OF_MEMORY ||
+             (st == BP_OK && !r.flipped && !r.boundary_intersections && !r.loop_orientation && !r.nested);
+    return st == BP_ERR_OUT_OF_MEMORY ? st : BP_OK;
 }
 
 int main(void)

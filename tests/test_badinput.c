@@ -67,7 +67,7 @@ static int chart_valid(const bp_chart *ch)
 {
     bp_check_report r;
     if (!ch->uv) return 0;
-    if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r) != BP_OK) return 0;
+    if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, NULL) != BP_OK) return 0;
     return report_valid(&r);
 }
 
@@ -97,7 +97,7 @@ static int atlas_valid(const bp_atlas *at)
         ot += ch->num_triangles;
         ov += ch->num_vertices;
     }
-    if (bp_check(tri, nt, uv, nv, NULL, &r) != BP_OK || !report_valid(&r)) ok = 0;
+    if (bp_check(tri, nt, uv, nv, NULL, &r, NULL) != BP_OK || !report_valid(&r)) ok = 0;
     free(tri);
     free(uv);
     return ok;

@@ -257,6 +257,48 @@ for only in "-DBP_MALLOC(s,u)=malloc(s)" "-DBP_FREE(p,u)=free(p)"; do
     fi
 done
 
+# ---- the exact predicates refuse arithmetic they cannot trust ------------------
+# -ffast-math (reassociation breaks TwoSum, NaN tests vanish) and a nonzero
+# FLT_EVAL_METHOD (wider intermediates: i386 x87 gives 2) are #errors that
+# say why; the same program compiles without them (so the failure is the
+# #error, not something else).
+printf '#define BP_IMPLEMENTATION\n#include "bijparam.h"\nint main(void) { return 0; }\n' >"$TMP/fm.c"
+check "plain -std=c99: the fast-math probe compiles" $CC -std=c99 -I"$ROOT" -c "$TMP/fm.c" -o "$TMP/fm.o"
+if $CC -std=c99 -ffast-math -I"$ROOT" -c "$TMP/fm.c" -o "$TMP/fm.o" >"$TMP/log" 2>&1; then
+    fail "-ffast-math is an #error (it compiled)"
+elif grep -q 'fast-math.*exact predicates need strict IEEE' "$TMP/log"; then
+    ok "-ffast-math is an #error saying why (the exact predicates need strict IEEE double arithmetic)"
+else
+    fail "-ffast-math fails, but not with the #error"; sed 's/^/     | /' "$TMP/log" | head -n 10
+fi
+if $CXX -std=c++11 -ffast-math -I"$ROOT" -x c++ -c "$TMP/fm.c" -o "$TMP/fm.o" >"$TMP/log" 2>&1; then
+    fail "g++ -ffast-math is an #error (it compiled)"
+elif grep -q 'fast-math' "$TMP/log"; then
+    ok "g++ -ffast-math is an #error too"
+else
+    fail "g++ -ffast-math fails, but not with the #error"; sed 's/^/     | /' "$TMP/log" | head -n 10
+fi
+# FLT_EVAL_METHOD 2 where the compiler can produce it (-m32 -mfpmath=387 needs
+# 32-bit headers); else the same #if is exercised through a forced value.
+printf '#include <float.h>\n#undef FLT_EVAL_METHOD\n#define FLT_EVAL_METHOD 2\n#define BP_IMPLEMENTATION\n#include "bijparam.h"\nint main(void) { return 0; }\n' >"$TMP/fem.c"
+if $CC -std=c99 -I"$ROOT" -c "$TMP/fem.c" -o "$TMP/fem.o" >"$TMP/log" 2>&1; then
+    fail "FLT_EVAL_METHOD 2 is an #error (it compiled)"
+elif grep -q 'FLT_EVAL_METHOD != 0' "$TMP/log"; then
+    ok "FLT_EVAL_METHOD 2 is an #error saying why"
+else
+    fail "FLT_EVAL_METHOD 2 fails, but not with the #error"; sed 's/^/     | /' "$TMP/log" | head -n 10
+fi
+printf '#include <float.h>\n#undef FLT_EVAL_METHOD\n#define FLT_EVAL_METHOD 2\n#define BP_TRUST_FLT_EVAL_METHOD\n#define BP_IMPLEMENTATION\n#include "bijparam.h"\nint main(void) { return 0; }\n' >"$TMP/fem2.c"
+check "BP_TRUST_FLT_EVAL_METHOD accepts FLT_EVAL_METHOD 2 knowingly" $CC -std=c99 -I"$ROOT" -c "$TMP/fem2.c" -o "$TMP/fem2.o"
+if echo 'int main(void){return 0;}' | $CC -m32 -x c - -o "$TMP/m32" >/dev/null 2>&1; then
+    if $CC -std=c99 -m32 -mfpmath=387 -I"$ROOT" -c "$TMP/fm.c" -o "$TMP/fm32.o" >"$TMP/log" 2>&1; then
+        fail "-m32 -mfpmath=387 (x87, FLT_EVAL_METHOD 2) is an #error (it compiled)"
+    elif grep -q 'FLT_EVAL_METHOD' "$TMP/log"; then ok "-m32 -mfpmath=387 is an #error (FLT_EVAL_METHOD)"
+    else fail "-m32 -mfpmath=387 fails, but not with the #error"; sed 's/^/     | /' "$TMP/log" | head -n 10; fi
+else
+    echo "note test_compile.sh: no 32-bit toolchain: the x87 case is covered only by the forced FLT_EVAL_METHOD above"
+fi
+
 # ---- a counting allocator through a whole run ---------------------------------
 cat >"$TMP/counting.c" <<'EOF'
 #include <stdio.h>
@@ -336,9 +378,9 @@ int main(int argc, char **argv)
         st = bp_chart_init(&atlas.charts[c], &mesh, &opt, &err);
         if (st == BP_OK) st = bp_chart_optimize(&atlas.charts[c], c, &mesh, &opt, &err);
         if (st == BP_OK) st = bp_check(atlas.charts[c].triangles, atlas.charts[c].num_triangles,
-                                       atlas.charts[c].uv, atlas.charts[c].num_vertices, &a, &rep);
+                                       atlas.charts[c].uv, atlas.charts[c].num_vertices, &a, &rep, &err);
         if (st == BP_OK) st = bp_chart_distortion(&atlas.charts[c], &mesh, BP_ENERGY_SYMMETRIC_DIRICHLET,
-                                                  &mean, &max, NULL);
+                                                  &mean, &max, NULL, &err);
     }
     if (st != BP_OK) { printf("init/optimize/check: %s\n", err.message); return 1; }
     st = bp_atlas_pack(&atlas, &opt, &err);

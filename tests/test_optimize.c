@@ -45,9 +45,9 @@ static const double PI = 3.14159265358979323846;
 static int map_valid(const bp_chart *ch, const double *uv, bp_check_report *out)
 {
     bp_check_report rep;
-    if (bp_check(ch->triangles, ch->num_triangles, uv, ch->num_vertices, NULL, &rep) != BP_OK) return 0;
+    bp_status st = bp_check(ch->triangles, ch->num_triangles, uv, ch->num_vertices, NULL, &rep, NULL);
     if (out) *out = rep;
-    return !rep.flipped && !rep.degenerate && !rep.nonfinite && !rep.boundary_intersections;
+    return st == BP_OK && !rep.flipped && !rep.degenerate && !rep.nonfinite && !rep.boundary_intersections;
 }
 
 /* ---- the solver, set up by hand as bp_chart_optimize does ------------------ */
@@ -423,7 +423,7 @@ static void test_packed_spot(void)
         q += 2 * ch->num_vertices;
         nv += ch->num_vertices;
     }
-    st = bp_check(tri, nt, uv, nv, NULL, &rep);
+    st = bp_check(tri, nt, uv, nv, NULL, &rep, NULL);
     BPT_CHECK(atlas.num_charts == 13 && each_bad == 0, "spot: 13 charts, each valid after packing (%u charts, %d invalid)",
               atlas.num_charts, each_bad);
     BPT_CHECK(st == BP_OK && rep.flipped == 0 && rep.degenerate == 0 && rep.boundary_intersections == 0,

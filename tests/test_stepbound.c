@@ -509,8 +509,9 @@ static double brute_step_bound(const bp__solver *S, const double *x, const doubl
 static int map_valid(const bp_chart *ch, const double *uv)
 {
     bp_check_report rep;
-    if (bp_check(ch->triangles, ch->num_triangles, uv, ch->num_vertices, NULL, &rep) != BP_OK) return -1;
-    return !rep.flipped && !rep.degenerate && !rep.nonfinite && !rep.boundary_intersections;
+    bp_status st = bp_check(ch->triangles, ch->num_triangles, uv, ch->num_vertices, NULL, &rep, NULL);
+    if (st != BP_OK && st != BP_ERR_NOT_BIJECTIVE && st != BP_ERR_NONFINITE) return -1;
+    return st == BP_OK;
 }
 
 typedef struct chart_stats {

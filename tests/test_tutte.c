@@ -142,7 +142,7 @@ static int check_start(const bp_mesh *m, bp_chart *ch, int mvc, const char *name
     if (!BPT_CHECK(bp_chart_init(ch, m, &o, &e) == BP_OK, "%s chart %u (%s): start map: %s", name, c,
                    mvc ? "mean value" : "Tutte", e.message))
         return 1;
-    bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r);
+    if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, NULL) != BP_OK) bad++;
     if (r.flipped || r.degenerate || r.nonfinite || r.boundary_intersections || r.loop_orientation || r.nested) bad++;
     /* the outer loop: on the circle of the chart's area, by 3D arc length */
     R = sqrt(ch->area3d / 3.14159265358979323846);

@@ -622,7 +622,10 @@ static int all_charts_valid(const bp_atlas *A, uint32_t *bad_chart)
     for (c = 0; c < A->num_charts; c++) {
         bp_check_report r;
         const bp_chart *ch = &A->charts[c];
-        if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r) != BP_OK) {
+        bp_status st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, NULL);
+        /* bijective: the verdict and every count of the report agree */
+        if (st != BP_OK || r.flipped || r.degenerate || r.nonfinite || r.boundary_intersections || r.loop_orientation ||
+            r.nested || r.nonmanifold_edges || r.misoriented_edges) {
             *bad_chart = c;
             return 0;
         }

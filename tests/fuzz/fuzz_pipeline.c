@@ -28,6 +28,7 @@ static void check_atlas(const bp_atlas *at, bp_status st, const bp_mesh *m)
     uint32_t *tri;
     double *uv;
     bp_check_report r;
+    bp_error ce;
     if (at->num_corners != 3 * m->num_triangles) fuzz_fail("num_corners %u", at->num_corners);
     for (c = 0; c < at->num_charts; c++) {
         const bp_chart *ch = &at->charts[c];
@@ -37,8 +38,8 @@ static void check_atlas(const bp_atlas *at, bp_status st, const bp_mesh *m)
             continue;
         }
         if (ch->error.status != BP_OK) fuzz_fail("chart %u has a map and an error", c);
-        if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r) != BP_OK)
-            fuzz_fail("bp_check failed on chart %u", c);
+        if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, &ce) != BP_OK)
+            fuzz_fail("%s with chart %u NOT BIJECTIVE: %s", bp_status_string(st), c, ce.message);
         if (!fuzz_report_valid(&r))
             fuzz_fail("%s with chart %u NOT BIJECTIVE: flipped %u degenerate %u nonfinite %u boundary %u loops %u nested %u",
                       bp_status_string(st), c, r.flipped, r.degenerate, r.nonfinite, r.boundary_intersections,
@@ -60,7 +61,8 @@ static void check_atlas(const bp_atlas *at, bp_status st, const bp_mesh *m)
         ot += ch->num_triangles;
         ov += ch->num_vertices;
     }
-    if (bp_check(tri, nt, uv, nv, NULL, &r) != BP_OK) fuzz_fail("bp_check failed on the atlas");
+    if (bp_check(tri, nt, uv, nv, NULL, &r, &ce) != BP_OK)
+        fuzz_fail("%s with the packed atlas NOT BIJECTIVE: %s", bp_status_string(st), ce.message);
     free(tri);
     free(uv);
     if (!fuzz_report_valid(&r))

@@ -1,0 +1,593 @@
+/* test_check.c - bp_check against an independent brute force.
+
+   The brute force knows nothing of boundary loops, winding numbers or
+   grids.  A map of a triangulation is bijective when (1) the triangles
+   form an oriented manifold (each directed edge once, each undirected edge
+   at most twice), (2) every coordinate is finite and every triangle is
+   positive (exact orient2d), (3) no boundary vertex is pinched (bp_check's
+   documented choice: two boundary edges leaving one vertex are refused),
+   and (4) every pair of triangles meets exactly in the face they share:
+   disjoint closed triangles when they share nothing, only the vertex when
+   they share one, opposite sides of the edge when they share two.  (4) is
+   decided exactly with separating edge lines (two convex polygons have
+   disjoint interiors iff one's edge line weakly separates them, disjoint
+   closures iff one strictly does) and exact segment tests.
+
+   Thousands of random small layouts, valid and invalid, are compared:
+   grids with holes, pieces placed at random (inside holes: valid; on a
+   piece: nested), moved vertices, vertices snapped onto others, reversed
+   and duplicated triangles, a third triangle on an edge.  Coordinates on a
+   coarse lattice make exact touching common. */
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include "bptest.h"
+#include <math.h>
+
+#define MAXV 400
+#define MAXT 700
+
+typedef struct layout {
+    uint32_t nv, nt;
+    double uv[2 * MAXV];
+    uint32_t tri[3 * MAXT];
+} layout;
+
+/* ---- the brute force ------------------------------------------------------ */
+
+static int orient(const layout *L, uint32_t a, uint32_t b, uint32_t c)
+{
+    return bp_orient2d(L->uv + 2 * a, L->uv + 2 * b, L->uv + 2 * c);
+}
+
+/* every vertex of t2 on the outer side of some edge of t1 (strict or weak) */
+static int separated(const layout *L, const uint32_t *t1, const uint32_t *t2, int strict)
+{
+    int e, k;
+    for (e = 0; e < 3; e++) {
+        int all = 1;
+        for (k = 0; k < 3; k++) {
+            int o = orient(L, t1[e], t1[(e + 1) % 3], t2[k]);
+            if (strict ? o >= 0 : o > 0) all = 0;
+        }
+        if (all) return 1;
+    }
+    return 0;
+}
+
+static int sgn(double x) { return (x > 0) - (x < 0); }
+
+static int pair_ok(const layout *L, const uint32_t *t1, const uint32_t *t2)
+{
+    int i, j, ns = 0, si = -1, sj = -1;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            if (t1[i] == t2[j]) { ns++; si = i; sj = j; }
+    if (ns == 3) return 0;
+    if (ns == 0) return separated(L, t1, t2, 1) || separated(L, t2, t1, 1);
+    if (ns == 2) {
+        uint32_t u = 0, v = 0, w1 = 0, w2 = 0;
+        int c = 0;
+        for (i = 0; i < 3; i++) {
+            int in2 = t1[i] == t2[0] || t1[i] == t2[1] || t1[i] == t2[2];
+            if (!in2) w1 = t1[i]; else if (c++ == 0) u = t1[i]; else v = t1[i];
+        }
+        for (j = 0; j < 3; j++)
+            if (t2[j] != u && t2[j] != v) w2 = t2[j];
+        return orient(L, u, v, w1) * orient(L, u, v, w2) < 0;
+    }
+    /* one shared vertex s: interiors disjoint, and edges meet only at s */
+    {
+        uint32_t s = t1[si];
+        (void)sj;
+        if (!separated(L, t1, t2, 0) && !separated(L, t2, t1, 0)) return 0;
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++) {
+                uint32_t a = t1[i], b = t1[(i + 1) % 3], c = t2[j], d = t2[(j + 1) % 3];
+                int hs1 = a == s || b == s, hs2 = c == s || d == s;
+                if (hs1 && hs2) {
+                    uint32_t p = a == s ? b : a, q = c == s ? d : c;
+                    const double *S = L->uv + 2 * s, *P = L->uv + 2 * p, *Q = L->uv + 2 * q;
+                    if (orient(L, s, p, q) == 0 && sgn(P[0] - S[0]) == sgn(Q[0] - S[0]) &&
+                        sgn(P[1] - S[1]) == sgn(Q[1] - S[1]))
+                        return 0;                 /* the two edges overlap beyond s */
+                } else if (bp_segments_intersect(L->uv + 2 * a, L->uv + 2 * b, L->uv + 2 * c, L->uv + 2 * d)) {
+                    return 0;
+                }
+            }
+        return 1;
+    }
+}
+
+/* 0 valid; 1 precondition; 2 non-finite; 3 other invalid */
+static int brute(const layout *L)
+{
+    uint32_t t, u, k, m, v;
+    static uint32_t outdeg[MAXV];
+    for (t = 0; t < L->nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t a = L->tri[3 * t + k], b = L->tri[3 * t + (k + 1) % 3], same = 0, rev = 0;
+            for (u = 0; u < L->nt; u++)
+                for (m = 0; m < 3; m++) {
+                    uint32_t c = L->tri[3 * u + m], d = L->tri[3 * u + (m + 1) % 3];
+                    if (c == a && d == b) same++;
+                    if (c == b && d == a) rev++;
+                }
+            if (a != b && (same > 1 || same + rev > 2)) return 1;
+        }
+    for (t = 0; t < L->nt; t++)
+        for (k = 0; k < 6; k++)
+            if (!isfinite(L->uv[2 * L->tri[3 * t + k / 2] + k % 2])) return 2;
+    for (t = 0; t < L->nt; t++)
+        if (orient(L, L->tri[3 * t], L->tri[3 * t + 1], L->tri[3 * t + 2]) <= 0) return 3;
+    for (v = 0; v < L->nv; v++) outdeg[v] = 0;
+    for (t = 0; t < L->nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t a = L->tri[3 * t + k], b = L->tri[3 * t + (k + 1) % 3], rev = 0;
+            for (u = 0; u < L->nt; u++)
+                for (m = 0; m < 3; m++)
+                    if (L->tri[3 * u + m] == b && L->tri[3 * u + (m + 1) % 3] == a) rev++;
+            if (!rev && ++outdeg[a] > 1) return 3;      /* pinched */
+        }
+    for (t = 0; t < L->nt; t++)
+        for (u = t + 1; u < L->nt; u++)
+            if (!pair_ok(L, L->tri + 3 * t, L->tri + 3 * u)) return 3;
+    return 0;
+}
+
+/* ---- random layouts ------------------------------------------------------- */
+
+static double coord(double x, int lattice)
+{
+    return lattice ? floor(x * 8 + 0.5) / 8 : x;
+}
+
+/* an m x n grid of cells at (ox, oy) with cell size h, each cell kept with
+   probability keep, except the cells of the hole [h0, h1)^2 */
+static void add_grid(layout *L, double ox, double oy, double h, int m, int n, double keep, int h0, int h1,
+                     int lattice)
+{
+    uint32_t base = L->nv, i, j;
+    if (L->nv + (uint32_t)((m + 1) * (n + 1)) > MAXV || L->nt + (uint32_t)(2 * m * n) > MAXT) return;
+    for (j = 0; j <= (uint32_t)n; j++)
+        for (i = 0; i <= (uint32_t)m; i++) {
+            double jx = lattice ? 0 : bpt_rng_range(-0.25, 0.25), jy = lattice ? 0 : bpt_rng_range(-0.25, 0.25);
+            L->uv[2 * L->nv] = coord(ox + h * (i + jx), lattice);
+            L->uv[2 * L->nv + 1] = coord(oy + h * (j + jy), lattice);
+            L->nv++;
+        }
+    for (j = 0; j < (uint32_t)n; j++)
+        for (i = 0; i < (uint32_t)m; i++) {
+            uint32_t a = base + j * (m + 1) + i, b = a + 1, c = a + (m + 1) + 1, d = a + (m + 1);
+            if ((int)i >= h0 && (int)i < h1 && (int)j >= h0 && (int)j < h1) continue;
+            if (bpt_rng_unit() > keep) continue;
+            if (bpt_rng_unit() < 0.5) {
+                uint32_t t1[6] = { a, b, c, a, c, d };
+                memcpy(L->tri + 3 * L->nt, t1, sizeof t1);
+            } else {
+                uint32_t t2[6] = { a, b, d, b, c, d };
+                memcpy(L->tri + 3 * L->nt, t2, sizeof t2);
+            }
+            L->nt += 2;
+        }
+}
+
+static uint32_t rnd(uint32_t n) { return (uint32_t)(bpt_rng_u64() % n); }
+
+static void random_layout(layout *L, int kind)
+{
+    int lattice = bpt_rng_unit() < 0.4, mut, nm;
+    memset(L, 0, sizeof *L);
+    /* a main piece: a grid, sometimes with a hole, sometimes with cells missing */
+    {
+        int m = 2 + (int)rnd(4), n = 2 + (int)rnd(4), hole = m >= 4 && n >= 4 && bpt_rng_unit() < 0.6;
+        add_grid(L, 0, 0, 1, m, n, bpt_rng_unit() < 0.5 ? 1.0 : 0.8, hole ? 1 : 0, hole ? (m < n ? m : n) - 1 : 0,
+                 lattice);
+    }
+    /* a second piece at a random place: inside the hole, outside, on top */
+    if (kind >= 1 && bpt_rng_unit() < 0.7) {
+        double h = bpt_rng_unit() < 0.5 ? 0.5 : bpt_rng_range(0.2, 1.2);
+        add_grid(L, bpt_rng_range(-1, 5), bpt_rng_range(-1, 5), h, 1 + (int)rnd(2), 1 + (int)rnd(2), 1.0, 0, 0, lattice);
+    }
+    if (kind < 2) return;
+    /* mutations */
+    nm = 1 + (int)rnd(2);
+    for (mut = 0; mut < nm && L->nt > 0; mut++) {
+        uint32_t t = rnd(L->nt), v = L->tri[3 * t + rnd(3)];
+        switch (rnd(7)) {
+        case 0:              /* move a vertex anywhere */
+            L->uv[2 * v] = coord(bpt_rng_range(-1, 6), lattice);
+            L->uv[2 * v + 1] = coord(bpt_rng_range(-1, 6), lattice);
+            break;
+        case 1:              /* move a vertex a little */
+            L->uv[2 * v] = coord(L->uv[2 * v] + bpt_rng_range(-0.6, 0.6), lattice);
+            L->uv[2 * v + 1] = coord(L->uv[2 * v + 1] + bpt_rng_range(-0.6, 0.6), lattice);
+            break;
+        case 2: {            /* snap onto another vertex's place */
+            uint32_t w = L->tri[rnd(3 * L->nt)];
+            L->uv[2 * v] = L->uv[2 * w];
+            L->uv[2 * v + 1] = L->uv[2 * w + 1];
+            break;
+        }
+        case 3:              /* a triangle listed twice */
+            if (L->nt < MAXT) { memcpy(L->tri + 3 * L->nt, L->tri + 3 * t, 3 * sizeof(uint32_t)); L->nt++; }
+            break;
+        case 4: {            /* reversed triangle */
+            uint32_t x = L->tri[3 * t];
+            L->tri[3 * t] = L->tri[3 * t + 1];
+            L->tri[3 * t + 1] = x;
+            break;
+        }
+        case 5:              /* a new triangle on an edge, in either direction */
+            if (L->nt < MAXT && L->nv < MAXV) {
+                uint32_t a = L->tri[3 * t], b = L->tri[3 * t + 1], nvx = L->nv++;
+                L->uv[2 * nvx] = coord(bpt_rng_range(-1, 6), lattice);
+                L->uv[2 * nvx + 1] = coord(bpt_rng_range(-1, 6), lattice);
+                if (bpt_rng_unit() < 0.5) { uint32_t x = a; a = b; b = x; }
+                L->tri[3 * L->nt] = a; L->tri[3 * L->nt + 1] = b; L->tri[3 * L->nt + 2] = nvx;
+                if (orient(L, a, b, nvx) < 0) { L->tri[3 * L->nt] = b; L->tri[3 * L->nt + 1] = a; }
+                L->nt++;
+            }
+            break;
+        default: {           /* mirror the whole layout (valid stays valid) */
+            uint32_t k;
+            for (k = 0; k < L->nv; k++) L->uv[2 * k] = -L->uv[2 * k];
+            for (k = 0; k < L->nt; k++) { uint32_t x = L->tri[3 * k]; L->tri[3 * k] = L->tri[3 * k + 1]; L->tri[3 * k + 1] = x; }
+            break;
+        }
+        }
+    }
+}
+
+/* the message names the element the error's fields name */
+static int names_element(const bp_error *e)
+{
+    if (e->element == BP_ELEMENT_TRIANGLE) return bpt_has_number(e->message, e->index) && strstr(e->message, "triangle index");
+    if (e->element == BP_ELEMENT_EDGE) return bpt_has_number(e->message, e->index) && bpt_has_number(e->message, e->index2);
+    if (e->element == BP_ELEMENT_VERTEX) return bpt_has_number(e->message, e->index);
+    return 0;
+}
+
+static void random_agreement(void)
+{
+    static layout L, S;
+    int i, disagree = 0, nvalid = 0, ninvalid = 0, badstatus = 0, badname = 0, scaled_diff = 0, kinds[4] = { 0, 0, 0, 0 };
+    const int N = 4000;
+    for (i = 0; i < N; i++) {
+        bp_check_report r, rs;
+        bp_error e, es;
+        bp_status st, sts;
+        int b, s, k;
+        random_layout(&L, i % 3);
+        b = brute(&L);
+        st = bp_check(L.tri, L.nt, L.uv, L.nv, NULL, &r, &e);
+        kinds[b]++;
+        if ((b == 0) != (st == BP_OK)) {
+            if (disagree++ < 3) {
+                uint32_t t;
+                printf("  disagreement on layout %d: brute %d, bp_check %s: %s\n  ", i, b, bp_status_string(st), e.message);
+                for (t = 0; t < L.nt; t++) printf("(%u %u %u) ", L.tri[3 * t], L.tri[3 * t + 1], L.tri[3 * t + 2]);
+                printf("\n");
+            }
+        }
+        if (b == 0) nvalid++; else ninvalid++;
+        if (b == 1 && st != BP_ERR_NONMANIFOLD && st != BP_ERR_ORIENTATION) badstatus++;
+        if (b == 3 && st != BP_ERR_NOT_BIJECTIVE) badstatus++;
+        if (b != 0 && (e.status != st || !names_element(&e))) {
+            if (badname++ < 3) printf("  message does not name its element (%d): %s\n", (int)e.element, e.message);
+        }
+        /* the same layout scaled by 2^900 and 2^-900: the same verdict and counts */
+        for (s = -1; s <= 1; s += 2) {
+            S = L;
+            for (k = 0; k < (int)(2 * L.nv); k++) S.uv[k] = ldexp(L.uv[k], 900 * s);
+            sts = bp_check(S.tri, S.nt, S.uv, S.nv, NULL, &rs, &es);
+            if (sts != st || rs.flipped != r.flipped || rs.degenerate != r.degenerate ||
+                rs.boundary_intersections != r.boundary_intersections || rs.loop_orientation != r.loop_orientation ||
+                rs.nested != r.nested)
+                scaled_diff++;
+        }
+    }
+    BPT_CHECK(disagree == 0, "%d random layouts: bp_check == BP_OK exactly when the brute force finds the map "
+              "bijective (%d valid, %d invalid: %d precondition, %d other; %d disagreements)", N, nvalid, ninvalid,
+              kinds[1], kinds[3], disagree);
+    BPT_CHECK(nvalid > N / 5 && kinds[1] > N / 50 && kinds[3] > N / 5, "the random layouts cover valid maps, "
+              "precondition failures and invalid maps (%d, %d, %d)", nvalid, kinds[1], kinds[3]);
+    BPT_CHECK(badstatus == 0, "the status is NONMANIFOLD/ORIENTATION for a broken precondition and NOT_BIJECTIVE "
+              "otherwise (%d wrong)", badstatus);
+    BPT_CHECK(badname == 0, "every invalid verdict's message names the element of err.index/index2 (%d do not)", badname);
+    BPT_CHECK(scaled_diff == 0, "scaling each layout by 2^900 and 2^-900 changes no verdict and no count (%d changed)",
+              scaled_diff);
+}
+
+/* ---- named cases ---------------------------------------------------------- */
+
+static void named_cases(void)
+{
+    /* a unit square: two triangles 0 1 2, 0 2 3 */
+    double sq[8] = { 0, 0, 1, 0, 1, 1, 0, 1 }, uv[16];
+    uint32_t tri[12] = { 0, 1, 2, 0, 2, 3 }, t3[12];
+    bp_check_report r;
+    bp_error e;
+    bp_status st;
+    int k;
+
+    st = bp_check(tri, 2, sq, 4, NULL, &r, &e);
+    BPT_CHECK(st == BP_OK && e.status == BP_OK, "unit square: BP_OK (%s)", e.message);
+    BPT_CHECK(bp_check(tri, 2, sq, 4, NULL, &r, NULL) == BP_OK, "err may be NULL");
+
+    memcpy(uv, sq, sizeof sq);
+    uv[4] = -1; uv[5] = -1;                                   /* vertex 2 behind 0: triangle 0 flipped */
+    st = bp_check(tri, 2, uv, 4, NULL, &r, &e);
+    BPT_CHECK(st == BP_ERR_NOT_BIJECTIVE && r.flipped >= 1 && e.element == BP_ELEMENT_TRIANGLE && e.index == 0 &&
+              strstr(e.message, "triangle index 0") && strstr(e.message, "flipped"),
+              "a flipped triangle: BP_ERR_NOT_BIJECTIVE naming triangle index 0, report kept (%u flipped): %s",
+              r.flipped, e.message);
+
+    memcpy(uv, sq, sizeof sq);
+    uv[6] = NAN;
+    st = bp_check(tri, 2, uv, 4, NULL, &r, &e);
+    BPT_CHECK(st == BP_ERR_NONFINITE && r.nonfinite == 1 && e.index == 1 && strstr(e.message, "triangle index 1"),
+              "a NaN coordinate: BP_ERR_NONFINITE naming triangle index 1: %s", e.message);
+
+    memcpy(t3, tri, 6 * sizeof *tri);
+    memcpy(t3 + 6, tri, 3 * sizeof *tri);                     /* triangle 0 listed twice */
+    st = bp_check(t3, 3, sq, 4, NULL, &r, &e);
+    /* 0->1 and 1->2 twice in one direction; 2-0 three times (with 0->2 of triangle 1) */
+    BPT_CHECK(st == BP_ERR_ORIENTATION && r.misoriented_edges == 2 && r.nonmanifold_edges == 1 && e.element == BP_ELEMENT_EDGE &&
+              bpt_has_number(e.message, e.index) && bpt_has_number(e.message, e.index2) && bpt_has_number(e.message, 2),
+              "a triangle listed twice never passes: BP_ERR_ORIENTATION, 2 + 1 edges, naming the edge and triangle index 2: %s",
+              e.message);
+    st = bp_check(t3 + 6, 1, sq, 4, NULL, &r, &e);
+    BPT_CHECK(st == BP_OK, "(one copy alone is valid)");
+    {
+        uint32_t d[6] = { 0, 1, 2, 0, 1, 2 };
+        st = bp_check(d, 2, sq, 4, NULL, &r, &e);
+        BPT_CHECK(st == BP_ERR_ORIENTATION && r.flipped == 0 && r.degenerate == 0,
+                  "a single triangle listed twice (a double cover with no boundary edge left): %s, %s",
+                  bp_status_string(st), e.message);
+    }
+    {
+        /* three triangles on edge 0-2 */
+        double u5[10] = { 0, 0, 1, 0, 1, 1, 0, 1, 2, -1 };
+        uint32_t tt[9] = { 0, 1, 2, 0, 2, 3, 0, 4, 2 };
+        st = bp_check(tt, 3, u5, 5, NULL, &r, &e);
+        BPT_CHECK(st == BP_ERR_NONMANIFOLD && r.nonmanifold_edges == 1 && e.element == BP_ELEMENT_EDGE &&
+                  ((e.index == 0 && e.index2 == 2) || (e.index == 2 && e.index2 == 0)) &&
+                  r.first_nonmanifold_edge[0] >= 0,
+                  "three triangles on one edge: BP_ERR_NONMANIFOLD naming edge 0-2: %s", e.message);
+    }
+    {
+        /* a small triangle on top of the square: nested */
+        double u7[14] = { 0, 0, 4, 0, 4, 4, 0, 4, 1, 1, 2, 1, 1, 2 };
+        uint32_t tt[9] = { 0, 1, 2, 0, 2, 3, 4, 5, 6 };
+        st = bp_check(tt, 3, u7, 7, NULL, &r, &e);
+        BPT_CHECK(st == BP_ERR_NOT_BIJECTIVE && r.nested == 1 && e.element == BP_ELEMENT_VERTEX &&
+                  bpt_has_number(e.message, e.index) && bpt_has_number(e.message, e.index2),
+                  "a piece on another: BP_ERR_NOT_BIJECTIVE naming a vertex of each: %s", e.message);
+        /* the same triangle mirrored in place, so its triangle is flipped */
+        tt[7] = 6; tt[8] = 5;
+        st = bp_check(tt, 3, u7, 7, NULL, &r, &e);
+        BPT_CHECK(st == BP_ERR_NOT_BIJECTIVE && r.flipped == 1 && e.index == 2, "its reversed copy: flipped, triangle index 2");
+    }
+    {
+        /* two boundary edges crossing: a bow of two triangles sharing no vertex */
+        double u6[12] = { 0, 0, 2, 0, 1, 2, 0, 1, 2, 1, 1, -1 };
+        uint32_t tt[6] = { 0, 1, 2, 3, 5, 4 };
+        st = bp_check(tt, 2, u6, 6, NULL, &r, &e);
+        BPT_CHECK(st == BP_ERR_NOT_BIJECTIVE && r.boundary_intersections > 0 && e.element == BP_ELEMENT_EDGE &&
+                  strstr(e.message, "meet"), "crossing boundary edges: named: %s", e.message);
+    }
+    {
+        uint32_t bad[3] = { 0, 1, 7 };
+        st = bp_check(bad, 1, sq, 4, NULL, &r, &e);
+        BPT_CHECK(st == BP_ERR_INDEX && bpt_has_number(e.message, 7), "an index out of range: BP_ERR_INDEX: %s", e.message);
+        BPT_CHECK(bp_check(tri, 2, sq, 4, NULL, NULL, &e) == BP_ERR_INVALID_ARGUMENT, "no report: invalid argument");
+    }
+    /* extreme scales: every finite map is decided, the same as at scale 1 */
+    {
+        const double scales[5] = { 1.7e308 / 1.0, 1e300, 1e-300, 4.9e-322, 1e154 };
+        for (k = 0; k < 5; k++) {
+            int j;
+            for (j = 0; j < 8; j++) uv[j] = sq[j] * scales[k] - (j % 2 ? 0 : scales[k] * 0.5);
+            st = bp_check(tri, 2, uv, 4, NULL, &r, &e);
+            BPT_CHECK(st == BP_OK, "the square at scale %g (coordinates up to %g): BP_OK: %s", scales[k],
+                      scales[k], e.message);
+            uv[4] = -uv[4];                                       /* vertex 2 to the other side */
+            uv[5] = -uv[5];
+            st = bp_check(tri, 2, uv, 4, NULL, &r, &e);
+            BPT_CHECK(st == BP_ERR_NOT_BIJECTIVE && r.flipped >= 1, "... and flipped at that scale: %s", e.message);
+        }
+        /* -1.7e308 .. 1.7e308: the extent overflows without rescaling */
+        {
+            double big[8] = { -1.7e308, -1.7e308, 1.7e308, -1.7e308, 1.7e308, 1.7e308, -1.7e308, 1.7e308 };
+            st = bp_check(tri, 2, big, 4, NULL, &r, &e);
+            BPT_CHECK(st == BP_OK, "the square from -1.7e308 to 1.7e308: BP_OK (%s)", e.message);
+        }
+        {
+            double mixed[8] = { 0, 0, 1e300, 0, 1e300, 1e300, 0, 1e-300 };
+            st = bp_check(tri, 2, mixed, 4, NULL, &r, &e);
+            BPT_CHECK(st == BP_ERR_INVALID_ARGUMENT && strstr(e.message, "2^994"),
+                      "coordinates from 1e-300 to 1e300: refused clearly: %s", e.message);
+        }
+    }
+}
+
+/* ---- a start map that overlaps itself, given to bp_chart_optimize --------- */
+
+static void overlapping_start(void)
+{
+    /* a strip of n quads in 3D (a long rectangle), mapped in UV around a
+       spiral of 1.6 turns: every triangle positive, the strip on itself */
+    const uint32_t n = 40;
+    bp_mesh m = bpt_mesh_new(2 * (n + 1), 2 * n);
+    bp_atlas at;
+    bp_options opt;
+    bp_error e;
+    bp_status st;
+    uint32_t i, c;
+    double *saved;
+    memset(&opt, 0, sizeof opt);
+    for (i = 0; i <= n; i++) {
+        m.positions[6 * i] = i; m.positions[6 * i + 1] = 0;
+        m.positions[6 * i + 3] = i; m.positions[6 * i + 4] = 1;
+    }
+    for (i = 0; i < n; i++) {
+        uint32_t a = 2 * i, b = 2 * i + 2, cc = 2 * i + 3, d = 2 * i + 1;
+        uint32_t t[6] = { a, b, cc, a, cc, d };
+        memcpy(m.triangles + 6 * i, t, sizeof t);
+    }
+    st = bp_atlas_build(&at, &m, &opt, &e);
+    if (!BPT_CHECK(st == BP_OK && at.num_charts == 1, "strip: one chart (%s)", e.message)) return;
+    st = bp_chart_init(&at.charts[0], &m, &opt, &e);
+    BPT_CHECK(st == BP_OK, "strip: start map (%s)", e.message);
+    for (c = 0; c < at.charts[0].num_vertices; c++) {
+        uint32_t v = at.charts[0].vertex[c], k = v / 2;
+        double ang = 2 * 3.14159265358979 * 1.6 * k / n, rad = (v % 2) ? 1.4 : 2.0;
+        at.charts[0].uv[2 * c] = rad * cos(ang);             /* y = 0 side at radius 2: CCW triangles */
+        at.charts[0].uv[2 * c + 1] = rad * sin(ang);
+    }
+    saved = (double *)malloc(2 * at.charts[0].num_vertices * sizeof(double));
+    memcpy(saved, at.charts[0].uv, 2 * at.charts[0].num_vertices * sizeof(double));
+    {
+        bp_check_report r;
+        bp_status cs = bp_check(at.charts[0].triangles, at.charts[0].num_triangles, at.charts[0].uv,
+                                at.charts[0].num_vertices, NULL, &r, NULL);
+        BPT_CHECK(cs == BP_ERR_NOT_BIJECTIVE && r.flipped == 0 && r.degenerate == 0 && r.boundary_intersections > 0,
+                  "the spiral start map: every triangle positive, the boundary overlaps (%u pairs)", r.boundary_intersections);
+    }
+    st = bp_chart_optimize(&at.charts[0], 0, &m, &opt, &e);
+    BPT_CHECK(st == BP_ERR_NOT_BIJECTIVE && e.element == BP_ELEMENT_EDGE && bpt_has_number(e.message, e.index + 1) &&
+              bpt_has_number(e.message, e.index2 + 1) && strstr(e.message, "overlaps"),
+              "bp_chart_optimize refuses the overlapping start map, naming the two edges' vertices: %s", e.message);
+    BPT_CHECK(memcmp(saved, at.charts[0].uv, 2 * at.charts[0].num_vertices * sizeof(double)) == 0,
+              "... and leaves the map untouched");
+    /* a flipped triangle in the start map: named as the file numbers it */
+    {
+        uint32_t t = 5, v = at.charts[0].triangles[3 * t + 2];
+        double *p = at.charts[0].uv + 2 * v, *q = at.charts[0].uv + 2 * at.charts[0].triangles[3 * t];
+        p[0] = 2 * q[0] - p[0] + 50; p[1] = 2 * q[1] - p[1] + 50;     /* far away: triangles flip */
+        st = bp_chart_optimize(&at.charts[0], 0, &m, &opt, &e);
+        BPT_CHECK(st == BP_ERR_NOT_BIJECTIVE && e.element == BP_ELEMENT_TRIANGLE && bpt_has_number(e.message, e.index + 1) &&
+                  strstr(e.message, "triangle"),
+                  "a start map with a flipped triangle: BP_ERR_NOT_BIJECTIVE naming triangle %lld (from 1): %s",
+                  (long long)e.index + 1, e.message);
+    }
+    /* without the barrier an overlapping map with positive triangles is accepted */
+    memcpy(at.charts[0].uv, saved, 2 * at.charts[0].num_vertices * sizeof(double));
+    opt.no_barrier = 1;
+    opt.max_iterations = 3;
+    st = bp_chart_optimize(&at.charts[0], 0, &m, &opt, &e);
+    BPT_CHECK(st == BP_OK, "no_barrier: the same overlapping start map is accepted (locally injective only): %s",
+              e.message);
+    free(saved);
+    bp_atlas_free(&at);
+    bpt_mesh_free(&m);
+}
+
+/* ---- the loop count of the line search ------------------------------------ */
+
+/* bp__loop_sign on random star-shaped polygons (simple by construction:
+   increasing angles around a centre, counter-clockwise; reversed,
+   clockwise), on a coarse lattice so that ties of the lexicographic
+   minimum and collinear neighbours occur. */
+static void loop_signs(void)
+{
+    int i, wrong = 0, skipped = 0;
+    for (i = 0; i < 2000; i++) {
+        double uv[2 * 40];
+        bp__dedge e[40], r[40];
+        uint32_t n = 3 + rnd(30), k, start[2] = { 0, 0 };
+        int lattice = i % 2;
+        double step = 2 * 3.14159265358979 / n;
+        for (k = 0; k < n; k++) {
+            double ang = step * (k + bpt_rng_range(0.05, 0.95)), rad = bpt_rng_range(0.3, 1.0);
+            uv[2 * k] = lattice ? floor(rad * cos(ang) * 64) / 64 : rad * cos(ang);
+            uv[2 * k + 1] = lattice ? floor(rad * sin(ang) * 64) / 64 : rad * sin(ang);
+        }
+        for (k = 0; k < n; k++) {
+            e[k].a = k; e[k].b = (k + 1) % n;
+            r[k].a = (n - k) % n; r[k].b = (2 * n - k - 1) % n;
+        }
+        /* lattice rounding may make the polygon non-simple: use it only if
+           bp_check says the fan around an added centre is valid */
+        if (lattice) {
+            double fan[2 * 41];
+            uint32_t tri[3 * 40];
+            memcpy(fan, uv, sizeof(double) * 2 * n);
+            fan[2 * n] = 0; fan[2 * n + 1] = 0;
+            for (k = 0; k < n; k++) { tri[3 * k] = n; tri[3 * k + 1] = k; tri[3 * k + 2] = (k + 1) % n; }
+            {
+                bp_check_report rep;
+                if (bp_check(tri, n, fan, n + 1, NULL, &rep, NULL) != BP_OK) { skipped++; continue; }
+            }
+        }
+        start[1] = n;
+        if (bp__loop_sign(uv, e, n, NULL) != 1 || bp__loop_sign(uv, r, n, NULL) != -1 ||
+            bp__ccw_loops(uv, e, start, 1) != 1 || bp__ccw_loops(uv, r, start, 1) != 0)
+            wrong++;
+    }
+    BPT_CHECK(wrong == 0 && skipped < 200, "bp__loop_sign: +1 on %d random counter-clockwise simple polygons, -1 "
+              "reversed (%d wrong; %d lattice polygons not simple after rounding, left out)", 2000 - skipped, wrong, skipped);
+}
+
+/* The line search's acceptance (bp__evaluate with `valid`) rejects a map
+   whose loop count is wrong even though its triangles are positive and its
+   boundary edges do not meet: a disk chart given its loop reversed (so the
+   only loop runs clockwise).  The objective stays finite, so the rejection
+   is the loop count's. */
+static void acceptance_counts_loops(void)
+{
+    const uint32_t n = 6;
+    bp_mesh m = bpt_mesh_new((n + 1) * (n + 1), 2 * n * n);
+    bp_atlas at;
+    bp_options opt;
+    bp_error e;
+    bp_allocator a;
+    bp__solver S;
+    bp_chart *ch;
+    uint32_t i, j, nl;
+    int valid = -1, valid_rev = -1;
+    double ed, f, frev;
+    memset(&opt, 0, sizeof opt);
+    memset(&a, 0, sizeof a);
+    for (j = 0; j <= n; j++)
+        for (i = 0; i <= n; i++) {
+            m.positions[3 * (j * (n + 1) + i)] = i;
+            m.positions[3 * (j * (n + 1) + i) + 1] = j;
+        }
+    for (j = 0; j < n; j++)
+        for (i = 0; i < n; i++) {
+            uint32_t v = j * (n + 1) + i, t[6] = { v, v + 1, v + n + 2, v, v + n + 2, v + n + 1 };
+            memcpy(m.triangles + 6 * (j * n + i), t, sizeof t);
+        }
+    if (!BPT_CHECK(bp_atlas_build(&at, &m, &opt, &e) == BP_OK && bp_chart_init(&at.charts[0], &m, &opt, &e) == BP_OK,
+                   "grid disk: chart and start map (%s)", e.message)) { bpt_mesh_free(&m); return; }
+    ch = &at.charts[0];
+    bp__solver_chart(&S, &a, ch, &m, &opt, NULL, NULL);
+    f = bp__evaluate(&S, ch->uv, NULL, &ed, HUGE_VAL, &valid);
+    bp__solver_free(&S);
+    nl = ch->loop_start[1];
+    for (i = 0; i < nl / 2; i++) {                 /* reverse the loop in place */
+        uint32_t x = ch->loop_vertices[i];
+        ch->loop_vertices[i] = ch->loop_vertices[nl - 1 - i];
+        ch->loop_vertices[nl - 1 - i] = x;
+    }
+    bp__solver_chart(&S, &a, ch, &m, &opt, NULL, NULL);
+    frev = bp__evaluate(&S, ch->uv, NULL, &ed, HUGE_VAL, &valid_rev);
+    bp__solver_free(&S);
+    BPT_CHECK(valid == 1 && f < HUGE_VAL, "the Tutte map of a grid disk is accepted by the line search's exact check");
+    BPT_CHECK(valid_rev == 0 && frev < HUGE_VAL, "the same map with its only loop reversed (clockwise): finite "
+              "objective (%g), positive triangles, no meeting edges, but rejected: no counter-clockwise loop", frev);
+    bp_atlas_free(&at);
+    bpt_mesh_free(&m);
+}
+
+int main(void)
+{
+    bpt_rng_state = 0x5EED0C4ECull;
+    named_cases();
+    random_agreement();
+    overlapping_start();
+    loop_signs();
+    acceptance_counts_loops();
+    return bpt_finish();
+}
