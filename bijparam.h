@@ -29,9 +29,10 @@
    --------
       >>api            public declarations
       >>config         macros, allocator plumbing, error helpers
+      >>progress       whole-run progress and cancel, growing bp_options
       >>threads        deterministic parallel loops, optional pool    (sec 3.5)
       >>predicates     exact orientation and segment tests           (robustness)
-      >>io             OBJ / OFF reading, OBJ writing                 (BP_NO_STDIO)
+      >>io             OBJ / OFF / PLY reading, OBJ writing           (BP_NO_STDIO)
       >>charts         seams, connected components, pinches, loops    (sec 3.1, 3.6)
       >>sparse         ordering + sparse LDL^T / LU direct solver
       >>check          exact bijectivity check (the ground truth)
@@ -238,6 +239,30 @@ typedef enum bp_stop {
 typedef int (*bp_progress_fn)(void *user, uint32_t chart, int iteration,
                               double mean_energy, double step);
 
+/* Whole-run progress and cancel (0.2).  One callback for every stage of a
+   run, called at its start (fraction 0), as it goes, and at its end
+   (fraction 1); `fraction` is the share of that stage done, `chart` the
+   chart concerned or BP_NO_CHART.  Returning nonzero cancels the whole
+   run: every chart stops at its next iteration, charts not yet started
+   are reported failed with BP_ERR_CANCELLED, the calls return
+   BP_ERR_CANCELLED, and every map returned is valid (see bp_parameterize).
+   It may be called from several threads at once when charts are solved in
+   parallel; the stages start and optimize of different charts interleave
+   then.  The per-iteration `progress` keeps its meaning: its nonzero
+   return stops that one chart only. */
+typedef enum bp_stage {
+    BP_STAGE_READ = 0,    /* bp_read_mesh_opt: bytes loaded, then parsed      */
+    BP_STAGE_CHARTS,      /* bp_atlas_build                                   */
+    BP_STAGE_START,       /* bp_chart_init (Tutte / Floater)                  */
+    BP_STAGE_VISIBILITY,  /* bp_visibility (chapter 4), when views are set    */
+    BP_STAGE_OPTIMIZE,    /* bp_chart_optimize, once per iteration            */
+    BP_STAGE_PACK,        /* bp_atlas_pack and the final exact check          */
+    BP_STAGE_WRITE,       /* bp_write_obj_opt: faces written                  */
+    BP_STAGE_COUNT
+} bp_stage;
+#define BP_NO_CHART 0xffffffffu
+typedef int (*bp_run_progress_fn)(void *user, bp_stage stage, double fraction, uint32_t chart);
+
 /* Parallel loops.  The library splits its heavy loops into `count` tasks
    whose results it combines in a fixed order, so the output is bit-identical
    for any number of threads.  A parallel_for must call fn(task, i) once for
@@ -301,7 +326,27 @@ typedef struct bp_options {
                                      chart.error, the others are still solved,
                                      and the call returns BP_ERR_CHARTS_FAILED
                                      with the atlas kept: free it             */
+    /* ---- added in 0.2.0 (see bp_options_init: growing the struct) ---- */
+    size_t        struct_size;    /* sizeof(bp_options) of the caller's header,
+                                     set by bp_options_init; 0: the 0.2.0 size */
+    bp_run_progress_fn run_progress; /* whole-run progress and cancel, optional */
+    void         *run_progress_user;
 } bp_options;
+
+/* Growing bp_options.  New fields are only ever appended, so a caller's
+   positional initializer keeps its meaning, and zero is the default of
+   every field.  `struct_size` tells the library how large the caller's
+   struct is: fields beyond it are read as zero, never from the caller's
+   memory, so a program built against this header keeps working with a
+   later implementation that has more fields.  Fill it with
+   bp_options_init (defaults, i.e. zeros, and struct_size = sizeof), or
+   leave it 0, which means the 0.2.0 layout.  A struct_size larger than
+   the library's is accepted only when every byte the library does not
+   know is zero (else BP_ERR_INVALID_ARGUMENT: a field this version cannot
+   honour).  Callers built against 0.1.0, which had no struct_size, must
+   be recompiled (a single header is compiled with its caller anyway). */
+BPDEF void bp_options_init(bp_options *opt);
+BPDEF const char *bp_stage_name(bp_stage s);
 
 /* One chart: a connected piece of the mesh cut along seams.  Chart vertices
    are pairs (mesh vertex, uv index); a pinch vertex is split into one chart
@@ -465,9 +510,24 @@ BPDEF bp_status bp_read_obj(const char *path, bp_mesh *mesh,
                             const bp_allocator *alloc, bp_error *err);
 BPDEF bp_status bp_read_off(const char *path, bp_mesh *mesh,
                             const bp_allocator *alloc, bp_error *err);
-/* Reads .obj or .off by extension (case-insensitive). */
+/* PLY (ASCII, binary little and big endian): the `vertex` element's x y z
+   (float or double, any order, other properties and lists skipped), the
+   `face` element's vertex_indices / vertex_index list (any integer type),
+   polygons fan-triangulated; per-vertex s t / u v / texture_u texture_v,
+   or a per-face texcoord list (2 floats per corner), become the uvs (and
+   seams where a face's texcoords differ from its neighbour's).  Errors name
+   the element as the header numbers it (vertex 7, face 12, from 1) with
+   the line (ASCII) or byte offset (binary). */
+BPDEF bp_status bp_read_ply(const char *path, bp_mesh *mesh,
+                            const bp_allocator *alloc, bp_error *err);
+/* Reads .obj, .off or .ply by extension (case-insensitive). */
 BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh,
                              const bp_allocator *alloc, bp_error *err);
+/* The same with options: the allocator of opt, and opt->run_progress called
+   with BP_STAGE_READ (bytes loaded, then bytes parsed); a cancel returns
+   BP_ERR_CANCELLED with *mesh zeroed. */
+BPDEF bp_status bp_read_mesh_opt(const char *path, bp_mesh *mesh,
+                                 const bp_options *opt, bp_error *err);
 /* Writers.  Both write `path` directly and, on any error, remove what
    they wrote (no half-written file); the messages give the reason
    (strerror).  bp_write_obj writes the mesh alone: v in input order, one vt
@@ -486,11 +546,21 @@ BPDEF bp_status bp_write_obj(const char *path, const bp_mesh *mesh,
                              const bp_atlas *atlas, bp_error *err);
 BPDEF bp_status bp_write_obj_from(const char *path, const char *source, const bp_mesh *mesh,
                                   const bp_atlas *atlas, bp_error *err);
+/* Either writer with options: source NULL is bp_write_obj, else
+   bp_write_obj_from; opt->run_progress is called with BP_STAGE_WRITE (faces
+   written) and a cancel removes what was written and returns
+   BP_ERR_CANCELLED. */
+BPDEF bp_status bp_write_obj_opt(const char *path, const char *source, const bp_mesh *mesh,
+                                 const bp_atlas *atlas, const bp_options *opt, bp_error *err);
 #endif
+/* "obj", "off" or "ply" for a path's extension (case-insensitive), else NULL. */
+BPDEF const char *bp_mesh_format(const char *path);
 /* The same parsers on text in memory (used by the fuzzers). */
 BPDEF bp_status bp_parse_obj(const char *text, size_t length, bp_mesh *mesh,
                              const bp_allocator *alloc, bp_error *err);
 BPDEF bp_status bp_parse_off(const char *text, size_t length, bp_mesh *mesh,
+                             const bp_allocator *alloc, bp_error *err);
+BPDEF bp_status bp_parse_ply(const char *data, size_t length, bp_mesh *mesh,
                              const bp_allocator *alloc, bp_error *err);
 BPDEF void      bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc);
 
@@ -760,6 +830,168 @@ BPDEF const char *bp_stop_string(bp_stop s)
     return names[s];
 }
 
+
+/* >>progress ===============================================================
+
+   Whole-run progress and cancel.  Every stage reports through bp__report
+   (stage, fraction of the stage, chart), which calls opt->run_progress and
+   returns nonzero when the caller wants to stop.  A stage that is told to
+   stop leaves what it has made valid and returns BP_ERR_CANCELLED:
+
+     read       nothing allocated, *mesh zeroed;
+     charts     the atlas zeroed (bp_atlas_build's failure rule);
+     start      a chart not started gets no map and is reported failed
+                (chart.error BP_ERR_CANCELLED); a chart whose start map is
+                done keeps it (it passed the exact check, >>tutte);
+     optimize   the chart keeps its last accepted iterate, exactly valid
+                (>>lbfgs);
+     visibility skipped (nothing solved after it);
+     pack       packing is not interrupted -- the charts form a valid atlas
+                only once placed -- and the cancel takes effect after it;
+     write      the partial file is removed.
+
+   bp_parameterize runs the stages with one flag for the run: the options
+   it hands down carry bp__run_forward in place of the caller's callback,
+   which calls the caller until it first answers nonzero, then raises the
+   flag and answers nonzero to every later report without calling the
+   caller again.  Every chart, on whatever thread, reads the flag at its
+   next iteration (and before its start map), so one cancel stops them
+   all.  The flag and the count of finished triangles are touched with
+   atomic operations (GCC / Clang builtins; elsewhere a volatile int, which
+   is enough on the platforms such compilers target for a one-way flag but
+   is not a C99 guarantee), so the threads that race on them do not make a
+   data race.
+
+   The per-iteration `progress` of 0.1 is unchanged: a chart's optimization
+   sees bp__iter_forward in its place, which calls the caller's progress
+   first (its nonzero answer stops that one chart, as before) and then
+   reports BP_STAGE_OPTIMIZE. */
+
+#if defined(__GNUC__) || defined(__clang__)
+#define BP__FLAG_LOAD(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
+#define BP__FLAG_RAISE(p) __atomic_store_n((p), 1, __ATOMIC_RELEASE)
+#define BP__COUNT_ADD(p, v) ((void)__atomic_fetch_add((p), (v), __ATOMIC_RELAXED))
+#define BP__COUNT_LOAD(p) __atomic_load_n((p), __ATOMIC_RELAXED)
+#else
+#define BP__FLAG_LOAD(p) (*(volatile int *)(p))
+#define BP__FLAG_RAISE(p) ((void)(*(volatile int *)(p) = 1))
+#define BP__COUNT_ADD(p, v) ((void)(*(volatile uint64_t *)(p) += (v)))
+#define BP__COUNT_LOAD(p) (*(volatile uint64_t *)(p))
+#endif
+
+BPDEF const char *bp_stage_name(bp_stage s)
+{
+    static const char *const names[] = { "read", "charts", "start", "visibility", "optimize", "pack", "write" };
+    if ((int)s < 0 || (int)s >= (int)BP_STAGE_COUNT) return "unknown";
+    return names[s];
+}
+
+static int bp__report(const bp_options *opt, bp_stage stage, double fraction, uint32_t chart)
+{
+    return opt && opt->run_progress && opt->run_progress(opt->run_progress_user, stage, fraction, chart) != 0;
+}
+
+/* One run of bp_parameterize: the caller's callback, the flag, and the
+   triangles of the charts solved so far (the fraction of start and
+   optimize, which interleave when charts run in parallel). */
+typedef struct bp__run {
+    bp_run_progress_fn fn;
+    void    *user;
+    int      cancelled;
+    uint64_t done, total;
+} bp__run;
+
+static int bp__run_forward(void *user, bp_stage stage, double fraction, uint32_t chart)
+{
+    bp__run *R = (bp__run *)user;
+    if (BP__FLAG_LOAD(&R->cancelled)) return 1;
+    if ((stage == BP_STAGE_START || stage == BP_STAGE_OPTIMIZE) && R->total)
+        fraction = (double)BP__COUNT_LOAD(&R->done) / (double)R->total;
+    if (R->fn(R->user, stage, fraction, chart)) { BP__FLAG_RAISE(&R->cancelled); return 1; }
+    return 0;
+}
+
+/* The run behind opt, if opt came from bp_parameterize with a callback. */
+static bp__run *bp__run_of(const bp_options *opt)
+{
+    return opt && opt->run_progress == bp__run_forward ? (bp__run *)opt->run_progress_user : NULL;
+}
+
+/* The per-iteration link: the caller's progress, then the run's report.
+   The chart's own fraction is its iteration over max_iterations (an upper
+   bound on the work left; inside bp_parameterize the run's fraction of
+   triangles replaces it). */
+typedef struct bp__iter_link {
+    bp_progress_fn fn;
+    void *user;
+    const bp_options *opt;
+    int max_iterations;
+} bp__iter_link;
+
+static int bp__iter_forward(void *user, uint32_t chart, int iteration, double mean_energy, double step)
+{
+    const bp__iter_link *L = (const bp__iter_link *)user;
+    if (L->fn && L->fn(L->user, chart, iteration, mean_energy, step)) return 1;
+    return bp__report(L->opt, BP_STAGE_OPTIMIZE, (double)iteration / L->max_iterations, chart);
+}
+
+/* opt with bp__iter_forward as its per-iteration progress (in *copy), or
+   opt itself when there is no run callback. */
+static const bp_options *bp__with_iter_link(const bp_options *opt, bp_options *copy, bp__iter_link *L)
+{
+    if (!opt || !opt->run_progress) return opt;
+    *copy = *opt;
+    L->fn = opt->progress;
+    L->user = opt->progress_user;
+    L->opt = opt;
+    L->max_iterations = opt->max_iterations > 0 ? opt->max_iterations : 10000;
+    copy->progress = bp__iter_forward;
+    copy->progress_user = L;
+    return copy;
+}
+
+/* Growing bp_options (see bp_options_init in >>api).  The caller's struct
+   is copied up to its struct_size and the rest zeroed, so the library
+   never reads a field the caller's header did not have.  0 is the 0.2.0
+   size: today sizeof(bp_options); when a later version appends fields,
+   BP__OPTIONS_SIZE_0_2 keeps the 0.2.0 value as a number. */
+#define BP__OPTIONS_SIZE_0_2 sizeof(bp_options)
+#define BP__OPTIONS_SIZE_MIN (offsetof(bp_options, struct_size) + sizeof(size_t))
+
+BPDEF void bp_options_init(bp_options *opt)
+{
+    if (!opt) return;
+    memset(opt, 0, sizeof *opt);
+    opt->struct_size = sizeof *opt;
+}
+
+/* The caller's options as this version's struct in *out (NULL stays NULL).
+   *st: BP_ERR_INVALID_ARGUMENT for a size below 0.2.0's, or a field beyond
+   this version's struct that is set. */
+static const bp_options *bp__opts(const bp_options *in, bp_options *out, bp_error *err, bp_status *st)
+{
+    size_t n, i;
+    *st = BP_OK;
+    if (!in) return NULL;
+    n = in->struct_size ? in->struct_size : BP__OPTIONS_SIZE_0_2;
+    if (n < BP__OPTIONS_SIZE_MIN) {
+        *st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                       "bp_options.struct_size is %D, less than any version's (%D): use bp_options_init",
+                       (int64_t)n, (int64_t)BP__OPTIONS_SIZE_MIN);
+        return NULL;
+    }
+    for (i = sizeof *out; i < n; i++)
+        if (((const unsigned char *)in)[i] != 0) {
+            *st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                           "bp_options: byte %D is set, in a field this version (" BP_VERSION_STRING
+                           ", %D bytes) does not know", (int64_t)i, (int64_t)sizeof *out);
+            return NULL;
+        }
+    memset(out, 0, sizeof *out);
+    memcpy(out, in, n < sizeof *out ? n : sizeof *out);
+    out->struct_size = sizeof *out;
+    return out;
+}
 
 /* >>threads ================================================================
 
@@ -1167,7 +1399,23 @@ typedef struct bp__parser {
     int64_t     line;          /* 1-based line of the cursor                */
     const bp_allocator *a;
     bp_error   *err;
+    const bp_options *opt;     /* run_progress while reading, or NULL       */
+    const char *begin;         /* start of the text (the fraction parsed)   */
+    int         cancelled;     /* the callback said stop: p was set to end  */
 } bp__parser;
+
+/* Progress while parsing (>>progress): every 16384 lines the share of the
+   bytes parsed, the second half of BP_STAGE_READ (loading is the first).
+   A cancel moves the cursor to the end, so every parser loop ends; the
+   caller then discards what was parsed. */
+static void bp__parse_tick(bp__parser *ps)
+{
+    double f = 0.5 + 0.5 * (double)(ps->p - ps->begin) / (double)(ps->end - ps->begin);
+    if (bp__report(ps->opt, BP_STAGE_READ, f, BP_NO_CHART)) {
+        ps->cancelled = 1;
+        ps->p = ps->end;
+    }
+}
 
 static int bp__is_space(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
 static int bp__is_eol(char c) { return c == '\n' || c == '\r'; }
@@ -1184,6 +1432,7 @@ static void bp__next_line(bp__parser *ps)
     if (ps->p < ps->end && *ps->p == '\r') ps->p++;
     if (ps->p < ps->end && *ps->p == '\n') ps->p++;
     ps->line++;
+    if (ps->opt && (ps->line & 16383) == 0) bp__parse_tick(ps);
 }
 
 static int bp__at_eol(bp__parser *ps)
@@ -1623,8 +1872,12 @@ static bp_status bp__parse_off(bp__parser *ps, bp_mesh *mesh)
     return st;
 }
 
+enum { BP__FORMAT_OBJ, BP__FORMAT_OFF, BP__FORMAT_PLY };
+static bp_status bp__parse_ply(bp__parser *ps, bp_mesh *mesh);
+
+/* Parse text of a format; opt (may be NULL) gives run_progress. */
 static bp_status bp__parse_text(const char *text, size_t length, bp_mesh *mesh,
-                                const bp_allocator *alloc, bp_error *err, int off)
+                                const bp_allocator *alloc, bp_error *err, int format, const bp_options *opt)
 {
     bp__parser ps;
     bp_allocator a;
@@ -1640,7 +1893,15 @@ static bp_status bp__parse_text(const char *text, size_t length, bp_mesh *mesh,
     ps.line = 1;
     ps.a = &a;
     ps.err = err;
-    st = off ? bp__parse_off(&ps, mesh) : bp__parse_obj(&ps, mesh);
+    ps.opt = opt && opt->run_progress && length ? opt : NULL;
+    ps.begin = text;
+    ps.cancelled = 0;
+    st = format == BP__FORMAT_OFF ? bp__parse_off(&ps, mesh)
+       : format == BP__FORMAT_PLY ? bp__parse_ply(&ps, mesh) : bp__parse_obj(&ps, mesh);
+    if (ps.cancelled) {                       /* whatever the parse made of it */
+        bp_mesh_free(mesh, &a);
+        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled while reading");
+    }
     if (st == BP_OK) bp__ok(err);
     return st;
 }
@@ -1648,13 +1909,420 @@ static bp_status bp__parse_text(const char *text, size_t length, bp_mesh *mesh,
 BPDEF bp_status bp_parse_obj(const char *text, size_t length, bp_mesh *mesh,
                              const bp_allocator *alloc, bp_error *err)
 {
-    return bp__parse_text(text, length, mesh, alloc, err, 0);
+    return bp__parse_text(text, length, mesh, alloc, err, BP__FORMAT_OBJ, NULL);
 }
 
 BPDEF bp_status bp_parse_off(const char *text, size_t length, bp_mesh *mesh,
                              const bp_allocator *alloc, bp_error *err)
 {
-    return bp__parse_text(text, length, mesh, alloc, err, 1);
+    return bp__parse_text(text, length, mesh, alloc, err, BP__FORMAT_OFF, NULL);
+}
+
+BPDEF bp_status bp_parse_ply(const char *data, size_t length, bp_mesh *mesh,
+                             const bp_allocator *alloc, bp_error *err)
+{
+    return bp__parse_text(data, length, mesh, alloc, err, BP__FORMAT_PLY, NULL);
+}
+
+/* ---- PLY ----------------------------------------------------------------
+
+   A PLY file is a text header that declares elements (name, count) and
+   their properties (a scalar type, or a list: count type and item type),
+   then the data: ASCII numbers, or binary values of the declared sizes in
+   little- or big-endian order.  We keep the `vertex` element's x y z (and
+   s t / u v / texture_u texture_v / texture_s texture_t when present: the
+   input uvs, one per vertex) and the `face` element's vertex_indices (or
+   vertex_index) list; every other property and element is read past.
+   Polygons are fan-triangulated as in OBJ.
+
+   Fuzz safety: the header is bounded (32 elements, 128 properties); a
+   count the rest of the file cannot hold (each instance needs at least one
+   byte per scalar in binary, two characters in ASCII) is refused before any
+   allocation is sized by it; every binary read is bounds-checked, so no
+   loop runs longer than the file is.  Messages name the element as the
+   header numbers it, from 1 ("face 12"), with the line (ASCII) or the byte
+   offset (binary) where the bad value is. */
+
+enum { BP__PLY_I8, BP__PLY_U8, BP__PLY_I16, BP__PLY_U16, BP__PLY_I32, BP__PLY_U32, BP__PLY_F32, BP__PLY_F64 };
+enum { BP__PLY_SKIP, BP__PLY_X, BP__PLY_Y, BP__PLY_Z, BP__PLY_U, BP__PLY_V, BP__PLY_INDICES };
+enum { BP__PLY_ASCII, BP__PLY_LE, BP__PLY_BE };
+
+typedef struct bp__ply_prop { int type, list; int role; } bp__ply_prop;   /* list: count type or -1 */
+typedef struct bp__ply_elem { int kind; int64_t count; int first, nprops; } bp__ply_elem;  /* kind 1 vertex, 2 face */
+
+typedef struct bp__ply {
+    bp__parser  *ps;
+    int          format;
+    bp__ply_elem elem[32];
+    int          nelem;
+    bp__ply_prop prop[128];
+    int          nprop;
+    const char  *what;         /* "vertex", "face" or the element's role   */
+    int64_t      index;        /* 0-based instance being read              */
+    const char  *at;           /* where the value being read starts         */
+} bp__ply;
+
+static const int bp__ply_size[] = { 1, 1, 2, 2, 4, 4, 4, 8 };
+
+/* "line 12: face 3: ..." (ASCII) or "face 3 (byte offset 1234): ..." */
+static bp_status bp__ply_fail(bp__ply *P, bp_status st, const char *fmt, ...)
+{
+    char detail[200];
+    va_list ap;
+    bp__parser *ps = P->ps;
+    va_start(ap, fmt);
+    bp__vformat(detail, sizeof detail, fmt, ap);
+    va_end(ap);
+    if (P->format == BP__PLY_ASCII)
+        return bp__fail(ps->err, st, BP_ELEMENT_LINE, ps->line, -1, ps->line, "line %D: %s %D: %s",
+                        ps->line, P->what, P->index + 1, detail);
+    return bp__fail(ps->err, st, BP_ELEMENT_NONE, -1, -1, 0, "%s %D (byte offset %D): %s",
+                    P->what, P->index + 1, (int64_t)((P->at ? P->at : ps->p) - ps->begin), detail);
+}
+
+/* The header's type names (the PLY 1.0 names and their sized aliases). */
+static int bp__ply_type(const char *w, size_t n)
+{
+    static const char *const names[] = { "char", "uchar", "short", "ushort", "int", "uint", "float", "double",
+                                         "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64" };
+    int i;
+    for (i = 0; i < 16; i++)
+        if (strlen(names[i]) == n && !memcmp(names[i], w, n)) return i % 8;
+    return -1;
+}
+
+static int bp__ply_word_is(const char *w, size_t n, const char *s)
+{
+    return strlen(s) == n && !memcmp(w, s, n);
+}
+
+/* The next word of a header line into (*w, *n); 0 at the end of the line. */
+static int bp__ply_word(bp__parser *ps, const char **w, size_t *n)
+{
+    bp__skip_space(ps);
+    *w = ps->p;
+    *n = bp__token_len(ps, NULL);
+    ps->p += *n;
+    return *n > 0;
+}
+
+static int bp__ply_role(int kind, const char *w, size_t n, int list)
+{
+    if (kind == 1 && list < 0) {
+        if (bp__ply_word_is(w, n, "x")) return BP__PLY_X;
+        if (bp__ply_word_is(w, n, "y")) return BP__PLY_Y;
+        if (bp__ply_word_is(w, n, "z")) return BP__PLY_Z;
+        if (bp__ply_word_is(w, n, "s") || bp__ply_word_is(w, n, "u") || bp__ply_word_is(w, n, "texture_u") ||
+            bp__ply_word_is(w, n, "texture_s")) return BP__PLY_U;
+        if (bp__ply_word_is(w, n, "t") || bp__ply_word_is(w, n, "v") || bp__ply_word_is(w, n, "texture_v") ||
+            bp__ply_word_is(w, n, "texture_t")) return BP__PLY_V;
+    }
+    if (kind == 2 && list >= 0 && (bp__ply_word_is(w, n, "vertex_indices") || bp__ply_word_is(w, n, "vertex_index")))
+        return BP__PLY_INDICES;
+    return BP__PLY_SKIP;
+}
+
+static bp_status bp__ply_header_fail(bp__parser *ps, const char *what)
+{
+    return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line, "line %D: %s", ps->line, what);
+}
+
+/* One `element` or `property` line (the keyword already read). */
+static bp_status bp__ply_declare(bp__ply *P, int is_elem)
+{
+    bp__parser *ps = P->ps;
+    const char *w;
+    size_t n;
+    if (is_elem) {
+        bp__ply_elem *e = &P->elem[P->nelem];
+        int64_t c;
+        bp_status st;
+        if (P->nelem == 32) return bp__ply_header_fail(ps, "more than 32 elements");
+        if (!bp__ply_word(ps, &w, &n)) return bp__ply_header_fail(ps, "the element has no name");
+        e->kind = bp__ply_word_is(w, n, "vertex") ? 1 : bp__ply_word_is(w, n, "face") ? 2 : 0;
+        bp__skip_space(ps);
+        if ((st = bp__parse_int(ps, &c, "element count")) != BP_OK) return st;
+        if (c < 0) return bp__ply_header_fail(ps, "the element count is negative");
+        e->count = c;
+        e->first = P->nprop;
+        e->nprops = 0;
+        P->nelem++;
+        return BP_OK;
+    }
+    if (!P->nelem) return bp__ply_header_fail(ps, "a property before any element");
+    if (P->nprop == 128) return bp__ply_header_fail(ps, "more than 128 properties");
+    {
+        bp__ply_prop *p = &P->prop[P->nprop];
+        bp__ply_elem *e = &P->elem[P->nelem - 1];
+        if (!bp__ply_word(ps, &w, &n)) return bp__ply_header_fail(ps, "the property has no type");
+        p->list = -1;
+        if (bp__ply_word_is(w, n, "list")) {
+            if (!bp__ply_word(ps, &w, &n) || (p->list = bp__ply_type(w, n)) < 0 || p->list >= BP__PLY_F32)
+                return bp__ply_header_fail(ps, "a list needs an integer count type");
+            if (!bp__ply_word(ps, &w, &n)) return bp__ply_header_fail(ps, "the list has no item type");
+        }
+        if ((p->type = bp__ply_type(w, n)) < 0) return bp__ply_header_fail(ps, "unknown property type");
+        if (!bp__ply_word(ps, &w, &n)) return bp__ply_header_fail(ps, "the property has no name");
+        p->role = bp__ply_role(e->kind, w, n, p->list);
+        if (p->role == BP__PLY_INDICES && p->type >= BP__PLY_F32)
+            return bp__ply_header_fail(ps, "vertex indices must have an integer type");
+        P->nprop++;
+        e->nprops++;
+    }
+    return BP_OK;
+}
+
+/* Header: "ply", "format ...", then element / property / comment / obj_info
+   lines up to "end_header".  The cursor is left at the first data byte. */
+static bp_status bp__ply_header(bp__ply *P)
+{
+    bp__parser *ps = P->ps;
+    const char *w;
+    size_t n;
+    int have_format = 0;
+    bp_status st;
+    if (!bp__keyword(ps, "ply")) return bp__ply_header_fail(ps, "a PLY file must start with 'ply'");
+    for (;;) {
+        bp__next_line(ps);
+        if (ps->p >= ps->end) return bp__ply_header_fail(ps, "the file ends before 'end_header'");
+        bp__ply_word(ps, &w, &n);
+        if (bp__ply_word_is(w, n, "end_header")) break;
+        if (bp__ply_word_is(w, n, "format")) {
+            bp__ply_word(ps, &w, &n);
+            if (bp__ply_word_is(w, n, "ascii")) P->format = BP__PLY_ASCII;
+            else if (bp__ply_word_is(w, n, "binary_little_endian")) P->format = BP__PLY_LE;
+            else if (bp__ply_word_is(w, n, "binary_big_endian")) P->format = BP__PLY_BE;
+            else return bp__ply_header_fail(ps, "unknown format (ascii, binary_little_endian, binary_big_endian)");
+            have_format = 1;
+        } else if (bp__ply_word_is(w, n, "element") || bp__ply_word_is(w, n, "property")) {
+            if ((st = bp__ply_declare(P, w[0] == 'e')) != BP_OK) return st;
+        } else if (n && !bp__ply_word_is(w, n, "comment") && !bp__ply_word_is(w, n, "obj_info"))
+            return bp__ply_header_fail(ps, "unknown header line");
+    }
+    if (!have_format) return bp__ply_header_fail(ps, "the header has no 'format' line");
+    bp__next_line(ps);
+    return BP_OK;
+}
+
+/* One value of a type, as a double (exact for every PLY integer). */
+static bp_status bp__ply_value(bp__ply *P, int type, double *out)
+{
+    bp__parser *ps = P->ps;
+    if (P->format == BP__PLY_ASCII) {
+        char buf[80], *stop;
+        size_t n;
+        while (ps->p < ps->end && (bp__is_space(*ps->p) || bp__is_eol(*ps->p))) {
+            if (*ps->p == '\n' || (*ps->p == '\r' && (ps->p + 1 >= ps->end || ps->p[1] != '\n'))) ps->line++;
+            ps->p++;
+        }
+        n = bp__token_len(ps, NULL);
+        if (n == 0) return bp__ply_fail(P, BP_ERR_PARSE, "the file ends before this value");
+        if (n >= sizeof buf) return bp__ply_fail(P, BP_ERR_PARSE, "a value is too long");
+        memcpy(buf, ps->p, n);
+        buf[n] = 0;
+        *out = strtod(buf, &stop);
+        if (stop != buf + n) return bp__ply_fail(P, BP_ERR_PARSE, "'%s' is not a number", buf);
+        ps->p += n;
+    } else {
+        const unsigned char *b = (const unsigned char *)ps->p;
+        int size = bp__ply_size[type], i;
+        P->at = ps->p;
+        uint64_t u = 0;
+        if (ps->end - ps->p < size) return bp__ply_fail(P, BP_ERR_PARSE, "the file ends inside this value");
+        for (i = 0; i < size; i++) u = (u << 8) | b[P->format == BP__PLY_BE ? i : size - 1 - i];
+        ps->p += size;
+        switch (type) {
+        case BP__PLY_I8:  *out = (double)(int8_t)(uint8_t)u; break;
+        case BP__PLY_I16: *out = (double)(int16_t)(uint16_t)u; break;
+        case BP__PLY_I32: *out = (double)(int32_t)(uint32_t)u; break;
+        case BP__PLY_F32: { uint32_t w = (uint32_t)u; float f; memcpy(&f, &w, 4); *out = f; } break;
+        case BP__PLY_F64: memcpy(out, &u, 8); break;
+        default: *out = (double)u; break;
+        }
+        return BP_OK;
+    }
+    if (type < BP__PLY_F32 && *out != floor(*out))
+        return bp__ply_fail(P, BP_ERR_PARSE, "an integer property has the value %g", *out);
+    return BP_OK;
+}
+
+/* Read past a scalar of a property the library does not use (ASCII: any
+   token, even one that is not a number). */
+static bp_status bp__ply_skip(bp__ply *P, int type)
+{
+    double x;
+    bp__parser *ps = P->ps;
+    if (P->format != BP__PLY_ASCII) {
+        P->at = ps->p;
+        if (ps->end - ps->p < bp__ply_size[type]) return bp__ply_fail(P, BP_ERR_PARSE, "the file ends inside this value");
+        ps->p += bp__ply_size[type];
+        return BP_OK;
+    }
+    if (bp__ply_value(P, BP__PLY_F64, &x) == BP_OK) return BP_OK;
+    return ps->p < ps->end && bp__token_len(ps, NULL) > 0 ? (ps->p += bp__token_len(ps, NULL), BP_OK)
+                                                         : bp__ply_fail(P, BP_ERR_PARSE, "the file ends before this value");
+}
+
+/* The count of a list: a non-negative integer. */
+static bp_status bp__ply_list_count(bp__ply *P, int type, int64_t *n)
+{
+    double c;
+    bp_status st = bp__ply_value(P, type, &c);
+    if (st != BP_OK) return st;
+    if (c < 0 || c > 4294967295.0) return bp__ply_fail(P, BP_ERR_PARSE, "a list has %g items", c);
+    *n = (int64_t)c;
+    return BP_OK;
+}
+
+/* The least bytes one instance of e takes: 1 per binary byte / 2 ASCII
+   characters per scalar or list count (list items may be none). */
+static int64_t bp__ply_min_bytes(const bp__ply *P, const bp__ply_elem *e)
+{
+    int64_t b = 0;
+    int i;
+    for (i = 0; i < e->nprops; i++) {
+        const bp__ply_prop *p = &P->prop[e->first + i];
+        b += P->format == BP__PLY_ASCII ? 2 : bp__ply_size[p->list >= 0 ? p->list : p->type];
+    }
+    return b;
+}
+
+/* One vertex: x y z (and u v) into the builder. */
+static bp_status bp__ply_vertex(bp__ply *P, const bp__ply_elem *e, bp__mesh_builder *b, int has_uv)
+{
+    double x[5] = { 0, 0, 0, 0, 0 };
+    int i, k;
+    bp_status st;
+    for (i = 0; i < e->nprops; i++) {
+        const bp__ply_prop *p = &P->prop[e->first + i];
+        if (p->list >= 0) {
+            int64_t n, j;
+            if ((st = bp__ply_list_count(P, p->list, &n)) != BP_OK) return st;
+            for (j = 0; j < n; j++) if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st;
+        } else if (p->role == BP__PLY_SKIP) {
+            if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st;
+        } else {
+            if ((st = bp__ply_value(P, p->type, &x[p->role - BP__PLY_X])) != BP_OK) return st;
+            if (!(x[p->role - BP__PLY_X] - x[p->role - BP__PLY_X] == 0))
+                return bp__ply_fail(P, BP_ERR_NONFINITE, "a coordinate is not finite");
+        }
+    }
+    for (k = 0; k < 3; k++)
+        if (!bp__vec_push(P->ps->a, &b->pos, &x[k])) return bp__oom(P->ps->err, "reading vertices");
+    for (k = 3; has_uv && k < 5; k++)
+        if (!bp__vec_push(P->ps->a, &b->uv, &x[k])) return bp__oom(P->ps->err, "reading vertices");
+    return BP_OK;
+}
+
+/* One face: its vertex_indices list, fan-triangulated. */
+static bp_status bp__ply_face(bp__ply *P, const bp__ply_elem *e, bp__mesh_builder *b, bp__vec *fv, int64_t nv)
+{
+    int i, got = 0;
+    bp_status st;
+    for (i = 0; i < e->nprops; i++) {
+        const bp__ply_prop *p = &P->prop[e->first + i];
+        int64_t n, j;
+        if (p->list < 0) { if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st; continue; }
+        if ((st = bp__ply_list_count(P, p->list, &n)) != BP_OK) return st;
+        if (p->role != BP__PLY_INDICES || got) {
+            for (j = 0; j < n; j++) if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st;
+            continue;
+        }
+        got = 1;
+        if (n < 3) return bp__ply_fail(P, BP_ERR_POLYGON, "a face needs at least 3 corners, this one has %D", n);
+        fv->count = 0;
+        for (j = 0; j < n; j++) {
+            double v;
+            uint32_t v32;
+            if ((st = bp__ply_value(P, p->type, &v)) != BP_OK) return st;
+            if (v < 0 || v >= (double)nv)
+                return bp__ply_fail(P, BP_ERR_INDEX, "vertex index %D is out of range (the header declares %D vertices)",
+                                    (int64_t)v, nv);
+            v32 = (uint32_t)v;
+            if (!bp__vec_push(P->ps->a, fv, &v32)) return bp__oom(P->ps->err, "reading faces");
+        }
+    }
+    if (!got) return bp__ply_fail(P, BP_ERR_PARSE, "the face has no vertex_indices list");
+    return bp__builder_face(P->ps, b, (const uint32_t *)fv->data, NULL, fv->count);
+}
+
+/* The body, element by element in header order. */
+static bp_status bp__ply_body(bp__ply *P, bp__mesh_builder *b, bp__vec *fv)
+{
+    bp__parser *ps = P->ps;
+    int64_t nv = 0, i;
+    int k, j, has_uv = 0, u = 0, v = 0;
+    bp_status st = BP_OK;
+    for (k = 0; k < P->nelem; k++)
+        if (P->elem[k].kind == 1) {
+            nv += P->elem[k].count;
+            for (j = 0; j < P->elem[k].nprops; j++) {
+                u |= P->prop[P->elem[k].first + j].role == BP__PLY_U;
+                v |= P->prop[P->elem[k].first + j].role == BP__PLY_V;
+            }
+        }
+    has_uv = u && v;
+    for (k = 0; k < P->nelem && st == BP_OK; k++) {
+        const bp__ply_elem *e = &P->elem[k];
+        int64_t min = bp__ply_min_bytes(P, e);
+        static const char *const kinds[] = { "element", "vertex", "face" };
+        P->what = kinds[e->kind];
+        P->index = 0;
+        P->at = ps->p;
+        if (e->count > 0 && min > 0 && e->count > (int64_t)(ps->end - ps->p) / min + 1)
+            return bp__ply_fail(P, BP_ERR_PARSE, "the header declares %D of this element, more than the rest of the file "
+                                "(%D bytes) can hold", e->count, (int64_t)(ps->end - ps->p));
+        if (!e->nprops) continue;                      /* nothing to read */
+        if (e->kind == 1 && (!bp__vec_reserve(ps->a, &b->pos, 3 * (size_t)e->count + b->pos.count) ||
+                             (has_uv && !bp__vec_reserve(ps->a, &b->uv, 2 * (size_t)e->count + b->uv.count))))
+            return bp__oom(ps->err, "reading vertices");
+        for (i = 0; i < e->count && st == BP_OK; i++) {
+            P->index = i;
+            if (e->kind == 1) st = bp__ply_vertex(P, e, b, has_uv);
+            else if (e->kind == 2) st = bp__ply_face(P, e, b, fv, nv);
+            else {
+                int p;
+                for (p = 0; p < e->nprops && st == BP_OK; p++) {
+                    const bp__ply_prop *pr = &P->prop[e->first + p];
+                    int64_t n = 1, m;
+                    if (pr->list >= 0) st = bp__ply_list_count(P, pr->list, &n);
+                    for (m = 0; m < n && st == BP_OK; m++) st = bp__ply_skip(P, pr->type);
+                }
+            }
+            if (ps->opt && (i & 16383) == 16383) bp__parse_tick(ps);
+            if (ps->cancelled) return BP_ERR_CANCELLED;
+        }
+    }
+    return st;
+}
+
+static bp_status bp__parse_ply(bp__parser *ps, bp_mesh *mesh)
+{
+    bp__ply P;
+    bp__mesh_builder b;
+    bp__vec fv;
+    bp_status st;
+    memset(&P, 0, sizeof P);
+    P.ps = ps;
+    P.what = "element";
+    bp__builder_init(&b);
+    memset(&fv, 0, sizeof fv);
+    fv.elem = sizeof(uint32_t);
+    if ((st = bp__ply_header(&P)) != BP_OK) return st;
+    st = bp__ply_body(&P, &b, &fv);
+    bp__free(ps->a, fv.data);
+    if (st == BP_OK && b.uv.count) {        /* per-vertex uvs: corner uv = vertex */
+        size_t i;
+        if (!bp__vec_reserve(ps->a, &b.cuv, b.tri.count)) st = bp__oom(ps->err, "reading faces");
+        for (i = 0; st == BP_OK && i < b.tri.count; i++) bp__vec_push(ps->a, &b.cuv, (uint32_t *)b.tri.data + i);
+    }
+    if (st == BP_OK) st = bp__builder_finish(ps, &b, mesh);
+    if (st != BP_OK) { bp__builder_free(ps->a, &b); return st; }
+    if (P.format != BP__PLY_ASCII) {       /* no lines to name in a binary file */
+        bp__free(ps->a, mesh->triangle_line);
+        mesh->triangle_line = NULL;
+    }
+    return BP_OK;
 }
 
 #ifndef BP_NO_STDIO
@@ -1668,12 +2336,13 @@ static const char *bp__io_reason(int e)
 /* The whole file into one allocation (*text, *length; free with bp__free).
    A directory opens on POSIX but cannot be read: its EISDIR says so. */
 static bp_status bp__load_file(const char *path, const bp_allocator *a, char **text,
-                               size_t *length, bp_error *err)
+                               size_t *length, bp_error *err, const bp_options *opt)
 {
     FILE *f;
     char *buf = NULL;
     size_t len = 0, cap = 0;
     int e;
+    double size = 0;                  /* for the progress: bytes in the file */
     *text = NULL;
     *length = 0;
     errno = 0;
@@ -1681,10 +2350,22 @@ static bp_status bp__load_file(const char *path, const bp_allocator *a, char **t
     if (!f)
         return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot open '%s': %s",
                         path, bp__io_reason(errno));
+    if (opt && opt->run_progress && fseek(f, 0, SEEK_END) == 0) {
+        long n = ftell(f);
+        size = n > 0 ? (double)n : 0;
+        if (fseek(f, 0, SEEK_SET) != 0) size = -1;
+    }
     for (;;) {                                  /* read in growing chunks */
         size_t got;
+        if (size < 0 || (opt && opt->run_progress &&
+                         bp__report(opt, BP_STAGE_READ, size > 0 && len < size ? 0.5 * len / size : 0, BP_NO_CHART))) {
+            bp__free(a, buf);
+            fclose(f);
+            if (size < 0) return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot read '%s': cannot seek", path);
+            return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled while reading '%s'", path);
+        }
         if (len == cap) {
-            size_t ncap = cap ? cap * 2 : 1 << 16;
+            size_t ncap = cap ? cap * 2 : size > 0 && size < 1e15 ? (size_t)size + 1 : 1 << 16;
             char *nb = ncap > cap ? (char *)bp__alloc(a, ncap) : NULL;
             if (!nb) { bp__free(a, buf); fclose(f); return bp__oom(err, "reading the file"); }
             if (len) memcpy(nb, buf, len);
@@ -1693,7 +2374,7 @@ static bp_status bp__load_file(const char *path, const bp_allocator *a, char **t
             cap = ncap;
         }
         errno = 0;
-        got = fread(buf + len, 1, cap - len, f);
+        got = fread(buf + len, 1, cap - len < (1u << 22) ? cap - len : (1u << 22), f);   /* 4 MiB: progress */
         len += got;
         if (got == 0) break;
     }
@@ -1711,7 +2392,7 @@ static bp_status bp__load_file(const char *path, const bp_allocator *a, char **t
 }
 
 static bp_status bp__read_file(const char *path, bp_mesh *mesh, const bp_allocator *alloc,
-                               bp_error *err, int off)
+                               bp_error *err, int format, const bp_options *opt)
 {
     bp_allocator a;
     char *buf;
@@ -1723,20 +2404,29 @@ static bp_status bp__read_file(const char *path, bp_mesh *mesh, const bp_allocat
     if (!path || !mesh)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                         "path and mesh must not be NULL");
-    if ((st = bp__load_file(path, &a, &buf, &len, err)) != BP_OK) return st;
-    st = bp__parse_text(buf, len, mesh, &a, err, off);
+    if ((st = bp__load_file(path, &a, &buf, &len, err, opt)) != BP_OK) return st;
+    st = bp__parse_text(buf, len, mesh, &a, err, format, opt);
+    if (st == BP_OK && bp__report(opt, BP_STAGE_READ, 1, BP_NO_CHART)) {
+        bp_mesh_free(mesh, &a);
+        st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled after reading '%s'", path);
+    }
     bp__free(&a, buf);
     return st;
 }
 
 BPDEF bp_status bp_read_obj(const char *path, bp_mesh *mesh, const bp_allocator *alloc, bp_error *err)
 {
-    return bp__read_file(path, mesh, alloc, err, 0);
+    return bp__read_file(path, mesh, alloc, err, BP__FORMAT_OBJ, NULL);
 }
 
 BPDEF bp_status bp_read_off(const char *path, bp_mesh *mesh, const bp_allocator *alloc, bp_error *err)
 {
-    return bp__read_file(path, mesh, alloc, err, 1);
+    return bp__read_file(path, mesh, alloc, err, BP__FORMAT_OFF, NULL);
+}
+
+BPDEF bp_status bp_read_ply(const char *path, bp_mesh *mesh, const bp_allocator *alloc, bp_error *err)
+{
+    return bp__read_file(path, mesh, alloc, err, BP__FORMAT_PLY, NULL);
 }
 
 static int bp__ends_with_ci(const char *s, const char *suffix)
@@ -1751,13 +2441,34 @@ static int bp__ends_with_ci(const char *s, const char *suffix)
     return 1;
 }
 
-BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator *alloc, bp_error *err)
+BPDEF const char *bp_mesh_format(const char *path)
 {
-    if (path && bp__ends_with_ci(path, ".off")) return bp_read_off(path, mesh, alloc, err);
-    if (path && bp__ends_with_ci(path, ".obj")) return bp_read_obj(path, mesh, alloc, err);
+    if (path && bp__ends_with_ci(path, ".obj")) return "obj";
+    if (path && bp__ends_with_ci(path, ".off")) return "off";
+    if (path && bp__ends_with_ci(path, ".ply")) return "ply";
+    return NULL;
+}
+
+BPDEF bp_status bp_read_mesh_opt(const char *path, bp_mesh *mesh, const bp_options *opt, bp_error *err)
+{
+    const char *f = bp_mesh_format(path);
+    bp_options o;
+    bp_allocator a;
+    bp_status st;
+    if ((opt = bp__opts(opt, &o, err, &st)), st != BP_OK) { if (mesh) memset(mesh, 0, sizeof *mesh); return st; }
+    a = bp__allocator_of(opt);
+    if (f) return bp__read_file(path, mesh, &a, err, f[1] == 'f' ? BP__FORMAT_OFF : f[0] == 'p' ? BP__FORMAT_PLY : BP__FORMAT_OBJ, opt);
     if (mesh) memset(mesh, 0, sizeof *mesh);
     return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                    "'%s': unknown file type (expected .obj or .off)", path ? path : "(null)");
+                    "'%s': unknown file type (expected .obj, .off or .ply)", path ? path : "(null)");
+}
+
+BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator *alloc, bp_error *err)
+{
+    bp_options o;
+    memset(&o, 0, sizeof o);
+    if (alloc) o.allocator = *alloc;
+    return bp_read_mesh_opt(path, mesh, &o, err);
 }
 
 /* ---- writing ------------------------------------------------------------
@@ -1798,7 +2509,21 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
 typedef struct bp__out {
     FILE *f;
     int   ok, e;            /* e: errno of the first failed write         */
+    const bp_options *opt;  /* run_progress (BP_STAGE_WRITE), or NULL     */
+    int   cancelled;        /* the callback said stop: ok is 0 too        */
 } bp__out;
+
+/* Progress while writing: every 4096 faces, the share of the mesh's
+   triangles written.  A cancel stops the writer as a failed write does,
+   and bp__out_close removes the file. */
+static void bp__out_tick(bp__out *o, uint32_t t, uint32_t total)
+{
+    if (!o->opt || (t & 4095) != 0 || !o->ok) return;
+    if (bp__report(o->opt, BP_STAGE_WRITE, total ? (double)t / total : 1, BP_NO_CHART)) {
+        o->cancelled = 1;
+        o->ok = 0;
+    }
+}
 
 static void bp__out_bytes(bp__out *o, const char *p, size_t n)
 {
@@ -1826,6 +2551,8 @@ static bp_status bp__out_open(bp__out *o, const char *path, bp_error *err)
     o->f = fopen(path, "wb");
     o->ok = o->f != NULL;
     o->e = 0;
+    o->opt = NULL;
+    o->cancelled = 0;
     if (!o->f)
         return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot open '%s' for writing: %s",
                         path, bp__io_reason(errno));
@@ -1838,6 +2565,10 @@ static bp_status bp__out_close(bp__out *o, const char *path, bp_status st, bp_er
 {
     errno = 0;
     if (fclose(o->f) != 0 && o->ok) { o->ok = 0; o->e = errno; }
+    if (st == BP_OK && o->ok && bp__report(o->opt, BP_STAGE_WRITE, 1, BP_NO_CHART)) o->cancelled = 1;
+    if (st == BP_OK && o->cancelled)
+        st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0,
+                      "cancelled while writing '%s' (the partial file is removed)", path);
     if (st == BP_OK && !o->ok)
         st = bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot write '%s': %s",
                       path, bp__io_reason(o->e));
@@ -1875,8 +2606,8 @@ static uint32_t bp__corner_vt(const bp_atlas *atlas, const uint32_t *base, uint3
     return atlas->charts[c].uv ? base[c] + atlas->corner_vertex[3 * (size_t)t + k] : BP__NONE;
 }
 
-BPDEF bp_status bp_write_obj(const char *path, const bp_mesh *mesh,
-                             const bp_atlas *atlas, bp_error *err)
+static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
+                               const bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
     bp__out o;
     uint32_t i, t, *base;
@@ -1888,6 +2619,7 @@ BPDEF bp_status bp_write_obj(const char *path, const bp_mesh *mesh,
     a = atlas->allocator;
     if (!(base = bp__vt_base(atlas, &a))) return bp__oom(err, "writing the OBJ file");
     if ((st = bp__out_open(&o, path, err)) != BP_OK) { bp__free(&a, base); return st; }
+    o.opt = opt;
     if (fprintf(o.f, "# written by bijparam " BP_VERSION_STRING ": %u vertices, %u charts\n",
                 mesh->num_vertices, atlas->num_charts) < 0) { o.ok = 0; o.e = errno; }
     for (i = 0; i < mesh->num_vertices && o.ok; i++)
@@ -1912,10 +2644,16 @@ BPDEF bp_status bp_write_obj(const char *path, const bp_mesh *mesh,
             }
         }
         bp__out_str(&o, "\n");
-        t = end;
+        for (; t < end; t++) bp__out_tick(&o, t + 1, mesh->num_triangles);
     }
     bp__free(&a, base);
     return bp__out_close(&o, path, BP_OK, err);
+}
+
+BPDEF bp_status bp_write_obj(const char *path, const bp_mesh *mesh,
+                             const bp_atlas *atlas, bp_error *err)
+{
+    return bp__write_obj(path, mesh, atlas, NULL, err);
 }
 
 /* bp_write_obj_from: the state of one pass over the source text. */
@@ -2058,6 +2796,8 @@ static bp_status bp__rewrite_face(bp__rewriter *r, const char *line)
         }
     }
     bp__out_bytes(r->o, tail, (size_t)(ps->p - tail));
+    if ((r->t >> 12) != ((r->t + (uint32_t)(n - 2)) >> 12))     /* crossed a multiple of 4096 */
+        bp__out_tick(r->o, ((r->t + (uint32_t)(n - 2)) >> 12) << 12, r->mesh->num_triangles);
     r->t += (uint32_t)(n - 2);
     return BP_OK;
 }
@@ -2090,8 +2830,8 @@ static bp_status bp__rewrite_obj(bp__rewriter *r)
     return st;
 }
 
-BPDEF bp_status bp_write_obj_from(const char *path, const char *source, const bp_mesh *mesh,
-                                  const bp_atlas *atlas, bp_error *err)
+static bp_status bp__write_obj_from(const char *path, const char *source, const bp_mesh *mesh,
+                                    const bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
     bp__rewriter r;
     bp__out o;
@@ -2107,9 +2847,10 @@ BPDEF bp_status bp_write_obj_from(const char *path, const char *source, const bp
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                         "'%s' is the source file: write to another path", path);
     a = atlas->allocator;
-    if ((st = bp__load_file(source, &a, &text, &len, err)) != BP_OK) return st;
+    if ((st = bp__load_file(source, &a, &text, &len, err, NULL)) != BP_OK) return st;
     if (!(base = bp__vt_base(atlas, &a))) { bp__free(&a, text); return bp__oom(err, "writing the OBJ file"); }
     if ((st = bp__out_open(&o, path, err)) == BP_OK) {
+        o.opt = opt;
         memset(&r, 0, sizeof r);
         r.ps.p = text;
         r.ps.end = text + len;
@@ -2129,6 +2870,24 @@ BPDEF bp_status bp_write_obj_from(const char *path, const char *source, const bp
     bp__free(&a, base);
     bp__free(&a, text);
     return st;
+}
+
+BPDEF bp_status bp_write_obj_from(const char *path, const char *source, const bp_mesh *mesh,
+                                  const bp_atlas *atlas, bp_error *err)
+{
+    return bp__write_obj_from(path, source, mesh, atlas, NULL, err);
+}
+
+BPDEF bp_status bp_write_obj_opt(const char *path, const char *source, const bp_mesh *mesh,
+                                 const bp_atlas *atlas, const bp_options *opt, bp_error *err)
+{
+    bp_options o;
+    bp_status st;
+    if ((opt = bp__opts(opt, &o, err, &st)), st != BP_OK) return st;
+    if (opt && opt->run_progress && bp__report(opt, BP_STAGE_WRITE, 0, BP_NO_CHART))
+        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before writing");
+    return source ? bp__write_obj_from(path, source, mesh, atlas, opt, err)
+                  : bp__write_obj(path, mesh, atlas, opt, err);
 }
 #endif /* BP_NO_STDIO */
 
@@ -2851,14 +3610,21 @@ static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b, bp_atla
 
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
-    bp_allocator a = bp__allocator_of(opt);
+    bp_options o_;
+    bp_status ost_;
+    const bp_options *opt_ = bp__opts(opt, &o_, err, &ost_);     /* >>progress */
+    bp_allocator a = bp__allocator_of(opt_);
     bp__build b;
     bp_status st;
     uint32_t c;
-    int strict = opt && opt->strict;
+    int strict = opt_ && opt_->strict;
+    if (ost_ != BP_OK) return ost_;
+    opt = opt_;
     if (!atlas)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "atlas must not be NULL");
     memset(atlas, 0, sizeof *atlas);
+    if (bp__report(opt, BP_STAGE_CHARTS, 0, BP_NO_CHART))
+        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before building the charts");
     atlas->allocator = a;
     memset(&b, 0, sizeof b);
     if ((st = bp__validate_global(m, &b.scale, err)) != BP_OK) return st;
@@ -2880,6 +3646,8 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
     }
     bp__build_free(&a, &b);
     if (st == BP_OK) st = bp__charts_status(atlas, err);
+    if ((st == BP_OK || st == BP_ERR_CHARTS_FAILED) && bp__report(opt, BP_STAGE_CHARTS, 1, BP_NO_CHART))
+        st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled after building the charts");
     if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) bp_atlas_free(atlas);
     return st;
 }
@@ -4723,16 +5491,24 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
    opt (a pool for this call) when the chart is large enough to gain. */
 BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
-    bp_allocator a = bp__allocator_of(opt);
+    bp_options o_;
+    bp_status ost_;
+    const bp_options *opt_ = bp__opts(opt, &o_, err, &ost_);     /* >>progress */
+    bp_allocator a = bp__allocator_of(opt_);
     void *pool = NULL;
     bp__par par;
     bp_status st;
+    if (ost_ != BP_OK) return ost_;
+    opt = opt_;
+    if (bp__report(opt, BP_STAGE_START, 0, BP_NO_CHART))
+        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before the start map");
     par.run = bp__serial_for;
     par.user = NULL;
     par.threads = 1;
     if (ch && ch->num_vertices >= 4096) par = bp__par_begin(&a, opt, &pool);
     st = bp__chart_init(ch, m, opt, &par, err);
     bp__par_end(&a, pool);
+    if (st == BP_OK) bp__report(opt, BP_STAGE_START, 1, BP_NO_CHART);  /* a cancel here: the next stage sees it */
     return st;
 }
 
@@ -6438,7 +7214,11 @@ done:
 BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
                                   const bp_options *opt, bp_error *err)
 {
-    return bp__chart_optimize(ch, chart_index, m, opt, NULL, err);
+    bp_options o_, linked;                                        /* >>progress */
+    bp__iter_link L;
+    bp_status st;
+    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
+    return bp__chart_optimize(ch, chart_index, m, bp__with_iter_link(opt, &linked, &L), NULL, err);
 }
 
 /* Area-weighted mean and max of E_t for a chart's current map. */
@@ -6534,6 +7314,10 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
     bp__packbox *bx;
     double *lo, area = 0, shelf_w, x = 0, y = 0, rowh = 0, gap = 0, W = 0, H = 0, s = 1;
     uint32_t c, i;
+    bp_options o_;
+    bp_status ost_;
+    if ((opt = bp__opts(opt, &o_, err, &ost_)), ost_ != BP_OK) return ost_;   /* >>progress: */
+    bp__report(opt, BP_STAGE_PACK, 0, BP_NO_CHART);      /* not interrupted: see there */
     if (!atlas || !atlas->charts)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
     a = atlas->allocator;
@@ -6585,6 +7369,7 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
     }
     bp__free(&a, bx);
     bp__free(&a, lo);
+    bp__report(opt, BP_STAGE_PACK, 1, BP_NO_CHART);
     return bp__ok(err);
 }
 
@@ -6651,6 +7436,7 @@ typedef struct bp__chart_job {
     const bp__par *inner;         /* how the chart's own loops run          */
     bp_status *status;
     bp_error *errs;
+    bp__run *run;                 /* bp_parameterize's run, or NULL (>>progress) */
 } bp__chart_job;
 
 static void bp__chart_task(void *task, uint32_t c)
@@ -6661,9 +7447,19 @@ static void bp__chart_task(void *task, uint32_t c)
         J->status[c] = BP_OK;
         return;
     }
-    st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, J->inner, &J->errs[c]);
+    if (bp__report(J->opt, BP_STAGE_START, 0, c))     /* cancelled: no map (>>progress) */
+        st = bp__fail(&J->errs[c], BP_ERR_CANCELLED, BP_ELEMENT_CHART, c, -1, 0,
+                      "chart %u: cancelled before its start map", c);
+    else
+        st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, J->inner, &J->errs[c]);
+    if (st == BP_OK && bp__report(J->opt, BP_STAGE_START, 1, c)) {   /* keeps its start map */
+        J->atlas->charts[c].stop = BP_STOP_CANCELLED;
+        st = bp__fail(&J->errs[c], BP_ERR_CANCELLED, BP_ELEMENT_CHART, c, -1, 0,
+                      "chart %u: cancelled after its start map (the map is the valid start map)", c);
+    }
     if (st == BP_OK && !(J->opt && J->opt->init_only))
         st = bp__chart_optimize(&J->atlas->charts[c], c, J->m, J->opt, J->inner, &J->errs[c]);
+    if (J->run) BP__COUNT_ADD(&J->run->done, (uint64_t)J->atlas->charts[c].num_triangles);
     J->status[c] = st;
 }
 
@@ -6685,8 +7481,9 @@ static bp_status bp__collect(bp_atlas *atlas, const bp__chart_job *J, int strict
             if (err) *err = J->errs[c];
             return cs;
         }
-        if (cs != BP_ERR_CANCELLED) bp_atlas_fail_chart(atlas, c, &J->errs[c]);
-        else if (st == BP_OK) {
+        /* a chart cancelled before its start map has none: reported failed */
+        if (cs != BP_ERR_CANCELLED || !atlas->charts[c].uv) bp_atlas_fail_chart(atlas, c, &J->errs[c]);
+        if (cs == BP_ERR_CANCELLED && st == BP_OK) {
             st = cs;
             if (err) *err = J->errs[c];
         }
@@ -6708,6 +7505,10 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
     void *pool = NULL;
     uint32_t c, largest = 0;
     bp_status st;
+    bp_options linked;
+    bp__iter_link L;
+    J.run = bp__run_of(opt);                                 /* >>progress */
+    opt = bp__with_iter_link(opt, &linked, &L);
     J.status = (bp_status *)bp__alloc_array(&a, atlas->num_charts, sizeof(bp_status));
     J.errs = (bp_error *)bp__calloc_array(&a, atlas->num_charts, sizeof(bp_error));
     if (!J.status || !J.errs) {
@@ -6792,27 +7593,46 @@ static void bp__unscale_atlas(bp_atlas *atlas, int k, int normalized)
 BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_status st;
-    bp_allocator a = bp__allocator_of(opt);
+    bp_allocator a;
     bp_options local;
     bp_mesh ms;
     bp_error cancel;
+    bp__run run;
     double *imp = NULL;
     int k = 0;
     uint32_t t;
+    if ((opt = bp__opts(opt, &local, err, &st)), st != BP_OK) return st;   /* >>progress */
+    a = bp__allocator_of(opt);
     if (!atlas) return bp_atlas_build(atlas, m, opt, err);
     memset(atlas, 0, sizeof *atlas);
     if ((st = bp__rescaled_mesh(&a, m, &ms, &k, err)) != BP_OK) return st;
-    if (opt) local = *opt;
-    else memset(&local, 0, sizeof local);
+    if (!opt) memset(&local, 0, sizeof local);
+    memset(&run, 0, sizeof run);
+    if (local.run_progress) {        /* one flag for the whole run (>>progress) */
+        run.fn = local.run_progress;
+        run.user = local.run_progress_user;
+        run.total = m->num_triangles;
+        local.run_progress = bp__run_forward;
+        local.run_progress_user = &run;
+    }
     if (k) local.epsilon = ldexp(local.epsilon, k);     /* a barrier width is a length */
     st = bp_atlas_build(atlas, &ms, &local, err);
+    if (st == BP_ERR_CANCELLED) {                 /* no charts: nothing to keep */
+        if (k) bp__free(&a, ms.positions);
+        return st;
+    }
     if ((st == BP_OK || st == BP_ERR_CHARTS_FAILED) && local.views.model != BP_VIEW_NONE && !local.init_only) {
         /* chapter 4: visibility (times the user's importance) drives eq 4.1 */
         imp = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
         st = imp ? bp_visibility(&ms, &local, imp, err) : bp__oom(err, "computing visibility");
-        if (st == BP_OK && local.importance)
+        if (st == BP_ERR_CANCELLED) {            /* every chart sees the run's flag */
+            st = BP_OK;
+            bp__free(&a, imp);
+            imp = NULL;
+        }
+        if (st == BP_OK && imp && local.importance)
             for (t = 0; t < m->num_triangles; t++) imp[t] *= local.importance[t];
-        local.importance = imp;
+        if (imp) local.importance = imp;
     }
     if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {
         st = bp__solve_charts(atlas, &ms, &local, &cancel);
@@ -6824,6 +7644,9 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
         if (ps == BP_OK && k) bp__unscale_atlas(atlas, k, local.normalize);
         if (ps != BP_OK) st = ps;
         else if (st == BP_ERR_CANCELLED) { if (err) *err = cancel; }
+        else if (run.fn && BP__FLAG_LOAD(&run.cancelled))   /* asked during the packing */
+            st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0,
+                          "cancelled; every chart was solved, packed and verified first");
         else st = bp__charts_status(atlas, err);
     }
     bp__free(&a, imp);
@@ -7329,8 +8152,13 @@ BPDEF bp_status bp_visibility(const bp_mesh *m, const bp_options *opt, double *o
     bp_status st;
     uint32_t t;
     double sum = 0, area = 0, fl;
+    bp_options o_;
+    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;     /* >>progress */
     if (!out) return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "out must not be NULL");
+    if (bp__report(opt, BP_STAGE_VISIBILITY, 0, BP_NO_CHART))
+        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before the visibility");
     if ((st = bp__vis_run(m, opt, NULL, NULL, 0, out, err)) != BP_OK) return st;
+    bp__report(opt, BP_STAGE_VISIBILITY, 1, BP_NO_CHART);   /* a cancel here: the next stage sees it */
     for (t = 0; t < m->num_triangles; t++) {
         const uint32_t *tv = m->triangles + 3 * (size_t)t;
         double a2 = bp__area2_3d(bp__pos(m, tv[0]), bp__pos(m, tv[1]), bp__pos(m, tv[2]));
@@ -7348,12 +8176,17 @@ BPDEF bp_status bp_visibility(const bp_mesh *m, const bp_options *opt, double *o
 BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, const bp_options *opt,
                                      double *mean_det, bp_error *err)
 {
-    bp_allocator a = bp__allocator_of(opt);
+    bp_options o_;
+    bp_status ost_;
+    const bp_options *opt_ = bp__opts(opt, &o_, err, &ost_);     /* >>progress */
+    bp_allocator a = bp__allocator_of(opt_);
     double *uv_area, *sums, *dirs, a3 = 0, auv = 0, total = 0;
     uint32_t c, t, j, K, nchunk, used = 0;
     bp_status st;
     bp__rng rng;
     uint64_t seed;
+    if (ost_ != BP_OK) return ost_;
+    opt = opt_;
     if (!m || !atlas || !mean_det || !opt || atlas->num_corners != 3 * m->num_triangles)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                         "bp_texture_to_screen needs the mesh, the atlas built from it and options with a view model");

@@ -518,12 +518,12 @@ static void test_files(void)
               "bp_read_obj: a missing file is BP_ERR_IO naming the file and the reason, nothing allocated (%s: %s)",
               bp_status_string(st), err.message);
 
-    sprintf(path, "%s/e.ply", dir);
+    sprintf(path, "%s/e.stl", dir);
     write_file(path, obj);
     counter_reset();
     st = bp_read_mesh(path, &m, &a, &err);
     BPT_CHECK(st == BP_ERR_INVALID_ARGUMENT && strstr(err.message, path) && mesh_all_null(&m) && counter_balanced(),
-              "bp_read_mesh: unknown extension .ply rejected, the message names the file (%s: %s)",
+              "bp_read_mesh: unknown extension .stl rejected, the message names the file (%s: %s)",
               bp_status_string(st), err.message);
     remove(path);
 
