@@ -132,7 +132,7 @@ clean:
 FUZZ_SECONDS ?= 300
 FUZZ_CC ?= clang
 FUZZ_CFLAGS ?= -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
-FUZZERS := $(BUILD)/fuzz/fuzz_obj $(BUILD)/fuzz/fuzz_off $(BUILD)/fuzz/fuzz_pipeline
+FUZZERS := $(BUILD)/fuzz/fuzz_obj $(BUILD)/fuzz/fuzz_off $(BUILD)/fuzz/fuzz_ply $(BUILD)/fuzz/fuzz_pipeline
 
 $(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_common.h $(HEADERS)
 	@mkdir -p $(@D)

@@ -2042,7 +2042,7 @@ static bp_status bp__ply_declare(bp__ply *P, int is_elem)
         e->kind = bp__ply_word_is(w, n, "vertex") ? 1 : bp__ply_word_is(w, n, "face") ? 2 : 0;
         bp__skip_space(ps);
         if ((st = bp__parse_int(ps, &c, "element count")) != BP_OK) return st;
-        if (c < 0) return bp__ply_header_fail(ps, "the element count is negative");
+        if (c < 0 || c > 0xffffffffLL) return bp__ply_header_fail(ps, "the element count is negative or above 2^32-1");
         e->count = c;
         e->first = P->nprop;
         e->nprops = 0;
@@ -2123,11 +2123,18 @@ static bp_status bp__ply_value(bp__ply *P, int type, double *out)
         *out = strtod(buf, &stop);
         if (stop != buf + n) return bp__ply_fail(P, BP_ERR_PARSE, "'%s' is not a number", buf);
         ps->p += n;
+        if (type < BP__PLY_F32) {      /* an integer: whole and in its type's range */
+            static const double lo[] = { -128, 0, -32768, 0, -2147483648.0, 0 };
+            static const double hi[] = { 127, 255, 32767, 65535, 2147483647.0, 4294967295.0 };
+            if (!(*out == floor(*out) && *out >= lo[type] && *out <= hi[type]))
+                return bp__ply_fail(P, BP_ERR_PARSE, "'%s' is not a value of the property's integer type", buf);
+        }
+        return BP_OK;
     } else {
         const unsigned char *b = (const unsigned char *)ps->p;
         int size = bp__ply_size[type], i;
-        P->at = ps->p;
         uint64_t u = 0;
+        P->at = ps->p;
         if (ps->end - ps->p < size) return bp__ply_fail(P, BP_ERR_PARSE, "the file ends inside this value");
         for (i = 0; i < size; i++) u = (u << 8) | b[P->format == BP__PLY_BE ? i : size - 1 - i];
         ps->p += size;
@@ -2141,9 +2148,6 @@ static bp_status bp__ply_value(bp__ply *P, int type, double *out)
         }
         return BP_OK;
     }
-    if (type < BP__PLY_F32 && *out != floor(*out))
-        return bp__ply_fail(P, BP_ERR_PARSE, "an integer property has the value %g", *out);
-    return BP_OK;
 }
 
 /* Read past a scalar of a property the library does not use (ASCII: any

@@ -43,14 +43,14 @@ elapsed() { awk -v a="$1" -v b="$(date +%s%N)" 'BEGIN { printf "%.2f", (b - a) /
 # and linked into each harness; the gcc and clang builds run side by side.
 build_gcc() {
     $cc -std=c99 -Wall -Wextra -pedantic -Werror $san -I. -c tests/fuzz/bp_impl.c -o "$out/impl_gcc.o" || return 1
-    for h in obj off pipeline; do
+    for h in obj off ply pipeline; do
         $cc -std=c99 -Wall -Wextra -pedantic -Werror $san -DBP_FUZZ_EXTERNAL_IMPL -I. -Itests/fuzz \
             tests/fuzz/fuzz_$h.c tests/fuzz/standalone_main.c "$out/impl_gcc.o" -o "$out/standalone_$h" -lm || return 1
     done
 }
 build_clang() {
     clang $san -fsanitize=fuzzer-no-link -I. -c tests/fuzz/bp_impl.c -o "$out/impl_clang.o" || return 1
-    for h in obj off pipeline; do
+    for h in obj off ply pipeline; do
         clang $san -fsanitize=fuzzer -DBP_FUZZ_EXTERNAL_IMPL -I. -Itests/fuzz tests/fuzz/fuzz_$h.c \
             "$out/impl_clang.o" -o "$out/fuzz_$h" -lm || return 1
     done
@@ -71,7 +71,7 @@ fi
 echo "     builds: $(elapsed "$t0") s"
 
 if [ "$grc" -eq 0 ]; then
-    for h in obj off pipeline; do
+    for h in obj off ply pipeline; do
         t0=$(date +%s%N)
         timeout 600 "$out/standalone_$h" -m "$mutations" "tests/fuzz/corpus/$h" > "$out/standalone_$h.log" 2>&1
         rc=$?
@@ -83,7 +83,7 @@ fi
 
 if [ "$have_libfuzzer" -eq 1 ]; then
     pids=()
-    for h in obj off pipeline; do
+    for h in obj off ply pipeline; do
         bin="$out/fuzz_$h"
         # the seed corpus, every file once (libFuzzer runs file arguments and exits)
         timeout 300 "$bin" -timeout=30 tests/fuzz/corpus/$h/* > "$out/fuzz_$h.corpus.log" 2>&1

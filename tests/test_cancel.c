@@ -1,0 +1,335 @@
+/* test_cancel.c - whole-run progress and cancel (bp_options.run_progress):
+   a cancel at every stage (read, charts, start, visibility, optimize, pack,
+   write) returns BP_ERR_CANCELLED and leaves valid maps or none -- every
+   chart either mapped, packed and exactly valid, or reported failed -- and
+   never a half-written file; one cancel stops every chart, also charts
+   solved in parallel; the per-iteration progress still cancels one chart;
+   and bp_options.struct_size keeps an older caller's meaning. */
+#define BP_USE_PTHREADS
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include "bptest.h"
+#include <pthread.h>
+#include <stdio.h>
+#include <string.h>
+
+/* ---- meshes written by the test ---- */
+
+/* K separate bumpy n x n grids (K charts) as OBJ text. */
+static char *grids_obj(int K, int n, size_t *len)
+{
+    size_t cap = (size_t)K * (n + 1) * (n + 1) * 80 + (size_t)K * n * n * 40 + 64, m = 0;
+    char *t = (char *)malloc(cap);
+    int k, i, j;
+    for (k = 0; k < K; k++)
+        for (i = 0; i <= n; i++)
+            for (j = 0; j <= n; j++)
+                m += (size_t)snprintf(t + m, cap - m, "v %.17g %.17g %.17g\n", j + 2.0 * n * k, (double)i,
+                                      0.3 * sin(0.7 * i + k) * cos(0.5 * j));
+    for (k = 0; k < K; k++)
+        for (i = 0; i < n; i++)
+            for (j = 0; j < n; j++) {
+                int v = k * (n + 1) * (n + 1) + i * (n + 1) + j + 1;
+                m += (size_t)snprintf(t + m, cap - m, "f %d %d %d %d\n", v, v + 1, v + n + 2, v + n + 1);
+            }
+    *len = m;
+    return t;
+}
+
+static int write_text(const char *path, const char *t, size_t n)
+{
+    FILE *f = fopen(path, "wb");
+    int ok = f && fwrite(t, 1, n, f) == n;
+    if (f && fclose(f) != 0) ok = 0;
+    return ok;
+}
+
+static int file_exists(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (f) fclose(f);
+    return f != NULL;
+}
+
+/* ---- the recording callback (called from several threads) ---- */
+
+typedef struct recorder {
+    pthread_mutex_t mu;
+    bp_stage stage;          /* cancel at the nth call of this stage        */
+    int nth, seen;
+    int cancelled;           /* we answered nonzero                         */
+    int calls_after;         /* calls that reached us after that            */
+    int bad_fraction;        /* a fraction outside [0, 1]                   */
+    int calls[BP_STAGE_COUNT];
+    int iter_after[64];      /* per-iteration calls per chart after the cancel */
+} recorder;
+
+static void rec_init(recorder *r, bp_stage stage, int nth)
+{
+    memset(r, 0, sizeof *r);
+    pthread_mutex_init(&r->mu, NULL);
+    r->stage = stage;
+    r->nth = nth;
+}
+
+static int on_run(void *user, bp_stage s, double f, uint32_t chart)
+{
+    recorder *r = (recorder *)user;
+    int stop = 0;
+    (void)chart;
+    pthread_mutex_lock(&r->mu);
+    if (!(f >= 0 && f <= 1)) r->bad_fraction++;
+    if ((int)s >= 0 && s < BP_STAGE_COUNT) r->calls[s]++;
+    if (r->cancelled) r->calls_after++;
+    else if (s == r->stage && ++r->seen >= r->nth) stop = r->cancelled = 1;
+    pthread_mutex_unlock(&r->mu);
+    return stop;
+}
+
+static int on_iter(void *user, uint32_t chart, int it, double e, double step)
+{
+    recorder *r = (recorder *)user;
+    (void)it; (void)e; (void)step;
+    pthread_mutex_lock(&r->mu);
+    if (r->cancelled && chart < 64) r->iter_after[chart]++;
+    pthread_mutex_unlock(&r->mu);
+    return 0;
+}
+
+/* Valid maps or none: every chart mapped and exactly valid, or failed with
+   a reason; and all mapped charts together pass the exact check (packed,
+   no two overlapping).  Returns the number of mapped charts, -1 if invalid. */
+static int valid_or_none(const bp_atlas *at, bp_status want_chart_error)
+{
+    uint32_t c;
+    int mapped = 0;
+    bp_error e;
+    for (c = 0; c < at->num_charts; c++) {
+        const bp_chart *ch = &at->charts[c];
+        bp_check_report r;
+        if (!ch->uv) {
+            if (ch->error.status == BP_OK || (want_chart_error != BP_OK && ch->error.status != want_chart_error))
+                return -1;
+            continue;
+        }
+        if (ch->error.status != BP_OK) return -1;
+        if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, &e) != BP_OK) return -1;
+        mapped++;
+    }
+    if (mapped && bp__atlas_verify(at, &e) != BP_OK) return -1;
+    return mapped;
+}
+
+static bp_mesh grids;                 /* 6 charts of 12 x 12 quads */
+
+static void setup(void)
+{
+    size_t n;
+    char *t = grids_obj(6, 12, &n);
+    bp_error err;
+    BPT_CHECK(bp_parse_obj(t, n, &grids, NULL, &err) == BP_OK, "6 grids: %s", err.message);
+    free(t);
+}
+
+static bp_status run(recorder *r, bp_atlas *at, int views, bp_error *err)
+{
+    bp_options opt;
+    bp_options_init(&opt);
+    opt.threads = 2;
+    opt.run_progress = on_run;
+    opt.run_progress_user = r;
+    opt.progress = on_iter;
+    opt.progress_user = r;
+    if (views) { opt.views.model = BP_VIEW_FRONT; opt.views.samples = 8; }
+    return bp_parameterize(at, &grids, &opt, err);
+}
+
+/* A cancel at the nth report of `stage` inside bp_parameterize. */
+static void cancel_in_run(bp_stage stage, int nth, int views)
+{
+    recorder r;
+    bp_atlas at;
+    bp_error err;
+    bp_status st;
+    int mapped;
+    uint32_t c;
+    rec_init(&r, stage, nth);
+    st = run(&r, &at, views, &err);
+    mapped = valid_or_none(&at, BP_ERR_CANCELLED);
+    BPT_CHECK(st == BP_ERR_CANCELLED && r.cancelled, "cancel at %s #%d: BP_ERR_CANCELLED (%s: %s)", bp_stage_name(stage),
+              nth, bp_status_string(st), err.message);
+    BPT_CHECK(mapped >= 0, "cancel at %s #%d: every chart valid or reported (%d of %u mapped)", bp_stage_name(stage), nth,
+              mapped, at.num_charts);
+    BPT_CHECK(r.calls_after == 0 && !r.bad_fraction,
+              "cancel at %s #%d: the callback is not called again after it said stop (%d), fractions in [0,1]",
+              bp_stage_name(stage), nth, r.calls_after);
+    if (stage == BP_STAGE_CHARTS)
+        BPT_CHECK(at.num_charts == 0 && at.charts == NULL, "cancel at charts: no atlas (%u charts)", at.num_charts);
+    if ((stage == BP_STAGE_START && nth == 1) || stage == BP_STAGE_VISIBILITY)
+        BPT_CHECK(at.num_charts == 6 && mapped == 0 && at.num_failed == 6,
+                  "cancel at %s before any start map: 6 charts, none mapped, each failed with BP_ERR_CANCELLED (%d)",
+                  bp_stage_name(stage), mapped);
+    if (stage == BP_STAGE_PACK)
+        BPT_CHECK(mapped == 6 && at.num_failed == 0, "cancel at pack: the packing ends, all 6 charts mapped (%d)", mapped);
+    if (stage == BP_STAGE_OPTIMIZE) {
+        int most = 0;
+        for (c = 0; c < at.num_charts; c++) if (r.iter_after[c] > most) most = r.iter_after[c];
+        BPT_CHECK(most <= 1 && mapped >= 1,
+                  "cancel at optimize: every chart stops at its next iteration (at most %d iteration after the cancel), "
+                  "%d charts keep a map", most, mapped);
+    }
+    bp_atlas_free(&at);
+}
+
+/* The 0.1 per-iteration cancel stops one chart; the others are solved. */
+static int cancel_chart2(void *user, uint32_t chart, int it, double e, double step)
+{
+    (void)user; (void)it; (void)e; (void)step;
+    return chart == 2;
+}
+
+static void per_chart_cancel(void)
+{
+    bp_options opt;
+    bp_atlas at;
+    bp_error err;
+    bp_status st;
+    uint32_t c, others = 0;
+    bp_options_init(&opt);
+    opt.threads = 2;
+    opt.progress = cancel_chart2;
+    st = bp_parameterize(&at, &grids, &opt, &err);
+    BPT_CHECK(st == BP_ERR_CANCELLED && at.num_charts == 6 && at.charts[2].stop == BP_STOP_CANCELLED &&
+              at.charts[2].iterations == 1 && at.charts[2].uv,
+              "per-iteration progress cancels chart 2 after one iteration, keeping its map (%s)", bp_status_string(st));
+    for (c = 0; c < at.num_charts; c++)
+        if (c != 2 && at.charts[c].uv && at.charts[c].stop != BP_STOP_CANCELLED && at.charts[c].iterations > 1) others++;
+    BPT_CHECK(others == 5 && valid_or_none(&at, BP_OK) == 6,
+              "... and does not stop the other 5 charts (%u solved on), all 6 valid", others);
+    bp_atlas_free(&at);
+}
+
+/* Reading: a cancel at the start (loading) or while parsing (every 16384
+   lines) leaves no mesh; writing: a cancel before or while writing leaves
+   no file. */
+static void read_write(void)
+{
+    const char *obj = "build/tests/cancel_big.obj", *out = "build/tests/cancel_out.obj";
+    size_t n;
+    char *t = grids_obj(1, 120, &n);           /* 14641 v + 14400 f lines, 28800 triangles */
+    bp_options opt;
+    bp_mesh m;
+    bp_atlas at;
+    bp_error err;
+    bp_status st;
+    recorder r;
+    int nth, src;
+    BPT_CHECK(write_text(obj, t, n), "wrote %s", obj);
+    free(t);
+    for (nth = 1; nth <= 3; nth++) {
+        rec_init(&r, BP_STAGE_READ, nth);
+        bp_options_init(&opt);
+        opt.run_progress = on_run;
+        opt.run_progress_user = &r;
+        st = bp_read_mesh_opt(obj, &m, &opt, &err);
+        BPT_CHECK(st == BP_ERR_CANCELLED && !m.positions && !m.triangles && !m.triangle_line && m.num_vertices == 0,
+                  "cancel at read #%d (%d calls): BP_ERR_CANCELLED, no mesh (%s)", nth, r.calls[BP_STAGE_READ], err.message);
+    }
+    rec_init(&r, BP_STAGE_COUNT, 1);
+    opt.run_progress_user = &r;
+    st = bp_read_mesh_opt(obj, &m, &opt, &err);
+    BPT_CHECK(st == BP_OK && m.num_triangles == 28800 && r.calls[BP_STAGE_READ] >= 4 && !r.bad_fraction,
+              "read without cancel: %d progress calls (load, parse ticks, end), fractions in [0,1]",
+              r.calls[BP_STAGE_READ]);
+    bp_options_init(&opt);
+    opt.init_only = 1;
+    st = bp_parameterize(&at, &m, &opt, &err);
+    BPT_CHECK(st == BP_OK, "a start map of the big grid: %s", err.message);
+    for (src = 0; src < 2; src++)
+        for (nth = 1; nth <= 3; nth++) {
+            remove(out);
+            rec_init(&r, BP_STAGE_WRITE, nth);
+            opt.run_progress = on_run;
+            opt.run_progress_user = &r;
+            st = bp_write_obj_opt(out, src ? obj : NULL, &m, &at, &opt, &err);
+            BPT_CHECK(st == BP_ERR_CANCELLED && !file_exists(out),
+                      "cancel at write #%d (%s): BP_ERR_CANCELLED and no file left (%s)", nth,
+                      src ? "bp_write_obj_from" : "bp_write_obj", err.message);
+        }
+    rec_init(&r, BP_STAGE_COUNT, 1);
+    st = bp_write_obj_opt(out, obj, &m, &at, &opt, &err);
+    BPT_CHECK(st == BP_OK && file_exists(out) && r.calls[BP_STAGE_WRITE] >= 8,
+              "write without cancel: the file, %d progress calls", r.calls[BP_STAGE_WRITE]);
+    remove(out);
+    remove(obj);
+    bp_atlas_free(&at);
+    bp_mesh_free(&m, NULL);
+}
+
+/* struct_size: the library reads no field beyond the caller's size. */
+static int always_cancel(void *user, bp_stage s, double f, uint32_t chart)
+{
+    (void)user; (void)s; (void)f; (void)chart;
+    return 1;
+}
+
+static void struct_size(void)
+{
+    bp_options opt;
+    bp_atlas at;
+    bp_error err;
+    bp_status st;
+    unsigned char big[sizeof(bp_options) + 16];
+    bp_options_init(&opt);
+    BPT_CHECK(opt.struct_size == sizeof opt && opt.run_progress == NULL && opt.threads == 0,
+              "bp_options_init: zeros (the defaults) and struct_size = sizeof");
+    /* a caller whose struct ends before run_progress: the field is not read */
+    opt.run_progress = always_cancel;
+    opt.struct_size = offsetof(bp_options, run_progress);
+    st = bp_parameterize(&at, &grids, &opt, &err);
+    BPT_CHECK(st == BP_OK, "an older struct_size (%u bytes): run_progress beyond it is ignored (%s)",
+              (unsigned)opt.struct_size, bp_status_string(st));
+    bp_atlas_free(&at);
+    opt.struct_size = sizeof opt;
+    st = bp_parameterize(&at, &grids, &opt, &err);
+    BPT_CHECK(st == BP_ERR_CANCELLED, "the full struct_size: run_progress is read (%s)", bp_status_string(st));
+    bp_atlas_free(&at);
+    opt.struct_size = 0;
+    st = bp_parameterize(&at, &grids, &opt, &err);
+    BPT_CHECK(st == BP_ERR_CANCELLED, "struct_size 0 (the 0.2.0 layout): run_progress is read (%s)", bp_status_string(st));
+    bp_atlas_free(&at);
+    opt.struct_size = 8;
+    st = bp_parameterize(&at, &grids, &opt, &err);
+    BPT_CHECK(st == BP_ERR_INVALID_ARGUMENT && bpt_has_number(err.message, 8), "struct_size 8 refused: %s", err.message);
+    /* a newer caller: unknown bytes must be zero */
+    memset(big, 0, sizeof big);
+    bp_options_init(&opt);
+    opt.struct_size = sizeof big;
+    memcpy(big, &opt, sizeof opt);
+    st = bp_parameterize(&at, &grids, (const bp_options *)(const void *)big, &err);
+    BPT_CHECK(st == BP_OK, "a larger struct_size whose unknown bytes are zero is accepted (%s)", err.message);
+    bp_atlas_free(&at);
+    big[sizeof(bp_options) + 3] = 1;
+    st = bp_parameterize(&at, &grids, (const bp_options *)(const void *)big, &err);
+    BPT_CHECK(st == BP_ERR_INVALID_ARGUMENT && bpt_has_number(err.message, (long long)sizeof(bp_options) + 3),
+              "a set byte beyond this version's struct is refused, named: %s", err.message);
+}
+
+int main(void)
+{
+    setup();
+    cancel_in_run(BP_STAGE_CHARTS, 1, 0);
+    cancel_in_run(BP_STAGE_CHARTS, 2, 0);
+    cancel_in_run(BP_STAGE_START, 1, 0);
+    cancel_in_run(BP_STAGE_START, 4, 0);
+    cancel_in_run(BP_STAGE_VISIBILITY, 1, 1);
+    cancel_in_run(BP_STAGE_OPTIMIZE, 1, 0);
+    cancel_in_run(BP_STAGE_OPTIMIZE, 40, 0);
+    cancel_in_run(BP_STAGE_PACK, 1, 0);
+    cancel_in_run(BP_STAGE_PACK, 2, 0);
+    per_chart_cancel();
+    read_write();
+    struct_size();
+    bp_mesh_free(&grids, NULL);
+    return bpt_finish();
+}
