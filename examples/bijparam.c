@@ -24,7 +24,12 @@
    Writing is safe: the result goes into a temporary file created next to
    OUT (before the work starts, so a bad -o fails at once), which is renamed
    over OUT only when complete; on an error, a cancel or SIGINT / SIGTERM /
-   SIGHUP the temporary is removed.  An output that is the input file
+   SIGHUP the temporary is removed.  SIGINT cancels through the library's
+   run-progress callback (every chart stops at its next iteration, nothing
+   is written, exit status 130); a second SIGINT ends the program at once.
+   On a terminal (stderr a tty, no --quiet) a one-line progress bar shows
+   the stage (read, charts, start, visibility, optimize, pack, write) and
+   its share done.  An output that is the input file
    (same device and inode, whatever the spelling) is refused unless
    --force.  After a run that wrote OUT, one line on stderr says so; a
    successful run without -o says "no output written (use -o FILE)".  Both
@@ -36,7 +41,8 @@
 
    Exit status: 0 success, 1 input rejected or a step failed (one line on
    stderr: "bijparam: error: FILE:LINE: what" or "bijparam: error: FILE: what"),
-   2 usage error (one line, then "see bijparam --help"). */
+   2 usage error (one line, then "see bijparam --help"), 130 cancelled by
+   SIGINT. */
 #define _POSIX_C_SOURCE 200809L
 #define _XOPEN_SOURCE 700        /* realpath */
 #include <errno.h>
@@ -61,7 +67,7 @@ static const char usage_text[] =
     "  -o FILE            write the mesh with the new uv map (OBJ); an OBJ input\n"
     "                     keeps every other line of its file (vn, usemtl, g, ...)\n"
     "  --force            allow -o (or --svg, --png, --trace) to replace the input\n"
-    "  -q, --quiet        no line saying where the result went\n"
+    "  -q, --quiet        no progress bar, no line saying where the result went\n"
     "  --json             print a one-line JSON report on stdout\n"
     "  --demo             use the built-in wavy cone instead of a file\n"
     "  --check            only check the file's own vt charts exactly (each chart\n"
@@ -221,6 +227,19 @@ static void on_signal(int sig)
     if (temp_live) unlink(temp_path);          /* async-signal-safe */
     signal(sig, SIG_DFL);
     raise(sig);
+}
+
+/* SIGINT (Ctrl-C) cancels through the library: the run-progress callback
+   answers nonzero at the next report, every chart stops at its next
+   iteration, the temporary is removed, and the tool exits with status 130.
+   A second SIGINT does not wait: on_signal removes the temporary and the
+   signal ends the program. */
+static volatile sig_atomic_t interrupted = 0;
+
+static void on_interrupt(int sig)
+{
+    if (interrupted) { on_signal(sig); return; }
+    interrupted = 1;
 }
 
 /* Create DIR/.NAME.bijparam-XXXXXX next to `target` (a symlink is followed,
@@ -447,11 +466,59 @@ typedef struct frames_state {
 
 typedef struct run_state {
     FILE    *trace;
-    int      tty;
+    int      tty;              /* draw the progress bar (stderr is a terminal, no --quiet) */
     double   start;
     uint32_t num_charts;
     frames_state *frames;
+    /* the progress bar: the run's fraction of each stage */
+    uint32_t chart;            /* the chart being solved                   */
+    double   tris_before, tris_chart, tris_total;   /* charts before it, it, all */
+    int      drawn;            /* last percentage drawn (-1: none), and its stage */
+    bp_stage drawn_stage;
+    int      bar_visible;
 } run_state;
+
+/* The one-line progress bar (stderr, only on a terminal): the stage, a bar
+   of its fraction, and for the solve the chart.  Redrawn only when the
+   percentage or the stage changes.  Start and optimize of one chart are
+   shown as the share of the mesh's triangles in the charts done so far. */
+static void draw_bar(run_state *rs, bp_stage s, double f)
+{
+    char bar[31];
+    int pct, i;
+    if (s == BP_STAGE_START || s == BP_STAGE_OPTIMIZE)
+        f = rs->tris_total > 0 ? (rs->tris_before + f * rs->tris_chart) / rs->tris_total : f;
+    if (f < 0) f = 0;
+    if (f > 1) f = 1;
+    pct = (int)(100 * f);
+    if (pct == rs->drawn && s == rs->drawn_stage) return;
+    rs->drawn = pct;
+    rs->drawn_stage = s;
+    for (i = 0; i < 30; i++) bar[i] = i < (int)(30 * f) ? '#' : '.';
+    bar[30] = 0;
+    if (s == BP_STAGE_START || s == BP_STAGE_OPTIMIZE)
+        fprintf(stderr, "\rbijparam: %-10s [%s] %3d%%  chart %u/%u   ", bp_stage_name(s), bar, pct,
+                (unsigned)rs->chart + 1, (unsigned)rs->num_charts);
+    else
+        fprintf(stderr, "\rbijparam: %-10s [%s] %3d%%                 ", bp_stage_name(s), bar, pct);
+    rs->bar_visible = 1;
+}
+
+/* Clear the bar's line (before any other message on stderr). */
+static void clear_bar(run_state *rs)
+{
+    if (rs->bar_visible) fprintf(stderr, "\r%70s\r", "");
+    rs->bar_visible = 0;
+}
+
+/* bp_options.run_progress: the bar, and the cancel on SIGINT. */
+static int on_run_progress(void *user, bp_stage s, double f, uint32_t chart)
+{
+    run_state *rs = (run_state *)user;
+    (void)chart;
+    if (rs->tty) draw_bar(rs, s, f);
+    return interrupted != 0;
+}
 
 /* One frame: DIR/chartC_iterNNNNN.svg of the chart's current map. */
 static int write_frame(frames_state *fs, uint32_t c, int iteration, double energy)
@@ -531,10 +598,6 @@ static int on_progress(void *user, uint32_t chart, int iteration,
     if (rs->trace)
         fprintf(rs->trace, "%u %d %.6f %.17g %.17g\n", (unsigned)chart,
                 iteration, t, mean_energy, step);
-    if (rs->tty && iteration % 10 == 0)
-        fprintf(stderr, "\rbijparam: chart %u/%u  iteration %d  energy %.6g   ",
-                (unsigned)chart + 1, (unsigned)rs->num_charts, iteration,
-                mean_energy);
     if (rs->frames) {
         frames_state *fs = rs->frames;
         keep_snapshot(fs, chart, iteration, mean_energy, 0);
@@ -549,6 +612,7 @@ static int on_progress(void *user, uint32_t chart, int iteration,
 typedef struct timings { double read, charts, init, optimize, pack, write; } timings;
 
 typedef struct extra_report {
+    const char *format;                /* "obj", "off", "ply"; NULL: the demo mesh */
     int threads;
     int density_model;                 /* 0: no density report */
     double density_map, density_iso;
@@ -561,6 +625,9 @@ static void print_json(const char *input, const char *output, bp_status status, 
     uint32_t c, l;
     printf("{\"input\":");
     json_string(input);
+    printf(",\"format\":");              /* the format read, or null (demo) */
+    if (ex->format) json_string(ex->format);
+    else printf("null");
     printf(",\"output\":");              /* the file written, or null */
     if (output) json_string(output);
     else printf("null");
@@ -837,7 +904,7 @@ int main(int argc, char **argv)
     uint32_t c;
     double t0;
 
-    memset(&opt, 0, sizeof opt);
+    bp_options_init(&opt);
     memset(&mesh, 0, sizeof mesh);
     memset(&atlas, 0, sizeof atlas);
     memset(&err, 0, sizeof err);
@@ -995,7 +1062,18 @@ int main(int argc, char **argv)
             return 1;
         }
     }
-    rs.tty = isatty(2);
+    rs.tty = isatty(2) && !quiet;
+    rs.drawn = -1;
+    opt.run_progress = on_run_progress;
+    opt.run_progress_user = &rs;
+    {   /* SIGINT: cancel (sigaction: a blocked read is resumed, the handler stays) */
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_interrupt;
+        sigemptyset(&sa.sa_mask);
+        sa.sa_flags = SA_RESTART;
+        sigaction(SIGINT, &sa, NULL);
+    }
     rs.start = now_seconds();
     opt.progress = on_progress;
     opt.progress_user = &rs;
@@ -1030,7 +1108,6 @@ int main(int argc, char **argv)
             if (rs.trace) fclose(rs.trace);
             return 1;
         }
-        signal(SIGINT, on_signal);
         signal(SIGTERM, on_signal);
         signal(SIGHUP, on_signal);
     }
@@ -1049,7 +1126,8 @@ int main(int argc, char **argv)
             memset(&err, 0, sizeof err);
             snprintf(err.message, sizeof err.message, "is a directory, not an .obj or .off file");
         } else
-            st = bp_read_mesh(input, &mesh, NULL, &err);
+            st = bp_read_mesh_opt(input, &mesh, &opt, &err);
+        ex.format = bp_mesh_format(input);
     }
     have_mesh = st == BP_OK;
     tm.read = now_seconds() - t0;
@@ -1062,6 +1140,7 @@ int main(int argc, char **argv)
         if (st == BP_ERR_CHARTS_FAILED) st = BP_OK;
         tm.charts = now_seconds() - t0;
         rs.num_charts = atlas.num_charts;
+        rs.tris_total = mesh.num_triangles;
         fs.mesh = &mesh;
         fs.atlas = &atlas;
         for (c = 0; st == BP_OK && c < atlas.num_charts; c++)
@@ -1091,6 +1170,9 @@ int main(int argc, char **argv)
     /* 3. start map and optimization, chart by chart */
     for (c = 0; st == BP_OK && c < atlas.num_charts; c++) {
         if (atlas.charts[c].error.status != BP_OK) continue;   /* failed in step 2 */
+        rs.chart = c;                        /* the progress bar's place */
+        rs.tris_chart = atlas.charts[c].num_triangles;
+        for (rs.tris_before = 0, i = 0; i < (int)c; i++) rs.tris_before += atlas.charts[i].num_triangles;
         t0 = now_seconds();
         st = bp_chart_init(&atlas.charts[c], &mesh, &opt, &err);
         tm.init += now_seconds() - t0;
@@ -1120,7 +1202,6 @@ int main(int argc, char **argv)
         memset(&err, 0, sizeof err);
         snprintf(err.message, sizeof err.message, "cannot write frame: %s", strerror(fs.error));
     }
-    if (rs.tty && rs.num_charts && !opt.init_only) fprintf(stderr, "\n");
     /* 4. pack */
     if (st == BP_OK) {
         t0 = now_seconds();
@@ -1150,10 +1231,7 @@ int main(int argc, char **argv)
         t0 = now_seconds();
         where = output;
         memset(&err, 0, sizeof err);
-        if (!demo && ends_with_obj(input))
-            st = bp_write_obj_from(temp_path, input, &mesh, &atlas, &err);
-        else
-            st = bp_write_obj(temp_path, &mesh, &atlas, &err);
+        st = bp_write_obj_opt(temp_path, !demo && ends_with_obj(input) ? input : NULL, &mesh, &atlas, &opt, &err);
         if (st == BP_OK && rename(temp_path, final_path) != 0) {
             st = BP_ERR_IO;
             err.line = 0;
@@ -1164,6 +1242,7 @@ int main(int argc, char **argv)
         tm.write = now_seconds() - t0;
     }
     temp_discard();                       /* on any failure before or here */
+    clear_bar(&rs);
 
     /* 6. pictures of the packed atlas (examples/bp_draw.h) */
     if (st == BP_OK && svg_path && !bpd_write_atlas_svg(svg_path, &mesh, &atlas, &svg_opt)) {
@@ -1179,7 +1258,10 @@ int main(int argc, char **argv)
         snprintf(err.message, sizeof err.message, "cannot write the PNG: %s", strerror(errno));
     }
 
-    if (st != BP_OK) {
+    if (st != BP_OK && interrupted) {
+        fprintf(stderr, "bijparam: cancelled (SIGINT): nothing written\n");
+        status = 130;
+    } else if (st != BP_OK) {
         report_error(where, &err);
         status = 1;
     }
@@ -1187,7 +1269,7 @@ int main(int argc, char **argv)
     for (c = 0; c < atlas.num_charts; c++)
         if (atlas.charts[c].error.status != BP_OK) {
             report_error(input, &atlas.charts[c].error);
-            status = 1;
+            if (status == 0) status = 1;
         }
     if (json)
     {
