@@ -72,8 +72,10 @@
      to the I/O functions); NULL means BP_MALLOC/BP_FREE.
    - Use the same allocator (bp_options.allocator) for every call on one
      atlas.  When charts are solved in parallel, the allocator and the
-     progress callback are called from several threads at once; cancelling
-     one chart (progress returns nonzero) does not stop the others.
+     progress callbacks are called from several threads at once.  The
+     per-iteration progress returning nonzero cancels that one chart, not
+     the others; run_progress returning nonzero cancels the whole run
+     (every chart stops at its next iteration, see >>progress).
    - Structures whose fields say "0 = default" may be zero-initialized
      (memset, `= {0}` in C, `= {}` in C++).  After a failed call that fills
      a bp_mesh or bp_atlas, the structure is zeroed and safe to free.
@@ -437,7 +439,8 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
 /* Everything: build, init, optimize, pack, and an exact check of the packed
    atlas.  BP_OK: every chart mapped.  BP_ERR_CHARTS_FAILED (not strict) and
    BP_ERR_CANCELLED: the atlas is kept, every chart valid or reported failed,
-   and must be freed; any other error zeroes it (CONVENTIONS). */
+   and must be freed; any other error zeroes it (CONVENTIONS).  A cancel by
+   run_progress while the charts are built leaves no charts (zeroed). */
 BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *mesh,
                                 const bp_options *opt, bp_error *err);
 BPDEF void      bp_atlas_free(bp_atlas *atlas);

@@ -62,7 +62,7 @@
 #include "bp_draw.h"
 
 static const char usage_text[] =
-    "usage: bijparam [options] INPUT.(obj|off) [-o OUT.obj]\n"
+    "usage: bijparam [options] INPUT.(obj|off|ply) [-o OUT.obj]\n"
     "       bijparam [options] --demo [-o OUT.obj]\n"
     "  -o FILE            write the mesh with the new uv map (OBJ); an OBJ input\n"
     "                     keeps every other line of its file (vn, usemtl, g, ...)\n"
