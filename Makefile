@@ -127,7 +127,9 @@ clean:
 #                run with tests/run_all.sh, then the tool on three meshes
 #   make tsan    the tool with the header's thread pool and examples/
 #                thread_pool.c under ThreadSanitizer in build/tsan/, run
-#                with 2 threads on camel_b, spot and face_holes
+#                with 2 threads on camel_b, spot and face_holes; then
+#                tests/test_threads.c and tests/test_cancel.c (one cancel
+#                flag read by charts solved in parallel)
 .PHONY: fuzz asan tsan
 FUZZ_SECONDS ?= 300
 FUZZ_CC ?= clang
@@ -176,6 +178,9 @@ tsan:
 	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_threads.c -o $(BUILD)/tsan/test_threads $(LDLIBS)
 	BP_TEST_QUICK=1 $(TSAN_ENV) $(BUILD)/tsan/test_threads > $(BUILD)/tsan/test_threads.log || { tail -30 $(BUILD)/tsan/test_threads.log; exit 1; }
 	@tail -1 $(BUILD)/tsan/test_threads.log
+	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_cancel.c -o $(BUILD)/tsan/test_cancel $(LDLIBS)
+	$(TSAN_ENV) $(BUILD)/tsan/test_cancel > $(BUILD)/tsan/test_cancel.log || { tail -30 $(BUILD)/tsan/test_cancel.log; exit 1; }
+	@tail -1 $(BUILD)/tsan/test_cancel.log
 	@echo "tsan: no data race reported"
 
 # ---- installation (header, tool, pkg-config file) --------------------------
