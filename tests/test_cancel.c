@@ -5,13 +5,16 @@
    never a half-written file; one cancel stops every chart, also charts
    solved in parallel; the per-iteration progress still cancels one chart;
    and bp_options.struct_size keeps an older caller's meaning. */
+#define _POSIX_C_SOURCE 200809L      /* mkdtemp */
 #define BP_USE_PTHREADS
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
 #include <pthread.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* ---- meshes written by the test ---- */
 
@@ -214,7 +217,7 @@ static void per_chart_cancel(void)
    no file. */
 static void read_write(void)
 {
-    const char *obj = "build/tests/cancel_big.obj", *out = "build/tests/cancel_out.obj";
+    char dir[] = "/tmp/bptest_cancel_XXXXXX", obj[64], out[64];
     size_t n;
     char *t = grids_obj(1, 120, &n);           /* 14641 v + 14400 f lines, 28800 triangles */
     bp_options opt;
@@ -224,6 +227,9 @@ static void read_write(void)
     bp_status st;
     recorder r;
     int nth, src;
+    BPT_CHECK(mkdtemp(dir) != NULL, "a temporary directory %s", dir);
+    snprintf(obj, sizeof obj, "%s/big.obj", dir);
+    snprintf(out, sizeof out, "%s/out.obj", dir);
     BPT_CHECK(write_text(obj, t, n), "wrote %s", obj);
     free(t);
     for (nth = 1; nth <= 3; nth++) {
@@ -262,6 +268,7 @@ static void read_write(void)
               "write without cancel: the file, %d progress calls", r.calls[BP_STAGE_WRITE]);
     remove(out);
     remove(obj);
+    rmdir(dir);
     bp_atlas_free(&at);
     bp_mesh_free(&m, NULL);
 }

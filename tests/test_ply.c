@@ -2,11 +2,14 @@
    written here read to the same mesh as the equivalent OBJ, whatever the
    property order, the extra properties, lists and elements; malformed
    files are refused with the exact status and the element named. */
+#define _POSIX_C_SOURCE 200809L      /* mkdtemp */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define GRID 4                       /* GRID x GRID quads, (GRID+1)^2 vertices */
 #define NV ((GRID + 1) * (GRID + 1))
@@ -122,6 +125,7 @@ static void test_same_as_obj(void)
     size_t n;
     int be;
     FILE *f;
+    char dir[] = "/tmp/bptest_ply_XXXXXX", path[64];
     n = obj_text(text, sizeof text);
     BPT_CHECK(bp_parse_obj(text, n, &obj, NULL, &err) == BP_OK && obj.num_triangles == 2 * NQ, "the OBJ: %s", err.message);
     n = ply_ascii(text, sizeof text);
@@ -138,14 +142,17 @@ static void test_same_as_obj(void)
         bp_mesh_free(&m, NULL);
     }
     /* by extension, through the file reader */
-    f = fopen("build/tests/ply_test.PLY", "wb");
-    BPT_CHECK(f && fwrite(bin, 1, n, f) == n && fclose(f) == 0, "wrote build/tests/ply_test.PLY");
-    BPT_CHECK(bp_read_mesh("build/tests/ply_test.PLY", &m, NULL, &err) == BP_OK && same_mesh(&obj, &m),
+    BPT_CHECK(mkdtemp(dir) != NULL, "a temporary directory %s", dir);
+    snprintf(path, sizeof path, "%s/test.PLY", dir);
+    f = fopen(path, "wb");
+    BPT_CHECK(f && fwrite(bin, 1, n, f) == n && fclose(f) == 0, "wrote %s", path);
+    BPT_CHECK(bp_read_mesh(path, &m, NULL, &err) == BP_OK && same_mesh(&obj, &m),
               "bp_read_mesh picks PLY by extension: %s", err.message);
     BPT_CHECK(!strcmp(bp_mesh_format("a.Ply"), "ply") && !strcmp(bp_mesh_format("a.obj"), "obj") &&
               !strcmp(bp_mesh_format("a.OFF"), "off") && !bp_mesh_format("a.stl"), "bp_mesh_format by extension");
     bp_mesh_free(&m, NULL);
-    remove("build/tests/ply_test.PLY");
+    remove(path);
+    rmdir(dir);
     bp_mesh_free(&obj, NULL);
 }
 
