@@ -699,11 +699,42 @@ static void bp__serial_for(void *user, bp_task_fn fn, void *task, uint32_t count
     for (i = 0; i < count; i++) fn(task, i);
 }
 
+/* Small work runs serially.  A parallel loop costs a join (2 us on an idle
+   pool, a wake-up of tens of microseconds when a thread slept, a
+   scheduler time slice when the other core is taken by another process),
+   so it pays only when its tasks are much longer than that.  Two
+   thresholds, measured on the 2-core test machine (docs/performance.md):
+
+   - a chart below BP__PAR_MIN_TRIANGLES triangles is solved with serial
+     loops (its whole iteration takes less than a millisecond, of which
+     dozens of joins would take a good part), and bp_chart_optimize /
+     bp_chart_init called alone start no pool for it;
+   - a loop over fewer than BP__PAR_MIN_ITEMS cheap items (boundary
+     vertices and edges) runs serially inside a large chart.
+
+   Loops over triangles and vertices need no threshold of their own: their
+   chunks hold up to 2048 items, so a small loop is one task, run by the
+   caller.  The tasks are the same whoever runs them, so the thresholds
+   change no result (tests/test_threads.c sets both to 1 to send every loop
+   of its small meshes through the pool). */
+#ifndef BP__PAR_MIN_TRIANGLES
+#define BP__PAR_MIN_TRIANGLES 8192u
+#endif
+#ifndef BP__PAR_MIN_ITEMS
+#define BP__PAR_MIN_ITEMS     1024u
+#endif
+
+static void bp__par_run(const bp__par *par, bp_task_fn fn, void *task, uint32_t count, uint32_t items)
+{
+    if (items < BP__PAR_MIN_ITEMS) bp__serial_for(NULL, fn, task, count);
+    else par->run(par->user, fn, task, count);
+}
+
 #ifdef BP_USE_PTHREADS
 #include <pthread.h>
 #include <unistd.h>
 
-#define BP__LINE 16                     /* uint32_t per cache line (64 bytes) */
+#define BP__LINE 8                      /* uint64_t per cache line (64 bytes) */
 
 typedef struct bp__pool bp__pool;
 typedef struct bp__worker { bp__pool *P; int id; } bp__worker;
@@ -714,37 +745,89 @@ struct bp__pool {
     int             nth;            /* worker threads created                */
     pthread_mutex_t mu;
     pthread_cond_t  wake, done;
-    uint64_t        gen;            /* job generation                        */
-    int             busy;           /* workers still inside the current job  */
+    uint32_t        gen;            /* job number (written under mu)         */
     int             quit;
-    bp_task_fn      fn;
-    void           *task;
-    uint32_t        count, next;
-    uint32_t       *claim;          /* per thread, a cache line apart: the
-                                       next task of its block                */
+    bp_task_fn      fn;             /* the job: fn(task, i), i < count       */
+    void           *task;           /*   (written and read under mu)         */
+    uint32_t        count;
+    uint32_t        finished;       /* tasks of the job finished             */
+    uint64_t       *claim;          /* per block, a cache line apart:
+                                       gen << 32 | its next unclaimed task   */
 };
 
-/* Waking a sleeping thread costs tens of microseconds, longer than many of
-   the solver's tasks (a vector chunk takes a few), and an iteration has
-   dozens of parallel loops.  So a worker that finished a job, and the
-   caller waiting for the last task of one, first spin for a short while
-   (reading the job counters atomically), and only then sleep on the
-   condition variable.  Without GCC/Clang atomics they sleep at once. */
+/* Waiting.  Waking a sleeping thread costs tens of microseconds, longer
+   than many of the solver's tasks (a vector chunk takes a few), and an
+   iteration has dozens of parallel loops, so a thread that waits (a worker
+   for the next job, the caller for the last task of one) first polls for a
+   short while.  Short is the point: session 4 polled up to 200000
+   iterations (about a millisecond), and on a machine whose cores were all
+   busy with other processes a polling thread took the core from the very
+   thread it waited for: the default was 5 to 200 times slower than
+   --threads 1 (issue 13).  Now a thread polls at most BP__SPIN_NS
+   nanoseconds, with the processor's pause hint between reads, then sleeps
+   on a condition variable.  The bound is on the clock, not on a count of
+   iterations, whose length varies tenfold between processors.  Without
+   GCC/Clang atomics a thread sleeps at once and tasks are claimed under
+   the mutex. */
 #if defined(__GNUC__) || defined(__clang__)
-#define BP__SPIN_LIMIT 200000
+#define BP__SPIN_NS 20000
 #define BP__LOAD(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
 #define BP__STORE(p, v) __atomic_store_n((p), (v), __ATOMIC_RELEASE)
 #define BP__ATOMICS 1
+#if defined(__x86_64__) || defined(__i386__)
+#define BP__PAUSE() __builtin_ia32_pause()
+#elif defined(__aarch64__)
+#define BP__PAUSE() __asm__ __volatile__("yield" ::: "memory")
 #else
-#define BP__SPIN_LIMIT 0
+#define BP__PAUSE() ((void)0)
+#endif
+#else
+#define BP__SPIN_NS 0
 #define BP__LOAD(p) (*(p))
 #define BP__STORE(p, v) (*(p) = (v))
 #define BP__ATOMICS 0
 #endif
 
-/* Take task indices until none are left (called with the mutex held, which
-   it keeps between tasks only without atomics: with them a task index is
-   claimed by one atomic increment, and the lock is free while tasks run).
+static double bp__seconds(void);
+
+/* Poll until *w differs from `old` (is_ne) or equals it (!is_ne), or the
+   spin time is over; returns whether the condition was met. */
+static int bp__pool_poll(const uint32_t *w, uint32_t old, int is_ne, const int *quit)
+{
+#if BP__ATOMICS
+    double until = 0;
+    int k;
+    for (k = 0;; k++) {
+        if ((BP__LOAD(w) != old) == is_ne || BP__LOAD(quit)) return 1;
+        if ((k & 31) == 0) {                    /* the clock every 32 polls */
+            double now = bp__seconds();
+            if (k == 0) until = now + 1e-9 * BP__SPIN_NS;
+            else if (now >= until) return 0;
+        }
+        BP__PAUSE();
+    }
+#else
+    (void)w; (void)old; (void)is_ne; (void)quit;
+    return 0;
+#endif
+}
+
+/* Who waits for whom.  A job's tasks are claimed one at a time (below),
+   and the caller waits until every task is *finished*, counted in
+   P->finished, not until every worker has looked at the job.  A worker
+   that the system has not scheduled yet (the other core is busy with
+   another process) therefore costs nothing: the caller claims and runs its
+   tasks itself, and when the worker wakes it finds nothing left.  Session 4
+   counted workers instead, so every loop waited for every worker to be
+   scheduled: with a competing process, a scheduler time slice (a few
+   milliseconds) per loop, dozens of loops per iteration.  The caller now
+   waits only for a task that a worker has claimed and is still running.
+
+   A worker that wakes late must not take a task of a later job for the
+   job it read.  So each block's claim word carries the job number in its
+   high half, a task is claimed by a compare-and-swap of the whole word,
+   and a worker whose job number no longer matches stops; it read its job
+   (fn, task, count) under the mutex, all of one job.
 
    Which thread runs which task changes no result, but it decides where the
    data is.  The solver's loops touch the same data in the same task
@@ -756,47 +839,78 @@ struct bp__pool {
    unclaimed task).  On the 2-core test machine this took camelhead's
    2-thread speed-up from 1.47 to 1.67 (the preconditioner solve alone
    from 1.37 to 1.71), against one shared counter. */
-static void bp__pool_drain(bp__pool *P, int me)
+static int bp__pool_claim(bp__pool *P, int u, uint32_t gen, uint32_t end, uint32_t *i)
+{
+    uint64_t *c = &P->claim[BP__LINE * u];
+#if BP__ATOMICS
+    uint64_t w = __atomic_load_n(c, __ATOMIC_ACQUIRE);
+    for (;;) {
+        if ((uint32_t)(w >> 32) != gen || (uint32_t)w >= end) return 0;
+        if (__atomic_compare_exchange_n(c, &w, w + 1, 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)) break;
+    }
+    *i = (uint32_t)w;
+    return 1;
+#else
+    uint64_t w;
+    pthread_mutex_lock(&P->mu);
+    w = *c;
+    if ((uint32_t)(w >> 32) == gen && (uint32_t)w < end) *c = w + 1;
+    pthread_mutex_unlock(&P->mu);
+    if ((uint32_t)(w >> 32) != gen || (uint32_t)w >= end) return 0;
+    *i = (uint32_t)w;
+    return 1;
+#endif
+}
+
+/* Adds `ran` finished tasks; returns the job's new total. */
+static uint32_t bp__pool_finish(bp__pool *P, uint32_t ran)
 {
 #if BP__ATOMICS
-    bp_task_fn fn = P->fn;
-    void *task = P->task;
-    uint32_t count = P->count, i;
-    int nt = P->nth + 1, k;
+    return __atomic_add_fetch(&P->finished, ran, __ATOMIC_ACQ_REL);
+#else
+    uint32_t f;
+    pthread_mutex_lock(&P->mu);
+    f = P->finished += ran;
     pthread_mutex_unlock(&P->mu);
+    return f;
+#endif
+}
+
+/* Runs tasks of job `gen` until none is left to claim: its own block
+   first, then the others'.  Returns how many it ran. */
+static uint32_t bp__pool_drain(bp__pool *P, int me, uint32_t gen, bp_task_fn fn, void *task, uint32_t count)
+{
+    int nt = P->nth + 1, k;
+    uint32_t i, ran = 0;
     for (k = 0; k < nt; k++) {
         int u = (me + k) % nt;
         uint32_t end = (uint32_t)((uint64_t)count * (uint32_t)(u + 1) / (uint32_t)nt);
-        while ((i = __atomic_fetch_add(&P->claim[BP__LINE * u], 1u, __ATOMIC_RELAXED)) < end) fn(task, i);
+        while (bp__pool_claim(P, u, gen, end, &i)) { fn(task, i); ran++; }
     }
-    pthread_mutex_lock(&P->mu);
-#else
-    (void)me;
-    while (P->next < P->count) {
-        uint32_t i = P->next++;
-        pthread_mutex_unlock(&P->mu);
-        P->fn(P->task, i);
-        pthread_mutex_lock(&P->mu);
-    }
-#endif
+    return ran;
 }
 
 static void *bp__pool_worker(void *arg)
 {
     bp__pool *P = ((bp__worker *)arg)->P;
     int me = ((bp__worker *)arg)->id;
-    uint64_t seen = 0;
+    uint32_t seen = 0, gen, count, ran;
+    bp_task_fn fn;
+    void *task;
     for (;;) {
-        int spins;
-        for (spins = 0; spins < BP__SPIN_LIMIT && BP__LOAD(&P->gen) == seen && !BP__LOAD(&P->quit); spins++) {}
+        bp__pool_poll(&P->gen, seen, 1, &P->quit);
         pthread_mutex_lock(&P->mu);
         while (!P->quit && P->gen == seen) pthread_cond_wait(&P->wake, &P->mu);
         if (P->quit) { pthread_mutex_unlock(&P->mu); break; }
-        seen = P->gen;
-        bp__pool_drain(P, me);
-        BP__STORE(&P->busy, P->busy - 1);
-        if (P->busy == 0) pthread_cond_signal(&P->done);
+        seen = gen = P->gen;
+        fn = P->fn; task = P->task; count = P->count;
         pthread_mutex_unlock(&P->mu);
+        ran = bp__pool_drain(P, me, gen, fn, task, count);
+        if (ran && bp__pool_finish(P, ran) == count) {   /* the last task: wake the caller */
+            pthread_mutex_lock(&P->mu);
+            pthread_cond_signal(&P->done);
+            pthread_mutex_unlock(&P->mu);
+        }
     }
     return NULL;
 }
@@ -804,23 +918,25 @@ static void *bp__pool_worker(void *arg)
 static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
 {
     bp__pool *P = (bp__pool *)user;
-    int spins, t;
+    uint32_t gen;
+    int t;
     if (count <= 1 || P->nth == 0) { bp__serial_for(NULL, fn, task, count); return; }
     pthread_mutex_lock(&P->mu);
+    gen = P->gen + 1;
     P->fn = fn;
     P->task = task;
     P->count = count;
-    P->next = 0;
+    BP__STORE(&P->finished, 0u);
     for (t = 0; t <= P->nth; t++)              /* block t: [count t / nt, count (t+1) / nt) */
-        BP__STORE(&P->claim[BP__LINE * t], (uint32_t)((uint64_t)count * (uint32_t)t / (uint32_t)(P->nth + 1)));
-    BP__STORE(&P->busy, P->nth);
-    BP__STORE(&P->gen, P->gen + 1);
+        BP__STORE(&P->claim[BP__LINE * t],
+                  (uint64_t)gen << 32 | (uint32_t)((uint64_t)count * (uint32_t)t / (uint32_t)(P->nth + 1)));
+    BP__STORE(&P->gen, gen);
     pthread_cond_broadcast(&P->wake);
-    bp__pool_drain(P, 0);                      /* the caller works too */
     pthread_mutex_unlock(&P->mu);
-    for (spins = 0; spins < BP__SPIN_LIMIT && BP__LOAD(&P->busy) > 0; spins++) {}
+    if (bp__pool_finish(P, bp__pool_drain(P, 0, gen, fn, task, count)) == count) return;  /* the caller works too */
+    if (bp__pool_poll(&P->finished, count, 0, &P->quit)) return;
     pthread_mutex_lock(&P->mu);
-    while (P->busy > 0) pthread_cond_wait(&P->done, &P->mu);
+    while (BP__LOAD(&P->finished) != count) pthread_cond_wait(&P->done, &P->mu);
     pthread_mutex_unlock(&P->mu);
 }
 
@@ -838,7 +954,7 @@ static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
     if (!P) return NULL;
     P->th = (pthread_t *)bp__alloc_array(a, (size_t)threads - 1, sizeof(pthread_t));
     P->who = (bp__worker *)bp__alloc_array(a, (size_t)threads - 1, sizeof(bp__worker));
-    P->claim = (uint32_t *)bp__calloc_array(a, (size_t)threads * BP__LINE, sizeof(uint32_t));
+    P->claim = (uint64_t *)bp__calloc_array(a, (size_t)threads * BP__LINE, sizeof(uint64_t));
     if (P->th && P->who && P->claim) mu = pthread_mutex_init(&P->mu, NULL) == 0;
     if (mu) wake = pthread_cond_init(&P->wake, NULL) == 0;
     if (wake) done = pthread_cond_init(&P->done, NULL) == 0;
@@ -875,6 +991,15 @@ static void bp__pool_stop(const bp_allocator *a, bp__pool *P)
     bp__free(a, P);
 }
 #endif /* BP_USE_PTHREADS */
+
+static bp__par bp__par_serial(void)
+{
+    bp__par par;
+    par.run = bp__serial_for;
+    par.user = NULL;
+    par.threads = 1;
+    return par;
+}
 
 /* Choose how loops run for a solve; *pool receives a pool to stop later. */
 static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void **pool)
@@ -3670,17 +3795,16 @@ done:
 }
 
 /* The public entry point: the factorization's rows run on the threads of
-   opt (a pool for this call) when the chart is large enough to gain. */
+   opt (a pool for this call) when the chart is large enough to gain
+   (BP__PAR_MIN_TRIANGLES, see >>threads). */
 BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
     void *pool = NULL;
     bp__par par;
     bp_status st;
-    par.run = bp__serial_for;
-    par.user = NULL;
-    par.threads = 1;
-    if (ch && ch->num_vertices >= 4096) par = bp__par_begin(&a, opt, &pool);
+    par = bp__par_serial();
+    if (ch && ch->num_triangles >= BP__PAR_MIN_TRIANGLES) par = bp__par_begin(&a, opt, &pool);
     st = bp__chart_init(ch, m, opt, &par, err);
     bp__par_end(&a, pool);
     return st;
@@ -4357,7 +4481,7 @@ static void bp__step_hash(bp__solver *S, const double *x, const double *v, doubl
     for (;;) {
         size_t total = 0, run = 0;
         int over = 0;
-        S->par.run(S->par.user, bp__hash_count_task, &J, BP__HASH_TASKS);
+        bp__par_run(&S->par, bp__hash_count_task, &J, BP__HASH_TASKS, S->nb);
         for (t = 0; t < BP__HASH_TASKS; t++) { over |= J.over[t]; total += J.total[t]; }
         if (!over && total <= H->cap) {
             for (b = 0; b <= H->mask; b++) {
@@ -4373,7 +4497,7 @@ static void bp__step_hash(bp__solver *S, const double *x, const double *v, doubl
         }
         for (L = 0; L < S->nloops; L++) S->hs[L] *= 2;
     }
-    S->par.run(S->par.user, bp__hash_place_task, &J, BP__HASH_TASKS);
+    bp__par_run(&S->par, bp__hash_place_task, &J, BP__HASH_TASKS, S->nb);
 }
 
 static void bp__hash_fill_task(void *task, uint32_t c)
@@ -4669,7 +4793,7 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
     /* every boundary vertex enters the cells its swept segment's box covers */
     bp__step_hash(S, x, v, tmax);
     T.tmax = tmax;
-    S->par.run(S->par.user, bp__step_edge_task, &T, S->nchunk_b);
+    bp__par_run(&S->par, bp__step_edge_task, &T, S->nchunk_b, S->nb);
     for (c = 0; c < S->nchunk_b; c++) if (S->part_b[c] < tmax) tmax = S->part_b[c];
     return tmax;
 }
@@ -5131,8 +5255,9 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
                         "bp_chart_optimize needs a chart with a start map (bp_chart_init)");
     if ((int)o.energy < 0 || (int)o.energy >= (int)BP_ENERGY_COUNT)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)o.energy);
-    if (runner) par = *runner;
-    else par = bp__par_begin(&a, opt, &pool);
+    if (runner) par = *runner;                  /* bp_parameterize's pool, or serial */
+    else if (ch->num_triangles >= BP__PAR_MIN_TRIANGLES) par = bp__par_begin(&a, opt, &pool);
+    else par = bp__par_serial();                /* small: no pool (see >>threads) */
     ch->threads = par.threads;
     hist = o.history > 0 ? o.history : 5;
     if (o.direction == BP_DIRECTION_GRADIENT) hist = 0;
@@ -5475,7 +5600,7 @@ typedef struct bp__chart_job {
     bp_atlas *atlas;
     const bp_mesh *m;
     const bp_options *opt;
-    const bp__par *inner;         /* how the chart's own loops run          */
+    const bp__par *inner;         /* how a large chart's own loops run      */
     bp_status *status;
     bp_error *errs;
 } bp__chart_job;
@@ -5483,22 +5608,26 @@ typedef struct bp__chart_job {
 static void bp__chart_task(void *task, uint32_t c)
 {
     bp__chart_job *J = (bp__chart_job *)task;
+    bp__par serial = bp__par_serial();
+    const bp__par *inner = J->atlas->charts[c].num_triangles >= BP__PAR_MIN_TRIANGLES ? J->inner : &serial;
     bp_status st;
     if (J->atlas->charts[c].error.status != BP_OK) {   /* failed in bp_atlas_build */
         J->status[c] = BP_OK;
         return;
     }
-    st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, J->inner, &J->errs[c]);
+    st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, inner, &J->errs[c]);
     if (st == BP_OK && !(J->opt && J->opt->init_only))
-        st = bp__chart_optimize(&J->atlas->charts[c], c, J->m, J->opt, J->inner, &J->errs[c]);
+        st = bp__chart_optimize(&J->atlas->charts[c], c, J->m, J->opt, inner, &J->errs[c]);
     J->status[c] = st;
 }
 
 /* Charts are independent, so with several threads and no dominant chart
    (none holds more than half of the triangles) the charts themselves are
    the parallel tasks, each solved with serial loops; otherwise the charts
-   go one after the other and their loops run in parallel.  Either way each
-   chart's result is bit-identical to a serial solve. */
+   go one after the other and the loops of the large ones (see >>threads)
+   run in parallel.  Either way each chart's result is bit-identical to a
+   serial solve.  One pool serves the whole call, and none is started when
+   neither way would use it (one small chart). */
 BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_status st;
@@ -5507,6 +5636,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     bp__chart_job J;
     void *pool = NULL;
     uint32_t c, largest = 0;
+    int by_chart;
     bp_options local;
     double *imp = NULL;
     st = bp_atlas_build(atlas, m, opt, err);
@@ -5533,11 +5663,12 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     J.atlas = atlas;
     J.m = m;
     J.opt = opt;
-    par = bp__par_begin(&a, opt, &pool);
-    serial.run = bp__serial_for; serial.user = NULL; serial.threads = 1;
+    serial = bp__par_serial();
     for (c = 0; c < atlas->num_charts; c++)
         if (atlas->charts[c].num_triangles > largest) largest = atlas->charts[c].num_triangles;
-    if (par.threads != 1 && atlas->num_charts > 1 && 2 * (uint64_t)largest <= m->num_triangles) {
+    by_chart = atlas->num_charts > 1 && 2 * (uint64_t)largest <= m->num_triangles;
+    par = by_chart || largest >= BP__PAR_MIN_TRIANGLES ? bp__par_begin(&a, opt, &pool) : serial;
+    if (par.threads != 1 && by_chart) {
         J.inner = &serial;
         par.run(par.user, bp__chart_task, &J, atlas->num_charts);
         for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].threads = par.threads;
