@@ -69,6 +69,19 @@
      atlas.  When charts are solved in parallel, the allocator and the
      progress callback are called from several threads at once; cancelling
      one chart (progress returns nonzero) does not stop the others.
+   - Size limits (indices are uint32_t): a mesh has fewer than 0x55555555
+     triangles (1 431 655 765, so that 3 * num_triangles fits in uint32_t;
+     bp_atlas_build says BP_ERR_INVALID_ARGUMENT) and fewer than 2^32 - 1
+     vertices, texture coordinates and faces (the readers say
+     BP_ERR_INDEX); a chart's sparse factor (the start map's system, the
+     preconditioner) holds at most 2^32 - 16 entries, BP_ERR_TOO_LARGE
+     beyond, with the chart, its size and the limit named (bimba's 89K
+     triangles need 2.5 million entries, 1700 times fewer).  Memory runs
+     out long before any of these on most machines.
+   - Threads (BP_USE_PTHREADS, options.threads = 0: all cores): a waiting
+     thread polls for at most 20 microseconds, then sleeps; charts below
+     8192 triangles and small loops run serially, so the default is not
+     slower than threads = 1 on a machine busy with other work.
    - Structures whose fields say "0 = default" may be zero-initialized
      (memset, `= {0}` in C, `= {}` in C++).  After a failed call that fills
      a bp_mesh or bp_atlas, the structure is zeroed and safe to free.
@@ -118,7 +131,8 @@ extern "C" {
     X(BP_ERR_NUMERICAL,      "floating point produced an invalid map")          \
     X(BP_ERR_NOT_BIJECTIVE,  "map is not bijective")                            \
     X(BP_ERR_CANCELLED,      "cancelled by the progress callback")              \
-    X(BP_ERR_CHARTS_FAILED,  "some charts failed; the others are valid")
+    X(BP_ERR_CHARTS_FAILED,  "some charts failed; the others are valid")      \
+    X(BP_ERR_TOO_LARGE,      "input exceeds a size limit of the library")
 
 typedef enum bp_status {
 #define BP__ENUM(name, text) name,
@@ -215,7 +229,8 @@ typedef int (*bp_progress_fn)(void *user, uint32_t chart, int iteration,
    whose results it combines in a fixed order, so the output is bit-identical
    for any number of threads.  A parallel_for must call fn(task, i) once for
    every i in [0, count), in any order and on any threads, and return when
-   all calls have returned. */
+   all calls have returned.  Charts below 8192 triangles, and loops too
+   small to gain, run on the calling thread without it. */
 typedef void (*bp_task_fn)(void *task, uint32_t index);
 typedef void (*bp_parallel_for_fn)(void *user, bp_task_fn fn, void *task, uint32_t count);
 
@@ -336,7 +351,7 @@ BPDEF const char *bp_stop_string(bp_stop s);
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *mesh,
                                const bp_options *opt, bp_error *err);
 /* The start map of one chart (Tutte or Floater, holes filled, sec 3.6).
-   Charts of 4096 vertices or more factor their system on opt->threads. */
+   Charts of 8192 triangles or more factor their system on opt->threads. */
 BPDEF bp_status bp_chart_init(bp_chart *chart, const bp_mesh *mesh,
                               const bp_options *opt, bp_error *err);
 /* Minimize distortion keeping the map bijective at every iteration (chap 3). */
@@ -2728,49 +2743,37 @@ static uint32_t bp__row_subtree(const bp__sparse *A, const bp__factor *F, const 
     return m;
 }
 
-/* Factor A (symmetric pattern).  Returns BP_OK, BP_ERR_OUT_OF_MEMORY, or
-   BP_ERR_NUMERICAL with *bad_row set when a pivot is zero or not finite.
-   The numeric rows run in parallel phases along the dissection tree when
-   par is given; every row is computed by the same operations either way. */
-static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
-                               const bp__par *par)
-{
-    uint32_t n = A->n, k, p, i;
-    uint32_t *parent = NULL, *mark = NULL, *cnt = NULL, *tpos = NULL, *cursor = NULL, *Cp = NULL, *Ci = NULL;
-    uint32_t *reach = NULL;
-    double *x = NULL, *y = NULL, *xs = NULL, *ys = NULL;
-    bp_status st = BP_ERR_OUT_OF_MEMORY;
-    size_t nnzL = 0;
-    bp__fact_task T;
-    bp__par serial;
-    int phase;
-    memset(F, 0, sizeof *F);
-    F->n = n;
-    F->symmetric = A->symmetric;
-    F->perm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    F->iperm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    F->Rp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    F->D = (double *)bp__alloc_array(a, n, sizeof(double));
-    parent = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    cnt = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    Cp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    reach = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    if (!F->perm || !F->iperm || !F->Rp || !F->D || !parent || !mark || !cnt || !Cp || !reach) goto done;
-    if (!A->symmetric) {
-        /* tpos[p]: position of the transposed entry (using sorted rows) */
-        size_t nnz = A->colp[n];
-        tpos = (uint32_t *)bp__alloc_array(a, nnz, sizeof(uint32_t));
-        cursor = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-        if (!tpos || !cursor) goto done;
-        for (k = 0; k < n; k++) cursor[k] = A->colp[k];
-        for (k = 0; k < n; k++)
-            for (p = A->colp[k]; p < A->colp[k + 1]; p++) tpos[p] = cursor[A->row[p]]++;
-    }
-    if (!bp__nd_order(a, A, F->perm, F->tree)) goto done;
-    for (k = 0; k < n; k++) F->iperm[F->perm[k]] = k;
+/* The factor's size limit.  L's row pointers Rp and column indices Ri are
+   uint32_t, so L holds at most BP__FACTOR_MAX_NNZ entries below the
+   diagonal (a little under 2^32; the factor then takes about 64 GB).  The
+   symbolic phase counts the entries before anything is allocated and
+   stops with BP_ERR_TOO_LARGE, not with an allocation that fails or an
+   index that wraps around. */
+#ifndef BP__FACTOR_MAX_NNZ
+#define BP__FACTOR_MAX_NNZ 0xfffffff0u
+#endif
 
-    /* elimination tree (mark holds the "ancestor" links) */
+/* tpos[p]: the position in A of the transpose of entry p (A's rows are
+   sorted, so the transposes of column k come out in order). */
+static int bp__fact_transpose(const bp_allocator *a, const bp__sparse *A, uint32_t **tpos_out)
+{
+    uint32_t n = A->n, k, p, *tpos, *cursor;
+    *tpos_out = tpos = (uint32_t *)bp__alloc_array(a, A->colp[n], sizeof(uint32_t));
+    cursor = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    if (!tpos || !cursor) { bp__free(a, cursor); return 0; }
+    for (k = 0; k < n; k++) cursor[k] = A->colp[k];
+    for (k = 0; k < n; k++)
+        for (p = A->colp[k]; p < A->colp[k + 1]; p++) tpos[p] = cursor[A->row[p]]++;
+    bp__free(a, cursor);
+    return 1;
+}
+
+/* The elimination tree of the permuted matrix: parent[k], the first row
+   below k whose pattern contains column k (Liu's algorithm; mark holds
+   the path-compressed "ancestor" links). */
+static void bp__fact_etree(const bp__sparse *A, const bp__factor *F, uint32_t *parent, uint32_t *mark)
+{
+    uint32_t n = A->n, k, p;
     for (k = 0; k < n; k++) {
         uint32_t old = F->perm[k];
         parent[k] = BP__NONE;
@@ -2785,17 +2788,33 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
             }
         }
     }
-    /* The pattern of row k is its row subtree (bp__row_subtree).  Counted
-       first (row and column counts), then listed by columns (each column
-       comes out sorted, as k increases), then transposed into rows (each
-       row sorted). */
+}
+
+/* The pattern of L (F->Rp, F->Ri).  The pattern of row k is its row
+   subtree (bp__row_subtree).  Counted first (row and column counts, and
+   the size limit), then listed by columns (each column comes out sorted,
+   as k increases), then transposed into rows (each row sorted).  Returns
+   BP_OK, BP_ERR_OUT_OF_MEMORY or BP_ERR_TOO_LARGE (*stop_row: the row at
+   which the count passed the limit). */
+static bp_status bp__fact_symbolic(const bp_allocator *a, const bp__sparse *A, bp__factor *F,
+                                   const uint32_t *parent, uint32_t *stop_row)
+{
+    uint32_t n = A->n, k, i, p;
+    uint32_t *mark, *cnt, *Cp, *reach, *Ci = NULL;
+    size_t nnzL = 0;
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    cnt = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    Cp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    reach = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    if (!mark || !cnt || !Cp || !reach) goto done;
     for (k = 0; k <= n; k++) Cp[k] = 0;
     for (k = 0; k < n; k++) mark[k] = BP__NONE;
     for (k = 0; k < n; k++) {
         uint32_t m = bp__row_subtree(A, F, parent, mark, k, reach);
         F->Rp[k] = (uint32_t)nnzL;
         nnzL += m;
-        if (nnzL > 0xfffffff0u) goto done;
+        if (nnzL > BP__FACTOR_MAX_NNZ) { *stop_row = k; st = BP_ERR_TOO_LARGE; goto done; }
         for (i = 0; i < m; i++) Cp[reach[i] + 1]++;
     }
     F->Rp[n] = (uint32_t)nnzL;
@@ -2811,40 +2830,83 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
     for (k = 0; k < n; k++) cnt[k] = F->Rp[k];
     for (i = 0; i < n; i++)
         for (p = Cp[i]; p < Cp[i + 1]; p++) F->Ri[cnt[Ci[p]]++] = i;
-    bp__free(a, Ci);
-    Ci = NULL;
+    st = BP_OK;
+done:
+    bp__free(a, mark); bp__free(a, cnt); bp__free(a, Cp); bp__free(a, reach); bp__free(a, Ci);
+    return st;
+}
 
-    /* numeric, one row k at a time */
+/* The values of L, U and D, one row k at a time, in parallel phases along
+   the dissection tree (see bp__fact_rows). */
+static int bp__fact_numeric(const bp_allocator *a, const bp__sparse *A, bp__factor *F, const uint32_t *tpos,
+                            const bp__par *par)
+{
+    uint32_t n = A->n, nnzL = F->Rp[n];
+    bp__fact_task T;
+    int phase, ok = 0;
+    memset(&T, 0, sizeof T);
     F->Rx = (double *)bp__alloc_array(a, nnzL, sizeof(double));
     if (!A->symmetric) F->Ux = (double *)bp__alloc_array(a, nnzL, sizeof(double));
-    x = (double *)bp__calloc_array(a, n, sizeof(double));
-    y = (double *)bp__calloc_array(a, n, sizeof(double));
-    xs = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
-    if (!A->symmetric) ys = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
-    if (!F->Rx || (!A->symmetric && (!F->Ux || !ys)) || !x || !y || !xs) goto done;
-    T.A = A;
-    T.F = F;
-    T.tpos = tpos;
-    T.x = x;
-    T.y = y;
-    T.xs = xs;
-    T.ys = ys;
-    serial.run = bp__serial_for;
-    serial.user = NULL;
-    serial.threads = 1;
-    if (!par) par = &serial;
-    for (phase = 0; phase <= BP__ND_DEPTH; phase++) {
-        uint32_t cntn = bp__nd_phase(F, phase, T.nodes);
-        if (phase == 0) {
-            T.mode = BP__FACT_WHOLE;
+    T.x = (double *)bp__calloc_array(a, n, sizeof(double));
+    T.y = (double *)bp__calloc_array(a, n, sizeof(double));
+    T.xs = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
+    if (!A->symmetric) T.ys = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
+    if (F->Rx && (A->symmetric || (F->Ux && T.ys)) && T.x && T.y && T.xs) {
+        T.A = A;
+        T.F = F;
+        T.tpos = tpos;
+        for (phase = 0; phase <= BP__ND_DEPTH; phase++) {
+            uint32_t cntn = bp__nd_phase(F, phase, T.nodes);
+            if (phase == 0) {
+                T.mode = BP__FACT_WHOLE;
+                par->run(par->user, bp__fact_rows, &T, cntn);
+                continue;
+            }
+            T.mode = BP__FACT_OUTSIDE;
+            par->run(par->user, bp__fact_rows, &T, cntn * BP__FACT_PARTS);
+            T.mode = BP__FACT_INSIDE;
             par->run(par->user, bp__fact_rows, &T, cntn);
-            continue;
         }
-        T.mode = BP__FACT_OUTSIDE;
-        par->run(par->user, bp__fact_rows, &T, cntn * BP__FACT_PARTS);
-        T.mode = BP__FACT_INSIDE;
-        par->run(par->user, bp__fact_rows, &T, cntn);
+        ok = 1;
     }
+    bp__free(a, T.x); bp__free(a, T.y); bp__free(a, T.xs); bp__free(a, T.ys);
+    return ok;
+}
+
+/* Factor A (symmetric pattern) in four phases: the ordering (nested
+   dissection), the elimination tree, the pattern of L, the values.
+   Returns BP_OK; BP_ERR_OUT_OF_MEMORY; BP_ERR_TOO_LARGE when L would have
+   more than BP__FACTOR_MAX_NNZ entries (*bad_row: the row where the count
+   passed it); BP_ERR_NUMERICAL with *bad_row set (the original row) when a
+   pivot is zero or not finite.  The numeric rows run in parallel phases
+   when par is given; every row is computed by the same operations either
+   way. */
+static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
+                               const bp__par *par)
+{
+    uint32_t n = A->n, k;
+    uint32_t *parent = NULL, *mark = NULL, *tpos = NULL;
+    bp__par serial = bp__par_serial();
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    memset(F, 0, sizeof *F);
+    F->n = n;
+    F->symmetric = A->symmetric;
+    F->perm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    F->iperm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    F->Rp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    F->D = (double *)bp__alloc_array(a, n, sizeof(double));
+    parent = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    if (!F->perm || !F->iperm || !F->Rp || !F->D || !parent || !mark) goto done;
+    if (!A->symmetric && !bp__fact_transpose(a, A, &tpos)) goto done;
+    if (!bp__nd_order(a, A, F->perm, F->tree)) goto done;
+    for (k = 0; k < n; k++) F->iperm[F->perm[k]] = k;
+    bp__fact_etree(A, F, parent, mark);
+    bp__free(a, mark);
+    mark = NULL;
+    if ((st = bp__fact_symbolic(a, A, F, parent, bad_row)) != BP_OK) goto done;
+    st = BP_ERR_OUT_OF_MEMORY;
+    if (!bp__fact_numeric(a, A, F, tpos, par ? par : &serial)) goto done;
     for (k = 0; k < n; k++)
         if (!(F->D[k] != 0) || !(F->D[k] - F->D[k] == 0)) {
             *bad_row = F->perm[k];
@@ -2853,10 +2915,24 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
         }
     st = BP_OK;
 done:
-    bp__free(a, parent); bp__free(a, mark); bp__free(a, cnt); bp__free(a, Cp); bp__free(a, Ci); bp__free(a, reach);
-    bp__free(a, x); bp__free(a, y); bp__free(a, xs); bp__free(a, ys); bp__free(a, tpos); bp__free(a, cursor);
+    bp__free(a, parent); bp__free(a, mark); bp__free(a, tpos);
     if (st != BP_OK) bp__factor_free(a, F);
     return st;
+}
+
+/* The message for BP_ERR_TOO_LARGE from bp__factorize: the chart, the
+   system's size and the limit (chart BP__NONE: not known here). */
+static bp_status bp__factor_too_large(bp_error *err, uint32_t chart, uint32_t nt, const char *what, uint32_t n)
+{
+    if (chart == BP__NONE)
+        return bp__fail(err, BP_ERR_TOO_LARGE, BP_ELEMENT_NONE, -1, -1, 0,
+                        "a chart of %u triangles: its %s (%u unknowns) needs a sparse factor of more than %u "
+                        "entries, the limit of 32-bit indices; cut the chart into smaller ones",
+                        nt, what, n, BP__FACTOR_MAX_NNZ);
+    return bp__fail(err, BP_ERR_TOO_LARGE, BP_ELEMENT_CHART, chart, -1, 0,
+                    "chart %u (%u triangles): its %s (%u unknowns) needs a sparse factor of more than %u "
+                    "entries, the limit of 32-bit indices; cut the chart into smaller ones",
+                    chart, nt, what, n, BP__FACTOR_MAX_NNZ);
 }
 
 /* x = A^-1 b through the factors; z is workspace of size n.  Forward
@@ -3752,6 +3828,10 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
             for (i = 0; i < nv; i++) if (idx[i] == bad) bv = ch->vertex[i];
             st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, bv, -1, 0,
                           "the start-map system is singular at mesh vertex %u", bv);
+            goto done;
+        }
+        if (st == BP_ERR_TOO_LARGE) {
+            st = bp__factor_too_large(err, BP__NONE, ch->num_triangles, "start-map system", nfree);
             goto done;
         }
         if (st != BP_OK) goto fail;
@@ -5271,6 +5351,8 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
        the flattened rest triangles are not needed after it */
     if (precond && (st = bp__laplacian(&a, &S, rest_wxy, &K, &KF)) != BP_OK) {
         if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "factoring the preconditioner");
+        else if (st == BP_ERR_TOO_LARGE)
+            st = bp__factor_too_large(err, chart_index, ch->num_triangles, "Laplacian preconditioner", S.nv);
         else st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
                            "chart %u: the Laplacian preconditioner could not be factored", chart_index);
         goto done;
