@@ -768,6 +768,10 @@ struct bp__pool {
     uint32_t        finished;       /* tasks of the job finished             */
     uint64_t       *claim;          /* per block, a cache line apart:
                                        gen << 32 | its next unclaimed task   */
+    uint32_t        skip;           /* loops to run on the caller alone      */
+    uint32_t        backoff;        /* the next skip (bp__pool_for)          */
+    uint32_t        wjobs;          /* parallel loops in the current window  */
+    double          wwall, wcpu;    /* the window's start: wall, process CPU */
 };
 
 /* Waiting.  Waking a sleeping thread costs tens of microseconds, longer
@@ -930,12 +934,71 @@ static void *bp__pool_worker(void *arg)
     return NULL;
 }
 
+/* When the other cores are taken.  Threads help only if the system gives
+   them cores.  Linux groups the threads of a session (a terminal, a job
+   started by make) and shares the processors fairly between the groups
+   ("autogroup"): while another session keeps both cores busy, the two
+   threads of this process get one core between them, no more than one
+   thread would, and then the second thread only adds its costs (the joins,
+   a task stalled while the system runs another process in the middle of
+   it, the second cache: camelhead takes 12% more CPU time on 2 threads).
+   Measured with the load average at 6-8 from other sessions: camelhead
+   8.3 s with 1 thread, 8.6-12.0 s with 2.
+
+   So the pool measures what it gets: over a window of at least
+   BP__WINDOW_JOBS parallel loops and BP__WINDOW_S seconds, the process's
+   CPU time divided by the wall time, the number of cores it actually
+   used.  Below BP__MIN_CORES_PER_THREAD per thread (two threads that got
+   less than one core between them: then one thread would have had that
+   core to itself, without the second one's costs), the next `backoff`
+   loops run on the caller alone, as with threads = 1 (2048 loops, about
+   50 iterations of a large chart, doubling up to 32768 while the machine
+   stays crowded); then a parallel window measures again.  Camelhead's
+   windows on a nearly idle machine used 1.3-2.0 cores; with the load
+   average at 10 from other sessions, 0.28.  Who runs the tasks changes no
+   result. */
+#define BP__WINDOW_JOBS 256u
+#define BP__WINDOW_S    0.05
+#define BP__MIN_CORES_PER_THREAD 0.5
+#define BP__BACKOFF_MIN 2048u
+#define BP__BACKOFF_MAX 32768u
+
+static double bp__cpu_seconds(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return -1;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* After each parallel loop: close the window when it is long enough and
+   decide whether the next loops run on the caller alone. */
+static void bp__pool_window(bp__pool *P)
+{
+    double wall, cpu;
+    if (P->wjobs++ == 0) { P->wwall = bp__seconds(); P->wcpu = bp__cpu_seconds(); return; }
+    if (P->wjobs < BP__WINDOW_JOBS || (wall = bp__seconds() - P->wwall) < BP__WINDOW_S) return;
+    cpu = bp__cpu_seconds() - P->wcpu;
+    P->wjobs = 0;
+    if (P->wcpu < 0 || cpu < 0) return;                      /* no CPU clock: keep the threads */
+    if (cpu < BP__MIN_CORES_PER_THREAD * (P->nth + 1) * wall) {
+        P->backoff = P->backoff < BP__BACKOFF_MIN ? BP__BACKOFF_MIN
+                   : P->backoff < BP__BACKOFF_MAX ? 2 * P->backoff : BP__BACKOFF_MAX;
+        P->skip = P->backoff;
+    } else {
+        P->backoff = 0;
+    }
+}
+
 static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
 {
     bp__pool *P = (bp__pool *)user;
     uint32_t gen;
     int t;
-    if (count <= 1 || P->nth == 0) { bp__serial_for(NULL, fn, task, count); return; }
+    if (count <= 1 || P->nth == 0 || P->skip > 0) {
+        if (P->skip > 0) P->skip--;
+        bp__serial_for(NULL, fn, task, count);
+        return;
+    }
     pthread_mutex_lock(&P->mu);
     gen = P->gen + 1;
     P->fn = fn;
@@ -948,11 +1011,13 @@ static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
     BP__STORE(&P->gen, gen);
     pthread_cond_broadcast(&P->wake);
     pthread_mutex_unlock(&P->mu);
-    if (bp__pool_finish(P, bp__pool_drain(P, 0, gen, fn, task, count)) == count) return;  /* the caller works too */
-    if (bp__pool_poll(&P->finished, count, 0, &P->quit)) return;
-    pthread_mutex_lock(&P->mu);
-    while (BP__LOAD(&P->finished) != count) pthread_cond_wait(&P->done, &P->mu);
-    pthread_mutex_unlock(&P->mu);
+    if (bp__pool_finish(P, bp__pool_drain(P, 0, gen, fn, task, count)) != count &&   /* the caller works too */
+        !bp__pool_poll(&P->finished, count, 0, &P->quit)) {
+        pthread_mutex_lock(&P->mu);
+        while (BP__LOAD(&P->finished) != count) pthread_cond_wait(&P->done, &P->mu);
+        pthread_mutex_unlock(&P->mu);
+    }
+    bp__pool_window(P);
 }
 
 /* A pool of `threads` (0: all cores) including the caller. */

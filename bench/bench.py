@@ -47,8 +47,8 @@ separate one-triangle charts, written by the bench itself), spot and camel_b
 from tests/data, and camelhead from ../shared/meshes when present.  Each case
 runs the default (--threads 0) and --threads 1, BENCH_RUNS times each,
 alternated: first on the machine as it is ("idle"), then with one competing
-CPU-bound process per core started by the bench ("busy": each is a python
-loop that stops by itself after BENCH_BUSY_LIMIT seconds, default 600, and
+CPU-bound process per core started by the bench, each in its own session
+("busy": each is a python loop that stops by itself after BENCH_BUSY_LIMIT seconds, default 600, and
 the bench kills them when the busy runs end).  The table gives the median
 wall and CPU seconds of both and the ratio default / 1 thread of the wall
 medians (below 1: the default is faster); the JSON line of each case holds
@@ -337,7 +337,10 @@ def write_many_charts(path, n):
 def start_competitors(n):
     """n CPU-bound processes, each ending by itself after BUSY_LIMIT s."""
     code = "import time\nt = time.time() + %d\nwhile time.time() < t:\n    pass\n" % BUSY_LIMIT
-    return [subprocess.Popen([sys.executable, "-c", code]) for _ in range(n)]
+    # in a session of their own, like work started from another terminal
+    # or job: Linux's autogroup scheduler then shares the cores between
+    # them and the tool's session (docs/performance.md, session 5)
+    return [subprocess.Popen([sys.executable, "-c", code], start_new_session=True) for _ in range(n)]
 
 
 def stop_competitors(procs):
