@@ -80,7 +80,9 @@
      out long before any of these on most machines.
    - Threads (BP_USE_PTHREADS, options.threads = 0: all cores): a waiting
      thread polls for at most 20 microseconds, then sleeps; charts below
-     8192 triangles and small loops run serially, so the default is not
+     8192 triangles and small loops run serially; when the threads get
+     less than half a core each (other processes keep the cores busy), the
+     loops run on the caller alone for a while.  So the default is not
      slower than threads = 1 on a machine busy with other work.
    - Structures whose fields say "0 = default" may be zero-initialized
      (memset, `= {0}` in C, `= {}` in C++).  After a failed call that fills
