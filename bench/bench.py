@@ -467,7 +467,7 @@ def main():
                         fmt(r["default_seconds"], "%.3f"), fmt(r["t1_seconds"], "%.3f"),
                         fmt(r["ratio_default_over_t1"], "%.2f"),
                         fmt(r["default_cpu"], "%.3f"), fmt(r["t1_cpu"], "%.3f")))
-        print("(busy: %d competing CPU-bound processes; ratio = median wall default / median wall 1 thread)"
+        print("(busy: %d competing CPU-bound processes, each in its own session; ratio = median wall default / median wall 1 thread)"
               % (os.cpu_count() or 1))
     print()
     for r in rows + busy:
