@@ -698,10 +698,12 @@ BPDEF const char *bp_stop_string(bp_stop s)
    one after the other.
 
    Who runs the tasks: a parallel_for supplied in the options (your job
-   system), or, with BP_USE_PTHREADS, a small pool created once per solve,
-   or a plain loop.  If a thread cannot be created the pool runs with the
-   threads it has (possibly none besides the caller); chart->threads says
-   how many were used. */
+   system), or, with BP_USE_PTHREADS, a small pool (one per bp_parameterize
+   call, or per bp_chart_init / bp_chart_optimize of a large chart called
+   alone), or a plain loop; small charts and small loops always run as a
+   plain loop (below).  If a thread cannot be created the pool runs with
+   the threads it has (possibly none besides the caller); chart->threads
+   says how many the chart's loops could use. */
 
 typedef struct bp__par {
     bp_parallel_for_fn run;
