@@ -73,6 +73,21 @@
      atlas.  When charts are solved in parallel, the allocator and the
      progress callback are called from several threads at once; cancelling
      one chart (progress returns nonzero) does not stop the others.
+   - Size limits (indices are uint32_t): a mesh has fewer than 0x55555555
+     triangles (1 431 655 765, so that 3 * num_triangles fits in uint32_t;
+     bp_atlas_build says BP_ERR_INVALID_ARGUMENT) and fewer than 2^32 - 1
+     vertices, texture coordinates and faces (the readers say
+     BP_ERR_INDEX); a chart's sparse factor (the start map's system, the
+     preconditioner) holds at most 2^32 - 16 entries, BP_ERR_TOO_LARGE
+     beyond, with the chart, its size and the limit named (bimba's 89K
+     triangles need 2.5 million entries, 1700 times fewer).  Memory runs
+     out long before any of these on most machines.
+   - Threads (BP_USE_PTHREADS, options.threads = 0: all cores): a waiting
+     thread polls for at most 20 microseconds, then sleeps; charts below
+     8192 triangles and small loops run serially; when the threads get
+     less than half a core each (other processes keep the cores busy), the
+     loops run on the caller alone for a while.  So the default is not
+     slower than threads = 1 on a machine busy with other work.
    - Structures whose fields say "0 = default" may be zero-initialized
      (memset, `= {0}` in C, `= {}` in C++).  After a failed call that fills
      a bp_mesh or bp_atlas, the structure is zeroed and safe to free.
@@ -141,7 +156,8 @@ extern "C" {
     X(BP_ERR_NUMERICAL,      "floating point produced an invalid map")          \
     X(BP_ERR_NOT_BIJECTIVE,  "map is not bijective")                            \
     X(BP_ERR_CANCELLED,      "cancelled by the progress callback")              \
-    X(BP_ERR_CHARTS_FAILED,  "some charts failed; the others are valid")
+    X(BP_ERR_CHARTS_FAILED,  "some charts failed; the others are valid")      \
+    X(BP_ERR_TOO_LARGE,      "input exceeds a size limit of the library")
 
 typedef enum bp_status {
 #define BP__ENUM(name, text) name,
@@ -242,7 +258,8 @@ typedef int (*bp_progress_fn)(void *user, uint32_t chart, int iteration,
    whose results it combines in a fixed order, so the output is bit-identical
    for any number of threads.  A parallel_for must call fn(task, i) once for
    every i in [0, count), in any order and on any threads, and return when
-   all calls have returned. */
+   all calls have returned.  Charts below 8192 triangles, and loops too
+   small to gain, run on the calling thread without it. */
 typedef void (*bp_task_fn)(void *task, uint32_t index);
 typedef void (*bp_parallel_for_fn)(void *user, bp_task_fn fn, void *task, uint32_t count);
 
@@ -376,7 +393,7 @@ BPDEF const char *bp_stop_string(bp_stop s);
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *mesh,
                                const bp_options *opt, bp_error *err);
 /* The start map of one chart (Tutte or Floater, holes filled, sec 3.6).
-   Charts of 4096 vertices or more factor their system on opt->threads. */
+   Charts of 8192 triangles or more factor their system on opt->threads. */
 BPDEF bp_status bp_chart_init(bp_chart *chart, const bp_mesh *mesh,
                               const bp_options *opt, bp_error *err);
 /* Minimize distortion keeping the map bijective at every iteration (chap 3).
@@ -772,10 +789,12 @@ BPDEF const char *bp_stop_string(bp_stop s)
    one after the other.
 
    Who runs the tasks: a parallel_for supplied in the options (your job
-   system), or, with BP_USE_PTHREADS, a small pool created once per solve,
-   or a plain loop.  If a thread cannot be created the pool runs with the
-   threads it has (possibly none besides the caller); chart->threads says
-   how many were used. */
+   system), or, with BP_USE_PTHREADS, a small pool (one per bp_parameterize
+   call, or per bp_chart_init / bp_chart_optimize of a large chart called
+   alone), or a plain loop; small charts and small loops always run as a
+   plain loop (below).  If a thread cannot be created the pool runs with
+   the threads it has (possibly none besides the caller); chart->threads
+   says how many the chart's loops could use. */
 
 typedef struct bp__par {
     bp_parallel_for_fn run;
@@ -790,11 +809,42 @@ static void bp__serial_for(void *user, bp_task_fn fn, void *task, uint32_t count
     for (i = 0; i < count; i++) fn(task, i);
 }
 
+/* Small work runs serially.  A parallel loop costs a join (2 us on an idle
+   pool, a wake-up of tens of microseconds when a thread slept, a
+   scheduler time slice when the other core is taken by another process),
+   so it pays only when its tasks are much longer than that.  Two
+   thresholds, measured on the 2-core test machine (docs/performance.md):
+
+   - a chart below BP__PAR_MIN_TRIANGLES triangles is solved with serial
+     loops (its whole iteration takes less than a millisecond, of which
+     dozens of joins would take a good part), and bp_chart_optimize /
+     bp_chart_init called alone start no pool for it;
+   - a loop over fewer than BP__PAR_MIN_ITEMS cheap items (boundary
+     vertices and edges) runs serially inside a large chart.
+
+   Loops over triangles and vertices need no threshold of their own: their
+   chunks hold up to 2048 items, so a small loop is one task, run by the
+   caller.  The tasks are the same whoever runs them, so the thresholds
+   change no result (tests/test_threads.c sets both to 1 to send every loop
+   of its small meshes through the pool). */
+#ifndef BP__PAR_MIN_TRIANGLES
+#define BP__PAR_MIN_TRIANGLES 8192u
+#endif
+#ifndef BP__PAR_MIN_ITEMS
+#define BP__PAR_MIN_ITEMS     1024u
+#endif
+
+static void bp__par_run(const bp__par *par, bp_task_fn fn, void *task, uint32_t count, uint32_t items)
+{
+    if (items < BP__PAR_MIN_ITEMS) bp__serial_for(NULL, fn, task, count);
+    else par->run(par->user, fn, task, count);
+}
+
 #ifdef BP_USE_PTHREADS
 #include <pthread.h>
 #include <unistd.h>
 
-#define BP__LINE 16                     /* uint32_t per cache line (64 bytes) */
+#define BP__LINE 8                      /* uint64_t per cache line (64 bytes) */
 
 typedef struct bp__pool bp__pool;
 typedef struct bp__worker { bp__pool *P; int id; } bp__worker;
@@ -805,37 +855,93 @@ struct bp__pool {
     int             nth;            /* worker threads created                */
     pthread_mutex_t mu;
     pthread_cond_t  wake, done;
-    uint64_t        gen;            /* job generation                        */
-    int             busy;           /* workers still inside the current job  */
+    uint32_t        gen;            /* job number (written under mu)         */
     int             quit;
-    bp_task_fn      fn;
-    void           *task;
-    uint32_t        count, next;
-    uint32_t       *claim;          /* per thread, a cache line apart: the
-                                       next task of its block                */
+    bp_task_fn      fn;             /* the job: fn(task, i), i < count       */
+    void           *task;           /*   (written and read under mu)         */
+    uint32_t        count;
+    uint32_t        finished;       /* tasks of the job finished             */
+    uint64_t       *claim;          /* per block, a cache line apart:
+                                       gen << 32 | its next unclaimed task   */
+    uint32_t        skip;           /* loops to run on the caller alone      */
+    uint32_t        backoff;        /* the next skip (bp__pool_for)          */
+    uint32_t        wjobs;          /* parallel loops in the current window  */
+    double          wwall, wcpu;    /* the window's start: wall, process CPU */
 };
 
-/* Waking a sleeping thread costs tens of microseconds, longer than many of
-   the solver's tasks (a vector chunk takes a few), and an iteration has
-   dozens of parallel loops.  So a worker that finished a job, and the
-   caller waiting for the last task of one, first spin for a short while
-   (reading the job counters atomically), and only then sleep on the
-   condition variable.  Without GCC/Clang atomics they sleep at once. */
+/* Waiting.  Waking a sleeping thread costs tens of microseconds, longer
+   than many of the solver's tasks (a vector chunk takes a few), and an
+   iteration has dozens of parallel loops, so a thread that waits (a worker
+   for the next job, the caller for the last task of one) first polls for a
+   short while.  Short is the point: session 4 polled up to 200000
+   iterations (about a millisecond), and on a machine whose cores were all
+   busy with other processes a polling thread took the core from the very
+   thread it waited for: the default was 5 to 200 times slower than
+   --threads 1 (issue 13).  Now a thread polls at most BP__SPIN_NS
+   nanoseconds, with the processor's pause hint between reads, then sleeps
+   on a condition variable.  The bound is on the clock, not on a count of
+   iterations, whose length varies tenfold between processors.  Without
+   GCC/Clang atomics a thread sleeps at once and tasks are claimed under
+   the mutex. */
 #if defined(__GNUC__) || defined(__clang__)
-#define BP__SPIN_LIMIT 200000
+#define BP__SPIN_NS 20000
 #define BP__LOAD(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
 #define BP__STORE(p, v) __atomic_store_n((p), (v), __ATOMIC_RELEASE)
 #define BP__ATOMICS 1
+#if defined(__x86_64__) || defined(__i386__)
+#define BP__PAUSE() __builtin_ia32_pause()
+#elif defined(__aarch64__)
+#define BP__PAUSE() __asm__ __volatile__("yield" ::: "memory")
 #else
-#define BP__SPIN_LIMIT 0
+#define BP__PAUSE() ((void)0)
+#endif
+#else
+#define BP__SPIN_NS 0
 #define BP__LOAD(p) (*(p))
 #define BP__STORE(p, v) (*(p) = (v))
 #define BP__ATOMICS 0
 #endif
 
-/* Take task indices until none are left (called with the mutex held, which
-   it keeps between tasks only without atomics: with them a task index is
-   claimed by one atomic increment, and the lock is free while tasks run).
+static double bp__seconds(void);
+
+/* Poll until *w differs from `old` (is_ne) or equals it (!is_ne), or the
+   spin time is over; returns whether the condition was met. */
+static int bp__pool_poll(const uint32_t *w, uint32_t old, int is_ne, const int *quit)
+{
+#if BP__ATOMICS
+    double until = 0;
+    int k;
+    for (k = 0;; k++) {
+        if ((BP__LOAD(w) != old) == is_ne || BP__LOAD(quit)) return 1;
+        if ((k & 31) == 0) {                    /* the clock every 32 polls */
+            double now = bp__seconds();
+            if (k == 0) until = now + 1e-9 * BP__SPIN_NS;
+            else if (now >= until) return 0;
+        }
+        BP__PAUSE();
+    }
+#else
+    (void)w; (void)old; (void)is_ne; (void)quit;
+    return 0;
+#endif
+}
+
+/* Who waits for whom.  A job's tasks are claimed one at a time (below),
+   and the caller waits until every task is *finished*, counted in
+   P->finished, not until every worker has looked at the job.  A worker
+   that the system has not scheduled yet (the other core is busy with
+   another process) therefore costs nothing: the caller claims and runs its
+   tasks itself, and when the worker wakes it finds nothing left.  Session 4
+   counted workers instead, so every loop waited for every worker to be
+   scheduled: with a competing process, a scheduler time slice (a few
+   milliseconds) per loop, dozens of loops per iteration.  The caller now
+   waits only for a task that a worker has claimed and is still running.
+
+   A worker that wakes late must not take a task of a later job for the
+   job it read.  So each block's claim word carries the job number in its
+   high half, a task is claimed by a compare-and-swap of the whole word,
+   and a worker whose job number no longer matches stops; it read its job
+   (fn, task, count) under the mutex, all of one job.
 
    Which thread runs which task changes no result, but it decides where the
    data is.  The solver's loops touch the same data in the same task
@@ -847,72 +953,166 @@ struct bp__pool {
    unclaimed task).  On the 2-core test machine this took camelhead's
    2-thread speed-up from 1.47 to 1.67 (the preconditioner solve alone
    from 1.37 to 1.71), against one shared counter. */
-static void bp__pool_drain(bp__pool *P, int me)
+static int bp__pool_claim(bp__pool *P, int u, uint32_t gen, uint32_t end, uint32_t *i)
+{
+    uint64_t *c = &P->claim[BP__LINE * u];
+#if BP__ATOMICS
+    uint64_t w = __atomic_load_n(c, __ATOMIC_ACQUIRE);
+    for (;;) {
+        if ((uint32_t)(w >> 32) != gen || (uint32_t)w >= end) return 0;
+        if (__atomic_compare_exchange_n(c, &w, w + 1, 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)) break;
+    }
+    *i = (uint32_t)w;
+    return 1;
+#else
+    uint64_t w;
+    pthread_mutex_lock(&P->mu);
+    w = *c;
+    if ((uint32_t)(w >> 32) == gen && (uint32_t)w < end) *c = w + 1;
+    pthread_mutex_unlock(&P->mu);
+    if ((uint32_t)(w >> 32) != gen || (uint32_t)w >= end) return 0;
+    *i = (uint32_t)w;
+    return 1;
+#endif
+}
+
+/* Adds `ran` finished tasks; returns the job's new total. */
+static uint32_t bp__pool_finish(bp__pool *P, uint32_t ran)
 {
 #if BP__ATOMICS
-    bp_task_fn fn = P->fn;
-    void *task = P->task;
-    uint32_t count = P->count, i;
-    int nt = P->nth + 1, k;
+    return __atomic_add_fetch(&P->finished, ran, __ATOMIC_ACQ_REL);
+#else
+    uint32_t f;
+    pthread_mutex_lock(&P->mu);
+    f = P->finished += ran;
     pthread_mutex_unlock(&P->mu);
+    return f;
+#endif
+}
+
+/* Runs tasks of job `gen` until none is left to claim: its own block
+   first, then the others'.  Returns how many it ran. */
+static uint32_t bp__pool_drain(bp__pool *P, int me, uint32_t gen, bp_task_fn fn, void *task, uint32_t count)
+{
+    int nt = P->nth + 1, k;
+    uint32_t i, ran = 0;
     for (k = 0; k < nt; k++) {
         int u = (me + k) % nt;
         uint32_t end = (uint32_t)((uint64_t)count * (uint32_t)(u + 1) / (uint32_t)nt);
-        while ((i = __atomic_fetch_add(&P->claim[BP__LINE * u], 1u, __ATOMIC_RELAXED)) < end) fn(task, i);
+        while (bp__pool_claim(P, u, gen, end, &i)) { fn(task, i); ran++; }
     }
-    pthread_mutex_lock(&P->mu);
-#else
-    (void)me;
-    while (P->next < P->count) {
-        uint32_t i = P->next++;
-        pthread_mutex_unlock(&P->mu);
-        P->fn(P->task, i);
-        pthread_mutex_lock(&P->mu);
-    }
-#endif
+    return ran;
 }
 
 static void *bp__pool_worker(void *arg)
 {
     bp__pool *P = ((bp__worker *)arg)->P;
     int me = ((bp__worker *)arg)->id;
-    uint64_t seen = 0;
+    uint32_t seen = 0, gen, count, ran;
+    bp_task_fn fn;
+    void *task;
     for (;;) {
-        int spins;
-        for (spins = 0; spins < BP__SPIN_LIMIT && BP__LOAD(&P->gen) == seen && !BP__LOAD(&P->quit); spins++) {}
+        bp__pool_poll(&P->gen, seen, 1, &P->quit);
         pthread_mutex_lock(&P->mu);
         while (!P->quit && P->gen == seen) pthread_cond_wait(&P->wake, &P->mu);
         if (P->quit) { pthread_mutex_unlock(&P->mu); break; }
-        seen = P->gen;
-        bp__pool_drain(P, me);
-        BP__STORE(&P->busy, P->busy - 1);
-        if (P->busy == 0) pthread_cond_signal(&P->done);
+        seen = gen = P->gen;
+        fn = P->fn; task = P->task; count = P->count;
         pthread_mutex_unlock(&P->mu);
+        ran = bp__pool_drain(P, me, gen, fn, task, count);
+        if (ran && bp__pool_finish(P, ran) == count) {   /* the last task: wake the caller */
+            pthread_mutex_lock(&P->mu);
+            pthread_cond_signal(&P->done);
+            pthread_mutex_unlock(&P->mu);
+        }
     }
     return NULL;
+}
+
+/* When the other cores are taken.  Threads help only if the system gives
+   them cores.  Linux groups the threads of a session (a terminal, a job
+   started by make) and shares the processors fairly between the groups
+   ("autogroup"): while another session keeps both cores busy, the two
+   threads of this process get one core between them, no more than one
+   thread would, and then the second thread only adds its costs (the joins,
+   a task stalled while the system runs another process in the middle of
+   it, the second cache: camelhead takes 12% more CPU time on 2 threads).
+   Measured with the load average at 6-8 from other sessions: camelhead
+   8.3 s with 1 thread, 8.6-12.0 s with 2.
+
+   So the pool measures what it gets: over a window of at least
+   BP__WINDOW_JOBS parallel loops and BP__WINDOW_S seconds, the process's
+   CPU time divided by the wall time, the number of cores it actually
+   used.  Below BP__MIN_CORES_PER_THREAD per thread (two threads that got
+   less than one core between them: then one thread would have had that
+   core to itself, without the second one's costs), the next `backoff`
+   loops run on the caller alone, as with threads = 1 (2048 loops, about
+   50 iterations of a large chart, doubling up to 32768 while the machine
+   stays crowded); then a parallel window measures again.  Camelhead's
+   windows on a nearly idle machine used 1.3-2.0 cores; with the load
+   average at 10 from other sessions, 0.28.  Who runs the tasks changes no
+   result. */
+#define BP__WINDOW_JOBS 256u
+#define BP__WINDOW_S    0.05
+#define BP__MIN_CORES_PER_THREAD 0.5
+#define BP__BACKOFF_MIN 2048u
+#define BP__BACKOFF_MAX 32768u
+
+static double bp__cpu_seconds(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return -1;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* After each parallel loop: close the window when it is long enough and
+   decide whether the next loops run on the caller alone. */
+static void bp__pool_window(bp__pool *P)
+{
+    double wall, cpu;
+    if (P->wjobs++ == 0) { P->wwall = bp__seconds(); P->wcpu = bp__cpu_seconds(); return; }
+    if (P->wjobs < BP__WINDOW_JOBS || (wall = bp__seconds() - P->wwall) < BP__WINDOW_S) return;
+    cpu = bp__cpu_seconds() - P->wcpu;
+    P->wjobs = 0;
+    if (P->wcpu < 0 || cpu < 0) return;                      /* no CPU clock: keep the threads */
+    if (cpu < BP__MIN_CORES_PER_THREAD * (P->nth + 1) * wall) {
+        P->backoff = P->backoff < BP__BACKOFF_MIN ? BP__BACKOFF_MIN
+                   : P->backoff < BP__BACKOFF_MAX ? 2 * P->backoff : BP__BACKOFF_MAX;
+        P->skip = P->backoff;
+    } else {
+        P->backoff = 0;
+    }
 }
 
 static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
 {
     bp__pool *P = (bp__pool *)user;
-    int spins, t;
-    if (count <= 1 || P->nth == 0) { bp__serial_for(NULL, fn, task, count); return; }
+    uint32_t gen;
+    int t;
+    if (count <= 1 || P->nth == 0 || P->skip > 0) {
+        if (P->skip > 0) P->skip--;
+        bp__serial_for(NULL, fn, task, count);
+        return;
+    }
     pthread_mutex_lock(&P->mu);
+    gen = P->gen + 1;
     P->fn = fn;
     P->task = task;
     P->count = count;
-    P->next = 0;
+    BP__STORE(&P->finished, 0u);
     for (t = 0; t <= P->nth; t++)              /* block t: [count t / nt, count (t+1) / nt) */
-        BP__STORE(&P->claim[BP__LINE * t], (uint32_t)((uint64_t)count * (uint32_t)t / (uint32_t)(P->nth + 1)));
-    BP__STORE(&P->busy, P->nth);
-    BP__STORE(&P->gen, P->gen + 1);
+        BP__STORE(&P->claim[BP__LINE * t],
+                  (uint64_t)gen << 32 | (uint32_t)((uint64_t)count * (uint32_t)t / (uint32_t)(P->nth + 1)));
+    BP__STORE(&P->gen, gen);
     pthread_cond_broadcast(&P->wake);
-    bp__pool_drain(P, 0);                      /* the caller works too */
     pthread_mutex_unlock(&P->mu);
-    for (spins = 0; spins < BP__SPIN_LIMIT && BP__LOAD(&P->busy) > 0; spins++) {}
-    pthread_mutex_lock(&P->mu);
-    while (P->busy > 0) pthread_cond_wait(&P->done, &P->mu);
-    pthread_mutex_unlock(&P->mu);
+    if (bp__pool_finish(P, bp__pool_drain(P, 0, gen, fn, task, count)) != count &&   /* the caller works too */
+        !bp__pool_poll(&P->finished, count, 0, &P->quit)) {
+        pthread_mutex_lock(&P->mu);
+        while (BP__LOAD(&P->finished) != count) pthread_cond_wait(&P->done, &P->mu);
+        pthread_mutex_unlock(&P->mu);
+    }
+    bp__pool_window(P);
 }
 
 /* A pool of `threads` (0: all cores) including the caller. */
@@ -929,7 +1129,7 @@ static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
     if (!P) return NULL;
     P->th = (pthread_t *)bp__alloc_array(a, (size_t)threads - 1, sizeof(pthread_t));
     P->who = (bp__worker *)bp__alloc_array(a, (size_t)threads - 1, sizeof(bp__worker));
-    P->claim = (uint32_t *)bp__calloc_array(a, (size_t)threads * BP__LINE, sizeof(uint32_t));
+    P->claim = (uint64_t *)bp__calloc_array(a, (size_t)threads * BP__LINE, sizeof(uint64_t));
     if (P->th && P->who && P->claim) mu = pthread_mutex_init(&P->mu, NULL) == 0;
     if (mu) wake = pthread_cond_init(&P->wake, NULL) == 0;
     if (wake) done = pthread_cond_init(&P->done, NULL) == 0;
@@ -966,6 +1166,15 @@ static void bp__pool_stop(const bp_allocator *a, bp__pool *P)
     bp__free(a, P);
 }
 #endif /* BP_USE_PTHREADS */
+
+static bp__par bp__par_serial(void)
+{
+    bp__par par;
+    par.run = bp__serial_for;
+    par.user = NULL;
+    par.threads = 1;
+    return par;
+}
 
 /* Choose how loops run for a solve; *pool receives a pool to stop later. */
 static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void **pool)
@@ -3260,49 +3469,37 @@ static uint32_t bp__row_subtree(const bp__sparse *A, const bp__factor *F, const 
     return m;
 }
 
-/* Factor A (symmetric pattern).  Returns BP_OK, BP_ERR_OUT_OF_MEMORY, or
-   BP_ERR_NUMERICAL with *bad_row set when a pivot is zero or not finite.
-   The numeric rows run in parallel phases along the dissection tree when
-   par is given; every row is computed by the same operations either way. */
-static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
-                               const bp__par *par)
-{
-    uint32_t n = A->n, k, p, i;
-    uint32_t *parent = NULL, *mark = NULL, *cnt = NULL, *tpos = NULL, *cursor = NULL, *Cp = NULL, *Ci = NULL;
-    uint32_t *reach = NULL;
-    double *x = NULL, *y = NULL, *xs = NULL, *ys = NULL;
-    bp_status st = BP_ERR_OUT_OF_MEMORY;
-    size_t nnzL = 0;
-    bp__fact_task T;
-    bp__par serial;
-    int phase;
-    memset(F, 0, sizeof *F);
-    F->n = n;
-    F->symmetric = A->symmetric;
-    F->perm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    F->iperm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    F->Rp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    F->D = (double *)bp__alloc_array(a, n, sizeof(double));
-    parent = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    cnt = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    Cp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    reach = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    if (!F->perm || !F->iperm || !F->Rp || !F->D || !parent || !mark || !cnt || !Cp || !reach) goto done;
-    if (!A->symmetric) {
-        /* tpos[p]: position of the transposed entry (using sorted rows) */
-        size_t nnz = A->colp[n];
-        tpos = (uint32_t *)bp__alloc_array(a, nnz, sizeof(uint32_t));
-        cursor = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-        if (!tpos || !cursor) goto done;
-        for (k = 0; k < n; k++) cursor[k] = A->colp[k];
-        for (k = 0; k < n; k++)
-            for (p = A->colp[k]; p < A->colp[k + 1]; p++) tpos[p] = cursor[A->row[p]]++;
-    }
-    if (!bp__nd_order(a, A, F->perm, F->tree)) goto done;
-    for (k = 0; k < n; k++) F->iperm[F->perm[k]] = k;
+/* The factor's size limit.  L's row pointers Rp and column indices Ri are
+   uint32_t, so L holds at most BP__FACTOR_MAX_NNZ entries below the
+   diagonal (a little under 2^32; the factor then takes about 64 GB).  The
+   symbolic phase counts the entries before anything is allocated and
+   stops with BP_ERR_TOO_LARGE, not with an allocation that fails or an
+   index that wraps around. */
+#ifndef BP__FACTOR_MAX_NNZ
+#define BP__FACTOR_MAX_NNZ 0xfffffff0u
+#endif
 
-    /* elimination tree (mark holds the "ancestor" links) */
+/* tpos[p]: the position in A of the transpose of entry p (A's rows are
+   sorted, so the transposes of column k come out in order). */
+static int bp__fact_transpose(const bp_allocator *a, const bp__sparse *A, uint32_t **tpos_out)
+{
+    uint32_t n = A->n, k, p, *tpos, *cursor;
+    *tpos_out = tpos = (uint32_t *)bp__alloc_array(a, A->colp[n], sizeof(uint32_t));
+    cursor = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    if (!tpos || !cursor) { bp__free(a, cursor); return 0; }
+    for (k = 0; k < n; k++) cursor[k] = A->colp[k];
+    for (k = 0; k < n; k++)
+        for (p = A->colp[k]; p < A->colp[k + 1]; p++) tpos[p] = cursor[A->row[p]]++;
+    bp__free(a, cursor);
+    return 1;
+}
+
+/* The elimination tree of the permuted matrix: parent[k], the first row
+   below k whose pattern contains column k (Liu's algorithm; mark holds
+   the path-compressed "ancestor" links). */
+static void bp__fact_etree(const bp__sparse *A, const bp__factor *F, uint32_t *parent, uint32_t *mark)
+{
+    uint32_t n = A->n, k, p;
     for (k = 0; k < n; k++) {
         uint32_t old = F->perm[k];
         parent[k] = BP__NONE;
@@ -3317,17 +3514,33 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
             }
         }
     }
-    /* The pattern of row k is its row subtree (bp__row_subtree).  Counted
-       first (row and column counts), then listed by columns (each column
-       comes out sorted, as k increases), then transposed into rows (each
-       row sorted). */
+}
+
+/* The pattern of L (F->Rp, F->Ri).  The pattern of row k is its row
+   subtree (bp__row_subtree).  Counted first (row and column counts, and
+   the size limit), then listed by columns (each column comes out sorted,
+   as k increases), then transposed into rows (each row sorted).  Returns
+   BP_OK, BP_ERR_OUT_OF_MEMORY or BP_ERR_TOO_LARGE (*stop_row: the row at
+   which the count passed the limit). */
+static bp_status bp__fact_symbolic(const bp_allocator *a, const bp__sparse *A, bp__factor *F,
+                                   const uint32_t *parent, uint32_t *stop_row)
+{
+    uint32_t n = A->n, k, i, p;
+    uint32_t *mark, *cnt, *Cp, *reach, *Ci = NULL;
+    size_t nnzL = 0;
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    cnt = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    Cp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    reach = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    if (!mark || !cnt || !Cp || !reach) goto done;
     for (k = 0; k <= n; k++) Cp[k] = 0;
     for (k = 0; k < n; k++) mark[k] = BP__NONE;
     for (k = 0; k < n; k++) {
         uint32_t m = bp__row_subtree(A, F, parent, mark, k, reach);
         F->Rp[k] = (uint32_t)nnzL;
         nnzL += m;
-        if (nnzL > 0xfffffff0u) goto done;
+        if (nnzL > BP__FACTOR_MAX_NNZ) { *stop_row = k; st = BP_ERR_TOO_LARGE; goto done; }
         for (i = 0; i < m; i++) Cp[reach[i] + 1]++;
     }
     F->Rp[n] = (uint32_t)nnzL;
@@ -3343,40 +3556,83 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
     for (k = 0; k < n; k++) cnt[k] = F->Rp[k];
     for (i = 0; i < n; i++)
         for (p = Cp[i]; p < Cp[i + 1]; p++) F->Ri[cnt[Ci[p]]++] = i;
-    bp__free(a, Ci);
-    Ci = NULL;
+    st = BP_OK;
+done:
+    bp__free(a, mark); bp__free(a, cnt); bp__free(a, Cp); bp__free(a, reach); bp__free(a, Ci);
+    return st;
+}
 
-    /* numeric, one row k at a time */
+/* The values of L, U and D, one row k at a time, in parallel phases along
+   the dissection tree (see bp__fact_rows). */
+static int bp__fact_numeric(const bp_allocator *a, const bp__sparse *A, bp__factor *F, const uint32_t *tpos,
+                            const bp__par *par)
+{
+    uint32_t n = A->n, nnzL = F->Rp[n];
+    bp__fact_task T;
+    int phase, ok = 0;
+    memset(&T, 0, sizeof T);
     F->Rx = (double *)bp__alloc_array(a, nnzL, sizeof(double));
     if (!A->symmetric) F->Ux = (double *)bp__alloc_array(a, nnzL, sizeof(double));
-    x = (double *)bp__calloc_array(a, n, sizeof(double));
-    y = (double *)bp__calloc_array(a, n, sizeof(double));
-    xs = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
-    if (!A->symmetric) ys = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
-    if (!F->Rx || (!A->symmetric && (!F->Ux || !ys)) || !x || !y || !xs) goto done;
-    T.A = A;
-    T.F = F;
-    T.tpos = tpos;
-    T.x = x;
-    T.y = y;
-    T.xs = xs;
-    T.ys = ys;
-    serial.run = bp__serial_for;
-    serial.user = NULL;
-    serial.threads = 1;
-    if (!par) par = &serial;
-    for (phase = 0; phase <= BP__ND_DEPTH; phase++) {
-        uint32_t cntn = bp__nd_phase(F, phase, T.nodes);
-        if (phase == 0) {
-            T.mode = BP__FACT_WHOLE;
+    T.x = (double *)bp__calloc_array(a, n, sizeof(double));
+    T.y = (double *)bp__calloc_array(a, n, sizeof(double));
+    T.xs = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
+    if (!A->symmetric) T.ys = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
+    if (F->Rx && (A->symmetric || (F->Ux && T.ys)) && T.x && T.y && T.xs) {
+        T.A = A;
+        T.F = F;
+        T.tpos = tpos;
+        for (phase = 0; phase <= BP__ND_DEPTH; phase++) {
+            uint32_t cntn = bp__nd_phase(F, phase, T.nodes);
+            if (phase == 0) {
+                T.mode = BP__FACT_WHOLE;
+                par->run(par->user, bp__fact_rows, &T, cntn);
+                continue;
+            }
+            T.mode = BP__FACT_OUTSIDE;
+            par->run(par->user, bp__fact_rows, &T, cntn * BP__FACT_PARTS);
+            T.mode = BP__FACT_INSIDE;
             par->run(par->user, bp__fact_rows, &T, cntn);
-            continue;
         }
-        T.mode = BP__FACT_OUTSIDE;
-        par->run(par->user, bp__fact_rows, &T, cntn * BP__FACT_PARTS);
-        T.mode = BP__FACT_INSIDE;
-        par->run(par->user, bp__fact_rows, &T, cntn);
+        ok = 1;
     }
+    bp__free(a, T.x); bp__free(a, T.y); bp__free(a, T.xs); bp__free(a, T.ys);
+    return ok;
+}
+
+/* Factor A (symmetric pattern) in four phases: the ordering (nested
+   dissection), the elimination tree, the pattern of L, the values.
+   Returns BP_OK; BP_ERR_OUT_OF_MEMORY; BP_ERR_TOO_LARGE when L would have
+   more than BP__FACTOR_MAX_NNZ entries (*bad_row: the row where the count
+   passed it); BP_ERR_NUMERICAL with *bad_row set (the original row) when a
+   pivot is zero or not finite.  The numeric rows run in parallel phases
+   when par is given; every row is computed by the same operations either
+   way. */
+static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
+                               const bp__par *par)
+{
+    uint32_t n = A->n, k;
+    uint32_t *parent = NULL, *mark = NULL, *tpos = NULL;
+    bp__par serial = bp__par_serial();
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    memset(F, 0, sizeof *F);
+    F->n = n;
+    F->symmetric = A->symmetric;
+    F->perm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    F->iperm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    F->Rp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    F->D = (double *)bp__alloc_array(a, n, sizeof(double));
+    parent = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    if (!F->perm || !F->iperm || !F->Rp || !F->D || !parent || !mark) goto done;
+    if (!A->symmetric && !bp__fact_transpose(a, A, &tpos)) goto done;
+    if (!bp__nd_order(a, A, F->perm, F->tree)) goto done;
+    for (k = 0; k < n; k++) F->iperm[F->perm[k]] = k;
+    bp__fact_etree(A, F, parent, mark);
+    bp__free(a, mark);
+    mark = NULL;
+    if ((st = bp__fact_symbolic(a, A, F, parent, bad_row)) != BP_OK) goto done;
+    st = BP_ERR_OUT_OF_MEMORY;
+    if (!bp__fact_numeric(a, A, F, tpos, par ? par : &serial)) goto done;
     for (k = 0; k < n; k++)
         if (!(F->D[k] != 0) || !(F->D[k] - F->D[k] == 0)) {
             *bad_row = F->perm[k];
@@ -3385,10 +3641,24 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
         }
     st = BP_OK;
 done:
-    bp__free(a, parent); bp__free(a, mark); bp__free(a, cnt); bp__free(a, Cp); bp__free(a, Ci); bp__free(a, reach);
-    bp__free(a, x); bp__free(a, y); bp__free(a, xs); bp__free(a, ys); bp__free(a, tpos); bp__free(a, cursor);
+    bp__free(a, parent); bp__free(a, mark); bp__free(a, tpos);
     if (st != BP_OK) bp__factor_free(a, F);
     return st;
+}
+
+/* The message for BP_ERR_TOO_LARGE from bp__factorize: the chart, the
+   system's size and the limit (chart BP__NONE: not known here). */
+static bp_status bp__factor_too_large(bp_error *err, uint32_t chart, uint32_t nt, const char *what, uint32_t n)
+{
+    if (chart == BP__NONE)
+        return bp__fail(err, BP_ERR_TOO_LARGE, BP_ELEMENT_NONE, -1, -1, 0,
+                        "a chart of %u triangles: its %s (%u unknowns) needs a sparse factor of more than %u "
+                        "entries, the limit of 32-bit indices; cut the chart into smaller ones",
+                        nt, what, n, BP__FACTOR_MAX_NNZ);
+    return bp__fail(err, BP_ERR_TOO_LARGE, BP_ELEMENT_CHART, chart, -1, 0,
+                    "chart %u (%u triangles): its %s (%u unknowns) needs a sparse factor of more than %u "
+                    "entries, the limit of 32-bit indices; cut the chart into smaller ones",
+                    chart, nt, what, n, BP__FACTOR_MAX_NNZ);
 }
 
 /* x = A^-1 b through the factors; z is workspace of size n.  Forward
@@ -4644,6 +4914,10 @@ static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *
         return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, bv, -1, 0,
                         "the start-map system is singular at vertex %u", bv + 1);
     }
+    if (st == BP_ERR_TOO_LARGE) {
+        bp__factor_free(a, &F);
+        return bp__factor_too_large(err, BP__NONE, ch->num_triangles, "start-map system", nfree);
+    }
     if (st != BP_OK) { bp__factor_free(a, &F); return bp__oom(err, "computing the start map"); }
     bp__solve_refined(&T->A, &F, T->rhs, T->sol, T->work);
     bp__solve_refined(&T->A, &F, T->rhs + nfree, T->sol + nfree, T->work);
@@ -4720,17 +4994,16 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
 }
 
 /* The public entry point: the factorization's rows run on the threads of
-   opt (a pool for this call) when the chart is large enough to gain. */
+   opt (a pool for this call) when the chart is large enough to gain
+   (BP__PAR_MIN_TRIANGLES, see >>threads). */
 BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
     void *pool = NULL;
     bp__par par;
     bp_status st;
-    par.run = bp__serial_for;
-    par.user = NULL;
-    par.threads = 1;
-    if (ch && ch->num_vertices >= 4096) par = bp__par_begin(&a, opt, &pool);
+    par = bp__par_serial();
+    if (ch && ch->num_triangles >= BP__PAR_MIN_TRIANGLES) par = bp__par_begin(&a, opt, &pool);
     st = bp__chart_init(ch, m, opt, &par, err);
     bp__par_end(&a, pool);
     return st;
@@ -5414,7 +5687,7 @@ static void bp__step_hash(bp__solver *S, const double *x, const double *v, doubl
     for (;;) {
         size_t total = 0, run = 0;
         int over = 0;
-        S->par.run(S->par.user, bp__hash_count_task, &J, BP__HASH_TASKS);
+        bp__par_run(&S->par, bp__hash_count_task, &J, BP__HASH_TASKS, S->nb);
         for (t = 0; t < BP__HASH_TASKS; t++) { over |= J.over[t]; total += J.total[t]; }
         if (!over && total <= H->cap) {
             for (b = 0; b <= H->mask; b++) {
@@ -5430,7 +5703,7 @@ static void bp__step_hash(bp__solver *S, const double *x, const double *v, doubl
         }
         for (L = 0; L < S->nloops; L++) S->hs[L] *= 2;
     }
-    S->par.run(S->par.user, bp__hash_place_task, &J, BP__HASH_TASKS);
+    bp__par_run(&S->par, bp__hash_place_task, &J, BP__HASH_TASKS, S->nb);
 }
 
 static void bp__hash_fill_task(void *task, uint32_t c)
@@ -5737,7 +6010,7 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
     /* every boundary vertex enters the cells its swept segment's box covers */
     bp__step_hash(S, x, v, tmax);
     T.tmax = tmax;
-    S->par.run(S->par.user, bp__step_edge_task, &T, S->nchunk_b);
+    bp__par_run(&S->par, bp__step_edge_task, &T, S->nchunk_b, S->nb);
     for (c = 0; c < S->nchunk_b; c++) if (S->part_b[c] < tmax) tmax = S->part_b[c];
     return tmax;
 }
@@ -6262,6 +6535,8 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
     if (P->precond && (st = bp__laplacian(&P->a, &P->S, rest_wxy, &P->K, &P->KF)) != BP_OK) {
         bp__free(&P->a, rest_wxy);
         if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "factoring the preconditioner");
+        if (st == BP_ERR_TOO_LARGE)
+            return bp__factor_too_large(err, chart_index, ch->num_triangles, "Laplacian preconditioner", P->S.nv);
         return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
                         "chart %u: the Laplacian preconditioner could not be factored", chart_index);
     }
@@ -6385,8 +6660,9 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     if ((int)P.o.energy < 0 || (int)P.o.energy >= (int)BP_ENERGY_COUNT)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)P.o.energy);
     if ((st = bp__opt_check_start(&P.a, ch, chart_index, m, !P.o.no_barrier, err)) != BP_OK) return st;
-    if (runner) P.par = *runner;
-    else P.par = bp__par_begin(&P.a, opt, &pool);
+    if (runner) P.par = *runner;                /* bp_parameterize's pool, or serial */
+    else if (ch->num_triangles >= BP__PAR_MIN_TRIANGLES) P.par = bp__par_begin(&P.a, opt, &pool);
+    else P.par = bp__par_serial();              /* small: no pool (see >>threads) */
     ch->threads = P.par.threads;
     if ((st = bp__opt_setup(&P, ch, chart_index, m, err)) != BP_OK) goto done;
     f = bp__objective(&P.S, P.x, P.g, &ed);
@@ -6648,7 +6924,7 @@ typedef struct bp__chart_job {
     bp_atlas *atlas;
     const bp_mesh *m;
     const bp_options *opt;
-    const bp__par *inner;         /* how the chart's own loops run          */
+    const bp__par *inner;         /* how a large chart's own loops run      */
     bp_status *status;
     bp_error *errs;
 } bp__chart_job;
@@ -6656,14 +6932,16 @@ typedef struct bp__chart_job {
 static void bp__chart_task(void *task, uint32_t c)
 {
     bp__chart_job *J = (bp__chart_job *)task;
+    bp__par serial = bp__par_serial();
+    const bp__par *inner = J->atlas->charts[c].num_triangles >= BP__PAR_MIN_TRIANGLES ? J->inner : &serial;
     bp_status st;
     if (J->atlas->charts[c].error.status != BP_OK) {   /* failed in bp_atlas_build */
         J->status[c] = BP_OK;
         return;
     }
-    st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, J->inner, &J->errs[c]);
+    st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, inner, &J->errs[c]);
     if (st == BP_OK && !(J->opt && J->opt->init_only))
-        st = bp__chart_optimize(&J->atlas->charts[c], c, J->m, J->opt, J->inner, &J->errs[c]);
+        st = bp__chart_optimize(&J->atlas->charts[c], c, J->m, J->opt, inner, &J->errs[c]);
     J->status[c] = st;
 }
 
@@ -6697,9 +6975,11 @@ static bp_status bp__collect(bp_atlas *atlas, const bp__chart_job *J, int strict
 /* Start map and optimization of every chart.  Charts are independent, so
    with several threads and no dominant chart (none holds more than half of
    the triangles) the charts themselves are the parallel tasks, each solved
-   with serial loops; otherwise the charts go one after the other and their
-   loops run in parallel.  Either way each chart's result is bit-identical
-   to a serial solve.  Returns as bp__collect. */
+   with serial loops; otherwise the charts go one after the other and the
+   loops of the large ones (see >>threads) run in parallel.  Either way each
+   chart's result is bit-identical to a serial solve.  One pool serves the
+   whole call, and none is started when neither way would use it (one small
+   chart).  Returns as bp__collect. */
 static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_allocator a = atlas->allocator;
@@ -6707,6 +6987,7 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
     bp__chart_job J;
     void *pool = NULL;
     uint32_t c, largest = 0;
+    int by_chart;
     bp_status st;
     J.status = (bp_status *)bp__alloc_array(&a, atlas->num_charts, sizeof(bp_status));
     J.errs = (bp_error *)bp__calloc_array(&a, atlas->num_charts, sizeof(bp_error));
@@ -6717,11 +6998,12 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
     J.atlas = atlas;
     J.m = m;
     J.opt = opt;
-    par = bp__par_begin(&a, opt, &pool);
-    serial.run = bp__serial_for; serial.user = NULL; serial.threads = 1;
+    serial = bp__par_serial();
     for (c = 0; c < atlas->num_charts; c++)
         if (atlas->charts[c].num_triangles > largest) largest = atlas->charts[c].num_triangles;
-    if (par.threads != 1 && atlas->num_charts > 1 && 2 * (uint64_t)largest <= m->num_triangles) {
+    by_chart = atlas->num_charts > 1 && 2 * (uint64_t)largest <= m->num_triangles;
+    par = by_chart || largest >= BP__PAR_MIN_TRIANGLES ? bp__par_begin(&a, opt, &pool) : serial;
+    if (par.threads != 1 && by_chart) {
         J.inner = &serial;
         par.run(par.user, bp__chart_task, &J, atlas->num_charts);
         for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].threads = par.threads;
