@@ -5360,8 +5360,12 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
       (quadratic in the hull size, which is small next to the chart); the
       chart is rotated so that the best edge lies on the x axis.  The packer
       then also tries the three quarter turns of that orientation, which are
-      exact in floating point, and keeps whichever lands lowest.  A mirror
-      image is never tried: it would flip every triangle.
+      exact in floating point, and keeps whichever lands lowest.  A long
+      chart (box aspect above 1.5) that is large (at least 1/64 of the total
+      area) also tries the four turns of its smallest bounding square
+      (sampled every half degree), which is what lets a lone long chart use
+      the square atlas.  A mirror image is never tried: it would flip every
+      triangle.
 
    3. Placement on rasterized outlines.  Each chart is rasterized
       conservatively: every texel [i,i+1]x[j,j+1] that a closed triangle,
@@ -5381,7 +5385,13 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
       rules a position out with one comparison, a monotone pointer per run
       length skips the rows that have become too full for good, and the
       positions that survive are intersected, 64 at a time, from the free
-      runs of three rows of the chart before the full bit test.
+      runs of three rows of the chart before the full bit test.  For small
+      charts (both sides at most 32 texels) a table remembers, per size,
+      the lowest row at which a chart of that size found room or gave up;
+      a chart at least as large starts there.  That is a heuristic (a larger
+      box does not always hold a larger shape): it costs 0.7% of
+      utilization on 5,000 small charts and makes their packing 3.3 times
+      faster.
       The density d is the largest that fits: start at the d that would fill
       the square exactly (utilization 1), shrink by 0.8 until the charts
       fit, then bisect (geometric mean) to 0.2%.
@@ -5439,8 +5449,11 @@ typedef struct bp__pchart {
     double *orig;               /* the chart's map before packing            */
     double k;                   /* scale to the common density (per unit d)  */
     double cs, sn;              /* rotation onto the minimum-area box        */
+    double cs2, sn2;            /* rotation onto the smallest bounding square */
     double target;              /* area at d = 1 (the order: largest first)  */
-    int turns;                  /* quarter turns tried: 4, or 1 (fallback)   */
+    int turns;                  /* orientations tried: 4 quarter turns of the
+                                   minimum-area box, 8 with those of the
+                                   smallest square too, 1 (fallback)         */
     int x, y, turn;             /* placement in the last attempt that fit    */
     bp_check_report before;     /* the map's own validity                    */
 } bp__pchart;
@@ -5891,13 +5904,14 @@ static int bp__pt_cmp(const void *pa, const void *pb)
    map on the axes: x' = cs x + sn y, y' = cs y - sn x.  Andrew's monotone
    chain with exact orientation gives the convex hull; each hull edge is a
    candidate side of the box (Freeman and Shapira).  The identity wins ties. */
-static bp_status bp__min_box_rotation(const bp_allocator *a, const double *uv, uint32_t nv, double *cs, double *sn)
+static bp_status bp__min_box_rotation(const bp_allocator *a, const double *uv, uint32_t nv, double *cs, double *sn,
+                                      double *cs2, double *sn2, double *aspect)
 {
     bp__pt *p = (bp__pt *)bp__alloc_array(a, nv, sizeof *p), *h;
     uint32_t i, n = 0, lower;
     double best = HUGE_VAL;
     int pass;
-    *cs = 1; *sn = 0;
+    *cs = 1; *sn = 0; *cs2 = 1; *sn2 = 0; *aspect = 1;
     if (!p) return BP_ERR_OUT_OF_MEMORY;
     h = (bp__pt *)bp__alloc_array(a, 2 * (size_t)nv + 1, sizeof *h);
     if (!h) { bp__free(a, p); return BP_ERR_OUT_OF_MEMORY; }
@@ -5928,8 +5942,29 @@ static bp_status bp__min_box_rotation(const bp_allocator *a, const double *uv, u
                 if (y > hi[1]) hi[1] = y;
             }
             area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
-            if (area < best * (1 - 1e-9)) { best = area; *cs = c; *sn = s; }
+            if (area < best * (1 - 1e-9)) {
+                best = area; *cs = c; *sn = s;
+                *aspect = (hi[0] - lo[0]) > (hi[1] - lo[1]) ? (hi[0] - lo[0]) / (hi[1] - lo[1]) : (hi[1] - lo[1]) / (hi[0] - lo[0]);
+            }
         }
+    }
+    /* The smallest bounding square (the longer side of the box, minimized)
+       need not have a side on a hull edge: sample every half degree of a
+       quarter turn.  It matters for a long chart that must fit the square
+       atlas on its own. */
+    *cs2 = *cs; *sn2 = *sn;
+    for (pass = 0, best = HUGE_VAL; n >= 3 && pass < 180; pass++) {
+        double ang = pass * (3.14159265358979323846 / 360), c = cos(ang), s = sin(ang), side;
+        double lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
+        for (i = 0; i < n; i++) {
+            double x = c * h[i].p[0] + s * h[i].p[1], y = c * h[i].p[1] - s * h[i].p[0];
+            if (x < lo[0]) lo[0] = x;
+            if (x > hi[0]) hi[0] = x;
+            if (y < lo[1]) lo[1] = y;
+            if (y > hi[1]) hi[1] = y;
+        }
+        side = hi[0] - lo[0] > hi[1] - lo[1] ? hi[0] - lo[0] : hi[1] - lo[1];
+        if (side < best * (1 - 1e-9)) { best = side; *cs2 = c; *sn2 = s; }
     }
     bp__free(a, p);
     bp__free(a, h);
@@ -5940,12 +5975,12 @@ static bp_status bp__min_box_rotation(const bp_allocator *a, const double *uv, u
    shifted so that the smallest is BP__PACK_SHIFT. */
 static void bp__pack_local(const bp_chart *ch, const bp__pchart *pc, int turn, double d, double *L)
 {
-    double s = pc->k * d, mn[2] = { HUGE_VAL, HUGE_VAL };
+    double s = pc->k * d, mn[2] = { HUGE_VAL, HUGE_VAL }, cs = turn < 4 ? pc->cs : pc->cs2, sn = turn < 4 ? pc->sn : pc->sn2;
     uint32_t i;
     for (i = 0; i < ch->num_vertices; i++) {
         double x = pc->orig[2 * i], y = pc->orig[2 * i + 1];
-        double rx = (pc->cs * x + pc->sn * y) * s, ry = (pc->cs * y - pc->sn * x) * s, u, v;
-        switch (turn) {
+        double rx = (cs * x + sn * y) * s, ry = (cs * y - sn * x) * s, u, v;
+        switch (turn & 3) {
         case 1:  u = -ry; v = rx; break;
         case 2:  u = -rx; v = -ry; break;
         case 3:  u = ry; v = -rx; break;
@@ -6073,6 +6108,7 @@ static bp_status bp__pack_apply(bp__packer *P, double d, uint32_t *broken)
 static bp_status bp__pack_prepare(bp__packer *P, const bp_options *opt, bp_error *err)
 {
     uint32_t c, t, n = 0, maxv = 1;
+    double aspect = 1, total;
     for (c = 0; c < P->atlas->num_charts; c++) {
         bp_chart *ch = &P->atlas->charts[c];
         bp__pchart *pc;
@@ -6104,11 +6140,18 @@ static bp_status bp__pack_prepare(bp__packer *P, const bp_options *opt, bp_error
         if (opt->importance || !(ch->area3d > 0)) { pc->k = 1; pc->target = auv; }
         else { pc->k = sqrt(ch->area3d / auv); pc->target = ch->area3d; }
         pc->turns = opt->no_rotation ? 1 : 4;
-        if (!opt->no_rotation && bp__min_box_rotation(&P->a, pc->orig, ch->num_vertices, &pc->cs, &pc->sn) != BP_OK)
+        pc->cs = pc->cs2 = 1; pc->sn = pc->sn2 = 0;
+        if (!opt->no_rotation &&
+            bp__min_box_rotation(&P->a, pc->orig, ch->num_vertices, &pc->cs, &pc->sn, &pc->cs2, &pc->sn2, &aspect) != BP_OK)
             return bp__oom(err, "packing charts");
-        if (opt->no_rotation) { pc->cs = 1; pc->sn = 0; }
+        if (!opt->no_rotation && aspect > 1.5) pc->turns = 8;
     }
     P->n = n;
+    /* The square orientations cost a second search per chart; they only
+       matter for long charts large enough to set the atlas's scale. */
+    for (c = 0, total = 0; c < n; c++) total += P->pc[c].target;
+    for (c = 0; c < n; c++)
+        if (P->pc[c].turns == 8 && P->pc[c].target < total / 64) P->pc[c].turns = 4;
     P->L = (double *)bp__alloc_array(&P->a, 2 * (size_t)maxv, sizeof(double));
     if (!P->L) return bp__oom(err, "packing charts");
     qsort(P->pc, n, sizeof *P->pc, bp__pchart_cmp);
@@ -6145,13 +6188,13 @@ static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, bp_er
         st = bp__pack_apply(&P, d, &broken);
         if (st != BP_OK) { st = st == BP_ERR_OUT_OF_MEMORY ? bp__oom(err, "packing charts") : st; break; }
         if (broken == P.n) break;
-        if (P.pc[broken].turns == 1 && P.pc[broken].cs == 1 && P.pc[broken].sn == 0) {
+        if (P.pc[broken].turns == 1 && P.pc[broken].cs == 1 && P.pc[broken].sn == 0 && P.pc[broken].turn == 0) {
             st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, P.pc[broken].chart, -1, 0,
                           "chart %u: placing it in the atlas would break its validity in floating point",
                           P.pc[broken].chart);
             break;
         }
-        P.pc[broken].turns = 1; P.pc[broken].cs = 1; P.pc[broken].sn = 0;   /* unrotated */
+        P.pc[broken].turns = 1; P.pc[broken].cs = 1; P.pc[broken].sn = 0; P.pc[broken].turn = 0;  /* unrotated */
     }
     if (st != BP_OK) {           /* leave the charts as they were */
         for (i = 0; i < P.n; i++)
@@ -6385,11 +6428,15 @@ static bp_status bp__input_map(bp_atlas *atlas, uint32_t c, const bp_mesh *m, bp
     if (st == BP_OK && bp__report_valid(&rep)) return BP_OK;
     if (rep.first_bad_triangle >= 0) {
         uint32_t f = ch->face[rep.first_bad_triangle];
-        return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, f, -1, m->triangle_line ? m->triangle_line[f] : 0,
+        if (m->triangle_line)
+            return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, f, -1, m->triangle_line[f],
+                            "chart %u: its input texture coordinates are not bijective (%u flipped, %u degenerate, "
+                            "%u non-finite triangles; the first is triangle %u (line %u))", c, rep.flipped,
+                            rep.degenerate, rep.nonfinite, f + 1, m->triangle_line[f]);
+        return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, f, -1, 0,
                         "chart %u: its input texture coordinates are not bijective (%u flipped, %u degenerate, "
-                        "%u non-finite triangles; the first is triangle %u%s%u%s)", c, rep.flipped, rep.degenerate,
-                        rep.nonfinite, f + 1, m->triangle_line ? " (line " : "",
-                        m->triangle_line ? m->triangle_line[f] : 0u, m->triangle_line ? ")" : "");
+                        "%u non-finite triangles; the first is triangle %u)", c, rep.flipped, rep.degenerate,
+                        rep.nonfinite, f + 1);
     }
     if (rep.first_bad_edge[0] >= 0)
         return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_VERTEX, ch->vertex[rep.first_bad_edge[0]], -1, 0,
