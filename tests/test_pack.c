@@ -329,6 +329,73 @@ static void test_repack(void)
     bpt_mesh_free(&m);
 }
 
+/* Out of memory at every allocation of bp_atlas_pack in turn: the call
+   returns BP_ERR_OUT_OF_MEMORY, frees what it took, and leaves the maps as
+   they were; with no failure it packs. */
+typedef struct oom { long calls, fail_at, live; } oom;
+
+static void *oom_alloc(void *user, size_t size)
+{
+    oom *o = (oom *)user;
+    void *p;
+    o->calls++;
+    if (o->fail_at && o->calls == o->fail_at) return NULL;
+    p = malloc(size);
+    if (p) o->live++;
+    return p;
+}
+
+static void oom_free(void *user, void *p)
+{
+    ((oom *)user)->live--;
+    free(p);
+}
+
+static void test_out_of_memory(void)
+{
+    bp_mesh m = make_charts(8, 1);
+    bp_options o;
+    bp_error err;
+    oom counter;
+    long k, total = 0, wrong = 0, leaks = 0, moved = 0;
+    memset(&o, 0, sizeof o);
+    memset(&counter, 0, sizeof counter);
+    o.allocator.alloc = oom_alloc;
+    o.allocator.free = oom_free;
+    o.allocator.user = &counter;
+    for (k = 0;; k++) {
+        bp_atlas at;
+        bp_status st;
+        long before;
+        double keep;
+        counter.fail_at = 0;
+        st = bp_atlas_build(&at, &m, &o, &err);
+        if (st == BP_OK) st = bp_atlas_use_input_uvs(&at, &m, &err);
+        if (st != BP_OK) { BPT_CHECK(0, "set-up for the out-of-memory sweep: %s", err.message); break; }
+        o.atlas_resolution = 64; o.padding = 2;
+        keep = at.charts[5].uv[0];
+        before = counter.live;
+        counter.calls = 0;
+        counter.fail_at = k;
+        st = bp_atlas_pack(&at, &o, &err);
+        if (k == 0) {
+            total = counter.calls;
+            BPT_CHECK(st == BP_OK, "without a failure the pack succeeds (%ld allocations)", total);
+        } else {
+            if (st != BP_ERR_OUT_OF_MEMORY) wrong++;
+            if (counter.live != before) leaks++;
+            if (at.charts[5].uv[0] != keep) moved++;
+        }
+        o.atlas_resolution = 0; o.padding = 0;
+        bp_atlas_free(&at);
+        if (k > 0 && k >= total) break;
+    }
+    BPT_CHECK(total > 0 && wrong == 0 && leaks == 0 && moved == 0,
+              "failing each of the %ld allocations of bp_atlas_pack: out of memory every time (%ld not), "
+              "no leak (%ld leaked), maps unchanged (%ld moved)", total, wrong, leaks, moved);
+    bpt_mesh_free(&m);
+}
+
 int main(void)
 {
     test_padding_and_validity();
@@ -336,5 +403,6 @@ int main(void)
     test_threads();
     test_errors();
     test_repack();
+    test_out_of_memory();
     return bpt_finish();
 }
