@@ -5352,13 +5352,16 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
       importance-weighted density carries over to the atlas.
 
    2. Orientation.  A convex polygon's minimum-area enclosing rectangle has
-      a side collinear with one of the polygon's edges (Freeman and Shapira,
-      "Determining the minimum-area encasing rectangle for an arbitrary
-      closed curve", CACM 1975; rotating calipers, Toussaint 1983, walk the
-      candidates in linear time).  The convex hull of the chart's vertices
-      is computed with exact orientation tests and every hull edge is tried
-      (quadratic in the hull size, which is small next to the chart); the
-      chart is rotated so that the best edge lies on the x axis.  The packer
+      a side collinear with one of the polygon's edges (the classical fact
+      behind Toussaint's rotating calipers, 1983, as the McGill "rotating
+      calipers" pages and D. Eberly's note "Minimum-Area Rectangle
+      Containing a Set of Points", Geometric Tools 2015, explain; the
+      calipers visit the candidates in linear time, the exhaustive search
+      in quadratic).  The convex hull of the chart's vertices is computed
+      with exact orientation tests and every hull edge is tried (the
+      exhaustive search: quadratic in the hull size, which is small next to
+      the chart); the chart is rotated so that the best edge lies on the x
+      axis.  The packer
       then also tries the three quarter turns of that orientation, which are
       exact in floating point, and keeps whichever lands lowest.  A long
       chart (box aspect above 1.5) that is large (at least 1/64 of the total
@@ -5375,12 +5378,15 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
       distance).  A new chart may go where its undilated raster meets no
       marked bit.  Charts are placed largest first at the lowest, then
       leftmost, origin where they fit, so small charts fill the notches and
-      holes that larger ones leave (the "bottom-left" rule of Jakobs, "On
-      genetic algorithms for the packing of polygons", EJOR 1996, and of the
-      raster packers in the survey of Bennell and Oliveira, "The geometry of
-      nesting problems: a tutorial", EJOR 2008; xatlas, which we read,
-      packs rasterized, dilated charts the same way, with a random or a
-      brute-force search).  What keeps the search fast: each atlas row
+      holes that larger ones leave: the bottom-left rule of the nesting
+      literature (Dowsland, Vaid and Dowsland, "An algorithm for polygon
+      placement using a bottom-left strategy", EJOR 141, 2002, which lets
+      pieces nest inside the partial layout as here, and cites Jakobs's
+      genetic algorithms for the packing of polygons as its origin), here
+      on rasters instead of no-fit polygons.  xatlas packs rasterized,
+      dilated charts in 64-bit-word bit images too, with a random or a
+      brute-force search over positions; we read it to learn, and wrote
+      the search below with pruning of our own.  What keeps the search fast: each atlas row
       remembers its longest free run of texels; a chart's row that is longer
       rules a position out with one comparison, a monotone pointer per run
       length skips the rows that have become too full for good, and the
