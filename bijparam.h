@@ -5644,8 +5644,10 @@ static void bp__shape_free(const bp_allocator *a, bp__shape *S)
     S->r.b = NULL; S->rowrun = NULL;
 }
 
-/* The raster of a chart whose local coordinates L are >= BP__PACK_SHIFT. */
-static bp_status bp__shape_make(const bp_allocator *a, const bp_chart *ch, const double *L, bp__shape *S)
+/* The raster of a chart whose local coordinates L are >= BP__PACK_SHIFT.
+   BP_ERR_NUMERICAL (not an error: the caller skips this orientation) when
+   it is wider or taller than the atlas, before anything is allocated. */
+static bp_status bp__shape_make(const bp_allocator *a, const bp_chart *ch, const double *L, int res, bp__shape *S)
 {
     double mx[2] = { 0, 0 };
     uint32_t i, t;
@@ -5655,7 +5657,7 @@ static bp_status bp__shape_make(const bp_allocator *a, const bp_chart *ch, const
         if (L[2 * i] > mx[0]) mx[0] = L[2 * i];
         if (L[2 * i + 1] > mx[1]) mx[1] = L[2 * i + 1];
     }
-    if (!(mx[0] < 1e9 && mx[1] < 1e9)) return BP_ERR_NUMERICAL;
+    if (!(mx[0] + BP__PACK_MARGIN < res && mx[1] + BP__PACK_MARGIN < res)) return BP_ERR_NUMERICAL;
     S->r.w = (int)floor(mx[0] + BP__PACK_MARGIN) + 1;
     S->r.h = (int)floor(mx[1] + BP__PACK_MARGIN) + 1;
     S->r.words = (S->r.w + 63) >> 6;
@@ -6035,7 +6037,7 @@ static int bp__pack_attempt(bp__packer *P, double d)
         for (turn = 0; turn < pc->turns; turn++) {
             bp_status st;
             bp__pack_local(ch, pc, turn, d, P->L);
-            st = bp__shape_make(&P->a, ch, P->L, &S);
+            st = bp__shape_make(&P->a, ch, P->L, P->res, &S);
             if (st == BP_ERR_OUT_OF_MEMORY) { bp__shape_free(&P->a, &best); return -1; }
             if (st != BP_OK) continue;
             if (bp__occ_find(&P->occ, &S, by, bturn < 0 ? P->res : bx, &x, &y)) {

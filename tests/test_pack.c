@@ -396,10 +396,38 @@ static void test_out_of_memory(void)
     bpt_mesh_free(&m);
 }
 
+/* A 200 x 1 strip among small charts: at the first densities it is far
+   wider than the atlas (those orientations must be skipped, not
+   allocated), and it ends on the diagonal or along a side. */
+static void test_long_strip(void)
+{
+    gen g;
+    bp_mesh m = bpt_mesh_new(2000, 2000);
+    bp_atlas at;
+    bp_error err;
+    bp_status st;
+    int k;
+    g.pos = m.positions; g.tri = m.triangles; g.nv = 0; g.nt = 0;
+    add_grid(&g, 200, 1, 0, 1.0, 0.3, 0, 0);
+    for (k = 0; k < 10; k++) add_grid(&g, 2, 2, 0, 1.5, k * 0.7, 300.0 + 10 * k, 0);
+    m.num_vertices = g.nv; m.num_triangles = g.nt; m.num_faces = g.nt;
+    m.corner_uv = (uint32_t *)malloc(sizeof(uint32_t) * 3 * g.nt);
+    m.uvs = (double *)malloc(sizeof(double) * 2 * g.nv);
+    m.num_uvs = g.nv;
+    memcpy(m.corner_uv, m.triangles, sizeof(uint32_t) * 3 * g.nt);
+    for (k = 0; k < (int)g.nv; k++) { m.uvs[2 * k] = m.positions[3 * k]; m.uvs[2 * k + 1] = m.positions[3 * k + 1]; }
+    st = pack_input(&m, &at, 128, 2, 0, &err);
+    BPT_CHECK(st == BP_OK, "a 200 x 1 strip and 10 squares at 128 px: packed (%s)", st == BP_OK ? "ok" : err.message);
+    if (st == BP_OK) check_atlas("long strip", &at, 128, 2, 1);
+    bp_atlas_free(&at);
+    bpt_mesh_free(&m);
+}
+
 int main(void)
 {
     test_padding_and_validity();
     test_rotation();
+    test_long_strip();
     test_threads();
     test_errors();
     test_repack();
