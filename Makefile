@@ -103,6 +103,7 @@ docs: $(TOOL)
 	$(TOOL) tests/data/cow_param_withSUV.obj --png $(IMG)/cow_checker.png --png-size 360 --png-views 2 --checker 20
 	$(TOOL) tests/data/cow_param_withSUV.obj --no-barrier --png $(IMG)/cow_checker_nobarrier.png --png-size 360 --png-views 2 --checker 20
 	$(TOOL) tests/data/spot.obj --svg $(IMG)/spot_area.svg --svg-color area --png $(IMG)/spot_checker.png --png-size 300 --png-views 3
+	$(TOOL) tests/data/spot.obj --atlas 1024 --padding 4 --svg $(IMG)/spot_atlas.svg --svg-color area --png $(IMG)/spot_atlas_checker.png --png-size 300 --png-views 3 --checker 32
 	$(TOOL) --demo --svg $(IMG)/cone_barrier.svg --png $(IMG)/cone_checker.png --png-size 360
 	$(TOOL) --demo --no-barrier --svg $(IMG)/cone_nobarrier.svg
 	rm -rf $(BUILD)/docs/frames
