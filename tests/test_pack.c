@@ -423,11 +423,70 @@ static void test_long_strip(void)
     bpt_mesh_free(&m);
 }
 
+/* Slivers: a triangle whose apex is one or two ulps off its long edge, far
+   from the origin (uv near 1e6), next to an ordinary triangle.  Its input
+   map is exactly valid, but rotating and scaling it rounds by about as much
+   as its height.  Each pack must either give an atlas that passes the exact
+   check or fail with BP_ERR_NUMERICAL naming the sliver's chart, leaving
+   the maps as they were.  Some slivers keep their own orientation (the
+   fallback when the rotated copy is not exactly valid): the packed long
+   edge then has the input's slope. */
+static void test_slivers(void)
+{
+    int k, ok = 0, numerical = 0, other = 0, invalid = 0, fallback = 0, named = 0, moved = 0;
+    uint32_t i;
+    for (k = 0; k < 200; k++) {
+        bp_mesh m = bpt_mesh_new(6, 2);
+        bp_atlas at;
+        bp_options o;
+        bp_error e;
+        bp_status st;
+        double slope = 0.3 + k * 1e-3, keep;
+        m.positions[3] = 1; m.positions[7] = 1;
+        m.positions[9] = 5; m.positions[12] = 6; m.positions[15] = 5; m.positions[16] = 1;
+        for (i = 0; i < 6; i++) m.triangles[i] = i;
+        m.corner_uv = (uint32_t *)malloc(6 * sizeof(uint32_t));
+        memcpy(m.corner_uv, m.triangles, 6 * sizeof(uint32_t));
+        m.uvs = (double *)calloc(12, sizeof(double));
+        m.num_uvs = 6;
+        m.uvs[0] = 1e6; m.uvs[1] = 1e6; m.uvs[2] = 1e6 + 1; m.uvs[3] = 1e6 + slope;
+        m.uvs[4] = 1e6 + 0.5; m.uvs[5] = nextafter(1e6 + slope * 0.5, 2e6);
+        if (k % 2) m.uvs[5] = nextafter(m.uvs[5], 2e6);
+        m.uvs[6] = 5; m.uvs[8] = 6; m.uvs[10] = 5; m.uvs[11] = 1;
+        memset(&o, 0, sizeof o);
+        st = bp_atlas_build(&at, &m, &o, &e);
+        if (st == BP_OK) st = bp_atlas_use_input_uvs(&at, &m, &e);
+        if (st != BP_OK) { other++; bpt_mesh_free(&m); continue; }
+        keep = at.charts[0].uv[5];
+        o.atlas_resolution = 64; o.padding = 2;
+        st = bp_atlas_pack(&at, &o, &e);
+        if (st == BP_OK) {
+            const double *uv = at.charts[0].uv;
+            ok++;
+            if (bp__atlas_verify(&at, &e) != BP_OK) invalid++;
+            if (fabs((uv[3] - uv[1]) / (uv[2] - uv[0]) - (m.uvs[3] - m.uvs[1]) / (m.uvs[2] - m.uvs[0])) < 1e-6) fallback++;
+        } else if (st == BP_ERR_NUMERICAL) {
+            numerical++;
+            named += e.element == BP_ELEMENT_CHART && e.index == 0 && bpt_has_number(e.message, 0);
+            moved += at.charts[0].uv[5] != keep;
+        } else other++;
+        bp_atlas_free(&at);
+        bpt_mesh_free(&m);
+    }
+    BPT_CHECK(other == 0 && invalid == 0 && ok + numerical == 200,
+              "200 slivers: %d packed and exactly valid (%d invalid), %d BP_ERR_NUMERICAL, %d other", ok, invalid,
+              numerical, other);
+    BPT_CHECK(named == numerical && moved == 0, "each BP_ERR_NUMERICAL names chart 0 (%d of %d) and moves nothing (%d moved)",
+              named, numerical, moved);
+    BPT_CHECK(fallback > 0, "the unrotated fallback was taken and gave valid atlases (%d times)", fallback);
+}
+
 int main(void)
 {
     test_padding_and_validity();
     test_rotation();
     test_long_strip();
+    test_slivers();
     test_threads();
     test_errors();
     test_repack();
