@@ -481,12 +481,59 @@ static void test_slivers(void)
     BPT_CHECK(fallback > 0, "the unrotated fallback was taken and gave valid atlases (%d times)", fallback);
 }
 
+/* Texel density with importance: the input maps of the 10 charts are
+   scaled by 1, 2, ..., 10.  Without importance the packer equalizes UV
+   area / 3D area; with importance (the optimized map already carries it)
+   the charts keep their relative scale: packed area / input area is the
+   same for every chart. */
+static void test_importance_density(void)
+{
+    bp_mesh m = make_charts(10, 1);
+    bp_atlas at;
+    bp_options o;
+    bp_error err;
+    bp_status st;
+    double *imp = (double *)malloc(sizeof(double) * m.num_triangles), *in_area, lo = HUGE_VAL, hi = 0, lo3 = HUGE_VAL, hi3 = 0;
+    uint32_t c, t, i;
+    int pass;
+    for (t = 0; t < m.num_triangles; t++) imp[t] = 1 + (t % 3);
+    for (pass = 0; pass < 2; pass++) {
+        memset(&o, 0, sizeof o);
+        st = bp_atlas_build(&at, &m, &o, &err);
+        if (st == BP_OK) st = bp_atlas_use_input_uvs(&at, &m, &err);
+        if (st != BP_OK) { BPT_CHECK(0, "importance set-up: %s", err.message); break; }
+        in_area = (double *)calloc(at.num_charts, sizeof(double));
+        for (c = 0; c < at.num_charts; c++) {
+            bp_chart *ch = &at.charts[c];
+            for (i = 0; i < 2 * ch->num_vertices; i++) ch->uv[i] *= 1 + c;
+            in_area[c] = bp__chart_uv_area(ch);
+        }
+        o.atlas_resolution = 128; o.padding = 2;
+        o.importance = pass ? imp : NULL;
+        st = bp_atlas_pack(&at, &o, &err);
+        BPT_CHECK(st == BP_OK, "pack with%s importance", pass ? "" : "out");
+        for (c = 0; st == BP_OK && c < at.num_charts; c++) {
+            double r = bp__chart_uv_area(&at.charts[c]) / (pass ? in_area[c] : at.charts[c].area3d);
+            if (pass) { if (r < lo) lo = r; if (r > hi) hi = r; }
+            else { if (r < lo3) lo3 = r; if (r > hi3) hi3 = r; }
+        }
+        if (st == BP_OK) check_atlas(pass ? "with importance" : "input scaled 1..10", &at, 128, 2, !pass);
+        free(in_area);
+        bp_atlas_free(&at);
+    }
+    BPT_CHECK(hi3 <= lo3 * (1 + 1e-9), "without importance: UV / 3D area equal across charts (%.12g .. %.12g)", lo3, hi3);
+    BPT_CHECK(hi <= lo * (1 + 1e-9), "with importance: the relative scales kept (packed / input area %.12g .. %.12g)", lo, hi);
+    free(imp);
+    bpt_mesh_free(&m);
+}
+
 int main(void)
 {
     test_padding_and_validity();
     test_rotation();
     test_long_strip();
     test_slivers();
+    test_importance_density();
     test_threads();
     test_errors();
     test_repack();
