@@ -5356,19 +5356,18 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
       behind Toussaint's rotating calipers, 1983, as the McGill "rotating
       calipers" pages and D. Eberly's note "Minimum-Area Rectangle
       Containing a Set of Points", Geometric Tools 2015, explain; the
-      calipers visit the candidates in linear time, the exhaustive search
-      in quadratic).  The convex hull of the chart's vertices is computed
-      with exact orientation tests and every hull edge is tried (the
-      exhaustive search: quadratic in the hull size, which is small next to
-      the chart); the chart is rotated so that the best edge lies on the x
-      axis.  The packer
-      then also tries the three quarter turns of that orientation, which are
-      exact in floating point, and keeps whichever lands lowest.  A long
-      chart (box aspect above 1.5) that is large (at least 1/64 of the total
-      area) also tries the four turns of its smallest bounding square
-      (sampled every half degree), which is what lets a lone long chart use
-      the square atlas.  A mirror image is never tried: it would flip every
-      triangle.
+      calipers visit the candidates in linear time, the exhaustive search in
+      quadratic).  The convex hull of the chart's vertices is computed with
+      exact orientation tests and every hull edge is tried (the exhaustive
+      search: quadratic in the hull size, which is small next to the chart);
+      the chart is rotated so that the best edge lies on the x axis.  The
+      packer then also tries the three quarter turns of that orientation,
+      which are exact in floating point, and keeps whichever lands lowest.
+      A long chart (box aspect above 1.5) that is large (at least 1/64 of
+      the total area) also tries the four turns of its smallest bounding
+      square (sampled every half degree), which is what lets a lone long
+      chart use the square atlas.  A mirror image is never tried: it would
+      flip every triangle.
 
    3. Placement on rasterized outlines.  Each chart is rasterized
       conservatively: every texel [i,i+1]x[j,j+1] that a closed triangle,
@@ -5382,26 +5381,27 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
       literature (Dowsland, Vaid and Dowsland, "An algorithm for polygon
       placement using a bottom-left strategy", EJOR 141, 2002, which lets
       pieces nest inside the partial layout as here, and cites Jakobs's
-      genetic algorithms for the packing of polygons as its origin), here
-      on rasters instead of no-fit polygons.  xatlas packs rasterized,
-      dilated charts in 64-bit-word bit images too, with a random or a
-      brute-force search over positions; we read it to learn, and wrote
-      the search below with pruning of our own.  What keeps the search fast: each atlas row
+      genetic algorithms for the packing of polygons as its origin), here on
+      rasters instead of no-fit polygons.  xatlas packs rasterized, dilated
+      charts in 64-bit-word bit images too, with a random or a brute-force
+      search over positions; we read it to learn, and wrote the search below
+      with pruning of our own.  What keeps the search fast: each atlas row
       remembers its longest free run of texels; a chart's row that is longer
       rules a position out with one comparison, a monotone pointer per run
       length skips the rows that have become too full for good, and the
-      positions that survive are intersected, 64 at a time, from the free
-      runs of three rows of the chart before the full bit test.  For small
-      charts (both sides at most 32 texels) a table remembers, per size,
-      the lowest row at which a chart of that size found room or gave up;
-      a chart at least as large starts there.  That is a heuristic (a larger
-      box does not always hold a larger shape): it costs 0.7% of
-      utilization on 5,000 small charts and makes their packing 3.3 times
-      faster.
-      The density d is the largest that fits: start at the d that would fill
-      the square exactly (utilization 1), shrink by the square root of the
-      share of the area that found room until the charts fit, then bisect
-      (geometric mean) to 0.2%.
+      candidate positions come from the free runs of the atlas row under the
+      chart's longest row and are intersected, 64 at a time, with those
+      allowed by its first and last rows (and, for a tall chart, by its
+      quarter rows) before the full bit test, which skips each row's empty
+      words.  For small charts (both sides at most 32 texels) a table
+      remembers, per size, the lowest row at which a chart of that size
+      found room or gave up; a chart at least as large starts there.  That
+      is a heuristic (a larger box does not always hold a larger shape): it
+      costs 0.7% of utilization on 5,000 small charts and makes their
+      packing 3.3 times faster.  The density d is the largest that fits:
+      start at the d that would fill the square exactly (utilization 1),
+      shrink by the square root of the share of the area that found room
+      until the charts fit, then bisect (geometric mean) to 0.2%.
 
    4. The final coordinates are uv = (L + (x, y)) / RES, L being the
       rotated, scaled chart shifted into its raster.  Rotation and scaling
