@@ -78,6 +78,13 @@ static const char usage_text[] =
     "  --tol X            relative energy decrease to stop (default 1e-7)\n"
     "  --max-seconds X    time limit per chart (0: none)\n"
     "  --normalize        scale the packed atlas into [0,1]^2\n"
+    "  --atlas RES        pack the charts by their outlines into a RES x RES\n"
+    "                     texture atlas in [0,1]^2, one texel density, rotated\n"
+    "                     to pack better (default: bounding boxes on shelves)\n"
+    "  --padding PX       texels between charts with --atlas (default 4)\n"
+    "  --no-rotate        with --atlas: keep each chart's orientation\n"
+    "  --repack           keep the input's own charts and texture coordinates\n"
+    "                     (checked exactly), only pack them\n"
     "  --strict           a chart that cannot be flattened fails the whole run\n"
     "                     (default: it is reported, the other charts are written)\n"
     "  --trace FILE       one line per iteration: chart iter seconds energy step\n"
@@ -550,6 +557,7 @@ typedef struct timings { double read, charts, init, optimize, pack, write; } tim
 
 typedef struct extra_report {
     int threads;
+    int resolution, padding;           /* --atlas, --padding (0, 0 without --atlas) */
     int density_model;                 /* 0: no density report */
     double density_map, density_iso;
 } extra_report;
@@ -620,7 +628,9 @@ static void print_json(const char *input, const char *output, bp_status status, 
     json_number(tm->pack);
     printf(",\"write\":");
     json_number(tm->write);
-    printf("},\"threads\":%d,\"peak_rss_bytes\":", ex->threads);
+    printf("},\"atlas_resolution\":%d,\"padding\":%d,\"utilization\":", ex->resolution, ex->padding);
+    json_number(atlas->utilization);
+    printf(",\"threads\":%d,\"peak_rss_bytes\":", ex->threads);
     json_number(peak_rss_bytes());
     printf(",\"bytes_per_face\":");
     json_number(mesh->num_triangles ? peak_rss_bytes() / mesh->num_triangles : 0);
@@ -833,7 +843,7 @@ int main(int argc, char **argv)
     bpd_render_options png_opt;
     frames_state fs;
     char final_path[4096];
-    int json = 0, demo = 0, have_mesh = 0, i, status = 0, force = 0, quiet = 0, wrote = 0, check = 0;
+    int json = 0, demo = 0, have_mesh = 0, i, status = 0, force = 0, quiet = 0, wrote = 0, check = 0, repack = 0, padding_set = 0;
     uint32_t c;
     double t0;
 
@@ -862,7 +872,8 @@ int main(int argc, char **argv)
             !strcmp(a, "--density-report") || !strcmp(a, "--svg") || !strcmp(a, "--svg-color") ||
             !strcmp(a, "--png") || !strcmp(a, "--png-view") || !strcmp(a, "--png-up") ||
             !strcmp(a, "--png-size") || !strcmp(a, "--png-views") || !strcmp(a, "--checker") ||
-            !strcmp(a, "--frames") || !strcmp(a, "--frames-every")) {
+            !strcmp(a, "--frames") || !strcmp(a, "--frames-every") || !strcmp(a, "--atlas") ||
+            !strcmp(a, "--padding")) {
             const char *v;
             if (i + 1 >= argc) return usage_error("option %s needs a value", a);
             v = argv[++i];
@@ -895,6 +906,14 @@ int main(int argc, char **argv)
             } else if (!strcmp(a, "--frames-every")) {
                 if (!parse_int(v, 1, &fs.every))
                     return usage_error("--frames-every needs an integer >= 1, not '%s'", v);
+            }
+            else if (!strcmp(a, "--atlas")) {
+                if (!parse_int(v, 1, &opt.atlas_resolution) || opt.atlas_resolution > 32768)
+                    return usage_error("--atlas needs a resolution in [1, 32768] texels, not '%s'", v);
+            } else if (!strcmp(a, "--padding")) {
+                if (!parse_int(v, 0, &opt.padding))
+                    return usage_error("--padding needs an integer >= 0, not '%s'", v);
+                padding_set = 1;
             }
             else if (!strcmp(a, "--threads")) {
                 if (!parse_int(v, 0, &opt.threads))
@@ -965,6 +984,8 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--no-barrier")) opt.no_barrier = 1;
         else if (!strcmp(a, "--normalize")) opt.normalize = 1;
         else if (!strcmp(a, "--strict")) opt.strict = 1;
+        else if (!strcmp(a, "--no-rotate")) opt.no_rotation = 1;
+        else if (!strcmp(a, "--repack")) repack = 1;
         else if (a[0] == '-' && a[1] != '\0') return usage_error("unknown option '%s'", a);
         else if (input) return usage_error("more than one input file ('%s')", a);
         else input = a;
@@ -986,6 +1007,10 @@ int main(int argc, char **argv)
     }
     if (demo) input = "<demo>";
     if (!elevation_set) opt.views.elevation = 30;
+    if (padding_set && !opt.atlas_resolution) return usage_error("%s", "--padding needs --atlas RES");
+    if (opt.no_rotation && !opt.atlas_resolution) return usage_error("%s", "--no-rotate needs --atlas RES");
+    if (!padding_set) opt.padding = 4;
+    if (repack && demo) return usage_error("%s", "--repack needs an input file with texture coordinates");
 
     if (trace_path) {
         rs.trace = fopen(trace_path, "w");
@@ -1088,8 +1113,22 @@ int main(int argc, char **argv)
         } else free(vis);
     }
     opt.importance = importance;
+    /* 3a. --repack: the file's own maps, checked exactly (a chart whose map
+       is not bijective is reported and not packed, unless --strict) */
+    if (st == BP_OK && repack) {
+        t0 = now_seconds();
+        st = bp_atlas_use_input_uvs(&atlas, &mesh, &err);
+        if (st == BP_ERR_CHARTS_FAILED || (st == BP_ERR_NOT_BIJECTIVE && atlas.num_failed)) {
+            if (opt.strict) {
+                for (c = 0; c < atlas.num_charts; c++)
+                    if (atlas.charts[c].error.status != BP_OK) { err = atlas.charts[c].error; break; }
+                st = err.status;
+            } else st = BP_OK;
+        }
+        tm.init = now_seconds() - t0;
+    }
     /* 3. start map and optimization, chart by chart */
-    for (c = 0; st == BP_OK && c < atlas.num_charts; c++) {
+    for (c = 0; st == BP_OK && !repack && c < atlas.num_charts; c++) {
         if (atlas.charts[c].error.status != BP_OK) continue;   /* failed in step 2 */
         t0 = now_seconds();
         st = bp_chart_init(&atlas.charts[c], &mesh, &opt, &err);
@@ -1194,6 +1233,8 @@ int main(int argc, char **argv)
         for (c = 0; c < atlas.num_charts; c++)
             if (atlas.charts[c].threads > ex.threads) ex.threads = atlas.charts[c].threads;
         bp_status js = (st == BP_OK && atlas.num_failed) ? BP_ERR_CHARTS_FAILED : st;
+        ex.resolution = opt.atlas_resolution;
+        ex.padding = opt.atlas_resolution ? opt.padding : 0;
         print_json(input, wrote ? output : NULL, js, st == BP_OK ? NULL : err.message, &mesh, &atlas,
                    opt.energy, &tm, &ex);
     } else if (!quiet && wrote) {
