@@ -66,7 +66,12 @@ static const char usage_text[] =
     "  --demo             use the built-in wavy cone instead of a file\n"
     "  --check            only check the file's own vt charts exactly (each chart\n"
     "                     bijective, no two overlapping): exit 0 yes, 1 no\n"
-    "  --init tutte|mvc   start map (default tutte)\n"
+    "  --init tutte|mvc|input   start map (default tutte); input: the file's own\n"
+    "                     vt per chart when bijective (else tutte, reported), and\n"
+    "                     those charts keep their place unless --normalize\n"
+    "  --pin FILE         pinned vertices, lines 'vertex u v' (vertex from 1 as in\n"
+    "                     the input; '#' comments): they end exactly at (u, v) and\n"
+    "                     their charts are not moved by packing\n"
     "  --init-only        stop after the start map\n"
     "  --energy sd|conformal|mips|iso|maxiso   distortion (default sd)\n"
     "  --no-barrier       locally injective only (no boundary barrier)\n"
@@ -160,6 +165,61 @@ static double *read_importance(const char *path, const bp_mesh *m, char *msg, si
         w[i] = face[m->triangle_face ? m->triangle_face[i] : i];
     free(face);
     return w;
+}
+
+/* --pin FILE: lines "vertex u v" (vertex from 1, as the input numbers it),
+   blank lines and '#' comments allowed.  On an error msg names the line
+   (*line) and NULL is returned. */
+static bp_pin *read_pins(const char *path, const bp_mesh *m, uint32_t *count, long *line, char *msg, size_t msz)
+{
+    FILE *f = fopen(path, "r");
+    bp_pin *p = NULL;
+    size_t n = 0, cap = 0;
+    char buf[512];
+    *line = 0;
+    *count = 0;
+    if (!f) { snprintf(msg, msz, "cannot open pin file: %s", strerror(errno)); return NULL; }
+    while (fgets(buf, sizeof buf, f)) {
+        char *s = buf, *end;
+        long long v;
+        double u, w;
+        (*line)++;
+        while (*s == ' ' || *s == '\t') s++;
+        if (*s == '#' || *s == '\n' || *s == '\r' || *s == 0) continue;
+        errno = 0;
+        v = strtoll(s, &end, 10);
+        if (end == s || v < 1 || v > (long long)m->num_vertices) {
+            snprintf(msg, msz, "expected 'vertex u v' with a vertex in 1..%u", (unsigned)m->num_vertices);
+            goto fail;
+        }
+        s = end;
+        u = strtod(s, &end);
+        if (end == s || !isfinite(u)) { snprintf(msg, msz, "vertex %lld: u is missing or not a finite number", v); goto fail; }
+        s = end;
+        w = strtod(s, &end);
+        if (end == s || !isfinite(w)) { snprintf(msg, msz, "vertex %lld: v is missing or not a finite number", v); goto fail; }
+        for (s = end; *s == ' ' || *s == '\t' || *s == '\r' || *s == '\n'; s++) {}
+        if (*s && *s != '#') { snprintf(msg, msz, "vertex %lld: unexpected text after 'vertex u v'", v); goto fail; }
+        if (n == cap) {
+            bp_pin *q = (bp_pin *)realloc(p, sizeof *p * (cap = cap ? 2 * cap : 64));
+            if (!q) { snprintf(msg, msz, "out of memory"); goto fail; }
+            p = q;
+        }
+        p[n].vertex = (uint32_t)(v - 1);
+        p[n].u = u;
+        p[n].v = w;
+        n++;
+    }
+    fclose(f);
+    *line = 0;
+    *count = (uint32_t)n;
+    if (!p) p = (bp_pin *)malloc(sizeof *p);   /* an empty file: no pins, not an error */
+    if (!p) snprintf(msg, msz, "out of memory");
+    return p;
+fail:
+    fclose(f);
+    free(p);
+    return NULL;
 }
 
 /* Peak resident memory of this process.  Linux: VmHWM of /proc/self/status,
@@ -599,7 +659,8 @@ static void print_json(const char *input, const char *output, bp_status status, 
         printf(",\"error\":");
         if (ch->error.status != BP_OK) json_string(ch->error.message);
         else printf("null");
-        printf(",\"seconds\":");
+        printf(",\"init_used\":%d,\"pins\":%u,\"in_place\":%d,\"seconds\":", ch->init_used,
+               (unsigned)ch->num_pins, ch->in_place);
         json_number(ch->seconds);
         if (ch->uv)
             printf(",\"flipped\":%u,\"degenerate\":%u,\"boundary_intersections\":%u}",
@@ -824,9 +885,10 @@ int main(int argc, char **argv)
     bp_status st = BP_OK;
     timings tm;
     run_state rs;
-    const char *input = NULL, *output = NULL, *trace_path = NULL, *importance_path = NULL, *where;
+    const char *input = NULL, *output = NULL, *trace_path = NULL, *importance_path = NULL, *pin_path = NULL, *where;
     extra_report ex;
     double *importance = NULL;
+    bp_pin *pins = NULL;
     int elevation_set = 0;
     const char *svg_path = NULL, *png_path = NULL;
     bpd_svg_options svg_opt;
@@ -862,13 +924,14 @@ int main(int argc, char **argv)
             !strcmp(a, "--density-report") || !strcmp(a, "--svg") || !strcmp(a, "--svg-color") ||
             !strcmp(a, "--png") || !strcmp(a, "--png-view") || !strcmp(a, "--png-up") ||
             !strcmp(a, "--png-size") || !strcmp(a, "--png-views") || !strcmp(a, "--checker") ||
-            !strcmp(a, "--frames") || !strcmp(a, "--frames-every")) {
+            !strcmp(a, "--frames") || !strcmp(a, "--frames-every") || !strcmp(a, "--pin")) {
             const char *v;
             if (i + 1 >= argc) return usage_error("option %s needs a value", a);
             v = argv[++i];
             if (!strcmp(a, "-o")) output = v;
             else if (!strcmp(a, "--trace")) trace_path = v;
             else if (!strcmp(a, "--importance")) importance_path = v;
+            else if (!strcmp(a, "--pin")) pin_path = v;
             else if (!strcmp(a, "--svg")) svg_path = v;
             else if (!strcmp(a, "--png")) png_path = v;
             else if (!strcmp(a, "--frames")) fs.dir = v;
@@ -926,7 +989,8 @@ int main(int argc, char **argv)
             else if (!strcmp(a, "--init")) {
                 if (!strcmp(v, "tutte")) opt.init = BP_INIT_TUTTE;
                 else if (!strcmp(v, "mvc")) opt.init = BP_INIT_MEAN_VALUE;
-                else return usage_error("unknown start map '%s' (tutte or mvc)", v);
+                else if (!strcmp(v, "input")) opt.init = BP_INIT_INPUT;
+                else return usage_error("unknown start map '%s' (tutte, mvc or input)", v);
             } else if (!strcmp(a, "--energy")) {
                 int e, found = 0;
                 for (e = 0; e < (int)BP_ENERGY_COUNT; e++)
@@ -978,7 +1042,8 @@ int main(int argc, char **argv)
         int k;
         outs[0] = output; outs[1] = svg_path; outs[2] = png_path; outs[3] = trace_path;
         for (k = 0; k < 4; k++)
-            if (!demo && (same_file(outs[k], input) || same_file(outs[k], importance_path))) {
+            if (!demo && (same_file(outs[k], input) || same_file(outs[k], importance_path) ||
+                          same_file(outs[k], pin_path))) {
                 fprintf(stderr, "bijparam: %s '%s' is an input file; add --force to replace it\n"
                         "see bijparam --help\n", flags[k], outs[k]);
                 return 2;
@@ -1088,6 +1153,20 @@ int main(int argc, char **argv)
         } else free(vis);
     }
     opt.importance = importance;
+    /* 2c. pinned vertices */
+    if (st == BP_OK && pin_path) {
+        char msg[200];
+        long line;
+        pins = read_pins(pin_path, &mesh, &opt.num_pins, &line, msg, sizeof msg);
+        opt.pins = pins;
+        if (!pins) {
+            st = BP_ERR_PARSE;
+            where = pin_path;
+            memset(&err, 0, sizeof err);
+            err.line = line;
+            snprintf(err.message, sizeof err.message, "%s", msg);
+        }
+    }
     /* 3. start map and optimization, chart by chart */
     for (c = 0; st == BP_OK && c < atlas.num_charts; c++) {
         if (atlas.charts[c].error.status != BP_OK) continue;   /* failed in step 2 */
@@ -1206,6 +1285,7 @@ int main(int argc, char **argv)
     if (rs.trace) fclose(rs.trace);
     for (i = 0; i < fs.nsnap; i++) free(fs.snap[i]);
     free(importance);
+    free(pins);
     bp_atlas_free(&atlas);
     if (have_mesh) {
         if (demo) { free(mesh.positions); free(mesh.triangles); }
