@@ -213,11 +213,14 @@ typedef enum bp_init {
                             bijective, else Tutte; see bp_chart.init_used    */
 } bp_init;
 
-/* A pinned vertex (see >>pins): every chart vertex of mesh vertex `vertex`
-   (0-based) ends exactly at (u, v) -- on a seam that is one chart vertex in
-   each chart the vertex belongs to, all at the same target. */
+/* A pinned vertex (see >>pins): chart vertices of mesh vertex `vertex`
+   (0-based) end exactly at (u, v).  uv = 0: every chart vertex of it -- on
+   a seam that is one in each chart the vertex belongs to, all at the same
+   target; uv = k > 0: only the chart vertex whose input uv index
+   (mesh->corner_uv, the OBJ vt) is k - 1, i.e. one side of a seam. */
 typedef struct bp_pin {
     uint32_t vertex;
+    uint32_t uv;          /* 0: all chart vertices of `vertex`; else vt index + 1 */
     double   u, v;
 } bp_pin;
 
@@ -4732,19 +4735,20 @@ static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_
    e.g. a pinned vertex outside the loop its pinned neighbours enclose --
    and the start map below then fails, saying so.
 
-   The start with pins: the free start (Tutte, or the input uvs), moved by
-   the similarity z -> a z + b that fits the pins best in least squares
+   The start with pins: the free start (Tutte optimized without pins, see
+   bp__pins_relax_free; or the input uvs), moved by the similarity z -> a z + b that fits the pins best in least squares
    (complex numbers: a = sum (t_i - t_c) conj(z_i - z_c) / sum |z_i - z_c|^2,
    b = t_c - a z_c, the c's the centroids; one pin: a = 1, a translation;
    an input start is not moved), and then carried to the targets by the
    homotopy of >>pins.  Every map on the way is exactly bijective. */
 
-typedef struct bp__pinkey { uint32_t vertex, pin; } bp__pinkey;
+typedef struct bp__pinkey { uint32_t vertex, uv, pin; } bp__pinkey;
 
 static int bp__pinkey_cmp(const void *pa, const void *pb)
 {
     const bp__pinkey *a = (const bp__pinkey *)pa, *b = (const bp__pinkey *)pb;
     if (a->vertex != b->vertex) return a->vertex < b->vertex ? -1 : 1;
+    if (a->uv != b->uv) return a->uv < b->uv ? -1 : 1;
     return a->pin < b->pin ? -1 : a->pin > b->pin;
 }
 
@@ -4766,21 +4770,27 @@ static bp_status bp__pin_map(const bp_allocator *a, const bp_chart *ch, const bp
     if (!key) return bp__oom(err, "reading the pins");
     for (k = 0; k < np; k++) {
         const bp_pin *p = &o->pins[k];
-        if (p->vertex >= m->num_vertices || !(p->u - p->u == 0) || !(p->v - p->v == 0)) {
+        if (p->vertex >= m->num_vertices || !(p->u - p->u == 0) || !(p->v - p->v == 0) ||
+            (p->uv && (!m->corner_uv || p->uv > m->num_uvs))) {
             bp__free(a, key);
             if (p->vertex >= m->num_vertices)
                 return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
                                 "pin %u names vertex %u, but the mesh has %u vertices", k + 1, p->vertex + 1,
                                 m->num_vertices);
+            if (p->uv && (!m->corner_uv || p->uv > m->num_uvs))
+                return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
+                                "pin %u (vertex %u) names vt %u, but the mesh has %u", k + 1, p->vertex + 1, p->uv,
+                                m->corner_uv ? m->num_uvs : 0);
             return bp__fail(err, BP_ERR_NONFINITE, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
                             "pin %u (vertex %u) has a target that is NaN or infinite", k + 1, p->vertex + 1);
         }
         key[k].vertex = p->vertex;
+        key[k].uv = p->uv;
         key[k].pin = k;
     }
     qsort(key, np, sizeof *key, bp__pinkey_cmp);
     for (k = 1; k < np; k++)
-        if (key[k].vertex == key[k - 1].vertex) {
+        if (key[k].vertex == key[k - 1].vertex && (key[k - 1].uv == 0 || key[k].uv == key[k - 1].uv)) {
             uint32_t v = key[k].vertex, p0 = key[k - 1].pin, p1 = key[k].pin;
             bp__free(a, key);
             return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, v, -1, 0,
@@ -4789,6 +4799,9 @@ static bp_status bp__pin_map(const bp_allocator *a, const bp_chart *ch, const bp
     for (i = 0; i < ch->num_vertices; i++) {
         uint32_t lo = 0, hi = np, v = ch->vertex[i];
         while (lo < hi) { uint32_t mid = lo + (hi - lo) / 2; if (key[mid].vertex < v) lo = mid + 1; else hi = mid; }
+        while (lo < np && key[lo].vertex == v && key[lo].uv != 0 &&
+               (!ch->vertex_uv || key[lo].uv - 1 != ch->vertex_uv[i]))
+            lo++;                                /* a pin of another side of a seam */
         if (lo == np || key[lo].vertex != v) continue;
         if (!*pidx) {
             *pidx = (uint32_t *)bp__alloc_array(a, ch->num_vertices, sizeof(uint32_t));
@@ -4961,6 +4974,8 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
                                      bp_error *err);
 static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                 const uint32_t *pidx, bp_error *err);
+static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                     bp_error *err);
 
 /* The pins' part of a start map: the three necessary conditions, the fit
    (Tutte starts only) and the homotopy. */
@@ -4972,6 +4987,7 @@ static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_me
     if (st == BP_OK) st = bp__pins_boundary(a, ch, opt->pins, pidx, err);
     if (st != BP_OK) return st;
     if (ch->init_used != 1) {
+        if ((st = bp__pins_relax_free(ch, m, opt, runner, err)) != BP_OK) return st;
         bp__pins_similarity(ch, opt->pins, pidx);
         if ((st = bp__tutte_verify(a, ch, m, err)) != BP_OK) return st;
     }
@@ -6497,6 +6513,7 @@ typedef struct bp__opt {
     double       tlast;          /* the last accepted step                   */
     uint32_t    *pidx, *held, nheld; /* pins: chart vertex -> pin, the pinned
                                     chart vertices (held fixed, >>pins)      */
+    const struct bp__penalty *pen; /* the homotopy's pull toward the pins   */
 } bp__opt;
 
 static void bp__opt_free(bp__opt *P)
@@ -6571,6 +6588,29 @@ static bp_status bp__opt_pins(bp__opt *P, const bp_chart *ch, const bp_mesh *m, 
     if (!P->held) return bp__oom(err, "optimizing a chart");
     for (i = 0; i < ch->num_vertices; i++) if (P->pidx[i] != BP__NONE) P->held[n++] = i;
     return BP_OK;
+}
+
+/* The homotopy of >>pins minimizes E + w sum_p |x_p - t_p|^2 with the
+   pins free: the penalty's value, and its gradient 2 w (x_p - t_p) added
+   to g. */
+typedef struct bp__penalty { const bp_pin *pins; const uint32_t *pidx; double w; } bp__penalty;
+
+static double bp__opt_penalty(const bp__opt *P, const double *x, double *g)
+{
+    uint32_t i;
+    double sum = 0;
+    for (i = 0; i < P->S.nv; i++) {
+        const bp_pin *p;
+        double du, dv;
+        if (P->pen->pidx[i] == BP__NONE) continue;
+        p = &P->pen->pins[P->pen->pidx[i]];
+        du = x[2 * (size_t)i] - p->u;
+        dv = x[2 * (size_t)i + 1] - p->v;
+        sum += P->pen->w * (du * du + dv * dv);
+        g[2 * (size_t)i] += 2 * P->pen->w * du;
+        g[2 * (size_t)i + 1] += 2 * P->pen->w * dv;
+    }
+    return sum;
 }
 
 /* Zero the held (pinned) coordinates of a gradient or direction. */
@@ -6671,6 +6711,7 @@ static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, doubl
         *fn = bp__evaluate(&P->S, P->xn, P->gn, edn, f + 1e-4 * tt * gv, &valid);  /* f, gradient, exact check */
         if (P->S.oom) return -1;
         bp__opt_hold(P, P->gn);               /* pins */
+        if (P->pen) *fn += bp__opt_penalty(P, P->xn, P->gn);
         if (!(*fn <= f + 1e-4 * tt * gv)) continue;
         if (!valid) continue;                 /* floating point was wrong: shrink */
         *t = tt;
@@ -6705,8 +6746,9 @@ static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, 
    previous one), (2) direction, (3)+(4) step bound and line search, (5)
    convergence test, and phase 5.  The map in ch->uv is replaced only by
    accepted iterates, each exactly valid; the progress callback sees each. */
-static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
-                                    const bp_options *opt, const bp__par *runner, bp_error *err)
+static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+                                        const bp_options *opt, const bp__par *runner,
+                                        const struct bp__penalty *pen, bp_error *err)
 {
     bp__opt P;
     void *pool = NULL;
@@ -6716,6 +6758,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     double c0 = bp__seconds();
     memset(&P, 0, sizeof P);
     P.a = bp__allocator_of(opt);
+    P.pen = pen;                              /* pins (homotopy) */
     P.tlast = 1;
     P.precond = !opt || opt->direction == BP_DIRECTION_PRECONDITIONED;
     if (opt) P.o = *opt;
@@ -6732,6 +6775,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     f = bp__objective(&P.S, P.x, P.g, &ed);
     if (P.S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
     bp__opt_hold(&P, P.g);                    /* pins */
+    if (P.pen) f += bp__opt_penalty(&P, P.x, P.g);
     if (!(f < HUGE_VAL)) {
         st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
                       "chart %u: the start map is exactly valid but its energy is not finite in floating point "
@@ -6774,6 +6818,12 @@ done:
     bp__opt_free(&P);
     bp__par_end(&P.a, pool);
     return st;
+}
+
+static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+                                    const bp_options *opt, const bp__par *runner, bp_error *err)
+{
+    return bp__chart_optimize_pen(ch, chart_index, m, opt, runner, NULL, err);
 }
 
 BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
@@ -6836,24 +6886,47 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
    by an artist near where the unpinned map has them); a target that needs
    the map to turn inside out fails.
 
-   The homotopy (from the fitted start of >>tutte): repeat
+   The homotopy (from the fitted start of >>tutte), in rounds k = 0, 1, ...:
      1. snap: put every pin at its target; if that map passes the exact
-        check, done;
+        check, done (the snapped coordinates are the targets themselves);
      2. move: d = target - x on the pins, 0 elsewhere; the step bound of
         >>stepbound along d (the same singularity-aware bound as the
-        optimizer's, so triangles and boundary edges are honoured), a step
+        optimizer's: no triangle flips, no boundary crossing), a step
         t = min(1, 0.9 tmax) halved until the moved map passes the exact
         check;
-     3. relax: a few iterations of the optimizer with the pins held where
-        they now are (the free vertices make room for the next move);
+     3. pull: BP__PIN_RELAX iterations of the optimizer on
+            E + w_k sum_p |x_p - t_p|^2,   w_k = 10^k nt / (n_pins L^2)
+        (L the mean 3D boundary edge; at k = 0 a pin one edge away costs
+        about the whole energy), all vertices free -- the same interior
+        point method, so every iterate is exactly bijective, and the
+        whole chart deforms toward the pins instead of the pins pushing
+        through their neighbours;
    until the pins are at their targets, or the largest remaining distance
    has not dropped by 1% in BP__PIN_STALL rounds, or BP__PIN_ROUNDS rounds
    have passed (then the chart fails).  Every map on the way passed the
    exact check. */
 
-#define BP__PIN_ROUNDS 200
-#define BP__PIN_STALL 8
-#define BP__PIN_RELAX 30
+#define BP__PIN_ROUNDS 40
+#define BP__PIN_STALL 6
+#define BP__PIN_RELAX 100
+
+/* Before the fit, a Tutte start is first optimized without its pins
+   (at most BP__PIN_FREE iterations): the fitted similarity then starts
+   from a shape like the unpinned result, which pins taken from an earlier
+   unwrap match closely, instead of from a disk. */
+#define BP__PIN_FREE 300
+
+static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                     bp_error *err)
+{
+    bp_options o = *opt;
+    o.progress = NULL;
+    o.max_seconds = 0;
+    o.pins = NULL;
+    o.num_pins = 0;
+    if (o.max_iterations <= 0 || o.max_iterations > BP__PIN_FREE) o.max_iterations = BP__PIN_FREE;
+    return bp__chart_optimize(ch, 0, m, &o, runner, err);
+}
 
 /* Step 2: move the pins along d by the largest checked step; 1 if moved. */
 static int bp__pins_move(bp__solver *S, double *x, double *xn, const double *d, uint32_t nv2)
@@ -6870,49 +6943,64 @@ static int bp__pins_move(bp__solver *S, double *x, double *xn, const double *d, 
     return 0;
 }
 
+/* Step 1's snapped map into xn and d = target - x; returns the largest
+   remaining coordinate distance, *worst its chart vertex. */
+static double bp__pins_snap(const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx, double *xn, double *d,
+                            uint32_t *worst)
+{
+    uint32_t i;
+    double dist = 0;
+    for (i = 0; i < ch->num_vertices; i++) {
+        double du = 0, dv = 0;
+        xn[2 * (size_t)i] = ch->uv[2 * (size_t)i];
+        xn[2 * (size_t)i + 1] = ch->uv[2 * (size_t)i + 1];
+        if (pidx[i] != BP__NONE) {
+            du = pins[pidx[i]].u - xn[2 * (size_t)i];
+            dv = pins[pidx[i]].v - xn[2 * (size_t)i + 1];
+            xn[2 * (size_t)i] = pins[pidx[i]].u;
+            xn[2 * (size_t)i + 1] = pins[pidx[i]].v;
+            if (fabs(du) > dist || fabs(dv) > dist) { dist = fabs(du) > fabs(dv) ? fabs(du) : fabs(dv); *worst = i; }
+        }
+        d[2 * (size_t)i] = du;
+        d[2 * (size_t)i + 1] = dv;
+    }
+    return dist;
+}
+
 static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                 const uint32_t *pidx, bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
     bp__solver S;
+    bp__penalty pen;
     bp_options o = *opt;
-    uint32_t i, nv2 = 2 * ch->num_vertices, worst = 0;
+    uint32_t nv2 = 2 * ch->num_vertices, worst = 0;
     double *xn, *d, best = HUGE_VAL, dist = 0;
     int round, stall = 0, valid;
     bp_status st;
     o.progress = NULL;
     o.max_seconds = 0;
     o.max_iterations = BP__PIN_RELAX;
+    o.pins = NULL;                                  /* the pull: no vertex held */
+    o.num_pins = 0;
     memset(&S, 0, sizeof S);
     if ((st = bp__solver_chart(&S, &a, ch, m, &o, NULL, err)) != BP_OK) return st;
     S.par = *runner;
+    pen.pins = opt->pins;
+    pen.pidx = pidx;
+    pen.w = S.nt / (ch->num_pins * S.mean_edge * S.mean_edge);
     xn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
     d = (double *)bp__alloc_array(&a, nv2, sizeof(double));
-    for (round = 0; xn && d; round++) {
+    for (round = 0; xn && d; round++, pen.w *= 10) {
         double ed;
-        dist = 0;
-        for (i = 0; i < ch->num_vertices; i++) {           /* 1. snap, and d */
-            double du = 0, dv = 0;
-            xn[2 * (size_t)i] = ch->uv[2 * (size_t)i];
-            xn[2 * (size_t)i + 1] = ch->uv[2 * (size_t)i + 1];
-            if (pidx[i] != BP__NONE) {
-                du = opt->pins[pidx[i]].u - xn[2 * (size_t)i];
-                dv = opt->pins[pidx[i]].v - xn[2 * (size_t)i + 1];
-                xn[2 * (size_t)i] = opt->pins[pidx[i]].u;
-                xn[2 * (size_t)i + 1] = opt->pins[pidx[i]].v;
-                if (fabs(du) > dist || fabs(dv) > dist) { dist = fabs(du) > fabs(dv) ? fabs(du) : fabs(dv); worst = i; }
-            }
-            d[2 * (size_t)i] = du;
-            d[2 * (size_t)i + 1] = dv;
-        }
-        if (dist == 0) break;
-        bp__evaluate(&S, xn, NULL, &ed, HUGE_VAL, &valid);
+        if ((dist = bp__pins_snap(ch, opt->pins, pidx, xn, d, &worst)) == 0) break;
+        bp__evaluate(&S, xn, NULL, &ed, HUGE_VAL, &valid);                     /* 1. snap */
         if (S.oom) break;
         if (valid) { memcpy(ch->uv, xn, nv2 * sizeof(double)); dist = 0; break; }
         if (dist < 0.99 * best) { best = dist; stall = 0; } else stall++;
         if (round >= BP__PIN_ROUNDS || stall >= BP__PIN_STALL) break;
-        if (bp__pins_move(&S, ch->uv, xn, d, nv2) < 0) break;              /* 2. move */
-        st = bp__chart_optimize(ch, 0, m, &o, runner, err);                 /* 3. relax */
+        if (bp__pins_move(&S, ch->uv, xn, d, nv2) < 0) break;                  /* 2. move */
+        st = bp__chart_optimize_pen(ch, 0, m, &o, runner, &pen, err);          /* 3. pull */
         if (st != BP_OK) break;
     }
     bp__solver_free(&S);

@@ -69,9 +69,10 @@ static const char usage_text[] =
     "  --init tutte|mvc|input   start map (default tutte); input: the file's own\n"
     "                     vt per chart when bijective (else tutte, reported), and\n"
     "                     those charts keep their place unless --normalize\n"
-    "  --pin FILE         pinned vertices, lines 'vertex u v' (vertex from 1 as in\n"
-    "                     the input; '#' comments): they end exactly at (u, v) and\n"
-    "                     their charts are not moved by packing\n"
+    "  --pin FILE         pinned vertices, lines 'vertex u v [vt]' (numbered from 1\n"
+    "                     as in the input; vt: only that side of a seam; '#'\n"
+    "                     comments): they end exactly at (u, v) and their charts\n"
+    "                     are not moved by packing\n"
     "  --init-only        stop after the start map\n"
     "  --energy sd|conformal|mips|iso|maxiso   distortion (default sd)\n"
     "  --no-barrier       locally injective only (no boundary barrier)\n"
@@ -167,8 +168,9 @@ static double *read_importance(const char *path, const bp_mesh *m, char *msg, si
     return w;
 }
 
-/* --pin FILE: lines "vertex u v" (vertex from 1, as the input numbers it),
-   blank lines and '#' comments allowed.  On an error msg names the line
+/* --pin FILE: lines "vertex u v [vt]" (vertex and vt from 1, as the input
+   numbers them; with vt only the chart vertex using that vt is pinned, one
+   side of a seam), blank lines and '#' comments allowed.  On an error msg names the line
    (*line) and NULL is returned. */
 static bp_pin *read_pins(const char *path, const bp_mesh *m, uint32_t *count, long *line, char *msg, size_t msz)
 {
@@ -181,7 +183,7 @@ static bp_pin *read_pins(const char *path, const bp_mesh *m, uint32_t *count, lo
     if (!f) { snprintf(msg, msz, "cannot open pin file: %s", strerror(errno)); return NULL; }
     while (fgets(buf, sizeof buf, f)) {
         char *s = buf, *end;
-        long long v;
+        long long v, vt;
         double u, w;
         (*line)++;
         while (*s == ' ' || *s == '\t') s++;
@@ -198,14 +200,25 @@ static bp_pin *read_pins(const char *path, const bp_mesh *m, uint32_t *count, lo
         s = end;
         w = strtod(s, &end);
         if (end == s || !isfinite(w)) { snprintf(msg, msz, "vertex %lld: v is missing or not a finite number", v); goto fail; }
-        for (s = end; *s == ' ' || *s == '\t' || *s == '\r' || *s == '\n'; s++) {}
-        if (*s && *s != '#') { snprintf(msg, msz, "vertex %lld: unexpected text after 'vertex u v'", v); goto fail; }
+        for (s = end; *s == ' ' || *s == '\t'; s++) {}
+        vt = 0;
+        if (*s >= '0' && *s <= '9') {            /* optional: the vt of one side of a seam */
+            vt = strtoll(s, &end, 10);
+            if (vt < 1 || vt > (long long)m->num_uvs) {
+                snprintf(msg, msz, "vertex %lld: vt must be in 1..%u", v, (unsigned)m->num_uvs);
+                goto fail;
+            }
+            s = end;
+        }
+        for (; *s == ' ' || *s == '\t' || *s == '\r' || *s == '\n'; s++) {}
+        if (*s && *s != '#') { snprintf(msg, msz, "vertex %lld: unexpected text after 'vertex u v [vt]'", v); goto fail; }
         if (n == cap) {
             bp_pin *q = (bp_pin *)realloc(p, sizeof *p * (cap = cap ? 2 * cap : 64));
             if (!q) { snprintf(msg, msz, "out of memory"); goto fail; }
             p = q;
         }
         p[n].vertex = (uint32_t)(v - 1);
+        p[n].uv = (uint32_t)vt;
         p[n].u = u;
         p[n].v = w;
         n++;
