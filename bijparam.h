@@ -400,19 +400,24 @@ BPDEF const char *bp_stop_string(bp_stop s);
    chart.error; any other error zeroes it (CONVENTIONS: the failure rule). */
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *mesh,
                                const bp_options *opt, bp_error *err);
-/* The start map of one chart (Tutte or Floater, holes filled, sec 3.6).
-   Charts of 4096 vertices or more factor their system on opt->threads. */
+/* The start map of one chart (Tutte or Floater, holes filled, sec 3.6; or
+   the input uvs with BP_INIT_INPUT), carried onto opt->pins if the chart
+   has any (see >>pins).  Charts of 4096 vertices or more factor their
+   system on opt->threads. */
 BPDEF bp_status bp_chart_init(bp_chart *chart, const bp_mesh *mesh,
                               const bp_options *opt, bp_error *err);
 /* Minimize distortion keeping the map bijective at every iteration (chap 3).
    The start map in chart->uv (bp_chart_init's or your own) is checked with
    bp_check first: an invalid one fails with BP_ERR_NOT_BIJECTIVE (or
    BP_ERR_NONFINITE) naming the triangle or the boundary edges; without the
-   barrier only its triangles' orientation is required. */
+   barrier only its triangles' orientation is required.  Pinned vertices
+   (opt->pins) are held fixed and must be at their targets in the start. */
 BPDEF bp_status bp_chart_optimize(bp_chart *chart, uint32_t chart_index,
                                   const bp_mesh *mesh, const bp_options *opt,
                                   bp_error *err);
-/* Place the charts side by side without overlap (and into [0,1]^2 if asked). */
+/* Place the charts side by side without overlap (and into [0,1]^2 if asked).
+   Charts with pins, and charts started from their input uvs (without
+   normalize), stay where they are: see chart.in_place and >>pins. */
 BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err);
 /* Everything: build, init, optimize, pack, and an exact check of the packed
    atlas.  BP_OK: every chart mapped.  BP_ERR_CHARTS_FAILED (not strict) and
