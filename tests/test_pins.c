@@ -9,6 +9,9 @@
          vertex is EXACTLY (==) at its target, chart.num_pins counts them
          and the pinned chart is left in place by packing; also on bishop
          scaled by 2^120 (solved on a rescaled copy: the pins follow it);
+     (a') three arbitrary pins on camel_b (targets unrelated to its free
+         map) are reached, and the result with a job system that runs its
+         tasks backwards is bit-identical to the serial one;
      (b) every accepted iterate (progress callback, bishop) is bijective
          (bp_check) with the pins exactly in place;
      (c) infeasible pins are rejected with the elements named (from 1): a
@@ -186,6 +189,47 @@ static void test_random_pins(const char *path, uint32_t nb, uint32_t ni, uint64_
     free(cpv);
     free(pins);
     bp_atlas_free(&free_at);
+    bp_mesh_free(&m, NULL);
+}
+
+/* A job system that runs the tasks backwards: results must not change. */
+static void reverse_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+{
+    uint32_t i;
+    (void)user;
+    for (i = count; i-- > 0;) fn(task, i);
+}
+
+/* (a') the same pins solved serially and with the backwards job system:
+   bit-identical maps (the homotopy keeps the library's determinism). */
+static void test_pins_deterministic(void)
+{
+    bp_mesh m;
+    bp_atlas a1, a2;
+    bp_options opt;
+    bp_error err;
+    bp_pin p[3];
+    int same = 0;
+    if (!BPT_CHECK(read_mesh("tests/data/camel_b.obj", &m), "camel_b: read")) return;
+    memset(&opt, 0, sizeof opt);
+    memset(p, 0, sizeof p);
+    p[0].vertex = 10; p[0].u = 0; p[0].v = 0;
+    p[1].vertex = 1000; p[1].u = 40; p[1].v = 10;
+    p[2].vertex = 1500; p[2].u = 20; p[2].v = 60;
+    opt.pins = p;
+    opt.num_pins = 3;
+    opt.max_iterations = 100;
+    if (BPT_CHECK(bp_parameterize(&a1, &m, &opt, &err) == BP_OK, "camel_b, 3 arbitrary pins: %s", err.message)) {
+        opt.parallel_for = reverse_for;
+        if (BPT_CHECK(bp_parameterize(&a2, &m, &opt, &err) == BP_OK, "... with a backwards job system")) {
+            same = !memcmp(a1.charts[0].uv, a2.charts[0].uv, 2 * sizeof(double) * a1.charts[0].num_vertices);
+            bp_atlas_free(&a2);
+        }
+        BPT_CHECK(same, "camel_b with pins: serial and backwards job system give bit-identical maps");
+        BPT_CHECK(atlas_valid(&a1),
+                  "... and the map passes bp_check");
+        bp_atlas_free(&a1);
+    }
     bp_mesh_free(&m, NULL);
 }
 
@@ -450,6 +494,7 @@ int main(void)
     test_random_pins("tests/data/bishop_part_f1000.obj", 2, 3, 15, 0, 120);   /* solved rescaled: pins follow */
     test_random_pins("tests/data/camel_b.obj", 6, 10, 13, 0, 0);
     test_random_pins("tests/data/spot.obj", 3, 5, 14, 0, 0);
+    test_pins_deterministic();
     test_infeasible();
     test_input_start("tests/data/cow_param_withSUV.obj", 1);
     test_input_start("tests/data/spot.obj", 0);
