@@ -42,7 +42,8 @@
       >>stepbound      singularity-aware maximum step                 (sec 3.4.2)
       >>lbfgs          search directions and the line search          (sec 3.4, 3.5)
       >>pack           texel density, rotation, outline packing, padding
-     >>driver         charts -> start -> optimize -> pack
+      >>pins           pinned vertices: the homotopy to the targets
+      >>driver         charts -> start -> optimize -> pack
       >>bvh            bounding volume hierarchy, watertight rays      (chap 4)
       >>visibility     view models, V_t, texel density               (sec 4.2, 4.3)
 
@@ -224,8 +225,21 @@ typedef enum bp_energy {
 
 typedef enum bp_init {
     BP_INIT_TUTTE = 0,   /* uniform weights (Tutte 1963)                      */
-    BP_INIT_MEAN_VALUE   /* Floater's mean-value weights (Floater 2003)      */
+    BP_INIT_MEAN_VALUE,  /* Floater's mean-value weights (Floater 2003)      */
+    BP_INIT_INPUT        /* the mesh's own uvs (corner_uv/uvs) when exactly
+                            bijective, else Tutte; see bp_chart.init_used    */
 } bp_init;
+
+/* A pinned vertex (see >>pins): chart vertices of mesh vertex `vertex`
+   (0-based) end exactly at (u, v).  uv = 0: every chart vertex of it -- on
+   a seam that is one in each chart the vertex belongs to, all at the same
+   target; uv = k > 0: only the chart vertex whose input uv index
+   (mesh->corner_uv, the OBJ vt) is k - 1, i.e. one side of a seam. */
+typedef struct bp_pin {
+    uint32_t vertex;
+    uint32_t uv;          /* 0: all chart vertices of `vertex`; else vt index + 1 */
+    double   u, v;
+} bp_pin;
 
 typedef enum bp_direction {
     BP_DIRECTION_PRECONDITIONED = 0, /* default: L-BFGS with the rest-shape Laplacian
@@ -336,6 +350,11 @@ typedef struct bp_options {
                                      (no minimum-area-box rotation and no 90
                                      degree turns).  0: rotate when it packs
                                      better                                   */
+    const bp_pin *pins;           /* pinned vertices (see >>pins); NULL or
+                                     num_pins 0: none.  Pinned charts are not
+                                     moved by packing; pins and normalize
+                                     together are refused                      */
+    uint32_t      num_pins;
 } bp_options;
 
 /* One chart: a connected piece of the mesh cut along seams.  Chart vertices
@@ -364,6 +383,12 @@ typedef struct bp_chart {
     int       threads;        /* threads used (0: a user parallel_for)         */
     bp_error  error;          /* BP_OK, or why this chart has no map (then uv
                                  is NULL); see bp_options.strict            */
+    int       init_used;      /* BP_INIT_INPUT: 1 the input uvs were the start,
+                                 -1 they were missing or not bijective and
+                                 Tutte was used instead; 0: not asked        */
+    uint32_t  num_pins;       /* chart vertices pinned (opt.pins)            */
+    int       in_place;       /* nonzero: packing left the chart where its
+                                 start map put it (pins, or input uvs)      */
 } bp_chart;
 
 typedef struct bp_atlas {
@@ -414,22 +439,27 @@ BPDEF const char *bp_stop_string(bp_stop s);
    chart.error; any other error zeroes it (CONVENTIONS: the failure rule). */
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *mesh,
                                const bp_options *opt, bp_error *err);
-/* The start map of one chart (Tutte or Floater, holes filled, sec 3.6).
-   Charts of 8192 triangles or more factor their system on opt->threads. */
+/* The start map of one chart (Tutte or Floater, holes filled, sec 3.6; or
+   the input uvs with BP_INIT_INPUT), carried onto opt->pins if the chart
+   has any (see >>pins).  Charts of 8192 triangles or more factor
+   their system on opt->threads. */
 BPDEF bp_status bp_chart_init(bp_chart *chart, const bp_mesh *mesh,
                               const bp_options *opt, bp_error *err);
 /* Minimize distortion keeping the map bijective at every iteration (chap 3).
    The start map in chart->uv (bp_chart_init's or your own) is checked with
    bp_check first: an invalid one fails with BP_ERR_NOT_BIJECTIVE (or
    BP_ERR_NONFINITE) naming the triangle or the boundary edges; without the
-   barrier only its triangles' orientation is required. */
+   barrier only its triangles' orientation is required.  Pinned vertices
+   (opt->pins) are held fixed and must be at their targets in the start. */
 BPDEF bp_status bp_chart_optimize(bp_chart *chart, uint32_t chart_index,
                                   const bp_mesh *mesh, const bp_options *opt,
                                   bp_error *err);
 /* Place the charts side by side without overlap (and into [0,1]^2 if asked).
    With opt->atlas_resolution the charts are scaled to one texel density,
    rotated and packed by their rasterized outlines with opt->padding texels
-   between them (>>pack); every moved chart is re-checked exactly. */
+   between them (>>pack); every moved chart is re-checked exactly.
+   Charts with pins, and charts started from their input uvs (without
+   normalize), stay where they are: see chart.in_place and >>pins. */
 BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err);
 /* Take each chart's map from the mesh's own texture coordinates (mesh->uvs
    through chart.vertex_uv) instead of computing one, for repacking a mesh
@@ -4996,13 +5026,294 @@ static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_
                     why.message);
 }
 
-/* The start map in the seven phases above. */
+/* Start maps with the user's controls (beyond the dissertation).
+
+   Input uvs (BP_INIT_INPUT): the chart's own vt coordinates -- mesh->uvs
+   through chart.vertex_uv -- are the start when every chart vertex has
+   one and bp_check passes them; then chart.init_used = 1.  Otherwise
+   (no vt, or a map that flips, overlaps or pinches) the chart falls back
+   to Tutte and init_used = -1.  Nothing else is trusted: the optimizer
+   checks its start map again anyway.
+
+   Pins (opt.pins): each names a mesh vertex and a target; every chart
+   vertex of that mesh vertex is pinned (a seam vertex has one per chart).
+   The targets are first checked against three necessary conditions, each
+   exactly (>>predicates): no two pins of one chart at the same point, every
+   triangle whose three vertices are pinned counter-clockwise (bp_orient2d
+   > 0), and no two pinned boundary edges (both ends pinned, consecutive on
+   a loop) meeting other than at a shared end (bp_segments_intersect).  They
+   are not sufficient -- pins can still ask for a map that does not exist,
+   e.g. a pinned vertex outside the loop its pinned neighbours enclose --
+   and the start map below then fails, saying so.
+
+   The start with pins: the free start (Tutte optimized without pins, see
+   bp__pins_relax_free; or the input uvs), moved by the similarity z -> a z + b that fits the pins best in least squares
+   (complex numbers: a = sum (t_i - t_c) conj(z_i - z_c) / sum |z_i - z_c|^2,
+   b = t_c - a z_c, the c's the centroids; one pin: a = 1, a translation;
+   an input start is not moved), and then carried to the targets by the
+   homotopy of >>pins.  Every map on the way is exactly bijective. */
+
+typedef struct bp__pinkey { uint32_t vertex, uv, pin; } bp__pinkey;
+
+static int bp__pinkey_cmp(const void *pa, const void *pb)
+{
+    const bp__pinkey *a = (const bp__pinkey *)pa, *b = (const bp__pinkey *)pb;
+    if (a->vertex != b->vertex) return a->vertex < b->vertex ? -1 : 1;
+    if (a->uv != b->uv) return a->uv < b->uv ? -1 : 1;
+    return a->pin < b->pin ? -1 : a->pin > b->pin;
+}
+
+/* The pins of one chart: pidx[i] = the index in o->pins of chart vertex
+   i's pin, or BP__NONE (*pidx NULL when the chart has none); *count the
+   pinned chart vertices.  The list is validated here: a vertex outside the
+   mesh, a target not finite, or a vertex pinned twice fail with
+   BP_ERR_INVALID_ARGUMENT naming the pin and the vertex (from 1). */
+static bp_status bp__pin_map(const bp_allocator *a, const bp_chart *ch, const bp_mesh *m, const bp_options *o,
+                             uint32_t **pidx, uint32_t *count, bp_error *err)
+{
+    bp__pinkey *key;
+    uint32_t k, i, np = o ? o->num_pins : 0;
+    *pidx = NULL;
+    *count = 0;
+    if (!np) return BP_OK;
+    if (!o->pins) return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "num_pins is %u but pins is NULL", np);
+    key = (bp__pinkey *)bp__alloc_array(a, np, sizeof *key);
+    if (!key) return bp__oom(err, "reading the pins");
+    for (k = 0; k < np; k++) {
+        const bp_pin *p = &o->pins[k];
+        if (p->vertex >= m->num_vertices || !(p->u - p->u == 0) || !(p->v - p->v == 0) ||
+            (p->uv && (!m->corner_uv || p->uv > m->num_uvs))) {
+            bp__free(a, key);
+            if (p->vertex >= m->num_vertices)
+                return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
+                                "pin %u names vertex %u, but the mesh has %u vertices", k + 1, p->vertex + 1,
+                                m->num_vertices);
+            if (p->uv && (!m->corner_uv || p->uv > m->num_uvs))
+                return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
+                                "pin %u (vertex %u) names vt %u, but the mesh has %u", k + 1, p->vertex + 1, p->uv,
+                                m->corner_uv ? m->num_uvs : 0);
+            return bp__fail(err, BP_ERR_NONFINITE, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
+                            "pin %u (vertex %u) has a target that is NaN or infinite", k + 1, p->vertex + 1);
+        }
+        key[k].vertex = p->vertex;
+        key[k].uv = p->uv;
+        key[k].pin = k;
+    }
+    qsort(key, np, sizeof *key, bp__pinkey_cmp);
+    for (k = 1; k < np; k++)
+        if (key[k].vertex == key[k - 1].vertex && (key[k - 1].uv == 0 || key[k].uv == key[k - 1].uv)) {
+            uint32_t v = key[k].vertex, p0 = key[k - 1].pin, p1 = key[k].pin;
+            bp__free(a, key);
+            return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, v, -1, 0,
+                            "vertex %u is pinned twice (pins %u and %u)", v + 1, p0 + 1, p1 + 1);
+        }
+    for (i = 0; i < ch->num_vertices; i++) {
+        uint32_t lo = 0, hi = np, v = ch->vertex[i];
+        while (lo < hi) { uint32_t mid = lo + (hi - lo) / 2; if (key[mid].vertex < v) lo = mid + 1; else hi = mid; }
+        while (lo < np && key[lo].vertex == v && key[lo].uv != 0 &&
+               (!ch->vertex_uv || key[lo].uv - 1 != ch->vertex_uv[i]))
+            lo++;                                /* a pin of another side of a seam */
+        if (lo == np || key[lo].vertex != v) continue;
+        if (!*pidx) {
+            *pidx = (uint32_t *)bp__alloc_array(a, ch->num_vertices, sizeof(uint32_t));
+            if (!*pidx) { bp__free(a, key); return bp__oom(err, "reading the pins"); }
+            for (k = 0; k < ch->num_vertices; k++) (*pidx)[k] = BP__NONE;
+        }
+        (*pidx)[i] = key[lo].pin;
+        (*count)++;
+    }
+    bp__free(a, key);
+    return BP_OK;
+}
+
+typedef struct bp__pinpt { double u, v; uint32_t cv; } bp__pinpt;
+
+static int bp__pinpt_cmp(const void *pa, const void *pb)
+{
+    const bp__pinpt *a = (const bp__pinpt *)pa, *b = (const bp__pinpt *)pb;
+    if (a->u != b->u) return a->u < b->u ? -1 : 1;
+    if (a->v != b->v) return a->v < b->v ? -1 : 1;
+    return a->cv < b->cv ? -1 : a->cv > b->cv;
+}
+
+/* The target of pinned chart vertex i. */
+static void bp__pin_target(const bp_pin *pins, const uint32_t *pidx, uint32_t i, double t[2])
+{
+    t[0] = pins[pidx[i]].u;
+    t[1] = pins[pidx[i]].v;
+}
+
+/* Necessary condition 1: no two pinned chart vertices at one point. */
+static bp_status bp__pins_distinct(const bp_allocator *a, const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx,
+                                   uint32_t npin, bp_error *err)
+{
+    bp__pinpt *pt = (bp__pinpt *)bp__alloc_array(a, npin, sizeof *pt);
+    uint32_t i, n = 0;
+    if (!pt) return bp__oom(err, "checking the pins");
+    for (i = 0; i < ch->num_vertices; i++)
+        if (pidx[i] != BP__NONE) { pt[n].u = pins[pidx[i]].u; pt[n].v = pins[pidx[i]].v; pt[n++].cv = i; }
+    qsort(pt, n, sizeof *pt, bp__pinpt_cmp);
+    for (i = 1; i < n; i++)
+        if (pt[i].u == pt[i - 1].u && pt[i].v == pt[i - 1].v) {
+            uint32_t v0 = ch->vertex[pt[i - 1].cv], v1 = ch->vertex[pt[i].cv];
+            bp__free(a, pt);
+            return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_EDGE, v0, v1, 0,
+                            "vertices %u and %u of one chart are pinned to the same point%s", v0 + 1, v1 + 1,
+                            v0 == v1 ? " (a pinch vertex, split into one chart vertex per fan)" : "");
+        }
+    bp__free(a, pt);
+    return BP_OK;
+}
+
+/* Necessary condition 2: a triangle with three pinned vertices is
+   positively oriented at the targets (it cannot move). */
+static bp_status bp__pins_triangles(const bp_chart *ch, const bp_mesh *m, const bp_pin *pins, const uint32_t *pidx,
+                                    bp_error *err)
+{
+    uint32_t t;
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        char name[48];
+        double p0[2], p1[2], p2[2];
+        int o;
+        if (pidx[tr[0]] == BP__NONE || pidx[tr[1]] == BP__NONE || pidx[tr[2]] == BP__NONE) continue;
+        bp__pin_target(pins, pidx, tr[0], p0);
+        bp__pin_target(pins, pidx, tr[1], p1);
+        bp__pin_target(pins, pidx, tr[2], p2);
+        o = bp_orient2d(p0, p1, p2);
+        if (o > 0) continue;
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_TRIANGLE, ch->face[t], -1, bp__tri_line(m, ch->face[t]),
+                        "%s, vertices %u %u %u, has all three vertices pinned and the targets are %s: "
+                        "it would be %s", bp__tri_name(m, ch->face[t], name), ch->vertex[tr[0]] + 1,
+                        ch->vertex[tr[1]] + 1, ch->vertex[tr[2]] + 1, o < 0 ? "clockwise" : "collinear",
+                        o < 0 ? "flipped" : "degenerate");
+    }
+    return BP_OK;
+}
+
+/* Necessary condition 3: pinned boundary edges do not meet, except two
+   consecutive ones at their shared end (which must not fold back onto
+   each other: the far end of one must not lie on the other).  All pairs:
+   quadratic in the pinned boundary edges, which are few in practice. */
+static bp_status bp__pins_boundary(const bp_allocator *a, const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx,
+                                   bp_error *err)
+{
+    uint32_t L, k, i, j, ne = 0, *e = (uint32_t *)bp__alloc_array(a, 2 * (size_t)ch->loop_start[ch->num_loops] + 2,
+                                                                   sizeof(uint32_t));
+    if (!e) return bp__oom(err, "checking the pins");
+    for (L = 0; L < ch->num_loops; L++)
+        for (k = ch->loop_start[L]; k < ch->loop_start[L + 1]; k++) {
+            uint32_t va = ch->loop_vertices[k], vb = ch->loop_vertices[k + 1 < ch->loop_start[L + 1] ? k + 1 : ch->loop_start[L]];
+            if (pidx[va] != BP__NONE && pidx[vb] != BP__NONE) { e[2 * ne] = va; e[2 * ne + 1] = vb; ne++; }
+        }
+    for (i = 0; i < ne; i++)
+        for (j = i + 1; j < ne; j++) {
+            uint32_t a0 = e[2 * i], a1 = e[2 * i + 1], b0 = e[2 * j], b1 = e[2 * j + 1];
+            double A0[2], A1[2], B0[2], B1[2];
+            int bad;
+            bp__pin_target(pins, pidx, a0, A0); bp__pin_target(pins, pidx, a1, A1);
+            bp__pin_target(pins, pidx, b0, B0); bp__pin_target(pins, pidx, b1, B1);
+            if (a1 == b0) bad = bp_segments_intersect(A0, A1, B1, B1) || bp_segments_intersect(B0, B1, A0, A0);
+            else if (b1 == a0) bad = bp_segments_intersect(B0, B1, A1, A1) || bp_segments_intersect(A0, A1, B0, B0);
+            else bad = bp_segments_intersect(A0, A1, B0, B1);
+            if (bad) {
+                uint32_t v0 = ch->vertex[a0], v1 = ch->vertex[a1], v2 = ch->vertex[b0], v3 = ch->vertex[b1];
+                bp__free(a, e);
+                return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_EDGE, v0, v2, 0,
+                                "the pinned boundary edges %u-%u and %u-%u %s at their targets", v0 + 1, v1 + 1,
+                                v2 + 1, v3 + 1, (a1 == b0 || b1 == a0) ? "fold onto each other" : "cross");
+            }
+        }
+    bp__free(a, e);
+    return BP_OK;
+}
+
+/* The input uvs as the start map: 1 used, 0 missing or not bijective (the
+   caller falls back to Tutte), -1 out of memory. */
+static int bp__init_input(const bp_allocator *a, bp_chart *ch, const bp_mesh *m)
+{
+    uint32_t i;
+    bp_check_report rep;
+    bp_status st;
+    if (!m->uvs || !m->corner_uv || !ch->vertex_uv) return 0;
+    for (i = 0; i < ch->num_vertices; i++) {
+        uint32_t q = ch->vertex_uv[i];
+        if (q == BP__NONE || q >= m->num_uvs) return 0;
+        ch->uv[2 * (size_t)i] = m->uvs[2 * (size_t)q];
+        ch->uv[2 * (size_t)i + 1] = m->uvs[2 * (size_t)q + 1];
+    }
+    st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, NULL);
+    if (st == BP_ERR_OUT_OF_MEMORY) return -1;
+    return st == BP_OK;
+}
+
+/* The similarity that best fits the pins (see above), applied to the map.
+   A rotation and positive scale keep every orientation, so the result is
+   bijective up to rounding; it is checked again by the caller. */
+static void bp__pins_similarity(bp_chart *ch, const bp_pin *pins, const uint32_t *pidx)
+{
+    double zc[2] = { 0, 0 }, tc[2] = { 0, 0 }, nr = 0, ni = 0, den = 0, ar = 1, ai = 0;
+    uint32_t i, n = 0;
+    for (i = 0; i < ch->num_vertices; i++)
+        if (pidx[i] != BP__NONE) {
+            zc[0] += ch->uv[2 * (size_t)i]; zc[1] += ch->uv[2 * (size_t)i + 1];
+            tc[0] += pins[pidx[i]].u; tc[1] += pins[pidx[i]].v;
+            n++;
+        }
+    zc[0] /= n; zc[1] /= n; tc[0] /= n; tc[1] /= n;
+    for (i = 0; n > 1 && i < ch->num_vertices; i++)
+        if (pidx[i] != BP__NONE) {
+            double zr = ch->uv[2 * (size_t)i] - zc[0], zi = ch->uv[2 * (size_t)i + 1] - zc[1];
+            double tr = pins[pidx[i]].u - tc[0], ti = pins[pidx[i]].v - tc[1];
+            nr += tr * zr + ti * zi;            /* (t) conj(z) */
+            ni += ti * zr - tr * zi;
+            den += zr * zr + zi * zi;
+        }
+    if (n > 1 && den > 0 && (nr != 0 || ni != 0) && (nr / den) - (nr / den) == 0 && (ni / den) - (ni / den) == 0) {
+        ar = nr / den;
+        ai = ni / den;
+    }
+    for (i = 0; i < ch->num_vertices; i++) {
+        double zr = ch->uv[2 * (size_t)i] - zc[0], zi = ch->uv[2 * (size_t)i + 1] - zc[1];
+        ch->uv[2 * (size_t)i] = ar * zr - ai * zi + tc[0];
+        ch->uv[2 * (size_t)i + 1] = ai * zr + ar * zi + tc[1];
+    }
+}
+
+/* >>pins, defined after the optimizer it uses. */
+static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
+                                     bp_error *err);
+static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                const uint32_t *pidx, bp_error *err);
+static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                     bp_error *err);
+
+/* The pins' part of a start map: the three necessary conditions, the fit
+   (Tutte starts only) and the homotopy. */
+static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp_options *opt,
+                                const bp__par *runner, const uint32_t *pidx, bp_error *err)
+{
+    bp_status st = bp__pins_distinct(a, ch, opt->pins, pidx, ch->num_pins, err);
+    if (st == BP_OK) st = bp__pins_triangles(ch, m, opt->pins, pidx, err);
+    if (st == BP_OK) st = bp__pins_boundary(a, ch, opt->pins, pidx, err);
+    if (st != BP_OK) return st;
+    if (ch->init_used != 1) {
+        if ((st = bp__pins_relax_free(ch, m, opt, runner, err)) != BP_OK) return st;
+        bp__pins_similarity(ch, opt->pins, pidx);
+        if ((st = bp__tutte_verify(a, ch, m, err)) != BP_OK) return st;
+    }
+    return bp__pins_reach(ch, m, opt, runner, pidx, err);
+}
+
+/* The start map in the seven phases above (or the input uvs), then the
+   pins. */
 static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                 bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
     bp__tutte T;
     bp_status st = BP_OK;
+    uint32_t *pidx = NULL;
     int mvc = opt && opt->init == BP_INIT_MEAN_VALUE;
     if (ch && ch->error.status != BP_OK) {
         if (err) *err = ch->error;
@@ -5013,12 +5324,24 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
                         "bp_chart_init needs a chart from bp_atlas_build and its mesh");
     memset(&T, 0, sizeof T);
     if (!ch->uv) ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)ch->num_vertices, sizeof(double));
-    if (!ch->uv || !bp__tutte_fill(&a, &T, ch, m) || !bp__tutte_adjacency(&a, &T) || !bp__tutte_weights(&a, &T, mvc) ||
-        !bp__tutte_circle(&a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(&a, &T, ch, mvc)))
-        st = bp__oom(err, "computing the start map");
-    if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(&a, &T, ch, runner, err);
-    if (st == BP_OK) st = bp__tutte_verify(&a, ch, m, err);
+    if (!ch->uv) return bp__oom(err, "computing the start map");
+    ch->init_used = 0;
+    if ((st = bp__pin_map(&a, ch, m, opt, &pidx, &ch->num_pins, err)) != BP_OK) return st;
+    if (opt && opt->init == BP_INIT_INPUT) {
+        int used = bp__init_input(&a, ch, m);
+        if (used < 0) st = bp__oom(err, "checking the input map");
+        ch->init_used = used > 0 ? 1 : -1;
+    }
+    if (st == BP_OK && ch->init_used != 1) {
+        if (!bp__tutte_fill(&a, &T, ch, m) || !bp__tutte_adjacency(&a, &T) || !bp__tutte_weights(&a, &T, mvc) ||
+            !bp__tutte_circle(&a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(&a, &T, ch, mvc)))
+            st = bp__oom(err, "computing the start map");
+        if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(&a, &T, ch, runner, err);
+        if (st == BP_OK) st = bp__tutte_verify(&a, ch, m, err);
+    }
     bp__tutte_free(&a, &T);
+    if (st == BP_OK && pidx) st = bp__pins_start(&a, ch, m, opt, runner, pidx, err);
+    bp__free(&a, pidx);
     if (st != BP_OK) return st;
     ch->stop = BP_STOP_NONE;
     ch->iterations = 0;
@@ -6134,7 +6457,7 @@ static void bp__sparse_free(const bp_allocator *a, bp__sparse *A)
    opposite edge (j, k), 1/2 cot(theta_i) couples j and k (the linear FEM
    stiffness matrix, positive semi-definite for any triangle shapes). */
 static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const double *rest_wxy,
-                               bp__sparse *K, bp__factor *F)
+                               const uint32_t *pidx, bp__sparse *K, bp__factor *F)
 {
     bp__trip *t = (bp__trip *)bp__alloc_array(a, 12 * (size_t)S->nt + S->nv, sizeof(bp__trip));
     size_t n = 0;
@@ -6152,15 +6475,22 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
             double ux = P[j][0] - P[c][0], uy = P[j][1] - P[c][1], vx = P[k][0] - P[c][0], vy = P[k][1] - P[c][1];
             double w = 0.5 * (ux * vx + uy * vy) / area2;     /* 1/2 cot(theta_c) */
             uint32_t vj = S->tri[3 * (size_t)f + j], vk = S->tri[3 * (size_t)f + k];
-            t[n].i = vj; t[n].j = vk; t[n++].v = -w;
-            t[n].i = vk; t[n].j = vj; t[n++].v = -w;
-            t[n].i = vj; t[n].j = vj; t[n++].v = w;
-            t[n].i = vk; t[n].j = vk; t[n++].v = w;
+            int hj = pidx && pidx[vj] != BP__NONE, hk = pidx && pidx[vk] != BP__NONE;   /* pins */
+            if (!hj && !hk) {
+                t[n].i = vj; t[n].j = vk; t[n++].v = -w;
+                t[n].i = vk; t[n].j = vj; t[n++].v = -w;
+            }
+            if (!hj) { t[n].i = vj; t[n].j = vj; t[n++].v = w; }
+            if (!hk) { t[n].i = vk; t[n].j = vk; t[n++].v = w; }
             diag += 2 * w;
         }
     }
-    (void)i;
-    for (i = 0; i < S->nv; i++) { t[n].i = i; t[n].j = i; t[n++].v = 1e-8 * diag / S->nv; }
+    /* a pinned vertex keeps only a diagonal (the mean one): K is then
+       block diagonal, K_ff (free rows and columns of the Laplacian) and a
+       diagonal on the pinned ones, so K^-1 maps a vector that is zero on
+       the pinned coordinates to one that is zero there too (see >>pins) */
+    for (i = 0; i < S->nv; i++)
+        { t[n].i = i; t[n].j = i; t[n++].v = (pidx && pidx[i] != BP__NONE ? 1 : 1e-8) * diag / S->nv; }
     K->symmetric = 1;
     if (!bp__sparse_from_triplets(a, S->nv, t, n, K)) { bp__free(a, t); return BP_ERR_OUT_OF_MEMORY; }
     bp__free(a, t);
@@ -6491,6 +6821,9 @@ typedef struct bp__opt {
     uint32_t     nv2;
     double      *x, *g, *xn, *gn, *v, *pwork, *vpart;
     double       tlast;          /* the last accepted step                   */
+    uint32_t    *pidx, *held, nheld; /* pins: chart vertex -> pin, the pinned
+                                    chart vertices (held fixed, >>pins)      */
+    const struct bp__penalty *pen; /* the homotopy's pull toward the pins   */
 } bp__opt;
 
 static void bp__opt_free(bp__opt *P)
@@ -6498,6 +6831,7 @@ static void bp__opt_free(bp__opt *P)
     bp__solver_free(&P->S);
     bp__free(&P->a, P->x); bp__free(&P->a, P->g); bp__free(&P->a, P->xn); bp__free(&P->a, P->gn);
     bp__free(&P->a, P->v); bp__free(&P->a, P->pwork); bp__free(&P->a, P->vpart);
+    bp__free(&P->a, P->pidx); bp__free(&P->a, P->held);
     bp__lbfgs_free(&P->a, &P->L);
     bp__sparse_free(&P->a, &P->K);
     bp__factor_free(&P->a, &P->KF);
@@ -6548,6 +6882,54 @@ static bp_status bp__opt_check_start(const bp_allocator *a, const bp_chart *ch, 
                     why.message);
 }
 
+/* Fixed variables (pins, see >>pins): the pinned chart vertices are held
+   where the start map has them.  Their gradient components are zeroed after
+   every evaluation and their direction components after every direction,
+   so x + t v never moves them (x + t * 0 == x exactly) and every L-BFGS
+   pair s, y is zero there too; the preconditioner is the Laplacian of the
+   free vertices (bp__laplacian).  The iteration is then the same method on
+   the free coordinates alone. */
+static bp_status bp__opt_pins(bp__opt *P, const bp_chart *ch, const bp_mesh *m, bp_error *err)
+{
+    uint32_t i, n = 0;
+    bp_status st = bp__pin_map(&P->a, ch, m, &P->o, &P->pidx, &P->nheld, err);
+    if (st != BP_OK || !P->pidx) return st;
+    P->held = (uint32_t *)bp__alloc_array(&P->a, P->nheld, sizeof(uint32_t));
+    if (!P->held) return bp__oom(err, "optimizing a chart");
+    for (i = 0; i < ch->num_vertices; i++) if (P->pidx[i] != BP__NONE) P->held[n++] = i;
+    return BP_OK;
+}
+
+/* The homotopy of >>pins minimizes E + w sum_p |x_p - t_p|^2 with the
+   pins free: the penalty's value, and its gradient 2 w (x_p - t_p) added
+   to g. */
+typedef struct bp__penalty { const bp_pin *pins; const uint32_t *pidx; double w; } bp__penalty;
+
+static double bp__opt_penalty(const bp__opt *P, const double *x, double *g)
+{
+    uint32_t i;
+    double sum = 0;
+    for (i = 0; i < P->S.nv; i++) {
+        const bp_pin *p;
+        double du, dv;
+        if (P->pen->pidx[i] == BP__NONE) continue;
+        p = &P->pen->pins[P->pen->pidx[i]];
+        du = x[2 * (size_t)i] - p->u;
+        dv = x[2 * (size_t)i + 1] - p->v;
+        sum += P->pen->w * (du * du + dv * dv);
+        g[2 * (size_t)i] += 2 * P->pen->w * du;
+        g[2 * (size_t)i + 1] += 2 * P->pen->w * dv;
+    }
+    return sum;
+}
+
+/* Zero the held (pinned) coordinates of a gradient or direction. */
+static void bp__opt_hold(const bp__opt *P, double *g)
+{
+    uint32_t k;
+    for (k = 0; k < P->nheld; k++) g[2 * (size_t)P->held[k]] = g[2 * (size_t)P->held[k] + 1] = 0;
+}
+
 /* Phase 2: options, solver, preconditioner, vectors; x = the start map. */
 static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, const bp_mesh *m, bp_error *err)
 {
@@ -6558,13 +6940,14 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
     if (P->o.direction == BP_DIRECTION_GRADIENT) P->hist = 0;
     if (P->o.max_iterations <= 0) P->o.max_iterations = 10000;
     if (!(P->o.tolerance > 0)) P->o.tolerance = 1e-7;
+    if ((st = bp__opt_pins(P, ch, m, err)) != BP_OK) return st;                 /* pins */
     rest_wxy = (double *)bp__alloc_array(&P->a, 3 * (size_t)ch->num_triangles, sizeof(double));
     if (!rest_wxy) return bp__oom(err, "optimizing a chart");
     if ((st = bp__solver_chart(&P->S, &P->a, ch, m, &P->o, rest_wxy, err)) != BP_OK) { bp__free(&P->a, rest_wxy); return st; }
     P->S.par = P->par;
     /* the preconditioner first: its factorization is the memory peak, and
        the flattened rest triangles are not needed after it */
-    if (P->precond && (st = bp__laplacian(&P->a, &P->S, rest_wxy, &P->K, &P->KF)) != BP_OK) {
+    if (P->precond && (st = bp__laplacian(&P->a, &P->S, rest_wxy, P->pidx, &P->K, &P->KF)) != BP_OK) {
         bp__free(&P->a, rest_wxy);
         if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "factoring the preconditioner");
         if (st == BP_ERR_TOO_LARGE)
@@ -6607,6 +6990,7 @@ static double bp__opt_direction(bp__opt *P)
     } else {
         bp__vec_axpy(&P->par, P->vpart, nv2, v, NULL, -1, g, g, v, &gv);
     }
+    bp__opt_hold(P, v);                       /* pins: g is zero there, so g.v is unchanged */
     if (!(gv < 0)) {                          /* not a descent direction: restart */
         P->L.nh = 0;
         gv = 0;
@@ -6638,6 +7022,8 @@ static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, doubl
         bp__vec_axpy(&P->par, P->vpart, P->nv2, P->xn, P->x, tt, P->v, NULL, NULL, NULL);
         *fn = bp__evaluate(&P->S, P->xn, P->gn, edn, f + 1e-4 * tt * gv, &valid);  /* f, gradient, exact check */
         if (P->S.oom) return -1;
+        bp__opt_hold(P, P->gn);               /* pins */
+        if (P->pen) *fn += bp__opt_penalty(P, P->xn, P->gn);
         if (!(*fn <= f + 1e-4 * tt * gv)) continue;
         if (!valid) continue;                 /* floating point was wrong: shrink */
         *t = tt;
@@ -6672,8 +7058,9 @@ static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, 
    previous one), (2) direction, (3)+(4) step bound and line search, (5)
    convergence test, and phase 5.  The map in ch->uv is replaced only by
    accepted iterates, each exactly valid; the progress callback sees each. */
-static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
-                                    const bp_options *opt, const bp__par *runner, bp_error *err)
+static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+                                        const bp_options *opt, const bp__par *runner,
+                                        const struct bp__penalty *pen, bp_error *err)
 {
     bp__opt P;
     void *pool = NULL;
@@ -6683,6 +7070,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     double c0 = bp__seconds();
     memset(&P, 0, sizeof P);
     P.a = bp__allocator_of(opt);
+    P.pen = pen;                              /* pins (homotopy) */
     P.tlast = 1;
     P.precond = !opt || opt->direction == BP_DIRECTION_PRECONDITIONED;
     if (opt) P.o = *opt;
@@ -6699,6 +7087,8 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     if ((st = bp__opt_setup(&P, ch, chart_index, m, err)) != BP_OK) goto done;
     f = bp__objective(&P.S, P.x, P.g, &ed);
     if (P.S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
+    bp__opt_hold(&P, P.g);                    /* pins */
+    if (P.pen) f += bp__opt_penalty(&P, P.x, P.g);
     if (!(f < HUGE_VAL)) {
         st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
                       "chart %u: the start map is exactly valid but its energy is not finite in floating point "
@@ -6743,9 +7133,19 @@ done:
     return st;
 }
 
+static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+                                    const bp_options *opt, const bp__par *runner, bp_error *err)
+{
+    return bp__chart_optimize_pen(ch, chart_index, m, opt, runner, NULL, err);
+}
+
 BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
                                   const bp_options *opt, bp_error *err)
 {
+    if (ch && m && ch->uv && opt && opt->num_pins) {                            /* pins */
+        bp_status st = bp__pins_at_targets(ch, chart_index, m, opt, err);
+        if (st != BP_OK) return st;
+    }
     return bp__chart_optimize(ch, chart_index, m, opt, NULL, err);
 }
 
@@ -7700,6 +8100,177 @@ static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, bp_er
     return st;
 }
 
+/* >>pins ===================================================================
+
+   Pinned vertices (beyond the dissertation; Blender's, Maya's and SLIM's
+   pins).  What is guaranteed, precisely:
+     - every pinned chart vertex ends at its target bit for bit (the
+       final chart->uv holds the very doubles of bp_pin.u, v), and packing
+       does not move a chart that has pins (bp_atlas_pack leaves it where
+       it is and places the other charts beside it; pins and normalize
+       together are refused, since scaling would move them);
+     - the map is exactly bijective at every iterate, as without pins, and
+       the optimization minimizes the same energy over the free vertices;
+     - pins that fail the necessary conditions of >>tutte are rejected
+       with the elements named, and pins that the homotopy below cannot
+       reach fail that chart with a message: never a wrong map.
+   Not guaranteed: that pins which admit a bijective map are always
+   reached.  The homotopy is a heuristic that succeeds when the targets are
+   a moderate deformation of the start (the common case: a few pins placed
+   by an artist near where the unpinned map has them); a target that needs
+   the map to turn inside out fails.
+
+   The homotopy (from the fitted start of >>tutte), in rounds k = 0, 1, ...:
+     1. snap: put every pin at its target; if that map passes the exact
+        check, done (the snapped coordinates are the targets themselves);
+     2. move: d = target - x on the pins, 0 elsewhere; the step bound of
+        >>stepbound along d (the same singularity-aware bound as the
+        optimizer's: no triangle flips, no boundary crossing), a step
+        t = min(1, 0.9 tmax) halved until the moved map passes the exact
+        check;
+     3. pull: BP__PIN_RELAX iterations of the optimizer on
+            E + w_k sum_p |x_p - t_p|^2,   w_k = 10^k nt / (n_pins L^2)
+        (L the mean 3D boundary edge; at k = 0 a pin one edge away costs
+        about the whole energy), all vertices free -- the same interior
+        point method, so every iterate is exactly bijective, and the
+        whole chart deforms toward the pins instead of the pins pushing
+        through their neighbours;
+   until the pins are at their targets, or the largest remaining distance
+   has not dropped by 1% in BP__PIN_STALL rounds, or BP__PIN_ROUNDS rounds
+   have passed (then the chart fails).  Every map on the way passed the
+   exact check. */
+
+#define BP__PIN_ROUNDS 40
+#define BP__PIN_STALL 6
+#define BP__PIN_RELAX 100
+
+/* Before the fit, a Tutte start is first optimized without its pins
+   (at most BP__PIN_FREE iterations): the fitted similarity then starts
+   from a shape like the unpinned result, which pins taken from an earlier
+   unwrap match closely, instead of from a disk. */
+#define BP__PIN_FREE 300
+
+static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                     bp_error *err)
+{
+    bp_options o = *opt;
+    o.progress = NULL;
+    o.max_seconds = 0;
+    o.pins = NULL;
+    o.num_pins = 0;
+    if (o.max_iterations <= 0 || o.max_iterations > BP__PIN_FREE) o.max_iterations = BP__PIN_FREE;
+    return bp__chart_optimize(ch, 0, m, &o, runner, err);
+}
+
+/* Step 2: move the pins along d by the largest checked step; 1 if moved. */
+static int bp__pins_move(bp__solver *S, double *x, double *xn, const double *d, uint32_t nv2)
+{
+    double tmax = bp__step_bound(S, x, d, 1 / 0.9), tt = tmax < 1 / 0.9 ? 0.9 * tmax : 1, ed;
+    uint32_t i;
+    int tries, valid;
+    for (tries = 0; tries < 50 && tt > 0; tries++, tt *= 0.5) {
+        for (i = 0; i < nv2; i++) xn[i] = d[i] != 0 ? x[i] + tt * d[i] : x[i];
+        bp__evaluate(S, xn, NULL, &ed, HUGE_VAL, &valid);
+        if (S->oom) return -1;
+        if (valid) { memcpy(x, xn, nv2 * sizeof(double)); return 1; }
+    }
+    return 0;
+}
+
+/* Step 1's snapped map into xn and d = target - x; returns the largest
+   remaining coordinate distance, *worst its chart vertex. */
+static double bp__pins_snap(const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx, double *xn, double *d,
+                            uint32_t *worst)
+{
+    uint32_t i;
+    double dist = 0;
+    for (i = 0; i < ch->num_vertices; i++) {
+        double du = 0, dv = 0;
+        xn[2 * (size_t)i] = ch->uv[2 * (size_t)i];
+        xn[2 * (size_t)i + 1] = ch->uv[2 * (size_t)i + 1];
+        if (pidx[i] != BP__NONE) {
+            du = pins[pidx[i]].u - xn[2 * (size_t)i];
+            dv = pins[pidx[i]].v - xn[2 * (size_t)i + 1];
+            xn[2 * (size_t)i] = pins[pidx[i]].u;
+            xn[2 * (size_t)i + 1] = pins[pidx[i]].v;
+            if (fabs(du) > dist || fabs(dv) > dist) { dist = fabs(du) > fabs(dv) ? fabs(du) : fabs(dv); *worst = i; }
+        }
+        d[2 * (size_t)i] = du;
+        d[2 * (size_t)i + 1] = dv;
+    }
+    return dist;
+}
+
+static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                const uint32_t *pidx, bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    bp__solver S;
+    bp__penalty pen;
+    bp_options o = *opt;
+    uint32_t nv2 = 2 * ch->num_vertices, worst = 0;
+    double *xn, *d, best = HUGE_VAL, dist = 0;
+    int round, stall = 0, valid;
+    bp_status st;
+    o.progress = NULL;
+    o.max_seconds = 0;
+    o.max_iterations = BP__PIN_RELAX;
+    o.pins = NULL;                                  /* the pull: no vertex held */
+    o.num_pins = 0;
+    memset(&S, 0, sizeof S);
+    if ((st = bp__solver_chart(&S, &a, ch, m, &o, NULL, err)) != BP_OK) return st;
+    S.par = *runner;
+    pen.pins = opt->pins;
+    pen.pidx = pidx;
+    pen.w = S.nt / (ch->num_pins * S.mean_edge * S.mean_edge);
+    xn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
+    d = (double *)bp__alloc_array(&a, nv2, sizeof(double));
+    for (round = 0; xn && d; round++, pen.w *= 10) {
+        double ed;
+        if ((dist = bp__pins_snap(ch, opt->pins, pidx, xn, d, &worst)) == 0) break;
+        bp__evaluate(&S, xn, NULL, &ed, HUGE_VAL, &valid);                     /* 1. snap */
+        if (S.oom) break;
+        if (valid) { memcpy(ch->uv, xn, nv2 * sizeof(double)); dist = 0; break; }
+        if (dist < 0.99 * best) { best = dist; stall = 0; } else stall++;
+        if (round >= BP__PIN_ROUNDS || stall >= BP__PIN_STALL) break;
+        if (bp__pins_move(&S, ch->uv, xn, d, nv2) < 0) break;                  /* 2. move */
+        st = bp__chart_optimize_pen(ch, 0, m, &o, runner, &pen, err);          /* 3. pull */
+        if (st != BP_OK) break;
+    }
+    bp__solver_free(&S);
+    bp__free(&a, xn);
+    bp__free(&a, d);
+    if (st != BP_OK) return st;
+    if (!xn || !d || S.oom) return bp__oom(err, "moving the pins");
+    if (dist > 0) {
+        char name[48];
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, ch->vertex[worst], -1, 0,
+                        "the pins of the chart with %s cannot be reached from its start map: vertex %u is still "
+                        "%g from its target after %d rounds (no bijective map through the targets was found)",
+                        bp__tri_name(m, ch->face[0], name), ch->vertex[worst] + 1, dist, round);
+    }
+    return BP_OK;
+}
+
+/* bp_chart_optimize holds the pinned vertices where the start map has
+   them; the caller's start must have them at their targets. */
+static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
+                                     bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    uint32_t *pidx, i;
+    bp_status st = bp__pin_map(&a, ch, m, opt, &pidx, &ch->num_pins, err);
+    for (i = 0; st == BP_OK && pidx && i < ch->num_vertices; i++) {
+        const bp_pin *p = pidx[i] != BP__NONE ? &opt->pins[pidx[i]] : NULL;
+        if (p && (ch->uv[2 * (size_t)i] != p->u || ch->uv[2 * (size_t)i + 1] != p->v))
+            st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
+                          "chart %u: vertex %u is pinned to (%g, %g) but the start map has it at (%g, %g)",
+                          chart_index, p->vertex + 1, p->u, p->v, ch->uv[2 * (size_t)i], ch->uv[2 * (size_t)i + 1]);
+    }
+    bp__free(&a, pidx);
+    return st;
+}
+
 /* >>driver =================================================================
 
    bp_parameterize runs the whole pipeline: charts (bp_atlas_build), the
@@ -7823,10 +8394,9 @@ static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, bp_error
     return bp__ok(err);
 }
 
-BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+/* Every chart that has a map, by shelves or by outlines (atlas_resolution). */
+static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
-    if (!atlas || !atlas->charts)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
     atlas->utilization = 0;
     if (!opt || opt->atlas_resolution == 0) return bp__pack_shelf(atlas, opt, err);
     if (opt->atlas_resolution < 0 || opt->atlas_resolution > BP__PACK_MAX_RES)
@@ -7880,6 +8450,104 @@ static bp_status bp__atlas_verify(const bp_atlas *atlas, bp_error *err)
                         rep.flipped, rep.degenerate, rep.boundary_intersections, rep.loop_orientation, rep.nested,
                         why.message);
     return BP_OK;
+}
+
+/* Charts kept in place (>>pins): a chart with pins never moves; a chart
+   whose start was its input uvs (BP_INIT_INPUT, chart.init_used = 1) keeps
+   its placement unless normalize asks for packing -- and only when those
+   charts do not overlap each other, which the exact check of the kept
+   charts together decides (the input charts are then packed like the
+   others).  The other charts are packed as usual and then translated, as
+   one block, to the right of the kept charts' bounding box, so the kept
+   and the packed never meet; bp_parameterize's final check proves it.
+   Without the barrier nothing is verified (maps may overlap themselves). */
+static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier, bp_error *why)
+{
+    double **save;
+    uint32_t c;
+    bp_status st;
+    if (!barrier) return BP_OK;
+    save = (double **)bp__alloc_array(&atlas->allocator, atlas->num_charts, sizeof(double *));
+    if (!save) return BP_ERR_OUT_OF_MEMORY;
+    for (c = 0; c < atlas->num_charts; c++) { save[c] = atlas->charts[c].uv; if (!keep[c]) atlas->charts[c].uv = NULL; }
+    st = bp__atlas_verify(atlas, why);
+    for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].uv = save[c];
+    bp__free(&atlas->allocator, save);
+    return st;
+}
+
+static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
+    int *keep = (int *)bp__calloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(int));
+    double **save = (double **)bp__alloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(double *));
+    double kb[4] = { DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX }, pb[2] = { DBL_MAX, DBL_MAX }, gap;
+    uint32_t c, i, nkeep = 0, npin = 0;
+    int normalize = opt && (opt->normalize || opt->atlas_resolution), barrier = !(opt && opt->no_barrier);
+    bp_error why;
+    bp_status st = BP_OK;
+    if (!keep || !save) { bp__free(&a, keep); bp__free(&a, save); return bp__oom(err, "packing charts"); }
+    for (c = 0; c < atlas->num_charts; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        keep[c] = ch->uv && (ch->num_pins > 0 || (ch->init_used == 1 && !normalize));
+        npin += ch->uv && ch->num_pins > 0;
+    }
+    if (npin && normalize)
+        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                      "normalize and atlas_resolution would move the pinned charts off their pins: "
+                      "use pins without them");
+    if (st == BP_OK && (st = bp__pack_kept_ok(atlas, keep, barrier, &why)) == BP_ERR_NOT_BIJECTIVE) {
+        for (c = 0; c < atlas->num_charts; c++) keep[c] = keep[c] && atlas->charts[c].num_pins > 0;
+        if ((st = bp__pack_kept_ok(atlas, keep, barrier, &why)) == BP_ERR_NOT_BIJECTIVE)
+            st = bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
+                          "the pinned charts overlap each other at their targets (%s)", why.message);
+    }
+    if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "packing charts");
+    else if (st != BP_OK && st != BP_ERR_INVALID_ARGUMENT && st != BP_ERR_NOT_BIJECTIVE) st = bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "%s", why.message);
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_chart *ch = &atlas->charts[c];
+        save[c] = ch->uv;
+        ch->in_place = keep[c];
+        nkeep += keep[c] != 0;
+        for (i = 0; keep[c] && i < ch->num_vertices; i++) {
+            double u = ch->uv[2 * (size_t)i], v = ch->uv[2 * (size_t)i + 1];
+            if (u < kb[0]) kb[0] = u;
+            if (v < kb[1]) kb[1] = v;
+            if (u > kb[2]) kb[2] = u;
+            if (v > kb[3]) kb[3] = v;
+        }
+        if (keep[c]) ch->uv = NULL;            /* hidden from the packer: takes no room */
+    }
+    if (st == BP_OK) st = bp__pack_all(atlas, opt, err);
+    for (c = 0; c < atlas->num_charts; c++) if (keep[c]) atlas->charts[c].uv = save[c];
+    if (st == BP_OK && nkeep) {
+        gap = 0.02 * (kb[2] - kb[0] > kb[3] - kb[1] ? kb[2] - kb[0] : kb[3] - kb[1]);
+        for (c = 0; c < atlas->num_charts; c++)
+            for (i = 0; !keep[c] && atlas->charts[c].uv && i < atlas->charts[c].num_vertices; i++) {
+                if (atlas->charts[c].uv[2 * (size_t)i] < pb[0]) pb[0] = atlas->charts[c].uv[2 * (size_t)i];
+                if (atlas->charts[c].uv[2 * (size_t)i + 1] < pb[1]) pb[1] = atlas->charts[c].uv[2 * (size_t)i + 1];
+            }
+        for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
+            double zero[2] = { 0, 0 };
+            if (keep[c] || !atlas->charts[c].uv) continue;
+            if (bp__move_chart(&a, &atlas->charts[c], zero, 1, kb[2] + gap - pb[0], kb[1] - pb[1]) != BP_OK)
+                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
+                              "chart %u: placing it beside the charts kept in place would break its validity", c);
+        }
+    }
+    bp__free(&a, keep);
+    bp__free(&a, save);
+    return st;
+}
+
+/* Place the charts side by side without overlap, leaving pinned charts
+   (and, without normalize, charts started from their input uvs) where
+   they are: see bp__pack_in_place. */
+BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+{
+    if (!atlas || !atlas->charts)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
+    return bp__pack_in_place(atlas, opt, err);
 }
 
 BPDEF void bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *why)
@@ -8085,6 +8753,32 @@ static bp_status bp__rescaled_mesh(const bp_allocator *a, const bp_mesh *m, bp_m
     return BP_OK;
 }
 
+/* The user's uv-space inputs follow the rescaled copy: pin targets and
+   input uvs are scaled by 2^k too (exact in the normal range), so they come
+   back bit for bit with the map. */
+static bp_status bp__rescale_controls(const bp_allocator *a, bp_options *o, bp_mesh *ms, int k, bp_pin **pins,
+                                      double **uvs, bp_error *err)
+{
+    size_t i;
+    if (o->num_pins && o->pins) {
+        *pins = (bp_pin *)bp__alloc_array(a, o->num_pins, sizeof(bp_pin));
+        if (!*pins) return bp__oom(err, "rescaling the pins");
+        for (i = 0; i < o->num_pins; i++) {
+            (*pins)[i] = o->pins[i];
+            (*pins)[i].u = ldexp(o->pins[i].u, k);
+            (*pins)[i].v = ldexp(o->pins[i].v, k);
+        }
+        o->pins = *pins;
+    }
+    if (o->init == BP_INIT_INPUT && ms->uvs && ms->num_uvs) {
+        *uvs = (double *)bp__alloc_array(a, 2 * (size_t)ms->num_uvs, sizeof(double));
+        if (!*uvs) return bp__oom(err, "rescaling the input uvs");
+        for (i = 0; i < 2 * (size_t)ms->num_uvs; i++) (*uvs)[i] = ldexp(ms->uvs[i], k);
+        ms->uvs = *uvs;
+    }
+    return BP_OK;
+}
+
 /* The map of the rescaled copy, back in the mesh's units (see above). */
 static void bp__unscale_atlas(bp_atlas *atlas, int k, int normalized)
 {
@@ -8119,7 +8813,8 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     bp_options local;
     bp_mesh ms;
     bp_error cancel;
-    double *imp = NULL;
+    double *imp = NULL, *uvs_k = NULL;
+    bp_pin *pins_k = NULL;
     int k = 0;
     uint32_t t;
     if (!atlas) return bp_atlas_build(atlas, m, opt, err);
@@ -8128,7 +8823,8 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     if (opt) local = *opt;
     else memset(&local, 0, sizeof local);
     if (k) local.epsilon = ldexp(local.epsilon, k);     /* a barrier width is a length */
-    st = bp_atlas_build(atlas, &ms, &local, err);
+    if (k) st = bp__rescale_controls(&a, &local, &ms, k, &pins_k, &uvs_k, err);   /* pins, input uvs */
+    if (st == BP_OK) st = bp_atlas_build(atlas, &ms, &local, err);
     if ((st == BP_OK || st == BP_ERR_CHARTS_FAILED) && local.views.model != BP_VIEW_NONE && !local.init_only) {
         /* chapter 4: visibility (times the user's importance) drives eq 4.1 */
         imp = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
@@ -8150,6 +8846,8 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
         else st = bp__charts_status(atlas, err);
     }
     bp__free(&a, imp);
+    bp__free(&a, pins_k);
+    bp__free(&a, uvs_k);
     if (k) bp__free(&a, ms.positions);
     if (st != BP_OK && st != BP_ERR_CHARTS_FAILED && st != BP_ERR_CANCELLED) bp_atlas_free(atlas);
     return st;

@@ -66,7 +66,13 @@ static const char usage_text[] =
     "  --demo             use the built-in wavy cone instead of a file\n"
     "  --check            only check the file's own vt charts exactly (each chart\n"
     "                     bijective, no two overlapping): exit 0 yes, 1 no\n"
-    "  --init tutte|mvc   start map (default tutte)\n"
+    "  --init tutte|mvc|input   start map (default tutte); input: the file's own\n"
+    "                     vt per chart when bijective (else tutte, reported), and\n"
+    "                     those charts keep their place unless --normalize\n"
+    "  --pin FILE         pinned vertices, lines 'vertex u v [vt]' (numbered from 1\n"
+    "                     as in the input; vt: only that side of a seam; '#'\n"
+    "                     comments): they end exactly at (u, v) and their charts\n"
+    "                     are not moved by packing\n"
     "  --init-only        stop after the start map\n"
     "  --energy sd|conformal|mips|iso|maxiso   distortion (default sd)\n"
     "  --no-barrier       locally injective only (no boundary barrier)\n"
@@ -98,7 +104,9 @@ static const char usage_text[] =
     "  --vis-floor X      least importance relative to the mean (default 0.05)\n"
     "  --importance FILE  one weight > 0 per face (painted importance)\n"
     "  --density-report uniform|front|ring|side   texel density of the result\n"
-    "                     against a plain isometric map under that view model\n"
+    "                     against a plain isometric map under that view model\n";
+/* (two strings: C99 promises string literals of 4095 characters only) */
+static const char usage_pictures[] =
     "pictures:\n"
     "  --svg FILE         the UV layout as SVG: triangles coloured by distortion,\n"
     "                     boundary loops, chart indices, colour scale, energies\n"
@@ -167,6 +175,73 @@ static double *read_importance(const char *path, const bp_mesh *m, char *msg, si
         w[i] = face[m->triangle_face ? m->triangle_face[i] : i];
     free(face);
     return w;
+}
+
+/* --pin FILE: lines "vertex u v [vt]" (vertex and vt from 1, as the input
+   numbers them; with vt only the chart vertex using that vt is pinned, one
+   side of a seam), blank lines and '#' comments allowed.  On an error msg names the line
+   (*line) and NULL is returned. */
+static bp_pin *read_pins(const char *path, const bp_mesh *m, uint32_t *count, long *line, char *msg, size_t msz)
+{
+    FILE *f = fopen(path, "r");
+    bp_pin *p = NULL;
+    size_t n = 0, cap = 0;
+    char buf[512];
+    *line = 0;
+    *count = 0;
+    if (!f) { snprintf(msg, msz, "cannot open pin file: %s", strerror(errno)); return NULL; }
+    while (fgets(buf, sizeof buf, f)) {
+        char *s = buf, *end;
+        long long v, vt;
+        double u, w;
+        (*line)++;
+        while (*s == ' ' || *s == '\t') s++;
+        if (*s == '#' || *s == '\n' || *s == '\r' || *s == 0) continue;
+        errno = 0;
+        v = strtoll(s, &end, 10);
+        if (end == s || v < 1 || v > (long long)m->num_vertices) {
+            snprintf(msg, msz, "expected 'vertex u v' with a vertex in 1..%u", (unsigned)m->num_vertices);
+            goto fail;
+        }
+        s = end;
+        u = strtod(s, &end);
+        if (end == s || !isfinite(u)) { snprintf(msg, msz, "vertex %lld: u is missing or not a finite number", v); goto fail; }
+        s = end;
+        w = strtod(s, &end);
+        if (end == s || !isfinite(w)) { snprintf(msg, msz, "vertex %lld: v is missing or not a finite number", v); goto fail; }
+        for (s = end; *s == ' ' || *s == '\t'; s++) {}
+        vt = 0;
+        if (*s >= '0' && *s <= '9') {            /* optional: the vt of one side of a seam */
+            vt = strtoll(s, &end, 10);
+            if (vt < 1 || vt > (long long)m->num_uvs) {
+                snprintf(msg, msz, "vertex %lld: vt must be in 1..%u", v, (unsigned)m->num_uvs);
+                goto fail;
+            }
+            s = end;
+        }
+        for (; *s == ' ' || *s == '\t' || *s == '\r' || *s == '\n'; s++) {}
+        if (*s && *s != '#') { snprintf(msg, msz, "vertex %lld: unexpected text after 'vertex u v [vt]'", v); goto fail; }
+        if (n == cap) {
+            bp_pin *q = (bp_pin *)realloc(p, sizeof *p * (cap = cap ? 2 * cap : 64));
+            if (!q) { snprintf(msg, msz, "out of memory"); goto fail; }
+            p = q;
+        }
+        p[n].vertex = (uint32_t)(v - 1);
+        p[n].uv = (uint32_t)vt;
+        p[n].u = u;
+        p[n].v = w;
+        n++;
+    }
+    fclose(f);
+    *line = 0;
+    *count = (uint32_t)n;
+    if (!p) p = (bp_pin *)malloc(sizeof *p);   /* an empty file: no pins, not an error */
+    if (!p) snprintf(msg, msz, "out of memory");
+    return p;
+fail:
+    fclose(f);
+    free(p);
+    return NULL;
 }
 
 /* Peak resident memory of this process.  Linux: VmHWM of /proc/self/status,
@@ -607,7 +682,8 @@ static void print_json(const char *input, const char *output, bp_status status, 
         printf(",\"error\":");
         if (ch->error.status != BP_OK) json_string(ch->error.message);
         else printf("null");
-        printf(",\"seconds\":");
+        printf(",\"init_used\":%d,\"pins\":%u,\"in_place\":%d,\"seconds\":", ch->init_used,
+               (unsigned)ch->num_pins, ch->in_place);
         json_number(ch->seconds);
         if (ch->uv)
             printf(",\"flipped\":%u,\"degenerate\":%u,\"boundary_intersections\":%u}",
@@ -834,9 +910,10 @@ int main(int argc, char **argv)
     bp_status st = BP_OK;
     timings tm;
     run_state rs;
-    const char *input = NULL, *output = NULL, *trace_path = NULL, *importance_path = NULL, *where;
+    const char *input = NULL, *output = NULL, *trace_path = NULL, *importance_path = NULL, *pin_path = NULL, *where;
     extra_report ex;
     double *importance = NULL;
+    bp_pin *pins = NULL;
     int elevation_set = 0;
     const char *svg_path = NULL, *png_path = NULL;
     bpd_svg_options svg_opt;
@@ -873,13 +950,14 @@ int main(int argc, char **argv)
             !strcmp(a, "--png") || !strcmp(a, "--png-view") || !strcmp(a, "--png-up") ||
             !strcmp(a, "--png-size") || !strcmp(a, "--png-views") || !strcmp(a, "--checker") ||
             !strcmp(a, "--frames") || !strcmp(a, "--frames-every") || !strcmp(a, "--atlas") ||
-            !strcmp(a, "--padding")) {
+            !strcmp(a, "--padding") || !strcmp(a, "--pin")) {
             const char *v;
             if (i + 1 >= argc) return usage_error("option %s needs a value", a);
             v = argv[++i];
             if (!strcmp(a, "-o")) output = v;
             else if (!strcmp(a, "--trace")) trace_path = v;
             else if (!strcmp(a, "--importance")) importance_path = v;
+            else if (!strcmp(a, "--pin")) pin_path = v;
             else if (!strcmp(a, "--svg")) svg_path = v;
             else if (!strcmp(a, "--png")) png_path = v;
             else if (!strcmp(a, "--frames")) fs.dir = v;
@@ -945,7 +1023,8 @@ int main(int argc, char **argv)
             else if (!strcmp(a, "--init")) {
                 if (!strcmp(v, "tutte")) opt.init = BP_INIT_TUTTE;
                 else if (!strcmp(v, "mvc")) opt.init = BP_INIT_MEAN_VALUE;
-                else return usage_error("unknown start map '%s' (tutte or mvc)", v);
+                else if (!strcmp(v, "input")) opt.init = BP_INIT_INPUT;
+                else return usage_error("unknown start map '%s' (tutte, mvc or input)", v);
             } else if (!strcmp(a, "--energy")) {
                 int e, found = 0;
                 for (e = 0; e < (int)BP_ENERGY_COUNT; e++)
@@ -973,7 +1052,7 @@ int main(int argc, char **argv)
                 return usage_error("--max-iters needs an integer >= 1, not '%s'", v);
             }
         }
-        else if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_text, stdout); return 0; }
+        else if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_text, stdout); fputs(usage_pictures, stdout); return 0; }
         else if (!strcmp(a, "--version")) { printf("bijparam %s\n", BP_VERSION_STRING); return 0; }
         else if (!strcmp(a, "--force")) force = 1;
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) quiet = 1;
@@ -999,7 +1078,8 @@ int main(int argc, char **argv)
         int k;
         outs[0] = output; outs[1] = svg_path; outs[2] = png_path; outs[3] = trace_path;
         for (k = 0; k < 4; k++)
-            if (!demo && (same_file(outs[k], input) || same_file(outs[k], importance_path))) {
+            if (!demo && (same_file(outs[k], input) || same_file(outs[k], importance_path) ||
+                          same_file(outs[k], pin_path))) {
                 fprintf(stderr, "bijparam: %s '%s' is an input file; add --force to replace it\n"
                         "see bijparam --help\n", flags[k], outs[k]);
                 return 2;
@@ -1113,6 +1193,20 @@ int main(int argc, char **argv)
         } else free(vis);
     }
     opt.importance = importance;
+    /* 2c. pinned vertices */
+    if (st == BP_OK && pin_path) {
+        char msg[200];
+        long line;
+        pins = read_pins(pin_path, &mesh, &opt.num_pins, &line, msg, sizeof msg);
+        opt.pins = pins;
+        if (!pins) {
+            st = BP_ERR_PARSE;
+            where = pin_path;
+            memset(&err, 0, sizeof err);
+            err.line = line;
+            snprintf(err.message, sizeof err.message, "%s", msg);
+        }
+    }
     /* 3a. --repack: the file's own maps, checked exactly (a chart whose map
        is not bijective is reported and not packed, unless --strict) */
     if (st == BP_OK && repack) {
@@ -1247,6 +1341,7 @@ int main(int argc, char **argv)
     if (rs.trace) fclose(rs.trace);
     for (i = 0; i < fs.nsnap; i++) free(fs.snap[i]);
     free(importance);
+    free(pins);
     bp_atlas_free(&atlas);
     if (have_mesh) {
         if (demo) { free(mesh.positions); free(mesh.triangles); }
