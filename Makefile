@@ -7,7 +7,8 @@
 #   make demo         run the tool on its embedded mesh -> build/demo/demo.obj,
 #                     demo.svg (UV layout), demo.png (checkerboard render)
 #   make docs         regenerate the README pictures in docs/images/
-#   make bench        bench/run.sh: timings on tests/data and ../shared/meshes
+#   make bench        bench/run.sh: timings on tests/data and ../shared/meshes,
+#                     then bench/pack.sh (make bench-pack): packing utilization
 #   make clean        remove build/
 #
 # Every program includes bijparam.h, so every program depends on it.
@@ -42,7 +43,7 @@ SH_TESTS  := $(wildcard tests/test_*.sh)
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test tests deps demo docs bench clean
+.PHONY: all test tests deps demo docs bench bench-pack clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -102,6 +103,7 @@ docs: $(TOOL)
 	$(TOOL) tests/data/cow_param_withSUV.obj --png $(IMG)/cow_checker.png --png-size 360 --png-views 2 --checker 20
 	$(TOOL) tests/data/cow_param_withSUV.obj --no-barrier --png $(IMG)/cow_checker_nobarrier.png --png-size 360 --png-views 2 --checker 20
 	$(TOOL) tests/data/spot.obj --svg $(IMG)/spot_area.svg --svg-color area --png $(IMG)/spot_checker.png --png-size 300 --png-views 3
+	$(TOOL) tests/data/spot.obj --atlas 1024 --padding 4 --svg $(IMG)/spot_atlas.svg --svg-color area --png $(IMG)/spot_atlas_checker.png --png-size 300 --png-views 3 --checker 32
 	$(TOOL) --demo --svg $(IMG)/cone_barrier.svg --png $(IMG)/cone_checker.png --png-size 360
 	$(TOOL) --demo --no-barrier --svg $(IMG)/cone_nobarrier.svg
 	rm -rf $(BUILD)/docs/frames
@@ -111,6 +113,11 @@ docs: $(TOOL)
 
 bench: $(TOOL)
 	bash bench/run.sh
+	bash bench/pack.sh
+
+# utilization of the outline packer and the time to pack 5,000 charts
+bench-pack: $(TOOL)
+	bash bench/pack.sh
 
 clean:
 	rm -rf $(BUILD)

@@ -42,6 +42,8 @@
       >>barrier        boundary barrier with a spatial hash           (sec 3.3)
       >>stepbound      singularity-aware maximum step                 (sec 3.4.2)
       >>lbfgs          search directions and the line search          (sec 3.4, 3.5)
+      >>pack           texel density, rotation, outline packing, padding
+      >>pins           pinned vertices: the homotopy to the targets
       >>driver         charts -> start -> optimize -> pack
       >>bvh            bounding volume hierarchy, watertight rays      (chap 4)
       >>visibility     view models, V_t, texel density               (sec 4.2, 4.3)
@@ -76,6 +78,21 @@
      per-iteration progress returning nonzero cancels that one chart, not
      the others; run_progress returning nonzero cancels the whole run
      (every chart stops at its next iteration, see >>progress).
+   - Size limits (indices are uint32_t): a mesh has fewer than 0x55555555
+     triangles (1 431 655 765, so that 3 * num_triangles fits in uint32_t;
+     bp_atlas_build says BP_ERR_INVALID_ARGUMENT) and fewer than 2^32 - 1
+     vertices, texture coordinates and faces (the readers say
+     BP_ERR_INDEX); a chart's sparse factor (the start map's system, the
+     preconditioner) holds at most 2^32 - 16 entries, BP_ERR_TOO_LARGE
+     beyond, with the chart, its size and the limit named (bimba's 89K
+     triangles need 2.5 million entries, 1700 times fewer).  Memory runs
+     out long before any of these on most machines.
+   - Threads (BP_USE_PTHREADS, options.threads = 0: all cores): a waiting
+     thread polls for at most 20 microseconds, then sleeps; charts below
+     8192 triangles and small loops run serially; when the threads get
+     less than half a core each (other processes keep the cores busy), the
+     loops run on the caller alone for a while.  So the default is not
+     slower than threads = 1 on a machine busy with other work.
    - Structures whose fields say "0 = default" may be zero-initialized
      (memset, `= {0}` in C, `= {}` in C++).  After a failed call that fills
      a bp_mesh or bp_atlas, the structure is zeroed and safe to free.
@@ -144,7 +161,8 @@ extern "C" {
     X(BP_ERR_NUMERICAL,      "floating point produced an invalid map")          \
     X(BP_ERR_NOT_BIJECTIVE,  "map is not bijective")                            \
     X(BP_ERR_CANCELLED,      "cancelled by the progress callback")              \
-    X(BP_ERR_CHARTS_FAILED,  "some charts failed; the others are valid")
+    X(BP_ERR_CHARTS_FAILED,  "some charts failed; the others are valid")      \
+    X(BP_ERR_TOO_LARGE,      "input exceeds a size limit of the library")
 
 typedef enum bp_status {
 #define BP__ENUM(name, text) name,
@@ -210,8 +228,21 @@ typedef enum bp_energy {
 
 typedef enum bp_init {
     BP_INIT_TUTTE = 0,   /* uniform weights (Tutte 1963)                      */
-    BP_INIT_MEAN_VALUE   /* Floater's mean-value weights (Floater 2003)      */
+    BP_INIT_MEAN_VALUE,  /* Floater's mean-value weights (Floater 2003)      */
+    BP_INIT_INPUT        /* the mesh's own uvs (corner_uv/uvs) when exactly
+                            bijective, else Tutte; see bp_chart.init_used    */
 } bp_init;
+
+/* A pinned vertex (see >>pins): chart vertices of mesh vertex `vertex`
+   (0-based) end exactly at (u, v).  uv = 0: every chart vertex of it -- on
+   a seam that is one in each chart the vertex belongs to, all at the same
+   target; uv = k > 0: only the chart vertex whose input uv index
+   (mesh->corner_uv, the OBJ vt) is k - 1, i.e. one side of a seam. */
+typedef struct bp_pin {
+    uint32_t vertex;
+    uint32_t uv;          /* 0: all chart vertices of `vertex`; else vt index + 1 */
+    double   u, v;
+} bp_pin;
 
 typedef enum bp_direction {
     BP_DIRECTION_PRECONDITIONED = 0, /* default: L-BFGS with the rest-shape Laplacian
@@ -269,7 +300,8 @@ typedef int (*bp_run_progress_fn)(void *user, bp_stage stage, double fraction, u
    whose results it combines in a fixed order, so the output is bit-identical
    for any number of threads.  A parallel_for must call fn(task, i) once for
    every i in [0, count), in any order and on any threads, and return when
-   all calls have returned. */
+   all calls have returned.  Charts below 8192 triangles, and loops too
+   small to gain, run on the calling thread without it. */
 typedef void (*bp_task_fn)(void *task, uint32_t index);
 typedef void (*bp_parallel_for_fn)(void *user, bp_task_fn fn, void *task, uint32_t count);
 
@@ -333,6 +365,28 @@ typedef struct bp_options {
                                      set by bp_options_init; 0: the 0.2.0 size */
     bp_run_progress_fn run_progress; /* whole-run progress and cancel, optional */
     void         *run_progress_user;
+    /* Packing (>>pack).  New fields go at the end so that older initializers
+       keep their meaning. */
+    int           atlas_resolution; /* texels per side of a square atlas: the
+                                     charts are packed by their rasterized
+                                     outlines at one texel density into
+                                     [0,1]^2 (normalize is implied).  0: no
+                                     fixed resolution, the shelf packing of
+                                     bounding boxes (3D units, or [0,1]^2 with
+                                     normalize), unchanged since 0.1          */
+    int           padding;        /* with atlas_resolution: at least this many
+                                     texels between any two charts, measured on
+                                     the final UVs.  0: none (charts still never
+                                     share a texel).  Negative is invalid     */
+    int           no_rotation;    /* nonzero: keep each chart's orientation
+                                     (no minimum-area-box rotation and no 90
+                                     degree turns).  0: rotate when it packs
+                                     better                                   */
+    const bp_pin *pins;           /* pinned vertices (see >>pins); NULL or
+                                     num_pins 0: none.  Pinned charts are not
+                                     moved by packing; pins and normalize
+                                     together are refused                      */
+    uint32_t      num_pins;
 } bp_options;
 
 /* Growing bp_options.  New fields are only ever appended, so a caller's
@@ -376,6 +430,12 @@ typedef struct bp_chart {
     int       threads;        /* threads used (0: a user parallel_for)         */
     bp_error  error;          /* BP_OK, or why this chart has no map (then uv
                                  is NULL); see bp_options.strict            */
+    int       init_used;      /* BP_INIT_INPUT: 1 the input uvs were the start,
+                                 -1 they were missing or not bijective and
+                                 Tutte was used instead; 0: not asked        */
+    uint32_t  num_pins;       /* chart vertices pinned (opt.pins)            */
+    int       in_place;       /* nonzero: packing left the chart where its
+                                 start map put it (pins, or input uvs)      */
 } bp_chart;
 
 typedef struct bp_atlas {
@@ -387,6 +447,10 @@ typedef struct bp_atlas {
     uint32_t     num_split;       /* pinch vertices repaired in all charts   */
     uint32_t     num_failed;      /* charts without a map (chart.error says why) */
     bp_allocator allocator;
+    double       utilization;     /* after bp_atlas_pack: total UV area of the
+                                     charts over the atlas area (the square
+                                     [0,1]^2 with atlas_resolution, else the
+                                     square on the longer side of the packing) */
 } bp_atlas;
 
 /* Result of the exact validity check (see bp_check).  The counts describe
@@ -422,20 +486,35 @@ BPDEF const char *bp_stop_string(bp_stop s);
    chart.error; any other error zeroes it (CONVENTIONS: the failure rule). */
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *mesh,
                                const bp_options *opt, bp_error *err);
-/* The start map of one chart (Tutte or Floater, holes filled, sec 3.6).
-   Charts of 4096 vertices or more factor their system on opt->threads. */
+/* The start map of one chart (Tutte or Floater, holes filled, sec 3.6; or
+   the input uvs with BP_INIT_INPUT), carried onto opt->pins if the chart
+   has any (see >>pins).  Charts of 8192 triangles or more factor
+   their system on opt->threads. */
 BPDEF bp_status bp_chart_init(bp_chart *chart, const bp_mesh *mesh,
                               const bp_options *opt, bp_error *err);
 /* Minimize distortion keeping the map bijective at every iteration (chap 3).
    The start map in chart->uv (bp_chart_init's or your own) is checked with
    bp_check first: an invalid one fails with BP_ERR_NOT_BIJECTIVE (or
    BP_ERR_NONFINITE) naming the triangle or the boundary edges; without the
-   barrier only its triangles' orientation is required. */
+   barrier only its triangles' orientation is required.  Pinned vertices
+   (opt->pins) are held fixed and must be at their targets in the start. */
 BPDEF bp_status bp_chart_optimize(bp_chart *chart, uint32_t chart_index,
                                   const bp_mesh *mesh, const bp_options *opt,
                                   bp_error *err);
-/* Place the charts side by side without overlap (and into [0,1]^2 if asked). */
+/* Place the charts side by side without overlap (and into [0,1]^2 if asked).
+   With opt->atlas_resolution the charts are scaled to one texel density,
+   rotated and packed by their rasterized outlines with opt->padding texels
+   between them (>>pack); every moved chart is re-checked exactly.
+   Charts with pins, and charts started from their input uvs (without
+   normalize), stay where they are: see chart.in_place and >>pins. */
 BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err);
+/* Take each chart's map from the mesh's own texture coordinates (mesh->uvs
+   through chart.vertex_uv) instead of computing one, for repacking a mesh
+   that is already parameterized.  Each chart's input map is checked exactly;
+   a chart without texture coordinates or whose map is not bijective is
+   marked failed (chart.error names it) and is not packed.  Returns BP_OK,
+   or BP_ERR_CHARTS_FAILED when some charts failed. */
+BPDEF bp_status bp_atlas_use_input_uvs(bp_atlas *atlas, const bp_mesh *mesh, bp_error *err);
 /* Everything: build, init, optimize, pack, and an exact check of the packed
    atlas.  BP_OK: every chart mapped.  BP_ERR_CHARTS_FAILED (not strict) and
    BP_ERR_CANCELLED: the atlas is kept, every chart valid or reported failed,
@@ -1030,10 +1109,12 @@ static const bp_options *bp__opts(const bp_options *in, bp_options *out, bp_erro
    one after the other.
 
    Who runs the tasks: a parallel_for supplied in the options (your job
-   system), or, with BP_USE_PTHREADS, a small pool created once per solve,
-   or a plain loop.  If a thread cannot be created the pool runs with the
-   threads it has (possibly none besides the caller); chart->threads says
-   how many were used. */
+   system), or, with BP_USE_PTHREADS, a small pool (one per bp_parameterize
+   call, or per bp_chart_init / bp_chart_optimize of a large chart called
+   alone), or a plain loop; small charts and small loops always run as a
+   plain loop (below).  If a thread cannot be created the pool runs with
+   the threads it has (possibly none besides the caller); chart->threads
+   says how many the chart's loops could use. */
 
 typedef struct bp__par {
     bp_parallel_for_fn run;
@@ -1048,11 +1129,42 @@ static void bp__serial_for(void *user, bp_task_fn fn, void *task, uint32_t count
     for (i = 0; i < count; i++) fn(task, i);
 }
 
+/* Small work runs serially.  A parallel loop costs a join (2 us on an idle
+   pool, a wake-up of tens of microseconds when a thread slept, a
+   scheduler time slice when the other core is taken by another process),
+   so it pays only when its tasks are much longer than that.  Two
+   thresholds, measured on the 2-core test machine (docs/performance.md):
+
+   - a chart below BP__PAR_MIN_TRIANGLES triangles is solved with serial
+     loops (its whole iteration takes less than a millisecond, of which
+     dozens of joins would take a good part), and bp_chart_optimize /
+     bp_chart_init called alone start no pool for it;
+   - a loop over fewer than BP__PAR_MIN_ITEMS cheap items (boundary
+     vertices and edges) runs serially inside a large chart.
+
+   Loops over triangles and vertices need no threshold of their own: their
+   chunks hold up to 2048 items, so a small loop is one task, run by the
+   caller.  The tasks are the same whoever runs them, so the thresholds
+   change no result (tests/test_threads.c sets both to 1 to send every loop
+   of its small meshes through the pool). */
+#ifndef BP__PAR_MIN_TRIANGLES
+#define BP__PAR_MIN_TRIANGLES 8192u
+#endif
+#ifndef BP__PAR_MIN_ITEMS
+#define BP__PAR_MIN_ITEMS     1024u
+#endif
+
+static void bp__par_run(const bp__par *par, bp_task_fn fn, void *task, uint32_t count, uint32_t items)
+{
+    if (items < BP__PAR_MIN_ITEMS) bp__serial_for(NULL, fn, task, count);
+    else par->run(par->user, fn, task, count);
+}
+
 #ifdef BP_USE_PTHREADS
 #include <pthread.h>
 #include <unistd.h>
 
-#define BP__LINE 16                     /* uint32_t per cache line (64 bytes) */
+#define BP__LINE 8                      /* uint64_t per cache line (64 bytes) */
 
 typedef struct bp__pool bp__pool;
 typedef struct bp__worker { bp__pool *P; int id; } bp__worker;
@@ -1063,37 +1175,93 @@ struct bp__pool {
     int             nth;            /* worker threads created                */
     pthread_mutex_t mu;
     pthread_cond_t  wake, done;
-    uint64_t        gen;            /* job generation                        */
-    int             busy;           /* workers still inside the current job  */
+    uint32_t        gen;            /* job number (written under mu)         */
     int             quit;
-    bp_task_fn      fn;
-    void           *task;
-    uint32_t        count, next;
-    uint32_t       *claim;          /* per thread, a cache line apart: the
-                                       next task of its block                */
+    bp_task_fn      fn;             /* the job: fn(task, i), i < count       */
+    void           *task;           /*   (written and read under mu)         */
+    uint32_t        count;
+    uint32_t        finished;       /* tasks of the job finished             */
+    uint64_t       *claim;          /* per block, a cache line apart:
+                                       gen << 32 | its next unclaimed task   */
+    uint32_t        skip;           /* loops to run on the caller alone      */
+    uint32_t        backoff;        /* the next skip (bp__pool_for)          */
+    uint32_t        wjobs;          /* parallel loops in the current window  */
+    double          wwall, wcpu;    /* the window's start: wall, process CPU */
 };
 
-/* Waking a sleeping thread costs tens of microseconds, longer than many of
-   the solver's tasks (a vector chunk takes a few), and an iteration has
-   dozens of parallel loops.  So a worker that finished a job, and the
-   caller waiting for the last task of one, first spin for a short while
-   (reading the job counters atomically), and only then sleep on the
-   condition variable.  Without GCC/Clang atomics they sleep at once. */
+/* Waiting.  Waking a sleeping thread costs tens of microseconds, longer
+   than many of the solver's tasks (a vector chunk takes a few), and an
+   iteration has dozens of parallel loops, so a thread that waits (a worker
+   for the next job, the caller for the last task of one) first polls for a
+   short while.  Short is the point: session 4 polled up to 200000
+   iterations (about a millisecond), and on a machine whose cores were all
+   busy with other processes a polling thread took the core from the very
+   thread it waited for: the default was 5 to 200 times slower than
+   --threads 1 (issue 13).  Now a thread polls at most BP__SPIN_NS
+   nanoseconds, with the processor's pause hint between reads, then sleeps
+   on a condition variable.  The bound is on the clock, not on a count of
+   iterations, whose length varies tenfold between processors.  Without
+   GCC/Clang atomics a thread sleeps at once and tasks are claimed under
+   the mutex. */
 #if defined(__GNUC__) || defined(__clang__)
-#define BP__SPIN_LIMIT 200000
+#define BP__SPIN_NS 20000
 #define BP__LOAD(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
 #define BP__STORE(p, v) __atomic_store_n((p), (v), __ATOMIC_RELEASE)
 #define BP__ATOMICS 1
+#if defined(__x86_64__) || defined(__i386__)
+#define BP__PAUSE() __builtin_ia32_pause()
+#elif defined(__aarch64__)
+#define BP__PAUSE() __asm__ __volatile__("yield" ::: "memory")
 #else
-#define BP__SPIN_LIMIT 0
+#define BP__PAUSE() ((void)0)
+#endif
+#else
+#define BP__SPIN_NS 0
 #define BP__LOAD(p) (*(p))
 #define BP__STORE(p, v) (*(p) = (v))
 #define BP__ATOMICS 0
 #endif
 
-/* Take task indices until none are left (called with the mutex held, which
-   it keeps between tasks only without atomics: with them a task index is
-   claimed by one atomic increment, and the lock is free while tasks run).
+static double bp__seconds(void);
+
+/* Poll until *w differs from `old` (is_ne) or equals it (!is_ne), or the
+   spin time is over; returns whether the condition was met. */
+static int bp__pool_poll(const uint32_t *w, uint32_t old, int is_ne, const int *quit)
+{
+#if BP__ATOMICS
+    double until = 0;
+    int k;
+    for (k = 0;; k++) {
+        if ((BP__LOAD(w) != old) == is_ne || BP__LOAD(quit)) return 1;
+        if ((k & 31) == 0) {                    /* the clock every 32 polls */
+            double now = bp__seconds();
+            if (k == 0) until = now + 1e-9 * BP__SPIN_NS;
+            else if (now >= until) return 0;
+        }
+        BP__PAUSE();
+    }
+#else
+    (void)w; (void)old; (void)is_ne; (void)quit;
+    return 0;
+#endif
+}
+
+/* Who waits for whom.  A job's tasks are claimed one at a time (below),
+   and the caller waits until every task is *finished*, counted in
+   P->finished, not until every worker has looked at the job.  A worker
+   that the system has not scheduled yet (the other core is busy with
+   another process) therefore costs nothing: the caller claims and runs its
+   tasks itself, and when the worker wakes it finds nothing left.  Session 4
+   counted workers instead, so every loop waited for every worker to be
+   scheduled: with a competing process, a scheduler time slice (a few
+   milliseconds) per loop, dozens of loops per iteration.  The caller now
+   waits only for a task that a worker has claimed and is still running.
+
+   A worker that wakes late must not take a task of a later job for the
+   job it read.  So each block's claim word carries the job number in its
+   high half, a task is claimed by a compare-and-swap of the whole word,
+   and a worker whose job number no longer matches stops; it read its job
+   (fn, task, count) under the mutex, all of one job.
 
    Which thread runs which task changes no result, but it decides where the
    data is.  The solver's loops touch the same data in the same task
@@ -1105,72 +1273,166 @@ struct bp__pool {
    unclaimed task).  On the 2-core test machine this took camelhead's
    2-thread speed-up from 1.47 to 1.67 (the preconditioner solve alone
    from 1.37 to 1.71), against one shared counter. */
-static void bp__pool_drain(bp__pool *P, int me)
+static int bp__pool_claim(bp__pool *P, int u, uint32_t gen, uint32_t end, uint32_t *i)
+{
+    uint64_t *c = &P->claim[BP__LINE * u];
+#if BP__ATOMICS
+    uint64_t w = __atomic_load_n(c, __ATOMIC_ACQUIRE);
+    for (;;) {
+        if ((uint32_t)(w >> 32) != gen || (uint32_t)w >= end) return 0;
+        if (__atomic_compare_exchange_n(c, &w, w + 1, 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)) break;
+    }
+    *i = (uint32_t)w;
+    return 1;
+#else
+    uint64_t w;
+    pthread_mutex_lock(&P->mu);
+    w = *c;
+    if ((uint32_t)(w >> 32) == gen && (uint32_t)w < end) *c = w + 1;
+    pthread_mutex_unlock(&P->mu);
+    if ((uint32_t)(w >> 32) != gen || (uint32_t)w >= end) return 0;
+    *i = (uint32_t)w;
+    return 1;
+#endif
+}
+
+/* Adds `ran` finished tasks; returns the job's new total. */
+static uint32_t bp__pool_finish(bp__pool *P, uint32_t ran)
 {
 #if BP__ATOMICS
-    bp_task_fn fn = P->fn;
-    void *task = P->task;
-    uint32_t count = P->count, i;
-    int nt = P->nth + 1, k;
+    return __atomic_add_fetch(&P->finished, ran, __ATOMIC_ACQ_REL);
+#else
+    uint32_t f;
+    pthread_mutex_lock(&P->mu);
+    f = P->finished += ran;
     pthread_mutex_unlock(&P->mu);
+    return f;
+#endif
+}
+
+/* Runs tasks of job `gen` until none is left to claim: its own block
+   first, then the others'.  Returns how many it ran. */
+static uint32_t bp__pool_drain(bp__pool *P, int me, uint32_t gen, bp_task_fn fn, void *task, uint32_t count)
+{
+    int nt = P->nth + 1, k;
+    uint32_t i, ran = 0;
     for (k = 0; k < nt; k++) {
         int u = (me + k) % nt;
         uint32_t end = (uint32_t)((uint64_t)count * (uint32_t)(u + 1) / (uint32_t)nt);
-        while ((i = __atomic_fetch_add(&P->claim[BP__LINE * u], 1u, __ATOMIC_RELAXED)) < end) fn(task, i);
+        while (bp__pool_claim(P, u, gen, end, &i)) { fn(task, i); ran++; }
     }
-    pthread_mutex_lock(&P->mu);
-#else
-    (void)me;
-    while (P->next < P->count) {
-        uint32_t i = P->next++;
-        pthread_mutex_unlock(&P->mu);
-        P->fn(P->task, i);
-        pthread_mutex_lock(&P->mu);
-    }
-#endif
+    return ran;
 }
 
 static void *bp__pool_worker(void *arg)
 {
     bp__pool *P = ((bp__worker *)arg)->P;
     int me = ((bp__worker *)arg)->id;
-    uint64_t seen = 0;
+    uint32_t seen = 0, gen, count, ran;
+    bp_task_fn fn;
+    void *task;
     for (;;) {
-        int spins;
-        for (spins = 0; spins < BP__SPIN_LIMIT && BP__LOAD(&P->gen) == seen && !BP__LOAD(&P->quit); spins++) {}
+        bp__pool_poll(&P->gen, seen, 1, &P->quit);
         pthread_mutex_lock(&P->mu);
         while (!P->quit && P->gen == seen) pthread_cond_wait(&P->wake, &P->mu);
         if (P->quit) { pthread_mutex_unlock(&P->mu); break; }
-        seen = P->gen;
-        bp__pool_drain(P, me);
-        BP__STORE(&P->busy, P->busy - 1);
-        if (P->busy == 0) pthread_cond_signal(&P->done);
+        seen = gen = P->gen;
+        fn = P->fn; task = P->task; count = P->count;
         pthread_mutex_unlock(&P->mu);
+        ran = bp__pool_drain(P, me, gen, fn, task, count);
+        if (ran && bp__pool_finish(P, ran) == count) {   /* the last task: wake the caller */
+            pthread_mutex_lock(&P->mu);
+            pthread_cond_signal(&P->done);
+            pthread_mutex_unlock(&P->mu);
+        }
     }
     return NULL;
+}
+
+/* When the other cores are taken.  Threads help only if the system gives
+   them cores.  Linux groups the threads of a session (a terminal, a job
+   started by make) and shares the processors fairly between the groups
+   ("autogroup"): while another session keeps both cores busy, the two
+   threads of this process get one core between them, no more than one
+   thread would, and then the second thread only adds its costs (the joins,
+   a task stalled while the system runs another process in the middle of
+   it, the second cache: camelhead takes 12% more CPU time on 2 threads).
+   Measured with the load average at 6-8 from other sessions: camelhead
+   8.3 s with 1 thread, 8.6-12.0 s with 2.
+
+   So the pool measures what it gets: over a window of at least
+   BP__WINDOW_JOBS parallel loops and BP__WINDOW_S seconds, the process's
+   CPU time divided by the wall time, the number of cores it actually
+   used.  Below BP__MIN_CORES_PER_THREAD per thread (two threads that got
+   less than one core between them: then one thread would have had that
+   core to itself, without the second one's costs), the next `backoff`
+   loops run on the caller alone, as with threads = 1 (2048 loops, about
+   50 iterations of a large chart, doubling up to 32768 while the machine
+   stays crowded); then a parallel window measures again.  Camelhead's
+   windows on a nearly idle machine used 1.3-2.0 cores; with the load
+   average at 10 from other sessions, 0.28.  Who runs the tasks changes no
+   result. */
+#define BP__WINDOW_JOBS 256u
+#define BP__WINDOW_S    0.05
+#define BP__MIN_CORES_PER_THREAD 0.5
+#define BP__BACKOFF_MIN 2048u
+#define BP__BACKOFF_MAX 32768u
+
+static double bp__cpu_seconds(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return -1;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* After each parallel loop: close the window when it is long enough and
+   decide whether the next loops run on the caller alone. */
+static void bp__pool_window(bp__pool *P)
+{
+    double wall, cpu;
+    if (P->wjobs++ == 0) { P->wwall = bp__seconds(); P->wcpu = bp__cpu_seconds(); return; }
+    if (P->wjobs < BP__WINDOW_JOBS || (wall = bp__seconds() - P->wwall) < BP__WINDOW_S) return;
+    cpu = bp__cpu_seconds() - P->wcpu;
+    P->wjobs = 0;
+    if (P->wcpu < 0 || cpu < 0) return;                      /* no CPU clock: keep the threads */
+    if (cpu < BP__MIN_CORES_PER_THREAD * (P->nth + 1) * wall) {
+        P->backoff = P->backoff < BP__BACKOFF_MIN ? BP__BACKOFF_MIN
+                   : P->backoff < BP__BACKOFF_MAX ? 2 * P->backoff : BP__BACKOFF_MAX;
+        P->skip = P->backoff;
+    } else {
+        P->backoff = 0;
+    }
 }
 
 static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
 {
     bp__pool *P = (bp__pool *)user;
-    int spins, t;
-    if (count <= 1 || P->nth == 0) { bp__serial_for(NULL, fn, task, count); return; }
+    uint32_t gen;
+    int t;
+    if (count <= 1 || P->nth == 0 || P->skip > 0) {
+        if (P->skip > 0) P->skip--;
+        bp__serial_for(NULL, fn, task, count);
+        return;
+    }
     pthread_mutex_lock(&P->mu);
+    gen = P->gen + 1;
     P->fn = fn;
     P->task = task;
     P->count = count;
-    P->next = 0;
+    BP__STORE(&P->finished, 0u);
     for (t = 0; t <= P->nth; t++)              /* block t: [count t / nt, count (t+1) / nt) */
-        BP__STORE(&P->claim[BP__LINE * t], (uint32_t)((uint64_t)count * (uint32_t)t / (uint32_t)(P->nth + 1)));
-    BP__STORE(&P->busy, P->nth);
-    BP__STORE(&P->gen, P->gen + 1);
+        BP__STORE(&P->claim[BP__LINE * t],
+                  (uint64_t)gen << 32 | (uint32_t)((uint64_t)count * (uint32_t)t / (uint32_t)(P->nth + 1)));
+    BP__STORE(&P->gen, gen);
     pthread_cond_broadcast(&P->wake);
-    bp__pool_drain(P, 0);                      /* the caller works too */
     pthread_mutex_unlock(&P->mu);
-    for (spins = 0; spins < BP__SPIN_LIMIT && BP__LOAD(&P->busy) > 0; spins++) {}
-    pthread_mutex_lock(&P->mu);
-    while (P->busy > 0) pthread_cond_wait(&P->done, &P->mu);
-    pthread_mutex_unlock(&P->mu);
+    if (bp__pool_finish(P, bp__pool_drain(P, 0, gen, fn, task, count)) != count &&   /* the caller works too */
+        !bp__pool_poll(&P->finished, count, 0, &P->quit)) {
+        pthread_mutex_lock(&P->mu);
+        while (BP__LOAD(&P->finished) != count) pthread_cond_wait(&P->done, &P->mu);
+        pthread_mutex_unlock(&P->mu);
+    }
+    bp__pool_window(P);
 }
 
 /* A pool of `threads` (0: all cores) including the caller. */
@@ -1187,7 +1449,7 @@ static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
     if (!P) return NULL;
     P->th = (pthread_t *)bp__alloc_array(a, (size_t)threads - 1, sizeof(pthread_t));
     P->who = (bp__worker *)bp__alloc_array(a, (size_t)threads - 1, sizeof(bp__worker));
-    P->claim = (uint32_t *)bp__calloc_array(a, (size_t)threads * BP__LINE, sizeof(uint32_t));
+    P->claim = (uint64_t *)bp__calloc_array(a, (size_t)threads * BP__LINE, sizeof(uint64_t));
     if (P->th && P->who && P->claim) mu = pthread_mutex_init(&P->mu, NULL) == 0;
     if (mu) wake = pthread_cond_init(&P->wake, NULL) == 0;
     if (wake) done = pthread_cond_init(&P->done, NULL) == 0;
@@ -1224,6 +1486,15 @@ static void bp__pool_stop(const bp_allocator *a, bp__pool *P)
     bp__free(a, P);
 }
 #endif /* BP_USE_PTHREADS */
+
+static bp__par bp__par_serial(void)
+{
+    bp__par par;
+    par.run = bp__serial_for;
+    par.user = NULL;
+    par.threads = 1;
+    return par;
+}
 
 /* Choose how loops run for a solve; *pool receives a pool to stop later. */
 static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void **pool)
@@ -4111,49 +4382,37 @@ static uint32_t bp__row_subtree(const bp__sparse *A, const bp__factor *F, const 
     return m;
 }
 
-/* Factor A (symmetric pattern).  Returns BP_OK, BP_ERR_OUT_OF_MEMORY, or
-   BP_ERR_NUMERICAL with *bad_row set when a pivot is zero or not finite.
-   The numeric rows run in parallel phases along the dissection tree when
-   par is given; every row is computed by the same operations either way. */
-static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
-                               const bp__par *par)
-{
-    uint32_t n = A->n, k, p, i;
-    uint32_t *parent = NULL, *mark = NULL, *cnt = NULL, *tpos = NULL, *cursor = NULL, *Cp = NULL, *Ci = NULL;
-    uint32_t *reach = NULL;
-    double *x = NULL, *y = NULL, *xs = NULL, *ys = NULL;
-    bp_status st = BP_ERR_OUT_OF_MEMORY;
-    size_t nnzL = 0;
-    bp__fact_task T;
-    bp__par serial;
-    int phase;
-    memset(F, 0, sizeof *F);
-    F->n = n;
-    F->symmetric = A->symmetric;
-    F->perm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    F->iperm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    F->Rp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    F->D = (double *)bp__alloc_array(a, n, sizeof(double));
-    parent = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    cnt = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    Cp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    reach = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    if (!F->perm || !F->iperm || !F->Rp || !F->D || !parent || !mark || !cnt || !Cp || !reach) goto done;
-    if (!A->symmetric) {
-        /* tpos[p]: position of the transposed entry (using sorted rows) */
-        size_t nnz = A->colp[n];
-        tpos = (uint32_t *)bp__alloc_array(a, nnz, sizeof(uint32_t));
-        cursor = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-        if (!tpos || !cursor) goto done;
-        for (k = 0; k < n; k++) cursor[k] = A->colp[k];
-        for (k = 0; k < n; k++)
-            for (p = A->colp[k]; p < A->colp[k + 1]; p++) tpos[p] = cursor[A->row[p]]++;
-    }
-    if (!bp__nd_order(a, A, F->perm, F->tree)) goto done;
-    for (k = 0; k < n; k++) F->iperm[F->perm[k]] = k;
+/* The factor's size limit.  L's row pointers Rp and column indices Ri are
+   uint32_t, so L holds at most BP__FACTOR_MAX_NNZ entries below the
+   diagonal (a little under 2^32; the factor then takes about 64 GB).  The
+   symbolic phase counts the entries before anything is allocated and
+   stops with BP_ERR_TOO_LARGE, not with an allocation that fails or an
+   index that wraps around. */
+#ifndef BP__FACTOR_MAX_NNZ
+#define BP__FACTOR_MAX_NNZ 0xfffffff0u
+#endif
 
-    /* elimination tree (mark holds the "ancestor" links) */
+/* tpos[p]: the position in A of the transpose of entry p (A's rows are
+   sorted, so the transposes of column k come out in order). */
+static int bp__fact_transpose(const bp_allocator *a, const bp__sparse *A, uint32_t **tpos_out)
+{
+    uint32_t n = A->n, k, p, *tpos, *cursor;
+    *tpos_out = tpos = (uint32_t *)bp__alloc_array(a, A->colp[n], sizeof(uint32_t));
+    cursor = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    if (!tpos || !cursor) { bp__free(a, cursor); return 0; }
+    for (k = 0; k < n; k++) cursor[k] = A->colp[k];
+    for (k = 0; k < n; k++)
+        for (p = A->colp[k]; p < A->colp[k + 1]; p++) tpos[p] = cursor[A->row[p]]++;
+    bp__free(a, cursor);
+    return 1;
+}
+
+/* The elimination tree of the permuted matrix: parent[k], the first row
+   below k whose pattern contains column k (Liu's algorithm; mark holds
+   the path-compressed "ancestor" links). */
+static void bp__fact_etree(const bp__sparse *A, const bp__factor *F, uint32_t *parent, uint32_t *mark)
+{
+    uint32_t n = A->n, k, p;
     for (k = 0; k < n; k++) {
         uint32_t old = F->perm[k];
         parent[k] = BP__NONE;
@@ -4168,17 +4427,33 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
             }
         }
     }
-    /* The pattern of row k is its row subtree (bp__row_subtree).  Counted
-       first (row and column counts), then listed by columns (each column
-       comes out sorted, as k increases), then transposed into rows (each
-       row sorted). */
+}
+
+/* The pattern of L (F->Rp, F->Ri).  The pattern of row k is its row
+   subtree (bp__row_subtree).  Counted first (row and column counts, and
+   the size limit), then listed by columns (each column comes out sorted,
+   as k increases), then transposed into rows (each row sorted).  Returns
+   BP_OK, BP_ERR_OUT_OF_MEMORY or BP_ERR_TOO_LARGE (*stop_row: the row at
+   which the count passed the limit). */
+static bp_status bp__fact_symbolic(const bp_allocator *a, const bp__sparse *A, bp__factor *F,
+                                   const uint32_t *parent, uint32_t *stop_row)
+{
+    uint32_t n = A->n, k, i, p;
+    uint32_t *mark, *cnt, *Cp, *reach, *Ci = NULL;
+    size_t nnzL = 0;
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    cnt = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    Cp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    reach = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    if (!mark || !cnt || !Cp || !reach) goto done;
     for (k = 0; k <= n; k++) Cp[k] = 0;
     for (k = 0; k < n; k++) mark[k] = BP__NONE;
     for (k = 0; k < n; k++) {
         uint32_t m = bp__row_subtree(A, F, parent, mark, k, reach);
         F->Rp[k] = (uint32_t)nnzL;
         nnzL += m;
-        if (nnzL > 0xfffffff0u) goto done;
+        if (nnzL > BP__FACTOR_MAX_NNZ) { *stop_row = k; st = BP_ERR_TOO_LARGE; goto done; }
         for (i = 0; i < m; i++) Cp[reach[i] + 1]++;
     }
     F->Rp[n] = (uint32_t)nnzL;
@@ -4194,40 +4469,83 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
     for (k = 0; k < n; k++) cnt[k] = F->Rp[k];
     for (i = 0; i < n; i++)
         for (p = Cp[i]; p < Cp[i + 1]; p++) F->Ri[cnt[Ci[p]]++] = i;
-    bp__free(a, Ci);
-    Ci = NULL;
+    st = BP_OK;
+done:
+    bp__free(a, mark); bp__free(a, cnt); bp__free(a, Cp); bp__free(a, reach); bp__free(a, Ci);
+    return st;
+}
 
-    /* numeric, one row k at a time */
+/* The values of L, U and D, one row k at a time, in parallel phases along
+   the dissection tree (see bp__fact_rows). */
+static int bp__fact_numeric(const bp_allocator *a, const bp__sparse *A, bp__factor *F, const uint32_t *tpos,
+                            const bp__par *par)
+{
+    uint32_t n = A->n, nnzL = F->Rp[n];
+    bp__fact_task T;
+    int phase, ok = 0;
+    memset(&T, 0, sizeof T);
     F->Rx = (double *)bp__alloc_array(a, nnzL, sizeof(double));
     if (!A->symmetric) F->Ux = (double *)bp__alloc_array(a, nnzL, sizeof(double));
-    x = (double *)bp__calloc_array(a, n, sizeof(double));
-    y = (double *)bp__calloc_array(a, n, sizeof(double));
-    xs = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
-    if (!A->symmetric) ys = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
-    if (!F->Rx || (!A->symmetric && (!F->Ux || !ys)) || !x || !y || !xs) goto done;
-    T.A = A;
-    T.F = F;
-    T.tpos = tpos;
-    T.x = x;
-    T.y = y;
-    T.xs = xs;
-    T.ys = ys;
-    serial.run = bp__serial_for;
-    serial.user = NULL;
-    serial.threads = 1;
-    if (!par) par = &serial;
-    for (phase = 0; phase <= BP__ND_DEPTH; phase++) {
-        uint32_t cntn = bp__nd_phase(F, phase, T.nodes);
-        if (phase == 0) {
-            T.mode = BP__FACT_WHOLE;
+    T.x = (double *)bp__calloc_array(a, n, sizeof(double));
+    T.y = (double *)bp__calloc_array(a, n, sizeof(double));
+    T.xs = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
+    if (!A->symmetric) T.ys = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
+    if (F->Rx && (A->symmetric || (F->Ux && T.ys)) && T.x && T.y && T.xs) {
+        T.A = A;
+        T.F = F;
+        T.tpos = tpos;
+        for (phase = 0; phase <= BP__ND_DEPTH; phase++) {
+            uint32_t cntn = bp__nd_phase(F, phase, T.nodes);
+            if (phase == 0) {
+                T.mode = BP__FACT_WHOLE;
+                par->run(par->user, bp__fact_rows, &T, cntn);
+                continue;
+            }
+            T.mode = BP__FACT_OUTSIDE;
+            par->run(par->user, bp__fact_rows, &T, cntn * BP__FACT_PARTS);
+            T.mode = BP__FACT_INSIDE;
             par->run(par->user, bp__fact_rows, &T, cntn);
-            continue;
         }
-        T.mode = BP__FACT_OUTSIDE;
-        par->run(par->user, bp__fact_rows, &T, cntn * BP__FACT_PARTS);
-        T.mode = BP__FACT_INSIDE;
-        par->run(par->user, bp__fact_rows, &T, cntn);
+        ok = 1;
     }
+    bp__free(a, T.x); bp__free(a, T.y); bp__free(a, T.xs); bp__free(a, T.ys);
+    return ok;
+}
+
+/* Factor A (symmetric pattern) in four phases: the ordering (nested
+   dissection), the elimination tree, the pattern of L, the values.
+   Returns BP_OK; BP_ERR_OUT_OF_MEMORY; BP_ERR_TOO_LARGE when L would have
+   more than BP__FACTOR_MAX_NNZ entries (*bad_row: the row where the count
+   passed it); BP_ERR_NUMERICAL with *bad_row set (the original row) when a
+   pivot is zero or not finite.  The numeric rows run in parallel phases
+   when par is given; every row is computed by the same operations either
+   way. */
+static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
+                               const bp__par *par)
+{
+    uint32_t n = A->n, k;
+    uint32_t *parent = NULL, *mark = NULL, *tpos = NULL;
+    bp__par serial = bp__par_serial();
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    memset(F, 0, sizeof *F);
+    F->n = n;
+    F->symmetric = A->symmetric;
+    F->perm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    F->iperm = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    F->Rp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    F->D = (double *)bp__alloc_array(a, n, sizeof(double));
+    parent = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
+    if (!F->perm || !F->iperm || !F->Rp || !F->D || !parent || !mark) goto done;
+    if (!A->symmetric && !bp__fact_transpose(a, A, &tpos)) goto done;
+    if (!bp__nd_order(a, A, F->perm, F->tree)) goto done;
+    for (k = 0; k < n; k++) F->iperm[F->perm[k]] = k;
+    bp__fact_etree(A, F, parent, mark);
+    bp__free(a, mark);
+    mark = NULL;
+    if ((st = bp__fact_symbolic(a, A, F, parent, bad_row)) != BP_OK) goto done;
+    st = BP_ERR_OUT_OF_MEMORY;
+    if (!bp__fact_numeric(a, A, F, tpos, par ? par : &serial)) goto done;
     for (k = 0; k < n; k++)
         if (!(F->D[k] != 0) || !(F->D[k] - F->D[k] == 0)) {
             *bad_row = F->perm[k];
@@ -4236,10 +4554,24 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
         }
     st = BP_OK;
 done:
-    bp__free(a, parent); bp__free(a, mark); bp__free(a, cnt); bp__free(a, Cp); bp__free(a, Ci); bp__free(a, reach);
-    bp__free(a, x); bp__free(a, y); bp__free(a, xs); bp__free(a, ys); bp__free(a, tpos); bp__free(a, cursor);
+    bp__free(a, parent); bp__free(a, mark); bp__free(a, tpos);
     if (st != BP_OK) bp__factor_free(a, F);
     return st;
+}
+
+/* The message for BP_ERR_TOO_LARGE from bp__factorize: the chart, the
+   system's size and the limit (chart BP__NONE: not known here). */
+static bp_status bp__factor_too_large(bp_error *err, uint32_t chart, uint32_t nt, const char *what, uint32_t n)
+{
+    if (chart == BP__NONE)
+        return bp__fail(err, BP_ERR_TOO_LARGE, BP_ELEMENT_NONE, -1, -1, 0,
+                        "a chart of %u triangles: its %s (%u unknowns) needs a sparse factor of more than %u "
+                        "entries, the limit of 32-bit indices; cut the chart into smaller ones",
+                        nt, what, n, BP__FACTOR_MAX_NNZ);
+    return bp__fail(err, BP_ERR_TOO_LARGE, BP_ELEMENT_CHART, chart, -1, 0,
+                    "chart %u (%u triangles): its %s (%u unknowns) needs a sparse factor of more than %u "
+                    "entries, the limit of 32-bit indices; cut the chart into smaller ones",
+                    chart, nt, what, n, BP__FACTOR_MAX_NNZ);
 }
 
 /* x = A^-1 b through the factors; z is workspace of size n.  Forward
@@ -5495,6 +5827,10 @@ static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *
         return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_VERTEX, bv, -1, 0,
                         "the start-map system is singular at vertex %u", bv + 1);
     }
+    if (st == BP_ERR_TOO_LARGE) {
+        bp__factor_free(a, &F);
+        return bp__factor_too_large(err, BP__NONE, ch->num_triangles, "start-map system", nfree);
+    }
     if (st != BP_OK) { bp__factor_free(a, &F); return bp__oom(err, "computing the start map"); }
     bp__solve_refined(&T->A, &F, T->rhs, T->sol, T->work);
     bp__solve_refined(&T->A, &F, T->rhs + nfree, T->sol + nfree, T->work);
@@ -5541,13 +5877,294 @@ static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_
                     why.message);
 }
 
-/* The start map in the seven phases above. */
+/* Start maps with the user's controls (beyond the dissertation).
+
+   Input uvs (BP_INIT_INPUT): the chart's own vt coordinates -- mesh->uvs
+   through chart.vertex_uv -- are the start when every chart vertex has
+   one and bp_check passes them; then chart.init_used = 1.  Otherwise
+   (no vt, or a map that flips, overlaps or pinches) the chart falls back
+   to Tutte and init_used = -1.  Nothing else is trusted: the optimizer
+   checks its start map again anyway.
+
+   Pins (opt.pins): each names a mesh vertex and a target; every chart
+   vertex of that mesh vertex is pinned (a seam vertex has one per chart).
+   The targets are first checked against three necessary conditions, each
+   exactly (>>predicates): no two pins of one chart at the same point, every
+   triangle whose three vertices are pinned counter-clockwise (bp_orient2d
+   > 0), and no two pinned boundary edges (both ends pinned, consecutive on
+   a loop) meeting other than at a shared end (bp_segments_intersect).  They
+   are not sufficient -- pins can still ask for a map that does not exist,
+   e.g. a pinned vertex outside the loop its pinned neighbours enclose --
+   and the start map below then fails, saying so.
+
+   The start with pins: the free start (Tutte optimized without pins, see
+   bp__pins_relax_free; or the input uvs), moved by the similarity z -> a z + b that fits the pins best in least squares
+   (complex numbers: a = sum (t_i - t_c) conj(z_i - z_c) / sum |z_i - z_c|^2,
+   b = t_c - a z_c, the c's the centroids; one pin: a = 1, a translation;
+   an input start is not moved), and then carried to the targets by the
+   homotopy of >>pins.  Every map on the way is exactly bijective. */
+
+typedef struct bp__pinkey { uint32_t vertex, uv, pin; } bp__pinkey;
+
+static int bp__pinkey_cmp(const void *pa, const void *pb)
+{
+    const bp__pinkey *a = (const bp__pinkey *)pa, *b = (const bp__pinkey *)pb;
+    if (a->vertex != b->vertex) return a->vertex < b->vertex ? -1 : 1;
+    if (a->uv != b->uv) return a->uv < b->uv ? -1 : 1;
+    return a->pin < b->pin ? -1 : a->pin > b->pin;
+}
+
+/* The pins of one chart: pidx[i] = the index in o->pins of chart vertex
+   i's pin, or BP__NONE (*pidx NULL when the chart has none); *count the
+   pinned chart vertices.  The list is validated here: a vertex outside the
+   mesh, a target not finite, or a vertex pinned twice fail with
+   BP_ERR_INVALID_ARGUMENT naming the pin and the vertex (from 1). */
+static bp_status bp__pin_map(const bp_allocator *a, const bp_chart *ch, const bp_mesh *m, const bp_options *o,
+                             uint32_t **pidx, uint32_t *count, bp_error *err)
+{
+    bp__pinkey *key;
+    uint32_t k, i, np = o ? o->num_pins : 0;
+    *pidx = NULL;
+    *count = 0;
+    if (!np) return BP_OK;
+    if (!o->pins) return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "num_pins is %u but pins is NULL", np);
+    key = (bp__pinkey *)bp__alloc_array(a, np, sizeof *key);
+    if (!key) return bp__oom(err, "reading the pins");
+    for (k = 0; k < np; k++) {
+        const bp_pin *p = &o->pins[k];
+        if (p->vertex >= m->num_vertices || !(p->u - p->u == 0) || !(p->v - p->v == 0) ||
+            (p->uv && (!m->corner_uv || p->uv > m->num_uvs))) {
+            bp__free(a, key);
+            if (p->vertex >= m->num_vertices)
+                return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
+                                "pin %u names vertex %u, but the mesh has %u vertices", k + 1, p->vertex + 1,
+                                m->num_vertices);
+            if (p->uv && (!m->corner_uv || p->uv > m->num_uvs))
+                return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
+                                "pin %u (vertex %u) names vt %u, but the mesh has %u", k + 1, p->vertex + 1, p->uv,
+                                m->corner_uv ? m->num_uvs : 0);
+            return bp__fail(err, BP_ERR_NONFINITE, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
+                            "pin %u (vertex %u) has a target that is NaN or infinite", k + 1, p->vertex + 1);
+        }
+        key[k].vertex = p->vertex;
+        key[k].uv = p->uv;
+        key[k].pin = k;
+    }
+    qsort(key, np, sizeof *key, bp__pinkey_cmp);
+    for (k = 1; k < np; k++)
+        if (key[k].vertex == key[k - 1].vertex && (key[k - 1].uv == 0 || key[k].uv == key[k - 1].uv)) {
+            uint32_t v = key[k].vertex, p0 = key[k - 1].pin, p1 = key[k].pin;
+            bp__free(a, key);
+            return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, v, -1, 0,
+                            "vertex %u is pinned twice (pins %u and %u)", v + 1, p0 + 1, p1 + 1);
+        }
+    for (i = 0; i < ch->num_vertices; i++) {
+        uint32_t lo = 0, hi = np, v = ch->vertex[i];
+        while (lo < hi) { uint32_t mid = lo + (hi - lo) / 2; if (key[mid].vertex < v) lo = mid + 1; else hi = mid; }
+        while (lo < np && key[lo].vertex == v && key[lo].uv != 0 &&
+               (!ch->vertex_uv || key[lo].uv - 1 != ch->vertex_uv[i]))
+            lo++;                                /* a pin of another side of a seam */
+        if (lo == np || key[lo].vertex != v) continue;
+        if (!*pidx) {
+            *pidx = (uint32_t *)bp__alloc_array(a, ch->num_vertices, sizeof(uint32_t));
+            if (!*pidx) { bp__free(a, key); return bp__oom(err, "reading the pins"); }
+            for (k = 0; k < ch->num_vertices; k++) (*pidx)[k] = BP__NONE;
+        }
+        (*pidx)[i] = key[lo].pin;
+        (*count)++;
+    }
+    bp__free(a, key);
+    return BP_OK;
+}
+
+typedef struct bp__pinpt { double u, v; uint32_t cv; } bp__pinpt;
+
+static int bp__pinpt_cmp(const void *pa, const void *pb)
+{
+    const bp__pinpt *a = (const bp__pinpt *)pa, *b = (const bp__pinpt *)pb;
+    if (a->u != b->u) return a->u < b->u ? -1 : 1;
+    if (a->v != b->v) return a->v < b->v ? -1 : 1;
+    return a->cv < b->cv ? -1 : a->cv > b->cv;
+}
+
+/* The target of pinned chart vertex i. */
+static void bp__pin_target(const bp_pin *pins, const uint32_t *pidx, uint32_t i, double t[2])
+{
+    t[0] = pins[pidx[i]].u;
+    t[1] = pins[pidx[i]].v;
+}
+
+/* Necessary condition 1: no two pinned chart vertices at one point. */
+static bp_status bp__pins_distinct(const bp_allocator *a, const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx,
+                                   uint32_t npin, bp_error *err)
+{
+    bp__pinpt *pt = (bp__pinpt *)bp__alloc_array(a, npin, sizeof *pt);
+    uint32_t i, n = 0;
+    if (!pt) return bp__oom(err, "checking the pins");
+    for (i = 0; i < ch->num_vertices; i++)
+        if (pidx[i] != BP__NONE) { pt[n].u = pins[pidx[i]].u; pt[n].v = pins[pidx[i]].v; pt[n++].cv = i; }
+    qsort(pt, n, sizeof *pt, bp__pinpt_cmp);
+    for (i = 1; i < n; i++)
+        if (pt[i].u == pt[i - 1].u && pt[i].v == pt[i - 1].v) {
+            uint32_t v0 = ch->vertex[pt[i - 1].cv], v1 = ch->vertex[pt[i].cv];
+            bp__free(a, pt);
+            return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_EDGE, v0, v1, 0,
+                            "vertices %u and %u of one chart are pinned to the same point%s", v0 + 1, v1 + 1,
+                            v0 == v1 ? " (a pinch vertex, split into one chart vertex per fan)" : "");
+        }
+    bp__free(a, pt);
+    return BP_OK;
+}
+
+/* Necessary condition 2: a triangle with three pinned vertices is
+   positively oriented at the targets (it cannot move). */
+static bp_status bp__pins_triangles(const bp_chart *ch, const bp_mesh *m, const bp_pin *pins, const uint32_t *pidx,
+                                    bp_error *err)
+{
+    uint32_t t;
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        char name[48];
+        double p0[2], p1[2], p2[2];
+        int o;
+        if (pidx[tr[0]] == BP__NONE || pidx[tr[1]] == BP__NONE || pidx[tr[2]] == BP__NONE) continue;
+        bp__pin_target(pins, pidx, tr[0], p0);
+        bp__pin_target(pins, pidx, tr[1], p1);
+        bp__pin_target(pins, pidx, tr[2], p2);
+        o = bp_orient2d(p0, p1, p2);
+        if (o > 0) continue;
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_TRIANGLE, ch->face[t], -1, bp__tri_line(m, ch->face[t]),
+                        "%s, vertices %u %u %u, has all three vertices pinned and the targets are %s: "
+                        "it would be %s", bp__tri_name(m, ch->face[t], name), ch->vertex[tr[0]] + 1,
+                        ch->vertex[tr[1]] + 1, ch->vertex[tr[2]] + 1, o < 0 ? "clockwise" : "collinear",
+                        o < 0 ? "flipped" : "degenerate");
+    }
+    return BP_OK;
+}
+
+/* Necessary condition 3: pinned boundary edges do not meet, except two
+   consecutive ones at their shared end (which must not fold back onto
+   each other: the far end of one must not lie on the other).  All pairs:
+   quadratic in the pinned boundary edges, which are few in practice. */
+static bp_status bp__pins_boundary(const bp_allocator *a, const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx,
+                                   bp_error *err)
+{
+    uint32_t L, k, i, j, ne = 0, *e = (uint32_t *)bp__alloc_array(a, 2 * (size_t)ch->loop_start[ch->num_loops] + 2,
+                                                                   sizeof(uint32_t));
+    if (!e) return bp__oom(err, "checking the pins");
+    for (L = 0; L < ch->num_loops; L++)
+        for (k = ch->loop_start[L]; k < ch->loop_start[L + 1]; k++) {
+            uint32_t va = ch->loop_vertices[k], vb = ch->loop_vertices[k + 1 < ch->loop_start[L + 1] ? k + 1 : ch->loop_start[L]];
+            if (pidx[va] != BP__NONE && pidx[vb] != BP__NONE) { e[2 * ne] = va; e[2 * ne + 1] = vb; ne++; }
+        }
+    for (i = 0; i < ne; i++)
+        for (j = i + 1; j < ne; j++) {
+            uint32_t a0 = e[2 * i], a1 = e[2 * i + 1], b0 = e[2 * j], b1 = e[2 * j + 1];
+            double A0[2], A1[2], B0[2], B1[2];
+            int bad;
+            bp__pin_target(pins, pidx, a0, A0); bp__pin_target(pins, pidx, a1, A1);
+            bp__pin_target(pins, pidx, b0, B0); bp__pin_target(pins, pidx, b1, B1);
+            if (a1 == b0) bad = bp_segments_intersect(A0, A1, B1, B1) || bp_segments_intersect(B0, B1, A0, A0);
+            else if (b1 == a0) bad = bp_segments_intersect(B0, B1, A1, A1) || bp_segments_intersect(A0, A1, B0, B0);
+            else bad = bp_segments_intersect(A0, A1, B0, B1);
+            if (bad) {
+                uint32_t v0 = ch->vertex[a0], v1 = ch->vertex[a1], v2 = ch->vertex[b0], v3 = ch->vertex[b1];
+                bp__free(a, e);
+                return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_EDGE, v0, v2, 0,
+                                "the pinned boundary edges %u-%u and %u-%u %s at their targets", v0 + 1, v1 + 1,
+                                v2 + 1, v3 + 1, (a1 == b0 || b1 == a0) ? "fold onto each other" : "cross");
+            }
+        }
+    bp__free(a, e);
+    return BP_OK;
+}
+
+/* The input uvs as the start map: 1 used, 0 missing or not bijective (the
+   caller falls back to Tutte), -1 out of memory. */
+static int bp__init_input(const bp_allocator *a, bp_chart *ch, const bp_mesh *m)
+{
+    uint32_t i;
+    bp_check_report rep;
+    bp_status st;
+    if (!m->uvs || !m->corner_uv || !ch->vertex_uv) return 0;
+    for (i = 0; i < ch->num_vertices; i++) {
+        uint32_t q = ch->vertex_uv[i];
+        if (q == BP__NONE || q >= m->num_uvs) return 0;
+        ch->uv[2 * (size_t)i] = m->uvs[2 * (size_t)q];
+        ch->uv[2 * (size_t)i + 1] = m->uvs[2 * (size_t)q + 1];
+    }
+    st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, NULL);
+    if (st == BP_ERR_OUT_OF_MEMORY) return -1;
+    return st == BP_OK;
+}
+
+/* The similarity that best fits the pins (see above), applied to the map.
+   A rotation and positive scale keep every orientation, so the result is
+   bijective up to rounding; it is checked again by the caller. */
+static void bp__pins_similarity(bp_chart *ch, const bp_pin *pins, const uint32_t *pidx)
+{
+    double zc[2] = { 0, 0 }, tc[2] = { 0, 0 }, nr = 0, ni = 0, den = 0, ar = 1, ai = 0;
+    uint32_t i, n = 0;
+    for (i = 0; i < ch->num_vertices; i++)
+        if (pidx[i] != BP__NONE) {
+            zc[0] += ch->uv[2 * (size_t)i]; zc[1] += ch->uv[2 * (size_t)i + 1];
+            tc[0] += pins[pidx[i]].u; tc[1] += pins[pidx[i]].v;
+            n++;
+        }
+    zc[0] /= n; zc[1] /= n; tc[0] /= n; tc[1] /= n;
+    for (i = 0; n > 1 && i < ch->num_vertices; i++)
+        if (pidx[i] != BP__NONE) {
+            double zr = ch->uv[2 * (size_t)i] - zc[0], zi = ch->uv[2 * (size_t)i + 1] - zc[1];
+            double tr = pins[pidx[i]].u - tc[0], ti = pins[pidx[i]].v - tc[1];
+            nr += tr * zr + ti * zi;            /* (t) conj(z) */
+            ni += ti * zr - tr * zi;
+            den += zr * zr + zi * zi;
+        }
+    if (n > 1 && den > 0 && (nr != 0 || ni != 0) && (nr / den) - (nr / den) == 0 && (ni / den) - (ni / den) == 0) {
+        ar = nr / den;
+        ai = ni / den;
+    }
+    for (i = 0; i < ch->num_vertices; i++) {
+        double zr = ch->uv[2 * (size_t)i] - zc[0], zi = ch->uv[2 * (size_t)i + 1] - zc[1];
+        ch->uv[2 * (size_t)i] = ar * zr - ai * zi + tc[0];
+        ch->uv[2 * (size_t)i + 1] = ai * zr + ar * zi + tc[1];
+    }
+}
+
+/* >>pins, defined after the optimizer it uses. */
+static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
+                                     bp_error *err);
+static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                const uint32_t *pidx, bp_error *err);
+static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                     bp_error *err);
+
+/* The pins' part of a start map: the three necessary conditions, the fit
+   (Tutte starts only) and the homotopy. */
+static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp_options *opt,
+                                const bp__par *runner, const uint32_t *pidx, bp_error *err)
+{
+    bp_status st = bp__pins_distinct(a, ch, opt->pins, pidx, ch->num_pins, err);
+    if (st == BP_OK) st = bp__pins_triangles(ch, m, opt->pins, pidx, err);
+    if (st == BP_OK) st = bp__pins_boundary(a, ch, opt->pins, pidx, err);
+    if (st != BP_OK) return st;
+    if (ch->init_used != 1) {
+        if ((st = bp__pins_relax_free(ch, m, opt, runner, err)) != BP_OK) return st;
+        bp__pins_similarity(ch, opt->pins, pidx);
+        if ((st = bp__tutte_verify(a, ch, m, err)) != BP_OK) return st;
+    }
+    return bp__pins_reach(ch, m, opt, runner, pidx, err);
+}
+
+/* The start map in the seven phases above (or the input uvs), then the
+   pins. */
 static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                 bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
     bp__tutte T;
     bp_status st = BP_OK;
+    uint32_t *pidx = NULL;
     int mvc = opt && opt->init == BP_INIT_MEAN_VALUE;
     if (ch && ch->error.status != BP_OK) {
         if (err) *err = ch->error;
@@ -5558,12 +6175,24 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
                         "bp_chart_init needs a chart from bp_atlas_build and its mesh");
     memset(&T, 0, sizeof T);
     if (!ch->uv) ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)ch->num_vertices, sizeof(double));
-    if (!ch->uv || !bp__tutte_fill(&a, &T, ch, m) || !bp__tutte_adjacency(&a, &T) || !bp__tutte_weights(&a, &T, mvc) ||
-        !bp__tutte_circle(&a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(&a, &T, ch, mvc)))
-        st = bp__oom(err, "computing the start map");
-    if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(&a, &T, ch, runner, err);
-    if (st == BP_OK) st = bp__tutte_verify(&a, ch, m, err);
+    if (!ch->uv) return bp__oom(err, "computing the start map");
+    ch->init_used = 0;
+    if ((st = bp__pin_map(&a, ch, m, opt, &pidx, &ch->num_pins, err)) != BP_OK) return st;
+    if (opt && opt->init == BP_INIT_INPUT) {
+        int used = bp__init_input(&a, ch, m);
+        if (used < 0) st = bp__oom(err, "checking the input map");
+        ch->init_used = used > 0 ? 1 : -1;
+    }
+    if (st == BP_OK && ch->init_used != 1) {
+        if (!bp__tutte_fill(&a, &T, ch, m) || !bp__tutte_adjacency(&a, &T) || !bp__tutte_weights(&a, &T, mvc) ||
+            !bp__tutte_circle(&a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(&a, &T, ch, mvc)))
+            st = bp__oom(err, "computing the start map");
+        if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(&a, &T, ch, runner, err);
+        if (st == BP_OK) st = bp__tutte_verify(&a, ch, m, err);
+    }
     bp__tutte_free(&a, &T);
+    if (st == BP_OK && pidx) st = bp__pins_start(&a, ch, m, opt, runner, pidx, err);
+    bp__free(&a, pidx);
     if (st != BP_OK) return st;
     ch->stop = BP_STOP_NONE;
     ch->iterations = 0;
@@ -5571,7 +6200,8 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
 }
 
 /* The public entry point: the factorization's rows run on the threads of
-   opt (a pool for this call) when the chart is large enough to gain. */
+   opt (a pool for this call) when the chart is large enough to gain
+   (BP__PAR_MIN_TRIANGLES, see >>threads). */
 BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_options o_;
@@ -5585,10 +6215,8 @@ BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *
     opt = opt_;
     if (bp__report(opt, BP_STAGE_START, 0, BP_NO_CHART))
         return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before the start map");
-    par.run = bp__serial_for;
-    par.user = NULL;
-    par.threads = 1;
-    if (ch && ch->num_vertices >= 4096) par = bp__par_begin(&a, opt, &pool);
+    par = bp__par_serial();
+    if (ch && ch->num_triangles >= BP__PAR_MIN_TRIANGLES) par = bp__par_begin(&a, opt, &pool);
     st = bp__chart_init(ch, m, opt, &par, err);
     bp__par_end(&a, pool);
     if (st == BP_OK) bp__report(opt, BP_STAGE_START, 1, BP_NO_CHART);  /* a cancel here: the next stage sees it */
@@ -6273,7 +6901,7 @@ static void bp__step_hash(bp__solver *S, const double *x, const double *v, doubl
     for (;;) {
         size_t total = 0, run = 0;
         int over = 0;
-        S->par.run(S->par.user, bp__hash_count_task, &J, BP__HASH_TASKS);
+        bp__par_run(&S->par, bp__hash_count_task, &J, BP__HASH_TASKS, S->nb);
         for (t = 0; t < BP__HASH_TASKS; t++) { over |= J.over[t]; total += J.total[t]; }
         if (!over && total <= H->cap) {
             for (b = 0; b <= H->mask; b++) {
@@ -6289,7 +6917,7 @@ static void bp__step_hash(bp__solver *S, const double *x, const double *v, doubl
         }
         for (L = 0; L < S->nloops; L++) S->hs[L] *= 2;
     }
-    S->par.run(S->par.user, bp__hash_place_task, &J, BP__HASH_TASKS);
+    bp__par_run(&S->par, bp__hash_place_task, &J, BP__HASH_TASKS, S->nb);
 }
 
 static void bp__hash_fill_task(void *task, uint32_t c)
@@ -6596,7 +7224,7 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
     /* every boundary vertex enters the cells its swept segment's box covers */
     bp__step_hash(S, x, v, tmax);
     T.tmax = tmax;
-    S->par.run(S->par.user, bp__step_edge_task, &T, S->nchunk_b);
+    bp__par_run(&S->par, bp__step_edge_task, &T, S->nchunk_b, S->nb);
     for (c = 0; c < S->nchunk_b; c++) if (S->part_b[c] < tmax) tmax = S->part_b[c];
     return tmax;
 }
@@ -6688,7 +7316,7 @@ static void bp__sparse_free(const bp_allocator *a, bp__sparse *A)
    opposite edge (j, k), 1/2 cot(theta_i) couples j and k (the linear FEM
    stiffness matrix, positive semi-definite for any triangle shapes). */
 static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const double *rest_wxy,
-                               bp__sparse *K, bp__factor *F)
+                               const uint32_t *pidx, bp__sparse *K, bp__factor *F)
 {
     bp__trip *t = (bp__trip *)bp__alloc_array(a, 12 * (size_t)S->nt + S->nv, sizeof(bp__trip));
     size_t n = 0;
@@ -6706,15 +7334,22 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
             double ux = P[j][0] - P[c][0], uy = P[j][1] - P[c][1], vx = P[k][0] - P[c][0], vy = P[k][1] - P[c][1];
             double w = 0.5 * (ux * vx + uy * vy) / area2;     /* 1/2 cot(theta_c) */
             uint32_t vj = S->tri[3 * (size_t)f + j], vk = S->tri[3 * (size_t)f + k];
-            t[n].i = vj; t[n].j = vk; t[n++].v = -w;
-            t[n].i = vk; t[n].j = vj; t[n++].v = -w;
-            t[n].i = vj; t[n].j = vj; t[n++].v = w;
-            t[n].i = vk; t[n].j = vk; t[n++].v = w;
+            int hj = pidx && pidx[vj] != BP__NONE, hk = pidx && pidx[vk] != BP__NONE;   /* pins */
+            if (!hj && !hk) {
+                t[n].i = vj; t[n].j = vk; t[n++].v = -w;
+                t[n].i = vk; t[n].j = vj; t[n++].v = -w;
+            }
+            if (!hj) { t[n].i = vj; t[n].j = vj; t[n++].v = w; }
+            if (!hk) { t[n].i = vk; t[n].j = vk; t[n++].v = w; }
             diag += 2 * w;
         }
     }
-    (void)i;
-    for (i = 0; i < S->nv; i++) { t[n].i = i; t[n].j = i; t[n++].v = 1e-8 * diag / S->nv; }
+    /* a pinned vertex keeps only a diagonal (the mean one): K is then
+       block diagonal, K_ff (free rows and columns of the Laplacian) and a
+       diagonal on the pinned ones, so K^-1 maps a vector that is zero on
+       the pinned coordinates to one that is zero there too (see >>pins) */
+    for (i = 0; i < S->nv; i++)
+        { t[n].i = i; t[n].j = i; t[n++].v = (pidx && pidx[i] != BP__NONE ? 1 : 1e-8) * diag / S->nv; }
     K->symmetric = 1;
     if (!bp__sparse_from_triplets(a, S->nv, t, n, K)) { bp__free(a, t); return BP_ERR_OUT_OF_MEMORY; }
     bp__free(a, t);
@@ -7045,6 +7680,9 @@ typedef struct bp__opt {
     uint32_t     nv2;
     double      *x, *g, *xn, *gn, *v, *pwork, *vpart;
     double       tlast;          /* the last accepted step                   */
+    uint32_t    *pidx, *held, nheld; /* pins: chart vertex -> pin, the pinned
+                                    chart vertices (held fixed, >>pins)      */
+    const struct bp__penalty *pen; /* the homotopy's pull toward the pins   */
 } bp__opt;
 
 static void bp__opt_free(bp__opt *P)
@@ -7052,6 +7690,7 @@ static void bp__opt_free(bp__opt *P)
     bp__solver_free(&P->S);
     bp__free(&P->a, P->x); bp__free(&P->a, P->g); bp__free(&P->a, P->xn); bp__free(&P->a, P->gn);
     bp__free(&P->a, P->v); bp__free(&P->a, P->pwork); bp__free(&P->a, P->vpart);
+    bp__free(&P->a, P->pidx); bp__free(&P->a, P->held);
     bp__lbfgs_free(&P->a, &P->L);
     bp__sparse_free(&P->a, &P->K);
     bp__factor_free(&P->a, &P->KF);
@@ -7102,6 +7741,54 @@ static bp_status bp__opt_check_start(const bp_allocator *a, const bp_chart *ch, 
                     why.message);
 }
 
+/* Fixed variables (pins, see >>pins): the pinned chart vertices are held
+   where the start map has them.  Their gradient components are zeroed after
+   every evaluation and their direction components after every direction,
+   so x + t v never moves them (x + t * 0 == x exactly) and every L-BFGS
+   pair s, y is zero there too; the preconditioner is the Laplacian of the
+   free vertices (bp__laplacian).  The iteration is then the same method on
+   the free coordinates alone. */
+static bp_status bp__opt_pins(bp__opt *P, const bp_chart *ch, const bp_mesh *m, bp_error *err)
+{
+    uint32_t i, n = 0;
+    bp_status st = bp__pin_map(&P->a, ch, m, &P->o, &P->pidx, &P->nheld, err);
+    if (st != BP_OK || !P->pidx) return st;
+    P->held = (uint32_t *)bp__alloc_array(&P->a, P->nheld, sizeof(uint32_t));
+    if (!P->held) return bp__oom(err, "optimizing a chart");
+    for (i = 0; i < ch->num_vertices; i++) if (P->pidx[i] != BP__NONE) P->held[n++] = i;
+    return BP_OK;
+}
+
+/* The homotopy of >>pins minimizes E + w sum_p |x_p - t_p|^2 with the
+   pins free: the penalty's value, and its gradient 2 w (x_p - t_p) added
+   to g. */
+typedef struct bp__penalty { const bp_pin *pins; const uint32_t *pidx; double w; } bp__penalty;
+
+static double bp__opt_penalty(const bp__opt *P, const double *x, double *g)
+{
+    uint32_t i;
+    double sum = 0;
+    for (i = 0; i < P->S.nv; i++) {
+        const bp_pin *p;
+        double du, dv;
+        if (P->pen->pidx[i] == BP__NONE) continue;
+        p = &P->pen->pins[P->pen->pidx[i]];
+        du = x[2 * (size_t)i] - p->u;
+        dv = x[2 * (size_t)i + 1] - p->v;
+        sum += P->pen->w * (du * du + dv * dv);
+        g[2 * (size_t)i] += 2 * P->pen->w * du;
+        g[2 * (size_t)i + 1] += 2 * P->pen->w * dv;
+    }
+    return sum;
+}
+
+/* Zero the held (pinned) coordinates of a gradient or direction. */
+static void bp__opt_hold(const bp__opt *P, double *g)
+{
+    uint32_t k;
+    for (k = 0; k < P->nheld; k++) g[2 * (size_t)P->held[k]] = g[2 * (size_t)P->held[k] + 1] = 0;
+}
+
 /* Phase 2: options, solver, preconditioner, vectors; x = the start map. */
 static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, const bp_mesh *m, bp_error *err)
 {
@@ -7112,15 +7799,18 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
     if (P->o.direction == BP_DIRECTION_GRADIENT) P->hist = 0;
     if (P->o.max_iterations <= 0) P->o.max_iterations = 10000;
     if (!(P->o.tolerance > 0)) P->o.tolerance = 1e-7;
+    if ((st = bp__opt_pins(P, ch, m, err)) != BP_OK) return st;                 /* pins */
     rest_wxy = (double *)bp__alloc_array(&P->a, 3 * (size_t)ch->num_triangles, sizeof(double));
     if (!rest_wxy) return bp__oom(err, "optimizing a chart");
     if ((st = bp__solver_chart(&P->S, &P->a, ch, m, &P->o, rest_wxy, err)) != BP_OK) { bp__free(&P->a, rest_wxy); return st; }
     P->S.par = P->par;
     /* the preconditioner first: its factorization is the memory peak, and
        the flattened rest triangles are not needed after it */
-    if (P->precond && (st = bp__laplacian(&P->a, &P->S, rest_wxy, &P->K, &P->KF)) != BP_OK) {
+    if (P->precond && (st = bp__laplacian(&P->a, &P->S, rest_wxy, P->pidx, &P->K, &P->KF)) != BP_OK) {
         bp__free(&P->a, rest_wxy);
         if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "factoring the preconditioner");
+        if (st == BP_ERR_TOO_LARGE)
+            return bp__factor_too_large(err, chart_index, ch->num_triangles, "Laplacian preconditioner", P->S.nv);
         return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
                         "chart %u: the Laplacian preconditioner could not be factored", chart_index);
     }
@@ -7159,6 +7849,7 @@ static double bp__opt_direction(bp__opt *P)
     } else {
         bp__vec_axpy(&P->par, P->vpart, nv2, v, NULL, -1, g, g, v, &gv);
     }
+    bp__opt_hold(P, v);                       /* pins: g is zero there, so g.v is unchanged */
     if (!(gv < 0)) {                          /* not a descent direction: restart */
         P->L.nh = 0;
         gv = 0;
@@ -7190,6 +7881,8 @@ static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, doubl
         bp__vec_axpy(&P->par, P->vpart, P->nv2, P->xn, P->x, tt, P->v, NULL, NULL, NULL);
         *fn = bp__evaluate(&P->S, P->xn, P->gn, edn, f + 1e-4 * tt * gv, &valid);  /* f, gradient, exact check */
         if (P->S.oom) return -1;
+        bp__opt_hold(P, P->gn);               /* pins */
+        if (P->pen) *fn += bp__opt_penalty(P, P->xn, P->gn);
         if (!(*fn <= f + 1e-4 * tt * gv)) continue;
         if (!valid) continue;                 /* floating point was wrong: shrink */
         *t = tt;
@@ -7224,8 +7917,9 @@ static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, 
    previous one), (2) direction, (3)+(4) step bound and line search, (5)
    convergence test, and phase 5.  The map in ch->uv is replaced only by
    accepted iterates, each exactly valid; the progress callback sees each. */
-static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
-                                    const bp_options *opt, const bp__par *runner, bp_error *err)
+static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+                                        const bp_options *opt, const bp__par *runner,
+                                        const struct bp__penalty *pen, bp_error *err)
 {
     bp__opt P;
     void *pool = NULL;
@@ -7235,6 +7929,7 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     double c0 = bp__seconds();
     memset(&P, 0, sizeof P);
     P.a = bp__allocator_of(opt);
+    P.pen = pen;                              /* pins (homotopy) */
     P.tlast = 1;
     P.precond = !opt || opt->direction == BP_DIRECTION_PRECONDITIONED;
     if (opt) P.o = *opt;
@@ -7244,12 +7939,15 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     if ((int)P.o.energy < 0 || (int)P.o.energy >= (int)BP_ENERGY_COUNT)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)P.o.energy);
     if ((st = bp__opt_check_start(&P.a, ch, chart_index, m, !P.o.no_barrier, err)) != BP_OK) return st;
-    if (runner) P.par = *runner;
-    else P.par = bp__par_begin(&P.a, opt, &pool);
+    if (runner) P.par = *runner;                /* bp_parameterize's pool, or serial */
+    else if (ch->num_triangles >= BP__PAR_MIN_TRIANGLES) P.par = bp__par_begin(&P.a, opt, &pool);
+    else P.par = bp__par_serial();              /* small: no pool (see >>threads) */
     ch->threads = P.par.threads;
     if ((st = bp__opt_setup(&P, ch, chart_index, m, err)) != BP_OK) goto done;
     f = bp__objective(&P.S, P.x, P.g, &ed);
     if (P.S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
+    bp__opt_hold(&P, P.g);                    /* pins */
+    if (P.pen) f += bp__opt_penalty(&P, P.x, P.g);
     if (!(f < HUGE_VAL)) {
         st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, chart_index, -1, 0,
                       "chart %u: the start map is exactly valid but its energy is not finite in floating point "
@@ -7294,6 +7992,12 @@ done:
     return st;
 }
 
+static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+                                    const bp_options *opt, const bp__par *runner, bp_error *err)
+{
+    return bp__chart_optimize_pen(ch, chart_index, m, opt, runner, NULL, err);
+}
+
 BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
                                   const bp_options *opt, bp_error *err)
 {
@@ -7301,6 +8005,10 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
     bp__iter_link L;
     bp_status st;
     if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
+    if (ch && m && ch->uv && opt && opt->num_pins) {                            /* pins */
+        st = bp__pins_at_targets(ch, chart_index, m, opt, err);
+        if (st != BP_OK) return st;
+    }
     return bp__chart_optimize(ch, chart_index, m, bp__with_iter_link(opt, &linked, &L), NULL, err);
 }
 
@@ -7332,6 +8040,1098 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
     if (mean) *mean = sum / area;
     if (max) *max = emax;
     return bp__ok(err);
+}
+
+/* >>pack ===================================================================
+
+   With opt->atlas_resolution = RES the charts go into the square [0,1]^2
+   as a texture of RES x RES texels, with opt->padding = P texels between
+   any two of them.  Four steps:
+
+   1. One texel density.  A texture spends its texels evenly only when every
+      chart has the same ratio of UV area to 3D area, so chart c is scaled
+      by k_c = sqrt(A3d_c / Auv_c) before anything else; a common factor d
+      (texels per unit of length) then sizes the whole atlas.  With
+      importance (opt->importance, or visibility, chapter 4) the optimized
+      map already gives each triangle about I_t times its 3D area (eq 4.1:
+      the rest shape grows by sqrt(I_t)), across charts as well as inside
+      them, so the charts keep their relative scale (k_c = 1) and the
+      importance-weighted density carries over to the atlas.
+
+   2. Orientation.  A convex polygon's minimum-area enclosing rectangle has
+      a side collinear with one of the polygon's edges (the classical fact
+      behind Toussaint's rotating calipers, 1983, as the McGill "rotating
+      calipers" pages and D. Eberly's note "Minimum-Area Rectangle
+      Containing a Set of Points", Geometric Tools 2015, explain; the
+      calipers visit the candidates in linear time, the exhaustive search in
+      quadratic).  The convex hull of the chart's vertices is computed with
+      exact orientation tests and every hull edge is tried (the exhaustive
+      search: quadratic in the hull size, which is small next to the chart);
+      the chart is rotated so that the best edge lies on the x axis.  The
+      packer then also tries the three quarter turns of that orientation,
+      which are exact in floating point, and keeps whichever lands lowest.
+      A long chart (box aspect above 1.5) that is large (at least 1/64 of
+      the total area) also tries the four turns of its smallest bounding
+      square (sampled every half degree), which is what lets a lone long
+      chart use the square atlas.  A mirror image is never tried: it would
+      flip every triangle.
+
+   3. Placement on rasterized outlines.  Each chart is rasterized
+      conservatively: every texel [i,i+1]x[j,j+1] that a closed triangle,
+      grown by a margin of 1e-6 texel, touches.  The atlas keeps one bit per
+      texel in rows of 64-bit words; a placed chart marks its raster dilated
+      by P texels (a square of side 2P+1 around each texel, so the Chebyshev
+      distance).  A new chart may go where its undilated raster meets no
+      marked bit.  Charts are placed largest first at the lowest, then
+      leftmost, origin where they fit, so small charts fill the notches and
+      holes that larger ones leave: the bottom-left rule of the nesting
+      literature (Dowsland, Vaid and Dowsland, "An algorithm for polygon
+      placement using a bottom-left strategy", EJOR 141, 2002, which lets
+      pieces nest inside the partial layout as here, and cites Jakobs's
+      genetic algorithms for the packing of polygons as its origin), here on
+      rasters instead of no-fit polygons.  xatlas packs rasterized, dilated
+      charts in 64-bit-word bit images too, with a random or a brute-force
+      search over positions; we read it to learn, and wrote the search below
+      with pruning of our own.  What keeps the search fast: each atlas row
+      remembers its longest free run of texels; a chart's row that is longer
+      rules a position out with one comparison, a monotone pointer per run
+      length skips the rows that have become too full for good, and the
+      candidate positions come from the free runs of the atlas row under the
+      chart's longest row and are intersected, 64 at a time, with those
+      allowed by its first and last rows (and, for a tall chart, by its
+      quarter rows) before the full bit test, which skips each row's empty
+      words.  For small charts (both sides at most 32 texels) a table
+      remembers, per size, the lowest row at which a chart of that size
+      found room or gave up; a chart at least as large starts there.  That
+      is a heuristic (a larger box does not always hold a larger shape): it
+      costs 0.7% of utilization on 5,000 small charts and makes their
+      packing 3.3 times faster.  The density d is the largest that fits:
+      start at the d that would fill the square exactly (utilization 1),
+      shrink by the square root of the share of the area that found room
+      until the charts fit, then bisect (geometric mean) to 0.2%.
+
+   4. The final coordinates are uv = (L + (x, y)) / RES, L being the
+      rotated, scaled chart shifted into its raster.  Rotation and scaling
+      round, so each moved chart is checked exactly again, like every move
+      in bp_atlas_pack; a chart whose rotated copy is not exactly as valid as
+      it was falls back to its own orientation (scaled only) and the packing
+      runs again.
+
+   Why the padding holds on the final coordinates: a point of a chart lies
+   in one of its marked texels (the rasterization is conservative, and the
+   margin of 1e-6 texel is far above the rounding of the final formula, at
+   most RES * 2^-52 texel).  Marked texels of two different charts are at
+   least P+1 apart in x or in y (the dilation), so their points are at least
+   P texels = P/RES apart in that coordinate.  Padding 0 still keeps the
+   charts on disjoint texels.  tests/test_pack.c measures the distance
+   between the boundary segments of different charts by brute force.
+
+   The packer is serial and uses no floating-point state that depends on the
+   thread count, so the atlas is bit-identical for any number of threads. */
+
+#define BP__PACK_MARGIN 1e-6      /* texels the rasterized triangles grow by */
+#define BP__PACK_SHIFT  4e-6      /* texels between a raster's edge and its chart */
+#define BP__PACK_MAX_RES 32768
+#define BP__PACK_PREFILTER_RUNS 16
+#define BP__PACK_MEMO 32
+
+/* A bit image: h rows of `words` 64-bit words; bit x of row y is texel (x,y). */
+typedef struct bp__bits { int w, h, words; uint64_t *b; } bp__bits;
+
+/* A chart's raster in one orientation, with the facts the search prunes by. */
+typedef struct bp__shape {
+    bp__bits r;
+    int *rowrun;                /* longest run of marked texels in each row */
+    int *span;                  /* first and last nonzero word of each row  */
+    int rstar;                  /* the row with the longest run              */
+} bp__shape;
+
+/* The atlas being filled. */
+typedef struct bp__occ {
+    int res, aw;                /* texels per side, words per row (2 spare)  */
+    uint64_t *b;                /* res rows; bits at x >= res are set        */
+    int *maxfree;               /* longest run of free texels in each row    */
+    int *ylow;                  /* ylow[v]: every row below has maxfree < v  */
+    uint64_t *t0, *t1, *v;      /* scratch rows                              */
+    int floor_[BP__PACK_MEMO][BP__PACK_MEMO]; /* small charts: floor_[w][h] is
+                                   a row below which no chart of at least
+                                   w+1 x h+1 texels found room (a heuristic
+                                   lower bound where the search starts)      */
+} bp__occ;
+
+typedef struct bp__pchart {
+    uint32_t chart;
+    double *orig;               /* the chart's map before packing            */
+    double k;                   /* scale to the common density (per unit d)  */
+    double cs, sn;              /* rotation onto the minimum-area box        */
+    double cs2, sn2;            /* rotation onto the smallest bounding square */
+    double target;              /* area at d = 1 (the order: largest first)  */
+    int turns;                  /* orientations tried: 4 quarter turns of the
+                                   minimum-area box, 8 with those of the
+                                   smallest square too, 1 (fallback)         */
+    int x, y, turn;             /* placement in the current attempt          */
+    int fx, fy, fturn;          /* placement at the best density that fit    */
+    bp_check_report before;     /* the map's own validity                    */
+} bp__pchart;
+
+/* Total signed UV area of a chart's map (shoelace over its triangles). */
+static double bp__chart_uv_area(const bp_chart *ch)
+{
+    double area = 0;
+    uint32_t t;
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        const double *p0 = ch->uv + 2 * (size_t)tr[0], *p1 = ch->uv + 2 * (size_t)tr[1], *p2 = ch->uv + 2 * (size_t)tr[2];
+        area += 0.5 * ((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]));
+    }
+    return area;
+}
+
+/* All calls to the exact check from the packer go through here.  BP_OK
+   when bp_check gave a verdict (valid or not: the report says which, and
+   the packer compares reports), else bp_check's failure. */
+static bp_status bp__pack_check(const bp_allocator *a, const bp_chart *ch, const double *uv,
+                                bp_check_report *rep)
+{
+    bp_status st = bp_check(ch->triangles, ch->num_triangles, uv, ch->num_vertices, a, rep, NULL);
+    return bp__check_verdict_status(st) ? BP_OK : st;
+}
+
+/* Not worse than `before` on any count (a chart optimized without the
+   barrier may overlap itself, and stays so). */
+static int bp__report_no_worse(const bp_check_report *r, const bp_check_report *before)
+{
+    return r->flipped <= before->flipped && r->degenerate <= before->degenerate &&
+           r->nonfinite <= before->nonfinite && r->boundary_intersections <= before->boundary_intersections &&
+           r->loop_orientation <= before->loop_orientation && r->nested <= before->nested;
+}
+
+/* ---- bit rows ---- */
+
+static void bp__bits_set_range(uint64_t *row, int x0, int x1)   /* texels x0..x1 */
+{
+    int q;
+    for (q = x0 >> 6; q <= x1 >> 6; q++) {
+        int lo = q == (x0 >> 6) ? (x0 & 63) : 0, hi = q == (x1 >> 6) ? (x1 & 63) : 63;
+        uint64_t m = hi == 63 ? ~(uint64_t)0 : (((uint64_t)1 << (hi + 1)) - 1);
+        row[q] |= m & (~(uint64_t)0 << lo);
+    }
+}
+
+/* out = a >> k over n words: bit i of out is bit i+k of a (0 past the end). */
+static void bp__bits_shr(const uint64_t *a, int n, int k, uint64_t *out)
+{
+    int q = k >> 6, s = k & 63, i;
+    for (i = 0; i < n; i++) {
+        uint64_t lo = i + q < n ? a[i + q] : 0, hi = i + q + 1 < n ? a[i + q + 1] : 0;
+        out[i] = s ? (lo >> s) | (hi << (64 - s)) : lo;
+    }
+}
+
+/* out = a << k over n words: bit i of out is bit i-k of a. */
+static void bp__bits_shl(const uint64_t *a, int n, int k, uint64_t *out)
+{
+    int q = k >> 6, s = k & 63, i;
+    for (i = n - 1; i >= 0; i--) {
+        uint64_t hi = i - q >= 0 ? a[i - q] : 0, lo = i - q - 1 >= 0 ? a[i - q - 1] : 0;
+        out[i] = s ? (hi << s) | (lo >> (64 - s)) : hi;
+    }
+}
+
+/* dst |= src placed at bit offset off (may be negative), clipped to dst. */
+static void bp__bits_or_at(uint64_t *dst, int dwords, const uint64_t *src, int swords, int off)
+{
+    int i;
+    for (i = 0; i < swords; i++) {
+        uint64_t v = src[i];
+        int pos = off + 64 * i, q, s;
+        if (!v || pos <= -64) continue;
+        if (pos < 0) { dst[0] |= v >> (-pos); continue; }
+        q = pos >> 6; s = pos & 63;
+        if (q < dwords) dst[q] |= v << s;
+        if (s && q + 1 < dwords) dst[q + 1] |= v >> (64 - s);
+    }
+}
+
+/* Index of the lowest set bit of v != 0. */
+static int bp__ctz64(uint64_t v)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctzll(v);
+#else
+    int n = 0;
+    while (!(v & 1)) { v >>= 1; n++; }
+    return n;
+#endif
+}
+
+/* Longest run of set (want = 1) or clear (want = 0) bits among texels
+   [0, w): run by run, each found with one count of trailing zeros. */
+static int bp__bits_longest(const uint64_t *row, int w, int want)
+{
+    int best = 0, run = 0, x = 0;
+    while (x < w) {
+        int avail = 64 - (x & 63), k;
+        uint64_t v = row[x >> 6] >> (x & 63), mask, rest;
+        if (avail > w - x) avail = w - x;
+        mask = avail == 64 ? ~(uint64_t)0 : ((uint64_t)1 << avail) - 1;
+        if (!want) v = ~v;                       /* wanted bits as ones */
+        v &= mask;
+        if (v == mask) { run += avail; x += avail; continue; }
+        k = bp__ctz64(~v);                       /* wanted bits before the first other one */
+        run += k;
+        if (run > best) best = run;
+        run = 0;
+        rest = v >> k;                           /* skip the run of other bits */
+        if (!rest) { x += avail; continue; }
+        x += k + bp__ctz64(rest);
+    }
+    return run > best ? run : best;
+}
+
+/* The runs of set bits of a row (at most cap of them). */
+static int bp__bits_runs(const uint64_t *row, int w, int *start, int *len, int cap)
+{
+    int n = 0, x = 0;
+    while (x < w && n < cap) {
+        while (x < w && !(row[x >> 6] >> (x & 63) & 1)) x++;
+        if (x >= w) break;
+        start[n] = x;
+        while (x < w && (row[x >> 6] >> (x & 63) & 1)) x++;
+        len[n] = x - start[n];
+        n++;
+    }
+    return n;
+}
+
+/* ---- rasterization ---- */
+
+/* Every texel [i,i+1]x[j,j+1] that the closed triangle grown by m touches.
+   Row j: the x-extent of the triangle within the slab [j-m, j+1+m] is
+   reached at a vertex inside the slab or where an edge crosses one of the
+   slab's lines; texels floor(xmin-m) to floor(xmax+m) cover it. */
+static void bp__raster_triangle(bp__bits *B, const double *p0, const double *p1, const double *p2, double m)
+{
+    const double *p[3];
+    double ylo, yhi;
+    int j0, j1, j, k, l;
+    p[0] = p0; p[1] = p1; p[2] = p2;
+    ylo = yhi = p0[1];
+    for (k = 1; k < 3; k++) { if (p[k][1] < ylo) ylo = p[k][1]; if (p[k][1] > yhi) yhi = p[k][1]; }
+    j0 = (int)floor(ylo - m); j1 = (int)floor(yhi + m);
+    if (j0 < 0) j0 = 0;
+    if (j1 > B->h - 1) j1 = B->h - 1;
+    for (j = j0; j <= j1; j++) {
+        double lines[2], xmin = HUGE_VAL, xmax = -HUGE_VAL;
+        int x0, x1;
+        lines[0] = j - m; lines[1] = j + 1 + m;
+        for (k = 0; k < 3; k++) {
+            const double *a = p[k], *b = p[(k + 1) % 3];
+            if (a[1] >= lines[0] && a[1] <= lines[1]) {
+                if (a[0] < xmin) xmin = a[0];
+                if (a[0] > xmax) xmax = a[0];
+            }
+            for (l = 0; l < 2; l++) {
+                double Y = lines[l], t, x, lo = a[0] < b[0] ? a[0] : b[0], hi = a[0] < b[0] ? b[0] : a[0];
+                if ((Y > a[1]) == (Y > b[1])) continue;    /* the edge does not cross Y */
+                t = (Y - a[1]) / (b[1] - a[1]);
+                x = a[0] + t * (b[0] - a[0]);
+                if (x < lo) x = lo;
+                if (x > hi) x = hi;
+                if (x < xmin) xmin = x;
+                if (x > xmax) xmax = x;
+            }
+        }
+        if (!(xmin <= xmax)) continue;
+        x0 = (int)floor(xmin - m); x1 = (int)floor(xmax + m);
+        if (x0 < 0) x0 = 0;
+        if (x1 > B->w - 1) x1 = B->w - 1;
+        if (x0 <= x1) bp__bits_set_range(B->b + (size_t)j * B->words, x0, x1);
+    }
+}
+
+static void bp__shape_free(const bp_allocator *a, bp__shape *S)
+{
+    bp__free(a, S->r.b);
+    bp__free(a, S->rowrun);
+    bp__free(a, S->span);
+    S->r.b = NULL; S->rowrun = NULL; S->span = NULL;
+}
+
+/* The raster of a chart whose local coordinates L are >= BP__PACK_SHIFT.
+   BP_ERR_NUMERICAL (not an error: the caller skips this orientation) when
+   it is wider or taller than the atlas, before anything is allocated. */
+static bp_status bp__shape_make(const bp_allocator *a, const bp_chart *ch, const double *L, int res, bp__shape *S)
+{
+    double mx[2] = { 0, 0 };
+    uint32_t i, t;
+    int r;
+    memset(S, 0, sizeof *S);
+    for (i = 0; i < ch->num_vertices; i++) {
+        if (L[2 * i] > mx[0]) mx[0] = L[2 * i];
+        if (L[2 * i + 1] > mx[1]) mx[1] = L[2 * i + 1];
+    }
+    if (!(mx[0] + BP__PACK_MARGIN < res && mx[1] + BP__PACK_MARGIN < res)) return BP_ERR_NUMERICAL;
+    S->r.w = (int)floor(mx[0] + BP__PACK_MARGIN) + 1;
+    S->r.h = (int)floor(mx[1] + BP__PACK_MARGIN) + 1;
+    S->r.words = (S->r.w + 63) >> 6;
+    S->r.b = (uint64_t *)bp__calloc_array(a, (size_t)S->r.h * S->r.words, sizeof(uint64_t));
+    S->rowrun = (int *)bp__alloc_array(a, (size_t)S->r.h, sizeof(int));
+    S->span = (int *)bp__alloc_array(a, 2 * (size_t)S->r.h, sizeof(int));
+    if (!S->r.b || !S->rowrun || !S->span) { bp__shape_free(a, S); return BP_ERR_OUT_OF_MEMORY; }
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        bp__raster_triangle(&S->r, L + 2 * (size_t)tr[0], L + 2 * (size_t)tr[1], L + 2 * (size_t)tr[2],
+                            BP__PACK_MARGIN);
+    }
+    S->rstar = 0;
+    for (r = 0; r < S->r.h; r++) {
+        const uint64_t *row = S->r.b + (size_t)r * S->r.words;
+        int lo = 0, hi = S->r.words - 1;
+        S->rowrun[r] = bp__bits_longest(row, S->r.w, 1);
+        if (S->rowrun[r] > S->rowrun[S->rstar]) S->rstar = r;
+        while (lo < hi && !row[lo]) lo++;
+        while (hi > lo && !row[hi]) hi--;
+        S->span[2 * r] = lo; S->span[2 * r + 1] = hi;
+    }
+    return BP_OK;
+}
+
+/* The raster dilated by p texels (Chebyshev): (w+2p) x (h+2p), texel (x,y)
+   of the raster is texel (x+p, y+p) of the result. */
+static bp_status bp__dilate(const bp_allocator *a, const bp__bits *R, int p, bp__bits *D)
+{
+    uint64_t *row, *tmp;
+    int r, i, j, have;
+    D->w = R->w + 2 * p; D->h = R->h + 2 * p; D->words = (D->w + 63) >> 6;
+    D->b = (uint64_t *)bp__calloc_array(a, (size_t)D->h * D->words, sizeof(uint64_t));
+    row = (uint64_t *)bp__alloc_array(a, 2 * (size_t)D->words, sizeof(uint64_t));
+    if (!D->b || !row) { bp__free(a, D->b); bp__free(a, row); D->b = NULL; return BP_ERR_OUT_OF_MEMORY; }
+    tmp = row + D->words;
+    for (r = 0; r < R->h; r++) {
+        /* horizontal: bit x spreads to x..x+2p (OR of 2p+1 shifts, doubling) */
+        for (i = 0; i < D->words; i++) row[i] = i < R->words ? R->b[(size_t)r * R->words + i] : 0;
+        for (have = 1; have < 2 * p + 1;) {
+            int step = have < 2 * p + 1 - have ? have : 2 * p + 1 - have;
+            bp__bits_shl(row, D->words, step, tmp);
+            for (i = 0; i < D->words; i++) row[i] |= tmp[i];
+            have += step;
+        }
+        /* vertical: row r spreads to rows r..r+2p */
+        for (j = r; j <= r + 2 * p; j++)
+            for (i = 0; i < D->words; i++) D->b[(size_t)j * D->words + i] |= row[i];
+    }
+    bp__free(a, row);
+    return BP_OK;
+}
+
+/* ---- the atlas ---- */
+
+static void bp__occ_free(const bp_allocator *a, bp__occ *O)
+{
+    bp__free(a, O->b); bp__free(a, O->maxfree); bp__free(a, O->ylow); bp__free(a, O->t0);
+    memset(O, 0, sizeof *O);
+}
+
+static bp_status bp__occ_init(const bp_allocator *a, bp__occ *O, int res)
+{
+    memset(O, 0, sizeof *O);
+    O->res = res;
+    O->aw = (res >> 6) + 2;
+    O->b = (uint64_t *)bp__alloc_array(a, (size_t)res * O->aw, sizeof(uint64_t));
+    O->maxfree = (int *)bp__alloc_array(a, (size_t)res, sizeof(int));
+    O->ylow = (int *)bp__alloc_array(a, (size_t)res + 1, sizeof(int));
+    O->t0 = (uint64_t *)bp__alloc_array(a, 3 * (size_t)O->aw, sizeof(uint64_t));
+    if (!O->b || !O->maxfree || !O->ylow || !O->t0) { bp__occ_free(a, O); return BP_ERR_OUT_OF_MEMORY; }
+    O->t1 = O->t0 + O->aw;
+    O->v = O->t1 + O->aw;
+    return BP_OK;
+}
+
+/* Empty atlas: texels [0, res) free, the spare bits beyond them taken. */
+static void bp__occ_clear(bp__occ *O)
+{
+    int y, i;
+    for (y = 0; y < O->res; y++) {
+        uint64_t *row = O->b + (size_t)y * O->aw;
+        for (i = 0; i < O->aw; i++) row[i] = 0;
+        bp__bits_set_range(row, O->res, O->aw * 64 - 1);
+        O->maxfree[y] = O->res;
+    }
+    for (i = 0; i <= O->res; i++) O->ylow[i] = 0;
+    memset(O->floor_, 0, sizeof O->floor_);
+}
+
+/* Remember that a chart of w x h texels found nothing below row y; every
+   chart at least as wide and as tall starts its search there.  (A larger
+   box need not hold a larger shape, so this may skip a place that a
+   differently shaped chart could use: it trades a little utilization for
+   speed on many small charts.  Large charts are not memoized.) */
+static void bp__occ_memo(bp__occ *O, int w, int h, int y)
+{
+    int i, j;
+    if (w > BP__PACK_MEMO || h > BP__PACK_MEMO || O->floor_[w - 1][h - 1] >= y) return;
+    for (i = w - 1; i < BP__PACK_MEMO; i++)
+        for (j = h - 1; j < BP__PACK_MEMO; j++)
+            if (O->floor_[i][j] < y) O->floor_[i][j] = y;
+}
+
+/* The lowest row whose longest free run may still be >= v (maxfree only
+   shrinks, so the pointer only moves up). */
+static int bp__occ_ylow(bp__occ *O, int v)
+{
+    if (v <= 0) return 0;
+    if (v > O->res) return O->res;
+    while (O->ylow[v] < O->res && O->maxfree[O->ylow[v]] < v) O->ylow[v]++;
+    return O->ylow[v];
+}
+
+/* Does raster R fit with its origin at texel (x, y)? */
+static int bp__occ_fits(const bp__occ *O, const bp__shape *S, int x, int y)
+{
+    const bp__bits *R = &S->r;
+    int r, i;
+    for (r = 0; r < R->h; r++) {
+        const uint64_t *orow = O->b + (size_t)(y + r) * O->aw, *rrow = R->b + (size_t)r * R->words;
+        for (i = S->span[2 * r]; i <= S->span[2 * r + 1]; i++) {
+            uint64_t v = rrow[i];
+            int pos = x + 64 * i, q = pos >> 6, s = pos & 63;
+            if (!v) continue;
+            if (orow[q] & (v << s)) return 0;
+            if (s && (orow[q + 1] & (v >> (64 - s)))) return 0;
+        }
+    }
+    return 1;
+}
+
+/* V &= the origins x at which the runs of chart row `crow` avoid atlas row
+   `orow`: a run [s, s+len) needs texels x+s .. x+s+len-1 free, i.e. x+s
+   must start a free run of length len (computed for 64 x at a time by
+   doubling: F_{a+b} = F_a & (F_b >> a)). */
+static void bp__occ_filter_row(bp__occ *O, const uint64_t *orow, const uint64_t *crow, int w)
+{
+    int st[BP__PACK_PREFILTER_RUNS], ln[BP__PACK_PREFILTER_RUNS], n, k, i, have;
+    n = bp__bits_runs(crow, w, st, ln, BP__PACK_PREFILTER_RUNS);
+    for (k = 0; k < n; k++) {
+        for (i = 0; i < O->aw; i++) O->t0[i] = ~orow[i];
+        for (have = 1; have < ln[k];) {
+            int step = have < ln[k] - have ? have : ln[k] - have;
+            bp__bits_shr(O->t0, O->aw, step, O->t1);
+            for (i = 0; i < O->aw; i++) O->t0[i] &= O->t1[i];
+            have += step;
+        }
+        bp__bits_shr(O->t0, O->aw, st[k], O->t1);
+        for (i = 0; i < O->aw; i++) O->v[i] &= O->t1[i];
+    }
+}
+
+/* O->v = the origins x in [0, res - w] at which the longest run [s, s+len)
+   of the chart's row r* lies in a free run [f0, f1) of atlas row y + r*:
+   f0 - s <= x <= f1 - len - s.  Returns 0 when there is none. */
+static int bp__occ_candidates(bp__occ *O, const bp__shape *S, int y)
+{
+    const uint64_t *orow = O->b + (size_t)(y + S->rstar) * O->aw, *crow = S->r.b + (size_t)S->rstar * S->r.words;
+    int st, ln, x = 0, any = 0, i;
+    for (i = 0; i < O->aw; i++) O->v[i] = 0;
+    {   /* the longest run of the row, not the first */
+        int xs = 0, n, k, sts[BP__PACK_PREFILTER_RUNS], lns[BP__PACK_PREFILTER_RUNS];
+        n = bp__bits_runs(crow, S->r.w, sts, lns, BP__PACK_PREFILTER_RUNS);
+        for (k = 0; k < n; k++) if (lns[k] > lns[xs]) xs = k;
+        st = sts[xs]; ln = lns[xs];
+    }
+    while (x < O->res) {                /* free runs of the atlas row */
+        int f0, f1, lo, hi;
+        while (x < O->res && (orow[x >> 6] >> (x & 63) & 1)) {
+            uint64_t rest = ~(orow[x >> 6] >> (x & 63));
+            x += rest ? bp__ctz64(rest) : 64 - (x & 63);
+        }
+        if (x >= O->res) break;
+        f0 = x;
+        while (x < O->res && !(orow[x >> 6] >> (x & 63) & 1)) {
+            uint64_t rest = orow[x >> 6] >> (x & 63);
+            x += rest ? bp__ctz64(rest) : 64 - (x & 63);
+        }
+        f1 = x < O->res ? x : O->res;
+        lo = f0 - st; hi = f1 - ln - st;
+        if (lo < 0) lo = 0;
+        if (hi > O->res - S->r.w) hi = O->res - S->r.w;
+        if (lo <= hi) { bp__bits_set_range(O->v, lo, hi); any = 1; }
+    }
+    return any;
+}
+
+/* The lowest, then leftmost, origin where shape S fits, no later than
+   (ylim, xlim) in that order.  Returns 0 when there is none. */
+static int bp__occ_find(bp__occ *O, const bp__shape *S, int ylim, int xlim, int *ox, int *oy)
+{
+    const bp__bits *R = &S->r;
+    int y, y0, r, i, k, rows[7], nrows = 0;
+    if (R->w > O->res || R->h > O->res) return 0;
+    y0 = bp__occ_ylow(O, S->rowrun[0]);
+    r = bp__occ_ylow(O, S->rowrun[S->rstar]) - S->rstar;
+    if (r > y0) y0 = r;
+    if (R->w <= BP__PACK_MEMO && R->h <= BP__PACK_MEMO && O->floor_[R->w - 1][R->h - 1] > y0)
+        y0 = O->floor_[R->w - 1][R->h - 1];
+    /* the filter rows: r* first, then the ends, and for a tall chart the
+       quarters and an eighth (bit-parallel filtering beats testing many
+       candidates one by one; at 4096 px it makes spot's packing 6x faster) */
+    for (k = 0; k < (R->h >= 16 ? 7 : 3); k++) {
+        int cand = k == 0 ? S->rstar : k == 1 ? 0 : k == 2 ? R->h - 1 : k == 3 ? R->h / 2 :
+                   k == 4 ? R->h / 4 : k == 5 ? 3 * R->h / 4 : R->h / 8, dup = 0;
+        for (i = 0; i < nrows; i++) dup |= rows[i] == cand;
+        if (!dup) rows[nrows++] = cand;
+    }
+    for (y = y0; y <= O->res - R->h && y <= ylim; y++) {
+        if (O->maxfree[y + S->rstar] < S->rowrun[S->rstar]) continue;
+        for (r = 0; r < R->h; r++)
+            if (O->maxfree[y + r] < S->rowrun[r]) break;
+        if (r < R->h) continue;
+        /* candidate origins: where the longest run of row r* meets a free
+           run of the atlas, then filtered by the chart's first and last rows
+           and its quarters */
+        if (!bp__occ_candidates(O, S, y)) continue;
+        for (i = 1; i < nrows; i++) {
+            int any = 0, q;
+            bp__occ_filter_row(O, O->b + (size_t)(y + rows[i]) * O->aw, R->b + (size_t)rows[i] * R->words, R->w);
+            for (q = 0; q < O->aw; q++) any |= O->v[q] != 0;
+            if (!any) break;
+        }
+        for (i = 0; i < O->aw; i++) {
+            uint64_t v = O->v[i];
+            while (v) {
+                int b = bp__ctz64(v), x;
+                v &= v - 1;
+                x = 64 * i + b;
+                if (y == ylim && x >= xlim) { bp__occ_memo(O, R->w, R->h, y); return 0; }
+                if (bp__occ_fits(O, S, x, y)) { *ox = x; *oy = y; bp__occ_memo(O, R->w, R->h, y); return 1; }
+            }
+        }
+    }
+    bp__occ_memo(O, R->w, R->h, y > ylim ? ylim : y);
+    return 0;
+}
+
+/* Mark the dilated raster D with the chart's origin at (x, y): D's texel
+   (0,0) goes to (x-p, y-p). */
+static void bp__occ_mark(bp__occ *O, const bp__bits *D, int p, int x, int y)
+{
+    int j;
+    for (j = 0; j < D->h; j++) {
+        int row = y - p + j;
+        if (row < 0 || row >= O->res) continue;
+        bp__bits_or_at(O->b + (size_t)row * O->aw, O->aw, D->b + (size_t)j * D->words, D->words, x - p);
+        O->maxfree[row] = bp__bits_longest(O->b + (size_t)row * O->aw, O->res, 0);
+    }
+}
+
+/* ---- charts ---- */
+
+typedef struct bp__pt { double p[2]; } bp__pt;
+
+static int bp__pt_cmp(const void *pa, const void *pb)
+{
+    const bp__pt *a = (const bp__pt *)pa, *b = (const bp__pt *)pb;
+    if (a->p[0] != b->p[0]) return a->p[0] < b->p[0] ? -1 : 1;
+    return (a->p[1] > b->p[1]) - (a->p[1] < b->p[1]);
+}
+
+/* Rotation (cs, sn) that puts the minimum-area bounding box of the chart's
+   map on the axes: x' = cs x + sn y, y' = cs y - sn x.  Andrew's monotone
+   chain with exact orientation gives the convex hull; each hull edge is a
+   candidate side of the box (Freeman and Shapira).  The identity wins ties. */
+static bp_status bp__min_box_rotation(const bp_allocator *a, const double *uv, uint32_t nv, double *cs, double *sn,
+                                      double *cs2, double *sn2, double *aspect)
+{
+    bp__pt *p = (bp__pt *)bp__alloc_array(a, nv, sizeof *p), *h;
+    uint32_t i, n = 0, lower;
+    double best = HUGE_VAL;
+    int pass;
+    *cs = 1; *sn = 0; *cs2 = 1; *sn2 = 0; *aspect = 1;
+    if (!p) return BP_ERR_OUT_OF_MEMORY;
+    h = (bp__pt *)bp__alloc_array(a, 2 * (size_t)nv + 1, sizeof *h);
+    if (!h) { bp__free(a, p); return BP_ERR_OUT_OF_MEMORY; }
+    for (i = 0; i < nv; i++) { p[i].p[0] = uv[2 * i]; p[i].p[1] = uv[2 * i + 1]; }
+    qsort(p, nv, sizeof *p, bp__pt_cmp);
+    for (i = 0; i < nv; i++) {                       /* lower hull */
+        while (n >= 2 && bp_orient2d(h[n - 2].p, h[n - 1].p, p[i].p) <= 0) n--;
+        h[n++] = p[i];
+    }
+    lower = n + 1;
+    for (i = nv - 1; i-- > 0;) {                     /* upper hull */
+        while (n >= lower && bp_orient2d(h[n - 2].p, h[n - 1].p, p[i].p) <= 0) n--;
+        h[n++] = p[i];
+    }
+    if (n > 0) n--;                                  /* the first point again */
+    for (pass = 0; pass < 2 && n >= 3; pass++) {
+        uint32_t e, m = pass ? n : 1;
+        for (e = 0; e < m; e++) {
+            double dx = pass ? h[(e + 1) % n].p[0] - h[e].p[0] : 1, dy = pass ? h[(e + 1) % n].p[1] - h[e].p[1] : 0;
+            double len = sqrt(dx * dx + dy * dy), c, s, lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL }, area;
+            if (!(len > 0)) continue;
+            c = dx / len; s = dy / len;
+            for (i = 0; i < n; i++) {
+                double x = c * h[i].p[0] + s * h[i].p[1], y = c * h[i].p[1] - s * h[i].p[0];
+                if (x < lo[0]) lo[0] = x;
+                if (x > hi[0]) hi[0] = x;
+                if (y < lo[1]) lo[1] = y;
+                if (y > hi[1]) hi[1] = y;
+            }
+            area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+            if (area < best * (1 - 1e-9)) {
+                best = area; *cs = c; *sn = s;
+                *aspect = (hi[0] - lo[0]) > (hi[1] - lo[1]) ? (hi[0] - lo[0]) / (hi[1] - lo[1]) : (hi[1] - lo[1]) / (hi[0] - lo[0]);
+            }
+        }
+    }
+    /* The smallest bounding square (the longer side of the box, minimized)
+       need not have a side on a hull edge: sample every half degree of a
+       quarter turn.  It matters for a long chart that must fit the square
+       atlas on its own. */
+    *cs2 = *cs; *sn2 = *sn;
+    for (pass = 0, best = HUGE_VAL; n >= 3 && pass < 180; pass++) {
+        double ang = pass * (3.14159265358979323846 / 360), c = cos(ang), s = sin(ang), side;
+        double lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
+        for (i = 0; i < n; i++) {
+            double x = c * h[i].p[0] + s * h[i].p[1], y = c * h[i].p[1] - s * h[i].p[0];
+            if (x < lo[0]) lo[0] = x;
+            if (x > hi[0]) hi[0] = x;
+            if (y < lo[1]) lo[1] = y;
+            if (y > hi[1]) hi[1] = y;
+        }
+        side = hi[0] - lo[0] > hi[1] - lo[1] ? hi[0] - lo[0] : hi[1] - lo[1];
+        if (side < best * (1 - 1e-9)) { best = side; *cs2 = c; *sn2 = s; }
+    }
+    bp__free(a, p);
+    bp__free(a, h);
+    return BP_OK;
+}
+
+/* Local coordinates of chart pc at density d after `turn` quarter turns,
+   shifted so that the smallest is BP__PACK_SHIFT. */
+static void bp__pack_local(const bp_chart *ch, const bp__pchart *pc, int turn, double d, double *L)
+{
+    double s = pc->k * d, mn[2] = { HUGE_VAL, HUGE_VAL }, cs = turn < 4 ? pc->cs : pc->cs2, sn = turn < 4 ? pc->sn : pc->sn2;
+    uint32_t i;
+    for (i = 0; i < ch->num_vertices; i++) {
+        double x = pc->orig[2 * i], y = pc->orig[2 * i + 1];
+        double rx = (cs * x + sn * y) * s, ry = (cs * y - sn * x) * s, u, v;
+        switch (turn & 3) {
+        case 1:  u = -ry; v = rx; break;
+        case 2:  u = -rx; v = -ry; break;
+        case 3:  u = ry; v = -rx; break;
+        default: u = rx; v = ry; break;
+        }
+        L[2 * i] = u; L[2 * i + 1] = v;
+        if (u < mn[0]) mn[0] = u;
+        if (v < mn[1]) mn[1] = v;
+    }
+    for (i = 0; i < ch->num_vertices; i++) {
+        L[2 * i] = L[2 * i] - mn[0] + BP__PACK_SHIFT;
+        L[2 * i + 1] = L[2 * i + 1] - mn[1] + BP__PACK_SHIFT;
+    }
+}
+
+static int bp__pchart_cmp(const void *pa, const void *pb)
+{
+    const bp__pchart *a = (const bp__pchart *)pa, *b = (const bp__pchart *)pb;
+    if (a->target != b->target) return a->target > b->target ? -1 : 1;
+    return (a->chart > b->chart) - (a->chart < b->chart);
+}
+
+typedef struct bp__packer {
+    bp_allocator a;
+    bp_atlas *atlas;
+    bp__pchart *pc;
+    uint32_t n;                 /* charts with a map */
+    int res, pad;
+    bp__occ occ;
+    double *L;                  /* scratch: local coordinates of one chart */
+} bp__packer;
+
+/* One attempt at density d: 1 if every chart found a place (pc[].x, y,
+   turn hold them), 0 if not (*placed: the share of the total area placed
+   before the first chart that found none), -1 out of memory. */
+static int bp__pack_attempt(bp__packer *P, double d, double *placed)
+{
+    uint32_t i;
+    *placed = 0;
+    bp__occ_clear(&P->occ);
+    for (i = 0; i < P->n; i++) {
+        bp__pchart *pc = &P->pc[i];
+        const bp_chart *ch = &P->atlas->charts[pc->chart];
+        bp__shape best, S;
+        bp__bits D;
+        int turn, bx = 0, by = P->res, bturn = -1, x, y;
+        memset(&best, 0, sizeof best);
+        for (turn = 0; turn < pc->turns; turn++) {
+            bp_status st;
+            bp__pack_local(ch, pc, turn, d, P->L);
+            st = bp__shape_make(&P->a, ch, P->L, P->res, &S);
+            if (st == BP_ERR_OUT_OF_MEMORY) { bp__shape_free(&P->a, &best); return -1; }
+            if (st != BP_OK) continue;
+            if (bp__occ_find(&P->occ, &S, by, bturn < 0 ? P->res : bx, &x, &y)) {
+                bp__shape_free(&P->a, &best);
+                best = S; bx = x; by = y; bturn = turn;
+            } else {
+                bp__shape_free(&P->a, &S);
+            }
+        }
+        if (bturn < 0) return 0;
+        *placed += pc->target;
+        if (bp__dilate(&P->a, &best.r, P->pad, &D) != BP_OK) { bp__shape_free(&P->a, &best); return -1; }
+        bp__occ_mark(&P->occ, &D, P->pad, bx, by);
+        bp__free(&P->a, D.b);
+        bp__shape_free(&P->a, &best);
+        pc->x = bx; pc->y = by; pc->turn = bturn;
+    }
+    return 1;
+}
+
+/* Keep the placements of an attempt that fit. */
+static void bp__pack_keep(bp__packer *P)
+{
+    uint32_t i;
+    for (i = 0; i < P->n; i++) { P->pc[i].fx = P->pc[i].x; P->pc[i].fy = P->pc[i].y; P->pc[i].fturn = P->pc[i].turn; }
+}
+
+/* The largest density that fits.  Start at the density that would fill the
+   square exactly (utilization 1); while it does not fit, shrink by the
+   square root of the share of the area that was placed (the charts scale
+   as d^2), at least 3% and at most 50% a step; then bisect (geometric
+   mean) between the last failure and the first fit to 0.2%.  *d = 0 when
+   nothing fits. */
+static bp_status bp__pack_search(bp__packer *P, double *d_out)
+{
+    double total = 0, hi = 0, lo, d, placed;
+    uint32_t i;
+    int it, r;
+    *d_out = 0;
+    for (i = 0; i < P->n; i++) total += P->pc[i].target;
+    d = P->res / sqrt(total);
+    for (it = 0; it < 200; it++) {
+        double f;
+        r = bp__pack_attempt(P, d, &placed);
+        if (r < 0) return BP_ERR_OUT_OF_MEMORY;
+        if (r) break;
+        hi = d;
+        f = sqrt(placed / total);
+        d *= f < 0.5 ? 0.5 : f > 0.97 ? 0.97 : f;
+    }
+    if (it == 200) return BP_OK;
+    bp__pack_keep(P);
+    lo = d;
+    for (it = 0; hi > 0 && hi > lo * 1.002 && it < 16; it++) {
+        double mid = sqrt(lo * hi);
+        r = bp__pack_attempt(P, mid, &placed);
+        if (r < 0) return BP_ERR_OUT_OF_MEMORY;
+        if (r) { lo = mid; bp__pack_keep(P); } else hi = mid;
+    }
+    *d_out = lo;
+    return BP_OK;
+}
+
+/* Write the final coordinates uv = (L + (x, y)) / RES and check each chart
+   exactly.  Returns the index into P->pc of a chart that broke, or n. */
+static bp_status bp__pack_apply(bp__packer *P, double d, uint32_t *broken)
+{
+    uint32_t i, v;
+    *broken = P->n;
+    for (i = 0; i < P->n; i++) {
+        bp__pchart *pc = &P->pc[i];
+        bp_chart *ch = &P->atlas->charts[pc->chart];
+        bp_check_report rep;
+        bp_status st;
+        bp__pack_local(ch, pc, pc->fturn, d, P->L);
+        for (v = 0; v < ch->num_vertices; v++) {
+            ch->uv[2 * v] = (P->L[2 * v] + pc->fx) / P->res;
+            ch->uv[2 * v + 1] = (P->L[2 * v + 1] + pc->fy) / P->res;
+        }
+        st = bp__pack_check(&P->a, ch, ch->uv, &rep);
+        if (st != BP_OK) return st;
+        if (!bp__report_no_worse(&rep, &pc->before)) { *broken = i; return BP_OK; }
+    }
+    return BP_OK;
+}
+
+/* Density factor, orientation and the map's own validity of each chart. */
+static bp_status bp__pack_prepare(bp__packer *P, const bp_options *opt, bp_error *err)
+{
+    uint32_t c, t, n = 0, maxv = 1;
+    double aspect = 1, total;
+    for (c = 0; c < P->atlas->num_charts; c++) {
+        bp_chart *ch = &P->atlas->charts[c];
+        bp__pchart *pc;
+        double auv = 0, *copy;
+        bp_status st;
+        if (!ch->uv) continue;
+        pc = &P->pc[n++];
+        memset(pc, 0, sizeof *pc);
+        pc->chart = c;
+        copy = (double *)bp__alloc_array(&P->a, 2 * (size_t)ch->num_vertices, sizeof(double));
+        if (!copy) return bp__oom(err, "packing charts");
+        memcpy(copy, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
+        pc->orig = copy;
+        if (ch->num_vertices > maxv) maxv = ch->num_vertices;
+        st = bp__pack_check(&P->a, ch, pc->orig, &pc->before);
+        if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "packing charts");
+        if (st != BP_OK || pc->before.nonfinite)
+            return bp__fail(err, st != BP_OK ? st : BP_ERR_NONFINITE, BP_ELEMENT_CHART, c, -1, 0,
+                            "chart %u: its map cannot be packed (invalid or non-finite coordinates)", c);
+        for (t = 0; t < ch->num_triangles; t++) {
+            const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+            const double *p0 = pc->orig + 2 * (size_t)tr[0], *p1 = pc->orig + 2 * (size_t)tr[1], *p2 = pc->orig + 2 * (size_t)tr[2];
+            auv += 0.5 * fabs((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]));
+        }
+        if (!(auv > 0) || !(auv < HUGE_VAL))
+            return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
+                            "chart %u: its map has no area to pack", c);
+        /* one texel density: UV area / 3D area equal across charts (step 1) */
+        if (opt->importance || !(ch->area3d > 0)) { pc->k = 1; pc->target = auv; }
+        else { pc->k = sqrt(ch->area3d / auv); pc->target = ch->area3d; }
+        pc->turns = opt->no_rotation ? 1 : 4;
+        pc->cs = pc->cs2 = 1; pc->sn = pc->sn2 = 0;
+        if (!opt->no_rotation &&
+            bp__min_box_rotation(&P->a, pc->orig, ch->num_vertices, &pc->cs, &pc->sn, &pc->cs2, &pc->sn2, &aspect) != BP_OK)
+            return bp__oom(err, "packing charts");
+        if (!opt->no_rotation && aspect > 1.5) pc->turns = 8;
+    }
+    P->n = n;
+    /* The square orientations cost a second search per chart; they only
+       matter for long charts large enough to set the atlas's scale. */
+    for (c = 0, total = 0; c < n; c++) total += P->pc[c].target;
+    for (c = 0; c < n; c++)
+        if (P->pc[c].turns == 8 && P->pc[c].target < total / 64) P->pc[c].turns = 4;
+    P->L = (double *)bp__alloc_array(&P->a, 2 * (size_t)maxv, sizeof(double));
+    if (!P->L) return bp__oom(err, "packing charts");
+    qsort(P->pc, n, sizeof *P->pc, bp__pchart_cmp);
+    return BP_OK;
+}
+
+/* Step 4's loop: search, apply, and on a chart whose rotated copy broke,
+   retry with that chart in its own orientation. */
+static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+{
+    bp__packer P;
+    bp_status st;
+    uint32_t i, broken;
+    double d = 0, area = 0;
+    memset(&P, 0, sizeof P);
+    P.a = atlas->allocator;
+    P.atlas = atlas;
+    P.res = opt->atlas_resolution;
+    P.pad = opt->padding;
+    P.pc = (bp__pchart *)bp__calloc_array(&P.a, atlas->num_charts ? atlas->num_charts : 1, sizeof *P.pc);
+    if (!P.pc) return bp__oom(err, "packing charts");
+    st = bp__pack_prepare(&P, opt, err);
+    if (st == BP_OK && bp__occ_init(&P.a, &P.occ, P.res) != BP_OK) st = bp__oom(err, "packing charts");
+    for (;;) {
+        if (st != BP_OK || P.n == 0) break;
+        st = bp__pack_search(&P, &d);
+        if (st != BP_OK) { st = bp__oom(err, "packing charts"); break; }
+        if (d == 0) {
+            st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                          "the %u charts do not fit in a %d x %d atlas with %d texels of padding",
+                          P.n, P.res, P.res, P.pad);
+            break;
+        }
+        st = bp__pack_apply(&P, d, &broken);
+        if (st != BP_OK) { st = st == BP_ERR_OUT_OF_MEMORY ? bp__oom(err, "packing charts") : st; break; }
+        if (broken == P.n) break;
+        if (P.pc[broken].turns == 1 && P.pc[broken].cs == 1 && P.pc[broken].sn == 0 && P.pc[broken].fturn == 0) {
+            st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, P.pc[broken].chart, -1, 0,
+                          "chart %u: placing it in the atlas would break its validity in floating point",
+                          P.pc[broken].chart);
+            break;
+        }
+        P.pc[broken].turns = 1; P.pc[broken].cs = 1; P.pc[broken].sn = 0;   /* unrotated */
+    }
+    if (st != BP_OK) {           /* leave the charts as they were */
+        for (i = 0; i < P.n; i++)
+            if (P.pc[i].orig) {
+                bp_chart *ch = &atlas->charts[P.pc[i].chart];
+                memcpy(ch->uv, P.pc[i].orig, 2 * (size_t)ch->num_vertices * sizeof(double));
+            }
+    } else {
+        for (i = 0; i < P.n; i++) area += bp__chart_uv_area(&atlas->charts[P.pc[i].chart]);
+        atlas->utilization = area;       /* the atlas is the unit square */
+        bp__ok(err);
+    }
+    for (i = 0; i < atlas->num_charts; i++) bp__free(&P.a, P.pc[i].orig);
+    bp__free(&P.a, P.pc);
+    bp__free(&P.a, P.L);
+    bp__occ_free(&P.a, &P.occ);
+    return st;
+}
+
+/* >>pins ===================================================================
+
+   Pinned vertices (beyond the dissertation; Blender's, Maya's and SLIM's
+   pins).  What is guaranteed, precisely:
+     - every pinned chart vertex ends at its target bit for bit (the
+       final chart->uv holds the very doubles of bp_pin.u, v), and packing
+       does not move a chart that has pins (bp_atlas_pack leaves it where
+       it is and places the other charts beside it; pins and normalize
+       together are refused, since scaling would move them);
+     - the map is exactly bijective at every iterate, as without pins, and
+       the optimization minimizes the same energy over the free vertices;
+     - pins that fail the necessary conditions of >>tutte are rejected
+       with the elements named, and pins that the homotopy below cannot
+       reach fail that chart with a message: never a wrong map.
+   Not guaranteed: that pins which admit a bijective map are always
+   reached.  The homotopy is a heuristic that succeeds when the targets are
+   a moderate deformation of the start (the common case: a few pins placed
+   by an artist near where the unpinned map has them); a target that needs
+   the map to turn inside out fails.
+
+   The homotopy (from the fitted start of >>tutte), in rounds k = 0, 1, ...:
+     1. snap: put every pin at its target; if that map passes the exact
+        check, done (the snapped coordinates are the targets themselves);
+     2. move: d = target - x on the pins, 0 elsewhere; the step bound of
+        >>stepbound along d (the same singularity-aware bound as the
+        optimizer's: no triangle flips, no boundary crossing), a step
+        t = min(1, 0.9 tmax) halved until the moved map passes the exact
+        check;
+     3. pull: BP__PIN_RELAX iterations of the optimizer on
+            E + w_k sum_p |x_p - t_p|^2,   w_k = 10^k nt / (n_pins L^2)
+        (L the mean 3D boundary edge; at k = 0 a pin one edge away costs
+        about the whole energy), all vertices free -- the same interior
+        point method, so every iterate is exactly bijective, and the
+        whole chart deforms toward the pins instead of the pins pushing
+        through their neighbours;
+   until the pins are at their targets, or the largest remaining distance
+   has not dropped by 1% in BP__PIN_STALL rounds, or BP__PIN_ROUNDS rounds
+   have passed (then the chart fails).  Every map on the way passed the
+   exact check. */
+
+#define BP__PIN_ROUNDS 40
+#define BP__PIN_STALL 6
+#define BP__PIN_RELAX 100
+
+/* Before the fit, a Tutte start is first optimized without its pins
+   (at most BP__PIN_FREE iterations): the fitted similarity then starts
+   from a shape like the unpinned result, which pins taken from an earlier
+   unwrap match closely, instead of from a disk. */
+#define BP__PIN_FREE 300
+
+static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                     bp_error *err)
+{
+    bp_options o = *opt;
+    o.progress = NULL;
+    o.max_seconds = 0;
+    o.pins = NULL;
+    o.num_pins = 0;
+    if (o.max_iterations <= 0 || o.max_iterations > BP__PIN_FREE) o.max_iterations = BP__PIN_FREE;
+    return bp__chart_optimize(ch, 0, m, &o, runner, err);
+}
+
+/* Step 2: move the pins along d by the largest checked step; 1 if moved. */
+static int bp__pins_move(bp__solver *S, double *x, double *xn, const double *d, uint32_t nv2)
+{
+    double tmax = bp__step_bound(S, x, d, 1 / 0.9), tt = tmax < 1 / 0.9 ? 0.9 * tmax : 1, ed;
+    uint32_t i;
+    int tries, valid;
+    for (tries = 0; tries < 50 && tt > 0; tries++, tt *= 0.5) {
+        for (i = 0; i < nv2; i++) xn[i] = d[i] != 0 ? x[i] + tt * d[i] : x[i];
+        bp__evaluate(S, xn, NULL, &ed, HUGE_VAL, &valid);
+        if (S->oom) return -1;
+        if (valid) { memcpy(x, xn, nv2 * sizeof(double)); return 1; }
+    }
+    return 0;
+}
+
+/* Step 1's snapped map into xn and d = target - x; returns the largest
+   remaining coordinate distance, *worst its chart vertex. */
+static double bp__pins_snap(const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx, double *xn, double *d,
+                            uint32_t *worst)
+{
+    uint32_t i;
+    double dist = 0;
+    for (i = 0; i < ch->num_vertices; i++) {
+        double du = 0, dv = 0;
+        xn[2 * (size_t)i] = ch->uv[2 * (size_t)i];
+        xn[2 * (size_t)i + 1] = ch->uv[2 * (size_t)i + 1];
+        if (pidx[i] != BP__NONE) {
+            du = pins[pidx[i]].u - xn[2 * (size_t)i];
+            dv = pins[pidx[i]].v - xn[2 * (size_t)i + 1];
+            xn[2 * (size_t)i] = pins[pidx[i]].u;
+            xn[2 * (size_t)i + 1] = pins[pidx[i]].v;
+            if (fabs(du) > dist || fabs(dv) > dist) { dist = fabs(du) > fabs(dv) ? fabs(du) : fabs(dv); *worst = i; }
+        }
+        d[2 * (size_t)i] = du;
+        d[2 * (size_t)i + 1] = dv;
+    }
+    return dist;
+}
+
+static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                const uint32_t *pidx, bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    bp__solver S;
+    bp__penalty pen;
+    bp_options o = *opt;
+    uint32_t nv2 = 2 * ch->num_vertices, worst = 0;
+    double *xn, *d, best = HUGE_VAL, dist = 0;
+    int round, stall = 0, valid;
+    bp_status st;
+    o.progress = NULL;
+    o.max_seconds = 0;
+    o.max_iterations = BP__PIN_RELAX;
+    o.pins = NULL;                                  /* the pull: no vertex held */
+    o.num_pins = 0;
+    memset(&S, 0, sizeof S);
+    if ((st = bp__solver_chart(&S, &a, ch, m, &o, NULL, err)) != BP_OK) return st;
+    S.par = *runner;
+    pen.pins = opt->pins;
+    pen.pidx = pidx;
+    pen.w = S.nt / (ch->num_pins * S.mean_edge * S.mean_edge);
+    xn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
+    d = (double *)bp__alloc_array(&a, nv2, sizeof(double));
+    for (round = 0; xn && d; round++, pen.w *= 10) {
+        double ed;
+        if ((dist = bp__pins_snap(ch, opt->pins, pidx, xn, d, &worst)) == 0) break;
+        bp__evaluate(&S, xn, NULL, &ed, HUGE_VAL, &valid);                     /* 1. snap */
+        if (S.oom) break;
+        if (valid) { memcpy(ch->uv, xn, nv2 * sizeof(double)); dist = 0; break; }
+        if (dist < 0.99 * best) { best = dist; stall = 0; } else stall++;
+        if (round >= BP__PIN_ROUNDS || stall >= BP__PIN_STALL) break;
+        if (bp__pins_move(&S, ch->uv, xn, d, nv2) < 0) break;                  /* 2. move */
+        st = bp__chart_optimize_pen(ch, 0, m, &o, runner, &pen, err);          /* 3. pull */
+        if (st != BP_OK) break;
+    }
+    bp__solver_free(&S);
+    bp__free(&a, xn);
+    bp__free(&a, d);
+    if (st != BP_OK) return st;
+    if (!xn || !d || S.oom) return bp__oom(err, "moving the pins");
+    if (dist > 0) {
+        char name[48];
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, ch->vertex[worst], -1, 0,
+                        "the pins of the chart with %s cannot be reached from its start map: vertex %u is still "
+                        "%g from its target after %d rounds (no bijective map through the targets was found)",
+                        bp__tri_name(m, ch->face[0], name), ch->vertex[worst] + 1, dist, round);
+    }
+    return BP_OK;
+}
+
+/* bp_chart_optimize holds the pinned vertices where the start map has
+   them; the caller's start must have them at their targets. */
+static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
+                                     bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    uint32_t *pidx, i;
+    bp_status st = bp__pin_map(&a, ch, m, opt, &pidx, &ch->num_pins, err);
+    for (i = 0; st == BP_OK && pidx && i < ch->num_vertices; i++) {
+        const bp_pin *p = pidx[i] != BP__NONE ? &opt->pins[pidx[i]] : NULL;
+        if (p && (ch->uv[2 * (size_t)i] != p->u || ch->uv[2 * (size_t)i + 1] != p->v))
+            st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
+                          "chart %u: vertex %u is pinned to (%g, %g) but the start map has it at (%g, %g)",
+                          chart_index, p->vertex + 1, p->u, p->v, ch->uv[2 * (size_t)i], ch->uv[2 * (size_t)i + 1]);
+    }
+    bp__free(&a, pidx);
+    return st;
 }
 
 /* >>driver =================================================================
@@ -7391,7 +9191,8 @@ static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const doubl
     return BP_ERR_NUMERICAL;
 }
 
-BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+/* No fixed resolution: bounding boxes on shelves (the 0.1 packing). */
+static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
     bp_allocator a;
     bp__packbox *bx;
@@ -7439,6 +9240,7 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
         if (bx[i].oy + bx[i].h > H) H = bx[i].oy + bx[i].h;
     }
     if (opt && opt->normalize && W > 0 && H > 0) s = 1 / (W > H ? W : H);
+    area = 0;
     for (i = 0; i < atlas->num_charts; i++) {
         c = bx[i].chart;
         if (!atlas->charts[c].uv) continue;
@@ -7449,11 +9251,31 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
             return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
                             "chart %u: placing it in the atlas would break its validity in floating point", c);
         }
+        area += bp__chart_uv_area(&atlas->charts[c]);
     }
+    /* the square on the longer side, the one normalize scales to [0,1]^2 */
+    W *= s; H *= s;
+    atlas->utilization = W > 0 && H > 0 ? area / ((W > H ? W : H) * (W > H ? W : H)) : 0;
     bp__free(&a, bx);
     bp__free(&a, lo);
     bp__report(opt, BP_STAGE_PACK, 1, BP_NO_CHART);
     return bp__ok(err);
+}
+
+/* Every chart that has a map, by shelves or by outlines (atlas_resolution). */
+static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+{
+    atlas->utilization = 0;
+    if (!opt || opt->atlas_resolution == 0) return bp__pack_shelf(atlas, opt, err);
+    if (opt->atlas_resolution < 0 || opt->atlas_resolution > BP__PACK_MAX_RES)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "atlas resolution %d is out of range: it must be between 1 and %d texels",
+                        opt->atlas_resolution, BP__PACK_MAX_RES);
+    if (opt->padding < 0 || opt->padding >= opt->atlas_resolution)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "padding %d is out of range: it must be at least 0 and less than the resolution %d",
+                        opt->padding, opt->atlas_resolution);
+    return bp__pack_outlines(atlas, opt, err);
 }
 
 /* The last word before success: the whole atlas -- every mapped chart, in
@@ -7498,6 +9320,104 @@ static bp_status bp__atlas_verify(const bp_atlas *atlas, bp_error *err)
     return BP_OK;
 }
 
+/* Charts kept in place (>>pins): a chart with pins never moves; a chart
+   whose start was its input uvs (BP_INIT_INPUT, chart.init_used = 1) keeps
+   its placement unless normalize asks for packing -- and only when those
+   charts do not overlap each other, which the exact check of the kept
+   charts together decides (the input charts are then packed like the
+   others).  The other charts are packed as usual and then translated, as
+   one block, to the right of the kept charts' bounding box, so the kept
+   and the packed never meet; bp_parameterize's final check proves it.
+   Without the barrier nothing is verified (maps may overlap themselves). */
+static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier, bp_error *why)
+{
+    double **save;
+    uint32_t c;
+    bp_status st;
+    if (!barrier) return BP_OK;
+    save = (double **)bp__alloc_array(&atlas->allocator, atlas->num_charts, sizeof(double *));
+    if (!save) return BP_ERR_OUT_OF_MEMORY;
+    for (c = 0; c < atlas->num_charts; c++) { save[c] = atlas->charts[c].uv; if (!keep[c]) atlas->charts[c].uv = NULL; }
+    st = bp__atlas_verify(atlas, why);
+    for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].uv = save[c];
+    bp__free(&atlas->allocator, save);
+    return st;
+}
+
+static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
+    int *keep = (int *)bp__calloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(int));
+    double **save = (double **)bp__alloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(double *));
+    double kb[4] = { DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX }, pb[2] = { DBL_MAX, DBL_MAX }, gap;
+    uint32_t c, i, nkeep = 0, npin = 0;
+    int normalize = opt && (opt->normalize || opt->atlas_resolution), barrier = !(opt && opt->no_barrier);
+    bp_error why;
+    bp_status st = BP_OK;
+    if (!keep || !save) { bp__free(&a, keep); bp__free(&a, save); return bp__oom(err, "packing charts"); }
+    for (c = 0; c < atlas->num_charts; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        keep[c] = ch->uv && (ch->num_pins > 0 || (ch->init_used == 1 && !normalize));
+        npin += ch->uv && ch->num_pins > 0;
+    }
+    if (npin && normalize)
+        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                      "normalize and atlas_resolution would move the pinned charts off their pins: "
+                      "use pins without them");
+    if (st == BP_OK && (st = bp__pack_kept_ok(atlas, keep, barrier, &why)) == BP_ERR_NOT_BIJECTIVE) {
+        for (c = 0; c < atlas->num_charts; c++) keep[c] = keep[c] && atlas->charts[c].num_pins > 0;
+        if ((st = bp__pack_kept_ok(atlas, keep, barrier, &why)) == BP_ERR_NOT_BIJECTIVE)
+            st = bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
+                          "the pinned charts overlap each other at their targets (%s)", why.message);
+    }
+    if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "packing charts");
+    else if (st != BP_OK && st != BP_ERR_INVALID_ARGUMENT && st != BP_ERR_NOT_BIJECTIVE) st = bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "%s", why.message);
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_chart *ch = &atlas->charts[c];
+        save[c] = ch->uv;
+        ch->in_place = keep[c];
+        nkeep += keep[c] != 0;
+        for (i = 0; keep[c] && i < ch->num_vertices; i++) {
+            double u = ch->uv[2 * (size_t)i], v = ch->uv[2 * (size_t)i + 1];
+            if (u < kb[0]) kb[0] = u;
+            if (v < kb[1]) kb[1] = v;
+            if (u > kb[2]) kb[2] = u;
+            if (v > kb[3]) kb[3] = v;
+        }
+        if (keep[c]) ch->uv = NULL;            /* hidden from the packer: takes no room */
+    }
+    if (st == BP_OK) st = bp__pack_all(atlas, opt, err);
+    for (c = 0; c < atlas->num_charts; c++) if (keep[c]) atlas->charts[c].uv = save[c];
+    if (st == BP_OK && nkeep) {
+        gap = 0.02 * (kb[2] - kb[0] > kb[3] - kb[1] ? kb[2] - kb[0] : kb[3] - kb[1]);
+        for (c = 0; c < atlas->num_charts; c++)
+            for (i = 0; !keep[c] && atlas->charts[c].uv && i < atlas->charts[c].num_vertices; i++) {
+                if (atlas->charts[c].uv[2 * (size_t)i] < pb[0]) pb[0] = atlas->charts[c].uv[2 * (size_t)i];
+                if (atlas->charts[c].uv[2 * (size_t)i + 1] < pb[1]) pb[1] = atlas->charts[c].uv[2 * (size_t)i + 1];
+            }
+        for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
+            double zero[2] = { 0, 0 };
+            if (keep[c] || !atlas->charts[c].uv) continue;
+            if (bp__move_chart(&a, &atlas->charts[c], zero, 1, kb[2] + gap - pb[0], kb[1] - pb[1]) != BP_OK)
+                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
+                              "chart %u: placing it beside the charts kept in place would break its validity", c);
+        }
+    }
+    bp__free(&a, keep);
+    bp__free(&a, save);
+    return st;
+}
+
+/* Place the charts side by side without overlap, leaving pinned charts
+   (and, without normalize, charts started from their input uvs) where
+   they are: see bp__pack_in_place. */
+BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+{
+    if (!atlas || !atlas->charts)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
+    return bp__pack_in_place(atlas, opt, err);
+}
+
 BPDEF void bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *why)
 {
     bp_chart *ch;
@@ -7510,13 +9430,78 @@ BPDEF void bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *
     ch->uv = NULL;
 }
 
+/* --repack: a chart's map is the file's own (vt) texture coordinates, taken
+   only when they are exactly bijective (the same check as every result). */
+static bp_status bp__input_map(bp_atlas *atlas, uint32_t c, const bp_mesh *m, bp_error *why)
+{
+    bp_allocator a = atlas->allocator;
+    bp_chart *ch = &atlas->charts[c];
+    bp_check_report rep;
+    bp_status st;
+    uint32_t i;
+    for (i = 0; i < ch->num_vertices; i++)
+        if (!ch->vertex_uv || ch->vertex_uv[i] >= m->num_uvs)
+            return bp__fail(why, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, ch->vertex[i], -1, 0,
+                            "chart %u: vertex %u has no texture coordinate to repack", c, ch->vertex[i] + 1);
+    bp__free(&a, ch->uv);
+    ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)ch->num_vertices, sizeof(double));
+    if (!ch->uv) return bp__oom(why, "repacking charts");
+    for (i = 0; i < ch->num_vertices; i++) {
+        ch->uv[2 * i] = m->uvs[2 * (size_t)ch->vertex_uv[i]];
+        ch->uv[2 * i + 1] = m->uvs[2 * (size_t)ch->vertex_uv[i] + 1];
+    }
+    st = bp__pack_check(&a, ch, ch->uv, &rep);
+    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(why, "repacking charts");
+    if (st == BP_OK && bp__report_valid(&rep)) return BP_OK;
+    if (rep.first_bad_triangle >= 0) {
+        uint32_t f = ch->face[rep.first_bad_triangle];
+        if (m->triangle_line)
+            return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, f, -1, m->triangle_line[f],
+                            "chart %u: its input texture coordinates are not bijective (%u flipped, %u degenerate, "
+                            "%u non-finite triangles; the first is triangle %u (line %u))", c, rep.flipped,
+                            rep.degenerate, rep.nonfinite, f + 1, m->triangle_line[f]);
+        return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, f, -1, 0,
+                        "chart %u: its input texture coordinates are not bijective (%u flipped, %u degenerate, "
+                        "%u non-finite triangles; the first is triangle %u)", c, rep.flipped, rep.degenerate,
+                        rep.nonfinite, f + 1);
+    }
+    if (rep.first_bad_edge[0] >= 0)
+        return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_VERTEX, ch->vertex[rep.first_bad_edge[0]], -1, 0,
+                        "chart %u: its input texture coordinates overlap themselves (%u pairs of boundary edges "
+                        "meet; the first at vertex %u)", c, rep.boundary_intersections,
+                        ch->vertex[rep.first_bad_edge[0]] + 1);
+    return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_CHART, c, -1, 0,
+                    "chart %u: its input texture coordinates are not bijective (%u loop-orientation and %u "
+                    "nesting problems)", c, rep.loop_orientation, rep.nested);
+}
+
+BPDEF bp_status bp_atlas_use_input_uvs(bp_atlas *atlas, const bp_mesh *m, bp_error *err)
+{
+    uint32_t c;
+    if (!atlas || !atlas->charts || !m)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_atlas_use_input_uvs needs an atlas and its mesh");
+    if (!m->corner_uv || !m->uvs)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "the mesh has no texture coordinates to repack");
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_error why;
+        bp_status st;
+        if (atlas->charts[c].error.status != BP_OK) continue;
+        st = bp__input_map(atlas, c, m, &why);
+        if (st == BP_ERR_OUT_OF_MEMORY) { if (err) *err = why; return st; }
+        if (st != BP_OK) bp_atlas_fail_chart(atlas, c, &why);
+    }
+    return atlas->num_failed ? bp__charts_status(atlas, err) : bp__ok(err);
+}
+
 /* One chart, start map and optimization: the unit of work when charts are
    solved in parallel. */
 typedef struct bp__chart_job {
     bp_atlas *atlas;
     const bp_mesh *m;
     const bp_options *opt;
-    const bp__par *inner;         /* how the chart's own loops run          */
+    const bp__par *inner;         /* how a large chart's own loops run      */
     bp_status *status;
     bp_error *errs;
     bp__run *run;                 /* bp_parameterize's run, or NULL (>>progress) */
@@ -7525,6 +9510,8 @@ typedef struct bp__chart_job {
 static void bp__chart_task(void *task, uint32_t c)
 {
     bp__chart_job *J = (bp__chart_job *)task;
+    bp__par serial = bp__par_serial();
+    const bp__par *inner = J->atlas->charts[c].num_triangles >= BP__PAR_MIN_TRIANGLES ? J->inner : &serial;
     bp_status st;
     if (J->atlas->charts[c].error.status != BP_OK) {   /* failed in bp_atlas_build */
         J->status[c] = BP_OK;
@@ -7534,14 +9521,14 @@ static void bp__chart_task(void *task, uint32_t c)
         st = bp__fail(&J->errs[c], BP_ERR_CANCELLED, BP_ELEMENT_CHART, c, -1, 0,
                       "chart %u: cancelled before its start map", c);
     else
-        st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, J->inner, &J->errs[c]);
+        st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, inner, &J->errs[c]);
     if (st == BP_OK && bp__report(J->opt, BP_STAGE_START, 1, c)) {   /* keeps its start map */
         J->atlas->charts[c].stop = BP_STOP_CANCELLED;
         st = bp__fail(&J->errs[c], BP_ERR_CANCELLED, BP_ELEMENT_CHART, c, -1, 0,
                       "chart %u: cancelled after its start map (the map is the valid start map)", c);
     }
     if (st == BP_OK && !(J->opt && J->opt->init_only))
-        st = bp__chart_optimize(&J->atlas->charts[c], c, J->m, J->opt, J->inner, &J->errs[c]);
+        st = bp__chart_optimize(&J->atlas->charts[c], c, J->m, J->opt, inner, &J->errs[c]);
     if (J->run) BP__COUNT_ADD(&J->run->done, (uint64_t)J->atlas->charts[c].num_triangles);
     J->status[c] = st;
 }
@@ -7577,9 +9564,11 @@ static bp_status bp__collect(bp_atlas *atlas, const bp__chart_job *J, int strict
 /* Start map and optimization of every chart.  Charts are independent, so
    with several threads and no dominant chart (none holds more than half of
    the triangles) the charts themselves are the parallel tasks, each solved
-   with serial loops; otherwise the charts go one after the other and their
-   loops run in parallel.  Either way each chart's result is bit-identical
-   to a serial solve.  Returns as bp__collect. */
+   with serial loops; otherwise the charts go one after the other and the
+   loops of the large ones (see >>threads) run in parallel.  Either way each
+   chart's result is bit-identical to a serial solve.  One pool serves the
+   whole call, and none is started when neither way would use it (one small
+   chart).  Returns as bp__collect. */
 static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_allocator a = atlas->allocator;
@@ -7587,6 +9576,7 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
     bp__chart_job J;
     void *pool = NULL;
     uint32_t c, largest = 0;
+    int by_chart;
     bp_status st;
     bp_options linked;
     bp__iter_link L;
@@ -7601,11 +9591,12 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
     J.atlas = atlas;
     J.m = m;
     J.opt = opt;
-    par = bp__par_begin(&a, opt, &pool);
-    serial.run = bp__serial_for; serial.user = NULL; serial.threads = 1;
+    serial = bp__par_serial();
     for (c = 0; c < atlas->num_charts; c++)
         if (atlas->charts[c].num_triangles > largest) largest = atlas->charts[c].num_triangles;
-    if (par.threads != 1 && atlas->num_charts > 1 && 2 * (uint64_t)largest <= m->num_triangles) {
+    by_chart = atlas->num_charts > 1 && 2 * (uint64_t)largest <= m->num_triangles;
+    par = by_chart || largest >= BP__PAR_MIN_TRIANGLES ? bp__par_begin(&a, opt, &pool) : serial;
+    if (par.threads != 1 && by_chart) {
         J.inner = &serial;
         par.run(par.user, bp__chart_task, &J, atlas->num_charts);
         for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].threads = par.threads;
@@ -7646,6 +9637,32 @@ static bp_status bp__rescaled_mesh(const bp_allocator *a, const bp_mesh *m, bp_m
     return BP_OK;
 }
 
+/* The user's uv-space inputs follow the rescaled copy: pin targets and
+   input uvs are scaled by 2^k too (exact in the normal range), so they come
+   back bit for bit with the map. */
+static bp_status bp__rescale_controls(const bp_allocator *a, bp_options *o, bp_mesh *ms, int k, bp_pin **pins,
+                                      double **uvs, bp_error *err)
+{
+    size_t i;
+    if (o->num_pins && o->pins) {
+        *pins = (bp_pin *)bp__alloc_array(a, o->num_pins, sizeof(bp_pin));
+        if (!*pins) return bp__oom(err, "rescaling the pins");
+        for (i = 0; i < o->num_pins; i++) {
+            (*pins)[i] = o->pins[i];
+            (*pins)[i].u = ldexp(o->pins[i].u, k);
+            (*pins)[i].v = ldexp(o->pins[i].v, k);
+        }
+        o->pins = *pins;
+    }
+    if (o->init == BP_INIT_INPUT && ms->uvs && ms->num_uvs) {
+        *uvs = (double *)bp__alloc_array(a, 2 * (size_t)ms->num_uvs, sizeof(double));
+        if (!*uvs) return bp__oom(err, "rescaling the input uvs");
+        for (i = 0; i < 2 * (size_t)ms->num_uvs; i++) (*uvs)[i] = ldexp(ms->uvs[i], k);
+        ms->uvs = *uvs;
+    }
+    return BP_OK;
+}
+
 /* The map of the rescaled copy, back in the mesh's units (see above). */
 static void bp__unscale_atlas(bp_atlas *atlas, int k, int normalized)
 {
@@ -7681,7 +9698,8 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     bp_mesh ms;
     bp_error cancel;
     bp__run run;
-    double *imp = NULL;
+    double *imp = NULL, *uvs_k = NULL;
+    bp_pin *pins_k = NULL;
     int k = 0;
     uint32_t t;
     if ((opt = bp__opts(opt, &local, err, &st)), st != BP_OK) return st;   /* >>progress */
@@ -7699,11 +9717,8 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
         local.run_progress_user = &run;
     }
     if (k) local.epsilon = ldexp(local.epsilon, k);     /* a barrier width is a length */
-    st = bp_atlas_build(atlas, &ms, &local, err);
-    if (st == BP_ERR_CANCELLED) {                 /* no charts: nothing to keep */
-        if (k) bp__free(&a, ms.positions);
-        return st;
-    }
+    if (k) st = bp__rescale_controls(&a, &local, &ms, k, &pins_k, &uvs_k, err);   /* pins, input uvs */
+    if (st == BP_OK) st = bp_atlas_build(atlas, &ms, &local, err);
     if ((st == BP_OK || st == BP_ERR_CHARTS_FAILED) && local.views.model != BP_VIEW_NONE && !local.init_only) {
         /* chapter 4: visibility (times the user's importance) drives eq 4.1 */
         imp = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
@@ -7721,7 +9736,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
         st = bp__solve_charts(atlas, &ms, &local, &cancel);
         if (st != BP_OK && st != BP_ERR_CANCELLED && err) *err = cancel;
     }
-    if (st == BP_OK || st == BP_ERR_CANCELLED) {
+    if (st == BP_OK || (st == BP_ERR_CANCELLED && atlas->charts)) {   /* a cancel in bp_atlas_build: no charts */
         bp_status ps = bp_atlas_pack(atlas, &local, err);
         if (ps == BP_OK && !local.no_barrier) ps = bp__atlas_verify(atlas, err);
         if (ps == BP_OK && k) bp__unscale_atlas(atlas, k, local.normalize);
@@ -7733,6 +9748,8 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
         else st = bp__charts_status(atlas, err);
     }
     bp__free(&a, imp);
+    bp__free(&a, pins_k);
+    bp__free(&a, uvs_k);
     if (k) bp__free(&a, ms.positions);
     if (st != BP_OK && st != BP_ERR_CHARTS_FAILED && st != BP_ERR_CANCELLED) bp_atlas_free(atlas);
     return st;

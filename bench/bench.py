@@ -41,12 +41,28 @@ a busy spell of a shared machine hits both alike.  "same" says whether 1 and
 loadavg_1min in the JSON is the 1-minute load average before and after the
 mesh's runs: above the core count, other processes were competing.
 
+Default threads against one, idle and busy (issue 13: the default must
+never be slower than --threads 1).  Cases: many_charts_10000 (10,000
+separate one-triangle charts, written by the bench itself), spot and camel_b
+from tests/data, and camelhead from ../shared/meshes when present.  Each case
+runs the default (--threads 0) and --threads 1, BENCH_RUNS times each,
+alternated: first on the machine as it is ("idle"), then with one competing
+CPU-bound process per core started by the bench, each in its own session
+("busy": each is a python loop that stops by itself after BENCH_BUSY_LIMIT seconds, default 600, and
+the bench kills them when the busy runs end).  The table gives the median
+wall and CPU seconds of both and the ratio default / 1 thread of the wall
+medians (below 1: the default is faster); the JSON line of each case holds
+every run.  Measured in the same bench run, so both sides of a ratio saw
+the same machine.
+
 Environment:
   BENCH_QUICK=1        only tests/data (runs default to 1); threads on camelhead
   BENCH_RUNS=N         runs per configuration (default 3, quick: 1)
   BENCH_TIMEOUT=S      per-run time limit in seconds (default 600)
   BENCH_THREADS_MIN_FACES=N   (default 20000)
   BENCH_MESHES="a b"   only these mesh file names (e.g. "camel_b.obj cow_param_withSUV.obj")
+  BENCH_BUSY=0         skip the idle/busy comparison (BENCH_BUSY=only: run only it)
+  BENCH_BUSY_LIMIT=S   the competing processes' own time limit (default 600)
   BENCH_OUT=DIR        keep outputs, traces and bench.jsonl there
                        (default build/bench)
   BENCH_TOOL=PATH      the tool to time (run.sh copies build/bijparam to
@@ -84,6 +100,8 @@ RUNS = max(1, env_int("BENCH_RUNS", 1 if QUICK else 3))
 TIMEOUT = env_int("BENCH_TIMEOUT", 600)
 THREADS_MIN_FACES = env_int("BENCH_THREADS_MIN_FACES", 20000)
 OUT = os.environ.get("BENCH_OUT") or os.path.join(ROOT, "build", "bench")
+BUSY = os.environ.get("BENCH_BUSY", "1").strip().lower()
+BUSY_LIMIT = env_int("BENCH_BUSY_LIMIT", 600)
 
 
 def count_vf(path):
@@ -305,6 +323,79 @@ def bench_mesh(mesh):
     return row
 
 
+def write_many_charts(path, n):
+    """n separate triangles (each its own chart), on a 100-wide grid, the
+    third vertex lifted so that no chart is flat already."""
+    with open(path, "w") as f:
+        for i in range(n):
+            x, y = 2.0 * (i % 100), 2.0 * (i // 100)
+            f.write("v %g %g 0\nv %g %g 0\nv %g %g 0.5\n" % (x, y, x + 1, y, x, y + 1))
+        for i in range(n):
+            f.write("f %d %d %d\n" % (3 * i + 1, 3 * i + 2, 3 * i + 3))
+
+
+def start_competitors(n):
+    """n CPU-bound processes, each ending by itself after BUSY_LIMIT s."""
+    code = "import time\nt = time.time() + %d\nwhile time.time() < t:\n    pass\n" % BUSY_LIMIT
+    # in a session of their own, like work started from another terminal
+    # or job: Linux's autogroup scheduler then shares the cores between
+    # them and the tool's session (docs/performance.md, session 5)
+    return [subprocess.Popen([sys.executable, "-c", code], start_new_session=True) for _ in range(n)]
+
+
+def stop_competitors(procs):
+    for p in procs:
+        p.kill()
+    for p in procs:
+        p.wait()
+
+
+def busy_cases():
+    cases = []
+    many = os.path.join(OUT, "many_charts_10000.obj")
+    write_many_charts(many, 10000)
+    cases.append(("many_charts_10000", many))
+    for name in ("spot.obj", "camel_b.obj"):
+        cases.append((name, os.path.join(ROOT, "tests", "data", name)))
+    cam = os.path.join(SHARED, "meshes", "camelhead.off")
+    if not QUICK and os.path.isfile(cam):
+        cases.append(("camelhead.off", cam))
+    return [(n, p) for n, p in cases if os.path.isfile(p)]
+
+
+def bench_busy():
+    """Default threads vs --threads 1 on each case, idle then busy."""
+    ncomp = os.cpu_count() or 1
+    rows = []
+    for state in ("idle", "busy"):
+        procs = start_competitors(ncomp) if state == "busy" else []
+        try:
+            if procs:
+                time.sleep(0.5)         # let them reach the cores
+            for name, path in busy_cases():
+                d = Config(path, ".%s.t0" % state, [])
+                one = Config(path, ".%s.t1" % state, ["--threads", "1"])
+                load0 = os.getloadavg()[0]
+                res = measure(path, [d, one], RUNS)
+                V, F = count_vf(path)
+                r0, r1 = res
+                w0, w1 = med(r0["walls"]), med(r1["walls"])
+                rows.append({
+                    "busy_case": name, "state": state, "competitors": len(procs), "F": F,
+                    "charts": (r0["rep"] or {}).get("charts"),
+                    "threads_default": (r0["rep"] or {}).get("threads"),
+                    "default_seconds": rnd(w0), "t1_seconds": rnd(w1),
+                    "default_cpu": rnd(r0["cpu"]), "t1_cpu": rnd(r1["cpu"]),
+                    "default_all": [rnd(w) for w in r0["walls"]], "t1_all": [rnd(w) for w in r1["walls"]],
+                    "ratio_default_over_t1": rnd(w0 / w1, 3) if w0 and w1 else None,
+                    "default_exit": r0["rc"], "t1_exit": r1["rc"],
+                    "loadavg_1min": [round(load0, 2), round(os.getloadavg()[0], 2)]})
+                print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
+        finally:
+            stop_competitors(procs)
+    return rows
+
+
 def fmt(x, spec):
     return "-" if x is None else spec % x
 
@@ -327,12 +418,15 @@ def main():
         meshes = [m for m in meshes if os.path.basename(m) in only]
     rows = []
     t_start = time.perf_counter()
+    if BUSY == "only":
+        meshes = []
     for mesh in meshes:
         row = bench_mesh(mesh)
         rows.append(row)
         print(json.dumps(row), file=sys.stderr, flush=True)
+    busy = bench_busy() if BUSY not in ("0", "no", "") else []
     with open(os.path.join(OUT, "bench.jsonl"), "w") as f:
-        for r in rows:
+        for r in rows + busy:
             f.write(json.dumps(r) + "\n")
 
     print("bench: %s, %d run(s) per configuration, %.0f s in all%s" % (
@@ -363,8 +457,20 @@ def main():
                         fmt(t["t2_seconds"], "%.3f"), fmt(t["speedup"], "%.2f"),
                         fmt(t["speedup_opt"], "%.2f"),
                         {True: "yes", False: "no", None: "-"}[t["same_result"]]))
+    if busy:
+        print()
+        h3 = "%-20s %-5s %6s %6s %9s %9s %7s %8s %8s"
+        print(h3 % ("default vs 1 thread", "", "F", "charts", "default s", "1 thr s", "ratio",
+                    "def cpu", "1thr cpu"))
+        for r in busy:
+            print(h3 % (r["busy_case"], r["state"], r["F"], fmt(r["charts"], "%d"),
+                        fmt(r["default_seconds"], "%.3f"), fmt(r["t1_seconds"], "%.3f"),
+                        fmt(r["ratio_default_over_t1"], "%.2f"),
+                        fmt(r["default_cpu"], "%.3f"), fmt(r["t1_cpu"], "%.3f")))
+        print("(busy: %d competing CPU-bound processes, each in its own session; ratio = median wall default / median wall 1 thread)"
+              % (os.cpu_count() or 1))
     print()
-    for r in rows:
+    for r in rows + busy:
         print(json.dumps(r))
     return 0
 

@@ -72,7 +72,13 @@ static const char usage_text[] =
     "  --demo             use the built-in wavy cone instead of a file\n"
     "  --check            only check the file's own vt charts exactly (each chart\n"
     "                     bijective, no two overlapping): exit 0 yes, 1 no\n"
-    "  --init tutte|mvc   start map (default tutte)\n"
+    "  --init tutte|mvc|input   start map (default tutte); input: the file's own\n"
+    "                     vt per chart when bijective (else tutte, reported), and\n"
+    "                     those charts keep their place unless --normalize\n"
+    "  --pin FILE         pinned vertices, lines 'vertex u v [vt]' (numbered from 1\n"
+    "                     as in the input; vt: only that side of a seam; '#'\n"
+    "                     comments): they end exactly at (u, v) and their charts\n"
+    "                     are not moved by packing\n"
     "  --init-only        stop after the start map\n"
     "  --energy sd|conformal|mips|iso|maxiso   distortion (default sd)\n"
     "  --no-barrier       locally injective only (no boundary barrier)\n"
@@ -84,6 +90,13 @@ static const char usage_text[] =
     "  --tol X            relative energy decrease to stop (default 1e-7)\n"
     "  --max-seconds X    time limit per chart (0: none)\n"
     "  --normalize        scale the packed atlas into [0,1]^2\n"
+    "  --atlas RES        pack the charts by their outlines into a RES x RES\n"
+    "                     texture atlas in [0,1]^2, one texel density, rotated\n"
+    "                     to pack better (default: bounding boxes on shelves)\n"
+    "  --padding PX       texels between charts with --atlas (default 4)\n"
+    "  --no-rotate        with --atlas: keep each chart's orientation\n"
+    "  --repack           keep the input's own charts and texture coordinates\n"
+    "                     (checked exactly), only pack them\n"
     "  --strict           a chart that cannot be flattened fails the whole run\n"
     "                     (default: it is reported, the other charts are written)\n"
     "  --trace FILE       one line per iteration: chart iter seconds energy step\n"
@@ -97,7 +110,9 @@ static const char usage_text[] =
     "  --vis-floor X      least importance relative to the mean (default 0.05)\n"
     "  --importance FILE  one weight > 0 per face (painted importance)\n"
     "  --density-report uniform|front|ring|side   texel density of the result\n"
-    "                     against a plain isometric map under that view model\n"
+    "                     against a plain isometric map under that view model\n";
+/* (two strings: C99 promises string literals of 4095 characters only) */
+static const char usage_pictures[] =
     "pictures:\n"
     "  --svg FILE         the UV layout as SVG: triangles coloured by distortion,\n"
     "                     boundary loops, chart indices, colour scale, energies\n"
@@ -166,6 +181,73 @@ static double *read_importance(const char *path, const bp_mesh *m, char *msg, si
         w[i] = face[m->triangle_face ? m->triangle_face[i] : i];
     free(face);
     return w;
+}
+
+/* --pin FILE: lines "vertex u v [vt]" (vertex and vt from 1, as the input
+   numbers them; with vt only the chart vertex using that vt is pinned, one
+   side of a seam), blank lines and '#' comments allowed.  On an error msg names the line
+   (*line) and NULL is returned. */
+static bp_pin *read_pins(const char *path, const bp_mesh *m, uint32_t *count, long *line, char *msg, size_t msz)
+{
+    FILE *f = fopen(path, "r");
+    bp_pin *p = NULL;
+    size_t n = 0, cap = 0;
+    char buf[512];
+    *line = 0;
+    *count = 0;
+    if (!f) { snprintf(msg, msz, "cannot open pin file: %s", strerror(errno)); return NULL; }
+    while (fgets(buf, sizeof buf, f)) {
+        char *s = buf, *end;
+        long long v, vt;
+        double u, w;
+        (*line)++;
+        while (*s == ' ' || *s == '\t') s++;
+        if (*s == '#' || *s == '\n' || *s == '\r' || *s == 0) continue;
+        errno = 0;
+        v = strtoll(s, &end, 10);
+        if (end == s || v < 1 || v > (long long)m->num_vertices) {
+            snprintf(msg, msz, "expected 'vertex u v' with a vertex in 1..%u", (unsigned)m->num_vertices);
+            goto fail;
+        }
+        s = end;
+        u = strtod(s, &end);
+        if (end == s || !isfinite(u)) { snprintf(msg, msz, "vertex %lld: u is missing or not a finite number", v); goto fail; }
+        s = end;
+        w = strtod(s, &end);
+        if (end == s || !isfinite(w)) { snprintf(msg, msz, "vertex %lld: v is missing or not a finite number", v); goto fail; }
+        for (s = end; *s == ' ' || *s == '\t'; s++) {}
+        vt = 0;
+        if (*s >= '0' && *s <= '9') {            /* optional: the vt of one side of a seam */
+            vt = strtoll(s, &end, 10);
+            if (vt < 1 || vt > (long long)m->num_uvs) {
+                snprintf(msg, msz, "vertex %lld: vt must be in 1..%u", v, (unsigned)m->num_uvs);
+                goto fail;
+            }
+            s = end;
+        }
+        for (; *s == ' ' || *s == '\t' || *s == '\r' || *s == '\n'; s++) {}
+        if (*s && *s != '#') { snprintf(msg, msz, "vertex %lld: unexpected text after 'vertex u v [vt]'", v); goto fail; }
+        if (n == cap) {
+            bp_pin *q = (bp_pin *)realloc(p, sizeof *p * (cap = cap ? 2 * cap : 64));
+            if (!q) { snprintf(msg, msz, "out of memory"); goto fail; }
+            p = q;
+        }
+        p[n].vertex = (uint32_t)(v - 1);
+        p[n].uv = (uint32_t)vt;
+        p[n].u = u;
+        p[n].v = w;
+        n++;
+    }
+    fclose(f);
+    *line = 0;
+    *count = (uint32_t)n;
+    if (!p) p = (bp_pin *)malloc(sizeof *p);   /* an empty file: no pins, not an error */
+    if (!p) snprintf(msg, msz, "out of memory");
+    return p;
+fail:
+    fclose(f);
+    free(p);
+    return NULL;
 }
 
 /* Peak resident memory of this process.  Linux: VmHWM of /proc/self/status,
@@ -614,6 +696,7 @@ typedef struct timings { double read, charts, init, optimize, pack, write; } tim
 typedef struct extra_report {
     const char *format;                /* "obj", "off", "ply"; NULL: the demo mesh */
     int threads;
+    int resolution, padding;           /* --atlas, --padding (0, 0 without --atlas) */
     int density_model;                 /* 0: no density report */
     double density_map, density_iso;
 } extra_report;
@@ -666,7 +749,8 @@ static void print_json(const char *input, const char *output, bp_status status, 
         printf(",\"error\":");
         if (ch->error.status != BP_OK) json_string(ch->error.message);
         else printf("null");
-        printf(",\"seconds\":");
+        printf(",\"init_used\":%d,\"pins\":%u,\"in_place\":%d,\"seconds\":", ch->init_used,
+               (unsigned)ch->num_pins, ch->in_place);
         json_number(ch->seconds);
         if (ch->uv)
             printf(",\"flipped\":%u,\"degenerate\":%u,\"boundary_intersections\":%u}",
@@ -687,7 +771,9 @@ static void print_json(const char *input, const char *output, bp_status status, 
     json_number(tm->pack);
     printf(",\"write\":");
     json_number(tm->write);
-    printf("},\"threads\":%d,\"peak_rss_bytes\":", ex->threads);
+    printf("},\"atlas_resolution\":%d,\"padding\":%d,\"utilization\":", ex->resolution, ex->padding);
+    json_number(atlas->utilization);
+    printf(",\"threads\":%d,\"peak_rss_bytes\":", ex->threads);
     json_number(peak_rss_bytes());
     printf(",\"bytes_per_face\":");
     json_number(mesh->num_triangles ? peak_rss_bytes() / mesh->num_triangles : 0);
@@ -891,16 +977,17 @@ int main(int argc, char **argv)
     bp_status st = BP_OK;
     timings tm;
     run_state rs;
-    const char *input = NULL, *output = NULL, *trace_path = NULL, *importance_path = NULL, *where;
+    const char *input = NULL, *output = NULL, *trace_path = NULL, *importance_path = NULL, *pin_path = NULL, *where;
     extra_report ex;
     double *importance = NULL;
+    bp_pin *pins = NULL;
     int elevation_set = 0;
     const char *svg_path = NULL, *png_path = NULL;
     bpd_svg_options svg_opt;
     bpd_render_options png_opt;
     frames_state fs;
     char final_path[4096];
-    int json = 0, demo = 0, have_mesh = 0, i, status = 0, force = 0, quiet = 0, wrote = 0, check = 0;
+    int json = 0, demo = 0, have_mesh = 0, i, status = 0, force = 0, quiet = 0, wrote = 0, check = 0, repack = 0, padding_set = 0;
     uint32_t c;
     double t0;
 
@@ -929,13 +1016,15 @@ int main(int argc, char **argv)
             !strcmp(a, "--density-report") || !strcmp(a, "--svg") || !strcmp(a, "--svg-color") ||
             !strcmp(a, "--png") || !strcmp(a, "--png-view") || !strcmp(a, "--png-up") ||
             !strcmp(a, "--png-size") || !strcmp(a, "--png-views") || !strcmp(a, "--checker") ||
-            !strcmp(a, "--frames") || !strcmp(a, "--frames-every")) {
+            !strcmp(a, "--frames") || !strcmp(a, "--frames-every") || !strcmp(a, "--atlas") ||
+            !strcmp(a, "--padding") || !strcmp(a, "--pin")) {
             const char *v;
             if (i + 1 >= argc) return usage_error("option %s needs a value", a);
             v = argv[++i];
             if (!strcmp(a, "-o")) output = v;
             else if (!strcmp(a, "--trace")) trace_path = v;
             else if (!strcmp(a, "--importance")) importance_path = v;
+            else if (!strcmp(a, "--pin")) pin_path = v;
             else if (!strcmp(a, "--svg")) svg_path = v;
             else if (!strcmp(a, "--png")) png_path = v;
             else if (!strcmp(a, "--frames")) fs.dir = v;
@@ -962,6 +1051,14 @@ int main(int argc, char **argv)
             } else if (!strcmp(a, "--frames-every")) {
                 if (!parse_int(v, 1, &fs.every))
                     return usage_error("--frames-every needs an integer >= 1, not '%s'", v);
+            }
+            else if (!strcmp(a, "--atlas")) {
+                if (!parse_int(v, 1, &opt.atlas_resolution) || opt.atlas_resolution > 32768)
+                    return usage_error("--atlas needs a resolution in [1, 32768] texels, not '%s'", v);
+            } else if (!strcmp(a, "--padding")) {
+                if (!parse_int(v, 0, &opt.padding))
+                    return usage_error("--padding needs an integer >= 0, not '%s'", v);
+                padding_set = 1;
             }
             else if (!strcmp(a, "--threads")) {
                 if (!parse_int(v, 0, &opt.threads))
@@ -993,7 +1090,8 @@ int main(int argc, char **argv)
             else if (!strcmp(a, "--init")) {
                 if (!strcmp(v, "tutte")) opt.init = BP_INIT_TUTTE;
                 else if (!strcmp(v, "mvc")) opt.init = BP_INIT_MEAN_VALUE;
-                else return usage_error("unknown start map '%s' (tutte or mvc)", v);
+                else if (!strcmp(v, "input")) opt.init = BP_INIT_INPUT;
+                else return usage_error("unknown start map '%s' (tutte, mvc or input)", v);
             } else if (!strcmp(a, "--energy")) {
                 int e, found = 0;
                 for (e = 0; e < (int)BP_ENERGY_COUNT; e++)
@@ -1021,7 +1119,7 @@ int main(int argc, char **argv)
                 return usage_error("--max-iters needs an integer >= 1, not '%s'", v);
             }
         }
-        else if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_text, stdout); return 0; }
+        else if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_text, stdout); fputs(usage_pictures, stdout); return 0; }
         else if (!strcmp(a, "--version")) { printf("bijparam %s\n", BP_VERSION_STRING); return 0; }
         else if (!strcmp(a, "--force")) force = 1;
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) quiet = 1;
@@ -1032,6 +1130,8 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--no-barrier")) opt.no_barrier = 1;
         else if (!strcmp(a, "--normalize")) opt.normalize = 1;
         else if (!strcmp(a, "--strict")) opt.strict = 1;
+        else if (!strcmp(a, "--no-rotate")) opt.no_rotation = 1;
+        else if (!strcmp(a, "--repack")) repack = 1;
         else if (a[0] == '-' && a[1] != '\0') return usage_error("unknown option '%s'", a);
         else if (input) return usage_error("more than one input file ('%s')", a);
         else input = a;
@@ -1045,7 +1145,8 @@ int main(int argc, char **argv)
         int k;
         outs[0] = output; outs[1] = svg_path; outs[2] = png_path; outs[3] = trace_path;
         for (k = 0; k < 4; k++)
-            if (!demo && (same_file(outs[k], input) || same_file(outs[k], importance_path))) {
+            if (!demo && (same_file(outs[k], input) || same_file(outs[k], importance_path) ||
+                          same_file(outs[k], pin_path))) {
                 fprintf(stderr, "bijparam: %s '%s' is an input file; add --force to replace it\n"
                         "see bijparam --help\n", flags[k], outs[k]);
                 return 2;
@@ -1053,6 +1154,10 @@ int main(int argc, char **argv)
     }
     if (demo) input = "<demo>";
     if (!elevation_set) opt.views.elevation = 30;
+    if (padding_set && !opt.atlas_resolution) return usage_error("%s", "--padding needs --atlas RES");
+    if (opt.no_rotation && !opt.atlas_resolution) return usage_error("%s", "--no-rotate needs --atlas RES");
+    if (!padding_set) opt.padding = 4;
+    if (repack && demo) return usage_error("%s", "--repack needs an input file with texture coordinates");
 
     if (trace_path) {
         rs.trace = fopen(trace_path, "w");
@@ -1167,8 +1272,36 @@ int main(int argc, char **argv)
         } else free(vis);
     }
     opt.importance = importance;
+    /* 2c. pinned vertices */
+    if (st == BP_OK && pin_path) {
+        char msg[200];
+        long line;
+        pins = read_pins(pin_path, &mesh, &opt.num_pins, &line, msg, sizeof msg);
+        opt.pins = pins;
+        if (!pins) {
+            st = BP_ERR_PARSE;
+            where = pin_path;
+            memset(&err, 0, sizeof err);
+            err.line = line;
+            snprintf(err.message, sizeof err.message, "%s", msg);
+        }
+    }
+    /* 3a. --repack: the file's own maps, checked exactly (a chart whose map
+       is not bijective is reported and not packed, unless --strict) */
+    if (st == BP_OK && repack) {
+        t0 = now_seconds();
+        st = bp_atlas_use_input_uvs(&atlas, &mesh, &err);
+        if (st == BP_ERR_CHARTS_FAILED || (st == BP_ERR_NOT_BIJECTIVE && atlas.num_failed)) {
+            if (opt.strict) {
+                for (c = 0; c < atlas.num_charts; c++)
+                    if (atlas.charts[c].error.status != BP_OK) { err = atlas.charts[c].error; break; }
+                st = err.status;
+            } else st = BP_OK;
+        }
+        tm.init = now_seconds() - t0;
+    }
     /* 3. start map and optimization, chart by chart */
-    for (c = 0; st == BP_OK && c < atlas.num_charts; c++) {
+    for (c = 0; st == BP_OK && !repack && c < atlas.num_charts; c++) {
         if (atlas.charts[c].error.status != BP_OK) continue;   /* failed in step 2 */
         rs.chart = c;                        /* the progress bar's place */
         rs.tris_chart = atlas.charts[c].num_triangles;
@@ -1276,6 +1409,8 @@ int main(int argc, char **argv)
         for (c = 0; c < atlas.num_charts; c++)
             if (atlas.charts[c].threads > ex.threads) ex.threads = atlas.charts[c].threads;
         bp_status js = (st == BP_OK && atlas.num_failed) ? BP_ERR_CHARTS_FAILED : st;
+        ex.resolution = opt.atlas_resolution;
+        ex.padding = opt.atlas_resolution ? opt.padding : 0;
         print_json(input, wrote ? output : NULL, js, st == BP_OK ? NULL : err.message, &mesh, &atlas,
                    opt.energy, &tm, &ex);
     } else if (!quiet && wrote) {
@@ -1288,6 +1423,7 @@ int main(int argc, char **argv)
     if (rs.trace) fclose(rs.trace);
     for (i = 0; i < fs.nsnap; i++) free(fs.snap[i]);
     free(importance);
+    free(pins);
     bp_atlas_free(&atlas);
     if (have_mesh) {
         if (demo) { free(mesh.positions); free(mesh.triangles); }

@@ -8,7 +8,16 @@
    checked on real charts: camel_b (one chart, long boundary), face_holes
    (7 loops), spot (13 charts: solved in parallel as whole charts), the cow,
    and bishop; and on visibility (chapter 4), whose random streams are per
-   triangle. */
+   triangle.
+
+   The library runs small charts and small loops serially (>>threads); this
+   test sets both thresholds to 1 so that every loop of these small meshes
+   goes through the pool.  It also checks the pool itself under stress
+   (every task of thousands of jobs runs exactly once, with more threads
+   than cores, so that workers wake late), a mesh of many one-triangle
+   charts, and bp_chart_init / bp_chart_optimize called alone. */
+#define BP__PAR_MIN_TRIANGLES 1u
+#define BP__PAR_MIN_ITEMS     1u
 #define BP_USE_PTHREADS
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
@@ -222,11 +231,110 @@ static void check_groups(void)
     BPT_CHECK(once, "groups: every task of every group runs exactly once");
 }
 
+/* The pool: jobs of 2..97 tasks, one after the other, on pools of 2, 3
+   and 8 threads; each task counts its runs atomically.  A worker that
+   woke late and took a task of a later job for its own, or a caller that
+   returned before the last task finished, shows as a count other than 1
+   (the caller checks the counts right after each job returns). */
+typedef struct stress_job { uint32_t *hits; uint32_t spin; } stress_job;
+static void stress_task(void *task, uint32_t i)
+{
+    stress_job *J = (stress_job *)task;
+    volatile uint32_t k;
+    for (k = 0; k < J->spin * (i % 7); k++) {}
+    __atomic_fetch_add(&J->hits[i], 1u, __ATOMIC_RELAXED);
+}
+
+static void check_pool_stress(void)
+{
+    static const int nthreads[] = { 2, 3, 8 };
+    bp_allocator a;
+    uint32_t hits[97];
+    int k, jobs = quick ? 300 : 3000;
+    memset(&a, 0, sizeof a);
+    for (k = 0; k < 3; k++) {
+        bp__pool *P = bp__pool_start(&a, nthreads[k]);
+        int j, exact = 1, used = P ? P->nth + 1 : 1;
+        for (j = 0; P && j < jobs; j++) {
+            stress_job J;
+            uint32_t count = 2 + (uint32_t)(j * 37 % 96), i;
+            memset(hits, 0, sizeof hits);
+            J.hits = hits;
+            J.spin = (uint32_t)(j % 5) * 200;
+            P->skip = 0;                 /* every job through the threads, however crowded the machine */
+            bp__pool_for(P, stress_task, &J, count);
+            for (i = 0; i < 97; i++)
+                if (__atomic_load_n(&hits[i], __ATOMIC_ACQUIRE) != (i < count ? 1u : 0u)) exact = 0;
+        }
+        BPT_CHECK(P && used == nthreads[k] && exact,
+                  "pool of %d threads (%d started): %d jobs, every task ran exactly once before the job returned",
+                  nthreads[k], used, jobs);
+        bp__pool_stop(&a, P);
+    }
+}
+
+/* A mesh of n separate triangles, each its own chart (the "10,000 charts"
+   case of issue 13, smaller), solved by bp_parameterize on 1, 2 and 3
+   threads (charts as parallel tasks: the same bits as 1 thread), and
+   chart by chart with bp_chart_init / bp_chart_optimize on 2 threads (the
+   same bits as chart by chart on 1; bp_parameterize also packs). */
+static int many_solve(const bp_mesh *m, int threads, int alone, double *uv)
+{
+    bp_options o;
+    bp_atlas at;
+    bp_error e;
+    uint32_t c, i, k = 0;
+    memset(&o, 0, sizeof o);
+    o.threads = threads;
+    if (!alone) {
+        if (bp_parameterize(&at, m, &o, &e) != BP_OK) return 0;
+    } else {
+        if (bp_atlas_build(&at, m, &o, &e) != BP_OK) return 0;
+        for (c = 0; c < at.num_charts; c++)
+            if (bp_chart_init(&at.charts[c], m, &o, &e) != BP_OK ||
+                bp_chart_optimize(&at.charts[c], c, m, &o, &e) != BP_OK) { bp_atlas_free(&at); return 0; }
+    }
+    for (c = 0; c < at.num_charts; c++)
+        for (i = 0; i < 2 * at.charts[c].num_vertices; i++) uv[k++] = at.charts[c].uv[i];
+    bp_atlas_free(&at);
+    return k == 6 * m->num_triangles;
+}
+
+static void check_many_charts(void)
+{
+    enum { N = 500 };
+    static double pos[9 * N], uv1[6 * N], uva[6 * N], uvk[6 * N];
+    static uint32_t tri[3 * N];
+    static const int runs[][2] = { { 2, 0 }, { 3, 0 }, { 2, 1 } };
+    bp_mesh m;
+    uint32_t i;
+    int k;
+    memset(&m, 0, sizeof m);
+    for (i = 0; i < N; i++) {            /* triangle i: (2i, 0, 0), (2i + 1, i % 3, 0), (2i, 1, i % 5) */
+        double x = 2.0 * i;
+        double p[9] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
+        p[0] = x; p[3] = x + 1; p[4] = i % 3; p[6] = x; p[8] = i % 5;
+        memcpy(pos + 9 * i, p, sizeof p);
+        tri[3 * i] = 3 * i; tri[3 * i + 1] = 3 * i + 1; tri[3 * i + 2] = 3 * i + 2;
+    }
+    m.positions = pos; m.num_vertices = 3 * N;
+    m.triangles = tri; m.num_triangles = N;
+    m.num_faces = N;
+    BPT_CHECK(many_solve(&m, 1, 0, uv1) && many_solve(&m, 1, 1, uva), "%d one-triangle charts: serial solves", N);
+    for (k = 0; k < 3; k++) {
+        int ok = many_solve(&m, runs[k][0], runs[k][1], uvk);
+        BPT_CHECK(ok && !memcmp(runs[k][1] ? uva : uv1, uvk, sizeof uv1), "%d one-triangle charts, %d threads, %s: the same bits as serial",
+                  N, runs[k][0], runs[k][1] ? "bp_chart_init/optimize alone" : "bp_parameterize");
+    }
+}
+
 int main(void)
 {
     quick = getenv("BP_TEST_QUICK") != NULL;
     check_chunks();
     check_groups();
+    check_pool_stress();
+    check_many_charts();
     if (quick) {
         check_mesh("tests/data/bishop_part_f1000.obj");
         check_mesh("tests/data/spot.obj");
