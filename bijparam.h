@@ -2799,7 +2799,7 @@ static void bp__repair_init(bp_repair_report *r)
 static void bp__repair_messages(bp_repair_report *r, const bp_mesh *m)
 {
     static const char *const what[] = {
-        "re-oriented to agree with the majority of their component",
+        "re-oriented to agree with the rest of their component",
         "cut into seams: a non-orientable component (a Moebius band) cannot be glued there",
         "dropped as copies of another triangle on the same vertices",
         "shared by more than two triangles made seams for all of them",
