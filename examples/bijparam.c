@@ -34,6 +34,11 @@
    Messages name vertices, faces and lines as the file numbers them (OBJ
    from 1), while bp_error.index stays 0-based.
 
+   Defects the library repairs (faces wound the other way, duplicate
+   faces, edges of more than two faces, zero-area faces) get one line each
+   on stderr ("bijparam: repaired: FILE: ..."; none with --quiet) and a
+   "repairs" object in --json; --strict makes each of them an error.
+
    Exit status: 0 success, 1 input rejected or a step failed (one line on
    stderr: "bijparam: error: FILE:LINE: what" or "bijparam: error: FILE: what"),
    2 usage error (one line, then "see bijparam --help"). */

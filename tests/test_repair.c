@@ -547,6 +547,61 @@ static void test_obj_file(void)
     bp_mesh_free(&m, NULL);
 }
 
+/* Allocation failure inside the repairs: the defect strip (every kind at
+   once) with the k-th allocation failing,
+   for every k up to the number made: BP_ERR_OUT_OF_MEMORY (or BP_OK past
+   the last), and everything freed. */
+typedef struct counter { long calls, live, fail_at, bad; } counter;
+
+static void *c_alloc(void *user, size_t size)
+{
+    counter *C = (counter *)user;
+    if (++C->calls == C->fail_at) return NULL;
+    C->live++;
+    return malloc(size);
+}
+
+static void c_free(void *user, void *p)
+{
+    counter *C = (counter *)user;
+    if (!p) C->bad++;
+    C->live--;
+    free(p);
+}
+
+static void test_alloc_failures(void)
+{
+    static const char text[] =
+        "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 1 0.5 1\nv 3 0 0\n"
+        "f 1 2 5\nf 1 5 4\nf 2 6 3\nf 2 6 5\nf 5 1 2\nf 2 5 7\nf 2 8 3\n";
+    bp_mesh m;
+    bp_error err;
+    bp_options o = options(0);
+    counter C;
+    long k, n = 0, bad = 0;
+    if (!BPT_CHECK(bp_parse_obj(text, strlen(text), &m, NULL, &err) == BP_OK, "parse the defect strip")) return;
+    o.threads = 1;
+    o.allocator.alloc = c_alloc;
+    o.allocator.free = c_free;
+    o.allocator.user = &C;
+    for (k = 1;; k++) {
+        bp_atlas at;
+        bp_status st;
+        memset(&C, 0, sizeof C);
+        C.fail_at = k;
+        st = bp_parameterize(&at, &m, &o, &err);
+        if (st == BP_OK && (at.repairs.total != 4 || !all_valid(&at))) bad++;
+        bp_atlas_free(&at);
+        if (C.live != 0 || C.bad || (st != BP_OK && st != BP_ERR_OUT_OF_MEMORY)) bad++;
+        if (st == BP_OK) break;
+        n++;
+        if (k > 100000) { bad++; break; }
+    }
+    BPT_CHECK(bad == 0 && n > 10, "defect strip: each of its %ld allocations failing gives BP_ERR_OUT_OF_MEMORY and "
+              "frees everything; past the last, the 4 repairs and a valid map (%ld bad)", n, bad);
+    bp_mesh_free(&m, NULL);
+}
+
 int main(void)
 {
     bp_mesh clean;
@@ -569,5 +624,6 @@ int main(void)
     test_fins();
     test_cones();
     test_obj_file();
+    test_alloc_failures();
     return bpt_finish();
 }
