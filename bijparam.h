@@ -6633,6 +6633,8 @@ static void bp__unscale_atlas(bp_atlas *atlas, int k, int normalized)
         bp_chart *ch = &atlas->charts[c];
         int exact = 1;
         ch->area3d = ldexp(ch->area3d, -2 * k);
+        if (ch->rest_side)                       /* repaired degenerate triangles */
+            for (i = 0; i < ch->num_triangles; i++) ch->rest_side[i] = ldexp(ch->rest_side[i], -k);
         if (!ch->uv || normalized) continue;     /* [0,1]^2 is its own scale */
         for (i = 0; i < 2 * ch->num_vertices && exact; i++)
             exact = ldexp(ldexp(ch->uv[i], -k), k) == ch->uv[i];

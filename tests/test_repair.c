@@ -547,6 +547,39 @@ static void test_obj_file(void)
     bp_mesh_free(&m, NULL);
 }
 
+/* A repaired degenerate triangle on a mesh of extreme size (solved on a
+   copy rescaled by a power of two, >>driver): the map is valid and the
+   rest side is in the mesh's units, 2^200 times that at scale 1. */
+static void test_degenerate_scaled(void)
+{
+    static const char text[] =
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n"
+        "f 1 2 3\nf 1 3 4\nf 1 5 2\n";       /* 1 5 2: zero area, on the x axis */
+    bp_mesh m;
+    bp_atlas at;
+    bp_error err;
+    bp_options o = options(0);
+    double side1 = -1, side2 = -2;
+    uint32_t i;
+    int pass;
+    if (!BPT_CHECK(bp_parse_obj(text, strlen(text), &m, NULL, &err) == BP_OK, "parse the square with a zero-area triangle"))
+        return;
+    for (pass = 0; pass < 2; pass++) {
+        bp_status st;
+        if (pass) for (i = 0; i < 3 * m.num_vertices; i++) m.positions[i] = ldexp(m.positions[i], 200);
+        st = bp_parameterize(&at, &m, &o, &err);
+        if (st == BP_OK && at.num_charts == 1 && at.charts[0].rest_side && all_valid(&at)) {
+            if (pass) side2 = at.charts[0].rest_side[2];
+            else side1 = at.charts[0].rest_side[2];
+        }
+        bp_atlas_free(&at);
+    }
+    BPT_CHECK(side1 == 4.0 / 3 && side2 == ldexp(side1, 200),
+              "square + zero-area triangle at scale 1 and 2^200: valid, rest side 4/3 (%.17g) and 2^200 times it "
+              "(ratio %.17g / 2^200)", side1, ldexp(side2, -200));
+    bp_mesh_free(&m, NULL);
+}
+
 /* Allocation failure inside the repairs: the defect strip (every kind at
    once) with the k-th allocation failing,
    for every k up to the number made: BP_ERR_OUT_OF_MEMORY (or BP_OK past
@@ -624,6 +657,7 @@ int main(void)
     test_fins();
     test_cones();
     test_obj_file();
+    test_degenerate_scaled();
     test_alloc_failures();
     return bpt_finish();
 }
