@@ -295,10 +295,13 @@ typedef struct bp_options {
                                      map gives triangle t about importance[t] times
                                      its 3D area (eq 4.1); NULL = 1 everywhere     */
     bp_views      views;          /* visibility-aware maps (chapter 4)         */
-    int           strict;         /* nonzero: any defect or chart failure fails
-                                     the whole call.  Zero (default): a chart
-                                     that cannot be flattened (a local defect,
-                                     see CONVENTIONS) is reported in
+    int           strict;         /* nonzero: any defect (those repaired by
+                                     default included) or chart failure fails
+                                     the whole call.  Zero (default): flipped,
+                                     duplicate, non-manifold and degenerate
+                                     triangles are repaired (atlas.repairs); a
+                                     chart that cannot be flattened (a local
+                                     defect, see CONVENTIONS) is reported in
                                      chart.error, the others are still solved,
                                      and the call returns BP_ERR_CHARTS_FAILED
                                      with the atlas kept: free it             */
