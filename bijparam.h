@@ -32,7 +32,7 @@
       >>threads        deterministic parallel loops, optional pool    (sec 3.5)
       >>predicates     exact orientation and segment tests           (robustness)
       >>io             OBJ / OFF reading, OBJ writing                 (BP_NO_STDIO)
-      >>charts         seams, connected components, pinches, loops    (sec 3.1, 3.6)
+      >>charts         seams, components, repairs, pinches, loops     (sec 3.1, 3.6)
       >>sparse         ordering + sparse LDL^T / LU direct solver
       >>check          exact bijectivity check (the ground truth)
       >>tutte          Tutte / Floater start with filled holes        (sec 3.4.1, 3.6)
