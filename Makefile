@@ -89,12 +89,13 @@ deps-check:
 tests: $(C_TESTS) $(CXX_TESTS) $(TEST_TOOL)
 
 # Dependencies first (the C++ tests need OpenMesh to compile), then build
-# (its output in build/logs/build.log, shown only when it fails), then run.
+# (its output in build/logs/build.log, shown only when it fails), then run,
+# two programs at a time on two cores (the longest, test_compile.sh, first).
 test: deps-test
 	@mkdir -p $(BUILD)/logs
 	@echo "make test: building the tests (log: $(BUILD)/logs/build.log)"
 	@$(MAKE) --no-print-directory -j2 tests > $(BUILD)/logs/build.log 2>&1 || { cat $(BUILD)/logs/build.log; echo "make test: the build failed"; echo "0 passed, 1 failed"; exit 1; }
-	@BP_TEST_QUICK=1 bash tests/run_all.sh $(C_TESTS) $(CXX_TESTS) $(SH_TESTS)
+	@BP_TEST_QUICK=1 bash tests/run_all.sh $(SH_TESTS) $(C_TESTS) $(CXX_TESTS)
 
 # The long suite: fuzzing, the sanitizer builds (each a script printing
 # BPTEST, so run_all.sh adds them up the same way) and the long runs:
@@ -104,7 +105,7 @@ check: deps-check
 	@mkdir -p $(BUILD)/logs/check
 	@echo "make check: building the tests (log: $(BUILD)/logs/check/build.log)"
 	@$(MAKE) --no-print-directory -j2 tests > $(BUILD)/logs/check/build.log 2>&1 || { cat $(BUILD)/logs/check/build.log; echo "make check: the build failed"; echo "0 passed, 1 failed"; exit 1; }
-	@BP_TEST_LOGDIR=$(BUILD)/logs/check BP_TEST_TIMEOUT=1800 bash tests/run_all.sh $(BUILD)/tests/test_threads $(CHECK_SH)
+	@BP_TEST_LOGDIR=$(BUILD)/logs/check BP_TEST_TIMEOUT=1800 BP_TEST_JOBS=1 bash tests/run_all.sh $(BUILD)/tests/test_threads $(CHECK_SH)
 
 # The tool and the examples draw their pictures with examples/bp_draw.h.
 $(TOOL) $(EXAMPLES): examples/bp_draw.h

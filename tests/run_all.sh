@@ -7,7 +7,8 @@
 # Quiet: one line per program (name, passed and failed counts, seconds); the
 # full output of a failing program is shown.  Every program's full output is
 # kept in $BP_TEST_LOGDIR/<name>.log (default build/logs); BP_TEST_VERBOSE=1
-# shows every output as it used to.  Ends with "N passed, M failed" (CI
+# shows every output as it used to.  BP_TEST_JOBS (default: the number of
+# cores) programs run at a time; the report keeps the order given.  Ends with "N passed, M failed" (CI
 # reads that line) and exits 1 when M > 0.  BP_TEST_TIMEOUT (default 600)
 # limits each program, in seconds.  Run it from the repository root (the
 # tests open tests/data/... by relative path).
@@ -16,6 +17,7 @@ set -u
 per_test_timeout=${BP_TEST_TIMEOUT:-600}
 logdir=${BP_TEST_LOGDIR:-build/logs}
 verbose=${BP_TEST_VERBOSE:-0}
+jobs=${BP_TEST_JOBS:-$(nproc 2>/dev/null || echo 1)}
 if [ "$#" -eq 0 ]; then
     echo "run_all: no test programs given"
     echo "0 passed, 1 failed"
@@ -28,21 +30,44 @@ bad=()
 start_all=$(date +%s%N)
 secs_since() { awk -v a="$1" -v b="$(date +%s%N)" 'BEGIN { printf "%.1f", (b - a) / 1e9 }'; }
 
+# Phase 1: start the programs, at most $jobs at a time, each in the
+# background writing its output to its log and "<exit status> <seconds>"
+# to a status file.  Phase 2 below reports them in the order given, so the
+# output does not depend on which finishes first.
+statusdir=$(mktemp -d "${TMPDIR:-/tmp}/bp_run_all.XXXXXX")
+trap 'rm -rf "$statusdir"' EXIT
+pids=()
+k=0
 for t in "$@"; do
+    k=$((k + 1))
+    pids+=("")
+    [ -e "$t" ] || continue
+    while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n 2>/dev/null || sleep 0.2; done
+    (
+        log="$logdir/$(basename "$t").log"
+        t0=$(date +%s%N)
+        case "$t" in
+            *.sh) timeout "$per_test_timeout" bash "$t" </dev/null >"$log" 2>&1 ;;
+            */*)  timeout "$per_test_timeout" "$t" </dev/null >"$log" 2>&1 ;;
+            *)    timeout "$per_test_timeout" "./$t" </dev/null >"$log" 2>&1 ;;
+        esac
+        rc=$?
+        echo "$rc $(secs_since "$t0")" > "$statusdir/$k"
+    ) &
+    pids[$((k - 1))]=$!
+done
+
+k=0
+for t in "$@"; do
+    k=$((k + 1))
     name=$(basename "$t")
     log="$logdir/$name.log"
     if [ ! -e "$t" ]; then
         printf '%-24s missing (%s does not exist): counted as 1 failed\n' "$name" "$t"
         total_failed=$((total_failed + 1)); bad+=("$t (missing)"); continue
     fi
-    t0=$(date +%s%N)
-    case "$t" in
-        *.sh) timeout "$per_test_timeout" bash "$t" >"$log" 2>&1 ;;
-        */*)  timeout "$per_test_timeout" "$t" >"$log" 2>&1 ;;
-        *)    timeout "$per_test_timeout" "./$t" >"$log" 2>&1 ;;
-    esac
-    rc=$?
-    secs=$(secs_since "$t0")
+    wait "${pids[$((k - 1))]}" 2>/dev/null
+    read -r rc secs < "$statusdir/$k" || { rc=1; secs=0; }
     [ "$verbose" = 1 ] && cat "$log"
     line=$(grep -E '^BPTEST [0-9]+ [0-9]+$' "$log" | tail -n 1)
     why=""
