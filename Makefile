@@ -1,7 +1,7 @@
 # bijparam - GNU make
 #
 #   make / make all   build/bijparam (the CLI tool) and build/examples/<name>
-#   make test         the developer's suite (~2-3 min): check the dependencies
+#   make test         the developer's suite (2 min of CPU): check the dependencies
 #                     (tests/ensure_deps.sh: prints what is missing and stops,
 #                     never installs), build tests/test_*.c and tests/test_*.cpp
 #                     into build/tests/ and run them and tests/test_*.sh with

@@ -92,14 +92,18 @@ if [ "$mode" = check ]; then
     exit 1
 fi
 
+if [ "$(id -u)" -ne 0 ] || ! command -v apt-get >/dev/null 2>&1; then
+    {
+        echo "deps: make test / make check need packages that are not installed:"
+        for i in "${!missing_pkgs[@]}"; do echo "  ${missing_pkgs[$i]}: ${missing_why[$i]}"; done
+        echo "deps: installing needs root and apt-get (Debian); run this yourself:"
+        echo "    sudo sh -c '$cmd'"
+    } >&2
+    exit 1
+fi
 echo "deps: installing ${missing_pkgs[*]} with apt-get (Debian), because:"
 for i in "${!missing_pkgs[@]}"; do echo "  ${missing_pkgs[$i]}: ${missing_why[$i]}"; done
 echo "deps: apt-get also installs what these depend on and may upgrade packages they need newer versions of; it lists them first."
-if [ "$(id -u)" -ne 0 ] || ! command -v apt-get >/dev/null 2>&1; then
-    echo "deps: not root (or no apt-get): run this yourself:" >&2
-    echo "    sudo sh -c '$cmd'" >&2
-    exit 1
-fi
 export DEBIAN_FRONTEND=noninteractive
 echo "deps: running: $cmd"
 apt-get update || exit 1
