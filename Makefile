@@ -8,7 +8,7 @@
 #                     tests/run_all.sh: one line per program, a failing
 #                     program's output in full, every output in build/logs/,
 #                     last line "N passed, M failed"
-#   make check        the long suite (~10 min): test_threads in full, the fuzz
+#   make check        the long suite (9 min of CPU): test_threads in full, the fuzz
 #                     harnesses (tests/test_fuzz.sh) and every test and the
 #                     tool under ASan+UBSan and TSan (tests/test_sanitizers.sh:
 #                     make asan, make tsan); logs in build/logs/check/, last
