@@ -5776,6 +5776,18 @@ static void bp__chart_rest(const bp_chart *ch, const bp_mesh *m, uint32_t t, dou
                    w, x, y);
 }
 
+/* M^-1 of the flattened triangle (w, x, y) above, scaled by q (1, or the
+   I^-1/2 of an importance, eq 4.1): the one place the formula is written.
+       q M^-1 = [ q/w   -q x/(w y) ]
+                [ 0      q/y       ]
+   Leaves r->weight to the caller. */
+static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r)
+{
+    r->m00 = q / w;
+    r->m01 = -q * x / (w * y);
+    r->m11 = q / y;
+}
+
 /* >>energy =================================================================
 
    Sec 3.2.  Every energy here is a function f(s_max, s_min) of the singular
@@ -6945,9 +6957,7 @@ static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp
                             "importance of mesh triangle %u is %g: it must be positive and finite", ch->face[t], imp);
         }
         q = 1 / sqrt(imp);
-        S->rest[t].m00 = q / w;
-        S->rest[t].m01 = -q * px / (w * py);
-        S->rest[t].m11 = q / py;
+        bp__rest_inverse(w, px, py, q, &S->rest[t]);
         S->rest[t].weight = 0.5 * w * py * imp;
         total_area += 0.5 * w * py;
         if (rest_wxy) { rest_wxy[3 * (size_t)t] = w; rest_wxy[3 * (size_t)t + 1] = px; rest_wxy[3 * (size_t)t + 2] = py; }
@@ -7545,7 +7555,8 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
         bp__rest r;
         double w, px, py, e;
         bp__chart_rest(ch, m, t, &w, &px, &py);
-        r.m00 = 1 / w; r.m01 = -px / (w * py); r.m11 = 1 / py; r.weight = 1;
+        bp__rest_inverse(w, px, py, 1, &r);
+        r.weight = 1;
         e = bp__triangle_energy(energy, &r, ch->uv + 2 * (size_t)tr[0], ch->uv + 2 * (size_t)tr[1],
                                 ch->uv + 2 * (size_t)tr[2], NULL, NULL, NULL);
         if (per_triangle) per_triangle[t] = e;
