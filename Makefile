@@ -1,9 +1,20 @@
 # bijparam - GNU make
 #
 #   make / make all   build/bijparam (the CLI tool) and build/examples/<name>
-#   make test         install OpenMesh if missing (tests/ensure_deps.sh), build
-#                     tests/test_*.c and tests/test_*.cpp into build/tests/ and
-#                     run them all with tests/run_all.sh ("N passed, M failed")
+#   make test         the developer's suite (2 min of CPU): check the dependencies
+#                     (tests/ensure_deps.sh: prints what is missing and stops,
+#                     never installs), build tests/test_*.c and tests/test_*.cpp
+#                     into build/tests/ and run them and tests/test_*.sh with
+#                     tests/run_all.sh: one line per program, a failing
+#                     program's output in full, every output in build/logs/,
+#                     last line "N passed, M failed"
+#   make check        the long suite (9 min of CPU): test_threads in full, the fuzz
+#                     harnesses (tests/test_fuzz.sh) and every test and the
+#                     tool under ASan+UBSan and TSan (tests/test_sanitizers.sh:
+#                     make asan, make tsan); logs in build/logs/check/, last
+#                     line "N passed, M failed".  Run make test first.
+#   make deps         install what make test and make check need (apt-get,
+#                     as root), saying what and why first
 #   make demo         run the tool on its embedded mesh -> build/demo/demo.obj,
 #                     demo.svg (UV layout), demo.png (checkerboard render)
 #   make docs         regenerate the README pictures in docs/images/
@@ -39,11 +50,14 @@ TOOL     := $(BUILD)/bijparam
 EXAMPLES := $(patsubst examples/%.c,$(BUILD)/examples/%,$(filter-out examples/bijparam.c,$(wildcard examples/*.c)))
 C_TESTS   := $(patsubst tests/%.c,$(BUILD)/tests/%,$(wildcard tests/test_*.c))
 CXX_TESTS := $(patsubst tests/%.cpp,$(BUILD)/tests/%,$(wildcard tests/test_*.cpp))
-SH_TESTS  := $(wildcard tests/test_*.sh)
+# The long scripts run in make check (fuzzing, the sanitizer builds, the
+# install and CMake consumers: about a minute of builds), the others in make test.
+CHECK_SH  := tests/test_fuzz.sh tests/test_sanitizers.sh tests/test_install.sh
+SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test tests deps demo docs bench bench-pack clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -65,15 +79,35 @@ $(BUILD)/tests/%: tests/%.cpp $(HEADERS)
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $(if $(shell grep -l '<OpenMesh/' $<),$(OPENMESH_CXXFLAGS)) $< -o $@ $(OPENMESH_LIBS) $(LDLIBS)
 
+# make deps installs (and says what and why); deps-test / deps-check only
+# look, and stop with the missing packages and the command to install them.
 deps:
-	bash tests/ensure_deps.sh
+	@bash tests/ensure_deps.sh install
+deps-test:
+	@bash tests/ensure_deps.sh check test
+deps-check:
+	@bash tests/ensure_deps.sh check check
 
 tests: $(C_TESTS) $(CXX_TESTS) $(TEST_TOOL)
 
-# Dependencies first (the C++ tests need OpenMesh to compile), then build, then run.
-test: deps
-	$(MAKE) --no-print-directory tests
-	bash tests/run_all.sh $(C_TESTS) $(CXX_TESTS) $(SH_TESTS)
+# Dependencies first (the C++ tests need OpenMesh to compile), then build
+# (its output in build/logs/build.log, shown only when it fails), then run,
+# two programs at a time on two cores (the longest, test_compile.sh, first).
+test: deps-test
+	@mkdir -p $(BUILD)/logs
+	@echo "make test: building the tests (log: $(BUILD)/logs/build.log)"
+	@$(MAKE) --no-print-directory -j2 tests > $(BUILD)/logs/build.log 2>&1 || { cat $(BUILD)/logs/build.log; echo "make test: the build failed"; echo "0 passed, 1 failed"; exit 1; }
+	@BP_TEST_QUICK=1 bash tests/run_all.sh $(SH_TESTS) $(C_TESTS) $(CXX_TESTS)
+
+# The long suite: fuzzing, the sanitizer builds (each a script printing
+# BPTEST, so run_all.sh adds them up the same way) and the long runs:
+# test_threads without BP_TEST_QUICK (five meshes, 300 iterations, 1-8
+# threads, visibility; make test runs its quick form, bishop and spot).
+check: deps-check
+	@mkdir -p $(BUILD)/logs/check
+	@echo "make check: building the tests (log: $(BUILD)/logs/check/build.log)"
+	@$(MAKE) --no-print-directory -j2 tests > $(BUILD)/logs/check/build.log 2>&1 || { cat $(BUILD)/logs/check/build.log; echo "make check: the build failed"; echo "0 passed, 1 failed"; exit 1; }
+	@BP_TEST_LOGDIR=$(BUILD)/logs/check BP_TEST_TIMEOUT=1800 BP_TEST_JOBS=1 bash tests/run_all.sh $(BUILD)/tests/test_threads $(CHECK_SH)
 
 # The tool and the examples draw their pictures with examples/bp_draw.h.
 $(TOOL) $(EXAMPLES): examples/bp_draw.h
@@ -158,11 +192,12 @@ SAN_MESHES := tests/data/camel_b.obj tests/data/spot.obj tests/data/face_holes.o
 
 # No -Werror here: the sanitizers change what gcc's flow analysis warns
 # about; the normal build keeps every warning an error.
-asan: deps
-	$(MAKE) --no-print-directory BUILD=$(BUILD)/asan \
+asan: deps-check
+	$(MAKE) --no-print-directory -j2 BUILD=$(BUILD)/asan \
 	    CFLAGS="-std=c99 -Wall -Wextra -pedantic $(SAN_FLAGS)" \
 	    CXXFLAGS="-std=c++11 -Wall -Wextra -pedantic $(SAN_FLAGS)" tests
-	$(SAN_ENV) bash tests/run_all.sh $(patsubst $(BUILD)/%,$(BUILD)/asan/%,$(C_TESTS) $(CXX_TESTS))
+	@mkdir -p $(BUILD)/tests   # test_threads writes its scratch OBJ files there
+	$(SAN_ENV) BP_TEST_LOGDIR=$(BUILD)/asan/logs bash tests/run_all.sh $(patsubst $(BUILD)/%,$(BUILD)/asan/%,$(C_TESTS) $(CXX_TESTS))
 	@mkdir -p $(BUILD)/asan/out
 	for m in $(SAN_MESHES); do \
 	    $(SAN_ENV) $(BUILD)/asan/bijparam $$m --threads 2 --max-iters 200 -o $(BUILD)/asan/out/$$(basename $$m).obj || exit 1; \
@@ -183,6 +218,7 @@ tsan:
 	done
 	$(if $(wildcard examples/thread_pool.c),$(TSAN_ENV) $(BUILD)/tsan/thread_pool tests/data/spot.obj 2)
 	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_threads.c -o $(BUILD)/tsan/test_threads $(LDLIBS)
+	@mkdir -p $(BUILD)/tests   # test_threads writes its scratch OBJ files there
 	BP_TEST_QUICK=1 $(TSAN_ENV) $(BUILD)/tsan/test_threads > $(BUILD)/tsan/test_threads.log || { tail -30 $(BUILD)/tsan/test_threads.log; exit 1; }
 	@tail -1 $(BUILD)/tsan/test_threads.log
 	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_cancel.c -o $(BUILD)/tsan/test_cancel $(LDLIBS)

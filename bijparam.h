@@ -33,7 +33,7 @@
       >>threads        deterministic parallel loops, optional pool    (sec 3.5)
       >>predicates     exact orientation and segment tests           (robustness)
       >>io             OBJ / OFF / PLY reading, OBJ writing           (BP_NO_STDIO)
-      >>charts         seams, connected components, pinches, loops    (sec 3.1, 3.6)
+      >>charts         seams, components, repairs, pinches, loops     (sec 3.1, 3.6)
       >>sparse         ordering + sparse LDL^T / LU direct solver
       >>check          exact bijectivity check (the ground truth)
       >>tutte          Tutte / Floater start with filled holes        (sec 3.4.1, 3.6)
@@ -105,13 +105,18 @@
      leaves the atlas zeroed (freeing it is harmless).  When every chart
      fails, the call returns the first chart's own status, not
      BP_ERR_CHARTS_FAILED.
-   - Mesh defects are global or local.  Global, failing the whole call: no
-     triangles, an index out of range, a used vertex that is NaN or
-     infinite, two triangles on the same vertices, an edge of more than two
-     triangles, neighbours of opposite orientation.  Local, failing only
-     the chart they lie in (unless strict): a triangle that repeats a
-     vertex or has (near) zero area (twice the area at most 1e-12 of the
-     squared bounding-box diagonal), a chart that is closed or of genus > 0.
+   - Mesh defects.  Fatal, failing the whole call: no triangles, an index
+     out of range, a used vertex that is NaN or infinite.  Repaired by
+     default and reported in atlas.repairs (count, first elements, a
+     sentence naming them as the file does); each is an error naming the
+     element with opt.strict: two triangles on the same vertices (the copy
+     is dropped), an edge of more than two triangles (made a seam),
+     neighbours of opposite orientation (triangles re-oriented; a
+     non-orientable component cut), a triangle that repeats a vertex or
+     has (near) zero area -- twice the area at most 1e-12 of the squared
+     bounding-box diagonal (a regularized rest shape, >>rest).  Local,
+     failing only its chart (unless strict): a chart that is closed or of
+     genus > 0.
      The tests are scale-free: a mesh valid at one scale is valid at every
      representable scale, and bp_parameterize solves meshes of extreme size
      (beyond 2^+-100) on an exactly rescaled copy.
@@ -353,10 +358,13 @@ typedef struct bp_options {
                                      map gives triangle t about importance[t] times
                                      its 3D area (eq 4.1); NULL = 1 everywhere     */
     bp_views      views;          /* visibility-aware maps (chapter 4)         */
-    int           strict;         /* nonzero: any defect or chart failure fails
-                                     the whole call.  Zero (default): a chart
-                                     that cannot be flattened (a local defect,
-                                     see CONVENTIONS) is reported in
+    int           strict;         /* nonzero: any defect (those repaired by
+                                     default included) or chart failure fails
+                                     the whole call.  Zero (default): flipped,
+                                     duplicate, non-manifold and degenerate
+                                     triangles are repaired (atlas.repairs); a
+                                     chart that cannot be flattened (a local
+                                     defect, see CONVENTIONS) is reported in
                                      chart.error, the others are still solved,
                                      and the call returns BP_ERR_CHARTS_FAILED
                                      with the atlas kept: free it             */
@@ -420,7 +428,12 @@ typedef struct bp_chart {
     uint32_t *loop_start;     /* num_loops+1 offsets into loop_vertices      */
     uint32_t *loop_vertices;  /* chart vertices along each loop              */
     uint32_t  split_vertices; /* chart vertices added by pinch repair        */
-    double    area3d;         /* total 3D area                               */
+    double   *rest_side;      /* NULL, or per chart triangle: 0 = flattened as
+                                 its 3D shape; s > 0 = a degenerate triangle
+                                 (repaired) flattened as the equilateral
+                                 triangle of side s (>>rest)                 */
+    double    area3d;         /* total 3D area (a repaired degenerate
+                                 triangle counts with its rest shape)        */
     double   *uv;             /* 2*num_vertices: the map (atlas placement)   */
     /* report of the solve */
     double    energy_start, energy_end, energy_max; /* area-weighted mean E_t, max */
@@ -438,6 +451,39 @@ typedef struct bp_chart {
                                  start map put it (pins, or input uvs)      */
 } bp_chart;
 
+/* Repairs (bp_atlas.repairs).  Outside opt.strict, bp_atlas_build mends
+   the defects real assets carry instead of rejecting the mesh (>>charts,
+   "repair"), and reports each kind: how many, the first few elements
+   (0-based, as bp_error.index) and a sentence naming them as the file does
+   (from 1, with file lines).  With opt.strict each is an error instead. */
+typedef enum bp_repair_kind {
+    BP_REPAIR_FLIPPED = 0,      /* triangle re-oriented to agree with its
+                                   component (first2: -1)                    */
+    BP_REPAIR_NONORIENTABLE,    /* edge first-first2 cut into a seam: its
+                                   component is non-orientable (Moebius)    */
+    BP_REPAIR_DUPLICATE,        /* triangle dropped, a copy of triangle first2 */
+    BP_REPAIR_NONMANIFOLD_EDGE, /* edge first-first2 of more than two
+                                   triangles made a seam for all of them     */
+    BP_REPAIR_DEGENERATE,       /* zero-area or repeated-vertex triangle given
+                                   a regularized rest shape (>>rest)         */
+    BP_REPAIR_KINDS
+} bp_repair_kind;
+
+#define BP_REPAIR_FIRST 4
+typedef struct bp_repair {
+    uint32_t   count;
+    bp_element element;                 /* BP_ELEMENT_TRIANGLE or _EDGE       */
+    int64_t    first[BP_REPAIR_FIRST];  /* first elements, -1 beyond count    */
+    int64_t    first2[BP_REPAIR_FIRST]; /* edge: second vertex; duplicate: the
+                                           triangle kept; else -1             */
+    char       message[256];            /* "" when count is 0                 */
+} bp_repair;
+
+typedef struct bp_repair_report {
+    uint32_t  total;                    /* sum of the counts                  */
+    bp_repair kind[BP_REPAIR_KINDS];    /* indexed by bp_repair_kind          */
+} bp_repair_report;
+
 typedef struct bp_atlas {
     uint32_t     num_charts;
     bp_chart    *charts;
@@ -446,6 +492,7 @@ typedef struct bp_atlas {
     uint32_t    *corner_vertex;   /* chart vertex of each mesh corner        */
     uint32_t     num_split;       /* pinch vertices repaired in all charts   */
     uint32_t     num_failed;      /* charts without a map (chart.error says why) */
+    bp_repair_report repairs;     /* defects mended (not strict), see above  */
     bp_allocator allocator;
     double       utilization;     /* after bp_atlas_pack: total UV area of the
                                      charts over the atlas area (the square
@@ -480,6 +527,9 @@ typedef struct bp_check_report {
 BPDEF const char *bp_status_string(bp_status s);
 BPDEF const char *bp_energy_name(bp_energy e);
 BPDEF const char *bp_stop_string(bp_stop s);
+/* Short name of a repair kind ("flipped", "nonorientable", "duplicate",
+   "nonmanifold_edge", "degenerate"), as the tool's --json uses it. */
+BPDEF const char *bp_repair_name(bp_repair_kind k);
 
 /* Split a mesh into validated charts with boundary loops (no map yet).
    BP_ERR_CHARTS_FAILED keeps the atlas with the failed charts reported in
@@ -3414,7 +3464,7 @@ static void bp__chart_free(const bp_allocator *a, bp_chart *c)
 {
     bp__free(a, c->vertex); bp__free(a, c->vertex_uv); bp__free(a, c->triangles);
     bp__free(a, c->face); bp__free(a, c->loop_start); bp__free(a, c->loop_vertices);
-    bp__free(a, c->uv);
+    bp__free(a, c->uv); bp__free(a, c->rest_side);
     memset(c, 0, sizeof *c);
 }
 
@@ -3438,18 +3488,15 @@ BPDEF void bp_atlas_free(bp_atlas *atlas)
      Global: no triangles, too many, a vertex or uv index out of range, a
        used vertex with a NaN or infinite coordinate.  Nothing can be built
        on such a mesh (the adjacency itself would read out of bounds, the
-       size scale is undefined), so they fail the whole call.  So do the
-       defects that decide what the charts *are* -- two triangles on the
-       same three vertices, an edge shared by three or more triangles,
-       neighbours of opposite orientation (found while gluing, below):
-       which triangles belong together is then not defined.
-     Local: a triangle that repeats a vertex, or whose 3D area is zero or
-       near zero.  It spoils only the chart it lies in (its rest shape,
-       eq 3.1, has no inverse).  Such a triangle is kept out of the gluing
-       but put into the chart of its neighbours, and that chart fails with
-       the triangle named in chart.error; the other charts are solved
-       (BP_ERR_CHARTS_FAILED).  With opt.strict the first one fails the
-       whole call, as every defect does.
+       size scale is undefined), so they fail the whole call.
+     Mendable: the defects that decide what the charts *are* -- two
+       triangles on the same three vertices, an edge shared by three or
+       more triangles, neighbours of opposite orientation (found while
+       gluing, below) -- and the local ones, a triangle that repeats a
+       vertex or whose 3D area is zero or near zero (its rest shape, eq
+       3.1, has no inverse).  By default they are repaired ("repair",
+       below) and reported in atlas.repairs; with opt.strict the first one
+       fails the whole call, naming the element.
 
    "Near zero" is relative and therefore scale-free: twice the area below
    1e-12 diag^2, diag the bounding-box diagonal of the used vertices.  To
@@ -3591,9 +3638,28 @@ typedef struct bp__build {
     uint32_t *tri_uf, *corner_uf, *glued, *chart_of_root, *vert_of_root;
     uint32_t *next, *loop_id;
     bp__vkey *vkeys;
-    unsigned char *bad;           /* local defect of each triangle (0: none) */
+    unsigned char *bad;           /* triangle kept out of the gluing: strict
+                                     mode never has one; repair: a repeated
+                                     vertex (it becomes a chart of its own) */
+    /* repair (not strict), see "repair" below */
+    int repair;
+    unsigned char *degen;         /* local defect of each triangle (0: none) */
+    unsigned char *drop;          /* duplicate copy, left out of the charts  */
+    unsigned char *flip;          /* re-oriented: corners 1 and 2 swapped    */
+    uint32_t *twin;               /* the triangle a dropped copy repeats     */
+    uint32_t *mate;               /* mesh corner edge across a manifold edge,
+                                     BP__NONE, or BP__CUT                     */
+    uint32_t *queue;
+    uint32_t *fixed_tri, *fixed_uv;
+    bp_mesh fm;                   /* the mesh as glued: flipped triangles
+                                     with their corners 1 and 2 swapped      */
+    bp_repair_report *rep;
     bp__mesh_scale scale;
 } bp__build;
+
+#define BP__CUT (BP__NONE - 1u)
+
+static void bp__repair_note(bp_repair_report *r, bp_repair_kind k, int64_t a, int64_t b2);
 
 static void bp__build_free(const bp_allocator *a, bp__build *b)
 {
@@ -3601,6 +3667,8 @@ static void bp__build_free(const bp_allocator *a, bp__build *b)
     bp__free(a, b->corner_uf); bp__free(a, b->glued); bp__free(a, b->chart_of_root);
     bp__free(a, b->vert_of_root); bp__free(a, b->next); bp__free(a, b->loop_id);
     bp__free(a, b->vkeys); bp__free(a, b->bad);
+    bp__free(a, b->degen); bp__free(a, b->drop); bp__free(a, b->flip); bp__free(a, b->twin);
+    bp__free(a, b->mate); bp__free(a, b->queue); bp__free(a, b->fixed_tri); bp__free(a, b->fixed_uv);
 }
 
 /* Boundary loops of one chart from its triangles: next[v] is the end of the
@@ -3705,15 +3773,19 @@ static bp_status bp__charts_status(const bp_atlas *atlas, bp_error *err)
 }
 
 /* bp_atlas_build runs in named phases, each over the whole mesh:
-     validate   the global checks, then the local defects (strict: errors)
-     duplicates two triangles on the same three vertices
+     validate   the global checks, then the local defects (strict: errors;
+                repair: marked, below)
+     duplicates two triangles on the same three vertices (repair: dropped)
+     orient     (repair) re-orient each component, cut non-orientable ones
      glue       mesh edges, manifoldness, orientation; triangles and
-                corners merged into charts and chart vertices
+                corners merged into charts and chart vertices (repair:
+                non-manifold and cut edges are seams)
      charts     charts numbered by their smallest triangle, their arrays
+     regularize (repair) the rest shape of each degenerate triangle
      pinches    chart vertices that share a (mesh vertex, uv) key
      topology   boundary loops and Euler characteristic of each chart
-   Any phase can fail the whole call; the topology phase and the local
-   defects fail single charts unless opt.strict is set. */
+   Any phase can fail the whole call (strict: at the first defect); the
+   topology phase fails single charts unless opt.strict is set. */
 
 static bp_status bp__build_alloc(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
 {
@@ -3729,8 +3801,16 @@ static bp_status bp__build_alloc(const bp_allocator *a, bp__build *b, const bp_m
     b->next = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->loop_id = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->bad = (unsigned char *)bp__calloc_array(a, nt, 1);
+    b->degen = (unsigned char *)bp__calloc_array(a, nt, 1);
+    b->drop = (unsigned char *)bp__calloc_array(a, nt, 1);
+    b->flip = (unsigned char *)bp__calloc_array(a, nt, 1);
+    b->twin = (uint32_t *)bp__alloc_array(a, nt, sizeof(uint32_t));
+    b->mate = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
+    b->queue = (uint32_t *)bp__alloc_array(a, nt, sizeof(uint32_t));
+    b->fm = *m;
     if (!b->edges || !b->keys || !b->tri_uf || !b->corner_uf || !b->glued || !b->chart_of_root ||
-        !b->vert_of_root || !b->next || !b->loop_id || !b->bad)
+        !b->vert_of_root || !b->next || !b->loop_id || !b->bad || !b->degen || !b->drop || !b->flip ||
+        !b->twin || !b->mate || !b->queue)
         return bp__oom(err, "building charts");
     return BP_OK;
 }
@@ -3753,41 +3833,45 @@ static bp_status bp__find_duplicates(const bp_allocator *a, bp__build *b, const 
     for (t = 1; t < nt; t++)
         if (!memcmp(b->keys[t].v, b->keys[t - 1].v, 3 * sizeof(uint32_t))) {
             uint32_t t0 = b->keys[t - 1].t, t1 = b->keys[t].t;
+            if (b->repair) {             /* keep the first of the group, drop the copy */
+                b->drop[t1] = 1;
+                b->twin[t1] = b->drop[t0] ? b->twin[t0] : t0;
+                continue;
+            }
             const uint32_t *v = m->triangles + 3 * (size_t)t1;
             return bp__fail(err, BP_ERR_DUPLICATE_FACE, BP_ELEMENT_TRIANGLE, t1, t0, bp__tri_line(m, t1),
                             "%s and %s use the same vertices %u %u %u", bp__tri_name(m, t0, n0),
                             bp__tri_name(m, t1, n1), v[0] + 1, v[1] + 1, v[2] + 1);
         }
+    for (t = 0; t < nt; t++)
+        if (b->drop[t]) bp__repair_note(b->rep, BP_REPAIR_DUPLICATE, t, b->twin[t]);
     return BP_OK;
 }
 
-/* Do corner edges ce0 and ce1 (of one mesh edge) carry the same uv index
-   at each of its two mesh vertices (always, without corner_uv)? */
-static int bp__same_uv_at_edge(const bp_mesh *m, uint32_t ce0, uint32_t ce1)
+/* The mesh corner edge of corner edge ce of the glued mesh b->fm (a flipped
+   triangle's corner edge k runs backwards along its mesh corner edge 2-k). */
+static uint32_t bp__mesh_ce(const bp__build *b, uint32_t ce)
 {
-    uint32_t a0 = ce0, b0 = ce0 - ce0 % 3 + (ce0 % 3 + 1) % 3, a1 = ce1, b1 = ce1 - ce1 % 3 + (ce1 % 3 + 1) % 3;
-    if (!m->corner_uv) return 1;
-    if (m->triangles[a0] == m->triangles[a1])
-        return m->corner_uv[a0] == m->corner_uv[a1] && m->corner_uv[b0] == m->corner_uv[b1];
-    return m->corner_uv[a0] == m->corner_uv[b1] && m->corner_uv[b0] == m->corner_uv[a1];
+    return b->flip[ce / 3] ? ce - ce % 3 + (2 - ce % 3) : ce;
 }
 
-/* Glue one mesh edge, the corner edges edges[e, g) of the same vertex pair.
-   Triangles with a local defect take no part (their corners stay apart)
-   but join the chart of the triangles across the edge. */
+/* Glue one mesh edge, the corner edges edges[e, g) of the same vertex pair
+   (of the glued mesh m = b->fm).  Repeated-vertex triangles (bad) and
+   dropped copies take no part.  Strict: an edge of more than two triangles
+   or two neighbours running the same way fail the call; repair: such an
+   edge, or one cut to make a component orientable, is a seam. */
 static bp_status bp__glue_edge(bp__build *b, const bp_mesh *m, size_t e, size_t g, bp_error *err)
 {
     uint32_t good[3], ng = 0, lo = b->edges[e].lo, hi = b->edges[e].hi;
     size_t i;
     char n0[48], n1[48], n2[48];
     for (i = e; i < g; i++)
-        if (!b->bad[b->edges[i].ce / 3] && ng++ < 3) good[ng - 1] = b->edges[i].ce;
-    for (i = e; i < g && ng <= 2; i++) {
-        uint32_t ce = b->edges[i].ce, j;
-        if (!b->bad[ce / 3]) continue;
-        for (j = 0; j < ng; j++)
-            if (bp__same_uv_at_edge(m, ce, good[j])) bp__uf_union(b->tri_uf, ce / 3, good[j] / 3);
+        if (!b->bad[b->edges[i].ce / 3] && !b->drop[b->edges[i].ce / 3] && ng++ < 3) good[ng - 1] = b->edges[i].ce;
+    if (ng > 2 && b->repair) {
+        bp__repair_note(b->rep, BP_REPAIR_NONMANIFOLD_EDGE, lo, hi);
+        return BP_OK;
     }
+    if (ng == 2 && b->repair && b->mate[bp__mesh_ce(b, good[0])] == BP__CUT) return BP_OK;
     if (ng > 2)
         return bp__fail(err, BP_ERR_NONMANIFOLD, BP_ELEMENT_EDGE, lo, hi, bp__tri_line(m, good[2] / 3),
                         "edge %u-%u is shared by %u triangles (%s, %s, %s%s): a surface edge may have at most two",
@@ -3816,11 +3900,10 @@ static bp_status bp__glue_edge(bp__build *b, const bp_mesh *m, size_t e, size_t 
 
 /* Edges: sort the corner edges by their unordered vertex pair; each group
    is one mesh edge. */
-static bp_status bp__glue(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
+static bp_status bp__sort_edges(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
 {
     uint32_t t, k, nt = m->num_triangles;
-    size_t e, g, i, nc = 3 * (size_t)nt;
-    bp_status st;
+    size_t nc = 3 * (size_t)nt;
     for (t = 0; t < nt; t++)
         for (k = 0; k < 3; k++) {
             uint32_t va = m->triangles[3 * (size_t)t + k], vb = m->triangles[3 * (size_t)t + (k + 1) % 3];
@@ -3831,11 +3914,258 @@ static bp_status bp__glue(const bp_allocator *a, bp__build *b, const bp_mesh *m,
         }
     if (!bp__sort_by_key(a, b->edges, nc, sizeof *b->edges, m->num_vertices, bp__edge_key, bp__edge_cmp))
         return bp__oom(err, "building charts");
+    return BP_OK;
+}
+
+/* --- repair ----------------------------------------------------------------
+
+   Outside strict mode the defects that today's assets carry are mended, not
+   rejected, each counted in atlas.repairs (first elements named as the file
+   numbers them); opt.strict turns every one of them back into an error.
+     Duplicates: of triangles on the same three vertices (any order or
+       orientation) the first is kept and the copies dropped: they are in no
+       chart, and their corners take the chart vertices of the kept twin's
+       corners at the same mesh vertices (so a writer still gives every
+       corner a uv).
+     Orientation: the manifold edges (exactly two live triangles) join the
+       triangles into components; a breadth-first walk from each
+       component's smallest triangle gives every triangle the orientation
+       that agrees with the one it was reached from.  An edge whose two
+       triangles then still run the same way closes a cycle that reverses
+       orientation -- the component is non-orientable (a Moebius band) --
+       and is cut: it becomes a seam, so what is glued is orientable.  The
+       component then keeps the orientation of the majority of its
+       triangles (on a tie, that of its smallest triangle), and each
+       triangle of the minority is flipped: the glued mesh b->fm has its
+       corners 1 and 2 swapped, and so its chart triangle runs the other
+       way.  atlas.corner_chart / corner_vertex stay per *mesh* corner.
+     Non-manifold edges (more than two live triangles): not glued, a seam
+       for every triangle on them; a vertex where the resulting fans meet
+       only at a point is split by the pinch repair.
+     Degenerate triangles (a repeated vertex, or zero or near-zero area):
+       flattened with a regularized rest shape (>>rest).  A zero-area
+       triangle is glued to its neighbours as any other; one that repeats
+       a vertex cannot be (two of its corners would be one chart vertex)
+       and becomes a chart of its own. */
+
+static void bp__repair_note(bp_repair_report *r, bp_repair_kind k, int64_t a, int64_t b2)
+{
+    bp_repair *p = &r->kind[k];
+    if (p->count < BP_REPAIR_FIRST) { p->first[p->count] = a; p->first2[p->count] = b2; }
+    p->count++;
+    r->total++;
+}
+
+BPDEF const char *bp_repair_name(bp_repair_kind k)
+{
+    static const char *const names[] = { "flipped", "nonorientable", "duplicate", "nonmanifold_edge", "degenerate" };
+    if ((int)k < 0 || (int)k >= (int)BP_REPAIR_KINDS) return "unknown";
+    return names[k];
+}
+
+static void bp__repair_init(bp_repair_report *r)
+{
+    int k, i;
+    memset(r, 0, sizeof *r);
+    for (k = 0; k < BP_REPAIR_KINDS; k++) {
+        r->kind[k].element = k == BP_REPAIR_NONORIENTABLE || k == BP_REPAIR_NONMANIFOLD_EDGE ? BP_ELEMENT_EDGE
+                                                                                          : BP_ELEMENT_TRIANGLE;
+        for (i = 0; i < BP_REPAIR_FIRST; i++) r->kind[k].first[i] = r->kind[k].first2[i] = -1;
+    }
+}
+
+/* The sentence of each repair kind, naming its first elements. */
+static void bp__repair_messages(bp_repair_report *r, const bp_mesh *m)
+{
+    static const char *const what[] = {
+        "re-oriented to agree with the rest of their component",
+        "cut into seams: a non-orientable component (a Moebius band) cannot be glued there",
+        "dropped as copies of another triangle on the same vertices",
+        "shared by more than two triangles made seams for all of them",
+        "with zero area or a repeated vertex flattened with a regularized rest shape" };
+    int k;
+    for (k = 0; k < BP_REPAIR_KINDS; k++) {
+        bp_repair *p = &r->kind[k];
+        size_t len;
+        uint32_t i, n = p->count < BP_REPAIR_FIRST ? p->count : BP_REPAIR_FIRST;
+        char nm[48], n2[48];
+        if (!p->count) continue;
+        bp__format(p->message, sizeof p->message, "%u %s%s %s:", p->count,
+                   p->element == BP_ELEMENT_EDGE ? "edge" : "triangle", p->count == 1 ? "" : "s", what[k]);
+        for (i = 0; i < n; i++) {
+            len = strlen(p->message);
+            if (p->element == BP_ELEMENT_EDGE)
+                bp__format(p->message + len, sizeof p->message - len, "%s edge %u-%u", i ? "," : "",
+                           (uint32_t)p->first[i] + 1, (uint32_t)p->first2[i] + 1);
+            else if (k == BP_REPAIR_DUPLICATE)
+                bp__format(p->message + len, sizeof p->message - len, "%s %s repeats %s", i ? "," : "",
+                           bp__tri_name(m, (uint32_t)p->first[i], nm), bp__tri_name(m, (uint32_t)p->first2[i], n2));
+            else
+                bp__format(p->message + len, sizeof p->message - len, "%s %s", i ? "," : "",
+                           bp__tri_name(m, (uint32_t)p->first[i], nm));
+        }
+        if (p->count > n) {
+            len = strlen(p->message);
+            bp__format(p->message + len, sizeof p->message - len, ", ...");
+        }
+    }
+}
+
+/* mate[] across the manifold edges: the groups of exactly two live
+   triangles. */
+static void bp__find_mates(bp__build *b, const bp_mesh *m)
+{
+    size_t e, g, i, nc = 3 * (size_t)m->num_triangles;
+    for (i = 0; i < nc; i++) b->mate[i] = BP__NONE;
+    for (e = 0; e < nc; e = g) {
+        uint32_t live[3], nl = 0;
+        for (g = e + 1; g < nc && b->edges[g].lo == b->edges[e].lo && b->edges[g].hi == b->edges[e].hi; g++) {}
+        for (i = e; i < g; i++) {
+            uint32_t ce = b->edges[i].ce;
+            if (!b->bad[ce / 3] && !b->drop[ce / 3] && nl++ < 3) live[nl - 1] = ce;
+        }
+        if (nl == 2) { b->mate[live[0]] = live[1]; b->mate[live[1]] = live[0]; }
+    }
+}
+
+/* The breadth-first walk over one component from triangle t0: flip[] as
+   reached (0 for t0), conflicting edges cut; then the majority rule.
+   Returns the size of the component. */
+static uint32_t bp__orient_component(bp__build *b, const bp_mesh *m, uint32_t t0, unsigned char *seen)
+{
+    uint32_t head = 0, tail = 0, ones = 0, i, k;
+    b->queue[tail++] = t0;
+    seen[t0] = 1;
+    b->flip[t0] = 0;
+    while (head < tail) {
+        uint32_t u = b->queue[head++];
+        for (k = 0; k < 3; k++) {
+            uint32_t c = 3 * u + k, c2 = b->mate[c], w;
+            unsigned char need;
+            if (c2 == BP__NONE || c2 == BP__CUT) continue;
+            w = c2 / 3;
+            /* same direction along the edge: opposite orientations */
+            need = (unsigned char)(b->flip[u] ^ (m->triangles[c] == m->triangles[c2]));
+            if (!seen[w]) { seen[w] = 1; b->flip[w] = need; b->queue[tail++] = w; }
+            else if (b->flip[w] != need) {
+                uint32_t va = m->triangles[c], vb = m->triangles[c - k + (k + 1) % 3];
+                b->mate[c] = b->mate[c2] = BP__CUT;
+                bp__repair_note(b->rep, BP_REPAIR_NONORIENTABLE, va < vb ? va : vb, va < vb ? vb : va);
+            }
+        }
+    }
+    for (i = 0; i < tail; i++) ones += b->flip[b->queue[i]];
+    if (2 * (uint64_t)ones > tail)
+        for (i = 0; i < tail; i++) b->flip[b->queue[i]] ^= 1;
+    return tail;
+}
+
+/* Orientation repair (above): flip[] for every triangle, then the glued
+   mesh b->fm and the corner edges renumbered to it.  Returns 0 when out of
+   memory. */
+static int bp__orient(const bp_allocator *a, bp__build *b, const bp_mesh *m)
+{
+    uint32_t t, nt = m->num_triangles, nflip = 0;
+    size_t i, nc = 3 * (size_t)nt;
+    unsigned char *seen = (unsigned char *)bp__calloc_array(a, nt, 1);
+    if (!seen) return 0;
+    bp__find_mates(b, m);
+    for (t = 0; t < nt; t++)
+        if (!seen[t] && !b->bad[t] && !b->drop[t]) bp__orient_component(b, m, t, seen);
+    bp__free(a, seen);
+    for (t = 0; t < nt; t++)
+        if (b->flip[t]) { bp__repair_note(b->rep, BP_REPAIR_FLIPPED, t, -1); nflip++; }
+    if (!nflip) return 1;
+    b->fixed_tri = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
+    b->fixed_uv = m->corner_uv ? (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t)) : NULL;
+    if (!b->fixed_tri || (m->corner_uv && !b->fixed_uv)) return 0;
+    for (i = 0; i < nc; i++) {
+        size_t j = b->flip[i / 3] && i % 3 ? i - i % 3 + 3 - i % 3 : i;     /* corners 1 <-> 2 */
+        b->fixed_tri[i] = m->triangles[j];
+        if (b->fixed_uv) b->fixed_uv[i] = m->corner_uv[j];
+    }
+    b->fm.triangles = b->fixed_tri;
+    if (b->fixed_uv) b->fm.corner_uv = b->fixed_uv;
+    for (i = 0; i < nc; i++) {
+        uint32_t ce = b->edges[i].ce;
+        if (b->flip[ce / 3]) b->edges[i].ce = ce - ce % 3 + (2 - ce % 3);
+    }
+    return 1;
+}
+
+/* The local defects of every triangle (repair): degen[] says which, bad[]
+   marks those that repeat a vertex (not glued: a chart of their own). */
+static void bp__repair_defects(bp__build *b, const bp_mesh *m)
+{
+    uint32_t t;
+    bp__find_defects(m, &b->scale, b->degen, NULL);
+    for (t = 0; t < m->num_triangles; t++) b->bad[t] = b->degen[t] == 1;
+}
+
+/* Glue every mesh edge (of the glued mesh m = b->fm). */
+static bp_status bp__glue(bp__build *b, const bp_mesh *m, bp_error *err)
+{
+    uint32_t t, nt = m->num_triangles;
+    size_t e, g, i, nc = 3 * (size_t)nt;
+    bp_status st;
     for (t = 0; t < nt; t++) b->tri_uf[t] = t;
     for (i = 0; i < nc; i++) { b->corner_uf[i] = (uint32_t)i; b->glued[i] = BP__NONE; }
     for (e = 0; e < nc; e = g) {
         for (g = e + 1; g < nc && b->edges[g].lo == b->edges[e].lo && b->edges[g].hi == b->edges[e].hi; g++) {}
         if ((st = bp__glue_edge(b, m, e, g, err)) != BP_OK) return st;
+    }
+    return BP_OK;
+}
+
+/* Corners of the glued mesh m = b->fm -> corners of the user's mesh: a
+   dropped copy's corners take its twin's chart vertices at the same mesh
+   vertices; a flipped triangle's corners 1 and 2 swap back. */
+static void bp__corners_to_mesh(bp__build *b, bp_atlas *atlas, const bp_mesh *m)
+{
+    uint32_t t, k, j, nt = m->num_triangles;
+    for (t = 0; t < nt; t++) {
+        uint32_t tw = b->twin[t];
+        if (!b->drop[t]) continue;
+        for (k = 0; k < 3; k++) {
+            for (j = 0; j < 2 && m->triangles[3 * (size_t)tw + j] != m->triangles[3 * (size_t)t + k]; j++) {}
+            atlas->corner_chart[3 * (size_t)t + k] = atlas->corner_chart[3 * (size_t)tw + j];
+            atlas->corner_vertex[3 * (size_t)t + k] = atlas->corner_vertex[3 * (size_t)tw + j];
+        }
+    }
+    for (t = 0; t < nt; t++)
+        if (b->flip[t]) {
+            uint32_t x = atlas->corner_vertex[3 * (size_t)t + 1];
+            atlas->corner_vertex[3 * (size_t)t + 1] = atlas->corner_vertex[3 * (size_t)t + 2];
+            atlas->corner_vertex[3 * (size_t)t + 2] = x;
+        }
+}
+
+/* Degenerate triangles (repair): the side s of the equilateral rest shape
+   of >>rest, the mean of the triangle's three 3D edge lengths, or when
+   they are all zero the mean edge length of the chart's other triangles
+   (1 when there is none); the chart's area3d counts sqrt(3)/4 s^2. */
+static bp_status bp__regularize(const bp_allocator *a, bp__build *b, bp_chart *ch, const bp_mesh *m, bp_error *err)
+{
+    uint32_t t, k, n = 0;
+    double sum = 0, mean;
+    for (t = 0; t < ch->num_triangles && !b->degen[ch->face[t]]; t++) {}
+    if (t == ch->num_triangles) return BP_OK;
+    ch->rest_side = (double *)bp__calloc_array(a, ch->num_triangles, sizeof(double));
+    if (!ch->rest_side) return bp__oom(err, "building charts");
+    for (t = 0; t < ch->num_triangles; t++)
+        if (!b->degen[ch->face[t]])
+            for (k = 0; k < 3; k++, n++)
+                sum += bp__dist3(bp__pos(m, ch->vertex[ch->triangles[3 * t + k]]),
+                                 bp__pos(m, ch->vertex[ch->triangles[3 * t + (k + 1) % 3]]));
+    mean = n && sum > 0 ? sum / n : 1;
+    for (t = 0; t < ch->num_triangles; t++) {
+        double s = 0;
+        if (!b->degen[ch->face[t]]) continue;
+        for (k = 0; k < 3; k++)
+            s += bp__dist3(bp__pos(m, ch->vertex[ch->triangles[3 * t + k]]),
+                           bp__pos(m, ch->vertex[ch->triangles[3 * t + (k + 1) % 3]])) / 3;
+        ch->rest_side[t] = s > 0 ? s : mean;
+        ch->area3d += 0.4330127018922193 * ch->rest_side[t] * ch->rest_side[t];
     }
     return BP_OK;
 }
@@ -3851,6 +4181,7 @@ static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *
     for (t = 0; t < nt; t++) b->chart_of_root[t] = BP__NONE;
     for (t = 0; t < nt; t++) {
         uint32_t r = bp__uf_find(b->tri_uf, t);
+        if (b->drop[t]) continue;
         if (b->chart_of_root[r] == BP__NONE) b->chart_of_root[r] = nchart++;
     }
     atlas->num_charts = nchart;
@@ -3862,6 +4193,7 @@ static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *
     for (i = 0; i < nc; i++) b->vert_of_root[i] = BP__NONE;
     for (t = 0; t < nt; t++) {
         bp_chart *ch;
+        if (b->drop[t]) continue;
         c = b->chart_of_root[bp__uf_find(b->tri_uf, t)];
         ch = &atlas->charts[c];
         ch->num_triangles++;
@@ -3882,8 +4214,11 @@ static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *
         ch->num_triangles = 0;
     }
     for (t = 0; t < nt; t++) {
-        bp_chart *ch = &atlas->charts[atlas->corner_chart[3 * t]];
-        uint32_t ct = ch->num_triangles++;
+        bp_chart *ch;
+        uint32_t ct;
+        if (b->drop[t]) continue;
+        ch = &atlas->charts[atlas->corner_chart[3 * t]];
+        ct = ch->num_triangles++;
         ch->face[ct] = t;
         for (k = 0; k < 3; k++) {
             uint32_t cv = atlas->corner_vertex[3 * t + k];
@@ -3891,9 +4226,11 @@ static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *
             ch->vertex[cv] = m->triangles[3 * t + k];
             ch->vertex_uv[cv] = m->corner_uv ? m->corner_uv[3 * t + k] : BP__NONE;
         }
-        ch->area3d += 0.5 * bp__area2_3d(bp__pos(m, m->triangles[3 * t]), bp__pos(m, m->triangles[3 * t + 1]),
-                                         bp__pos(m, m->triangles[3 * t + 2]));
+        if (!b->degen[t])
+            ch->area3d += 0.5 * bp__area2_3d(bp__pos(m, m->triangles[3 * t]), bp__pos(m, m->triangles[3 * t + 1]),
+                                             bp__pos(m, m->triangles[3 * t + 2]));
     }
+    bp__corners_to_mesh(b, atlas, m);
     return BP_OK;
 }
 
@@ -3922,8 +4259,7 @@ static bp_status bp__count_pinches(const bp_allocator *a, bp__build *b, bp_atlas
     return BP_OK;
 }
 
-/* Chart c's verdict in ch->error: its first triangle with a local defect,
-   else its boundary loops and Euler characteristic chi = V - E + F =
+/* Chart c's verdict in ch->error: its boundary loops and Euler characteristic chi = V - E + F =
    2 - 2g - b, which must be that of a disk with holes (g = 0, b >= 1).
    Returns a status only for what ends the whole call (out of memory, a
    boundary that does not close); the verdict is in ch->error. */
@@ -3932,14 +4268,9 @@ static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b, bp_atla
 {
     bp_chart *ch = &atlas->charts[c];
     int64_t chi, ne, g2;
-    uint32_t t, t0 = ch->face[0], nl;
+    uint32_t t0 = ch->face[0], nl;
     bp_status st;
     char nm[48];
-    for (t = 0; t < ch->num_triangles; t++)
-        if (b->bad[ch->face[t]]) {
-            bp__tri_defect_error(m, ch->face[t], &b->scale, &ch->error);
-            return BP_OK;
-        }
     if ((st = bp__chart_loops(a, ch, m, b->next, b->loop_id, b->glued, c, err)) != BP_OK) return st;
     nl = ch->num_loops;
     ne = ((int64_t)3 * ch->num_triangles + ch->loop_start[nl]) / 2;
@@ -3981,13 +4312,19 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
         return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before building the charts");
     atlas->allocator = a;
     memset(&b, 0, sizeof b);
+    bp__repair_init(&atlas->repairs);
     if ((st = bp__validate_global(m, &b.scale, err)) != BP_OK) return st;
     if (strict && (st = bp__find_defects(m, &b.scale, NULL, err)) != BP_OK) return st;
+    b.repair = !strict;
+    b.rep = &atlas->repairs;
     st = bp__build_alloc(&a, &b, m, err);
-    if (st == BP_OK && !strict) bp__find_defects(m, &b.scale, b.bad, NULL);
+    if (st == BP_OK && b.repair) bp__repair_defects(&b, m);
     if (st == BP_OK) st = bp__find_duplicates(&a, &b, m, err);
-    if (st == BP_OK) st = bp__glue(&a, &b, m, err);
-    if (st == BP_OK) st = bp__make_charts(&a, &b, atlas, m, err);
+    if (st == BP_OK) st = bp__sort_edges(&a, &b, m, err);
+    if (st == BP_OK && b.repair && !bp__orient(&a, &b, m)) st = bp__oom(err, "building charts");
+    if (st == BP_OK) st = bp__glue(&b, &b.fm, err);
+    if (st == BP_OK) st = bp__make_charts(&a, &b, atlas, &b.fm, err);
+    for (c = 0; st == BP_OK && c < atlas->num_charts; c++) st = bp__regularize(&a, &b, &atlas->charts[c], m, err);
     if (st == BP_OK) st = bp__count_pinches(&a, &b, atlas, err);
     for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
         st = bp__chart_topology(&a, &b, atlas, c, m, err);
@@ -3997,6 +4334,12 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
             if (err) *err = atlas->charts[c].error;
             st = atlas->charts[c].error.status;
         }
+    }
+    if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {
+        uint32_t t;
+        for (t = 0; t < m->num_triangles; t++)
+            if (b.degen[t] && !b.drop[t]) bp__repair_note(&atlas->repairs, BP_REPAIR_DEGENERATE, t, -1);
+        bp__repair_messages(&atlas->repairs, m);
     }
     bp__build_free(&a, &b);
     if (st == BP_OK) st = bp__charts_status(atlas, err);
@@ -5744,7 +6087,7 @@ static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
 static int bp__tutte_circle(const bp_allocator *a, bp__tutte *T, bp_chart *ch)
 {
     uint32_t i, j, l0 = ch->loop_start[0], l1 = ch->loop_start[1];
-    double R = sqrt(ch->area3d / 3.14159265358979323846), total = 0, acc = 0;
+    double R = sqrt(ch->area3d / 3.14159265358979323846), total = 0, acc = 0, floor_len;
     T->idx = (uint32_t *)bp__calloc_array(a, T->N, sizeof(uint32_t));
     if (!T->idx) return 0;
     for (j = l0; j < l1; j++) {
@@ -5752,12 +6095,22 @@ static int bp__tutte_circle(const bp_allocator *a, bp__tutte *T, bp_chart *ch)
         total += bp__dist3(T->pos + 3 * (size_t)va, T->pos + 3 * (size_t)vb);
         T->idx[va] = BP__NONE;                   /* fixed */
     }
+    /* a boundary edge of (near) zero 3D length (a repaired degenerate
+       triangle, >>rest) still gets an arc of 1e-6 of the mean, so no two
+       vertices share a point of the circle; other loops are spaced as is */
+    floor_len = total > 0 ? 1e-6 * total / (l1 - l0) : 1;
+    for (j = l0, total = 0; j < l1; j++) {
+        uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < l1 ? j + 1 : 0];
+        double d = bp__dist3(T->pos + 3 * (size_t)va, T->pos + 3 * (size_t)vb);
+        total += d > floor_len ? d : floor_len;
+    }
     for (j = l0; j < l1; j++) {
         uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < l1 ? j + 1 : 0];
-        double ang = 2 * 3.14159265358979323846 * acc / total;
+        double ang = 2 * 3.14159265358979323846 * acc / total, d;
         ch->uv[2 * (size_t)va] = R * cos(ang);
         ch->uv[2 * (size_t)va + 1] = R * sin(ang);
-        acc += bp__dist3(T->pos + 3 * (size_t)va, T->pos + 3 * (size_t)vb);
+        d = bp__dist3(T->pos + 3 * (size_t)va, T->pos + 3 * (size_t)vb);
+        acc += d > floor_len ? d : floor_len;
     }
     for (T->nfree = 0, i = 0; i < T->N; i++) if (T->idx[i] != BP__NONE) T->idx[i] = T->nfree++;
     return 1;
@@ -6251,6 +6604,47 @@ static void bp__rest_shape(const double *p1, const double *p2, const double *p3,
     *w = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
     *x = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / *w;
     *y = bp__area2_3d(p1, p2, p3) / *w;            /* |e1 x e2| / w */
+}
+
+/* Degenerate triangles.  A triangle that repeats a vertex or has zero or
+   near-zero area (the test of >>charts: twice its area at most 1e-12 of
+   the squared mesh size) has no usable rest shape: M is singular or nearly
+   so, and E_t would be infinite or dominate the whole chart.  Outside
+   strict mode such a triangle is kept (repair, >>charts) and flattened, by
+   rule, as the equilateral triangle of the same edge-length scale:
+       F1 = (0, 0),  F2 = (s, 0),  F3 = (s/2, s sqrt(3)/2),
+   s the mean of its three 3D edge lengths (when all three are zero, the
+   mean edge length of the chart's other triangles; chart.rest_side holds
+   s).  Its energy is then finite and smallest when the UV triangle is
+   equilateral of side s, so the optimizer keeps it open with a positive
+   area like any other triangle (the map stays exactly valid, checked as
+   always), and its weight (area) is that of the equilateral triangle,
+   sqrt(3)/4 s^2, comparable to its neighbours'.  Every other triangle
+   keeps its exact 3D shape: a clean mesh is solved bit for bit as before. */
+static void bp__chart_rest(const bp_chart *ch, const bp_mesh *m, uint32_t t, double *w, double *x, double *y)
+{
+    const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+    double s = ch->rest_side ? ch->rest_side[t] : 0;
+    if (s > 0) {
+        *w = s;
+        *x = 0.5 * s;
+        *y = 0.86602540378443865 * s;              /* sqrt(3)/2 s */
+        return;
+    }
+    bp__rest_shape(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]), bp__pos(m, ch->vertex[tr[2]]),
+                   w, x, y);
+}
+
+/* M^-1 of the flattened triangle (w, x, y) above, scaled by q (1, or the
+   I^-1/2 of an importance, eq 4.1): the one place the formula is written.
+       q M^-1 = [ q/w   -q x/(w y) ]
+                [ 0      q/y       ]
+   Leaves r->weight to the caller. */
+static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r)
+{
+    r->m00 = q / w;
+    r->m01 = -q * x / (w * y);
+    r->m11 = q / y;
 }
 
 /* >>energy =================================================================
@@ -7412,10 +7806,8 @@ static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp
     S->energy = o->energy;
     S->barrier = !o->no_barrier;
     for (t = 0; t < S->nt; t++) {
-        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
         double w, px, py, imp = o->importance ? o->importance[ch->face[t]] : 1, q;
-        bp__rest_shape(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]),
-                       bp__pos(m, ch->vertex[tr[2]]), &w, &px, &py);
+        bp__chart_rest(ch, m, t, &w, &px, &py);
         /* importance I (eq 4.1): singular values scaled by I^-1/2 (the rest
            shape grows by sqrt(I)) and the energy weighted by I */
         if (!(imp > 0) || !(imp < HUGE_VAL)) {
@@ -7424,9 +7816,7 @@ static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp
                             "importance of mesh triangle %u is %g: it must be positive and finite", ch->face[t], imp);
         }
         q = 1 / sqrt(imp);
-        S->rest[t].m00 = q / w;
-        S->rest[t].m01 = -q * px / (w * py);
-        S->rest[t].m11 = q / py;
+        bp__rest_inverse(w, px, py, q, &S->rest[t]);
         S->rest[t].weight = 0.5 * w * py * imp;
         total_area += 0.5 * w * py;
         if (rest_wxy) { rest_wxy[3 * (size_t)t] = w; rest_wxy[3 * (size_t)t + 1] = px; rest_wxy[3 * (size_t)t + 2] = py; }
@@ -8027,9 +8417,9 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
         const uint32_t *tr = ch->triangles + 3 * (size_t)t;
         bp__rest r;
         double w, px, py, e;
-        bp__rest_shape(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]),
-                       bp__pos(m, ch->vertex[tr[2]]), &w, &px, &py);
-        r.m00 = 1 / w; r.m01 = -px / (w * py); r.m11 = 1 / py; r.weight = 1;
+        bp__chart_rest(ch, m, t, &w, &px, &py);
+        bp__rest_inverse(w, px, py, 1, &r);
+        r.weight = 1;
         e = bp__triangle_energy(energy, &r, ch->uv + 2 * (size_t)tr[0], ch->uv + 2 * (size_t)tr[1],
                                 ch->uv + 2 * (size_t)tr[2], NULL, NULL, NULL);
         if (per_triangle) per_triangle[t] = e;
@@ -9671,6 +10061,8 @@ static void bp__unscale_atlas(bp_atlas *atlas, int k, int normalized)
         bp_chart *ch = &atlas->charts[c];
         int exact = 1;
         ch->area3d = ldexp(ch->area3d, -2 * k);
+        if (ch->rest_side)                       /* repaired degenerate triangles */
+            for (i = 0; i < ch->num_triangles; i++) ch->rest_side[i] = ldexp(ch->rest_side[i], -k);
         if (!ch->uv || normalized) continue;     /* [0,1]^2 is its own scale */
         for (i = 0; i < 2 * ch->num_vertices && exact; i++)
             exact = ldexp(ldexp(ch->uv[i], -k), k) == ch->uv[i];

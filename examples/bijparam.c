@@ -39,6 +39,11 @@
    Messages name vertices, faces and lines as the file numbers them (OBJ
    from 1), while bp_error.index stays 0-based.
 
+   Defects the library repairs (faces wound the other way, duplicate
+   faces, edges of more than two faces, zero-area faces) get one line each
+   on stderr ("bijparam: repaired: FILE: ..."; none with --quiet) and a
+   "repairs" object in --json; --strict makes each of them an error.
+
    Exit status: 0 success, 1 input rejected or a step failed (one line on
    stderr: "bijparam: error: FILE:LINE: what" or "bijparam: error: FILE: what"),
    2 usage error (one line, then "see bijparam --help"), 130 cancelled by
@@ -97,8 +102,10 @@ static const char usage_text[] =
     "  --no-rotate        with --atlas: keep each chart's orientation\n"
     "  --repack           keep the input's own charts and texture coordinates\n"
     "                     (checked exactly), only pack them\n"
-    "  --strict           a chart that cannot be flattened fails the whole run\n"
-    "                     (default: it is reported, the other charts are written)\n"
+    "  --strict           a mesh defect or a chart that cannot be flattened fails\n"
+    "                     the whole run (default: defects -- flipped, duplicate,\n"
+    "                     non-manifold, zero-area triangles -- are repaired and\n"
+    "                     reported; a failed chart is reported, the others written)\n"
     "  --trace FILE       one line per iteration: chart iter seconds energy step\n"
     "  --threads N        threads (default 0: all cores; 1: serial)\n"
     "  --visibility uniform|front|ring|side   optimize texel density for a view\n"
@@ -701,6 +708,32 @@ typedef struct extra_report {
     double density_map, density_iso;
 } extra_report;
 
+/* "repairs": the defects the library mended (not --strict): per kind the
+   count, the first elements numbered as the file does (triangles from 1;
+   an edge as its two vertices from 1; a duplicate as [copy, kept]) and the
+   library's sentence naming them. */
+static void print_json_repairs(const bp_repair_report *r)
+{
+    int k;
+    uint32_t i;
+    printf("\"repairs\":{\"total\":%u", (unsigned)r->total);
+    for (k = 0; k < BP_REPAIR_KINDS; k++) {
+        const bp_repair *p = &r->kind[k];
+        uint32_t n = p->count < BP_REPAIR_FIRST ? p->count : BP_REPAIR_FIRST;
+        printf(",\"%s\":{\"count\":%u,\"first\":[", bp_repair_name((bp_repair_kind)k), (unsigned)p->count);
+        for (i = 0; i < n; i++) {
+            if (p->first2[i] >= 0)
+                printf("%s[%lld,%lld]", i ? "," : "", (long long)p->first[i] + 1, (long long)p->first2[i] + 1);
+            else
+                printf("%s%lld", i ? "," : "", (long long)p->first[i] + 1);
+        }
+        printf("],\"message\":");
+        json_string(p->message);
+        printf("}");
+    }
+    printf("}");
+}
+
 static void print_json(const char *input, const char *output, bp_status status, const char *message,
                        const bp_mesh *mesh, const bp_atlas *atlas, bp_energy energy,
                        const timings *tm, const extra_report *ex)
@@ -717,8 +750,10 @@ static void print_json(const char *input, const char *output, bp_status status, 
     printf(",\"status\":");
     json_string(bp_status_string(status));
     if (message) { printf(",\"error\":"); json_string(message); }
-    printf(",\"charts\":%u,\"failed_charts\":%u,\"split_vertices\":%u,\"per_chart\":[",
+    printf(",\"charts\":%u,\"failed_charts\":%u,\"split_vertices\":%u,",
            (unsigned)atlas->num_charts, (unsigned)atlas->num_failed, (unsigned)atlas->num_split);
+    print_json_repairs(&atlas->repairs);
+    printf(",\"per_chart\":[");
     for (c = 0; c < atlas->num_charts; c++) {
         const bp_chart *ch = atlas->charts + c;
         bp_check_report rep;
@@ -1404,6 +1439,13 @@ int main(int argc, char **argv)
             report_error(input, &atlas.charts[c].error);
             if (status == 0) status = 1;
         }
+    /* repairs (not --strict): one line each on stderr */
+    if (!json && !quiet) {
+        int k;
+        for (k = 0; k < BP_REPAIR_KINDS; k++)
+            if (atlas.repairs.kind[k].count)
+                fprintf(stderr, "bijparam: repaired: %s: %s\n", input ? input : "demo", atlas.repairs.kind[k].message);
+    }
     if (json)
     {
         for (c = 0; c < atlas.num_charts; c++)

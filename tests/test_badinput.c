@@ -196,7 +196,9 @@ static long long named(bp_element el, int64_t i)
    the message -- checked: element `el` with index `index` (and `index2`
    unless < -1) whose number the message contains -- and carries the
    file line of the offending triangle in err.line (the message itself
-   does not repeat the line; the tool prints FILE:LINE from err.line). */
+   does not repeat the line; the tool prints FILE:LINE from err.line).
+   Runs with opt.strict: the defects that are repaired by default (see
+   test_repair.c) are errors there, as every one of them was before. */
 static void expect_obj_el(const char *what, const char *text, bp_status want, int want_parsed, long long line,
                           bp_element el, int64_t index, int64_t index2)
 {
@@ -204,6 +206,7 @@ static void expect_obj_el(const char *what, const char *text, bp_status want, in
     bp_options o = defaults();
     int parsed = 0;
     bp_status st;
+    o.strict = 1;
     memset(&err, 0, sizeof err);
     st = pipeline_obj(text, &o, &err, &parsed);
     BPT_CHECK(st == want && err.status == st && parsed == want_parsed,
@@ -228,7 +231,8 @@ static void expect_obj(const char *what, const char *text, bp_status want, int w
     expect_obj_el(what, text, want, want_parsed, line, BP_ELEMENT_NONE, -1, -2);
 }
 
-/* bp_parameterize on an in-memory mesh; expect `want` with element and index. */
+/* bp_parameterize on an in-memory mesh, strict (as expect_obj_el); expect
+   `want` with element and index. */
 static void expect_mem(const char *what, const bp_mesh *m, bp_status want, bp_element el, int64_t index,
                        int64_t index2)
 {
@@ -236,6 +240,7 @@ static void expect_mem(const char *what, const bp_mesh *m, bp_status want, bp_el
     bp_atlas at;
     bp_options o = defaults();
     bp_status st;
+    o.strict = 1;
     memset(&err, 0, sizeof err);
     st = bp_parameterize(&at, m, &o, &err);
     BPT_CHECK(st == want && err.status == want, "%s: %s (got %s: \"%s\")", what, bp_status_string(want),
@@ -1038,13 +1043,14 @@ static void test_cancel_states(void)
     bp_mesh_free(&m, NULL);
 }
 
-/* ---- local defects fail their chart only ------------------------------------------ */
+/* ---- local defects: repaired by default, errors in strict mode ----------------- */
 
 /* Two squares far apart (charts 0 and 1); the second also holds a zero-area
    triangle, f 5 9 6 on line 15 (x = 5, 7, 6 on one line), glued to it along
-   edge 5-6.  Default: chart 1 fails naming the triangle as the file does
-   (triangle 5, line 15, vertices 5 9 6; err.index 4), chart 0 is solved,
-   BP_ERR_CHARTS_FAILED.  Strict: the whole call fails with the triangle. */
+   edge 5-6.  Default: the triangle is repaired (a regularized rest shape,
+   >>rest), reported as the file names it (triangle 5, line 15; index 4),
+   and stays in its neighbours' chart, which is mapped validly.  Strict:
+   the whole call fails with the triangle. */
 static const char two_squares_obj[] =
     "# two squares, the second with a zero-area triangle\n"
     "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
@@ -1061,19 +1067,18 @@ static void test_local_defects(void)
     bp_status st;
     if (!BPT_CHECK(parse_obj(two_squares_obj, &m, &err) == BP_OK, "parse two squares")) return;
     st = bp_parameterize(&at, &m, &o, &err);
-    BPT_CHECK(st == BP_ERR_CHARTS_FAILED && err.element == BP_ELEMENT_CHART && err.index == 1,
-              "square + square with a zero-area triangle: BP_ERR_CHARTS_FAILED naming chart 1 (%s): \"%s\"",
+    BPT_CHECK(st == BP_OK && at.num_charts == 2 && all_mapped_valid(&at),
+              "square + square with a zero-area triangle: repaired, both charts mapped and valid (%s): \"%s\"",
               bp_status_string(st), err.message);
-    if (st == BP_ERR_CHARTS_FAILED && at.num_charts == 2) {
-        const bp_error *e = &at.charts[1].error;
-        BPT_CHECK(e->status == BP_ERR_DEGENERATE && e->element == BP_ELEMENT_TRIANGLE && e->index == 4 &&
-                      e->line == 15 && strstr(e->message, "triangle 5 (line 15)") &&
-                      strstr(e->message, "vertices 5 9 6") && at.charts[1].uv == NULL,
-                  "  chart 1: BP_ERR_DEGENERATE, index 4, line 15, message \"%s\" names triangle 5, line 15, "
-                  "vertices 5 9 6 as the file does; uv NULL", e->message);
-        BPT_CHECK(at.charts[1].num_triangles == 3 && at.num_failed == 1 && charts_in_a_state(&at) == 0 &&
-                      at.charts[0].uv && chart_valid(&at.charts[0]),
-                  "  the defective triangle is in its neighbours' chart (3 triangles); chart 0 mapped and valid");
+    if (st == BP_OK && at.num_charts == 2) {
+        const bp_repair *r = &at.repairs.kind[BP_REPAIR_DEGENERATE];
+        BPT_CHECK(r->count == 1 && r->first[0] == 4 && r->first[1] == -1 && at.repairs.total == 1 &&
+                      strstr(r->message, "triangle 5 (line 15)") && r->element == BP_ELEMENT_TRIANGLE,
+                  "  reported: 1 degenerate, first index 4, message names triangle 5 (line 15): \"%s\"", r->message);
+        BPT_CHECK(at.charts[1].num_triangles == 3 && at.charts[1].rest_side && at.charts[0].rest_side == NULL &&
+                      at.charts[1].face[2] == 4 && at.charts[1].rest_side[2] > 0 && at.charts[1].rest_side[0] == 0,
+                  "  the triangle stays in its neighbours' chart (3 triangles) with an equilateral rest shape "
+                  "(side %g), the others keep theirs", at.charts[1].rest_side ? at.charts[1].rest_side[2] : -1.0);
     }
     bp_atlas_free(&at);
     o.strict = 1;
@@ -1084,8 +1089,9 @@ static void test_local_defects(void)
               bp_status_string(st), err.message);
     bp_atlas_free(&at);
     bp_mesh_free(&m, NULL);
-    /* a triangle repeating a vertex inside the second of two grids: the
-       grid fails, the first is solved */
+    /* a triangle repeating a vertex inside the second of two grids: it
+       cannot be glued (two corners would be one chart vertex) and becomes
+       a chart of its own; everything is mapped */
     {
         bp_mesh g = grid(3, 3, NULL, 0.2);
         uint32_t nv = g.num_vertices, nt = g.num_triangles, i;
@@ -1100,14 +1106,25 @@ static void test_local_defects(void)
         }
         two.triangles[3 * (nt + 7) + 2] = two.triangles[3 * (nt + 7)];   /* triangle nt+7: a b a */
         st = bp_parameterize(&at, &two, NULL, &err);
-        BPT_CHECK(st == BP_ERR_CHARTS_FAILED && at.num_charts == 2 && at.num_failed == 1 &&
-                      at.charts[1].error.status == BP_ERR_DEGENERATE && at.charts[1].error.index == nt + 7 &&
-                      bpt_has_number(at.charts[1].error.message, nt + 8) && strstr(at.charts[1].error.message, "twice") &&
-                      at.charts[0].uv && charts_in_a_state(&at) == 0,
-                  "two grids, the second with a triangle that repeats a vertex: it fails naming triangle %u, the first "
-                  "is solved (%s: \"%s\")", (unsigned)(nt + 8), bp_status_string(st),
-                  at.num_charts == 2 ? at.charts[1].error.message : err.message);
+        BPT_CHECK(st == BP_OK && at.num_charts == 3 && all_mapped_valid(&at) &&
+                      at.repairs.kind[BP_REPAIR_DEGENERATE].count == 1 &&
+                      at.repairs.kind[BP_REPAIR_DEGENERATE].first[0] == nt + 7 &&
+                      bpt_has_number(at.repairs.kind[BP_REPAIR_DEGENERATE].message, nt + 8),
+                  "two grids, the second with a triangle that repeats a vertex: repaired as a chart of its own "
+                  "(%u charts), every chart valid, reported naming triangle %u (%s: \"%s\")",
+                  (unsigned)at.num_charts, (unsigned)(nt + 8), bp_status_string(st),
+                  at.repairs.kind[BP_REPAIR_DEGENERATE].message);
         bp_atlas_free(&at);
+        {
+            bp_options so = defaults();
+            so.strict = 1;
+            st = bp_parameterize(&at, &two, &so, &err);
+            BPT_CHECK(st == BP_ERR_DEGENERATE && err.index == nt + 7 && bpt_has_number(err.message, nt + 8) &&
+                          strstr(err.message, "twice"),
+                      "  strict: rejected naming triangle %u (%s: \"%s\")", (unsigned)(nt + 8), bp_status_string(st),
+                      err.message);
+            bp_atlas_free(&at);
+        }
         bpt_mesh_free(&two);
         bpt_mesh_free(&g);
     }
@@ -1161,10 +1178,11 @@ static void test_extreme_scales(void)
         bp_atlas_free(&at);
     }
     for (f = 0; f < 8; f++) {
-        bp_options o = defaults();
+        bp_options o = defaults(), strict_opt = defaults();
         bp_atlas at;
         bp_status st;
         uint32_t i;
+        strict_opt.strict = 1;   /* the 1e-13 needle is an error only in strict mode */
         int e;
         (void)frexp(factors[f], &e);
         e -= 1;                                   /* 2^e <= factor < 2^(e+1) */
@@ -1205,7 +1223,7 @@ static void test_extreme_scales(void)
                 bpt_mesh_free(&n);
                 n = grid_with_needle(rel[k] * d2);
                 for (i = 0; i < 3 * n.num_vertices; i++) n.positions[i] *= factors[f];
-                st = bp_atlas_build(&at, &n, NULL, &err);
+                st = bp_atlas_build(&at, &n, &strict_opt, &err);
                 if (k == 0)
                     BPT_CHECK(st == BP_OK, "needle 2A = 1e-6 diag^2 x %g: legal as at scale 1 (%s: %s)", factors[f],
                               bp_status_string(st), err.message);

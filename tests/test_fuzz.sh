@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# test_fuzz.sh - the fuzz harnesses (tests/fuzz/) as part of make test.
+# test_fuzz.sh - the fuzz harnesses (tests/fuzz/) as part of make check.
 #
 # 1. Always: each harness is compiled with the C compiler ($CC, default gcc)
 #    and -fsanitize=address,undefined against tests/fuzz/standalone_main.c,

@@ -915,7 +915,11 @@ static void test_determinism(void)
     opt.max_iterations = 20;
     if (!BPT_CHECK(bp_parameterize(&atlas, &mesh, &opt, &err) == BP_OK, "spot: a map to measure")) goto out;
     for (model = BP_VIEW_UNIFORM; model <= BP_VIEW_SIDE; model++) {
-        int same, same_d;
+        int same, same_d, ok = 1;
+        uint32_t t;
+        /* different fillers, so that a call writing nothing cannot pass */
+        for (t = 0; t < mesh.num_triangles; t++) { v0[t] = -1.0; v1[t] = -2.0; v2[t] = -3.0; }
+        d0 = -1.0; d1 = -2.0; d2 = -3.0;
         memset(&opt.views, 0, sizeof opt.views);
         opt.views.model = model;
         opt.views.direction[1] = 1;
@@ -923,14 +927,15 @@ static void test_determinism(void)
         opt.views.samples = 16;
         opt.views.seed = 31337;
         opt.parallel_for = NULL;
-        bp_visibility(&mesh, &opt, v0, &err);
-        bp_texture_to_screen(&mesh, &atlas, &opt, &d0, &err);
+        ok &= bp_visibility(&mesh, &opt, v0, &err) == BP_OK;
+        ok &= bp_texture_to_screen(&mesh, &atlas, &opt, &d0, &err) == BP_OK;
         opt.parallel_for = reverse_for;
-        bp_visibility(&mesh, &opt, v1, &err);
-        bp_texture_to_screen(&mesh, &atlas, &opt, &d1, &err);
+        ok &= bp_visibility(&mesh, &opt, v1, &err) == BP_OK;
+        ok &= bp_texture_to_screen(&mesh, &atlas, &opt, &d1, &err) == BP_OK;
         opt.parallel_for = interleaved_for;
-        bp_visibility(&mesh, &opt, v2, &err);
-        bp_texture_to_screen(&mesh, &atlas, &opt, &d2, &err);
+        ok &= bp_visibility(&mesh, &opt, v2, &err) == BP_OK;
+        ok &= bp_texture_to_screen(&mesh, &atlas, &opt, &d2, &err) == BP_OK;
+        BPT_CHECK(ok, "spot, model %d: the six bp_visibility / bp_texture_to_screen calls return BP_OK", model);
         same = !memcmp(v0, v1, sizeof(double) * mesh.num_triangles) && !memcmp(v0, v2, sizeof(double) * mesh.num_triangles);
         same_d = !memcmp(&d0, &d1, sizeof d0) && !memcmp(&d0, &d2, sizeof d0);
         BPT_CHECK(same && same_d, "spot, model %d: bp_visibility and bp_texture_to_screen bit-identical with tasks in "
@@ -939,9 +944,9 @@ static void test_determinism(void)
     /* and a different seed does change the estimate (the check can fail) */
     opt.parallel_for = NULL;
     opt.views.model = BP_VIEW_UNIFORM;
-    bp_visibility(&mesh, &opt, v0, &err);
+    BPT_CHECK(bp_visibility(&mesh, &opt, v0, &err) == BP_OK, "spot, seed 31337: BP_OK");
     opt.views.seed = 31338;
-    bp_visibility(&mesh, &opt, v1, &err);
+    BPT_CHECK(bp_visibility(&mesh, &opt, v1, &err) == BP_OK, "spot, seed 31338: BP_OK");
     BPT_CHECK(memcmp(v0, v1, sizeof(double) * mesh.num_triangles) != 0, "spot: another seed gives another estimate");
     bp_atlas_free(&atlas);
 out:
