@@ -76,6 +76,8 @@ static const char usage_text[] =
     "  --tol X            relative energy decrease to stop (default 1e-7)\n"
     "  --max-seconds X    time limit per chart (0: none)\n"
     "  --normalize        scale the packed atlas into [0,1]^2\n"
+    "  --cut auto|none    charts that are closed or have handles: cut them into\n"
+    "                     disks along mesh edges (default auto) or reject them\n"
     "  --strict           a chart that cannot be flattened fails the whole run\n"
     "                     (default: it is reported, the other charts are written)\n"
     "  --trace FILE       one line per iteration: chart iter seconds energy step\n"
@@ -585,8 +587,8 @@ static void print_json(const char *input, const char *output, bp_status status, 
         for (l = 0; l < ch->num_loops; l++)
             printf("%s%u", l ? "," : "",
                    (unsigned)(ch->loop_start[l + 1] - ch->loop_start[l]));
-        printf("],\"euler\":%ld,\"split_vertices\":%u,\"energy_start\":",
-               chart_euler(ch), (unsigned)ch->split_vertices);
+        printf("],\"euler\":%ld,\"split_vertices\":%u,\"cut_edges\":%u,\"energy_start\":",
+               chart_euler(ch), (unsigned)ch->split_vertices, (unsigned)ch->cut_edges);
         json_number(e_start);
         printf(",\"energy_end\":");
         json_number(e_end);
@@ -679,7 +681,7 @@ int main(int argc, char **argv)
             !strcmp(a, "--epsilon") || !strcmp(a, "--direction") ||
             !strcmp(a, "--history") || !strcmp(a, "--max-iters") ||
             !strcmp(a, "--tol") || !strcmp(a, "--max-seconds") ||
-            !strcmp(a, "--trace") || !strcmp(a, "--threads") || !strcmp(a, "--visibility") ||
+            !strcmp(a, "--trace") || !strcmp(a, "--threads") || !strcmp(a, "--cut") || !strcmp(a, "--visibility") ||
             !strcmp(a, "--view-dir") || !strcmp(a, "--up") || !strcmp(a, "--ring-elevation") ||
             !strcmp(a, "--vis-samples") || !strcmp(a, "--vis-floor") || !strcmp(a, "--importance") ||
             !strcmp(a, "--density-report") || !strcmp(a, "--svg") || !strcmp(a, "--svg-color") ||
@@ -718,6 +720,11 @@ int main(int argc, char **argv)
             } else if (!strcmp(a, "--frames-every")) {
                 if (!parse_int(v, 1, &fs.every))
                     return usage_error("--frames-every needs an integer >= 1, not '%s'", v);
+            }
+            else if (!strcmp(a, "--cut")) {
+                if (!strcmp(v, "auto")) opt.cut = BP_CUT_AUTO;
+                else if (!strcmp(v, "none")) opt.cut = BP_CUT_NONE;
+                else return usage_error("unknown --cut '%s' (auto or none)", v);
             }
             else if (!strcmp(a, "--threads")) {
                 if (!parse_int(v, 0, &opt.threads))

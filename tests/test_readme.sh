@@ -6,9 +6,10 @@
 # with g++ (and with clang / clang++ when installed; a missing clang is
 # reported, not counted), with AddressSanitizer (leaks included) for the C
 # build, and runs it:
-#   - on a mesh whose one chart fails (a closed tetrahedron) next to a good
+#   - on a mesh whose one chart fails (two triangles, one of zero area: a
+#     closed chart is no failure any more, it is cut into a disk) next to a good
 #     disk: prints the BP_ERR_CHARTS_FAILED message, writes the file with vt
-#     on the disk's faces and none on the tetrahedron's, exits 1, no leak;
+#     on the disk's faces and none on the failed chart's, exits 1, no leak;
 #   - on a good mesh (the disk alone): prints nothing, writes the file, 0;
 #   - on a mesh whose only chart fails: prints the error, writes nothing, 1;
 #   - with a missing input: prints the error, writes nothing, 1.
@@ -33,18 +34,19 @@ else
 fi
 cp "$TMP/example.c" "$TMP/example.cpp"
 
-# a 3x3 grid (a disk, faces 1-18) and a tetrahedron (closed, faces 19-22)
+# a 3x3 grid (a disk, faces 1-18) and a chart of two triangles, the second of
+# zero area (vertex 21 on the line through 17 and 18; faces 19-20)
 {
     for j in 0 1 2 3; do for i in 0 1 2 3; do echo "v $i $j 0.$((i * j))"; done; done
-    echo "v 10 0 0"; echo "v 11 0 0"; echo "v 10 1 0"; echo "v 10 0 1"
+    echo "v 10 0 0"; echo "v 11 0 0"; echo "v 10 1 0"; echo "v 10 0 1"; echo "v 12 0 0"
     for j in 0 1 2; do for i in 0 1 2; do
         a=$((j * 4 + i + 1)); b=$((a + 1)); c=$((a + 5)); d=$((a + 4))
         echo "f $a $b $c"; echo "f $a $c $d"
     done; done
 } >"$TMP/disk.obj"
 cp "$TMP/disk.obj" "$TMP/mixed.obj"
-printf 'f 17 19 18\nf 17 18 20\nf 17 20 19\nf 18 19 20\n' >>"$TMP/mixed.obj"
-{ grep '^v ' "$TMP/mixed.obj"; printf 'f 17 19 18\nf 17 18 20\nf 17 20 19\nf 18 19 20\n'; } >"$TMP/closed.obj"
+printf 'f 17 18 19\nf 18 17 21\n' >>"$TMP/mixed.obj"
+{ grep '^v ' "$TMP/mixed.obj"; printf 'f 17 18 19\nf 18 17 21\n'; } >"$TMP/closed.obj"
 
 # run_example BIN label: the four runs above
 run_example() {
@@ -53,11 +55,11 @@ run_example() {
     out=$("$bin" "$TMP/mixed.obj" "$TMP/out.obj" 2>&1); rc=$?
     if [ $rc -eq 1 ] && echo "$out" | grep -q 'charts failed' && [ -s "$TMP/out.obj" ] &&
        [ "$(grep -c '^f [0-9]*/[0-9]*' "$TMP/out.obj")" -eq 18 ] &&
-       [ "$(grep -c '^f [0-9]* [0-9]* [0-9]*$' "$TMP/out.obj")" -eq 4 ] && [ "$(grep -c '^vt ' "$TMP/out.obj")" -ge 16 ] &&
+       [ "$(grep -c '^f [0-9]* [0-9]* [0-9]*$' "$TMP/out.obj")" -eq 2 ] && [ "$(grep -c '^vt ' "$TMP/out.obj")" -ge 16 ] &&
        ! echo "$out" | grep -q 'LeakSanitizer\|AddressSanitizer'; then
-        ok "$label: one chart fails: says so, writes the 18 disk faces with vt and the 4 closed ones without, exits 1, no leak"
+        ok "$label: one chart fails: says so, writes the 18 disk faces with vt and the 2 failed ones without, exits 1, no leak"
     else
-        fail "$label on disk + tetrahedron: exit $rc, output: $(echo "$out" | head -n 3)"
+        fail "$label on disk + zero-area chart: exit $rc, output: $(echo "$out" | head -n 3)"
     fi
     rm -f "$TMP/out.obj"
     out=$("$bin" "$TMP/disk.obj" "$TMP/out.obj" 2>&1); rc=$?
@@ -68,11 +70,11 @@ run_example() {
     fi
     rm -f "$TMP/out.obj"
     out=$("$bin" "$TMP/closed.obj" "$TMP/out.obj" 2>&1); rc=$?
-    if [ $rc -eq 1 ] && echo "$out" | grep -q 'closed' && [ ! -e "$TMP/out.obj" ] &&
+    if [ $rc -eq 1 ] && echo "$out" | grep -q 'zero' && [ ! -e "$TMP/out.obj" ] &&
        ! echo "$out" | grep -q 'Sanitizer'; then
         ok "$label: the only chart fails: prints why, writes nothing, exits 1, no leak"
     else
-        fail "$label on the tetrahedron alone: exit $rc, file $( [ -e "$TMP/out.obj" ] && echo written || echo absent), output: $(echo "$out" | head -n 3)"
+        fail "$label on the zero-area chart alone: exit $rc, file $( [ -e "$TMP/out.obj" ] && echo written || echo absent), output: $(echo "$out" | head -n 3)"
     fi
     out=$("$bin" "$TMP/missing.obj" "$TMP/out.obj" 2>&1); rc=$?
     if [ $rc -eq 1 ] && [ -n "$out" ] && [ ! -e "$TMP/out.obj" ]; then
