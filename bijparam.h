@@ -2882,6 +2882,19 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
    and the free-boundary optimization has room to open it.  The path has at
    least two edges (a one-edge cut would give a boundary of two vertices).
 
+   Extremity branches.  A disk whose boundary is far from some part of the
+   surface (a leg, a horn, the far side of a sphere cut along one path)
+   must shrink that part a lot in the plane, and the symmetric Dirichlet
+   energy pays for it.  So, after either cut, while the vertex farthest
+   from the cut graph and the boundary is farther than tau = 0.3 sqrt(A)
+   (A the chart's 3D area; a slit hemisphere's pole lies at about 0.44
+   sqrt(A)), the shortest path from it to them is cut too (at most 16
+   such branches).  Measured with 2 threads: the cow without its vt goes
+   from mean energy 6.87 (one path, 56 edges) to 4.43 (158 edges), fertility
+   from 4.24 to 4.09, torus_with_holes from 4.07 to 4.04; a tetrahedron and
+   an icosahedron unfold into isometric nets (energy 4).  The branches do not
+   shorten the solve: the free boundary needs as many or more iterations.
+
    The split.  Cut edges are unglued: the chart's corners are merged again
    across the remaining interior edges (as >>charts glues them), one chart
    vertex per corner class -- a vertex on the cut gets one copy per fan
@@ -2891,8 +2904,8 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
    code as before.  chart.cut_edges reports the number of mesh edges cut.
 
    Not done here: shortening/smoothing the cut beyond the shortest-loop
-   choice, and segmentation into several charts when one disk flattens with
-   high distortion. */
+   choice, seams steered by visibility, and segmentation into several charts
+   when one disk flattens with high distortion. */
 
 /* Scratch of one cut, freed together. */
 typedef struct bp__cut {
@@ -3130,6 +3143,35 @@ static uint32_t bp__cut_prune(bp__cut *K, const bp_chart *ch)
     return left;
 }
 
+/* Extremity branches (the essay above): tau = BP__CUT_BRANCH sqrt(area). */
+#define BP__CUT_BRANCH 0.3
+
+/* While some vertex lies farther than tau from the cut graph and the
+   boundary (Dijkstra from all of them), cut the shortest path from the
+   farthest one to them.  A slit from the boundary into a disk keeps a disk
+   (V and E both grow by the path's length).  At most 16 branches.  Returns
+   the edges added; *oom set if the scratch could not be allocated. */
+static uint32_t bp__cut_branches(const bp_allocator *a, bp__cut *K, const bp_chart *ch, double tau, int *oom)
+{
+    uint32_t nt = ch->num_triangles, ce, n = 0, b;
+    unsigned char *src = (unsigned char *)bp__calloc_array(a, ch->num_vertices, 1);
+    if (!src) { *oom = 1; return 0; }
+    for (ce = 0; ce < 3 * nt; ce++)
+        if (K->cut[ce] || K->twin[ce] == BP__NONE) src[bp__ce_from(ch, ce)] = src[bp__ce_to(ch, ce)] = 1;
+    for (b = 0; b < 16; b++) {
+        uint32_t v = bp__cut_dijkstra(K, ch, src, 0);
+        if (!(K->dist[v] > tau)) break;
+        while (!src[v]) {
+            uint32_t e = K->parent[v];
+            n += (uint32_t)bp__cut_mark(K, e);
+            src[v] = 1;
+            v = bp__ce_from(ch, e) == v ? bp__ce_to(ch, e) : bp__ce_from(ch, e);
+        }
+    }
+    bp__free(a, src);
+    return n;
+}
+
 /* Split the chart along the cut edges: new chart vertices (one per corner
    class across the uncut interior edges), triangles, vertex, vertex_uv,
    the atlas's corner_vertex, and the mesh-level gluing of the cut edges
@@ -3208,6 +3250,11 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
     if (ch->num_loops == 0 && chi == 2) ncut = bp__cut_sphere(&K, ch);
     else if (!bp__cut_cotree(a, &K, ch)) { bp__cut_free(a, &K); return bp__oom(err, "cutting a chart into a disk"); }
     else ncut = bp__cut_prune(&K, ch);
+    {
+        int oom = 0;
+        ncut += bp__cut_branches(a, &K, ch, BP__CUT_BRANCH * sqrt(ch->area3d), &oom);
+        if (oom) { bp__cut_free(a, &K); return bp__oom(err, "cutting a chart into a disk"); }
+    }
     if (!bp__cut_split(a, &K, ch, atlas->corner_vertex, glued)) {
         bp__cut_free(a, &K);
         return bp__oom(err, "cutting a chart into a disk");
