@@ -2869,8 +2869,9 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
    once, so that the boundary acts as one contracted base point; for a
    closed chart, from the middle of an approximate diameter (below), so the
    loops through it are short from every side (on fertility: 350 edges cut
-   instead of 380 from vertex 0, and half the iterations).  Every interior edge (u, v) not in T
-   closes a loop of length d(u) + d(v) + |uv| through the base.  C is the
+   instead of 380 from vertex 0, and half the iterations).  Every interior
+   edge (u, v) not in T closes a loop of length d(u) + d(v) + |uv| through
+   the base.  C is the
    maximum spanning tree of the dual under that loop length (Kruskal; edges
    of T come last), so the edges left out of C -- whose T-paths form the cut
    after pruning -- close the shortest loops: the 2g handle loops (Eppstein's
@@ -2890,12 +2891,13 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
    must shrink that part a lot in the plane, and the symmetric Dirichlet
    energy pays for it.  So, after either cut, while the vertex farthest
    from the cut graph and the boundary is farther than tau = 0.3 sqrt(A)
-   (A the chart's 3D area; a slit hemisphere's pole lies at about 0.44
-   sqrt(A)), the shortest path from it to them is cut too (at most 16
-   such branches).  Measured with 2 threads: the cow without its vt goes
-   from mean energy 6.87 (one path, 56 edges) to 4.43 (158 edges), fertility
-   from 4.24 to 4.09 (with the base point above), torus_with_holes from 4.07 to 4.04; a tetrahedron and
-   an icosahedron unfold into isometric nets (energy 4).  The branches do not
+   (A the chart's 3D area; on a sphere slit from pole to pole, the equator
+   point opposite the slit lies about 0.44 sqrt(A) away), the shortest path
+   from it to them is cut too (at most 16 such branches).  Measured with 2
+   threads: the cow without its vt goes from mean energy 6.87 (one path, 56
+   edges) to 4.43 (158 edges), fertility from 4.24 to 4.09 (with the base
+   point above), torus_with_holes from 4.07 to 4.04; a tetrahedron and an
+   icosahedron unfold into isometric nets (energy 4).  The branches do not
    shorten the solve: the free boundary needs as many or more iterations.
 
    The split.  Cut edges are unglued: the chart's corners are merged again
