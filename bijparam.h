@@ -34,6 +34,7 @@
       >>predicates     exact orientation and segment tests           (robustness)
       >>io             OBJ / OFF / PLY reading, OBJ writing           (BP_NO_STDIO)
       >>charts         seams, components, repairs, pinches, loops     (sec 3.1, 3.6)
+      >>cut            automatic seams: closed / genus > 0 charts to disks
       >>sparse         ordering + sparse LDL^T / LU direct solver
       >>check          exact bijectivity check (the ground truth)
       >>tutte          Tutte / Floater start with filled holes        (sec 3.4.1, 3.6)
@@ -116,7 +117,8 @@
      has (near) zero area -- twice the area at most 1e-12 of the squared
      bounding-box diagonal (a regularized rest shape, >>rest).  Local,
      failing only its chart (unless strict): a chart that is closed or of
-     genus > 0.
+     genus > 0 when opt.cut is BP_CUT_NONE (by default such a chart is cut
+     into a disk along mesh edges, see >>cut).
      The tests are scale-free: a mesh valid at one scale is valid at every
      representable scale, and bp_parameterize solves meshes of extreme size
      (beyond 2^+-100) on an exactly rescaled copy.
@@ -333,6 +335,13 @@ typedef struct bp_views {
                                  0: 0.05 (hidden triangles keep some area)  */
 } bp_views;
 
+/* What to do with a chart that is not a disk (with holes): a closed
+   surface, or one with handles (genus > 0). */
+typedef enum bp_cut {
+    BP_CUT_AUTO = 0,     /* cut it into a disk along mesh edges (>>cut)        */
+    BP_CUT_NONE          /* reject it (BP_ERR_TOPOLOGY in chart.error)          */
+} bp_cut;
+
 typedef struct bp_options {
     bp_allocator  allocator;      /* zero: BP_MALLOC / BP_FREE                 */
     bp_init       init;           /* start map, default Tutte                  */
@@ -395,6 +404,9 @@ typedef struct bp_options {
                                      moved by packing; pins and normalize
                                      together are refused                      */
     uint32_t      num_pins;
+    bp_cut        cut;            /* charts that are closed or of genus > 0:
+                                     BP_CUT_AUTO (default) cuts them into disks
+                                     (>>cut), BP_CUT_NONE rejects them         */
 } bp_options;
 
 /* Growing bp_options.  New fields are only ever appended, so a caller's
@@ -428,6 +440,7 @@ typedef struct bp_chart {
     uint32_t *loop_start;     /* num_loops+1 offsets into loop_vertices      */
     uint32_t *loop_vertices;  /* chart vertices along each loop              */
     uint32_t  split_vertices; /* chart vertices added by pinch repair        */
+    uint32_t  cut_edges;      /* mesh edges cut by automatic seams (>>cut)   */
     double   *rest_side;      /* NULL, or per chart triangle: 0 = flattened as
                                  its 3D shape; s > 0 = a degenerate triangle
                                  (repaired) flattened as the equilateral
@@ -4293,6 +4306,10 @@ static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b, bp_atla
     return BP_OK;
 }
 
+static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t c, const bp_mesh *m,
+                               const double *importance, uint32_t *glued, uint32_t *next, uint32_t *loop_id,
+                               bp_error *err);
+
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_options o_;
@@ -4328,6 +4345,8 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
     if (st == BP_OK) st = bp__count_pinches(&a, &b, atlas, err);
     for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
         st = bp__chart_topology(&a, &b, atlas, c, m, err);
+        if (st == BP_OK && atlas->charts[c].error.status == BP_ERR_TOPOLOGY && !(opt && opt->cut == BP_CUT_NONE))
+            st = bp__chart_cut(&a, atlas, c, m, opt ? opt->importance : NULL, b.glued, b.next, b.loop_id, err);   /* >>cut */
         if (st != BP_OK || atlas->charts[c].error.status == BP_OK) continue;
         atlas->num_failed++;
         if (strict) {
@@ -4347,6 +4366,513 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
         st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled after building the charts");
     if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) bp_atlas_free(atlas);
     return st;
+}
+
+/* >>cut ====================================================================
+
+   Automatic seams.  The topology phase of >>charts accepts only charts with
+   chi = V - E + F = 2 - 2g - b equal to that of a disk with holes (g = 0,
+   b >= 1).  A closed chart (b = 0) or one with handles (g > 0) cannot be
+   laid flat as it is; with opt.cut == BP_CUT_AUTO (the default) this section
+   cuts it into a topological disk, along mesh edges, and hands it back to
+   the topology check.  Charts that are already disks with holes, and every
+   vt seam of the input, are left as they are: seams are added only where a
+   chart needs them.
+
+   The cut graph.  Let C be a spanning tree of the chart's dual graph (the
+   triangles, adjacent across interior edges).  Cutting along every interior
+   edge NOT in C leaves the triangles glued along a tree, which is a disk:
+   each triangle is attached to the ones before it along one edge.  That cut
+   is far too long; it is pruned by gluing back, one at a time, every cut
+   edge with an end of degree 1 in the cut graph (boundary edges count in the
+   degree and are never removed).  Zipping up such a dangling edge glues the
+   disk's boundary along two consecutive edges, which keeps a disk, so the
+   pruned cut still opens the chart into one disk (chi = 1, one loop); the
+   chart's holes end up connected to the cut.
+
+   Which tree C: the greedy homotopy basis of Erickson & Whittlesey (2005)
+   on 3D edge lengths.  Dijkstra grows a shortest-path tree T from a base
+   point -- for a chart with boundary, from all its boundary vertices at
+   once, so that the boundary acts as one contracted base point; for a
+   closed chart, from the middle of an approximate diameter (below), so the
+   loops through it are short from every side (on fertility: 350 edges cut
+   instead of 380 from vertex 0, and half the iterations).  Every interior
+   edge (u, v) not in T closes a loop of length d(u) + d(v) + |uv| through
+   the base.  C is the
+   maximum spanning tree of the dual under that loop length (Kruskal; edges
+   of T come last), so the edges left out of C -- whose T-paths form the cut
+   after pruning -- close the shortest loops: the 2g handle loops (Eppstein's
+   tree-cotree, 2003, with the short choice of trees), plus for a chart with
+   several holes, short paths joining the holes.
+
+   A closed chart of genus 0 has no handle loop: the pruning would remove
+   the whole tree.  It is cut along one shortest path between far-apart
+   points instead, the two ends of an approximate diameter found by two
+   Dijkstra sweeps (the farthest vertex p from vertex 0, then the farthest q
+   from p), so that the boundary Tutte's start map lays on a circle is long
+   and the free-boundary optimization has room to open it.  The path has at
+   least two edges (a one-edge cut would give a boundary of two vertices).
+
+   Extremity branches.  A disk whose boundary is far from some part of the
+   surface (a leg, a horn, the far side of a sphere cut along one path)
+   must shrink that part a lot in the plane, and the symmetric Dirichlet
+   energy pays for it.  So, after either cut, while the vertex farthest
+   from the cut graph and the boundary is farther than tau = 0.3 sqrt(A)
+   (A the chart's 3D area; on a sphere slit from pole to pole, the equator
+   point opposite the slit lies about 0.44 sqrt(A) away), the shortest path
+   from it to them is cut too (at most 16 such branches).  Measured with 2
+   threads: the cow without its vt goes from mean energy 6.87 (one path, 56
+   edges) to 4.43 (158 edges), fertility from 4.24 to 4.09 (with the base
+   point above), torus_with_holes from 4.07 to 4.04; a tetrahedron and an
+   icosahedron unfold into isometric nets (energy 4).  The branches do not
+   shorten the solve: the free boundary needs as many or more iterations.
+
+   The split.  Cut edges are unglued: the chart's corners are merged again
+   across the remaining interior edges (as >>charts glues them), one chart
+   vertex per corner class -- a vertex on the cut gets one copy per fan
+   between cut edges -- numbered by first appearance in the triangles.  The
+   atlas's corner_vertex is updated so the writers give each side of the
+   new seam its own vt; the boundary loops are walked again with the same
+   code as before.  chart.cut_edges reports the number of mesh edges cut.
+
+   Importance.  With opt.importance -- painted, or the visibility V_t of
+   chapter 4, which bp_parameterize now computes before building the charts
+   when views are on -- every path is found under costs |uv| times the mean
+   relative importance of the edge's two triangles (relative to the chart's
+   mean), so seams run where the map matters least, the dissertation's
+   importance put to a second use.  Which points are far (the diameter's
+   ends, the branch tips, the threshold) is still decided in plain 3D
+   lengths: weighted distances would make the important parts look far and
+   draw branches into them.  On the cow without vt under a front view
+   model, the mean visibility along the seams drops from 1.30 to 0.25.
+
+   Not done here: shortening/smoothing the cut beyond the shortest-loop
+   choice, and segmentation into several charts when one disk flattens
+   with high distortion. */
+
+/* Scratch of one cut, freed together. */
+typedef struct bp__cut {
+    uint32_t *twin;      /* 3*nt: corner edge across the edge, or BP__NONE    */
+    uint32_t *adj_start, *adj;  /* per vertex, the corner edges at it (CSR)  */
+    double   *len;       /* 6*nt: each corner edge's path cost (3D length,
+                            importance-weighted), then its 3D length        */
+    double   *glen;      /* = len + 3*nt: the 3D lengths                    */
+    int       weighted;  /* the costs differ from the lengths               */
+    double   *dist;      /* nv: Dijkstra distance                           */
+    uint32_t *parent;    /* nv: corner edge to the parent in the tree       */
+    unsigned char *cut;  /* 3*nt: corner edge is cut                        */
+    unsigned char *in_tree; /* 3*nt: corner edge in the tree T              */
+    uint32_t *deg;       /* nv: degree in the cut graph (with boundary)     */
+    uint32_t *work;      /* max(3*nt, nv) + 1: union-find, queues, order     */
+    uint32_t *work2;     /* max(3*nt, nv) + 1                               */
+    double   *heap_d;    /* heap of (distance, vertex): 6*nt + 1            */
+    uint32_t *heap_v;
+} bp__cut;
+
+static void bp__cut_free(const bp_allocator *a, bp__cut *K)
+{
+    bp__free(a, K->twin); bp__free(a, K->adj_start); bp__free(a, K->adj); bp__free(a, K->len);
+    bp__free(a, K->dist); bp__free(a, K->parent); bp__free(a, K->cut); bp__free(a, K->in_tree);
+    bp__free(a, K->deg); bp__free(a, K->work); bp__free(a, K->work2);
+    bp__free(a, K->heap_d); bp__free(a, K->heap_v);
+}
+
+/* The end vertices of chart corner edge ce = 3t + k: from corner k to k+1. */
+static uint32_t bp__ce_from(const bp_chart *ch, uint32_t ce) { return ch->triangles[ce]; }
+static uint32_t bp__ce_to(const bp_chart *ch, uint32_t ce) { return ch->triangles[ce - ce % 3 + (ce % 3 + 1) % 3]; }
+
+typedef struct bp__face_pos { uint32_t face, t; } bp__face_pos;
+
+static int bp__face_pos_cmp(const void *pa, const void *pb)
+{
+    const bp__face_pos *x = (const bp__face_pos *)pa, *y = (const bp__face_pos *)pb;
+    return x->face < y->face ? -1 : x->face > y->face;
+}
+
+/* The importance of chart triangle t relative to `mean`; 1 where the
+   user's value is not positive and finite (bp_chart_optimize reports it). */
+static double bp__cut_importance(const bp_chart *ch, const double *importance, uint32_t t, double mean)
+{
+    double w = importance[ch->face[t]];
+    return w > 0 && w < HUGE_VAL ? w / mean : 1;
+}
+
+/* Importance-weighted lengths: an edge's length times the mean relative
+   importance of its two triangles (its one triangle on the boundary), the
+   importance taken relative to its mean over the chart's triangles, so that
+   seams go where the map matters least -- where visibility (chapter 4) or
+   painted importance is low -- and the branch threshold keeps its scale.
+   With uniform importance nothing changes. */
+static void bp__cut_weigh(bp__cut *K, const bp_chart *ch, const double *importance)
+{
+    uint32_t t, k, nt = ch->num_triangles;
+    double num = 0, den = 0, mean;
+    for (t = 0; t < nt; t++) {
+        double w = importance[ch->face[t]];
+        if (w > 0 && w < HUGE_VAL) { num += w; den += 1; }
+    }
+    mean = den > 0 && num > 0 && num < HUGE_VAL ? num / den : 1;
+    K->weighted = 1;
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t ce = 3 * t + k, tw = K->twin[ce];
+            double w0 = bp__cut_importance(ch, importance, t, mean);
+            double w1 = tw == BP__NONE ? w0 : bp__cut_importance(ch, importance, tw / 3, mean);
+            K->len[ce] = K->glen[ce] * 0.5 * (w0 + w1);
+        }
+}
+
+/* Twins of the chart's corner edges from the mesh-level gluing (glued[mesh
+   corner edge]), lengths, and the vertex -> corner edges adjacency (each
+   corner edge listed at both of its ends). */
+static int bp__cut_adjacency(const bp_allocator *a, bp__cut *K, const bp_chart *ch, const bp_mesh *m,
+                             const uint32_t *glued, const double *importance)
+{
+    uint32_t nt = ch->num_triangles, nv = ch->num_vertices, t, k, ce, v;
+    bp__face_pos *fp = (bp__face_pos *)bp__alloc_array(a, nt, sizeof *fp);
+    if (!fp) return 0;
+    for (t = 0; t < nt; t++) { fp[t].face = ch->face[t]; fp[t].t = t; }
+    qsort(fp, nt, sizeof *fp, bp__face_pos_cmp);
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t g = glued[3 * (size_t)ch->face[t] + k], lo = 0, hi = nt;
+            ce = 3 * t + k;
+            K->twin[ce] = BP__NONE;
+            K->glen[ce] = K->len[ce] =
+                bp__dist3(bp__pos(m, ch->vertex[bp__ce_from(ch, ce)]), bp__pos(m, ch->vertex[bp__ce_to(ch, ce)]));
+            if (g == BP__NONE) continue;
+            while (lo < hi) {                      /* the chart triangle of mesh triangle g/3 */
+                uint32_t mid = lo + (hi - lo) / 2;
+                if (fp[mid].face < g / 3) lo = mid + 1; else hi = mid;
+            }
+            if (lo < nt && fp[lo].face == g / 3) K->twin[ce] = 3 * fp[lo].t + g % 3;
+        }
+    bp__free(a, fp);
+    if (importance) bp__cut_weigh(K, ch, importance);
+    for (v = 0; v <= nv; v++) K->adj_start[v] = 0;
+    for (ce = 0; ce < 3 * nt; ce++) { K->adj_start[bp__ce_from(ch, ce) + 1]++; K->adj_start[bp__ce_to(ch, ce) + 1]++; }
+    for (v = 0; v < nv; v++) K->adj_start[v + 1] += K->adj_start[v];
+    for (v = 0; v < nv; v++) K->work[v] = K->adj_start[v];
+    for (ce = 0; ce < 3 * nt; ce++) { K->adj[K->work[bp__ce_from(ch, ce)]++] = ce; K->adj[K->work[bp__ce_to(ch, ce)]++] = ce; }
+    return 1;
+}
+
+/* A binary min-heap of (distance, vertex), ties by vertex: deterministic. */
+static int bp__heap_less(const bp__cut *K, uint32_t i, uint32_t j)
+{
+    return K->heap_d[i] < K->heap_d[j] || (K->heap_d[i] == K->heap_d[j] && K->heap_v[i] < K->heap_v[j]);
+}
+
+static void bp__heap_swap(bp__cut *K, uint32_t i, uint32_t j)
+{
+    double d = K->heap_d[i];
+    uint32_t v = K->heap_v[i];
+    K->heap_d[i] = K->heap_d[j]; K->heap_v[i] = K->heap_v[j];
+    K->heap_d[j] = d; K->heap_v[j] = v;
+}
+
+static void bp__heap_push(bp__cut *K, uint32_t *n, double d, uint32_t v)
+{
+    uint32_t i = (*n)++;
+    K->heap_d[i] = d; K->heap_v[i] = v;
+    while (i > 0 && bp__heap_less(K, i, (i - 1) / 2)) { bp__heap_swap(K, i, (i - 1) / 2); i = (i - 1) / 2; }
+}
+
+static void bp__heap_pop(bp__cut *K, uint32_t *n)
+{
+    uint32_t i = 0;
+    bp__heap_swap(K, 0, --*n);
+    for (;;) {
+        uint32_t l = 2 * i + 1, r = l + 1, s = i;
+        if (l < *n && bp__heap_less(K, l, s)) s = l;
+        if (r < *n && bp__heap_less(K, r, s)) s = r;
+        if (s == i) break;
+        bp__heap_swap(K, i, s);
+        i = s;
+    }
+}
+
+/* Dijkstra on the edge lengths len (K->glen or K->len) from the sources (src[v] set,
+   or the single vertex `root` when src is NULL): K->dist, and K->parent the
+   corner edge to each vertex's parent.  Each edge is relaxed at most twice,
+   so the heap holds at most 6 nt + 1 entries.  Returns the farthest vertex
+   (the smallest index among equals). */
+static uint32_t bp__cut_dijkstra(bp__cut *K, const bp_chart *ch, const double *len, const unsigned char *src,
+                                 uint32_t root)
+{
+    uint32_t nv = ch->num_vertices, v, n = 0, far = 0, i;
+    for (v = 0; v < nv; v++) { K->dist[v] = HUGE_VAL; K->parent[v] = BP__NONE; }
+    for (v = 0; v < nv; v++)
+        if (src ? src[v] : v == root) { K->dist[v] = 0; bp__heap_push(K, &n, 0.0, v); }
+    while (n > 0) {
+        double d = K->heap_d[0];
+        v = K->heap_v[0];
+        bp__heap_pop(K, &n);
+        if (d > K->dist[v]) continue;                       /* a stale entry */
+        if (d > K->dist[far] || (d == K->dist[far] && v < far)) far = v;
+        for (i = K->adj_start[v]; i < K->adj_start[v + 1]; i++) {
+            uint32_t ce = K->adj[i], w = bp__ce_from(ch, ce) == v ? bp__ce_to(ch, ce) : bp__ce_from(ch, ce);
+            double dw = d + len[ce];
+            if (dw < K->dist[w]) { K->dist[w] = dw; K->parent[w] = ce; bp__heap_push(K, &n, dw, w); }
+        }
+    }
+    return far;
+}
+
+/* Mark corner edge ce and its twin as cut; 1 if it was not cut before. */
+static int bp__cut_mark(bp__cut *K, uint32_t ce)
+{
+    if (K->cut[ce]) return 0;
+    K->cut[ce] = 1;
+    if (K->twin[ce] != BP__NONE) K->cut[K->twin[ce]] = 1;
+    return 1;
+}
+
+/* Closed genus 0: the shortest path between the ends of an approximate
+   diameter, at least two edges long. */
+static uint32_t bp__cut_sphere(bp__cut *K, const bp_chart *ch)
+{
+    uint32_t p = bp__cut_dijkstra(K, ch, K->glen, NULL, 0), q = bp__cut_dijkstra(K, ch, K->glen, NULL, p), v = q, n = 0;
+    if (ch->num_vertices < 3 || p == q) return 0;
+    if (K->weighted) bp__cut_dijkstra(K, ch, K->len, NULL, p);   /* the path by cost */
+    if (bp__ce_from(ch, K->parent[q]) == p || bp__ce_to(ch, K->parent[q]) == p) {
+        /* adjacent: go around the third corner of the edge's triangle */
+        uint32_t ce = K->parent[q], e1 = ce - ce % 3 + (ce % 3 + 1) % 3, e2 = ce - ce % 3 + (ce % 3 + 2) % 3;
+        return (uint32_t)(bp__cut_mark(K, e1) + bp__cut_mark(K, e2));
+    }
+    while (v != p) {
+        uint32_t ce = K->parent[v];
+        n += (uint32_t)bp__cut_mark(K, ce);
+        v = bp__ce_from(ch, ce) == v ? bp__ce_to(ch, ce) : bp__ce_from(ch, ce);
+    }
+    return n;
+}
+
+/* The base point of a closed chart: the middle (in 3D length) of the
+   shortest path between the ends of an approximate diameter, so that the
+   loops through it are short from every side. */
+static uint32_t bp__cut_center(bp__cut *K, const bp_chart *ch)
+{
+    uint32_t p = bp__cut_dijkstra(K, ch, K->glen, NULL, 0), q = bp__cut_dijkstra(K, ch, K->glen, NULL, p), v = q;
+    double half = 0.5 * K->dist[q];
+    while (v != p && K->dist[v] > half) {
+        uint32_t e = K->parent[v];
+        v = bp__ce_from(ch, e) == v ? bp__ce_to(ch, e) : bp__ce_from(ch, e);
+    }
+    return v;
+}
+
+/* Kruskal order: longer loops first, edges of T last, then by index. */
+typedef struct bp__loop_edge { double w; uint32_t ce; } bp__loop_edge;
+
+static int bp__loop_edge_cmp(const void *pa, const void *pb)
+{
+    const bp__loop_edge *x = (const bp__loop_edge *)pa, *y = (const bp__loop_edge *)pb;
+    if (x->w != y->w) return x->w > y->w ? -1 : 1;
+    return x->ce < y->ce ? -1 : x->ce > y->ce;
+}
+
+/* Genus > 0: the tree-cotree cut graph (the essay above), before pruning:
+   every interior edge not in the dual tree C is cut.  0 if out of memory. */
+static int bp__cut_cotree(const bp_allocator *a, bp__cut *K, const bp_chart *ch)
+{
+    uint32_t nt = ch->num_triangles, nv = ch->num_vertices, ce, v, ne = 0, i;
+    unsigned char *src = (unsigned char *)bp__calloc_array(a, nv, 1);
+    bp__loop_edge *le = (bp__loop_edge *)bp__alloc_array(a, 3 * (size_t)nt / 2 + 1, sizeof *le);
+    uint32_t *uf = K->work;
+    if (!src || !le) { bp__free(a, src); bp__free(a, le); return 0; }
+    for (ce = 0; ce < 3 * nt; ce++)
+        if (K->twin[ce] == BP__NONE) src[bp__ce_from(ch, ce)] = src[bp__ce_to(ch, ce)] = 1;
+    bp__cut_dijkstra(K, ch, K->len, ch->num_loops ? src : NULL, ch->num_loops ? 0 : bp__cut_center(K, ch));
+    bp__free(a, src);
+    for (v = 0; v < nv; v++)
+        if (K->parent[v] != BP__NONE) {
+            K->in_tree[K->parent[v]] = 1;
+            if (K->twin[K->parent[v]] != BP__NONE) K->in_tree[K->twin[K->parent[v]]] = 1;
+        }
+    for (ce = 0; ce < 3 * nt; ce++)
+        if (K->twin[ce] != BP__NONE && ce < K->twin[ce]) {
+            le[ne].w = K->in_tree[ce] ? -1.0 :    /* loop length d(u) + d(v) + |uv| >= 0 */
+                       K->dist[bp__ce_from(ch, ce)] + K->dist[bp__ce_to(ch, ce)] + K->len[ce];
+            le[ne++].ce = ce;
+        }
+    qsort(le, ne, sizeof *le, bp__loop_edge_cmp);
+    for (i = 0; i < nt; i++) uf[i] = i;
+    for (i = 0; i < ne; i++) {
+        uint32_t t0 = bp__uf_find(uf, le[i].ce / 3), t1 = bp__uf_find(uf, K->twin[le[i].ce] / 3);
+        if (t0 != t1) bp__uf_union(uf, t0, t1);  /* in C: stays glued */
+        else bp__cut_mark(K, le[i].ce);
+    }
+    bp__free(a, le);
+    return 1;
+}
+
+/* Prune the cut graph: glue back cut edges with an end of degree 1 (the
+   degree counts boundary edges, so boundary vertices never qualify).
+   Returns the number of cut mesh edges left. */
+static uint32_t bp__cut_prune(bp__cut *K, const bp_chart *ch)
+{
+    uint32_t nt = ch->num_triangles, nv = ch->num_vertices, ce, v, nq = 0, left = 0, i;
+    uint32_t *queue = K->work2;
+    for (v = 0; v < nv; v++) K->deg[v] = 0;
+    for (ce = 0; ce < 3 * nt; ce++)
+        if (K->twin[ce] == BP__NONE || (K->cut[ce] && ce < K->twin[ce])) {
+            K->deg[bp__ce_from(ch, ce)]++;
+            K->deg[bp__ce_to(ch, ce)]++;
+            left += K->twin[ce] != BP__NONE;
+        }
+    for (v = 0; v < nv; v++)
+        if (K->deg[v] == 1) queue[nq++] = v;
+    while (nq > 0) {
+        v = queue[--nq];
+        if (K->deg[v] != 1) continue;
+        for (i = K->adj_start[v]; i < K->adj_start[v + 1]; i++) {
+            uint32_t e = K->adj[i], w;
+            if (!K->cut[e] || K->twin[e] == BP__NONE) continue;
+            w = bp__ce_from(ch, e) == v ? bp__ce_to(ch, e) : bp__ce_from(ch, e);
+            K->cut[e] = K->cut[K->twin[e]] = 0;
+            K->deg[v]--;
+            left--;
+            if (--K->deg[w] == 1) queue[nq++] = w;
+            break;
+        }
+    }
+    return left;
+}
+
+/* Extremity branches (the essay above): tau = BP__CUT_BRANCH sqrt(area). */
+#define BP__CUT_BRANCH 0.3
+
+/* While some vertex lies farther than tau from the cut graph and the
+   boundary (Dijkstra from all of them), cut the shortest path from the
+   farthest one to them.  A slit from the boundary into a disk keeps a disk
+   (V and E both grow by the path's length).  At most 16 branches.  Returns
+   the edges added; *oom set if the scratch could not be allocated. */
+static uint32_t bp__cut_branches(const bp_allocator *a, bp__cut *K, const bp_chart *ch, double tau, int *oom)
+{
+    uint32_t nt = ch->num_triangles, ce, n = 0, b;
+    unsigned char *src = (unsigned char *)bp__calloc_array(a, ch->num_vertices, 1);
+    if (!src) { *oom = 1; return 0; }
+    for (ce = 0; ce < 3 * nt; ce++)
+        if (K->cut[ce] || K->twin[ce] == BP__NONE) src[bp__ce_from(ch, ce)] = src[bp__ce_to(ch, ce)] = 1;
+    for (b = 0; b < 16; b++) {
+        uint32_t v = bp__cut_dijkstra(K, ch, K->glen, src, 0);    /* the farthest in 3D */
+        if (!(K->dist[v] > tau)) break;
+        if (K->weighted) bp__cut_dijkstra(K, ch, K->len, src, 0); /* its path by cost */
+        while (!src[v]) {
+            uint32_t e = K->parent[v];
+            n += (uint32_t)bp__cut_mark(K, e);
+            src[v] = 1;
+            v = bp__ce_from(ch, e) == v ? bp__ce_to(ch, e) : bp__ce_from(ch, e);
+        }
+    }
+    bp__free(a, src);
+    return n;
+}
+
+/* Split the chart along the cut edges: new chart vertices (one per corner
+   class across the uncut interior edges), triangles, vertex, vertex_uv,
+   the atlas's corner_vertex, and the mesh-level gluing of the cut edges
+   (so the loop walk sees them as boundary).  0 if out of memory. */
+static int bp__cut_split(const bp_allocator *a, bp__cut *K, bp_chart *ch, uint32_t *corner_vertex,
+                         uint32_t *glued)
+{
+    uint32_t nt = ch->num_triangles, nc = 3 * nt, ce, nnv = 0;
+    uint32_t *uf = K->work, *id = K->work2, *vtx, *vuv;
+    for (ce = 0; ce < nc; ce++) { uf[ce] = ce; id[ce] = BP__NONE; }
+    for (ce = 0; ce < nc; ce++) {
+        uint32_t tw = K->twin[ce];
+        if (tw == BP__NONE || K->cut[ce] || tw < ce) continue;
+        bp__uf_union(uf, ce, tw - tw % 3 + (tw % 3 + 1) % 3);    /* corner at the edge's start */
+        bp__uf_union(uf, ce - ce % 3 + (ce % 3 + 1) % 3, tw);    /* corner at its end          */
+    }
+    for (ce = 0; ce < nc; ce++) {
+        uint32_t r = bp__uf_find(uf, ce);
+        if (id[r] == BP__NONE) id[r] = nnv++;
+    }
+    vtx = (uint32_t *)bp__alloc_array(a, nnv, sizeof(uint32_t));
+    vuv = (uint32_t *)bp__alloc_array(a, nnv, sizeof(uint32_t));
+    if (!vtx || !vuv) { bp__free(a, vtx); bp__free(a, vuv); return 0; }
+    for (ce = 0; ce < nc; ce++) {
+        uint32_t old = ch->triangles[ce], nw = id[bp__uf_find(uf, ce)];
+        size_t mc = 3 * (size_t)ch->face[ce / 3] + ce % 3;
+        vtx[nw] = ch->vertex[old];
+        vuv[nw] = ch->vertex_uv[old];
+        corner_vertex[mc] = nw;
+        if (K->cut[ce]) glued[mc] = BP__NONE;
+    }
+    for (ce = 0; ce < nc; ce++) ch->triangles[ce] = id[bp__uf_find(uf, ce)];
+    bp__free(a, ch->vertex);
+    bp__free(a, ch->vertex_uv);
+    ch->vertex = vtx;
+    ch->vertex_uv = vuv;
+    ch->num_vertices = nnv;
+    return 1;
+}
+
+/* Cut chart c (a closed chart or one of genus > 0, already through the
+   topology check, which put BP_ERR_TOPOLOGY in its error) into a disk, walk
+   its loops again and check that chi = 1 - (holes kept): the chart's error
+   is then cleared.  next / loop_id / glued are >>charts' arrays (next and
+   loop_id hold at least 3 nt entries).  Returns a status only for what ends
+   the whole call (out of memory). */
+static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t c, const bp_mesh *m,
+                               const double *importance, uint32_t *glued, uint32_t *next, uint32_t *loop_id,
+                               bp_error *err)
+{
+    bp_chart *ch = &atlas->charts[c];
+    bp__cut K;
+    uint32_t nt = ch->num_triangles, nv = ch->num_vertices, big = (3 * nt > nv ? 3 * nt : nv) + 1, ncut;
+    int64_t ne, chi;
+    bp_status st;
+    char nm[48];
+    memset(&K, 0, sizeof K);
+    K.twin = (uint32_t *)bp__alloc_array(a, 3 * (size_t)nt, sizeof(uint32_t));
+    K.adj_start = (uint32_t *)bp__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    K.adj = (uint32_t *)bp__alloc_array(a, 6 * (size_t)nt, sizeof(uint32_t));
+    K.len = (double *)bp__alloc_array(a, 6 * (size_t)nt, sizeof(double));
+    K.glen = K.len ? K.len + 3 * (size_t)nt : NULL;
+    K.dist = (double *)bp__alloc_array(a, nv, sizeof(double));
+    K.parent = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
+    K.cut = (unsigned char *)bp__calloc_array(a, 3 * (size_t)nt, 1);
+    K.in_tree = (unsigned char *)bp__calloc_array(a, 3 * (size_t)nt, 1);
+    K.deg = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
+    K.work = (uint32_t *)bp__alloc_array(a, big, sizeof(uint32_t));
+    K.work2 = (uint32_t *)bp__alloc_array(a, big, sizeof(uint32_t));
+    K.heap_d = (double *)bp__alloc_array(a, 6 * (size_t)nt + 1, sizeof(double));
+    K.heap_v = (uint32_t *)bp__alloc_array(a, 6 * (size_t)nt + 1, sizeof(uint32_t));
+    if (!K.twin || !K.adj_start || !K.adj || !K.len || !K.dist || !K.parent || !K.cut || !K.in_tree ||
+        !K.deg || !K.work || !K.work2 || !K.heap_d || !K.heap_v || !bp__cut_adjacency(a, &K, ch, m, glued, importance)) {
+        bp__cut_free(a, &K);
+        return bp__oom(err, "cutting a chart into a disk");
+    }
+    chi = (int64_t)nv - ((int64_t)3 * nt + ch->loop_start[ch->num_loops]) / 2 + nt;
+    if (ch->num_loops == 0 && chi == 2) ncut = bp__cut_sphere(&K, ch);
+    else if (!bp__cut_cotree(a, &K, ch)) { bp__cut_free(a, &K); return bp__oom(err, "cutting a chart into a disk"); }
+    else ncut = bp__cut_prune(&K, ch);
+    {
+        int oom = 0;
+        ncut += bp__cut_branches(a, &K, ch, BP__CUT_BRANCH * sqrt(ch->area3d), &oom);
+        if (oom) { bp__cut_free(a, &K); return bp__oom(err, "cutting a chart into a disk"); }
+    }
+    if (!bp__cut_split(a, &K, ch, atlas->corner_vertex, glued)) {
+        bp__cut_free(a, &K);
+        return bp__oom(err, "cutting a chart into a disk");
+    }
+    bp__cut_free(a, &K);
+    bp__free(a, ch->loop_start); bp__free(a, ch->loop_vertices);
+    ch->loop_start = ch->loop_vertices = NULL;
+    ch->num_loops = 0;
+    if ((st = bp__chart_loops(a, ch, m, next, loop_id, glued, c, err)) != BP_OK) return st;
+    ch->cut_edges = ncut;
+    ne = ((int64_t)3 * nt + ch->loop_start[ch->num_loops]) / 2;
+    chi = (int64_t)ch->num_vertices - ne + nt;
+    if (ch->num_loops > 0 && chi == 2 - (int64_t)ch->num_loops) bp__ok(&ch->error);
+    else
+        bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, ch->face[0]),
+                 "chart %u (from %s): cutting %u edges left Euler characteristic %D with %u boundary loops, "
+                 "not a disk", c, bp__tri_name(m, ch->face[0], nm), ncut, chi, ch->num_loops);
+    return BP_OK;
 }
 
 /* >>sparse =================================================================
@@ -10110,12 +10636,12 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     }
     if (k) local.epsilon = ldexp(local.epsilon, k);     /* a barrier width is a length */
     if (k) st = bp__rescale_controls(&a, &local, &ms, k, &pins_k, &uvs_k, err);   /* pins, input uvs */
-    if (st == BP_OK) st = bp_atlas_build(atlas, &ms, &local, err);
-    if ((st == BP_OK || st == BP_ERR_CHARTS_FAILED) && local.views.model != BP_VIEW_NONE && !local.init_only) {
-        /* chapter 4: visibility (times the user's importance) drives eq 4.1 */
+    if (st == BP_OK && local.views.model != BP_VIEW_NONE && !local.init_only) {
+        /* chapter 4: visibility (times the user's importance) drives eq 4.1,
+           and automatic seams (>>cut) prefer the parts seen least */
         imp = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
         st = imp ? bp_visibility(&ms, &local, imp, err) : bp__oom(err, "computing visibility");
-        if (st == BP_ERR_CANCELLED) {            /* every chart sees the run's flag */
+        if (st == BP_ERR_CANCELLED) {            /* bp_atlas_build sees the run's flag: no charts */
             st = BP_OK;
             bp__free(&a, imp);
             imp = NULL;
@@ -10124,6 +10650,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
             for (t = 0; t < m->num_triangles; t++) imp[t] *= local.importance[t];
         if (imp) local.importance = imp;
     }
+    if (st == BP_OK) st = bp_atlas_build(atlas, &ms, &local, err);
     if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {
         st = bp__solve_charts(atlas, &ms, &local, &cancel);
         if (st != BP_OK && st != BP_ERR_CANCELLED && err) *err = cancel;

@@ -102,6 +102,8 @@ static const char usage_text[] =
     "  --no-rotate        with --atlas: keep each chart's orientation\n"
     "  --repack           keep the input's own charts and texture coordinates\n"
     "                     (checked exactly), only pack them\n"
+    "  --cut auto|none    charts that are closed or have handles: cut them into\n"
+    "                     disks along mesh edges (default auto) or reject them\n"
     "  --strict           a mesh defect or a chart that cannot be flattened fails\n"
     "                     the whole run (default: defects -- flipped, duplicate,\n"
     "                     non-manifold, zero-area triangles -- are repaired and\n"
@@ -772,8 +774,8 @@ static void print_json(const char *input, const char *output, bp_status status, 
         for (l = 0; l < ch->num_loops; l++)
             printf("%s%u", l ? "," : "",
                    (unsigned)(ch->loop_start[l + 1] - ch->loop_start[l]));
-        printf("],\"euler\":%ld,\"split_vertices\":%u,\"energy_start\":",
-               chart_euler(ch), (unsigned)ch->split_vertices);
+        printf("],\"euler\":%ld,\"split_vertices\":%u,\"cut_edges\":%u,\"energy_start\":",
+               chart_euler(ch), (unsigned)ch->split_vertices, (unsigned)ch->cut_edges);
         json_number(e_start);
         printf(",\"energy_end\":");
         json_number(e_end);
@@ -1045,7 +1047,7 @@ int main(int argc, char **argv)
             !strcmp(a, "--epsilon") || !strcmp(a, "--direction") ||
             !strcmp(a, "--history") || !strcmp(a, "--max-iters") ||
             !strcmp(a, "--tol") || !strcmp(a, "--max-seconds") ||
-            !strcmp(a, "--trace") || !strcmp(a, "--threads") || !strcmp(a, "--visibility") ||
+            !strcmp(a, "--trace") || !strcmp(a, "--threads") || !strcmp(a, "--cut") || !strcmp(a, "--visibility") ||
             !strcmp(a, "--view-dir") || !strcmp(a, "--up") || !strcmp(a, "--ring-elevation") ||
             !strcmp(a, "--vis-samples") || !strcmp(a, "--vis-floor") || !strcmp(a, "--importance") ||
             !strcmp(a, "--density-report") || !strcmp(a, "--svg") || !strcmp(a, "--svg-color") ||
@@ -1094,8 +1096,11 @@ int main(int argc, char **argv)
                 if (!parse_int(v, 0, &opt.padding))
                     return usage_error("--padding needs an integer >= 0, not '%s'", v);
                 padding_set = 1;
-            }
-            else if (!strcmp(a, "--threads")) {
+            } else if (!strcmp(a, "--cut")) {
+                if (!strcmp(v, "auto")) opt.cut = BP_CUT_AUTO;
+                else if (!strcmp(v, "none")) opt.cut = BP_CUT_NONE;
+                else return usage_error("unknown --cut '%s' (auto or none)", v);
+            } else if (!strcmp(a, "--threads")) {
                 if (!parse_int(v, 0, &opt.threads))
                     return usage_error("--threads needs an integer >= 0, not '%s'", v);
             } else if (!strcmp(a, "--visibility")) {

@@ -13,7 +13,8 @@
      - a result that is returned is valid (bp_check).
    Calls covered: bp_parameterize on bishop_part_f1000.obj (20 iterations),
    on a generated 3D disk with two holes (20 iterations), on a good chart
-   next to a closed one (BP_ERR_CHARTS_FAILED when nothing fails), with
+   next to a closed one (BP_ERR_CHARTS_FAILED when nothing fails and the cut
+   is off; BP_OK with the closed chart cut into a disk), with
    init_only and with normalize; bp_visibility on a small closed mesh;
    bp_write_obj (its table comes from the atlas's allocator); bp_check.
    The parsers' own allocation failures are covered by test_io.c.
@@ -334,7 +335,9 @@ int main(void)
     memset(&P, 0, sizeof P);
     P.m = &mixed;
     P.opt.max_iterations = 10;
-    sweep("bp_parameterize good chart + closed chart (10 iterations)", call_parameterize, &P, BP_ERR_CHARTS_FAILED);
+    P.opt.cut = BP_CUT_NONE;
+    sweep("bp_parameterize good chart + closed chart, --cut none (10 iterations)", call_parameterize, &P,
+          BP_ERR_CHARTS_FAILED);
 
     memset(&P, 0, sizeof P);
     P.m = &mixed;
@@ -342,12 +345,12 @@ int main(void)
     P.opt.energy = BP_ENERGY_MIPS;
     P.opt.direction = BP_DIRECTION_LBFGS;
     P.opt.strict = 0;
-    sweep("bp_parameterize good + closed, MIPS, plain L-BFGS (5 iterations)", call_parameterize, &P,
-          BP_ERR_CHARTS_FAILED);
+    sweep("bp_parameterize good + closed (cut into a disk, >>cut), MIPS, plain L-BFGS (5 iterations)",
+          call_parameterize, &P, BP_OK);
 
     /* a mesh of extreme size (2^-400): solved on a rescaled copy, one more
-       allocation path; and a local defect (a zero-area triangle fails only
-       its chart) */
+       allocation path; and a closed chart with a zero-area triangle:
+       repaired and cut by default, failing only its chart with cut none */
     {
         bp_mesh tiny = holed_grid(6, 6, 0), flat = holed_grid(6, 6, 1);
         uint32_t i;
@@ -362,22 +365,25 @@ int main(void)
             flat.positions[3 * (flat.num_vertices - 1) + i] = 0.5 * (flat.positions[3 * (flat.num_vertices - 4) + i] +
                                                                      flat.positions[3 * (flat.num_vertices - 3) + i]);
         P.m = &flat;
-        sweep("bp_parameterize good chart + chart with a zero-area triangle", call_parameterize, &P,
-              BP_ERR_CHARTS_FAILED);
+        sweep("bp_parameterize good chart + closed chart with a zero-area triangle (repaired and cut)",
+              call_parameterize, &P, BP_OK);
+        P.opt.cut = BP_CUT_NONE;          /* the closed chart then fails alone */
+        sweep("bp_parameterize good chart + closed chart with a zero-area triangle, cut none",
+              call_parameterize, &P, BP_ERR_CHARTS_FAILED);
         bpt_mesh_free(&tiny);
         bpt_mesh_free(&flat);
     }
 
     /* charts as parallel tasks (a user parallel_for): two holed disks of
-       equal size and a closed chart */
+       equal size and a closed chart (cut into a disk by >>cut) */
     {
         bp_mesh disk = holed_grid(6, 6, 0), twin = concat(&disk, &mixed, 20);
         memset(&P, 0, sizeof P);
         P.m = &twin;
         P.opt.max_iterations = 10;
         P.opt.parallel_for = reverse_for;
-        sweep("bp_parameterize 3 charts as tasks of a user parallel_for (10 iterations)", call_parameterize, &P,
-              BP_ERR_CHARTS_FAILED);
+        sweep("bp_parameterize 3 charts (one cut) as tasks of a user parallel_for (10 iterations)",
+              call_parameterize, &P, BP_OK);
         bpt_mesh_free(&twin);
         bpt_mesh_free(&disk);
     }
@@ -418,6 +424,7 @@ int main(void)
         counter_reset(0);
         o.allocator = test_allocator();
         o.max_iterations = 5;
+        o.cut = BP_CUT_NONE;      /* keep the closed chart failed: the writer skips it */
         if (BPT_CHECK(bp_parameterize(&at, &mixed, &o, &err) == BP_ERR_CHARTS_FAILED, "mixed atlas for the write") &&
             BPT_CHECK(mkdtemp(dir) != NULL, "mkdtemp")) {
             write_ctx W;

@@ -564,6 +564,7 @@ static void test_closed(void)
     bp_error err;
     bp_options o = defaults();
     bp_status st;
+    o.cut = BP_CUT_NONE;      /* the rejection; the default cuts (test_cut.c) */
     tetra(&m, 0, 0, 0);
     /* the mesh's only chart fails: nothing is usable, so the call fails
        with the chart's own status (not "some charts failed") and the atlas
@@ -590,6 +591,7 @@ static void test_closed(void)
         bp_mesh t;
         if (BPT_CHECK(bp_read_obj("tests/data/torus_with_holes.obj", &t, NULL, &err) == BP_OK, "read torus_with_holes")) {
             o = defaults();
+            o.cut = BP_CUT_NONE;
             st = bp_parameterize(&at, &t, &o, &err);
             BPT_CHECK(st == BP_ERR_TOPOLOGY && at.charts == NULL && strstr(err.message, "genus 1") &&
                           strstr(err.message, "seams") && err.element == BP_ELEMENT_CHART && err.index == 0 &&
@@ -621,6 +623,7 @@ static void test_mixed(void)
     memcpy(m.positions, g.positions, 3 * g.num_vertices * sizeof(double));
     memcpy(m.triangles, g.triangles, 3 * g.num_triangles * sizeof(uint32_t));
     tetra(&m, g.num_vertices, g.num_triangles, 10);
+    o.cut = BP_CUT_NONE;
     st = bp_parameterize(&at, &m, &o, &err);
     BPT_CHECK(st == BP_ERR_CHARTS_FAILED && err.element == BP_ELEMENT_CHART && err.index == 1 &&
                   bpt_has_number(err.message, 1),

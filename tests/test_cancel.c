@@ -166,9 +166,10 @@ static void cancel_in_run(bp_stage stage, int nth, int views)
     BPT_CHECK(r.calls_after == 0 && !r.bad_fraction,
               "cancel at %s #%d: the callback is not called again after it said stop (%d), fractions in [0,1]",
               bp_stage_name(stage), nth, r.calls_after);
-    if (stage == BP_STAGE_CHARTS)
-        BPT_CHECK(at.num_charts == 0 && at.charts == NULL, "cancel at charts: no atlas (%u charts)", at.num_charts);
-    if ((stage == BP_STAGE_START && nth == 1) || stage == BP_STAGE_VISIBILITY)
+    if (stage == BP_STAGE_CHARTS || stage == BP_STAGE_VISIBILITY)   /* visibility comes first (it guides the seams) */
+        BPT_CHECK(at.num_charts == 0 && at.charts == NULL, "cancel at %s: no atlas (%u charts)", bp_stage_name(stage),
+                  at.num_charts);
+    if (stage == BP_STAGE_START && nth == 1)
         BPT_CHECK(at.num_charts == 6 && mapped == 0 && at.num_failed == 6,
                   "cancel at %s before any start map: 6 charts, none mapped, each failed with BP_ERR_CANCELLED (%d)",
                   bp_stage_name(stage), mapped);
