@@ -40,9 +40,11 @@
       >>tutte          Tutte / Floater start with filled holes        (sec 3.4.1, 3.6)
       >>rest           isometric flattening of each triangle          (sec 3.1)
       >>energy         distortion energies and gradients              (sec 3.2)
+      >>hessian        their projected (PSD) Hessians, closed form
       >>barrier        boundary barrier with a spatial hash           (sec 3.3)
       >>stepbound      singularity-aware maximum step                 (sec 3.4.2)
       >>lbfgs          search directions and the line search          (sec 3.4, 3.5)
+      >>newton         projected Newton direction
       >>pack           texel density, rotation, outline packing, padding
       >>pins           pinned vertices: the homotopy to the targets
       >>driver         charts -> start -> optimize -> pack
@@ -256,7 +258,9 @@ typedef enum bp_direction {
                                         as initial Hessian (far fewer iterations)  */
     BP_DIRECTION_LBFGS,              /* the dissertation's L-BFGS, scalar initial
                                         Hessian (sec 3.5, Algorithm 1)             */
-    BP_DIRECTION_GRADIENT            /* gradient descent (for comparison)          */
+    BP_DIRECTION_GRADIENT,           /* gradient descent (for comparison)          */
+    BP_DIRECTION_NEWTON              /* projected Newton: per-triangle Hessians
+                                        projected to PSD, sparse LDL^T (>>newton)  */
 } bp_direction;
 
 typedef enum bp_stop {
@@ -5345,7 +5349,9 @@ done:
 }
 
 /* The values of L, U and D, one row k at a time, in parallel phases along
-   the dissection tree (see bp__fact_rows). */
+   the dissection tree (see bp__fact_rows).  Arrays already allocated are
+   reused: a new matrix on the same pattern is refactored in place
+   (>>newton).  Returns 0 out of memory. */
 static int bp__fact_numeric(const bp_allocator *a, const bp__sparse *A, bp__factor *F, const uint32_t *tpos,
                             const bp__par *par)
 {
@@ -5353,8 +5359,8 @@ static int bp__fact_numeric(const bp_allocator *a, const bp__sparse *A, bp__fact
     bp__fact_task T;
     int phase, ok = 0;
     memset(&T, 0, sizeof T);
-    F->Rx = (double *)bp__alloc_array(a, nnzL, sizeof(double));
-    if (!A->symmetric) F->Ux = (double *)bp__alloc_array(a, nnzL, sizeof(double));
+    if (!F->Rx) F->Rx = (double *)bp__alloc_array(a, nnzL, sizeof(double));
+    if (!A->symmetric && !F->Ux) F->Ux = (double *)bp__alloc_array(a, nnzL, sizeof(double));
     T.x = (double *)bp__calloc_array(a, n, sizeof(double));
     T.y = (double *)bp__calloc_array(a, n, sizeof(double));
     T.xs = (double *)bp__calloc_array(a, BP__FACT_PARTS * (size_t)n, sizeof(double));
@@ -7260,6 +7266,161 @@ static double bp__triangle_energy(bp_energy kind, const bp__rest *r, const doubl
     return e;
 }
 
+/* >>hessian ================================================================
+
+   For Newton's method (>>newton) each E_t also needs its second derivative,
+   and a positive semidefinite one, since a Newton step is a descent
+   direction only when the matrix it inverts is positive definite.  These
+   energies are isotropic -- f(J) depends on J only through its singular
+   values -- and for such energies the Hessian in the 4 entries of J has a
+   closed-form eigensystem (Smith, de Goes & Kim 2019, "Analytic eigensystems
+   for isotropic distortion energies", sec 4-5 in 2D).  Write the SVD as
+   J = U diag(s_max, s_min) V^T (det J > 0 here, so no reflection).  Then,
+   with f_a, f_b the partials and f_aa, f_ab, f_bb the second partials in
+   (s_max, s_min):
+     twist   U [0 -1; 1 0] V^T / sqrt2,   lambda = (f_a + f_b) / (s_max + s_min)
+     flip    U [0  1; 1 0] V^T / sqrt2,   lambda = (f_a - f_b) / (s_max - s_min)
+     scaling U diag(1,0) V^T, U diag(0,1) V^T: the 2x2 block [f_aa f_ab; f_ab f_bb].
+   No SVD is needed: with the E, F, G, H, Q, R of >>energy,
+       U diag(1,0) V^T + U diag(0,1) V^T = [E -H; H E] / Q      (the rotation part)
+       U diag(1,0) V^T - U diag(0,1) V^T = [F G; G -F] / R      (the reflection part)
+       twist = [-H -E; E -H] / (sqrt2 Q),   flip = [-G F; F G] / (sqrt2 R),
+   four orthonormal 2x2 matrices (at R = 0 any reflection direction serves;
+   [1 0; 0 -1] is taken).  The projection onto the positive semidefinite
+   cone clamps each of the four eigenvalues (the scaling block after its
+   own 2x2 eigen-decomposition) at 0: closed form, no iteration.
+
+   The flip eigenvalue divides by s_max - s_min.  For the symmetric
+   energies the quotient has a closed form without the division:
+       symmetric Dirichlet: 2 + 2 (s_max^2 + s_max s_min + s_min^2) / (s_max s_min)^3,
+       MIPS: 1 / (s_max s_min) + (s_max^2 + s_max s_min + s_min^2) / (s_max s_min)^2.
+   Conformal, isometric and maximal isometric have a kink at s_max = s_min
+   (see >>energy): their curvature there is infinite, and the code divides
+   by max(s_max - s_min, 1e-4 s_max), a finite stand-in for the kink.  The
+   maximal isometric energy max(s_max, 1/s_min) is non-smooth also where
+   s_max s_min = 1; the Hessian used is that of the active piece (s_max
+   alone: zero scaling curvature; 1/s_min alone), exact everywhere off the
+   switching set and a generalized Hessian on it.
+
+   The Hessian in the 6 UV coordinates follows from J = D M^-1 being linear
+   in them: the x coordinates of the corners move row 0 of J, the y
+   coordinates row 1, corner k by the vector g_k (g_2 = (m00, m01),
+   g_3 = (0, m11), g_1 = -g_2 - g_3: the rows of M^-1 read as in >>energy),
+       d^2 E_t / dU_k,alpha dU_l,beta = weight sum_pq g_k[p] H4(2 alpha + p, 2 beta + q) g_l[q],
+   a congruence, so a positive semidefinite H4 gives a positive
+   semidefinite 6x6 block. */
+
+/* Second partials (f_aa, f_ab, f_bb) and the twist and flip eigenvalues of
+   one energy at (sa, sb) = (s_max, s_min), given its partials fa, fb. */
+static void bp__energy_sv2(bp_energy kind, double sa, double sb, double fa, double fb, double h[3],
+                           double *twist, double *flip)
+{
+    double p = sa * sb, den = sa - sb > 1e-4 * sa ? sa - sb : 1e-4 * sa, r;
+    *twist = (fa + fb) / (sa + sb);
+    *flip = (fa - fb) / den;
+    switch (kind) {
+    case BP_ENERGY_CONFORMAL:                     /* sa / sb */
+        h[0] = 0; h[1] = -1 / (sb * sb); h[2] = 2 * sa / (sb * sb * sb);
+        break;
+    case BP_ENERGY_MIPS:                          /* sa / sb + sb / sa */
+        h[0] = 2 * sb / (sa * sa * sa); h[1] = -1 / (sb * sb) - 1 / (sa * sa); h[2] = 2 * sa / (sb * sb * sb);
+        *flip = 1 / p + (sa * sa + p + sb * sb) / (p * p);
+        break;
+    case BP_ENERGY_ISOMETRIC:                     /* r = sqrt(sa^2 + sb^-2) */
+        r = sqrt(sa * sa + 1 / (sb * sb));
+        h[0] = 1 / (sb * sb * r * r * r);
+        h[1] = sa / (sb * sb * sb * r * r * r);
+        h[2] = 3 / (sb * sb * sb * sb * r) - 1 / (sb * sb * sb * sb * sb * sb * r * r * r);
+        break;
+    case BP_ENERGY_MAX_ISOMETRIC:                 /* the active piece */
+        h[0] = h[1] = 0;
+        h[2] = sa >= 1 / sb ? 0 : 2 / (sb * sb * sb);
+        break;
+    default:                                      /* symmetric Dirichlet */
+        h[0] = 2 + 6 / (sa * sa * sa * sa); h[1] = 0; h[2] = 2 + 6 / (sb * sb * sb * sb);
+        *flip = 2 + 2 * (sa * sa + p + sb * sb) / (p * p * p);
+        break;
+    }
+}
+
+/* The 4x4 Hessian of f(J) in J's entries (a, b, c, d) = (J00, J01, J10,
+   J11), row major into h4; with `project`, its positive semidefinite
+   projection.  Returns 0 when J is not positively oriented. */
+static int bp__hessian_j(bp_energy kind, const double J[4], int project, double h4[16])
+{
+    double a = J[0], b = J[1], c = J[2], d = J[3];
+    double E = 0.5 * (a + d), F = 0.5 * (a - d), G = 0.5 * (c + b), H = 0.5 * (c - b);
+    double Q = sqrt(E * E + H * H), R = sqrt(F * F + G * G), det = a * d - b * c;
+    double sa, sb, fa, fb, hs[3], tw, fl, rot[4], ref[4], m[4][4], lam[4], s2 = sqrt(0.5);
+    double t, c1, c2, l1, l2, hv;
+    int i, j, k;
+    if (!(det > 0)) return 0;
+    sa = Q + R;
+    sb = det / sa;
+    bp__energy_sv(kind, sa, sb, &fa, &fb);
+    bp__energy_sv2(kind, sa, sb, fa, fb, hs, &tw, &fl);
+    rot[0] = E / Q; rot[1] = -H / Q; rot[2] = H / Q; rot[3] = E / Q;
+    if (R > 0) { ref[0] = F / R; ref[1] = G / R; ref[2] = G / R; ref[3] = -F / R; }
+    else { ref[0] = 1; ref[1] = 0; ref[2] = 0; ref[3] = -1; }
+    /* twist and flip: [-H -E; E -H] / Q and [-G F; F G] / R, over sqrt2 */
+    m[0][0] = -rot[2] * s2; m[0][1] = -rot[0] * s2; m[0][2] = rot[0] * s2; m[0][3] = -rot[2] * s2;
+    m[1][0] = -ref[1] * s2; m[1][1] = ref[0] * s2; m[1][2] = ref[0] * s2; m[1][3] = ref[1] * s2;
+    lam[0] = tw; lam[1] = fl;
+    /* the scaling block in the basis D1 = (rot + ref) / 2, D2 = (rot - ref) / 2:
+       eigenvalues l1 >= l2 of [h0 h1; h1 h2], eigenvector (c1, c2) of l1 */
+    t = sqrt(0.25 * (hs[0] - hs[2]) * (hs[0] - hs[2]) + hs[1] * hs[1]);
+    l1 = 0.5 * (hs[0] + hs[2]) + t;
+    l2 = 0.5 * (hs[0] + hs[2]) - t;
+    if (t > 0) {
+        /* (h1, l1 - h0) or (l1 - h2, h1): the better conditioned of the two */
+        double x1 = hs[1], y1 = l1 - hs[0], x2 = l1 - hs[2], y2 = hs[1];
+        if (x1 * x1 + y1 * y1 >= x2 * x2 + y2 * y2) { c1 = x1; c2 = y1; } else { c1 = x2; c2 = y2; }
+        hv = sqrt(c1 * c1 + c2 * c2);
+        c1 /= hv; c2 /= hv;
+    } else { c1 = 1; c2 = 0; }
+    for (k = 0; k < 4; k++) {
+        double d1 = 0.5 * (rot[k] + ref[k]), d2 = 0.5 * (rot[k] - ref[k]);
+        m[2][k] = c1 * d1 + c2 * d2;         /* eigenvector of l1 */
+        m[3][k] = -c2 * d1 + c1 * d2;        /* eigenvector of l2 */
+    }
+    lam[2] = l1; lam[3] = l2;
+    for (i = 0; i < 4; i++)
+        for (j = 0; j < 4; j++) {
+            double s = 0;
+            for (k = 0; k < 4; k++)
+                if (!project || lam[k] > 0) s += lam[k] * m[k][i] * m[k][j];
+            h4[4 * i + j] = s;
+        }
+    return 1;
+}
+
+/* The 6x6 Hessian of weight * E_t in (u1x, u1y, u2x, u2y, u3x, u3y), row
+   major into h6 (projected to positive semidefinite with `project`).
+   Returns 0 (h6 untouched) for a triangle that is not positive. */
+static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double *u1, const double *u2,
+                                const double *u3, int project, double h6[36])
+{
+    double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
+    double J[4], h4[16], gk[3][2];
+    int k, l, al, be, p, q;
+    J[0] = d00 * r->m00; J[1] = d00 * r->m01 + d01 * r->m11;
+    J[2] = d10 * r->m00; J[3] = d10 * r->m01 + d11 * r->m11;
+    if (!bp__hessian_j(kind, J, project, h4)) return 0;
+    gk[1][0] = r->m00; gk[1][1] = r->m01;
+    gk[2][0] = 0;      gk[2][1] = r->m11;
+    gk[0][0] = -r->m00; gk[0][1] = -r->m01 - r->m11;
+    for (k = 0; k < 3; k++)
+        for (al = 0; al < 2; al++)
+            for (l = 0; l < 3; l++)
+                for (be = 0; be < 2; be++) {
+                    double s = 0;
+                    for (p = 0; p < 2; p++)
+                        for (q = 0; q < 2; q++) s += gk[k][p] * h4[4 * (2 * al + p) + 2 * be + q] * gk[l][q];
+                    h6[6 * (2 * k + al) + 2 * l + be] = r->weight * s;
+                }
+    return 1;
+}
+
 /* >>barrier ================================================================
 
    Sec 3.3.  Positive triangles make the map locally injective, not
@@ -8583,6 +8744,486 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
 #undef BP__Y
 #undef BP__SLOT
 
+/* >>newton =================================================================
+
+   Projected Newton (beyond the dissertation; BP_DIRECTION_NEWTON).  L-BFGS
+   learns the curvature from the last few steps and needs 1,000-3,000
+   iterations on large charts; Newton's method takes it from the energy
+   itself and needs tens.  Each iteration solves
+       (H + delta I) v = -g,
+   H the sum of every triangle's projected Hessian (>>hessian) plus a
+   positive semidefinite part of the barrier's, and hands v to the same
+   step bound, line search and exact checks as every other direction (the
+   first trial step is 1, clipped at 0.9 of the bound), so every iterate
+   stays bijective.  H is positive semidefinite by construction; the shift
+   delta = 1e-8 mean diag(H) makes it definite (translations, and the
+   rotation of a chart at a rotation-invariant minimum, are exact null
+   directions).  If the factorization still meets a pivot that is not
+   positive and finite, or v is not a descent direction, the iteration
+   falls back to a gradient step (the caller's code).
+
+   The barrier.  E_B = sum f(d) over boundary vertex / edge pairs closer
+   than eps, f(d) = (eps / d - 1)^2 (>>barrier), has the Gauss-Newton part
+   f''(d) grad d grad d^T, f'' = 2 eps^2 / d^4 + 4 (eps / d - 1) eps / d^3
+   >= 0 (the other part, f'(d) times the Hessian of the distance, is
+   dropped: f' < 0), with grad d = c_i n on the vertex (c = 1) and the
+   edge's ends (c = -(1 - s), -s; n the unit direction from the closest
+   point).  Its pairs join a vertex to an edge anywhere on the boundary,
+   outside the mesh's pattern, and they come and go as the map moves.
+   Four treatments were measured (BP__NEWTON_BARRIER; docs/performance.md
+   sec 5):
+     0  none: the barrier is left to the line search;
+     1  the three diagonal 2x2 blocks f'' c_i^2 n n^T of each pair (each
+        positive semidefinite, pattern fixed), which also penalize moving
+        the vertex and its edge together: camel_b stalls at 4.4;
+     2  those blocks in the factored matrix and the full terms through
+        conjugate gradients preconditioned by it (30 solves an iteration);
+     3  (default) the full terms in the pattern: the vertex couplings of
+        every pair closer than 3 eps join the pattern, which is then
+        analysed again (bp__newton_grow); the pattern only grows, at most
+        once every 8 factorizations, and until a pair's couplings are in it
+        the pair gives its diagonal blocks.  Every term is positive
+        semidefinite either way.
+
+   The system is the 2nv x 2nv matrix with the mesh Laplacian's pattern in
+   2x2 blocks (x and y of a vertex interleaved, as in the map), plus the
+   barrier's couplings.  Its pattern is built once per chart (and again
+   when the barrier grows it), with the position of each triangle's 36
+   entries in it; the first factorization of a pattern runs bp__factorize
+   (ordering and symbolic analysis: the elimination tree and the exact
+   pattern of L) and every later one only its numeric phase,
+   bp__fact_numeric, on the same pattern of L (bp__newton_refactor), whose
+   rows run in the same phases along the dissection tree, so the result is
+   the same bits on any number of threads.  The triangles' Hessians are
+   computed in parallel chunks, each into its own slots, and added into the
+   matrix in triangle order.
+
+   Pins (>>pins) are fixed variables here too: a held vertex's rows and
+   columns are those of the identity (bp__newton_pins), its right-hand side
+   is 0, and the direction is exactly 0 there; the homotopy's pull adds its
+   own curvature 2 w to the pinned diagonal. */
+
+#ifndef BP__NEWTON_BARRIER
+#define BP__NEWTON_BARRIER 3
+#endif
+#ifndef BP__NEWTON_CG_MAX
+#define BP__NEWTON_CG_MAX 30
+#endif
+#ifndef BP__NEWTON_CG_TOL
+#define BP__NEWTON_CG_TOL 1e-8
+#endif
+
+/* One barrier pair's Gauss-Newton term f'' w w^T: w = c_i n on vertices
+   v[0] (c = 1), v[1] (c = -(1 - s)), v[2] (c = -s). */
+typedef struct bp__bpair { uint32_t v[3]; double s, nx, ny, f2; } bp__bpair;
+
+typedef struct bp__newton {
+    bp__sparse H;                 /* 2nv x 2nv, full symmetric pattern      */
+    bp__factor F;
+    int        factored;          /* ordering and pattern of L are known    */
+    uint32_t  *tpos;              /* 36 per triangle: its entries in H.val  */
+    uint32_t  *dpos;              /* 4 per vertex: its 2x2 diagonal block   */
+    double    *ht;                /* 36 per triangle: its Hessian           */
+    double    *bd;                /* 3 per vertex: barrier block xx, xy, yy */
+    double    *rhs, *z;
+    double    *r, *p, *q;         /* conjugate gradients (the barrier pairs) */
+    bp__vec    pairs;             /* bp__bpair: the barrier's pairs at x     */
+    bp__vec    extra;             /* vertex couplings added to the pattern   */
+    bp__vec    near;              /* bp__bpair: pairs within 3 eps at x      */
+    int        since_grow;        /* factorizations since the pattern grew   */
+    int        oom;
+    bp__solver *S;                /* for the chunk tasks                    */
+    const double *x;
+    const uint32_t *hold;         /* pins, chart vertex -> pin or BP__NONE:  */
+    const uint32_t *pull;         /*   held fixed, or pulled with weight    */
+    double     pull_w;            /*   pull_w (the homotopy, >>pins)        */
+} bp__newton;
+
+static void bp__newton_free(const bp_allocator *a, bp__newton *N)
+{
+    bp__sparse_free(a, &N->H);
+    bp__factor_free(a, &N->F);
+    bp__free(a, N->tpos); bp__free(a, N->dpos); bp__free(a, N->ht); bp__free(a, N->bd);
+    bp__free(a, N->rhs); bp__free(a, N->z);
+    bp__free(a, N->r); bp__free(a, N->p); bp__free(a, N->q); bp__free(a, N->pairs.data);
+    bp__free(a, N->extra.data); bp__free(a, N->near.data);
+    memset(N, 0, sizeof *N);
+}
+
+/* Position of entry (i, j) in the compressed columns (it must exist). */
+static uint32_t bp__sparse_find(const bp__sparse *A, uint32_t i, uint32_t j)
+{
+    uint32_t lo = A->colp[j], hi = A->colp[j + 1];
+    while (hi - lo > 1) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (A->row[mid] <= i) lo = mid; else hi = mid;
+    }
+    return lo;
+}
+
+/* Position of entry (i, j), or BP__NONE when the pattern lacks it. */
+static uint32_t bp__sparse_has(const bp__sparse *A, uint32_t i, uint32_t j)
+{
+    uint32_t p = A->colp[j] < A->colp[j + 1] ? bp__sparse_find(A, i, j) : BP__NONE;
+    return p != BP__NONE && A->row[p] == i ? p : BP__NONE;
+}
+
+/* The pattern of H (all values 0): the triangles' blocks, every vertex's
+   diagonal block and the 2x2 blocks of the vertex couplings in `extra`
+   (barrier pairs met so far); and where each triangle's and each vertex's
+   entries lie in it.  Any factorization of the old pattern is dropped. */
+static bp_status bp__newton_pattern(bp__newton *N, const bp_allocator *a, bp__solver *S)
+{
+    uint32_t n = 2 * S->nv, t, v, k, l;
+    const uint32_t *ex = (const uint32_t *)N->extra.data;
+    size_t nt = 0, e;
+    bp__trip *tr = (bp__trip *)bp__alloc_array(a, 36 * (size_t)S->nt + n + 8 * N->extra.count, sizeof(bp__trip));
+    if (!tr) return BP_ERR_OUT_OF_MEMORY;
+    for (t = 0; t < S->nt; t++)
+        for (k = 0; k < 6; k++)
+            for (l = 0; l < 6; l++) {
+                tr[nt].i = 2 * S->tri[3 * (size_t)t + k / 2] + k % 2;
+                tr[nt].j = 2 * S->tri[3 * (size_t)t + l / 2] + l % 2;
+                tr[nt++].v = 0;
+            }
+    for (v = 0; v < n; v++) { tr[nt].i = tr[nt].j = v; tr[nt++].v = 0; }
+    for (e = 0; e < N->extra.count; e++)
+        for (k = 0; k < 4; k++) {
+            tr[nt].i = 2 * ex[2 * e] + k % 2; tr[nt].j = 2 * ex[2 * e + 1] + k / 2; tr[nt++].v = 0;
+            tr[nt].j = 2 * ex[2 * e] + k % 2; tr[nt].i = 2 * ex[2 * e + 1] + k / 2; tr[nt++].v = 0;
+        }
+    bp__sparse_free(a, &N->H);
+    bp__factor_free(a, &N->F);
+    N->factored = 0;
+    N->H.symmetric = 1;
+    if (!bp__sparse_from_triplets(a, n, tr, nt, &N->H)) { bp__free(a, tr); return BP_ERR_OUT_OF_MEMORY; }
+    bp__free(a, tr);
+    for (t = 0; t < S->nt; t++)
+        for (k = 0; k < 6; k++)
+            for (l = 0; l < 6; l++)
+                N->tpos[36 * (size_t)t + 6 * k + l] =
+                    bp__sparse_find(&N->H, 2 * S->tri[3 * (size_t)t + k / 2] + k % 2, 2 * S->tri[3 * (size_t)t + l / 2] + l % 2);
+    for (v = 0; v < S->nv; v++)
+        for (k = 0; k < 4; k++) N->dpos[4 * (size_t)v + k] = bp__sparse_find(&N->H, 2 * v + k % 2, 2 * v + k / 2);
+    return BP_OK;
+}
+
+static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solver *S)
+{
+    uint32_t n = 2 * S->nv;
+    memset(N, 0, sizeof *N);
+    N->extra.elem = 2 * sizeof(uint32_t);
+    N->pairs.elem = sizeof(bp__bpair);
+    N->near.elem = sizeof(bp__bpair);
+    N->tpos = (uint32_t *)bp__alloc_array(a, 36 * (size_t)S->nt, sizeof(uint32_t));
+    N->dpos = (uint32_t *)bp__alloc_array(a, 4 * (size_t)S->nv, sizeof(uint32_t));
+    N->ht = (double *)bp__calloc_array(a, 36 * (size_t)S->nt, sizeof(double));
+    N->bd = (double *)bp__alloc_array(a, 3 * (size_t)S->nv, sizeof(double));
+    N->rhs = (double *)bp__alloc_array(a, n, sizeof(double));
+    N->z = (double *)bp__alloc_array(a, n, sizeof(double));
+    N->r = (double *)bp__alloc_array(a, n, sizeof(double));
+    N->p = (double *)bp__alloc_array(a, n, sizeof(double));
+    N->q = (double *)bp__alloc_array(a, n, sizeof(double));
+    if (!N->tpos || !N->dpos || !N->ht || !N->bd || !N->rhs || !N->z || !N->r || !N->p || !N->q ||
+        bp__newton_pattern(N, a, S) != BP_OK) {
+        bp__newton_free(a, N);
+        return BP_ERR_OUT_OF_MEMORY;
+    }
+    return BP_OK;
+}
+
+/* Mode 3: every coupling of a barrier pair (vertex-vertex, both ends of the
+   edge) must be in H's pattern; the missing ones are added to `extra` and
+   the pattern is rebuilt (a new ordering and symbolic analysis).  The
+   pattern only grows, and the pairs settle after the first iterations, so
+   this happens a few times per chart.  Returns 0 out of memory. */
+static int bp__newton_grow(bp__newton *N, bp__solver *S)
+{
+    const bp__bpair *pr = (const bp__bpair *)N->near.data;
+    size_t k, before = N->extra.count;
+    int i, j;
+    for (k = 0; k < N->near.count; k++)
+        for (i = 0; i < 3; i++)
+            for (j = i + 1; j < 3; j++) {
+                uint32_t u = pr[k].v[i], w = pr[k].v[j], uw[2];
+                if (u == w || bp__sparse_has(&N->H, 2 * u, 2 * w) != BP__NONE) continue;
+                uw[0] = u; uw[1] = w;
+                if (!bp__vec_push(S->a, &N->extra, uw)) return 0;
+            }
+    if (N->extra.count == before) return 1;
+    if (N->since_grow < 8 && N->factored) { N->extra.count = before; return 1; }   /* not yet: blocks for now */
+    N->since_grow = 0;
+    return bp__newton_pattern(N, S->a, S) == BP_OK;
+}
+
+/* Triangle chunk c: the projected Hessians into ht. */
+static void bp__newton_tri_task(void *task, uint32_t c)
+{
+    bp__newton *N = (bp__newton *)task;
+    bp__solver *S = N->S;
+    uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
+    for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        double *h = N->ht + 36 * (size_t)t;
+        if (!bp__triangle_hessian(S->energy, &S->rest[t], N->x + 2 * (size_t)tr[0], N->x + 2 * (size_t)tr[1],
+                                  N->x + 2 * (size_t)tr[2], 1, h))
+            memset(h, 0, 36 * sizeof(double));
+    }
+}
+
+/* The barrier's diagonal blocks for the pairs of one edge query. */
+typedef struct bp__bhess_query {
+    const bp__solver *S;
+    const double *x;
+    double *bd;
+    bp__vec *pairs, *near;      /* pairs within eps; within 3 eps (mode 3) */
+    int oom;
+    uint32_t s0, n, i;
+} bp__bhess_query;
+
+static void bp__barrier_hess_visit(void *user, uint32_t k)
+{
+    bp__bhess_query *Q = (bp__bhess_query *)user;
+    const bp__solver *S = Q->S;
+    uint32_t kk = k - Q->s0, i1 = (Q->i + 1) % Q->n, vv[3];
+    const double *A, *B, *P;
+    double ex, ey, len2, sp, dx, dy, d, r, f2, nx, ny, cc[3];
+    int j;
+    if (kk == Q->i || kk == i1) return;
+    vv[0] = S->loop_vertices[k]; vv[1] = S->loop_vertices[Q->s0 + Q->i]; vv[2] = S->loop_vertices[Q->s0 + i1];
+    P = Q->x + 2 * (size_t)vv[0]; A = Q->x + 2 * (size_t)vv[1]; B = Q->x + 2 * (size_t)vv[2];
+    ex = B[0] - A[0]; ey = B[1] - A[1];
+    len2 = ex * ex + ey * ey;
+    sp = len2 > 0 ? ((P[0] - A[0]) * ex + (P[1] - A[1]) * ey) / len2 : 0;
+    if (sp < 0) sp = 0;
+    if (sp > 1) sp = 1;
+    dx = P[0] - (A[0] + sp * ex); dy = P[1] - (A[1] + sp * ey);
+    d = sqrt(dx * dx + dy * dy);
+    if (Q->near && d < 3 * S->eps) {
+        bp__bpair nb;
+        memset(&nb, 0, sizeof nb);
+        nb.v[0] = vv[0]; nb.v[1] = vv[1]; nb.v[2] = vv[2];
+        if (!bp__vec_push(S->a, Q->near, &nb)) Q->oom = 1;
+    }
+    if (!(d < S->eps) || !(d > 0)) return;
+    r = S->eps / d - 1;
+    f2 = 2 * S->eps * S->eps / (d * d * d * d) + 4 * r * S->eps / (d * d * d);   /* f''(d) */
+    nx = dx / d; ny = dy / d;
+    cc[0] = 1; cc[1] = -(1 - sp); cc[2] = -sp;
+    {
+        bp__bpair bp;
+        bp.v[0] = vv[0]; bp.v[1] = vv[1]; bp.v[2] = vv[2];
+        bp.s = sp; bp.nx = nx; bp.ny = ny; bp.f2 = f2;
+        if (!bp__vec_push(S->a, Q->pairs, &bp)) Q->oom = 1;
+    }
+    for (j = 0; j < 3; j++) {
+        double w = f2 * cc[j] * cc[j];
+        Q->bd[3 * (size_t)vv[j]] += w * nx * nx;
+        Q->bd[3 * (size_t)vv[j] + 1] += w * nx * ny;
+        Q->bd[3 * (size_t)vv[j] + 2] += w * ny * ny;
+    }
+}
+
+/* bd = the barrier's diagonal blocks at x: every boundary edge queries the
+   hash (filled here with x), serially, in edge order. */
+static void bp__newton_barrier(bp__newton *N, bp__solver *S, const double *x)
+{
+    uint32_t e;
+    bp__bhess_query Q;
+    double rad = (BP__NEWTON_BARRIER == 3 ? 3 : 1) * S->eps;
+    memset(N->bd, 0, 3 * (size_t)S->nv * sizeof(double));
+    N->pairs.count = 0;
+    if (!S->barrier || !BP__NEWTON_BARRIER) return;
+    bp__hash_fill(S, x, NULL, 0);
+    Q.S = S;
+    Q.x = x;
+    Q.bd = N->bd;
+    Q.pairs = &N->pairs;
+    Q.near = BP__NEWTON_BARRIER == 3 ? &N->near : NULL;
+    N->near.count = 0;
+    Q.oom = 0;
+    for (e = 0; e < S->nb; e++) {
+        uint32_t L = S->bl_loop[e];
+        const double *p, *q;
+        Q.s0 = S->loop_start[L];
+        Q.n = S->loop_start[L + 1] - Q.s0;
+        Q.i = e - Q.s0;
+        p = x + 2 * (size_t)S->loop_vertices[e];
+        q = x + 2 * (size_t)S->loop_vertices[Q.s0 + (Q.i + 1) % Q.n];
+        bp__hash_query(&S->hash, L, (p[0] < q[0] ? p[0] : q[0]) - rad, (p[1] < q[1] ? p[1] : q[1]) - rad,
+                       (p[0] > q[0] ? p[0] : q[0]) + rad, (p[1] > q[1] ? p[1] : q[1]) + rad,
+                       bp__barrier_hess_visit, &Q);
+    }
+    if (Q.oom) N->oom = 1;
+}
+
+/* Pins (>>pins).  The homotopy's pull w sum_p |x_p - t_p|^2 adds 2 w to
+   the diagonal of each pinned coordinate.  A held vertex is a fixed
+   variable: its two rows and columns become those of the identity, so with
+   its right-hand side -g = 0 (bp__opt_hold zeroes g there) the solve gives
+   v = 0 there exactly (every product with the zeroed entries is 0), and
+   the other rows are the Newton system of the free coordinates alone. */
+static void bp__newton_pins(bp__newton *N, const bp__solver *S)
+{
+    uint32_t v, j, p;
+    if (N->pull)
+        for (v = 0; v < S->nv; v++)
+            if (N->pull[v] != BP__NONE) {
+                N->H.val[N->dpos[4 * (size_t)v]] += 2 * N->pull_w;
+                N->H.val[N->dpos[4 * (size_t)v + 3]] += 2 * N->pull_w;
+            }
+    if (N->hold)
+        for (j = 0; j < N->H.n; j++)
+            for (p = N->H.colp[j]; p < N->H.colp[j + 1]; p++)
+                if (N->hold[j / 2] != BP__NONE || N->hold[N->H.row[p] / 2] != BP__NONE)
+                    N->H.val[p] = N->H.row[p] == j ? 1 : 0;
+}
+
+/* H = sum of the triangles' blocks (in triangle order) + the barrier's
+   blocks + delta I, with the pins' rows (bp__newton_pins). */
+static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
+{
+    uint32_t t, v, k, n = N->H.n;
+    double trace = 0, delta;
+    N->S = S;
+    N->x = x;
+    S->par.run(S->par.user, bp__newton_tri_task, N, S->nchunk_t);
+    bp__newton_barrier(N, S, x);
+    if (BP__NEWTON_BARRIER == 3 && !bp__newton_grow(N, S)) { N->oom = 1; return; }
+    n = N->H.n;
+    memset(N->H.val, 0, (size_t)N->H.colp[n] * sizeof(double));
+    for (t = 0; t < S->nt; t++)
+        for (k = 0; k < 36; k++) N->H.val[N->tpos[36 * (size_t)t + k]] += N->ht[36 * (size_t)t + k];
+    if (BP__NEWTON_BARRIER == 3) {                  /* the pairs' full terms */
+        const bp__bpair *pr = (const bp__bpair *)N->pairs.data;
+        size_t q;
+        for (q = 0; q < N->pairs.count; q++) {
+            double c[3], nn[2];
+            int i, j, al, be, full = 1;       /* all couplings in the pattern, else only the blocks */
+            c[0] = 1; c[1] = -(1 - pr[q].s); c[2] = -pr[q].s;
+            nn[0] = pr[q].nx; nn[1] = pr[q].ny;
+            for (i = 0; i < 3; i++)
+                for (j = i + 1; j < 3; j++)
+                    if (bp__sparse_has(&N->H, 2 * pr[q].v[i], 2 * pr[q].v[j]) == BP__NONE) full = 0;
+            for (i = 0; i < 3; i++)
+                for (j = 0; j < 3; j++)
+                    for (al = 0; al < 2 && (full || i == j); al++)
+                        for (be = 0; be < 2; be++)
+                            N->H.val[bp__sparse_find(&N->H, 2 * pr[q].v[i] + al, 2 * pr[q].v[j] + be)] +=
+                                pr[q].f2 * c[i] * c[j] * nn[al] * nn[be];
+        }
+    }
+    for (v = 0; v < S->nv; v++) {
+        const uint32_t *dp = N->dpos + 4 * (size_t)v;
+        const double *b = N->bd + 3 * (size_t)v;
+        if (BP__NEWTON_BARRIER != 3) {
+            N->H.val[dp[0]] += b[0]; N->H.val[dp[1]] += b[1]; N->H.val[dp[2]] += b[1]; N->H.val[dp[3]] += b[2];
+        }
+        trace += N->H.val[dp[0]] + N->H.val[dp[3]];
+    }
+    delta = 1e-8 * trace / n;
+    for (v = 0; v < S->nv; v++) { N->H.val[N->dpos[4 * (size_t)v]] += delta; N->H.val[N->dpos[4 * (size_t)v + 3]] += delta; }
+    bp__newton_pins(N, S);
+}
+
+/* The numeric factorization alone, on the pattern bp__factorize found:
+   bp__fact_numeric's row phases along the dissection tree, on H's new
+   values, into the factor's existing arrays.  Returns 1, 0 when a pivot is
+   not positive and finite, -1 out of memory (its work arrays). */
+static int bp__newton_refactor(bp__newton *N, const bp_allocator *a, const bp__par *par)
+{
+    uint32_t k;
+    if (!bp__fact_numeric(a, &N->H, &N->F, NULL, par)) return -1;
+    for (k = 0; k < N->F.n; k++)
+        if (!(N->F.D[k] > 0) || !(N->F.D[k] < HUGE_VAL)) return 0;
+    return 1;
+}
+
+/* y = A x with A = M - blocks(B) + B: M the factored matrix, blocks(B)
+   the barrier's diagonal blocks in it, B the barrier's full Gauss-Newton
+   terms.  Serial, in a fixed order. */
+static void bp__newton_apply(const bp__newton *N, uint32_t nv, const double *x, double *y)
+{
+    const bp__sparse *H = &N->H;
+    const bp__bpair *pr = (const bp__bpair *)N->pairs.data;
+    uint32_t j, p, v;
+    size_t k;
+    for (j = 0; j < H->n; j++) y[j] = 0;
+    for (j = 0; j < H->n; j++)
+        for (p = H->colp[j]; p < H->colp[j + 1]; p++) y[H->row[p]] += H->val[p] * x[j];
+    for (v = 0; v < nv; v++) {
+        const double *b = N->bd + 3 * (size_t)v;
+        y[2 * v] -= b[0] * x[2 * v] + b[1] * x[2 * v + 1];
+        y[2 * v + 1] -= b[1] * x[2 * v] + b[2] * x[2 * v + 1];
+    }
+    for (k = 0; k < N->pairs.count; k++) {
+        const bp__bpair *q = pr + k;
+        double c[3], t = 0;
+        int i;
+        c[0] = 1; c[1] = -(1 - q->s); c[2] = -q->s;
+        for (i = 0; i < 3; i++) t += c[i] * (q->nx * x[2 * q->v[i]] + q->ny * x[2 * q->v[i] + 1]);
+        t *= q->f2;
+        for (i = 0; i < 3; i++) { y[2 * q->v[i]] += c[i] * t * q->nx; y[2 * q->v[i] + 1] += c[i] * t * q->ny; }
+    }
+}
+
+/* The barrier's pairs couple vertices that H's pattern does not: solve
+   A v = b (A above) by conjugate gradients preconditioned with the
+   factored M, starting from v = M^-1 b, until r.M^-1 r falls below 1e-8
+   of b.M^-1 b (at most 30 steps, each one solve with the factor). */
+static void bp__newton_pcg(bp__newton *N, uint32_t nv, const double *b, double *v)
+{
+    uint32_t n = N->H.n, i;
+    double rz = 0, rz0 = 0, pq, alpha, rzn;
+    int k;
+    double *r = N->r, *p = N->p, *q = N->q;
+    bp__newton_apply(N, nv, v, q);
+    for (i = 0; i < n; i++) { r[i] = b[i] - q[i]; rz0 += b[i] * v[i]; }
+    bp__factor_solve(&N->F, r, p, N->z);
+    for (i = 0; i < n; i++) rz += r[i] * p[i];
+    for (k = 0; k < BP__NEWTON_CG_MAX && rz > BP__NEWTON_CG_TOL * rz0; k++) {
+        bp__newton_apply(N, nv, p, q);
+        pq = 0;
+        for (i = 0; i < n; i++) pq += p[i] * q[i];
+        if (!(pq > 0)) break;
+        alpha = rz / pq;
+        for (i = 0; i < n; i++) { v[i] += alpha * p[i]; r[i] -= alpha * q[i]; }
+        bp__factor_solve(&N->F, r, q, N->z);              /* q = M^-1 r */
+        rzn = 0;
+        for (i = 0; i < n; i++) rzn += r[i] * q[i];
+        for (i = 0; i < n; i++) p[i] = q[i] + (rzn / rz) * p[i];
+        rz = rzn;
+    }
+}
+
+/* v = -(H + delta I)^-1 g at x, *gv = g.v.  Returns 0 when H could not be
+   factored (the caller then takes another direction), -1 out of memory. */
+static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, const double *g, double *v, double *gv)
+{
+    uint32_t n = N->H.n, i, bad;
+    double s = 0;
+    bp__newton_assemble(N, S, x);
+    if (N->oom) return -1;
+    if (!N->factored) {
+        bp_status st = bp__factorize(S->a, &N->H, &N->F, &bad, &S->par);
+        if (st == BP_ERR_OUT_OF_MEMORY) return -1;
+        if (st != BP_OK) return 0;
+        N->factored = 1;
+        for (i = 0; i < n; i++)
+            if (!(N->F.D[i] > 0) || !(N->F.D[i] < HUGE_VAL)) return 0;
+    } else {
+        int ok = bp__newton_refactor(N, S->a, &S->par);
+        if (ok <= 0) return ok;
+    }
+    N->since_grow++;
+    for (i = 0; i < n; i++) N->rhs[i] = -g[i];
+    bp__factor_solve(&N->F, N->rhs, v, N->z);
+    if (BP__NEWTON_BARRIER == 2 && N->pairs.count) bp__newton_pcg(N, S->nv, N->rhs, v);
+    for (i = 0; i < n; i++) s += g[i] * v[i];
+    *gv = s;
+    return s < 0 && s > -HUGE_VAL;
+}
+
 /* bp__chart_optimize in its phases.  The state of one solve: */
 typedef struct bp__opt {
     bp_allocator a;
@@ -8593,6 +9234,9 @@ typedef struct bp__opt {
     bp__factor   KF;
     bp__par      par;
     int          precond, hist, gd_scale_set;
+    int          newton, nd;     /* BP_DIRECTION_NEWTON; this iteration's
+                                    direction is Newton's (1), out of memory (-1) */
+    bp__newton   N;
     uint32_t     nv2;
     double      *x, *g, *xn, *gn, *v, *pwork, *vpart;
     double       tlast;          /* the last accepted step                   */
@@ -8608,6 +9252,7 @@ static void bp__opt_free(bp__opt *P)
     bp__free(&P->a, P->v); bp__free(&P->a, P->pwork); bp__free(&P->a, P->vpart);
     bp__free(&P->a, P->pidx); bp__free(&P->a, P->held);
     bp__lbfgs_free(&P->a, &P->L);
+    bp__newton_free(&P->a, &P->N);
     bp__sparse_free(&P->a, &P->K);
     bp__factor_free(&P->a, &P->KF);
 }
@@ -8712,7 +9357,7 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
     bp_status st;
     uint32_t nv2;
     P->hist = P->o.history > 0 ? P->o.history : 5;
-    if (P->o.direction == BP_DIRECTION_GRADIENT) P->hist = 0;
+    if (P->o.direction == BP_DIRECTION_GRADIENT || P->newton) P->hist = 0;   /* Newton falls back to -g */
     if (P->o.max_iterations <= 0) P->o.max_iterations = 10000;
     if (!(P->o.tolerance > 0)) P->o.tolerance = 1e-7;
     if ((st = bp__opt_pins(P, ch, m, err)) != BP_OK) return st;                 /* pins */
@@ -8720,6 +9365,14 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
     if (!rest_wxy) return bp__oom(err, "optimizing a chart");
     if ((st = bp__solver_chart(&P->S, &P->a, ch, m, &P->o, rest_wxy, err)) != BP_OK) { bp__free(&P->a, rest_wxy); return st; }
     P->S.par = P->par;
+    if (P->newton) {                          /* >>newton; pins held or pulled */
+        if (bp__newton_init(&P->N, &P->a, &P->S) != BP_OK) {
+            bp__free(&P->a, rest_wxy);
+            return bp__oom(err, "setting up Newton's method");
+        }
+        P->N.hold = P->pidx;
+        if (P->pen) { P->N.pull = P->pen->pidx; P->N.pull_w = P->pen->w; }
+    }
     /* the preconditioner first: its factorization is the memory peak, and
        the flattened rest triangles are not needed after it */
     if (P->precond && (st = bp__laplacian(&P->a, &P->S, rest_wxy, P->pidx, &P->K, &P->KF)) != BP_OK) {
@@ -8748,14 +9401,20 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
 }
 
 /* Phase 3 (step 2 of each iteration): the search direction v = -H g
-   (L-BFGS, above), or with no pairs yet -K^-1 g (preconditioned) or -g;
-   returns g.v (0: converged).  Also sets the first step of gradient
-   descent: move the fastest vertex by about a tenth of a boundary edge. */
+   (L-BFGS, above), or with no pairs yet -K^-1 g (preconditioned) or -g,
+   or Newton's -(H + delta I)^-1 g (>>newton; P->nd = 1, or -1 out of
+   memory; when its matrix cannot be factored, -g); returns g.v (0:
+   converged).  Also sets the first step of gradient descent: move the
+   fastest vertex by about a tenth of a boundary edge. */
 static double bp__opt_direction(bp__opt *P)
 {
     double gv = 0, *g = P->g, *v = P->v;
     uint32_t i, nv2 = P->nv2;
-    if (P->L.nh > 0) {
+    P->nd = P->newton ? bp__newton_direction(&P->N, &P->S, P->x, g, v, &gv) : 0;
+    if (P->nd < 0) return 0;
+    if (P->nd) {
+        /* v = -(H + delta I)^-1 g, computed above */
+    } else if (P->L.nh > 0) {
         gv = bp__lbfgs_direction(&P->L, &P->par, g, v, P->precond ? &P->K : NULL, &P->KF, P->pwork, P->vpart);
     } else if (P->precond) {
         const double *gp = g, *vp = v;
@@ -8771,7 +9430,7 @@ static double bp__opt_direction(bp__opt *P)
         gv = 0;
         for (i = 0; i < nv2; i++) { v[i] = -g[i]; gv -= g[i] * g[i]; }
     }
-    if (gv != 0 && P->L.nh == 0 && (!P->gd_scale_set || P->hist == 0)) {
+    if (gv != 0 && !P->nd && P->L.nh == 0 && (!P->gd_scale_set || P->hist == 0)) {
         double vmax = 0;
         for (i = 0; i < nv2; i++) if (fabs(v[i]) > vmax) vmax = fabs(v[i]);
         if (!P->gd_scale_set) P->tlast = 0.05 * P->S.mean_edge / vmax;
@@ -8788,7 +9447,7 @@ static double bp__opt_direction(bp__opt *P)
    -1 when out of memory. */
 static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, double *fn, double *edn)
 {
-    double tt = (P->L.nh > 0) ? 1.0 : 2 * P->tlast;     /* the first step to try ... */
+    double tt = (P->L.nh > 0 || P->nd) ? 1.0 : 2 * P->tlast;   /* the first step to try ... */
     double tmax = bp__step_bound(&P->S, P->x, P->v, tt / 0.9);
     int tries;
     if (tmax < tt / 0.9 && tt > 0.9 * tmax) tt = 0.9 * tmax;   /* ... at most 0.9 tmax */
@@ -8848,6 +9507,7 @@ static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, cons
     P.pen = pen;                              /* pins (homotopy) */
     P.tlast = 1;
     P.precond = !opt || opt->direction == BP_DIRECTION_PRECONDITIONED;
+    P.newton = opt && opt->direction == BP_DIRECTION_NEWTON;
     if (opt) P.o = *opt;
     if (!ch || !m || !ch->uv || !ch->num_loops)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart_index, -1, 0,
@@ -8875,7 +9535,10 @@ static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, cons
     for (it = 0; it < P.o.max_iterations; it++) {
         double gv = bp__opt_direction(&P), tt = 0, fn = HUGE_VAL, edn = HUGE_VAL;
         int found;
+        if (P.nd < 0) { st = bp__oom(err, "factoring Newton's system"); goto done; }
         if (gv == 0) { ch->stop = BP_STOP_CONVERGED; break; }
+        /* Newton: the decrement -g.v / 2 predicts the decrease left */
+        if (P.nd && -gv <= 2 * P.o.tolerance * fabs(f)) { ch->stop = BP_STOP_CONVERGED; break; }
         found = bp__opt_line_search(&P, f, gv, &tt, &fn, &edn);
         if (found < 0) { st = bp__oom(err, "evaluating a step"); goto done; }
         if (!found) { ch->stop = BP_STOP_NO_PROGRESS; break; }

@@ -88,8 +88,9 @@ static const char usage_text[] =
     "  --energy sd|conformal|mips|iso|maxiso   distortion (default sd)\n"
     "  --no-barrier       locally injective only (no boundary barrier)\n"
     "  --epsilon X        barrier width (default: mean boundary edge / 4)\n"
-    "  --direction precond|lbfgs|gd   search direction: L-BFGS preconditioned by\n"
-    "                     the Laplacian (default), plain L-BFGS, gradient descent\n"
+    "  --direction precond|lbfgs|gd|newton   search direction: L-BFGS\n"
+    "                     preconditioned by the Laplacian (default), plain L-BFGS,\n"
+    "                     gradient descent, projected Newton\n"
     "  --history M        L-BFGS memory (default 5)\n"
     "  --max-iters N      iterations per chart (default 10000)\n"
     "  --tol X            relative energy decrease to stop (default 1e-7)\n"
@@ -1142,7 +1143,8 @@ int main(int argc, char **argv)
                 if (!strcmp(v, "precond")) opt.direction = BP_DIRECTION_PRECONDITIONED;
                 else if (!strcmp(v, "lbfgs")) opt.direction = BP_DIRECTION_LBFGS;
                 else if (!strcmp(v, "gd")) opt.direction = BP_DIRECTION_GRADIENT;
-                else return usage_error("unknown direction '%s' (precond, lbfgs or gd)", v);
+                else if (!strcmp(v, "newton")) opt.direction = BP_DIRECTION_NEWTON;
+                else return usage_error("unknown direction '%s' (precond, lbfgs, gd or newton)", v);
             } else if (!strcmp(a, "--epsilon")) {
                 if (!parse_double(v, 0.0, &opt.epsilon) || opt.epsilon <= 0.0)
                     return usage_error("--epsilon needs a positive number, not '%s'", v);

@@ -15,7 +15,7 @@
    on a generated 3D disk with two holes (20 iterations), on a good chart
    next to a closed one (BP_ERR_CHARTS_FAILED when nothing fails and the cut
    is off; BP_OK with the closed chart cut into a disk), with
-   init_only and with normalize; bp_visibility on a small closed mesh;
+   init_only and with normalize, with the projected Newton direction; bp_visibility on a small closed mesh;
    bp_write_obj (its table comes from the atlas's allocator); bp_check.
    The parsers' own allocation failures are covered by test_io.c.
 
@@ -347,6 +347,12 @@ int main(void)
     P.opt.strict = 0;
     sweep("bp_parameterize good + closed (cut into a disk, >>cut), MIPS, plain L-BFGS (5 iterations)",
           call_parameterize, &P, BP_OK);
+
+    memset(&P, 0, sizeof P);
+    P.m = &holed;
+    P.opt.max_iterations = 5;
+    P.opt.direction = BP_DIRECTION_NEWTON;
+    sweep("bp_parameterize disk with 2 holes, projected Newton (5 iterations)", call_parameterize, &P, BP_OK);
 
     /* a mesh of extreme size (2^-400): solved on a rescaled copy, one more
        allocation path; and a closed chart with a zero-area triangle:

@@ -13,7 +13,9 @@
          map) are reached, and the result with a job system that runs its
          tasks backwards is bit-identical to the serial one;
      (b) every accepted iterate (progress callback, bishop) is bijective
-         (bp_check) with the pins exactly in place;
+         (bp_check) with the pins exactly in place; the same with the
+         projected Newton direction on bishop and camel_b (its system holds
+         the pinned rows fixed, >>newton);
      (c) infeasible pins are rejected with the elements named (from 1): a
          pinned triangle whose targets are clockwise / collinear, two
          pinned boundary edges that cross, two pins at one point, a vertex
@@ -115,7 +117,8 @@ static int watch_pins(void *user, uint32_t chart, int iteration, double energy, 
    by 2% of the mean boundary edge in uv.  A vertex on a seam (spot's
    boundaries are all seams) is pinned on this chart's side only (bp_pin.uv),
    so no other chart is pinned. */
-static void test_random_pins(const char *path, uint32_t nb, uint32_t ni, uint64_t seed, int watch, int scale_exp)
+static void test_random_pins(const char *path, uint32_t nb, uint32_t ni, uint64_t seed, int watch, int scale_exp,
+                             bp_direction dir)
 {
     bp_mesh m;
     bp_atlas free_at, at;
@@ -163,6 +166,7 @@ static void test_random_pins(const char *path, uint32_t nb, uint32_t ni, uint64_
     BPT_CHECK(np == nb + ni, "%s: %u boundary + %u interior vertices chosen", path, nb, ni);
     opt.pins = pins;
     opt.num_pins = np;
+    opt.direction = dir;
     if (watch) { opt.progress = watch_pins; opt.progress_user = &w; w.atlas = &at; w.pins = pins; w.npins = np; }
     st = bp_parameterize(&at, &m, &opt, &err);
     if (BPT_CHECK(st == BP_OK, "%s: %u pins: %s", path, np, st == BP_OK ? "ok" : err.message)) {
@@ -178,8 +182,8 @@ static void test_random_pins(const char *path, uint32_t nb, uint32_t ni, uint64_
         BPT_CHECK(ch->num_pins == np && ch->in_place, "%s: chart.num_pins = %u, left in place by packing", path,
                   ch->num_pins);
         printf("  %s: chart %u (%u triangles): energy %.6g free (%d iterations), %.6g with %u pins (%d iterations, "
-               "start %.6g)\n", path, big, ch->num_triangles, fc->energy_end, fc->iterations, ch->energy_end, np,
-               ch->iterations, ch->energy_start);
+               "start %.6g, %s)\n", path, big, ch->num_triangles, fc->energy_end, fc->iterations, ch->energy_end, np,
+               ch->iterations, ch->energy_start, dir == BP_DIRECTION_NEWTON ? "Newton" : "default direction");
         if (watch)
             BPT_CHECK(w.iterations == ch->iterations && w.iterations > 0 && w.invalid == 0 && w.moved == 0,
                       "%s: all %d iterates bijective with the pins in place (%d invalid, %d pin moves)", path,
@@ -489,11 +493,14 @@ static void test_input_overlapping(void)
 
 int main(void)
 {
-    test_random_pins("tests/data/bishop_part_f1000.obj", 4, 6, 11, 1, 0);
-    test_random_pins("tests/data/bishop_part_f1000.obj", 1, 0, 12, 0, 0);
-    test_random_pins("tests/data/bishop_part_f1000.obj", 2, 3, 15, 0, 120);   /* solved rescaled: pins follow */
-    test_random_pins("tests/data/camel_b.obj", 6, 10, 13, 0, 0);
-    test_random_pins("tests/data/spot.obj", 3, 5, 14, 0, 0);
+    test_random_pins("tests/data/bishop_part_f1000.obj", 4, 6, 11, 1, 0, BP_DIRECTION_PRECONDITIONED);
+    /* Newton (>>newton): the pinned rows are identity rows of its system */
+    test_random_pins("tests/data/bishop_part_f1000.obj", 4, 6, 11, 1, 0, BP_DIRECTION_NEWTON);
+    test_random_pins("tests/data/camel_b.obj", 6, 10, 13, 1, 0, BP_DIRECTION_NEWTON);
+    test_random_pins("tests/data/bishop_part_f1000.obj", 1, 0, 12, 0, 0, BP_DIRECTION_PRECONDITIONED);
+    test_random_pins("tests/data/bishop_part_f1000.obj", 2, 3, 15, 0, 120, BP_DIRECTION_PRECONDITIONED);   /* solved rescaled: pins follow */
+    test_random_pins("tests/data/camel_b.obj", 6, 10, 13, 0, 0, BP_DIRECTION_PRECONDITIONED);
+    test_random_pins("tests/data/spot.obj", 3, 5, 14, 0, 0, BP_DIRECTION_PRECONDITIONED);
     test_pins_deterministic();
     test_infeasible();
     test_input_start("tests/data/cow_param_withSUV.obj", 1);

@@ -1,0 +1,399 @@
+/* test_newton.c - the projected Newton direction (>>hessian, >>newton).
+
+   Nothing here takes the library's Hessian formulas on trust:
+
+     (a) every energy's unprojected 6x6 triangle Hessian (bp__triangle_hessian,
+         project = 0) against central finite differences of the library's
+         gradient (bp__triangle_energy, which test_energy.c checks against
+         finite differences of the energy), on random valid triangles with
+         random rest shapes, away from the kinks of the non-smooth energies;
+     (b) the projected Hessian is positive semidefinite: its smallest
+         eigenvalue, by Jacobi rotations written here, is >= -1e-9 |H|;
+     (c) where the energy is convex in J (the finite-difference Hessian in
+         the 4 entries of J, from a triangle whose rest shape is the unit
+         right triangle so that J = D, is positive definite) the projected
+         Hessian equals the finite differences; where it is not, the
+         projection changed something (so (c) cannot pass by never
+         projecting).  Conformal, MIPS and max isometric are never strictly
+         convex in J (a twist eigenvalue <= 0, or a linear piece), which the
+         finite differences must confirm;
+     (d) on a real chart (camel_b, Tutte start), the assembled matrix
+         without the barrier dominates the true Hessian: w^T H w >=
+         w^T (finite-difference Hessian) w for random w, since clamping
+         adds a positive semidefinite term per triangle; with the barrier,
+         w^T H w >= 0;
+     (e) bp_chart_optimize with BP_DIRECTION_NEWTON on camel_b and the
+         bishop chart: converged, exactly bijective, an energy no higher than
+         the preconditioned L-BFGS's (+0.1%), in fewer iterations; and the
+         same bits when the parallel loops run their tasks in reverse order;
+     (f) pins: with every 7th vertex of camel_b held (bp__newton.hold), the
+         Newton direction is exactly 0 (==) on the held coordinates, is a
+         descent direction, and solves the unpinned system on the free
+         rows: |(H v + g)_i| <= 1e-8 max |g| for every free row i, H the
+         matrix assembled without pins (so the held rows were fixed, not
+         dropped from the other rows' equations); and without the hold the
+         same direction is not 0 there (so the check can fail).
+         tests/test_pins.c runs whole pinned Newton solves. */
+/* every loop through the job system, even on these small charts (as in
+   test_threads.c), so that (e)'s reversed task order is a real test */
+#define BP__PAR_MIN_TRIANGLES 1u
+#define BP__PAR_MIN_ITEMS     1u
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include "bptest.h"
+
+#include <math.h>
+#include <string.h>
+#include <stdlib.h>
+
+static const char *const ENAME[] = { "symmetric Dirichlet", "conformal", "MIPS", "isometric", "max isometric" };
+
+/* Smallest eigenvalue of a symmetric n x n matrix (n <= 6) by cyclic Jacobi. */
+static double min_eig(const double *h, int n)
+{
+    double a[36], mn;
+    int sweep, p, q, k;
+    memcpy(a, h, (size_t)n * n * sizeof(double));
+    for (sweep = 0; sweep < 60; sweep++) {
+        double off = 0;
+        for (p = 0; p < n; p++) for (q = p + 1; q < n; q++) off += a[p * n + q] * a[p * n + q];
+        if (off < 1e-300) break;
+        for (p = 0; p < n; p++)
+            for (q = p + 1; q < n; q++) {
+                double apq = a[p * n + q], th, t, c, s;
+                if (apq == 0) continue;
+                th = (a[q * n + q] - a[p * n + p]) / (2 * apq);
+                t = (th >= 0 ? 1 : -1) / (fabs(th) + sqrt(th * th + 1));
+                c = 1 / sqrt(t * t + 1);
+                s = t * c;
+                for (k = 0; k < n; k++) {          /* A = J^T A J on columns then rows */
+                    double akp = a[k * n + p], akq = a[k * n + q];
+                    a[k * n + p] = c * akp - s * akq;
+                    a[k * n + q] = s * akp + c * akq;
+                }
+                for (k = 0; k < n; k++) {
+                    double apk = a[p * n + k], aqk = a[q * n + k];
+                    a[p * n + k] = c * apk - s * aqk;
+                    a[q * n + k] = s * apk + c * aqk;
+                }
+            }
+    }
+    mn = a[0];
+    for (p = 1; p < n; p++) if (a[p * n + p] < mn) mn = a[p * n + p];
+    return mn;
+}
+
+/* Singular values of J = D M^-1 from J^T J (test's own formula). */
+static void sv_of(const bp__rest *r, double U[3][2], double *sa, double *sb)
+{
+    double d00 = U[1][0] - U[0][0], d10 = U[1][1] - U[0][1], d01 = U[2][0] - U[0][0], d11 = U[2][1] - U[0][1];
+    double a = d00 * r->m00, b = d00 * r->m01 + d01 * r->m11, c = d10 * r->m00, d = d10 * r->m01 + d11 * r->m11;
+    double p = a * a + c * c, q = a * b + c * d, s = b * b + d * d, tr = p + s, det = p * s - q * q;
+    double disc = sqrt(fmax(0, tr * tr / 4 - det));
+    *sa = sqrt(tr / 2 + disc);
+    *sb = sqrt(fmax(0, tr / 2 - disc));
+}
+
+/* Finite-difference Hessian of weight * E_t: columns from central
+   differences of the library's gradient. */
+static int fd_hessian(bp_energy kind, const bp__rest *r, double U[3][2], double h, double out[36])
+{
+    int j, i;
+    for (j = 0; j < 6; j++) {
+        double gp[6] = { 0 }, gm[6] = { 0 }, save = U[j / 2][j % 2];
+        U[j / 2][j % 2] = save + h;
+        if (bp__triangle_energy(kind, r, U[0], U[1], U[2], gp, gp + 2, gp + 4) == HUGE_VAL) { U[j / 2][j % 2] = save; return 0; }
+        U[j / 2][j % 2] = save - h;
+        if (bp__triangle_energy(kind, r, U[0], U[1], U[2], gm, gm + 2, gm + 4) == HUGE_VAL) { U[j / 2][j % 2] = save; return 0; }
+        U[j / 2][j % 2] = save;
+        for (i = 0; i < 6; i++) out[6 * i + j] = (gp[i] - gm[i]) / (2 * h);
+    }
+    return 1;
+}
+
+static double max_abs(const double *h, int n)
+{
+    double m = 0;
+    int i;
+    for (i = 0; i < n; i++) if (fabs(h[i]) > m) m = fabs(h[i]);
+    return m;
+}
+
+/* A random valid triangle: rest M^-1 from a random 3D-like shape, UV a
+   random positively oriented triangle. */
+static void random_triangle(bp__rest *r, double U[3][2], int unit_rest)
+{
+    double w = exp(bpt_rng_range(-1, 1)), px = w * bpt_rng_range(-0.5, 1.5), py = w * exp(bpt_rng_range(-1, 0.5));
+    int i, k;
+    if (unit_rest) { w = 1; px = 0; py = 1; }
+    bp__rest_inverse(w, px, py, 1, r);
+    r->weight = unit_rest ? 1 : exp(bpt_rng_range(-1, 1));
+    for (;;) {
+        double s = exp(bpt_rng_range(-1.2, 1.2));
+        for (i = 0; i < 3; i++) for (k = 0; k < 2; k++) U[i][k] = s * bpt_rng_range(-1, 1);
+        if ((U[1][0] - U[0][0]) * (U[2][1] - U[0][1]) - (U[1][1] - U[0][1]) * (U[2][0] - U[0][0]) > 0.05 * s * s) break;
+    }
+}
+
+static void test_triangle_hessians(void)
+{
+    int kind;
+    for (kind = 0; kind < BP_ENERGY_COUNT; kind++) {
+        int trial, checked = 0, bad = 0, notpsd = 0, convex = 0, convex_bad = 0, nonconvex = 0, projected = 0;
+        double worst = 0, worst_psd = 0, worst_cvx = 0;
+        for (trial = 0; trial < 3000; trial++) {
+            bp__rest r;
+            double U[3][2], sa, sb, H[36], P[36], FD[36], scale, e, h;
+            int i, unit = trial % 2;
+            random_triangle(&r, U, unit);
+            sv_of(&r, U, &sa, &sb);
+            /* away from the kinks: s_max = s_min (all but the smooth SD and MIPS)
+               and s_max s_min = 1 (max isometric) */
+            if (kind != BP_ENERGY_SYMMETRIC_DIRICHLET && kind != BP_ENERGY_MIPS && sa - sb < 0.05 * sa) continue;
+            if (kind == BP_ENERGY_MAX_ISOMETRIC && fabs(sa * sb - 1) < 0.05) continue;
+            if (!bp__triangle_hessian((bp_energy)kind, &r, U[0], U[1], U[2], 0, H)) continue;
+            if (!bp__triangle_hessian((bp_energy)kind, &r, U[0], U[1], U[2], 1, P)) continue;
+            h = 1e-5 * sb / (r.m00 > r.m11 ? r.m00 : r.m11);
+            if (!fd_hessian((bp_energy)kind, &r, U, h, FD)) continue;
+            scale = max_abs(FD, 36);
+            if (scale < 1e-12) scale = 1e-12;
+            e = 0;
+            for (i = 0; i < 36; i++) if (fabs(H[i] - FD[i]) / scale > e) e = fabs(H[i] - FD[i]) / scale;
+            if (!(e <= worst)) worst = e;
+            if (!(e <= 1e-5)) bad++;
+            checked++;
+            /* (b) */
+            e = min_eig(P, 6) / max_abs(P, 36);
+            if (-e > worst_psd) worst_psd = -e;
+            if (!(e >= -1e-9)) notpsd++;
+            /* (c) convex in J: with the unit rest, rows/columns 2..5 of FD are d^2/dJ^2 */
+            if (unit) {
+                double F4[16];
+                int a2, b2;
+                for (a2 = 0; a2 < 4; a2++)
+                    for (b2 = 0; b2 < 4; b2++) {
+                        /* dof 2 + k: u2x, u2y, u3x, u3y = J00, J10, J01, J11 */
+                        static const int jidx[4] = { 0, 2, 1, 3 };
+                        F4[4 * jidx[a2] + jidx[b2]] = FD[6 * (2 + a2) + 2 + b2];
+                    }
+                if (min_eig(F4, 4) > 1e-6 * max_abs(F4, 16)) {
+                    double d = 0;
+                    convex++;
+                    for (i = 0; i < 36; i++) if (fabs(P[i] - FD[i]) / scale > d) d = fabs(P[i] - FD[i]) / scale;
+                    if (d > worst_cvx) worst_cvx = d;
+                    if (!(d <= 1e-5)) convex_bad++;
+                } else if (min_eig(F4, 4) < -1e-3 * max_abs(F4, 16)) {
+                    double d = 0;
+                    nonconvex++;
+                    for (i = 0; i < 36; i++) if (fabs(P[i] - H[i]) > d) d = fabs(P[i] - H[i]);
+                    if (d > 1e-6 * scale) projected++;
+                }
+            }
+        }
+        BPT_CHECK(checked >= 500 && bad == 0, "%s: Hessian == finite differences of the gradient on %d triangles "
+                  "(max err / max|H| %.2g)", ENAME[kind], checked, worst);
+        BPT_CHECK(notpsd == 0, "%s: projected Hessian positive semidefinite on %d triangles (min eig / max|H| >= %.2g)",
+                  ENAME[kind], checked, -worst_psd);
+        if (kind == BP_ENERGY_SYMMETRIC_DIRICHLET || kind == BP_ENERGY_ISOMETRIC)
+            BPT_CHECK(convex > 0 && convex_bad == 0, "%s: projected == true Hessian on the %d triangles convex in J "
+                      "(max err %.2g)", ENAME[kind], convex, worst_cvx);
+        else    /* twist eigenvalue (f_a + f_b) / (s_max + s_min) <= 0 for conformal and MIPS, a zero scaling
+                   curvature on max isometric's s_max piece: never strictly convex in J */
+            BPT_CHECK(convex == 0, "%s: never strictly convex in J, as its eigenvalues say (finite differences agree: "
+                      "%d of the unit-rest triangles convex)", ENAME[kind], convex);
+        if (kind != BP_ENERGY_MAX_ISOMETRIC || nonconvex > 0)
+            BPT_CHECK(nonconvex > 0 && projected == nonconvex, "%s: the projection changed all %d Hessians that are "
+                      "not convex in J (%d changed)", ENAME[kind], nonconvex, projected);
+    }
+}
+
+/* (d) the assembled system on a real chart. */
+static void test_assembled(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options opt;
+    bp_allocator a;
+    int withb;
+    memset(&opt, 0, sizeof opt);
+    memset(&a, 0, sizeof a);
+    if (!BPT_CHECK(bp_read_obj("tests/data/camel_b.obj", &mesh, NULL, &err) == BP_OK, "read camel_b: %s", err.message))
+        return;
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1, "camel_b: one chart")) {
+        bp_mesh_free(&mesh, NULL);
+        return;
+    }
+    BPT_CHECK(bp_chart_init(&atlas.charts[0], &mesh, &opt, &err) == BP_OK, "camel_b start map: %s", err.message);
+    for (withb = 0; withb < 2; withb++) {
+        bp_chart *ch = &atlas.charts[0];
+        bp__solver S;
+        bp__newton N;
+        bp_options o;
+        uint32_t nv2 = 2 * ch->num_vertices, i, j, p;
+        double *x = (double *)malloc(nv2 * sizeof(double)), *w = (double *)malloc(nv2 * sizeof(double));
+        double *gp = (double *)malloc(nv2 * sizeof(double)), *gm = (double *)malloc(nv2 * sizeof(double));
+        double ed, worst = 0, wmin = HUGE_VAL, delta;
+        int k, below = 0, neg = 0;
+        memset(&o, 0, sizeof o);
+        o.no_barrier = !withb;
+        if (!BPT_CHECK(bp__solver_chart(&S, &a, ch, &mesh, &o, NULL, &err) == BP_OK, "solver for camel_b")) break;
+        if (withb) S.eps = 4 * S.mean_edge;   /* far wider than the default: many pairs within eps */
+        BPT_CHECK(bp__newton_init(&N, &a, &S) == BP_OK, "Newton set-up on camel_b");
+        memcpy(x, ch->uv, nv2 * sizeof(double));
+        bp__objective(&S, x, gp, &ed);
+        bp__newton_assemble(&N, &S, x);
+        {
+            double tr = 0, bsum = 0;
+            for (i = 0; i < S.nv; i++) tr += N.H.val[N.dpos[4 * i]] + N.H.val[N.dpos[4 * i + 3]];
+            for (i = 0; i < 3 * S.nv; i++) bsum += fabs(N.bd[i]);
+            delta = 1e-8 * (tr / (1 + 1e-8)) / nv2;
+            if (withb) BPT_CHECK(bsum > 0, "camel_b, eps = 4 mean edges: the barrier adds to H (sum |blocks| %.3g)", bsum);
+        }
+        for (k = 0; k < 20; k++) {
+            double wHw = 0, wFw = 0, ww = 0, h, wmax = 0;
+            for (i = 0; i < nv2; i++) { w[i] = bpt_rng_range(-1, 1); ww += w[i] * w[i]; if (fabs(w[i]) > wmax) wmax = fabs(w[i]); }
+            for (j = 0; j < nv2; j++)
+                for (p = N.H.colp[j]; p < N.H.colp[j + 1]; p++) wHw += w[N.H.row[p]] * N.H.val[p] * w[j];
+            wHw -= delta * ww;
+            if (wHw < wmin) wmin = wHw;
+            if (wHw < 0) neg++;
+            if (!withb) {
+                /* w^T H_true w by central differences of the gradient along w, step
+                   small against the smallest triangle's scale */
+                h = 1e-7 / wmax;
+                for (i = 0; i < nv2; i++) x[i] = ch->uv[i] + h * w[i];
+                bp__objective(&S, x, gp, &ed);
+                for (i = 0; i < nv2; i++) x[i] = ch->uv[i] - h * w[i];
+                bp__objective(&S, x, gm, &ed);
+                for (i = 0; i < nv2; i++) wFw += w[i] * (gp[i] - gm[i]) / (2 * h);
+                if (wHw < wFw - 1e-6 * fabs(wFw)) below++;
+                if (fabs(wHw - wFw) / fabs(wFw) > worst) worst = fabs(wHw - wFw) / fabs(wFw);
+                memcpy(x, ch->uv, nv2 * sizeof(double));
+            }
+        }
+        BPT_CHECK(neg == 0, "camel_b %s: w^T H w >= 0 for 20 random w (min %.3g)", withb ? "with the barrier" : "without barrier",
+                  wmin);
+        if (!withb)
+            BPT_CHECK(below == 0 && worst > 1e-6, "camel_b start map: w^T H_projected w >= w^T H_true w (finite differences) "
+                      "for 20 random w, and differs (max relative gap %.3g)", worst);
+        bp__newton_free(&a, &N);
+        bp__solver_free(&S);
+        free(x); free(w); free(gp); free(gm);
+    }
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+}
+
+static void test_optimize(const char *path)
+{
+    bp_mesh mesh;
+    bp_error err;
+    bp_atlas at[3];
+    bp_options opt;
+    int r;
+    if (!BPT_CHECK(bp_read_mesh(path, &mesh, NULL, &err) == BP_OK, "read %s: %s", path, err.message)) return;
+    for (r = 0; r < 3; r++) {
+        memset(&opt, 0, sizeof opt);
+        opt.threads = 1;
+        opt.direction = r == 0 ? BP_DIRECTION_PRECONDITIONED : BP_DIRECTION_NEWTON;
+        if (r == 2) opt.parallel_for = bpt_backwards_for;
+        BPT_CHECK(bp_parameterize(&at[r], &mesh, &opt, &err) == BP_OK, "%s direction %d: %s", path, (int)opt.direction,
+                  err.message);
+    }
+    {
+        bp_chart *cp = &at[0].charts[0], *cn = &at[1].charts[0];
+        bp_check_report rep;
+        bp_status st = bp_check(cn->triangles, cn->num_triangles, cn->uv, cn->num_vertices, NULL, &rep, NULL);
+        BPT_CHECK(st == BP_OK && rep.flipped == 0 && rep.degenerate == 0 && rep.boundary_intersections == 0 &&
+                  rep.loop_orientation == 0 && rep.nested == 0 && rep.nonfinite == 0,
+                  "%s Newton: the map is exactly bijective", path);
+        BPT_CHECK(cn->stop == BP_STOP_CONVERGED, "%s Newton: converged (%s after %d iterations)", path,
+                  bp_stop_string(cn->stop), cn->iterations);
+        BPT_CHECK(cn->energy_end <= cp->energy_end * 1.001, "%s Newton: energy %.6f <= L-BFGS's %.6f + 0.1%%", path,
+                  cn->energy_end, cp->energy_end);
+        BPT_CHECK(cn->iterations < cp->iterations, "%s Newton: %d iterations < L-BFGS's %d", path, cn->iterations,
+                  cp->iterations);
+        BPT_CHECK(memcmp(cn->uv, at[2].charts[0].uv, 2 * (size_t)cn->num_vertices * sizeof(double)) == 0 &&
+                  cn->iterations == at[2].charts[0].iterations,
+                  "%s Newton: the same bits with the parallel tasks run in reverse order", path);
+    }
+    for (r = 0; r < 3; r++) bp_atlas_free(&at[r]);
+    bp_mesh_free(&mesh, NULL);
+}
+
+static void test_pinned_direction(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options o;
+    bp_allocator a;
+    bp__solver S;
+    bp__newton N, N0;
+    bp_chart *ch;
+    uint32_t nv2, i, j, p, *hold, nheld = 0, zero = 0, moved_free = 0;
+    double *x, *g, *v, *v0, *r, gv = 0, gv0 = 0, ed, gmax = 0, worst = 0;
+    int nd, nd0;
+    memset(&o, 0, sizeof o);
+    memset(&a, 0, sizeof a);
+    if (!BPT_CHECK(bp_read_obj("tests/data/camel_b.obj", &mesh, NULL, &err) == BP_OK, "read camel_b: %s", err.message))
+        return;
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &o, &err) == BP_OK && atlas.num_charts == 1 &&
+                   bp_chart_init(&atlas.charts[0], &mesh, &o, &err) == BP_OK, "camel_b: one chart, start map")) {
+        bp_mesh_free(&mesh, NULL);
+        return;
+    }
+    ch = &atlas.charts[0];
+    nv2 = 2 * ch->num_vertices;
+    x = (double *)malloc(nv2 * sizeof(double)); g = (double *)malloc(nv2 * sizeof(double));
+    v = (double *)malloc(nv2 * sizeof(double)); v0 = (double *)malloc(nv2 * sizeof(double));
+    r = (double *)malloc(nv2 * sizeof(double));
+    hold = (uint32_t *)malloc(ch->num_vertices * sizeof(uint32_t));
+    for (i = 0; i < ch->num_vertices; i++) hold[i] = i % 7 == 3 ? nheld++ : BP__NONE;
+    if (BPT_CHECK(bp__solver_chart(&S, &a, ch, &mesh, &o, NULL, &err) == BP_OK, "solver for camel_b")) {
+        memcpy(x, ch->uv, nv2 * sizeof(double));
+        bp__objective(&S, x, g, &ed);
+        for (i = 0; i < ch->num_vertices; i++)
+            if (hold[i] != BP__NONE) g[2 * i] = g[2 * i + 1] = 0;         /* as bp__opt_hold does */
+        for (i = 0; i < nv2; i++) if (fabs(g[i]) > gmax) gmax = fabs(g[i]);
+        BPT_CHECK(bp__newton_init(&N, &a, &S) == BP_OK && bp__newton_init(&N0, &a, &S) == BP_OK, "Newton set-ups");
+        N.hold = hold;
+        nd = bp__newton_direction(&N, &S, x, g, v, &gv);
+        nd0 = bp__newton_direction(&N0, &S, x, g, v0, &gv0);       /* no hold: N0.H is the unpinned matrix */
+        BPT_CHECK(nd == 1 && nd0 == 1 && gv < 0, "camel_b, %u of %u vertices held: Newton directions factored (%d %d), "
+                  "g.v = %.3g < 0", nheld, ch->num_vertices, nd, nd0, gv);
+        for (i = 0; i < ch->num_vertices; i++) {
+            if (hold[i] != BP__NONE) {
+                zero += v[2 * i] == 0 && v[2 * i + 1] == 0;
+                moved_free += v0[2 * i] != 0 || v0[2 * i + 1] != 0;
+            }
+        }
+        BPT_CHECK(zero == nheld, "held: v exactly 0 on %u of %u held vertices", zero, nheld);
+        BPT_CHECK(moved_free > nheld / 2, "without the hold v is nonzero on %u of those %u vertices", moved_free, nheld);
+        for (i = 0; i < nv2; i++) r[i] = g[i];
+        for (j = 0; j < nv2; j++)
+            for (p = N0.H.colp[j]; p < N0.H.colp[j + 1]; p++) r[N0.H.row[p]] += N0.H.val[p] * v[j];
+        for (i = 0; i < nv2; i++)
+            if (hold[i / 2] == BP__NONE && fabs(r[i]) > worst) worst = fabs(r[i]);
+        BPT_CHECK(worst <= 1e-8 * gmax, "held: the free rows solve the unpinned system, max |(H v + g)_i| = %.3g "
+                  "(max |g| %.3g)", worst, gmax);
+        bp__newton_free(&a, &N);
+        bp__newton_free(&a, &N0);
+        bp__solver_free(&S);
+    }
+    free(x); free(g); free(v); free(v0); free(r); free(hold);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+}
+
+int main(void)
+{
+    bpt_rng_state = 0x9E3779B97F4A7C15ull;
+    test_triangle_hessians();
+    test_assembled();
+    test_optimize("tests/data/bishop_part_f1000.obj");
+    test_optimize("tests/data/camel_b.obj");
+    test_pinned_direction();
+    return bpt_finish();
+}
