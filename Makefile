@@ -138,6 +138,9 @@ docs: $(TOOL)
 	$(TOOL) tests/data/cow_param_withSUV.obj --no-barrier --png $(IMG)/cow_checker_nobarrier.png --png-size 360 --png-views 2 --checker 20
 	$(TOOL) tests/data/spot.obj --svg $(IMG)/spot_area.svg --svg-color area --png $(IMG)/spot_checker.png --png-size 300 --png-views 3
 	$(TOOL) tests/data/spot.obj --atlas 1024 --padding 4 --svg $(IMG)/spot_atlas.svg --svg-color area --png $(IMG)/spot_atlas_checker.png --png-size 300 --png-views 3 --checker 32
+	$(TOOL) tests/data/fertility.off --atlas 1024 --padding 4 --svg $(IMG)/fertility_atlas.svg --svg-color chart --png $(IMG)/fertility_atlas_checker.png --png-size 300 --png-views 3 --checker 32
+	sed -e '/^vt /d' -e '/^vn /d' -e 's|/[0-9/]*||g' tests/data/cow_param_withSUV.obj > $(BUILD)/docs/cow_novt.obj
+	$(TOOL) $(BUILD)/docs/cow_novt.obj --atlas 1024 --padding 4 --svg $(IMG)/cow_atlas.svg --svg-color chart --png $(IMG)/cow_atlas_checker.png --png-size 300 --png-views 3 --checker 32
 	$(TOOL) --demo --svg $(IMG)/cone_barrier.svg --png $(IMG)/cone_checker.png --png-size 360
 	$(TOOL) --demo --no-barrier --svg $(IMG)/cone_nobarrier.svg
 	rm -rf $(BUILD)/docs/frames
