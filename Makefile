@@ -20,6 +20,8 @@
 #   make docs         regenerate the README pictures in docs/images/
 #   make bench        bench/run.sh: timings on tests/data and ../shared/meshes,
 #                     then bench/pack.sh (make bench-pack): packing utilization
+#   make bench-atlas  bench/atlas.sh: every mesh through --atlas 1024
+#                     --padding 4, checked by uvcheck (~5 min; not in bench)
 #   make clean        remove build/
 #
 # Every program includes bijparam.h, so every program depends on it.
@@ -57,7 +59,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-atlas clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -155,6 +157,11 @@ bench: $(TOOL)
 # utilization of the outline packer and the time to pack 5,000 charts
 bench-pack: $(TOOL)
 	bash bench/pack.sh
+
+# every mesh through --atlas 1024 --padding 4: charts, seams, utilization,
+# energy, time, exact check, padding (docs/results.md, "Atlas")
+bench-atlas: $(TOOL)
+	bash bench/atlas.sh
 
 clean:
 	rm -rf $(BUILD)
