@@ -20,6 +20,8 @@
 #   make docs         regenerate the README pictures in docs/images/
 #   make bench        bench/run.sh: timings on tests/data and ../shared/meshes,
 #                     then bench/pack.sh (make bench-pack): packing utilization
+#   make bench-atlas  bench/atlas.sh: every mesh through --atlas 1024
+#                     --padding 4, checked by uvcheck (~5 min; not in bench)
 #   make clean        remove build/
 #
 # Every program includes bijparam.h, so every program depends on it.
@@ -57,7 +59,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-atlas clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -138,6 +140,9 @@ docs: $(TOOL)
 	$(TOOL) tests/data/cow_param_withSUV.obj --no-barrier --png $(IMG)/cow_checker_nobarrier.png --png-size 360 --png-views 2 --checker 20
 	$(TOOL) tests/data/spot.obj --svg $(IMG)/spot_area.svg --svg-color area --png $(IMG)/spot_checker.png --png-size 300 --png-views 3
 	$(TOOL) tests/data/spot.obj --atlas 1024 --padding 4 --svg $(IMG)/spot_atlas.svg --svg-color area --png $(IMG)/spot_atlas_checker.png --png-size 300 --png-views 3 --checker 32
+	$(TOOL) tests/data/fertility.off --atlas 1024 --padding 4 --svg $(IMG)/fertility_atlas.svg --svg-color chart --png $(IMG)/fertility_atlas_checker.png --png-size 300 --png-views 3 --checker 32
+	sed -e '/^vt /d' -e '/^vn /d' -e 's|/[0-9/]*||g' tests/data/cow_param_withSUV.obj > $(BUILD)/docs/cow_novt.obj
+	$(TOOL) $(BUILD)/docs/cow_novt.obj --atlas 1024 --padding 4 --svg $(IMG)/cow_atlas.svg --svg-color chart --png $(IMG)/cow_atlas_checker.png --png-size 300 --png-views 3 --checker 32
 	$(TOOL) --demo --svg $(IMG)/cone_barrier.svg --png $(IMG)/cone_checker.png --png-size 360
 	$(TOOL) --demo --no-barrier --svg $(IMG)/cone_nobarrier.svg
 	rm -rf $(BUILD)/docs/frames
@@ -152,6 +157,11 @@ bench: $(TOOL)
 # utilization of the outline packer and the time to pack 5,000 charts
 bench-pack: $(TOOL)
 	bash bench/pack.sh
+
+# every mesh through --atlas 1024 --padding 4: charts, seams, utilization,
+# energy, time, exact check, padding (docs/results.md, "Atlas")
+bench-atlas: $(TOOL)
+	bash bench/atlas.sh
 
 clean:
 	rm -rf $(BUILD)

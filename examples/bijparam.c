@@ -126,8 +126,9 @@ static const char usage_pictures[] =
     "pictures:\n"
     "  --svg FILE         the UV layout as SVG: triangles coloured by distortion,\n"
     "                     boundary loops, chart indices, colour scale, energies\n"
-    "  --svg-color energy|area|angle   what the colour shows (default energy):\n"
-    "                     the energy, UV/3D area ratio, or s_max/s_min\n"
+    "  --svg-color energy|area|angle|chart   what the colour shows (default\n"
+    "                     energy): the energy, UV/3D area ratio, s_max/s_min,\n"
+    "                     or one colour per chart (seams and packing)\n"
     "  --png FILE         the mesh with a checkerboard through the map (PNG)\n"
     "  --png-view X,Y,Z   direction toward the camera (default 1,0.6,1.2;\n"
     "                     --demo: 0.5,-0.9,1.4 with up 0,0,1)\n"
@@ -1070,7 +1071,8 @@ int main(int argc, char **argv)
                 if (!strcmp(v, "energy")) svg_opt.color = BPD_COLOR_ENERGY;
                 else if (!strcmp(v, "area")) svg_opt.color = BPD_COLOR_AREA;
                 else if (!strcmp(v, "angle")) svg_opt.color = BPD_COLOR_ANGLE;
-                else return usage_error("unknown --svg-color '%s' (energy, area or angle)", v);
+                else if (!strcmp(v, "chart")) svg_opt.color = BPD_COLOR_CHART;
+                else return usage_error("unknown --svg-color '%s' (energy, area, angle or chart)", v);
             } else if (!strcmp(a, "--png-view")) {
                 if (!parse_vec3(v, png_opt.view))
                     return usage_error("--png-view needs a nonzero X,Y,Z, not '%s'", v);
@@ -1420,6 +1422,9 @@ int main(int argc, char **argv)
     clear_bar(&rs);
 
     /* 6. pictures of the packed atlas (examples/bp_draw.h) */
+    /* a layout packed into [0,1]^2: draw the square, and measure the energy
+       at one common scale (UV area = 3D area), not at the square's */
+    svg_opt.packed = opt.atlas_resolution > 0 || opt.normalize;
     if (st == BP_OK && svg_path && !bpd_write_atlas_svg(svg_path, &mesh, &atlas, &svg_opt)) {
         st = BP_ERR_IO;
         where = svg_path;

@@ -6,7 +6,8 @@
 
      - bpd_write_atlas_svg: the UV layout (figs 3.3, 3.8): each triangle
        filled with a colour for its distortion (the energy, the area ratio or
-       the angle ratio s_max/s_min), the boundary loops drawn on top, a
+       the angle ratio s_max/s_min) or each chart with a colour of its own,
+       the boundary loops drawn on top, a
        legend with the colour scale and the mean and maximum energy, every
        chart labelled with its index;
      - bpd_write_strip_svg: several snapshots of one chart side by side (the
@@ -41,7 +42,9 @@ typedef enum bpd_color {
     BPD_COLOR_ENERGY = 0,  /* E_t of the chosen energy, log scale from its minimum */
     BPD_COLOR_AREA,        /* area ratio (UV area / 3D area, divided by the
                               chart's overall ratio): blue shrunk, red grown */
-    BPD_COLOR_ANGLE        /* angle distortion s_max/s_min (1 = conformal)   */
+    BPD_COLOR_ANGLE,       /* angle distortion s_max/s_min (1 = conformal)   */
+    BPD_COLOR_CHART        /* one colour per chart (bpd_chart_color), to see
+                              the seams and the packing of an atlas        */
 } bpd_color;
 
 /* Options of the SVG writers; zero means the default. */
@@ -57,6 +60,14 @@ typedef struct bpd_svg_options {
                                0: the largest value                        */
     double    fill_opacity; /* 0: opaque; below 1 overlaps show darker       */
     const char *title;      /* optional caption at the top                   */
+    int       packed;       /* nonzero: the layout is a packed atlas in
+                               [0,1]^2 (atlas SVG only): the whole square is
+                               drawn, framed, and the energies (fill and
+                               legend) are measured with the layout scaled by
+                               one factor so that its UV area equals its 3D
+                               area (not at the scale of the unit square);
+                               one factor for all charts, as they share one
+                               texel density                                */
 } bpd_svg_options;
 
 /* Options of the checkerboard render; zero means the default. */
@@ -85,6 +96,11 @@ int bpd_write_png(const char *path, int width, int height, const unsigned char *
 /* The colour of t in [0, 1]: viridis (sequential) or, if diverging,
    blue - white - red. */
 void bpd_colormap(double t, int diverging, unsigned char rgb[3]);
+/* The colour of chart c: hues that step by the golden ratio of a turn, so
+   that charts of neighbouring indices (often neighbours on the surface and
+   in the atlas) differ clearly however many charts there are; saturation
+   and value in three alternating levels.  Deterministic. */
+void bpd_chart_color(uint32_t c, unsigned char rgb[3]);
 
 #ifdef __cplusplus
 }
@@ -104,6 +120,25 @@ void bpd_colormap(double t, int diverging, unsigned char rgb[3]);
 #include <string.h>
 
 /* ---- colours ------------------------------------------------------------ */
+
+void bpd_chart_color(uint32_t c, unsigned char rgb[3])
+{
+    /* hue h = frac(0.08 + c (sqrt(5) - 1) / 2), then HSV -> RGB */
+    double h = fmod(0.08 + (double)c * 0.6180339887498949, 1.0) * 6;
+    double s = c % 3 == 1 ? 0.45 : 0.6, v = c % 3 == 2 ? 0.8 : 0.95;
+    int i = (int)h, k;
+    double f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+    double r[3];
+    switch (i % 6) {
+    case 0: r[0] = v; r[1] = t; r[2] = p; break;
+    case 1: r[0] = q; r[1] = v; r[2] = p; break;
+    case 2: r[0] = p; r[1] = v; r[2] = t; break;
+    case 3: r[0] = p; r[1] = q; r[2] = v; break;
+    case 4: r[0] = t; r[1] = p; r[2] = v; break;
+    default: r[0] = v; r[1] = p; r[2] = q; break;
+    }
+    for (k = 0; k < 3; k++) rgb[k] = (unsigned char)(255 * r[k] + 0.5);
+}
 
 void bpd_colormap(double t, int diverging, unsigned char rgb[3])
 {
@@ -162,17 +197,30 @@ static double bpd__energy_min(bp_energy e)
    energy and angle ratio from bp_chart_distortion (the angle ratio is the
    conformal energy s_max/s_min); the area ratio as log2 of the triangle's
    UV/3D area ratio over the chart's, so 0 means "as the chart on average".
-   Also the chart's mean and max of opt->energy. */
-static int bpd__values(const bp_mesh *m, const bp_chart *chart, const double *uv,
+   Also the chart's mean and max of opt->energy.  The energies are measured
+   with uv scaled by `scale` (1: as it is). */
+static int bpd__values(const bp_mesh *m, const bp_chart *chart, const double *uv, double scale,
                        const bpd_svg_options *o, double *val, double *mean, double *max)
 {
     bp_chart c = *chart;               /* a shallow copy that looks at uv */
+    double *scaled = NULL;
+    int ok;
     c.uv = (double *)uv;
-    if (bp_chart_distortion(&c, m, o->energy, mean, max,
-                            o->color == BPD_COLOR_ENERGY ? val : NULL, NULL) != BP_OK)
-        return 0;
-    if (o->color == BPD_COLOR_ANGLE) {
-        if (bp_chart_distortion(&c, m, BP_ENERGY_CONFORMAL, NULL, NULL, val, NULL) != BP_OK) return 0;
+    if (scale != 1) {
+        size_t i;
+        if (!(scaled = (double *)malloc((2 * (size_t)c.num_vertices + 1) * sizeof(double)))) return 0;
+        for (i = 0; i < 2 * (size_t)c.num_vertices; i++) scaled[i] = scale * uv[i];
+        c.uv = scaled;
+    }
+    ok = bp_chart_distortion(&c, m, o->energy, mean, max,
+                             o->color == BPD_COLOR_ENERGY ? val : NULL, NULL) == BP_OK;
+    if (ok && o->color == BPD_COLOR_ANGLE)
+        ok = bp_chart_distortion(&c, m, BP_ENERGY_CONFORMAL, NULL, NULL, val, NULL) == BP_OK;
+    free(scaled);
+    c.uv = (double *)uv;
+    if (!ok) return 0;
+    if (o->color == BPD_COLOR_CHART) {
+        memset(val, 0, c.num_triangles * sizeof(double));   /* one colour */
     } else if (o->color == BPD_COLOR_AREA) {
         double a3 = 0, a2 = 0, s;
         uint32_t t;
@@ -264,16 +312,36 @@ static void bpd__svg_text(FILE *f, double x, double y, double size, const char *
     fputs("</text>\n", f);
 }
 
-/* The triangles of one chart (values val) and its boundary loops. */
+/* The triangles of one chart (values val) and its boundary loops.  With
+   the colour `solid` (not NULL) and an opaque fill, the chart is instead
+   one path through its boundary loops filled even-odd: for a bijective map
+   that region is exactly the union of its UV triangles (the loops bound
+   the image), and the file stays small however many triangles the chart
+   has.  A map with fold-overs (--no-barrier) would show its boundary's
+   region, not its triangles; translucent fills keep the triangles. */
 static void bpd__svg_chart(FILE *f, const bp_chart *ch, const double *uv, const double *val,
-                           const bpd__scale *sc, const bpd__cell *cell, double opacity)
+                           const unsigned char *solid, const bpd__scale *sc, const bpd__cell *cell,
+                           double opacity)
 {
     int level;
     uint32_t t, l;
     /* coordinates to 0.1 pixel; whole pixels in small cells (the strips),
        which keeps a strip of several thousand-triangle frames small */
     const int digits = cell->w < 300 ? 0 : 1;
-    for (level = 0; level < BPD__LEVELS; level++) {
+    if (solid && opacity >= 1 && ch->num_loops > 0) {
+        fprintf(f, "<path fill=\"#%02x%02x%02x\" fill-rule=\"evenodd\" d=\"", solid[0], solid[1], solid[2]);
+        for (l = 0; l < ch->num_loops; l++) {
+            uint32_t k;
+            for (k = ch->loop_start[l]; k < ch->loop_start[l + 1]; k++) {
+                const double *p = uv + 2 * (size_t)ch->loop_vertices[k];
+                fprintf(f, "%s%.*f %.*f", k > ch->loop_start[l] ? "L" : "M", digits, BPD__X(cell, p),
+                        digits, BPD__Y(cell, p));
+            }
+            fputc('Z', f);
+        }
+        fputs("\"/>\n", f);
+    }
+    for (level = 0; level < BPD__LEVELS && !(solid && opacity >= 1 && ch->num_loops > 0); level++) {
         unsigned char rgb[3];
         int any = 0;
         for (t = 0; t < ch->num_triangles; t++) {
@@ -281,9 +349,11 @@ static void bpd__svg_chart(FILE *f, const bp_chart *ch, const double *uv, const 
             int q = (int)(bpd__scale_t(sc, val[t]) * (BPD__LEVELS - 1) + 0.5), k;
             if (q < 0) q = 0;
             if (q > BPD__LEVELS - 1) q = BPD__LEVELS - 1;
+            if (solid) q = 0;
             if (q != level) continue;
             if (!any) {
-                bpd_colormap((double)level / (BPD__LEVELS - 1), sc->diverging, rgb);
+                if (solid) memcpy(rgb, solid, 3);
+                else bpd_colormap((double)level / (BPD__LEVELS - 1), sc->diverging, rgb);
                 if (opacity < 1)
                     fprintf(f, "<path fill=\"#%02x%02x%02x\" fill-opacity=\"%.2f\" d=\"",
                             rgb[0], rgb[1], rgb[2], opacity);
@@ -348,12 +418,32 @@ static void bpd__svg_label(FILE *f, const bp_chart *ch, const double *uv, const 
     }
 }
 
-/* The colour bar with three ticks and the energy summary. */
+/* The colour bar with three ticks and the energy summary; for colour by
+   chart, a row of the first charts' colours instead of the bar. */
 static void bpd__svg_legend(FILE *f, double x, double y, double w, const bpd__scale *sc,
-                            const bpd_svg_options *o, double mean, double max)
+                            const bpd_svg_options *o, uint32_t charts, double mean, double max)
 {
     char buf[200];
     int k;
+    if (o->color == BPD_COLOR_CHART) {
+        uint32_t c, shown = charts < 24 ? charts : 24;
+        snprintf(buf, sizeof buf, "colour: chart (%u chart%s, each its own colour)",
+                 (unsigned)charts, charts == 1 ? "" : "s");
+        bpd__svg_text(f, x, y, 13, "start", buf);
+        for (c = 0; c < shown; c++) {
+            unsigned char rgb[3];
+            bpd_chart_color(c, rgb);
+            fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"14\" fill=\"#%02x%02x%02x\" "
+                    "stroke=\"#000\" stroke-width=\"0.5\"/>\n", x + w * c / 24, y + 6, w / 24,
+                    rgb[0], rgb[1], rgb[2]);
+        }
+        snprintf(buf, sizeof buf, "charts 0%s%u", shown < charts ? " ... " : " - ", (unsigned)(shown - 1));
+        if (shown > 0) bpd__svg_text(f, x, y + 37, 12, "start", buf);
+        snprintf(buf, sizeof buf, "%s energy: mean %.5g, max %.5g (minimum possible %.4g)",
+                 bp_energy_name(o->energy), mean, max, bpd__energy_min(o->energy));
+        bpd__svg_text(f, x, y + 54, 13, "start", buf);
+        return;
+    }
     const char *what = o->color == BPD_COLOR_AREA ? "area ratio (UV / 3D, relative to the chart)"
                      : o->color == BPD_COLOR_ANGLE ? "angle distortion s_max / s_min"
                      : bp_energy_name(o->energy);
@@ -466,7 +556,7 @@ int bpd_write_atlas_svg(const char *path, const bp_mesh *mesh, const bp_atlas *a
     bpd__scale sc;
     bpd__cell cell;
     double **val, lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
-    double sum = 0, area = 0, emax = 0, W, H, top, du, dv;
+    double sum = 0, area = 0, emax = 0, W, H, top, du, dv, uv_scale = 1;
     uint32_t c;
     FILE *f;
     int ok = 1;
@@ -478,12 +568,27 @@ int bpd_write_atlas_svg(const char *path, const bp_mesh *mesh, const bp_atlas *a
     val = (double **)calloc(atlas->num_charts + 1, sizeof *val);
     if (!val) { errno = ENOMEM; return 0; }
     bpd__scale_init(&sc, &o);
+    if (o.packed) {              /* one factor: UV area = 3D area */
+        double a3 = 0, a2 = 0;
+        for (c = 0; c < atlas->num_charts; c++) {
+            const bp_chart *ch = &atlas->charts[c];
+            uint32_t t;
+            if (!ch->uv) continue;
+            for (t = 0; t < ch->num_triangles; t++) {
+                const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+                a3 += bpd__area3(bpd__pos(mesh, ch->vertex[tr[0]]), bpd__pos(mesh, ch->vertex[tr[1]]),
+                                 bpd__pos(mesh, ch->vertex[tr[2]]));
+                a2 += fabs(bpd__area2(ch->uv + 2 * tr[0], ch->uv + 2 * tr[1], ch->uv + 2 * tr[2]));
+            }
+        }
+        if (a3 > 0 && a2 > 0) uv_scale = sqrt(a3 / a2);
+    }
     for (c = 0; c < atlas->num_charts && ok; c++) {
         const bp_chart *ch = &atlas->charts[c];
         double mean, mx;
         if (!ch->uv) continue;
         val[c] = (double *)malloc((ch->num_triangles + 1) * sizeof(double));
-        if (!val[c] || !bpd__values(mesh, ch, ch->uv, &o, val[c], &mean, &mx)) { ok = 0; break; }
+        if (!val[c] || !bpd__values(mesh, ch, ch->uv, uv_scale, &o, val[c], &mean, &mx)) { ok = 0; break; }
         sum += mean * ch->area3d; area += ch->area3d;
         if (mx > emax) emax = mx;
         bpd__scale_grow(&sc, val[c], ch->num_triangles);
@@ -503,6 +608,13 @@ int bpd_write_atlas_svg(const char *path, const bp_mesh *mesh, const bp_atlas *a
     bpd__scale_finish(&sc, &o);
     if (!ok) errno = ENOMEM;
     if (ok && !(hi[0] >= lo[0])) { lo[0] = lo[1] = 0; hi[0] = hi[1] = 1; }
+    if (o.packed) {                    /* the whole atlas square */
+        int k;
+        for (k = 0; k < 2; k++) {
+            if (lo[k] > 0) lo[k] = 0;
+            if (hi[k] < 1) hi[k] = 1;
+        }
+    }
     /* page: title, the atlas at its aspect ratio, the legend under it */
     W = o.size;
     du = hi[0] - lo[0]; dv = hi[1] - lo[1];
@@ -512,14 +624,26 @@ int bpd_write_atlas_svg(const char *path, const bp_mesh *mesh, const bp_atlas *a
     if (ok && !(f = bpd__svg_begin(path, W, H))) ok = 0;
     if (ok) {
         if (o.title) bpd__svg_text(f, W / 2, 20, 15, "middle", o.title);
+        if (o.packed) {
+            double p0[2] = { 0, 1 }, p1[2] = { 1, 0 };
+            fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"#f4f4f4\" "
+                    "stroke=\"#999\" stroke-width=\"1\"/>\n", BPD__X(&cell, p0), BPD__Y(&cell, p0),
+                    BPD__X(&cell, p1) - BPD__X(&cell, p0), BPD__Y(&cell, p1) - BPD__Y(&cell, p0));
+        }
         for (c = 0; c < atlas->num_charts; c++)
-            if (val[c]) bpd__svg_chart(f, &atlas->charts[c], atlas->charts[c].uv, val[c], &sc, &cell, o.fill_opacity);
+            if (val[c]) {
+                unsigned char rgb[3];
+                bpd_chart_color(c, rgb);
+                bpd__svg_chart(f, &atlas->charts[c], atlas->charts[c].uv, val[c],
+                               o.color == BPD_COLOR_CHART ? rgb : NULL, &sc, &cell, o.fill_opacity);
+            }
         for (c = 0; c < atlas->num_charts; c++)
             if (val[c]) {
                 snprintf(buf, sizeof buf, "%u", (unsigned)c);
                 bpd__svg_label(f, &atlas->charts[c], atlas->charts[c].uv, &cell, buf);
             }
-        bpd__svg_legend(f, 10, H - 72, W < 420 ? W - 20 : 400, &sc, &o, area > 0 ? sum / area : 0, emax);
+        bpd__svg_legend(f, 10, H - 72, W < 420 ? W - 20 : 400, &sc, &o, atlas->num_charts,
+                        area > 0 ? sum / area : 0, emax);
         ok = bpd__svg_end(f);
     }
     for (c = 0; c < atlas->num_charts; c++) free(val[c]);
@@ -545,7 +669,7 @@ int bpd_write_strip_svg(const char *path, const bp_mesh *mesh, const bp_chart *c
     if (!val) { errno = ENOMEM; return 0; }
     bpd__scale_init(&sc, &o);
     for (k = 0; k < count && ok; k++) {
-        ok = bpd__values(mesh, chart, uvs[k], &o, val + (size_t)k * chart->num_triangles, &mean_last, &max_last);
+        ok = bpd__values(mesh, chart, uvs[k], 1, &o, val + (size_t)k * chart->num_triangles, &mean_last, &max_last);
         bpd__scale_grow(&sc, val + (size_t)k * chart->num_triangles, chart->num_triangles);
     }
     if (ok) bpd__scale_quantile(&sc, val, (size_t)chart->num_triangles * (size_t)count, o.quantile);
@@ -563,10 +687,13 @@ int bpd_write_strip_svg(const char *path, const bp_mesh *mesh, const bp_chart *c
             bpd__cell cell;
             bpd__bbox(uvs[k], chart->num_vertices, lo, hi);
             cell = bpd__fit(lo, hi, 5 + k * cw + 4, top, cw - 8, cw - 8);
-            bpd__svg_chart(f, chart, uvs[k], val + (size_t)k * chart->num_triangles, &sc, &cell, o.fill_opacity);
+            unsigned char rgb[3];
+            bpd_chart_color(0, rgb);
+            bpd__svg_chart(f, chart, uvs[k], val + (size_t)k * chart->num_triangles,
+                           o.color == BPD_COLOR_CHART ? rgb : NULL, &sc, &cell, o.fill_opacity);
             if (labels && labels[k]) bpd__svg_text(f, 5 + (k + 0.5) * cw, top + cw + 12, 13, "middle", labels[k]);
         }
-        bpd__svg_legend(f, 10, H - 72, W < 420 ? W - 20 : 400, &sc, &o, mean_last, max_last);
+        bpd__svg_legend(f, 10, H - 72, W < 420 ? W - 20 : 400, &sc, &o, 1, mean_last, max_last);
         ok = bpd__svg_end(f);
     }
     free(val);
