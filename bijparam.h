@@ -2693,6 +2693,15 @@ static bp_status bp__ply_body(bp__ply *P, bp__mesh_builder *b, bp__vec *fv)
         if (e->count > 0 && min > 0 && e->count > (int64_t)(ps->end - ps->p) / min + 1)
             return bp__ply_fail(P, BP_ERR_PARSE, "the header declares %D of this element, more than the rest of the file "
                                 "(%D bytes) can hold", e->count, (int64_t)(ps->end - ps->p));
+        if (e->kind == 1) {            /* every vertex needs x, y and z (faces index them) */
+            int have = 0;
+            for (j = 0; j < e->nprops; j++) {
+                int r = P->prop[e->first + j].role;
+                if (P->prop[e->first + j].list < 0 && r >= BP__PLY_X && r <= BP__PLY_Z) have |= 1 << (r - BP__PLY_X);
+            }
+            if (have != 7 && e->count > 0)
+                return bp__ply_fail(P, BP_ERR_PARSE, "the vertex element does not declare the properties x, y and z");
+        }
         if (!e->nprops) continue;                      /* nothing to read */
         if (e->kind == 1 && (!bp__vec_reserve(ps->a, &b->pos, 3 * (size_t)e->count + b->pos.count) ||
                              (has_uv && !bp__vec_reserve(ps->a, &b->uv, 2 * (size_t)e->count + b->uv.count))))
@@ -4600,11 +4609,13 @@ static void bp__heap_pop(bp__cut *K, uint32_t *n)
    or the single vertex `root` when src is NULL): K->dist, and K->parent the
    corner edge to each vertex's parent.  Each edge is relaxed at most twice,
    so the heap holds at most 6 nt + 1 entries.  Returns the farthest vertex
-   (the smallest index among equals). */
+   reached (the smallest index among equals; a vertex the sources do not
+   reach is never returned, its dist stays HUGE_VAL and its parent
+   BP__NONE), or root when nothing was reached. */
 static uint32_t bp__cut_dijkstra(bp__cut *K, const bp_chart *ch, const double *len, const unsigned char *src,
                                  uint32_t root)
 {
-    uint32_t nv = ch->num_vertices, v, n = 0, far = 0, i;
+    uint32_t nv = ch->num_vertices, v, n = 0, far = BP__NONE, i;
     for (v = 0; v < nv; v++) { K->dist[v] = HUGE_VAL; K->parent[v] = BP__NONE; }
     for (v = 0; v < nv; v++)
         if (src ? src[v] : v == root) { K->dist[v] = 0; bp__heap_push(K, &n, 0.0, v); }
@@ -4613,14 +4624,14 @@ static uint32_t bp__cut_dijkstra(bp__cut *K, const bp_chart *ch, const double *l
         v = K->heap_v[0];
         bp__heap_pop(K, &n);
         if (d > K->dist[v]) continue;                       /* a stale entry */
-        if (d > K->dist[far] || (d == K->dist[far] && v < far)) far = v;
+        if (far == BP__NONE || d > K->dist[far] || (d == K->dist[far] && v < far)) far = v;
         for (i = K->adj_start[v]; i < K->adj_start[v + 1]; i++) {
             uint32_t ce = K->adj[i], w = bp__ce_from(ch, ce) == v ? bp__ce_to(ch, ce) : bp__ce_from(ch, ce);
             double dw = d + len[ce];
             if (dw < K->dist[w]) { K->dist[w] = dw; K->parent[w] = ce; bp__heap_push(K, &n, dw, w); }
         }
     }
-    return far;
+    return far == BP__NONE ? root : far;
 }
 
 /* Mark corner edge ce and its twin as cut; 1 if it was not cut before. */
@@ -4639,12 +4650,13 @@ static uint32_t bp__cut_sphere(bp__cut *K, const bp_chart *ch)
     uint32_t p = bp__cut_dijkstra(K, ch, K->glen, NULL, 0), q = bp__cut_dijkstra(K, ch, K->glen, NULL, p), v = q, n = 0;
     if (ch->num_vertices < 3 || p == q) return 0;
     if (K->weighted) bp__cut_dijkstra(K, ch, K->len, NULL, p);   /* the path by cost */
+    if (K->parent[q] == BP__NONE) return 0;                       /* not reached (defensive) */
     if (bp__ce_from(ch, K->parent[q]) == p || bp__ce_to(ch, K->parent[q]) == p) {
         /* adjacent: go around the third corner of the edge's triangle */
         uint32_t ce = K->parent[q], e1 = ce - ce % 3 + (ce % 3 + 1) % 3, e2 = ce - ce % 3 + (ce % 3 + 2) % 3;
         return (uint32_t)(bp__cut_mark(K, e1) + bp__cut_mark(K, e2));
     }
-    while (v != p) {
+    while (v != p && K->parent[v] != BP__NONE) {
         uint32_t ce = K->parent[v];
         n += (uint32_t)bp__cut_mark(K, ce);
         v = bp__ce_from(ch, ce) == v ? bp__ce_to(ch, ce) : bp__ce_from(ch, ce);
@@ -4659,7 +4671,7 @@ static uint32_t bp__cut_center(bp__cut *K, const bp_chart *ch)
 {
     uint32_t p = bp__cut_dijkstra(K, ch, K->glen, NULL, 0), q = bp__cut_dijkstra(K, ch, K->glen, NULL, p), v = q;
     double half = 0.5 * K->dist[q];
-    while (v != p && K->dist[v] > half) {
+    while (v != p && K->dist[v] > half && K->parent[v] != BP__NONE) {
         uint32_t e = K->parent[v];
         v = bp__ce_from(ch, e) == v ? bp__ce_to(ch, e) : bp__ce_from(ch, e);
     }
@@ -4761,9 +4773,9 @@ static uint32_t bp__cut_branches(const bp_allocator *a, bp__cut *K, const bp_cha
         if (K->cut[ce] || K->twin[ce] == BP__NONE) src[bp__ce_from(ch, ce)] = src[bp__ce_to(ch, ce)] = 1;
     for (b = 0; b < 16; b++) {
         uint32_t v = bp__cut_dijkstra(K, ch, K->glen, src, 0);    /* the farthest in 3D */
-        if (!(K->dist[v] > tau)) break;
+        if (!(K->dist[v] > tau) || K->parent[v] == BP__NONE) break;
         if (K->weighted) bp__cut_dijkstra(K, ch, K->len, src, 0); /* its path by cost */
-        while (!src[v]) {
+        while (!src[v] && K->parent[v] != BP__NONE) {
             uint32_t e = K->parent[v];
             n += (uint32_t)bp__cut_mark(K, e);
             src[v] = 1;
