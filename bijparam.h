@@ -386,8 +386,7 @@ typedef struct bp_options {
                                      set by bp_options_init; 0: the 0.2.0 size */
     bp_run_progress_fn run_progress; /* whole-run progress and cancel, optional */
     void         *run_progress_user;
-    /* Packing (>>pack).  New fields go at the end so that older initializers
-       keep their meaning. */
+    /* Packing (>>pack). */
     int           atlas_resolution; /* texels per side of a square atlas: the
                                      charts are packed by their rasterized
                                      outlines at one texel density into
@@ -426,6 +425,8 @@ typedef struct bp_options {
    honour).  Callers built against 0.1.0, which had no struct_size, must
    be recompiled (a single header is compiled with its caller anyway). */
 BPDEF void bp_options_init(bp_options *opt);
+/* Short name of a stage ("read", "charts", "start", "visibility",
+   "optimize", "pack", "write"); "unknown" out of range. */
 BPDEF const char *bp_stage_name(bp_stage s);
 
 /* One chart: a connected piece of the mesh cut along seams.  Chart vertices
@@ -586,7 +587,8 @@ BPDEF bp_status bp_atlas_use_input_uvs(bp_atlas *atlas, const bp_mesh *mesh, bp_
    atlas.  BP_OK: every chart mapped.  BP_ERR_CHARTS_FAILED (not strict) and
    BP_ERR_CANCELLED: the atlas is kept, every chart valid or reported failed,
    and must be freed; any other error zeroes it (CONVENTIONS).  A cancel by
-   run_progress while the charts are built leaves no charts (zeroed). */
+   run_progress while the visibility is computed or the charts are built
+   leaves no charts (zeroed). */
 BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *mesh,
                                 const bp_options *opt, bp_error *err);
 BPDEF void      bp_atlas_free(bp_atlas *atlas);
@@ -721,8 +723,8 @@ BPDEF void      bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc);
    array when it already is packed double (stride 0 or 24: no copy), else
    at packed doubles converted once (24 bytes per vertex; 14 ms per
    million vertices measured, float at stride 32 -- little next to the
-   solve, which reads each position many times).  The mesh borrows the caller's arrays: free it with
-   bp_mesh_view_free, not bp_mesh_free. */
+   solve, which reads each position many times).  The mesh borrows the
+   caller's arrays: free it with bp_mesh_view_free, not bp_mesh_free. */
 typedef enum bp_scalar { BP_SCALAR_F64 = 0, BP_SCALAR_F32 } bp_scalar;
 typedef struct bp_mesh_view {
     const void     *positions;       /* x of vertex 0; y, z follow            */
@@ -1011,13 +1013,15 @@ BPDEF const char *bp_stop_string(bp_stop s)
    stop leaves what it has made valid and returns BP_ERR_CANCELLED:
 
      read       nothing allocated, *mesh zeroed;
+     visibility nothing computed; inside bp_parameterize it comes before
+                the charts (it guides the seams), so the charts stage sees
+                the cancel and the atlas is zeroed;
      charts     the atlas zeroed (bp_atlas_build's failure rule);
      start      a chart not started gets no map and is reported failed
                 (chart.error BP_ERR_CANCELLED); a chart whose start map is
                 done keeps it (it passed the exact check, >>tutte);
      optimize   the chart keeps its last accepted iterate, exactly valid
                 (>>lbfgs);
-     visibility skipped (nothing solved after it);
      pack       packing is not interrupted -- the charts form a valid atlas
                 only once placed -- and the cancel takes effect after it;
      write      the partial file is removed.
