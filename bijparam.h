@@ -3338,7 +3338,8 @@ BPDEF bp_status bp_write_obj_opt(const char *path, const char *source, const bp_
    and triangles and b its boundary loops, the Euler characteristic is
        chi = V - E + F = 2 - 2g - b,
    and only g = 0, b >= 1 (a disk, or a disk with b-1 holes, sec 3.6) can be
-   flattened without further cuts.  Boundary loops are walked along the
+   flattened without further cuts; other charts are cut into disks by >>cut
+   (or, with opt.cut = BP_CUT_NONE, reported failed).  Boundary loops are walked along the
    boundary edges in the triangles' orientation, so the interior lies to the
    left: the outer loop (the longest in 3D, sec 3.6) runs counter-clockwise
    in a valid map, holes clockwise. */
@@ -3805,6 +3806,8 @@ static bp_status bp__charts_status(const bp_atlas *atlas, bp_error *err)
      regularize (repair) the rest shape of each degenerate triangle
      pinches    chart vertices that share a (mesh vertex, uv) key
      topology   boundary loops and Euler characteristic of each chart
+     cut        (unless opt.cut is BP_CUT_NONE) a closed or genus > 0
+                chart cut into a disk along mesh edges (>>cut)
    Any phase can fail the whole call (strict: at the first defect); the
    topology phase fails single charts unless opt.strict is set. */
 
@@ -4280,8 +4283,10 @@ static bp_status bp__count_pinches(const bp_allocator *a, bp__build *b, bp_atlas
     return BP_OK;
 }
 
-/* Chart c's verdict in ch->error: its boundary loops and Euler characteristic chi = V - E + F =
-   2 - 2g - b, which must be that of a disk with holes (g = 0, b >= 1).
+/* Chart c's verdict in ch->error: its boundary loops and Euler
+   characteristic chi = V - E + F = 2 - 2g - b, which must be that of a
+   disk with holes (g = 0, b >= 1); other charts go to >>cut unless
+   opt.cut is BP_CUT_NONE.
    Returns a status only for what ends the whole call (out of memory, a
    boundary that does not close); the verdict is in ch->error. */
 static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b, bp_atlas *atlas, uint32_t c,
@@ -4406,10 +4411,9 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
    loops through it are short from every side (on fertility: 350 edges cut
    instead of 380 from vertex 0, and half the iterations).  Every interior
    edge (u, v) not in T closes a loop of length d(u) + d(v) + |uv| through
-   the base.  C is the
-   maximum spanning tree of the dual under that loop length (Kruskal; edges
-   of T come last), so the edges left out of C -- whose T-paths form the cut
-   after pruning -- close the shortest loops: the 2g handle loops (Eppstein's
+   the base.  C is the maximum spanning tree of the dual under that loop
+   length (Kruskal; edges of T come last), so the edges left out of C --
+   whose T-paths form the cut after pruning -- close the shortest loops: the 2g handle loops (Eppstein's
    tree-cotree, 2003, with the short choice of trees), plus for a chart with
    several holes, short paths joining the holes.
 
@@ -4444,7 +4448,7 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
    code as before.  chart.cut_edges reports the number of mesh edges cut.
 
    Importance.  With opt.importance -- painted, or the visibility V_t of
-   chapter 4, which bp_parameterize now computes before building the charts
+   chapter 4, which bp_parameterize computes before building the charts
    when views are on -- every path is found under costs |uv| times the mean
    relative importance of the edge's two triangles (relative to the chart's
    mean), so seams run where the map matters least, the dissertation's
@@ -4600,9 +4604,9 @@ static void bp__heap_pop(bp__cut *K, uint32_t *n)
     }
 }
 
-/* Dijkstra on the edge lengths len (K->glen or K->len) from the sources (src[v] set,
-   or the single vertex `root` when src is NULL): K->dist, and K->parent the
-   corner edge to each vertex's parent.  Each edge is relaxed at most twice,
+/* Dijkstra on the edge lengths len (K->glen or K->len) from the sources
+   (src[v] set, or the single vertex `root` when src is NULL): K->dist, and
+   K->parent the corner edge to each vertex's parent.  Each edge is relaxed at most twice,
    so the heap holds at most 6 nt + 1 entries.  Returns the farthest vertex
    (the smallest index among equals). */
 static uint32_t bp__cut_dijkstra(bp__cut *K, const bp_chart *ch, const double *len, const unsigned char *src,
@@ -4636,11 +4640,21 @@ static int bp__cut_mark(bp__cut *K, uint32_t ce)
     return 1;
 }
 
+/* The ends of an approximate diameter (the essay above): p the farthest
+   vertex from vertex 0, returned, and *q the farthest from p, both in 3D
+   length; K->dist and K->parent are left as the sweep from p made them. */
+static uint32_t bp__cut_diameter(bp__cut *K, const bp_chart *ch, uint32_t *q)
+{
+    uint32_t p = bp__cut_dijkstra(K, ch, K->glen, NULL, 0);
+    *q = bp__cut_dijkstra(K, ch, K->glen, NULL, p);
+    return p;
+}
+
 /* Closed genus 0: the shortest path between the ends of an approximate
    diameter, at least two edges long. */
 static uint32_t bp__cut_sphere(bp__cut *K, const bp_chart *ch)
 {
-    uint32_t p = bp__cut_dijkstra(K, ch, K->glen, NULL, 0), q = bp__cut_dijkstra(K, ch, K->glen, NULL, p), v = q, n = 0;
+    uint32_t q, p = bp__cut_diameter(K, ch, &q), v = q, n = 0;
     if (ch->num_vertices < 3 || p == q) return 0;
     if (K->weighted) bp__cut_dijkstra(K, ch, K->len, NULL, p);   /* the path by cost */
     if (bp__ce_from(ch, K->parent[q]) == p || bp__ce_to(ch, K->parent[q]) == p) {
@@ -4661,7 +4675,7 @@ static uint32_t bp__cut_sphere(bp__cut *K, const bp_chart *ch)
    loops through it are short from every side. */
 static uint32_t bp__cut_center(bp__cut *K, const bp_chart *ch)
 {
-    uint32_t p = bp__cut_dijkstra(K, ch, K->glen, NULL, 0), q = bp__cut_dijkstra(K, ch, K->glen, NULL, p), v = q;
+    uint32_t q, p = bp__cut_diameter(K, ch, &q), v = q;
     double half = 0.5 * K->dist[q];
     while (v != p && K->dist[v] > half) {
         uint32_t e = K->parent[v];
