@@ -61,6 +61,8 @@
       BP_ASSERT(x)          internal invariant check, default: nothing
       BP_USE_PTHREADS       a small thread pool inside the header (link with
                             -pthread); without it no link flags are needed
+      BP_TRUST_FLT_EVAL_METHOD  accept FLT_EVAL_METHOD != 0 when you know each
+                            double operation is rounded to double (>>predicates)
 
    CONVENTIONS
    -----------
@@ -1264,7 +1266,7 @@ struct bp__pool {
    than many of the solver's tasks (a vector chunk takes a few), and an
    iteration has dozens of parallel loops, so a thread that waits (a worker
    for the next job, the caller for the last task of one) first polls for a
-   short while.  Short is the point: session 4 polled up to 200000
+   short while.  Short is the point: an earlier version polled up to 200000
    iterations (about a millisecond), and on a machine whose cores were all
    busy with other processes a polling thread took the core from the very
    thread it waited for: the default was 5 to 200 times slower than
@@ -1322,8 +1324,8 @@ static int bp__pool_poll(const uint32_t *w, uint32_t old, int is_ne, const int *
    P->finished, not until every worker has looked at the job.  A worker
    that the system has not scheduled yet (the other core is busy with
    another process) therefore costs nothing: the caller claims and runs its
-   tasks itself, and when the worker wakes it finds nothing left.  Session 4
-   counted workers instead, so every loop waited for every worker to be
+   tasks itself, and when the worker wakes it finds nothing left.  An
+   earlier version counted workers instead, so every loop waited for every worker to be
    scheduled: with a competing process, a scheduler time slice (a few
    milliseconds) per loop, dozens of loops per iteration.  The caller now
    waits only for a task that a worker has claimed and is still running.
@@ -1570,10 +1572,7 @@ static bp__par bp__par_serial(void)
 /* Choose how loops run for a solve; *pool receives a pool to stop later. */
 static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void **pool)
 {
-    bp__par par;
-    par.run = bp__serial_for;
-    par.user = NULL;
-    par.threads = 1;
+    bp__par par = bp__par_serial();
     *pool = NULL;
     (void)a;
     if (opt && opt->parallel_for) {
