@@ -666,9 +666,9 @@ BPDEF bp_status bp_read_off(const char *path, bp_mesh *mesh,
 /* PLY (ASCII, binary little and big endian): the `vertex` element's x y z
    (float or double, any order, other properties and lists skipped), the
    `face` element's vertex_indices / vertex_index list (any integer type),
-   polygons fan-triangulated; per-vertex s t / u v / texture_u texture_v,
-   or a per-face texcoord list (2 floats per corner), become the uvs (and
-   seams where a face's texcoords differ from its neighbour's).  Errors name
+   polygons fan-triangulated; per-vertex s t / u v / texture_u texture_v /
+   texture_s texture_t become the uvs, one per vertex (so no seams; a
+   per-face texcoord list is read past).  Errors name
    the element as the header numbers it (vertex 7, face 12, from 1) with
    the line (ASCII) or byte offset (binary). */
 BPDEF bp_status bp_read_ply(const char *path, bp_mesh *mesh,
@@ -1748,13 +1748,14 @@ BPDEF int bp_segments_intersect(const double a[2], const double b[2],
 
 /* >>io =====================================================================
 
-   OBJ and OFF parsing works on text in memory (bp_parse_obj, bp_parse_off),
-   so the same code serves files and fuzzers.  The parsers are strict where
-   a silent guess would corrupt the mesh (bad numbers, index 0, indices out
-   of range, non-finite coordinates, faces with fewer than three corners)
-   and lenient where the format is (unknown statements, comments, CRLF,
-   tabs, `vn`, `o`, `g`, `s`, `usemtl`).  Every error names its 1-based line.
-   On failure nothing stays allocated and *mesh is zeroed.
+   OBJ, OFF and PLY parsing works on data in memory (bp_parse_obj,
+   bp_parse_off, bp_parse_ply), so the same code serves files and fuzzers.
+   The OBJ and OFF parsers are strict where a silent guess would corrupt
+   the mesh (bad numbers, index 0, indices out of range, non-finite
+   coordinates, faces with fewer than three corners) and lenient where the
+   format is (unknown statements, comments, CRLF, tabs, `vn`, `o`, `g`,
+   `s`, `usemtl`).  Every error names its 1-based line (PLY: below).  On
+   failure nothing stays allocated and *mesh is zeroed.
 
    Seams come from `vt`: a corner written `v/vt` carries uv index vt-1.  In
    a file where only some faces carry `vt`, a corner without one gets the
