@@ -3879,6 +3879,27 @@ static uint32_t bp__mesh_ce(const bp__build *b, uint32_t ce)
     return b->flip[ce / 3] ? ce - ce % 3 + (2 - ce % 3) : ce;
 }
 
+/* The corner edges of one mesh edge are b->edges[e, g) (sorted by vertex
+   pair): g for a group starting at e. */
+static size_t bp__edge_group_end(const bp__build *b, size_t e, size_t nc)
+{
+    size_t g;
+    for (g = e + 1; g < nc && b->edges[g].lo == b->edges[e].lo && b->edges[g].hi == b->edges[e].hi; g++) {}
+    return g;
+}
+
+/* The live corner edges of group [e, g): those of triangles neither
+   repeating a vertex (bad) nor dropped as copies.  Returns their count; the
+   first three go to live[]. */
+static uint32_t bp__live_edges(const bp__build *b, size_t e, size_t g, uint32_t live[3])
+{
+    uint32_t n = 0;
+    size_t i;
+    for (i = e; i < g; i++)
+        if (!b->bad[b->edges[i].ce / 3] && !b->drop[b->edges[i].ce / 3] && n++ < 3) live[n - 1] = b->edges[i].ce;
+    return n;
+}
+
 /* Glue one mesh edge, the corner edges edges[e, g) of the same vertex pair
    (of the glued mesh m = b->fm).  Repeated-vertex triangles (bad) and
    dropped copies take no part.  Strict: an edge of more than two triangles
@@ -3886,11 +3907,8 @@ static uint32_t bp__mesh_ce(const bp__build *b, uint32_t ce)
    edge, or one cut to make a component orientable, is a seam. */
 static bp_status bp__glue_edge(bp__build *b, const bp_mesh *m, size_t e, size_t g, bp_error *err)
 {
-    uint32_t good[3], ng = 0, lo = b->edges[e].lo, hi = b->edges[e].hi;
-    size_t i;
+    uint32_t good[3], ng = bp__live_edges(b, e, g, good), lo = b->edges[e].lo, hi = b->edges[e].hi;
     char n0[48], n1[48], n2[48];
-    for (i = e; i < g; i++)
-        if (!b->bad[b->edges[i].ce / 3] && !b->drop[b->edges[i].ce / 3] && ng++ < 3) good[ng - 1] = b->edges[i].ce;
     if (ng > 2 && b->repair) {
         bp__repair_note(b->rep, BP_REPAIR_NONMANIFOLD_EDGE, lo, hi);
         return BP_OK;
@@ -4042,12 +4060,9 @@ static void bp__find_mates(bp__build *b, const bp_mesh *m)
     size_t e, g, i, nc = 3 * (size_t)m->num_triangles;
     for (i = 0; i < nc; i++) b->mate[i] = BP__NONE;
     for (e = 0; e < nc; e = g) {
-        uint32_t live[3], nl = 0;
-        for (g = e + 1; g < nc && b->edges[g].lo == b->edges[e].lo && b->edges[g].hi == b->edges[e].hi; g++) {}
-        for (i = e; i < g; i++) {
-            uint32_t ce = b->edges[i].ce;
-            if (!b->bad[ce / 3] && !b->drop[ce / 3] && nl++ < 3) live[nl - 1] = ce;
-        }
+        uint32_t live[3], nl;
+        g = bp__edge_group_end(b, e, nc);
+        nl = bp__live_edges(b, e, g, live);
         if (nl == 2) { b->mate[live[0]] = live[1]; b->mate[live[1]] = live[0]; }
     }
 }
@@ -4135,7 +4150,7 @@ static bp_status bp__glue(bp__build *b, const bp_mesh *m, bp_error *err)
     for (t = 0; t < nt; t++) b->tri_uf[t] = t;
     for (i = 0; i < nc; i++) { b->corner_uf[i] = (uint32_t)i; b->glued[i] = BP__NONE; }
     for (e = 0; e < nc; e = g) {
-        for (g = e + 1; g < nc && b->edges[g].lo == b->edges[e].lo && b->edges[g].hi == b->edges[e].hi; g++) {}
+        g = bp__edge_group_end(b, e, nc);
         if ((st = bp__glue_edge(b, m, e, g, err)) != BP_OK) return st;
     }
     return BP_OK;
