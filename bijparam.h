@@ -406,8 +406,9 @@ typedef struct bp_options {
                                      better                                   */
     const bp_pin *pins;           /* pinned vertices (see >>pins); NULL or
                                      num_pins 0: none.  Pinned charts are not
-                                     moved by packing; pins and normalize
-                                     together are refused                      */
+                                     moved by packing; pins together with
+                                     normalize or atlas_resolution are
+                                     refused (BP_ERR_INVALID_ARGUMENT)         */
     uint32_t      num_pins;
     bp_cut        cut;            /* charts that are closed or of genus > 0:
                                      BP_CUT_AUTO (default) cuts them into disks
@@ -576,7 +577,8 @@ BPDEF bp_status bp_chart_optimize(bp_chart *chart, uint32_t chart_index,
    rotated and packed by their rasterized outlines with opt->padding texels
    between them (>>pack); every moved chart is re-checked exactly.
    Charts with pins, and charts started from their input uvs (without
-   normalize), stay where they are: see chart.in_place and >>pins. */
+   normalize or atlas_resolution), stay where they are: see chart.in_place
+   and >>pins; pins with normalize or atlas_resolution are refused. */
 BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err);
 /* Take each chart's map from the mesh's own texture coordinates (mesh->uvs
    through chart.vertex_uv) instead of computing one, for repacking a mesh
