@@ -4542,13 +4542,14 @@ static void bp__cut_weigh(bp__cut *K, const bp_chart *ch, const double *importan
     }
     mean = den > 0 && num > 0 && num < HUGE_VAL ? num / den : 1;
     K->weighted = 1;
-    for (t = 0; t < nt; t++)
+    for (t = 0; t < nt; t++) {
+        double w0 = bp__cut_importance(ch, importance, t, mean);
         for (k = 0; k < 3; k++) {
             uint32_t ce = 3 * t + k, tw = K->twin[ce];
-            double w0 = bp__cut_importance(ch, importance, t, mean);
             double w1 = tw == BP__NONE ? w0 : bp__cut_importance(ch, importance, tw / 3, mean);
             K->len[ce] = K->glen[ce] * 0.5 * (w0 + w1);
         }
+    }
 }
 
 /* Twins of the chart's corner edges from the mesh-level gluing (glued[mesh
@@ -4861,8 +4862,9 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
 {
     bp_chart *ch = &atlas->charts[c];
     bp__cut K;
-    uint32_t nt = ch->num_triangles, nv = ch->num_vertices, big = (3 * nt > nv ? 3 * nt : nv) + 1, ncut;
+    uint32_t nt = ch->num_triangles, nv = ch->num_vertices, big = (3 * nt > nv ? 3 * nt : nv) + 1, ncut = 0;
     int64_t ne, chi;
+    int ok, oom = 0;
     bp_status st;
     char nm[48];
     memset(&K, 0, sizeof K);
@@ -4880,25 +4882,19 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
     K.work2 = (uint32_t *)bp__alloc_array(a, big, sizeof(uint32_t));
     K.heap_d = (double *)bp__alloc_array(a, 6 * (size_t)nt + 1, sizeof(double));
     K.heap_v = (uint32_t *)bp__alloc_array(a, 6 * (size_t)nt + 1, sizeof(uint32_t));
-    if (!K.twin || !K.adj_start || !K.adj || !K.len || !K.dist || !K.parent || !K.cut || !K.in_tree ||
-        !K.deg || !K.work || !K.work2 || !K.heap_d || !K.heap_v || !bp__cut_adjacency(a, &K, ch, m, glued, importance)) {
-        bp__cut_free(a, &K);
-        return bp__oom(err, "cutting a chart into a disk");
+    ok = K.twin && K.adj_start && K.adj && K.len && K.dist && K.parent && K.cut && K.in_tree && K.deg &&
+         K.work && K.work2 && K.heap_d && K.heap_v && bp__cut_adjacency(a, &K, ch, m, glued, importance);
+    if (ok) {                                  /* the cut graph (the essay above) */
+        chi = (int64_t)nv - ((int64_t)3 * nt + ch->loop_start[ch->num_loops]) / 2 + nt;
+        if (ch->num_loops == 0 && chi == 2) ncut = bp__cut_sphere(&K, ch);
+        else if ((ok = bp__cut_cotree(a, &K, ch)) != 0) ncut = bp__cut_prune(&K, ch);
     }
-    chi = (int64_t)nv - ((int64_t)3 * nt + ch->loop_start[ch->num_loops]) / 2 + nt;
-    if (ch->num_loops == 0 && chi == 2) ncut = bp__cut_sphere(&K, ch);
-    else if (!bp__cut_cotree(a, &K, ch)) { bp__cut_free(a, &K); return bp__oom(err, "cutting a chart into a disk"); }
-    else ncut = bp__cut_prune(&K, ch);
-    {
-        int oom = 0;
+    if (ok) {
         ncut += bp__cut_branches(a, &K, ch, BP__CUT_BRANCH * sqrt(ch->area3d), &oom);
-        if (oom) { bp__cut_free(a, &K); return bp__oom(err, "cutting a chart into a disk"); }
-    }
-    if (!bp__cut_split(a, &K, ch, atlas->corner_vertex, glued)) {
-        bp__cut_free(a, &K);
-        return bp__oom(err, "cutting a chart into a disk");
+        ok = !oom && bp__cut_split(a, &K, ch, atlas->corner_vertex, glued);
     }
     bp__cut_free(a, &K);
+    if (!ok) return bp__oom(err, "cutting a chart into a disk");
     bp__free(a, ch->loop_start); bp__free(a, ch->loop_vertices);
     ch->loop_start = ch->loop_vertices = NULL;
     ch->num_loops = 0;
