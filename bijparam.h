@@ -2601,6 +2601,17 @@ static bp_status bp__ply_list_count(bp__ply *P, int type, int64_t *n)
     return BP_OK;
 }
 
+/* Read past one property the library does not use: a scalar, or a list
+   (its count, then that many items). */
+static bp_status bp__ply_skip_prop(bp__ply *P, const bp__ply_prop *p)
+{
+    int64_t n = 1, j;
+    bp_status st = BP_OK;
+    if (p->list >= 0) st = bp__ply_list_count(P, p->list, &n);
+    for (j = 0; j < n && st == BP_OK; j++) st = bp__ply_skip(P, p->type);
+    return st;
+}
+
 /* The least bytes one instance of e takes: 1 per binary byte / 2 ASCII
    characters per scalar or list count (list items may be none). */
 static int64_t bp__ply_min_bytes(const bp__ply *P, const bp__ply_elem *e)
@@ -2622,12 +2633,8 @@ static bp_status bp__ply_vertex(bp__ply *P, const bp__ply_elem *e, bp__mesh_buil
     bp_status st;
     for (i = 0; i < e->nprops; i++) {
         const bp__ply_prop *p = &P->prop[e->first + i];
-        if (p->list >= 0) {
-            int64_t n, j;
-            if ((st = bp__ply_list_count(P, p->list, &n)) != BP_OK) return st;
-            for (j = 0; j < n; j++) if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st;
-        } else if (p->role == BP__PLY_SKIP) {
-            if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st;
+        if (p->list >= 0 || p->role == BP__PLY_SKIP) {
+            if ((st = bp__ply_skip_prop(P, p)) != BP_OK) return st;
         } else {
             if ((st = bp__ply_value(P, p->type, &x[p->role - BP__PLY_X])) != BP_OK) return st;
             if (!(x[p->role - BP__PLY_X] - x[p->role - BP__PLY_X] == 0))
@@ -2649,12 +2656,11 @@ static bp_status bp__ply_face(bp__ply *P, const bp__ply_elem *e, bp__mesh_builde
     for (i = 0; i < e->nprops; i++) {
         const bp__ply_prop *p = &P->prop[e->first + i];
         int64_t n, j;
-        if (p->list < 0) { if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st; continue; }
-        if ((st = bp__ply_list_count(P, p->list, &n)) != BP_OK) return st;
-        if (p->role != BP__PLY_INDICES || got) {
-            for (j = 0; j < n; j++) if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st;
+        if (p->list < 0 || p->role != BP__PLY_INDICES || got) {
+            if ((st = bp__ply_skip_prop(P, p)) != BP_OK) return st;
             continue;
         }
+        if ((st = bp__ply_list_count(P, p->list, &n)) != BP_OK) return st;
         got = 1;
         if (n < 3) return bp__ply_fail(P, BP_ERR_POLYGON, "a face needs at least 3 corners, this one has %D", n);
         fv->count = 0;
@@ -2709,12 +2715,7 @@ static bp_status bp__ply_body(bp__ply *P, bp__mesh_builder *b, bp__vec *fv)
             else if (e->kind == 2) st = bp__ply_face(P, e, b, fv, nv);
             else {
                 int p;
-                for (p = 0; p < e->nprops && st == BP_OK; p++) {
-                    const bp__ply_prop *pr = &P->prop[e->first + p];
-                    int64_t n = 1, m;
-                    if (pr->list >= 0) st = bp__ply_list_count(P, pr->list, &n);
-                    for (m = 0; m < n && st == BP_OK; m++) st = bp__ply_skip(P, pr->type);
-                }
+                for (p = 0; p < e->nprops && st == BP_OK; p++) st = bp__ply_skip_prop(P, &P->prop[e->first + p]);
             }
             if (ps->opt && (i & 16383) == 16383) bp__parse_tick(ps);
             if (ps->cancelled) return BP_ERR_CANCELLED;
