@@ -686,7 +686,9 @@ BPDEF bp_status bp_read_mesh_opt(const char *path, bp_mesh *mesh,
 /* Writers.  Both write `path` directly and, on any error, remove what
    they wrote (no half-written file); the messages give the reason
    (strerror).  bp_write_obj writes the mesh alone: v in input order, one vt
-   per chart vertex, f v/vt in face order (polygons as read).
+   per chart vertex, f v/vt in face order (polygons as read, except one
+   whose fan triangles give a corner two vt -- a seam along a diagonal --
+   which is written as its triangles).
    bp_write_obj_from keeps everything else of the OBJ file `source` the
    mesh was read from: every line comes back byte for byte and in order
    (vn, usemtl, mtllib, g, o, s, l, comments, unknown statements, CRLF),
@@ -2902,7 +2904,8 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
 /* ---- writing ------------------------------------------------------------
 
    Two writers.  bp_write_obj writes a new OBJ from the mesh alone: v in
-   input order, one vt per chart vertex, f v/vt in face order.  Whatever
+   input order, one vt per chart vertex, f v/vt in face order (a polygon
+   whose fan triangles disagree on a corner, below, as its triangles).  Whatever
    else the file had (normals, materials, groups, comments) is not in a
    bp_mesh, so it is gone.  bp_write_obj_from keeps it: it streams the
    file the mesh was read from and copies every line byte for byte, in
@@ -2922,12 +2925,13 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
    triangles t .. t+n-3; its corner k is corner 0 of every fan triangle
    (k = 0) or a corner of one or two of them.  The charts glue the fan
    triangles along their diagonals, so all of them give the corner the
-   same chart vertex.  If they do not (a diagonal that is also a
-   non-manifold edge, or fan triangles in a failed and a valid chart), one
-   polygon cannot carry both, and that polygon is written as its fan
-   triangles, one `f` line each (the only change to the line structure).
-   The writer checks as it goes that the file's faces are the mesh's
-   triangles: a mesh from another file is refused, not mislabelled.
+   same chart vertex.  If they do not (a diagonal that is also a seam: a
+   non-manifold edge, a repair cut, an automatic seam of >>cut; or fan
+   triangles in a failed and a valid chart), one polygon cannot carry
+   both, and both writers write that polygon as its fan triangles, one `f`
+   line each (the only change to the line structure).  bp_write_obj_from
+   checks as it goes that the file's faces are the mesh's triangles: a
+   mesh from another file is refused, not mislabelled.
 
    Neither writer leaves a half-written file behind: on any error the file
    at `path` is closed and removed.  They write `path` directly; replacing
@@ -3034,6 +3038,40 @@ static uint32_t bp__corner_vt(const bp_atlas *atlas, const uint32_t *base, uint3
     return atlas->charts[c].uv ? base[c] + atlas->corner_vertex[3 * (size_t)t + k] : BP__NONE;
 }
 
+/* Do the fan triangles [t, end) of one polygon give each of its corners
+   one vt?  Triangle j shares corner 0 with triangle t and its corner 1 is
+   triangle j-1's corner 2 (the essay above). */
+static int bp__fan_agrees(const bp_atlas *atlas, const uint32_t *base, uint32_t t, uint32_t end)
+{
+    uint32_t j;
+    for (j = t + 1; j < end; j++)
+        if (bp__corner_vt(atlas, base, j, 0) != bp__corner_vt(atlas, base, t, 0) ||
+            bp__corner_vt(atlas, base, j, 1) != bp__corner_vt(atlas, base, j - 1, 2))
+            return 0;
+    return 1;
+}
+
+/* One f line for the fan triangles [t, end): corners 0, 1, 2 of the first,
+   then corner 2 of each further one; a chart that failed has no map:
+   geometry only. */
+static void bp__out_fan(bp__out *o, const bp_mesh *mesh, const bp_atlas *atlas, const uint32_t *base,
+                        uint32_t t, uint32_t end)
+{
+    uint32_t k;
+    int mapped = atlas->charts[atlas->corner_chart[3 * (size_t)t]].uv != NULL;
+    bp__out_str(o, "f");
+    for (k = 0; k < 3 + (end - t - 1); k++) {
+        uint32_t tt = k < 3 ? t : t + k - 2, kk = k < 3 ? k : 2;
+        bp__out_str(o, " ");
+        bp__out_uint(o, (uint64_t)mesh->triangles[3 * (size_t)tt + kk] + 1);
+        if (mapped) {
+            bp__out_str(o, "/");
+            bp__out_uint(o, (uint64_t)bp__corner_vt(atlas, base, tt, (int)kk) + 1);
+        }
+    }
+    bp__out_str(o, "\n");
+}
+
 static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
                                const bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
@@ -3055,23 +3093,11 @@ static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
                     mesh->positions[3 * i + 1], mesh->positions[3 * i + 2]) < 0) { o.ok = 0; o.e = errno; }
     bp__out_vt_block(&o, atlas, "\n");
     for (t = 0; t < mesh->num_triangles && o.ok; ) {
-        uint32_t end = t + 1, k;
-        int mapped = atlas->charts[atlas->corner_chart[3 * t]].uv != NULL;
+        uint32_t end = t + 1, j;
         if (mesh->triangle_face)
             while (end < mesh->num_triangles && mesh->triangle_face[end] == mesh->triangle_face[t]) end++;
-        /* corners 0, 1, 2 of the first fan triangle, then corner 2 of each
-           further one; a chart that failed has no map: geometry only */
-        bp__out_str(&o, "f");
-        for (k = 0; k < 3 + (end - t - 1); k++) {
-            uint32_t tt = k < 3 ? t : t + k - 2, kk = k < 3 ? k : 2;
-            bp__out_str(&o, " ");
-            bp__out_uint(&o, (uint64_t)mesh->triangles[3 * tt + kk] + 1);
-            if (mapped) {
-                bp__out_str(&o, "/");
-                bp__out_uint(&o, (uint64_t)bp__corner_vt(atlas, base, tt, (int)kk) + 1);
-            }
-        }
-        bp__out_str(&o, "\n");
+        if (bp__fan_agrees(atlas, base, t, end)) bp__out_fan(&o, mesh, atlas, base, t, end);
+        else for (j = t; j < end; j++) bp__out_fan(&o, mesh, atlas, base, j, j + 1);   /* one line each */
         for (; t < end; t++) bp__out_tick(&o, t + 1, mesh->num_triangles);
     }
     bp__free(&a, base);
