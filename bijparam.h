@@ -61,6 +61,8 @@
       BP_ASSERT(x)          internal invariant check, default: nothing
       BP_USE_PTHREADS       a small thread pool inside the header (link with
                             -pthread); without it no link flags are needed
+      BP_TRUST_FLT_EVAL_METHOD  accept FLT_EVAL_METHOD != 0 when you know each
+                            double operation is rounded to double (>>predicates)
 
    CONVENTIONS
    -----------
@@ -386,8 +388,7 @@ typedef struct bp_options {
                                      set by bp_options_init; 0: the 0.2.0 size */
     bp_run_progress_fn run_progress; /* whole-run progress and cancel, optional */
     void         *run_progress_user;
-    /* Packing (>>pack).  New fields go at the end so that older initializers
-       keep their meaning. */
+    /* Packing (>>pack). */
     int           atlas_resolution; /* texels per side of a square atlas: the
                                      charts are packed by their rasterized
                                      outlines at one texel density into
@@ -405,8 +406,9 @@ typedef struct bp_options {
                                      better                                   */
     const bp_pin *pins;           /* pinned vertices (see >>pins); NULL or
                                      num_pins 0: none.  Pinned charts are not
-                                     moved by packing; pins and normalize
-                                     together are refused                      */
+                                     moved by packing; pins together with
+                                     normalize or atlas_resolution are
+                                     refused (BP_ERR_INVALID_ARGUMENT)         */
     uint32_t      num_pins;
     bp_cut        cut;            /* charts that are closed or of genus > 0:
                                      BP_CUT_AUTO (default) cuts them into disks
@@ -426,6 +428,8 @@ typedef struct bp_options {
    honour).  Callers built against 0.1.0, which had no struct_size, must
    be recompiled (a single header is compiled with its caller anyway). */
 BPDEF void bp_options_init(bp_options *opt);
+/* Short name of a stage ("read", "charts", "start", "visibility",
+   "optimize", "pack", "write"); "unknown" out of range. */
 BPDEF const char *bp_stage_name(bp_stage s);
 
 /* One chart: a connected piece of the mesh cut along seams.  Chart vertices
@@ -573,7 +577,8 @@ BPDEF bp_status bp_chart_optimize(bp_chart *chart, uint32_t chart_index,
    rotated and packed by their rasterized outlines with opt->padding texels
    between them (>>pack); every moved chart is re-checked exactly.
    Charts with pins, and charts started from their input uvs (without
-   normalize), stay where they are: see chart.in_place and >>pins. */
+   normalize or atlas_resolution), stay where they are: see chart.in_place
+   and >>pins; pins with normalize or atlas_resolution are refused. */
 BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err);
 /* Take each chart's map from the mesh's own texture coordinates (mesh->uvs
    through chart.vertex_uv) instead of computing one, for repacking a mesh
@@ -586,7 +591,8 @@ BPDEF bp_status bp_atlas_use_input_uvs(bp_atlas *atlas, const bp_mesh *mesh, bp_
    atlas.  BP_OK: every chart mapped.  BP_ERR_CHARTS_FAILED (not strict) and
    BP_ERR_CANCELLED: the atlas is kept, every chart valid or reported failed,
    and must be freed; any other error zeroes it (CONVENTIONS).  A cancel by
-   run_progress while the charts are built leaves no charts (zeroed). */
+   run_progress while the visibility is computed or the charts are built
+   leaves no charts (zeroed). */
 BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *mesh,
                                 const bp_options *opt, bp_error *err);
 BPDEF void      bp_atlas_free(bp_atlas *atlas);
@@ -662,9 +668,9 @@ BPDEF bp_status bp_read_off(const char *path, bp_mesh *mesh,
 /* PLY (ASCII, binary little and big endian): the `vertex` element's x y z
    (float or double, any order, other properties and lists skipped), the
    `face` element's vertex_indices / vertex_index list (any integer type),
-   polygons fan-triangulated; per-vertex s t / u v / texture_u texture_v,
-   or a per-face texcoord list (2 floats per corner), become the uvs (and
-   seams where a face's texcoords differ from its neighbour's).  Errors name
+   polygons fan-triangulated; per-vertex s t / u v / texture_u texture_v /
+   texture_s texture_t become the uvs, one per vertex (so no seams; a
+   per-face texcoord list is read past).  Errors name
    the element as the header numbers it (vertex 7, face 12, from 1) with
    the line (ASCII) or byte offset (binary). */
 BPDEF bp_status bp_read_ply(const char *path, bp_mesh *mesh,
@@ -680,7 +686,9 @@ BPDEF bp_status bp_read_mesh_opt(const char *path, bp_mesh *mesh,
 /* Writers.  Both write `path` directly and, on any error, remove what
    they wrote (no half-written file); the messages give the reason
    (strerror).  bp_write_obj writes the mesh alone: v in input order, one vt
-   per chart vertex, f v/vt in face order (polygons as read).
+   per chart vertex, f v/vt in face order (polygons as read, except one
+   whose fan triangles give a corner two vt -- a seam along a diagonal --
+   which is written as its triangles).
    bp_write_obj_from keeps everything else of the OBJ file `source` the
    mesh was read from: every line comes back byte for byte and in order
    (vn, usemtl, mtllib, g, o, s, l, comments, unknown statements, CRLF),
@@ -721,8 +729,8 @@ BPDEF void      bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc);
    array when it already is packed double (stride 0 or 24: no copy), else
    at packed doubles converted once (24 bytes per vertex; 14 ms per
    million vertices measured, float at stride 32 -- little next to the
-   solve, which reads each position many times).  The mesh borrows the caller's arrays: free it with
-   bp_mesh_view_free, not bp_mesh_free. */
+   solve, which reads each position many times).  The mesh borrows the
+   caller's arrays: free it with bp_mesh_view_free, not bp_mesh_free. */
 typedef enum bp_scalar { BP_SCALAR_F64 = 0, BP_SCALAR_F32 } bp_scalar;
 typedef struct bp_mesh_view {
     const void     *positions;       /* x of vertex 0; y, z follow            */
@@ -1011,13 +1019,15 @@ BPDEF const char *bp_stop_string(bp_stop s)
    stop leaves what it has made valid and returns BP_ERR_CANCELLED:
 
      read       nothing allocated, *mesh zeroed;
+     visibility nothing computed; inside bp_parameterize it comes before
+                the charts (it guides the seams), so the charts stage sees
+                the cancel and the atlas is zeroed;
      charts     the atlas zeroed (bp_atlas_build's failure rule);
      start      a chart not started gets no map and is reported failed
                 (chart.error BP_ERR_CANCELLED); a chart whose start map is
                 done keeps it (it passed the exact check, >>tutte);
      optimize   the chart keeps its last accepted iterate, exactly valid
                 (>>lbfgs);
-     visibility skipped (nothing solved after it);
      pack       packing is not interrupted -- the charts form a valid atlas
                 only once placed -- and the cancel takes effect after it;
      write      the partial file is removed.
@@ -1260,7 +1270,7 @@ struct bp__pool {
    than many of the solver's tasks (a vector chunk takes a few), and an
    iteration has dozens of parallel loops, so a thread that waits (a worker
    for the next job, the caller for the last task of one) first polls for a
-   short while.  Short is the point: session 4 polled up to 200000
+   short while.  Short is the point: an earlier version polled up to 200000
    iterations (about a millisecond), and on a machine whose cores were all
    busy with other processes a polling thread took the core from the very
    thread it waited for: the default was 5 to 200 times slower than
@@ -1318,8 +1328,8 @@ static int bp__pool_poll(const uint32_t *w, uint32_t old, int is_ne, const int *
    P->finished, not until every worker has looked at the job.  A worker
    that the system has not scheduled yet (the other core is busy with
    another process) therefore costs nothing: the caller claims and runs its
-   tasks itself, and when the worker wakes it finds nothing left.  Session 4
-   counted workers instead, so every loop waited for every worker to be
+   tasks itself, and when the worker wakes it finds nothing left.  An
+   earlier version counted workers instead, so every loop waited for every worker to be
    scheduled: with a competing process, a scheduler time slice (a few
    milliseconds) per loop, dozens of loops per iteration.  The caller now
    waits only for a task that a worker has claimed and is still running.
@@ -1566,10 +1576,7 @@ static bp__par bp__par_serial(void)
 /* Choose how loops run for a solve; *pool receives a pool to stop later. */
 static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void **pool)
 {
-    bp__par par;
-    par.run = bp__serial_for;
-    par.user = NULL;
-    par.threads = 1;
+    bp__par par = bp__par_serial();
     *pool = NULL;
     (void)a;
     if (opt && opt->parallel_for) {
@@ -1745,13 +1752,14 @@ BPDEF int bp_segments_intersect(const double a[2], const double b[2],
 
 /* >>io =====================================================================
 
-   OBJ and OFF parsing works on text in memory (bp_parse_obj, bp_parse_off),
-   so the same code serves files and fuzzers.  The parsers are strict where
-   a silent guess would corrupt the mesh (bad numbers, index 0, indices out
-   of range, non-finite coordinates, faces with fewer than three corners)
-   and lenient where the format is (unknown statements, comments, CRLF,
-   tabs, `vn`, `o`, `g`, `s`, `usemtl`).  Every error names its 1-based line.
-   On failure nothing stays allocated and *mesh is zeroed.
+   OBJ, OFF and PLY parsing works on data in memory (bp_parse_obj,
+   bp_parse_off, bp_parse_ply), so the same code serves files and fuzzers.
+   The OBJ and OFF parsers are strict where a silent guess would corrupt
+   the mesh (bad numbers, index 0, indices out of range, non-finite
+   coordinates, faces with fewer than three corners) and lenient where the
+   format is (unknown statements, comments, CRLF, tabs, `vn`, `o`, `g`,
+   `s`, `usemtl`).  Every error names its 1-based line (PLY: below).  On
+   failure nothing stays allocated and *mesh is zeroed.
 
    Seams come from `vt`: a corner written `v/vt` carries uv index vt-1.  In
    a file where only some faces carry `vt`, a corner without one gets the
@@ -2595,6 +2603,17 @@ static bp_status bp__ply_list_count(bp__ply *P, int type, int64_t *n)
     return BP_OK;
 }
 
+/* Read past one property the library does not use: a scalar, or a list
+   (its count, then that many items). */
+static bp_status bp__ply_skip_prop(bp__ply *P, const bp__ply_prop *p)
+{
+    int64_t n = 1, j;
+    bp_status st = BP_OK;
+    if (p->list >= 0) st = bp__ply_list_count(P, p->list, &n);
+    for (j = 0; j < n && st == BP_OK; j++) st = bp__ply_skip(P, p->type);
+    return st;
+}
+
 /* The least bytes one instance of e takes: 1 per binary byte / 2 ASCII
    characters per scalar or list count (list items may be none). */
 static int64_t bp__ply_min_bytes(const bp__ply *P, const bp__ply_elem *e)
@@ -2616,12 +2635,8 @@ static bp_status bp__ply_vertex(bp__ply *P, const bp__ply_elem *e, bp__mesh_buil
     bp_status st;
     for (i = 0; i < e->nprops; i++) {
         const bp__ply_prop *p = &P->prop[e->first + i];
-        if (p->list >= 0) {
-            int64_t n, j;
-            if ((st = bp__ply_list_count(P, p->list, &n)) != BP_OK) return st;
-            for (j = 0; j < n; j++) if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st;
-        } else if (p->role == BP__PLY_SKIP) {
-            if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st;
+        if (p->list >= 0 || p->role == BP__PLY_SKIP) {
+            if ((st = bp__ply_skip_prop(P, p)) != BP_OK) return st;
         } else {
             if ((st = bp__ply_value(P, p->type, &x[p->role - BP__PLY_X])) != BP_OK) return st;
             if (!(x[p->role - BP__PLY_X] - x[p->role - BP__PLY_X] == 0))
@@ -2643,12 +2658,11 @@ static bp_status bp__ply_face(bp__ply *P, const bp__ply_elem *e, bp__mesh_builde
     for (i = 0; i < e->nprops; i++) {
         const bp__ply_prop *p = &P->prop[e->first + i];
         int64_t n, j;
-        if (p->list < 0) { if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st; continue; }
-        if ((st = bp__ply_list_count(P, p->list, &n)) != BP_OK) return st;
-        if (p->role != BP__PLY_INDICES || got) {
-            for (j = 0; j < n; j++) if ((st = bp__ply_skip(P, p->type)) != BP_OK) return st;
+        if (p->list < 0 || p->role != BP__PLY_INDICES || got) {
+            if ((st = bp__ply_skip_prop(P, p)) != BP_OK) return st;
             continue;
         }
+        if ((st = bp__ply_list_count(P, p->list, &n)) != BP_OK) return st;
         got = 1;
         if (n < 3) return bp__ply_fail(P, BP_ERR_POLYGON, "a face needs at least 3 corners, this one has %D", n);
         fv->count = 0;
@@ -2712,12 +2726,7 @@ static bp_status bp__ply_body(bp__ply *P, bp__mesh_builder *b, bp__vec *fv)
             else if (e->kind == 2) st = bp__ply_face(P, e, b, fv, nv);
             else {
                 int p;
-                for (p = 0; p < e->nprops && st == BP_OK; p++) {
-                    const bp__ply_prop *pr = &P->prop[e->first + p];
-                    int64_t n = 1, m;
-                    if (pr->list >= 0) st = bp__ply_list_count(P, pr->list, &n);
-                    for (m = 0; m < n && st == BP_OK; m++) st = bp__ply_skip(P, pr->type);
-                }
+                for (p = 0; p < e->nprops && st == BP_OK; p++) st = bp__ply_skip_prop(P, &P->prop[e->first + p]);
             }
             if (ps->opt && (i & 16383) == 16383) bp__parse_tick(ps);
             if (ps->cancelled) return BP_ERR_CANCELLED;
@@ -2904,7 +2913,8 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
 /* ---- writing ------------------------------------------------------------
 
    Two writers.  bp_write_obj writes a new OBJ from the mesh alone: v in
-   input order, one vt per chart vertex, f v/vt in face order.  Whatever
+   input order, one vt per chart vertex, f v/vt in face order (a polygon
+   whose fan triangles disagree on a corner, below, as its triangles).  Whatever
    else the file had (normals, materials, groups, comments) is not in a
    bp_mesh, so it is gone.  bp_write_obj_from keeps it: it streams the
    file the mesh was read from and copies every line byte for byte, in
@@ -2924,12 +2934,13 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
    triangles t .. t+n-3; its corner k is corner 0 of every fan triangle
    (k = 0) or a corner of one or two of them.  The charts glue the fan
    triangles along their diagonals, so all of them give the corner the
-   same chart vertex.  If they do not (a diagonal that is also a
-   non-manifold edge, or fan triangles in a failed and a valid chart), one
-   polygon cannot carry both, and that polygon is written as its fan
-   triangles, one `f` line each (the only change to the line structure).
-   The writer checks as it goes that the file's faces are the mesh's
-   triangles: a mesh from another file is refused, not mislabelled.
+   same chart vertex.  If they do not (a diagonal that is also a seam: a
+   non-manifold edge, a repair cut, an automatic seam of >>cut; or fan
+   triangles in a failed and a valid chart), one polygon cannot carry
+   both, and both writers write that polygon as its fan triangles, one `f`
+   line each (the only change to the line structure).  bp_write_obj_from
+   checks as it goes that the file's faces are the mesh's triangles: a
+   mesh from another file is refused, not mislabelled.
 
    Neither writer leaves a half-written file behind: on any error the file
    at `path` is closed and removed.  They write `path` directly; replacing
@@ -3036,6 +3047,40 @@ static uint32_t bp__corner_vt(const bp_atlas *atlas, const uint32_t *base, uint3
     return atlas->charts[c].uv ? base[c] + atlas->corner_vertex[3 * (size_t)t + k] : BP__NONE;
 }
 
+/* Do the fan triangles [t, end) of one polygon give each of its corners
+   one vt?  Triangle j shares corner 0 with triangle t and its corner 1 is
+   triangle j-1's corner 2 (the essay above). */
+static int bp__fan_agrees(const bp_atlas *atlas, const uint32_t *base, uint32_t t, uint32_t end)
+{
+    uint32_t j;
+    for (j = t + 1; j < end; j++)
+        if (bp__corner_vt(atlas, base, j, 0) != bp__corner_vt(atlas, base, t, 0) ||
+            bp__corner_vt(atlas, base, j, 1) != bp__corner_vt(atlas, base, j - 1, 2))
+            return 0;
+    return 1;
+}
+
+/* One f line for the fan triangles [t, end): corners 0, 1, 2 of the first,
+   then corner 2 of each further one; a chart that failed has no map:
+   geometry only. */
+static void bp__out_fan(bp__out *o, const bp_mesh *mesh, const bp_atlas *atlas, const uint32_t *base,
+                        uint32_t t, uint32_t end)
+{
+    uint32_t k;
+    int mapped = atlas->charts[atlas->corner_chart[3 * (size_t)t]].uv != NULL;
+    bp__out_str(o, "f");
+    for (k = 0; k < 3 + (end - t - 1); k++) {
+        uint32_t tt = k < 3 ? t : t + k - 2, kk = k < 3 ? k : 2;
+        bp__out_str(o, " ");
+        bp__out_uint(o, (uint64_t)mesh->triangles[3 * (size_t)tt + kk] + 1);
+        if (mapped) {
+            bp__out_str(o, "/");
+            bp__out_uint(o, (uint64_t)bp__corner_vt(atlas, base, tt, (int)kk) + 1);
+        }
+    }
+    bp__out_str(o, "\n");
+}
+
 static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
                                const bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
@@ -3057,23 +3102,11 @@ static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
                     mesh->positions[3 * i + 1], mesh->positions[3 * i + 2]) < 0) { o.ok = 0; o.e = errno; }
     bp__out_vt_block(&o, atlas, "\n");
     for (t = 0; t < mesh->num_triangles && o.ok; ) {
-        uint32_t end = t + 1, k;
-        int mapped = atlas->charts[atlas->corner_chart[3 * t]].uv != NULL;
+        uint32_t end = t + 1, j;
         if (mesh->triangle_face)
             while (end < mesh->num_triangles && mesh->triangle_face[end] == mesh->triangle_face[t]) end++;
-        /* corners 0, 1, 2 of the first fan triangle, then corner 2 of each
-           further one; a chart that failed has no map: geometry only */
-        bp__out_str(&o, "f");
-        for (k = 0; k < 3 + (end - t - 1); k++) {
-            uint32_t tt = k < 3 ? t : t + k - 2, kk = k < 3 ? k : 2;
-            bp__out_str(&o, " ");
-            bp__out_uint(&o, (uint64_t)mesh->triangles[3 * tt + kk] + 1);
-            if (mapped) {
-                bp__out_str(&o, "/");
-                bp__out_uint(&o, (uint64_t)bp__corner_vt(atlas, base, tt, (int)kk) + 1);
-            }
-        }
-        bp__out_str(&o, "\n");
+        if (bp__fan_agrees(atlas, base, t, end)) bp__out_fan(&o, mesh, atlas, base, t, end);
+        else for (j = t; j < end; j++) bp__out_fan(&o, mesh, atlas, base, j, j + 1);   /* one line each */
         for (; t < end; t++) bp__out_tick(&o, t + 1, mesh->num_triangles);
     }
     bp__free(&a, base);
@@ -3343,7 +3376,8 @@ BPDEF bp_status bp_write_obj_opt(const char *path, const char *source, const bp_
    and triangles and b its boundary loops, the Euler characteristic is
        chi = V - E + F = 2 - 2g - b,
    and only g = 0, b >= 1 (a disk, or a disk with b-1 holes, sec 3.6) can be
-   flattened without further cuts.  Boundary loops are walked along the
+   flattened without further cuts; other charts are cut into disks by >>cut
+   (or, with opt.cut = BP_CUT_NONE, reported failed).  Boundary loops are walked along the
    boundary edges in the triangles' orientation, so the interior lies to the
    left: the outer loop (the longest in 3D, sec 3.6) runs counter-clockwise
    in a valid map, holes clockwise. */
@@ -3810,6 +3844,8 @@ static bp_status bp__charts_status(const bp_atlas *atlas, bp_error *err)
      regularize (repair) the rest shape of each degenerate triangle
      pinches    chart vertices that share a (mesh vertex, uv) key
      topology   boundary loops and Euler characteristic of each chart
+     cut        (unless opt.cut is BP_CUT_NONE) a closed or genus > 0
+                chart cut into a disk along mesh edges (>>cut)
    Any phase can fail the whole call (strict: at the first defect); the
    topology phase fails single charts unless opt.strict is set. */
 
@@ -3881,6 +3917,27 @@ static uint32_t bp__mesh_ce(const bp__build *b, uint32_t ce)
     return b->flip[ce / 3] ? ce - ce % 3 + (2 - ce % 3) : ce;
 }
 
+/* The corner edges of one mesh edge are b->edges[e, g) (sorted by vertex
+   pair): g for a group starting at e. */
+static size_t bp__edge_group_end(const bp__build *b, size_t e, size_t nc)
+{
+    size_t g;
+    for (g = e + 1; g < nc && b->edges[g].lo == b->edges[e].lo && b->edges[g].hi == b->edges[e].hi; g++) {}
+    return g;
+}
+
+/* The live corner edges of group [e, g): those of triangles neither
+   repeating a vertex (bad) nor dropped as copies.  Returns their count; the
+   first three go to live[]. */
+static uint32_t bp__live_edges(const bp__build *b, size_t e, size_t g, uint32_t live[3])
+{
+    uint32_t n = 0;
+    size_t i;
+    for (i = e; i < g; i++)
+        if (!b->bad[b->edges[i].ce / 3] && !b->drop[b->edges[i].ce / 3] && n++ < 3) live[n - 1] = b->edges[i].ce;
+    return n;
+}
+
 /* Glue one mesh edge, the corner edges edges[e, g) of the same vertex pair
    (of the glued mesh m = b->fm).  Repeated-vertex triangles (bad) and
    dropped copies take no part.  Strict: an edge of more than two triangles
@@ -3888,11 +3945,8 @@ static uint32_t bp__mesh_ce(const bp__build *b, uint32_t ce)
    edge, or one cut to make a component orientable, is a seam. */
 static bp_status bp__glue_edge(bp__build *b, const bp_mesh *m, size_t e, size_t g, bp_error *err)
 {
-    uint32_t good[3], ng = 0, lo = b->edges[e].lo, hi = b->edges[e].hi;
-    size_t i;
+    uint32_t good[3], ng = bp__live_edges(b, e, g, good), lo = b->edges[e].lo, hi = b->edges[e].hi;
     char n0[48], n1[48], n2[48];
-    for (i = e; i < g; i++)
-        if (!b->bad[b->edges[i].ce / 3] && !b->drop[b->edges[i].ce / 3] && ng++ < 3) good[ng - 1] = b->edges[i].ce;
     if (ng > 2 && b->repair) {
         bp__repair_note(b->rep, BP_REPAIR_NONMANIFOLD_EDGE, lo, hi);
         return BP_OK;
@@ -4044,12 +4098,9 @@ static void bp__find_mates(bp__build *b, const bp_mesh *m)
     size_t e, g, i, nc = 3 * (size_t)m->num_triangles;
     for (i = 0; i < nc; i++) b->mate[i] = BP__NONE;
     for (e = 0; e < nc; e = g) {
-        uint32_t live[3], nl = 0;
-        for (g = e + 1; g < nc && b->edges[g].lo == b->edges[e].lo && b->edges[g].hi == b->edges[e].hi; g++) {}
-        for (i = e; i < g; i++) {
-            uint32_t ce = b->edges[i].ce;
-            if (!b->bad[ce / 3] && !b->drop[ce / 3] && nl++ < 3) live[nl - 1] = ce;
-        }
+        uint32_t live[3], nl;
+        g = bp__edge_group_end(b, e, nc);
+        nl = bp__live_edges(b, e, g, live);
         if (nl == 2) { b->mate[live[0]] = live[1]; b->mate[live[1]] = live[0]; }
     }
 }
@@ -4137,7 +4188,7 @@ static bp_status bp__glue(bp__build *b, const bp_mesh *m, bp_error *err)
     for (t = 0; t < nt; t++) b->tri_uf[t] = t;
     for (i = 0; i < nc; i++) { b->corner_uf[i] = (uint32_t)i; b->glued[i] = BP__NONE; }
     for (e = 0; e < nc; e = g) {
-        for (g = e + 1; g < nc && b->edges[g].lo == b->edges[e].lo && b->edges[g].hi == b->edges[e].hi; g++) {}
+        g = bp__edge_group_end(b, e, nc);
         if ((st = bp__glue_edge(b, m, e, g, err)) != BP_OK) return st;
     }
     return BP_OK;
@@ -4285,8 +4336,10 @@ static bp_status bp__count_pinches(const bp_allocator *a, bp__build *b, bp_atlas
     return BP_OK;
 }
 
-/* Chart c's verdict in ch->error: its boundary loops and Euler characteristic chi = V - E + F =
-   2 - 2g - b, which must be that of a disk with holes (g = 0, b >= 1).
+/* Chart c's verdict in ch->error: its boundary loops and Euler
+   characteristic chi = V - E + F = 2 - 2g - b, which must be that of a
+   disk with holes (g = 0, b >= 1); other charts go to >>cut unless
+   opt.cut is BP_CUT_NONE.
    Returns a status only for what ends the whole call (out of memory, a
    boundary that does not close); the verdict is in ch->error. */
 static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b, bp_atlas *atlas, uint32_t c,
@@ -4411,10 +4464,9 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
    loops through it are short from every side (on fertility: 350 edges cut
    instead of 380 from vertex 0, and half the iterations).  Every interior
    edge (u, v) not in T closes a loop of length d(u) + d(v) + |uv| through
-   the base.  C is the
-   maximum spanning tree of the dual under that loop length (Kruskal; edges
-   of T come last), so the edges left out of C -- whose T-paths form the cut
-   after pruning -- close the shortest loops: the 2g handle loops (Eppstein's
+   the base.  C is the maximum spanning tree of the dual under that loop
+   length (Kruskal; edges of T come last), so the edges left out of C --
+   whose T-paths form the cut after pruning -- close the shortest loops: the 2g handle loops (Eppstein's
    tree-cotree, 2003, with the short choice of trees), plus for a chart with
    several holes, short paths joining the holes.
 
@@ -4449,7 +4501,7 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
    code as before.  chart.cut_edges reports the number of mesh edges cut.
 
    Importance.  With opt.importance -- painted, or the visibility V_t of
-   chapter 4, which bp_parameterize now computes before building the charts
+   chapter 4, which bp_parameterize computes before building the charts
    when views are on -- every path is found under costs |uv| times the mean
    relative importance of the edge's two triangles (relative to the chart's
    mean), so seams run where the map matters least, the dissertation's
@@ -4526,13 +4578,14 @@ static void bp__cut_weigh(bp__cut *K, const bp_chart *ch, const double *importan
     }
     mean = den > 0 && num > 0 && num < HUGE_VAL ? num / den : 1;
     K->weighted = 1;
-    for (t = 0; t < nt; t++)
+    for (t = 0; t < nt; t++) {
+        double w0 = bp__cut_importance(ch, importance, t, mean);
         for (k = 0; k < 3; k++) {
             uint32_t ce = 3 * t + k, tw = K->twin[ce];
-            double w0 = bp__cut_importance(ch, importance, t, mean);
             double w1 = tw == BP__NONE ? w0 : bp__cut_importance(ch, importance, tw / 3, mean);
             K->len[ce] = K->glen[ce] * 0.5 * (w0 + w1);
         }
+    }
 }
 
 /* Twins of the chart's corner edges from the mesh-level gluing (glued[mesh
@@ -4605,9 +4658,9 @@ static void bp__heap_pop(bp__cut *K, uint32_t *n)
     }
 }
 
-/* Dijkstra on the edge lengths len (K->glen or K->len) from the sources (src[v] set,
-   or the single vertex `root` when src is NULL): K->dist, and K->parent the
-   corner edge to each vertex's parent.  Each edge is relaxed at most twice,
+/* Dijkstra on the edge lengths len (K->glen or K->len) from the sources
+   (src[v] set, or the single vertex `root` when src is NULL): K->dist, and
+   K->parent the corner edge to each vertex's parent.  Each edge is relaxed at most twice,
    so the heap holds at most 6 nt + 1 entries.  Returns the farthest vertex
    reached (the smallest index among equals; a vertex the sources do not
    reach is never returned, its dist stays HUGE_VAL and its parent
@@ -4643,11 +4696,21 @@ static int bp__cut_mark(bp__cut *K, uint32_t ce)
     return 1;
 }
 
+/* The ends of an approximate diameter (the essay above): p the farthest
+   vertex from vertex 0, returned, and *q the farthest from p, both in 3D
+   length; K->dist and K->parent are left as the sweep from p made them. */
+static uint32_t bp__cut_diameter(bp__cut *K, const bp_chart *ch, uint32_t *q)
+{
+    uint32_t p = bp__cut_dijkstra(K, ch, K->glen, NULL, 0);
+    *q = bp__cut_dijkstra(K, ch, K->glen, NULL, p);
+    return p;
+}
+
 /* Closed genus 0: the shortest path between the ends of an approximate
    diameter, at least two edges long. */
 static uint32_t bp__cut_sphere(bp__cut *K, const bp_chart *ch)
 {
-    uint32_t p = bp__cut_dijkstra(K, ch, K->glen, NULL, 0), q = bp__cut_dijkstra(K, ch, K->glen, NULL, p), v = q, n = 0;
+    uint32_t q, p = bp__cut_diameter(K, ch, &q), v = q, n = 0;
     if (ch->num_vertices < 3 || p == q) return 0;
     if (K->weighted) bp__cut_dijkstra(K, ch, K->len, NULL, p);   /* the path by cost */
     if (K->parent[q] == BP__NONE) return 0;                       /* not reached (defensive) */
@@ -4669,7 +4732,7 @@ static uint32_t bp__cut_sphere(bp__cut *K, const bp_chart *ch)
    loops through it are short from every side. */
 static uint32_t bp__cut_center(bp__cut *K, const bp_chart *ch)
 {
-    uint32_t p = bp__cut_dijkstra(K, ch, K->glen, NULL, 0), q = bp__cut_dijkstra(K, ch, K->glen, NULL, p), v = q;
+    uint32_t q, p = bp__cut_diameter(K, ch, &q), v = q;
     double half = 0.5 * K->dist[q];
     while (v != p && K->dist[v] > half && K->parent[v] != BP__NONE) {
         uint32_t e = K->parent[v];
@@ -4838,8 +4901,9 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
 {
     bp_chart *ch = &atlas->charts[c];
     bp__cut K;
-    uint32_t nt = ch->num_triangles, nv = ch->num_vertices, big = (3 * nt > nv ? 3 * nt : nv) + 1, ncut;
+    uint32_t nt = ch->num_triangles, nv = ch->num_vertices, big = (3 * nt > nv ? 3 * nt : nv) + 1, ncut = 0;
     int64_t ne, chi;
+    int ok, oom = 0;
     bp_status st;
     char nm[48];
     memset(&K, 0, sizeof K);
@@ -4857,25 +4921,19 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
     K.work2 = (uint32_t *)bp__alloc_array(a, big, sizeof(uint32_t));
     K.heap_d = (double *)bp__alloc_array(a, 6 * (size_t)nt + 1, sizeof(double));
     K.heap_v = (uint32_t *)bp__alloc_array(a, 6 * (size_t)nt + 1, sizeof(uint32_t));
-    if (!K.twin || !K.adj_start || !K.adj || !K.len || !K.dist || !K.parent || !K.cut || !K.in_tree ||
-        !K.deg || !K.work || !K.work2 || !K.heap_d || !K.heap_v || !bp__cut_adjacency(a, &K, ch, m, glued, importance)) {
-        bp__cut_free(a, &K);
-        return bp__oom(err, "cutting a chart into a disk");
+    ok = K.twin && K.adj_start && K.adj && K.len && K.dist && K.parent && K.cut && K.in_tree && K.deg &&
+         K.work && K.work2 && K.heap_d && K.heap_v && bp__cut_adjacency(a, &K, ch, m, glued, importance);
+    if (ok) {                                  /* the cut graph (the essay above) */
+        chi = (int64_t)nv - ((int64_t)3 * nt + ch->loop_start[ch->num_loops]) / 2 + nt;
+        if (ch->num_loops == 0 && chi == 2) ncut = bp__cut_sphere(&K, ch);
+        else if ((ok = bp__cut_cotree(a, &K, ch)) != 0) ncut = bp__cut_prune(&K, ch);
     }
-    chi = (int64_t)nv - ((int64_t)3 * nt + ch->loop_start[ch->num_loops]) / 2 + nt;
-    if (ch->num_loops == 0 && chi == 2) ncut = bp__cut_sphere(&K, ch);
-    else if (!bp__cut_cotree(a, &K, ch)) { bp__cut_free(a, &K); return bp__oom(err, "cutting a chart into a disk"); }
-    else ncut = bp__cut_prune(&K, ch);
-    {
-        int oom = 0;
+    if (ok) {
         ncut += bp__cut_branches(a, &K, ch, BP__CUT_BRANCH * sqrt(ch->area3d), &oom);
-        if (oom) { bp__cut_free(a, &K); return bp__oom(err, "cutting a chart into a disk"); }
-    }
-    if (!bp__cut_split(a, &K, ch, atlas->corner_vertex, glued)) {
-        bp__cut_free(a, &K);
-        return bp__oom(err, "cutting a chart into a disk");
+        ok = !oom && bp__cut_split(a, &K, ch, atlas->corner_vertex, glued);
     }
     bp__cut_free(a, &K);
+    if (!ok) return bp__oom(err, "cutting a chart into a disk");
     bp__free(a, ch->loop_start); bp__free(a, ch->loop_vertices);
     ch->loop_start = ch->loop_vertices = NULL;
     ch->num_loops = 0;

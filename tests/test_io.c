@@ -926,6 +926,56 @@ static void test_write_from_split(void)
     rmdir(dir);
 }
 
+/* bp_write_obj on a closed cube of quads (no vt): the automatic cut runs
+   along some quads' diagonals, so the two fan triangles of such a quad
+   give its diagonal corners different chart vertices.  The written file,
+   read back, must give every corner exactly its chart vertex's uv (one f
+   line per quad would give the second triangle the first one's vt). */
+static void test_write_fan_cut(void)
+{
+    char dir[] = "/tmp/bptest_fc_XXXXXX", out[256];
+    const char *text = "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                       "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+    bp_mesh m, r;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    bp_status st;
+    uint32_t i, t, split = 0, bad = 0;
+    if (!mkdtemp(dir)) { BPT_CHECK(0, "mkdtemp"); return; }
+    sprintf(out, "%s/cube_uv.obj", dir);
+    memset(&opt, 0, sizeof opt);
+    opt.threads = 1;
+    st = bp_parse_off(text, strlen(text), &m, NULL, &err);
+    if (st == BP_OK) st = bp_parameterize(&atlas, &m, &opt, &err);
+    BPT_CHECK(st == BP_OK && atlas.num_charts == 1 && atlas.charts[0].cut_edges > 0,
+              "fan cut: the cube of quads is cut into one chart (%s)", err.message);
+    if (st != BP_OK) { rmdir(dir); return; }
+    for (t = 0; t + 1 < m.num_triangles; t++)      /* quads whose diagonal is a seam */
+        split += m.triangle_face[t] == m.triangle_face[t + 1] &&
+                 atlas.corner_vertex[3 * t] != atlas.corner_vertex[3 * (t + 1)];
+    BPT_CHECK(split > 0, "fan cut: the cut runs along %u quad diagonals (the case under test)", (unsigned)split);
+    st = bp_write_obj(out, &m, &atlas, &err);
+    BPT_CHECK(st == BP_OK, "fan cut: bp_write_obj writes (%s)", err.message);
+    st = st == BP_OK ? bp_read_obj(out, &r, NULL, &err) : st;
+    BPT_CHECK(st == BP_OK && r.corner_uv && r.num_triangles == m.num_triangles &&
+              !memcmp(r.triangles, m.triangles, 3 * sizeof(uint32_t) * m.num_triangles),
+              "fan cut: the result reads back with the same triangles (%s)", err.message);
+    if (st == BP_OK) {
+        for (i = 0; r.corner_uv && i < 3 * r.num_triangles; i++) {
+            const double *uv = atlas.charts[atlas.corner_chart[i]].uv + 2 * (size_t)atlas.corner_vertex[i];
+            bad += r.uvs[2 * r.corner_uv[i]] != uv[0] || r.uvs[2 * r.corner_uv[i] + 1] != uv[1];
+        }
+        BPT_CHECK(r.corner_uv && bad == 0, "fan cut: each written corner has its chart vertex's uv exactly (%u bad)",
+                  (unsigned)bad);
+        bp_mesh_free(&r, NULL);
+    }
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+    remove(out);
+    rmdir(dir);
+}
+
 /* ---- fuzzing ------------------------------------------------------------- */
 
 /* -DFUZZ_ROUNDS=200000 (with -fsanitize=address,undefined) for a long run. */
@@ -1097,6 +1147,7 @@ int main(void)
     test_files();
     test_write_from();
     test_write_from_split();
+    test_write_fan_cut();
     test_fuzz();
     test_write_from_fuzz();
     return bpt_finish();
