@@ -10734,8 +10734,9 @@ static int bp__packbox_cmp(const void *pa, const void *pb)
 }
 
 /* uv = s * (uv - lo) + off, checked exactly: the moved chart must be as
-   valid as it was (a chart optimized without the barrier may overlap
-   itself, and stays so); on failure restore and retry. */
+   valid as it was (bp__pack_check, bp__report_no_worse: a chart optimized
+   without the barrier may overlap itself, and stays so); on failure
+   restore and retry. */
 static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const double *lo, double s,
                                 double ox, double oy)
 {
@@ -10746,9 +10747,7 @@ static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const doubl
     bp_status st;
     if (!save) return BP_ERR_OUT_OF_MEMORY;
     memcpy(save, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
-    /* the verdicts themselves may be "not bijective" (without the barrier) */
-    st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &before, NULL);
-    if (!bp__check_verdict_status(st)) { bp__free(a, save); return st; }
+    if ((st = bp__pack_check(a, ch, ch->uv, &before)) != BP_OK) { bp__free(a, save); return st; }
     for (attempt = 0; attempt < 8; attempt++) {
         bp_check_report rep;
         double jig = attempt ? 1 + attempt * 1e-7 : 1;
@@ -10756,11 +10755,8 @@ static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const doubl
             ch->uv[2 * i] = s * (save[2 * i] - lo[0]) + ox * jig;
             ch->uv[2 * i + 1] = s * (save[2 * i + 1] - lo[1]) + oy * jig;
         }
-        st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, NULL);
-        if (!bp__check_verdict_status(st)) { bp__free(a, save); return st; }
-        if (rep.flipped <= before.flipped && rep.degenerate <= before.degenerate && rep.nonfinite <= before.nonfinite &&
-            rep.boundary_intersections <= before.boundary_intersections &&
-            rep.loop_orientation <= before.loop_orientation && rep.nested <= before.nested) {
+        if ((st = bp__pack_check(a, ch, ch->uv, &rep)) != BP_OK) { bp__free(a, save); return st; }
+        if (bp__report_no_worse(&rep, &before)) {
             bp__free(a, save);
             return BP_OK;
         }
