@@ -9753,6 +9753,13 @@ typedef struct bp__pchart {
     bp_check_report before;     /* the map's own validity                    */
 } bp__pchart;
 
+/* Signed area of the UV triangle (p0, p1, p2), in floating point (the sign
+   is decided exactly only by bp_orient2d). */
+static double bp__uv_tri_area(const double *p0, const double *p1, const double *p2)
+{
+    return 0.5 * ((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]));
+}
+
 /* Total signed UV area of a chart's map (shoelace over its triangles). */
 static double bp__chart_uv_area(const bp_chart *ch)
 {
@@ -9760,8 +9767,7 @@ static double bp__chart_uv_area(const bp_chart *ch)
     uint32_t t;
     for (t = 0; t < ch->num_triangles; t++) {
         const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        const double *p0 = ch->uv + 2 * (size_t)tr[0], *p1 = ch->uv + 2 * (size_t)tr[1], *p2 = ch->uv + 2 * (size_t)tr[2];
-        area += 0.5 * ((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]));
+        area += bp__uv_tri_area(ch->uv + 2 * (size_t)tr[0], ch->uv + 2 * (size_t)tr[1], ch->uv + 2 * (size_t)tr[2]);
     }
     return area;
 }
@@ -10458,8 +10464,8 @@ static bp_status bp__pack_prepare(bp__packer *P, const bp_options *opt, bp_error
                             "chart %u: its map cannot be packed (invalid or non-finite coordinates)", c);
         for (t = 0; t < ch->num_triangles; t++) {
             const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-            const double *p0 = pc->orig + 2 * (size_t)tr[0], *p1 = pc->orig + 2 * (size_t)tr[1], *p2 = pc->orig + 2 * (size_t)tr[2];
-            auv += 0.5 * fabs((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]));
+            const double *uv = pc->orig;
+            auv += fabs(bp__uv_tri_area(uv + 2 * (size_t)tr[0], uv + 2 * (size_t)tr[1], uv + 2 * (size_t)tr[2]));
         }
         if (!(auv > 0) || !(auv < HUGE_VAL))
             return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
@@ -11882,8 +11888,8 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
         const bp_chart *ch = &atlas->charts[c];
         for (t = 0; ch->uv && t < ch->num_triangles; t++) {
             const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-            const double *p = ch->uv + 2 * (size_t)tr[0], *q = ch->uv + 2 * (size_t)tr[1], *r = ch->uv + 2 * (size_t)tr[2];
-            uv_area[ch->face[t]] = 0.5 * fabs((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
+            const double *uv = ch->uv;
+            uv_area[ch->face[t]] = fabs(bp__uv_tri_area(uv + 2 * (size_t)tr[0], uv + 2 * (size_t)tr[1], uv + 2 * (size_t)tr[2]));
         }
     }
     for (t = 0; t < m->num_triangles; t++) {
