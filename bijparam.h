@@ -9126,17 +9126,24 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
     bp__newton_pins(N, S);
 }
 
+/* 1 when every pivot of the factor is positive and finite (H + delta I
+   was positive definite in floating point), else 0. */
+static int bp__newton_pivots_ok(const bp__factor *F)
+{
+    uint32_t k;
+    for (k = 0; k < F->n; k++)
+        if (!(F->D[k] > 0) || !(F->D[k] < HUGE_VAL)) return 0;
+    return 1;
+}
+
 /* The numeric factorization alone, on the pattern bp__factorize found:
    bp__fact_numeric's row phases along the dissection tree, on H's new
    values, into the factor's existing arrays.  Returns 1, 0 when a pivot is
    not positive and finite, -1 out of memory (its work arrays). */
 static int bp__newton_refactor(bp__newton *N, const bp_allocator *a, const bp__par *par)
 {
-    uint32_t k;
     if (!bp__fact_numeric(a, &N->H, &N->F, NULL, par)) return -1;
-    for (k = 0; k < N->F.n; k++)
-        if (!(N->F.D[k] > 0) || !(N->F.D[k] < HUGE_VAL)) return 0;
-    return 1;
+    return bp__newton_pivots_ok(&N->F);
 }
 
 /* y = A x with A = M - blocks(B) + B: M the factored matrix, blocks(B)
@@ -9196,8 +9203,9 @@ static void bp__newton_pcg(bp__newton *N, uint32_t nv, const double *b, double *
     }
 }
 
-/* v = -(H + delta I)^-1 g at x, *gv = g.v.  Returns 0 when H could not be
-   factored (the caller then takes another direction), -1 out of memory. */
+/* v = -(H + delta I)^-1 g at x, *gv = g.v.  Returns 1; 0 when H could
+   not be factored or v is not a descent direction (the caller then takes
+   -g); -1 out of memory. */
 static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, const double *g, double *v, double *gv)
 {
     uint32_t n = N->H.n, i, bad;
@@ -9209,8 +9217,7 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
         if (st == BP_ERR_OUT_OF_MEMORY) return -1;
         if (st != BP_OK) return 0;
         N->factored = 1;
-        for (i = 0; i < n; i++)
-            if (!(N->F.D[i] > 0) || !(N->F.D[i] < HUGE_VAL)) return 0;
+        if (!bp__newton_pivots_ok(&N->F)) return 0;
     } else {
         int ok = bp__newton_refactor(N, S->a, &S->par);
         if (ok <= 0) return ok;
