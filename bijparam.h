@@ -4995,7 +4995,7 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
     memset(tree, 0, BP__ND_NODES * sizeof *tree);
     stack[sp++] = 0; stack[sp++] = n; stack[sp++] = 0;
     while (sp) {
-        uint32_t node = stack[--sp], hi = stack[--sp], lo = stack[--sp], size = hi - lo, cnt, nlev, m, cum, ca, cs, cb, j;
+        uint32_t node = stack[--sp], hi = stack[--sp], lo = stack[--sp], size = hi - lo, cnt, nlev, m, ca, cs, cb, j;
         uint32_t c1 = node < BP__ND_NODES && 2 * node + 1 < BP__ND_NODES ? 2 * node + 1 : BP__NONE;
         uint32_t c2 = c1 != BP__NONE ? c1 + 1 : BP__NONE;
         if (node < BP__ND_NODES) {
@@ -5041,7 +5041,6 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
                 lsize++;
             }
             m = best != BP__NONE ? best : mid;
-            (void)cum;
         }
         for (ca = 0; level[queue[ca]] < m; ca++) {}
         for (cs = 0; ca + cs < cnt && level[queue[ca + cs]] == m; cs++) {}
