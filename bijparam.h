@@ -4899,16 +4899,19 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
           L(0:k,0:k) U(0:k,k) = A(0:k,k),    U(0:k,0:k)^T L(k,0:k)^T = A(k,0:k)^T,
           U(k,k) = A(k,k) - L(k,0:k) U(0:k,k).
       For a symmetric matrix U = D L^T and the second solve is skipped: this
-      is the LDL^T (square-root free Cholesky) factorization.  Both systems
-      solved here -- the uniform Laplacian (SPD) and the mean-value one
-      (diagonally dominant M-matrix) -- are stable without pivoting.
+      is the LDL^T (square-root free Cholesky) factorization.  Every
+      system solved here is stable without pivoting: the start map's
+      uniform Laplacian (SPD) and mean-value one (diagonally dominant
+      M-matrix), the preconditioner's cotangent Laplacian (>>lbfgs) and
+      Newton's H + delta I (>>newton), both SPD by their shift.
       Solved by gathers along rows already computed, row k is exactly what
       is stored, so L exists once, by rows, sorted (no column copy: 8 bytes
       per entry in the preconditioner's single precision, against 16 for L
       by columns and by rows).  Rows in disjoint subtrees of the dissection
       never meet, so they are computed in parallel phases.
    The start map's solves are followed by one step of iterative refinement;
-   the preconditioner's (which only shapes a search direction) are not. */
+   the preconditioner's and Newton's (which only shape a search direction,
+   checked like any other) are not. */
 
 typedef struct bp__sparse {       /* n x n, compressed columns            */
     uint32_t n;
