@@ -45,6 +45,7 @@
       >>stepbound      singularity-aware maximum step                 (sec 3.4.2)
       >>lbfgs          search directions and the line search          (sec 3.4, 3.5)
       >>newton         projected Newton direction
+      >>optimize       one chart's iteration in phases                (sec 3.4, 3.5)
       >>pack           texel density, rotation, outline packing, padding
       >>pins           pinned vertices: the homotopy to the targets
       >>driver         charts -> start -> optimize -> pack
@@ -8319,15 +8320,16 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
    min(1, 0.9 tmax) that accepts the first t with sufficient decrease
    (Armijo: f(x + t v) <= f(x) + 1e-4 t g.v) and an exactly valid map, (5)
    the convergence test.  The direction is L-BFGS (Algorithm 1, memory m,
-   initial scaling s.y / y.y) or plain gradient descent for comparison.
+   initial scaling s.y / y.y; by default with the preconditioner below),
+   plain gradient descent for comparison, or projected Newton (>>newton).
    Floating point cannot defeat the guarantee: the step bound is computed in
    floating point, so every accepted step is re-checked with the exact
    predicates -- every triangle positive, no two boundary edges meeting,
    exactly one counter-clockwise loop, which for one chart is all of
    bp_check (see >>check for why the loop count completes it) -- and halved
    until the check passes.  The start map itself is checked with bp_check
-   before the first iteration, whoever computed it. */
-
+   before the first iteration, whoever computed it.  The iteration itself,
+   in named phases, follows the directions (>>optimize). */
 
 /* Preconditioning (beyond the dissertation).  Algorithm 1 starts each
    L-BFGS direction from a scalar multiple of the identity, H0 = (s.y / y.y) I,
@@ -8338,11 +8340,11 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
    It is not the Hessian of the symmetric Dirichlet energy (near an isometry
    that is about 4 K on stretches and 0 on rotations, see docs/math.md), but
    it has the mesh's structure: K^-1 moves whole neighbourhoods together,
-   and the scale sigma below absorbs the constant.  The same idea drives the blended
-   quasi-Newton method of Zhu et al. (2018).  K is factored once per chart
-   with the sparse LDL^T above (regularized by 1e-8 of its mean diagonal,
-   since a free map can translate), and H0 = K^-1 / sigma with the scale
-   sigma = s.y / s.K s fitted to the latest curvature pair. */
+   and the scale sigma below absorbs the constant.  The same idea drives
+   the blended quasi-Newton method of Zhu et al. (2018).  K is factored
+   once per chart with the sparse LDL^T above (regularized by 1e-8 of its
+   mean diagonal, since a free map can translate), and H0 = K^-1 / sigma
+   with the scale sigma = s.y / s.K s fitted to the latest curvature pair. */
 
 typedef struct bp__trip { uint32_t i, j; double v; } bp__trip;
 
@@ -9233,7 +9235,15 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
     return s < 0 && s > -HUGE_VAL;
 }
 
-/* bp__chart_optimize in its phases.  The state of one solve: */
+/* >>optimize ===============================================================
+
+   bp__chart_optimize: the iteration of >>lbfgs (sec 3.4, 3.5) with any of
+   the directions above, in named phases -- 1 the exact check of the start
+   map, 2 the set-up (options, solver, preconditioner or Newton's pattern,
+   the pins held), then per iteration 3 the direction and 4 the step bound
+   (>>stepbound) with the line search, and 5 the chart's report.  The
+   homotopy of >>pins runs the same iteration with a pull toward the
+   targets (bp__chart_optimize_pen).  The state of one solve: */
 typedef struct bp__opt {
     bp_allocator a;
     bp_options   o;              /* opt with the defaults filled in          */
