@@ -9642,9 +9642,11 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
 
 /* >>pack ===================================================================
 
-   With opt->atlas_resolution = RES the charts go into the square [0,1]^2
-   as a texture of RES x RES texels, with opt->padding = P texels between
-   any two of them.  Four steps:
+   Without opt->atlas_resolution (0, the default) the charts' bounding
+   boxes go on shelves (bp__pack_shelf, >>driver).  With atlas_resolution =
+   RES the charts go into the square [0,1]^2 as a texture of RES x RES
+   texels, with opt->padding = P texels between any two of them.  Four
+   steps:
 
    1. One texel density.  A texture spends its texels evenly only when every
       chart has the same ratio of UV area to 3D area, so chart c is scaled
@@ -10574,8 +10576,9 @@ static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, bp_er
      - every pinned chart vertex ends at its target bit for bit (the
        final chart->uv holds the very doubles of bp_pin.u, v), and packing
        does not move a chart that has pins (bp_atlas_pack leaves it where
-       it is and places the other charts beside it; pins and normalize
-       together are refused, since scaling would move them);
+       it is and places the other charts beside it; pins together with
+       normalize or atlas_resolution are refused, since scaling would move
+       them);
      - the map is exactly bijective at every iterate, as without pins, and
        the optimization minimizes the same energy over the free vertices;
      - pins that fail the necessary conditions of >>tutte are rejected
@@ -10742,12 +10745,16 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
 
    bp_parameterize runs the whole pipeline: charts (bp_atlas_build), the
    start map of each chart (bp_chart_init), the optimization (bp_chart_optimize)
-   and the packing.  Packing places the charts' bounding boxes on shelves
-   (tallest first) with a gap, so no two charts can overlap.  A translation
-   or scale rounds coordinates, which could in principle flip a triangle
-   that is within rounding of degenerate; every moved chart is re-checked
-   exactly and the move is retried with a slightly different offset if it
-   ever fails. */
+   and the packing (bp_atlas_pack), then one exact check of the whole atlas.
+   Without opt->atlas_resolution the packing places the charts' bounding
+   boxes on shelves (tallest first) with a gap, so no two charts can
+   overlap (bp__pack_shelf below); with it, the charts' rasterized outlines
+   go into a square texture (>>pack).  Charts with pins, and charts started
+   from their input uvs, stay where they are (bp__pack_in_place).  A
+   translation or scale rounds coordinates, which could in principle flip a
+   triangle that is within rounding of degenerate; every moved chart is
+   re-checked exactly and the move is retried with a slightly different
+   offset if it ever fails. */
 
 typedef struct bp__packbox { double w, h, ox, oy; uint32_t chart; } bp__packbox;
 
