@@ -8155,8 +8155,8 @@ static double bp__objective(bp__solver *S, const double *x, double *g, double *e
        q = -(beta + sign(beta) sqrt(beta^2 - 4 alpha gamma)) / 2,
        t1 = q / alpha,  t2 = gamma / q,
    which needs no special case when alpha ~ 0: t1 goes to infinity and t2 to
-   the linear root -gamma / beta.  (Dividing the other way round, -beta /
-   gamma, is the bug the issue tracker warns about.)
+   the linear root -gamma / beta.  (Not -beta / gamma: dividing the other
+   way round is an easy slip that the linear case would expose.)
    For a vertex and an edge a root counts only if at that moment the vertex
    lies within the edge (0 <= s <= 1 along it); outside, the three are
    collinear but nothing touches.  The boundary pairs are found with the
@@ -9659,12 +9659,12 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
       importance-weighted density carries over to the atlas.
 
    2. Orientation.  A convex polygon's minimum-area enclosing rectangle has
-      a side collinear with one of the polygon's edges (the classical fact
-      behind Toussaint's rotating calipers, 1983, as the McGill "rotating
-      calipers" pages and D. Eberly's note "Minimum-Area Rectangle
-      Containing a Set of Points", Geometric Tools 2015, explain; the
-      calipers visit the candidates in linear time, the exhaustive search in
-      quadratic).  The convex hull of the chart's vertices is computed with
+      a side collinear with one of the polygon's edges (Freeman and
+      Shapira, CACM 1975; the classical fact behind Toussaint's rotating
+      calipers, 1983, as the McGill "rotating calipers" pages and D.
+      Eberly's note "Minimum-Area Rectangle Containing a Set of Points",
+      Geometric Tools 2015, explain; the calipers visit the candidates in
+      linear time, the exhaustive search in quadratic).  The convex hull of the chart's vertices is computed with
       exact orientation tests and every hull edge is tried (the exhaustive
       search: quadratic in the hull size, which is small next to the chart);
       the chart is rotated so that the best edge lies on the x axis.  The
