@@ -6786,11 +6786,13 @@ static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_
    and the start map below then fails, saying so.
 
    The start with pins: the free start (Tutte optimized without pins, see
-   bp__pins_relax_free; or the input uvs), moved by the similarity z -> a z + b that fits the pins best in least squares
-   (complex numbers: a = sum (t_i - t_c) conj(z_i - z_c) / sum |z_i - z_c|^2,
-   b = t_c - a z_c, the c's the centroids; one pin: a = 1, a translation;
-   an input start is not moved), and then carried to the targets by the
-   homotopy of >>pins.  Every map on the way is exactly bijective. */
+   bp__pins_relax_free; or the input uvs), moved by the similarity
+   z -> a z + b that fits the pins best in least squares (complex numbers:
+       a = sum (t_i - t_c) conj(z_i - z_c) / sum |z_i - z_c|^2,
+       b = t_c - a z_c,
+   the c's the centroids; one pin: a = 1, a translation; an input start is
+   not moved), and then carried to the targets by the homotopy of >>pins.
+   Every map on the way is exactly bijective. */
 
 typedef struct bp__pinkey { uint32_t vertex, uv, pin; } bp__pinkey;
 
