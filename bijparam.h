@@ -8671,8 +8671,7 @@ static int bp__lbfgs_init(const bp_allocator *a, bp__lbfgs *L, int hist, uint32_
 
 /* v = -H g (needs nh > 0); returns g.v.  K, KF: H0 = K^-1 / sigma with
    sigma = s.y / s.K s of the newest pair (pwork: 2n doubles, qpart: the
-   quad form's partial sums); K NULL:
-   H0 = (s.y / y.y) I. */
+   quad form's partial sums); K NULL: H0 = (s.y / y.y) I. */
 static double bp__lbfgs_direction(bp__lbfgs *L, const bp__par *par, const double *g, double *v,
                                   const bp__sparse *K, const bp__factor *KF, double *pwork, double *qpart)
 {
@@ -11225,7 +11224,8 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
    ~1e77 and underflow below ~1e-77.  When the mesh's size (bp__mesh_scale:
    about 2^(e1+e2)) is beyond 2^+-100, bp_parameterize solves a copy
    rescaled by the power of two 2^k that brings its size near 1 -- exact,
-   so the copy is the same shape -- and scales the map back by 2^-k.  That
+   so the copy is the same shape -- and scales the map back by 2^-k
+   (unless normalize or atlas_resolution put it into [0,1]^2).  That
    is exact too unless a coordinate leaves the normal range (underflow
    near 1e-308, overflow near 1e308); then the chart fails with
    BP_ERR_NUMERICAL instead of carrying a map that is not the solved one.
@@ -11351,7 +11351,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     if (st == BP_OK || (st == BP_ERR_CANCELLED && atlas->charts)) {   /* a cancel in bp_atlas_build: no charts */
         bp_status ps = bp_atlas_pack(atlas, &local, err);
         if (ps == BP_OK && !local.no_barrier) ps = bp__atlas_verify(atlas, err);
-        if (ps == BP_OK && k) bp__unscale_atlas(atlas, k, local.normalize);
+        if (ps == BP_OK && k) bp__unscale_atlas(atlas, k, local.normalize || local.atlas_resolution);
         if (ps != BP_OK) st = ps;
         else if (st == BP_ERR_CANCELLED) { if (err) *err = cancel; }
         else if (run.fn && BP__FLAG_LOAD(&run.cancelled))   /* asked during the packing */
