@@ -9370,7 +9370,8 @@ static void bp__opt_hold(const bp__opt *P, double *g)
     for (k = 0; k < P->nheld; k++) g[2 * (size_t)P->held[k]] = g[2 * (size_t)P->held[k] + 1] = 0;
 }
 
-/* Phase 2: options, solver, preconditioner, vectors; x = the start map. */
+/* Phase 2: options, the pins held, solver, Newton's pattern or the
+   preconditioner, vectors; x = the start map. */
 static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, const bp_mesh *m, bp_error *err)
 {
     double *rest_wxy;
