@@ -45,6 +45,7 @@
       >>stepbound      singularity-aware maximum step                 (sec 3.4.2)
       >>lbfgs          search directions and the line search          (sec 3.4, 3.5)
       >>newton         projected Newton direction
+      >>optimize       one chart's iteration in phases                (sec 3.4, 3.5)
       >>pack           texel density, rotation, outline packing, padding
       >>pins           pinned vertices: the homotopy to the targets
       >>driver         charts -> start -> optimize -> pack
@@ -4969,16 +4970,19 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
           L(0:k,0:k) U(0:k,k) = A(0:k,k),    U(0:k,0:k)^T L(k,0:k)^T = A(k,0:k)^T,
           U(k,k) = A(k,k) - L(k,0:k) U(0:k,k).
       For a symmetric matrix U = D L^T and the second solve is skipped: this
-      is the LDL^T (square-root free Cholesky) factorization.  Both systems
-      solved here -- the uniform Laplacian (SPD) and the mean-value one
-      (diagonally dominant M-matrix) -- are stable without pivoting.
+      is the LDL^T (square-root free Cholesky) factorization.  Every
+      system solved here is stable without pivoting: the start map's
+      uniform Laplacian (SPD) and mean-value one (diagonally dominant
+      M-matrix), the preconditioner's cotangent Laplacian (>>lbfgs) and
+      Newton's H + delta I (>>newton), both SPD by their shift.
       Solved by gathers along rows already computed, row k is exactly what
       is stored, so L exists once, by rows, sorted (no column copy: 8 bytes
       per entry in the preconditioner's single precision, against 16 for L
       by columns and by rows).  Rows in disjoint subtrees of the dissection
       never meet, so they are computed in parallel phases.
    The start map's solves are followed by one step of iterative refinement;
-   the preconditioner's (which only shapes a search direction) are not. */
+   the preconditioner's and Newton's (which only shape a search direction,
+   checked like any other) are not. */
 
 typedef struct bp__sparse {       /* n x n, compressed columns            */
     uint32_t n;
@@ -5065,7 +5069,7 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
     memset(tree, 0, BP__ND_NODES * sizeof *tree);
     stack[sp++] = 0; stack[sp++] = n; stack[sp++] = 0;
     while (sp) {
-        uint32_t node = stack[--sp], hi = stack[--sp], lo = stack[--sp], size = hi - lo, cnt, nlev, m, cum, ca, cs, cb, j;
+        uint32_t node = stack[--sp], hi = stack[--sp], lo = stack[--sp], size = hi - lo, cnt, nlev, m, ca, cs, cb, j;
         uint32_t c1 = node < BP__ND_NODES && 2 * node + 1 < BP__ND_NODES ? 2 * node + 1 : BP__NONE;
         uint32_t c2 = c1 != BP__NONE ? c1 + 1 : BP__NONE;
         if (node < BP__ND_NODES) {
@@ -5111,7 +5115,6 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
                 lsize++;
             }
             m = best != BP__NONE ? best : mid;
-            (void)cum;
         }
         for (ca = 0; level[queue[ca]] < m; ca++) {}
         for (cs = 0; ca + cs < cnt && level[queue[ca + cs]] == m; cs++) {}
@@ -6853,11 +6856,13 @@ static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_
    and the start map below then fails, saying so.
 
    The start with pins: the free start (Tutte optimized without pins, see
-   bp__pins_relax_free; or the input uvs), moved by the similarity z -> a z + b that fits the pins best in least squares
-   (complex numbers: a = sum (t_i - t_c) conj(z_i - z_c) / sum |z_i - z_c|^2,
-   b = t_c - a z_c, the c's the centroids; one pin: a = 1, a translation;
-   an input start is not moved), and then carried to the targets by the
-   homotopy of >>pins.  Every map on the way is exactly bijective. */
+   bp__pins_relax_free; or the input uvs), moved by the similarity
+   z -> a z + b that fits the pins best in least squares (complex numbers:
+       a = sum (t_i - t_c) conj(z_i - z_c) / sum |z_i - z_c|^2,
+       b = t_c - a z_c,
+   the c's the centroids; one pin: a = 1, a translation; an input start is
+   not moved), and then carried to the targets by the homotopy of >>pins.
+   Every map on the way is exactly bijective. */
 
 typedef struct bp__pinkey { uint32_t vertex, uv, pin; } bp__pinkey;
 
@@ -8222,8 +8227,8 @@ static double bp__objective(bp__solver *S, const double *x, double *g, double *e
        q = -(beta + sign(beta) sqrt(beta^2 - 4 alpha gamma)) / 2,
        t1 = q / alpha,  t2 = gamma / q,
    which needs no special case when alpha ~ 0: t1 goes to infinity and t2 to
-   the linear root -gamma / beta.  (Dividing the other way round, -beta /
-   gamma, is the bug the issue tracker warns about.)
+   the linear root -gamma / beta.  (Not -beta / gamma: dividing the other
+   way round is an easy slip that the linear case would expose.)
    For a vertex and an edge a root counts only if at that moment the vertex
    lies within the edge (0 <= s <= 1 along it); outside, the three are
    collinear but nothing touches.  The boundary pairs are found with the
@@ -8387,15 +8392,16 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
    min(1, 0.9 tmax) that accepts the first t with sufficient decrease
    (Armijo: f(x + t v) <= f(x) + 1e-4 t g.v) and an exactly valid map, (5)
    the convergence test.  The direction is L-BFGS (Algorithm 1, memory m,
-   initial scaling s.y / y.y) or plain gradient descent for comparison.
+   initial scaling s.y / y.y; by default with the preconditioner below),
+   plain gradient descent for comparison, or projected Newton (>>newton).
    Floating point cannot defeat the guarantee: the step bound is computed in
    floating point, so every accepted step is re-checked with the exact
    predicates -- every triangle positive, no two boundary edges meeting,
    exactly one counter-clockwise loop, which for one chart is all of
    bp_check (see >>check for why the loop count completes it) -- and halved
    until the check passes.  The start map itself is checked with bp_check
-   before the first iteration, whoever computed it. */
-
+   before the first iteration, whoever computed it.  The iteration itself,
+   in named phases, follows the directions (>>optimize). */
 
 /* Preconditioning (beyond the dissertation).  Algorithm 1 starts each
    L-BFGS direction from a scalar multiple of the identity, H0 = (s.y / y.y) I,
@@ -8406,11 +8412,11 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
    It is not the Hessian of the symmetric Dirichlet energy (near an isometry
    that is about 4 K on stretches and 0 on rotations, see docs/math.md), but
    it has the mesh's structure: K^-1 moves whole neighbourhoods together,
-   and the scale sigma below absorbs the constant.  The same idea drives the blended
-   quasi-Newton method of Zhu et al. (2018).  K is factored once per chart
-   with the sparse LDL^T above (regularized by 1e-8 of its mean diagonal,
-   since a free map can translate), and H0 = K^-1 / sigma with the scale
-   sigma = s.y / s.K s fitted to the latest curvature pair. */
+   and the scale sigma below absorbs the constant.  The same idea drives
+   the blended quasi-Newton method of Zhu et al. (2018).  K is factored
+   once per chart with the sparse LDL^T above (regularized by 1e-8 of its
+   mean diagonal, since a free map can translate), and H0 = K^-1 / sigma
+   with the scale sigma = s.y / s.K s fitted to the latest curvature pair. */
 
 typedef struct bp__trip { uint32_t i, j; double v; } bp__trip;
 
@@ -8735,8 +8741,7 @@ static int bp__lbfgs_init(const bp_allocator *a, bp__lbfgs *L, int hist, uint32_
 
 /* v = -H g (needs nh > 0); returns g.v.  K, KF: H0 = K^-1 / sigma with
    sigma = s.y / s.K s of the newest pair (pwork: 2n doubles, qpart: the
-   quad form's partial sums); K NULL:
-   H0 = (s.y / y.y) I. */
+   quad form's partial sums); K NULL: H0 = (s.y / y.y) I. */
 static double bp__lbfgs_direction(bp__lbfgs *L, const bp__par *par, const double *g, double *v,
                                   const bp__sparse *K, const bp__factor *KF, double *pwork, double *qpart)
 {
@@ -9196,17 +9201,24 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
     bp__newton_pins(N, S);
 }
 
+/* 1 when every pivot of the factor is positive and finite (H + delta I
+   was positive definite in floating point), else 0. */
+static int bp__newton_pivots_ok(const bp__factor *F)
+{
+    uint32_t k;
+    for (k = 0; k < F->n; k++)
+        if (!(F->D[k] > 0) || !(F->D[k] < HUGE_VAL)) return 0;
+    return 1;
+}
+
 /* The numeric factorization alone, on the pattern bp__factorize found:
    bp__fact_numeric's row phases along the dissection tree, on H's new
    values, into the factor's existing arrays.  Returns 1, 0 when a pivot is
    not positive and finite, -1 out of memory (its work arrays). */
 static int bp__newton_refactor(bp__newton *N, const bp_allocator *a, const bp__par *par)
 {
-    uint32_t k;
     if (!bp__fact_numeric(a, &N->H, &N->F, NULL, par)) return -1;
-    for (k = 0; k < N->F.n; k++)
-        if (!(N->F.D[k] > 0) || !(N->F.D[k] < HUGE_VAL)) return 0;
-    return 1;
+    return bp__newton_pivots_ok(&N->F);
 }
 
 /* y = A x with A = M - blocks(B) + B: M the factored matrix, blocks(B)
@@ -9266,8 +9278,9 @@ static void bp__newton_pcg(bp__newton *N, uint32_t nv, const double *b, double *
     }
 }
 
-/* v = -(H + delta I)^-1 g at x, *gv = g.v.  Returns 0 when H could not be
-   factored (the caller then takes another direction), -1 out of memory. */
+/* v = -(H + delta I)^-1 g at x, *gv = g.v.  Returns 1; 0 when H could
+   not be factored or v is not a descent direction (the caller then takes
+   -g); -1 out of memory. */
 static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, const double *g, double *v, double *gv)
 {
     uint32_t n = N->H.n, i, bad;
@@ -9279,8 +9292,7 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
         if (st == BP_ERR_OUT_OF_MEMORY) return -1;
         if (st != BP_OK) return 0;
         N->factored = 1;
-        for (i = 0; i < n; i++)
-            if (!(N->F.D[i] > 0) || !(N->F.D[i] < HUGE_VAL)) return 0;
+        if (!bp__newton_pivots_ok(&N->F)) return 0;
     } else {
         int ok = bp__newton_refactor(N, S->a, &S->par);
         if (ok <= 0) return ok;
@@ -9294,7 +9306,15 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
     return s < 0 && s > -HUGE_VAL;
 }
 
-/* bp__chart_optimize in its phases.  The state of one solve: */
+/* >>optimize ===============================================================
+
+   bp__chart_optimize: the iteration of >>lbfgs (sec 3.4, 3.5) with any of
+   the directions above, in named phases -- 1 the exact check of the start
+   map, 2 the set-up (options, solver, preconditioner or Newton's pattern,
+   the pins held), then per iteration 3 the direction and 4 the step bound
+   (>>stepbound) with the line search, and 5 the chart's report.  The
+   homotopy of >>pins runs the same iteration with a pull toward the
+   targets (bp__chart_optimize_pen).  The state of one solve: */
 typedef struct bp__opt {
     bp_allocator a;
     bp_options   o;              /* opt with the defaults filled in          */
@@ -9420,7 +9440,8 @@ static void bp__opt_hold(const bp__opt *P, double *g)
     for (k = 0; k < P->nheld; k++) g[2 * (size_t)P->held[k]] = g[2 * (size_t)P->held[k] + 1] = 0;
 }
 
-/* Phase 2: options, solver, preconditioner, vectors; x = the start map. */
+/* Phase 2: options, the pins held, solver, Newton's pattern or the
+   preconditioner, vectors; x = the start map. */
 static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, const bp_mesh *m, bp_error *err)
 {
     double *rest_wxy;
@@ -9693,9 +9714,11 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
 
 /* >>pack ===================================================================
 
-   With opt->atlas_resolution = RES the charts go into the square [0,1]^2
-   as a texture of RES x RES texels, with opt->padding = P texels between
-   any two of them.  Four steps:
+   Without opt->atlas_resolution (0, the default) the charts' bounding
+   boxes go on shelves (bp__pack_shelf, >>driver).  With atlas_resolution =
+   RES the charts go into the square [0,1]^2 as a texture of RES x RES
+   texels, with opt->padding = P texels between any two of them.  Four
+   steps:
 
    1. One texel density.  A texture spends its texels evenly only when every
       chart has the same ratio of UV area to 3D area, so chart c is scaled
@@ -9708,12 +9731,12 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
       importance-weighted density carries over to the atlas.
 
    2. Orientation.  A convex polygon's minimum-area enclosing rectangle has
-      a side collinear with one of the polygon's edges (the classical fact
-      behind Toussaint's rotating calipers, 1983, as the McGill "rotating
-      calipers" pages and D. Eberly's note "Minimum-Area Rectangle
-      Containing a Set of Points", Geometric Tools 2015, explain; the
-      calipers visit the candidates in linear time, the exhaustive search in
-      quadratic).  The convex hull of the chart's vertices is computed with
+      a side collinear with one of the polygon's edges (Freeman and
+      Shapira, CACM 1975; the classical fact behind Toussaint's rotating
+      calipers, 1983, as the McGill "rotating calipers" pages and D.
+      Eberly's note "Minimum-Area Rectangle Containing a Set of Points",
+      Geometric Tools 2015, explain; the calipers visit the candidates in
+      linear time, the exhaustive search in quadratic).  The convex hull of the chart's vertices is computed with
       exact orientation tests and every hull edge is tried (the exhaustive
       search: quadratic in the hull size, which is small next to the chart);
       the chart is rotated so that the best edge lies on the x axis.  The
@@ -9823,6 +9846,13 @@ typedef struct bp__pchart {
     bp_check_report before;     /* the map's own validity                    */
 } bp__pchart;
 
+/* Signed area of the UV triangle (p0, p1, p2), in floating point (the sign
+   is decided exactly only by bp_orient2d). */
+static double bp__uv_tri_area(const double *p0, const double *p1, const double *p2)
+{
+    return 0.5 * ((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]));
+}
+
 /* Total signed UV area of a chart's map (shoelace over its triangles). */
 static double bp__chart_uv_area(const bp_chart *ch)
 {
@@ -9830,8 +9860,7 @@ static double bp__chart_uv_area(const bp_chart *ch)
     uint32_t t;
     for (t = 0; t < ch->num_triangles; t++) {
         const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        const double *p0 = ch->uv + 2 * (size_t)tr[0], *p1 = ch->uv + 2 * (size_t)tr[1], *p2 = ch->uv + 2 * (size_t)tr[2];
-        area += 0.5 * ((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]));
+        area += bp__uv_tri_area(ch->uv + 2 * (size_t)tr[0], ch->uv + 2 * (size_t)tr[1], ch->uv + 2 * (size_t)tr[2]);
     }
     return area;
 }
@@ -10528,8 +10557,8 @@ static bp_status bp__pack_prepare(bp__packer *P, const bp_options *opt, bp_error
                             "chart %u: its map cannot be packed (invalid or non-finite coordinates)", c);
         for (t = 0; t < ch->num_triangles; t++) {
             const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-            const double *p0 = pc->orig + 2 * (size_t)tr[0], *p1 = pc->orig + 2 * (size_t)tr[1], *p2 = pc->orig + 2 * (size_t)tr[2];
-            auv += 0.5 * fabs((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]));
+            const double *uv = pc->orig;
+            auv += fabs(bp__uv_tri_area(uv + 2 * (size_t)tr[0], uv + 2 * (size_t)tr[1], uv + 2 * (size_t)tr[2]));
         }
         if (!(auv > 0) || !(auv < HUGE_VAL))
             return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
@@ -10619,8 +10648,9 @@ static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, bp_er
      - every pinned chart vertex ends at its target bit for bit (the
        final chart->uv holds the very doubles of bp_pin.u, v), and packing
        does not move a chart that has pins (bp_atlas_pack leaves it where
-       it is and places the other charts beside it; pins and normalize
-       together are refused, since scaling would move them);
+       it is and places the other charts beside it; pins together with
+       normalize or atlas_resolution are refused, since scaling would move
+       them);
      - the map is exactly bijective at every iterate, as without pins, and
        the optimization minimizes the same energy over the free vertices;
      - pins that fail the necessary conditions of >>tutte are rejected
@@ -10787,12 +10817,16 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
 
    bp_parameterize runs the whole pipeline: charts (bp_atlas_build), the
    start map of each chart (bp_chart_init), the optimization (bp_chart_optimize)
-   and the packing.  Packing places the charts' bounding boxes on shelves
-   (tallest first) with a gap, so no two charts can overlap.  A translation
-   or scale rounds coordinates, which could in principle flip a triangle
-   that is within rounding of degenerate; every moved chart is re-checked
-   exactly and the move is retried with a slightly different offset if it
-   ever fails. */
+   and the packing (bp_atlas_pack), then one exact check of the whole atlas.
+   Without opt->atlas_resolution the packing places the charts' bounding
+   boxes on shelves (tallest first) with a gap, so no two charts can
+   overlap (bp__pack_shelf below); with it, the charts' rasterized outlines
+   go into a square texture (>>pack).  Charts with pins, and charts started
+   from their input uvs, stay where they are (bp__pack_in_place).  A
+   translation or scale rounds coordinates, which could in principle flip a
+   triangle that is within rounding of degenerate; every moved chart is
+   re-checked exactly and the move is retried with a slightly different
+   offset if it ever fails. */
 
 typedef struct bp__packbox { double w, h, ox, oy; uint32_t chart; } bp__packbox;
 
@@ -10804,8 +10838,9 @@ static int bp__packbox_cmp(const void *pa, const void *pb)
 }
 
 /* uv = s * (uv - lo) + off, checked exactly: the moved chart must be as
-   valid as it was (a chart optimized without the barrier may overlap
-   itself, and stays so); on failure restore and retry. */
+   valid as it was (bp__pack_check, bp__report_no_worse: a chart optimized
+   without the barrier may overlap itself, and stays so); on failure
+   restore and retry. */
 static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const double *lo, double s,
                                 double ox, double oy)
 {
@@ -10816,9 +10851,7 @@ static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const doubl
     bp_status st;
     if (!save) return BP_ERR_OUT_OF_MEMORY;
     memcpy(save, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
-    /* the verdicts themselves may be "not bijective" (without the barrier) */
-    st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &before, NULL);
-    if (!bp__check_verdict_status(st)) { bp__free(a, save); return st; }
+    if ((st = bp__pack_check(a, ch, ch->uv, &before)) != BP_OK) { bp__free(a, save); return st; }
     for (attempt = 0; attempt < 8; attempt++) {
         bp_check_report rep;
         double jig = attempt ? 1 + attempt * 1e-7 : 1;
@@ -10826,11 +10859,8 @@ static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const doubl
             ch->uv[2 * i] = s * (save[2 * i] - lo[0]) + ox * jig;
             ch->uv[2 * i + 1] = s * (save[2 * i + 1] - lo[1]) + oy * jig;
         }
-        st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, NULL);
-        if (!bp__check_verdict_status(st)) { bp__free(a, save); return st; }
-        if (rep.flipped <= before.flipped && rep.degenerate <= before.degenerate && rep.nonfinite <= before.nonfinite &&
-            rep.boundary_intersections <= before.boundary_intersections &&
-            rep.loop_orientation <= before.loop_orientation && rep.nested <= before.nested) {
+        if ((st = bp__pack_check(a, ch, ch->uv, &rep)) != BP_OK) { bp__free(a, save); return st; }
+        if (bp__report_no_worse(&rep, &before)) {
             bp__free(a, save);
             return BP_OK;
         }
@@ -11265,7 +11295,8 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
    ~1e77 and underflow below ~1e-77.  When the mesh's size (bp__mesh_scale:
    about 2^(e1+e2)) is beyond 2^+-100, bp_parameterize solves a copy
    rescaled by the power of two 2^k that brings its size near 1 -- exact,
-   so the copy is the same shape -- and scales the map back by 2^-k.  That
+   so the copy is the same shape -- and scales the map back by 2^-k
+   (unless normalize or atlas_resolution put it into [0,1]^2).  That
    is exact too unless a coordinate leaves the normal range (underflow
    near 1e-308, overflow near 1e308); then the chart fails with
    BP_ERR_NUMERICAL instead of carrying a map that is not the solved one.
@@ -11391,7 +11422,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     if (st == BP_OK || (st == BP_ERR_CANCELLED && atlas->charts)) {   /* a cancel in bp_atlas_build: no charts */
         bp_status ps = bp_atlas_pack(atlas, &local, err);
         if (ps == BP_OK && !local.no_barrier) ps = bp__atlas_verify(atlas, err);
-        if (ps == BP_OK && k) bp__unscale_atlas(atlas, k, local.normalize);
+        if (ps == BP_OK && k) bp__unscale_atlas(atlas, k, local.normalize || local.atlas_resolution);
         if (ps != BP_OK) st = ps;
         else if (st == BP_ERR_CANCELLED) { if (err) *err = cancel; }
         else if (run.fn && BP__FLAG_LOAD(&run.cancelled))   /* asked during the packing */
@@ -11956,8 +11987,8 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
         const bp_chart *ch = &atlas->charts[c];
         for (t = 0; ch->uv && t < ch->num_triangles; t++) {
             const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-            const double *p = ch->uv + 2 * (size_t)tr[0], *q = ch->uv + 2 * (size_t)tr[1], *r = ch->uv + 2 * (size_t)tr[2];
-            uv_area[ch->face[t]] = 0.5 * fabs((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
+            const double *uv = ch->uv;
+            uv_area[ch->face[t]] = fabs(bp__uv_tri_area(uv + 2 * (size_t)tr[0], uv + 2 * (size_t)tr[1], uv + 2 * (size_t)tr[2]));
         }
     }
     for (t = 0; t < m->num_triangles; t++) {

@@ -19,7 +19,8 @@
      chart (tetrahedron) by default and strict, a genus-1 chart
      (torus_with_holes.obj), unreferenced vertices, duplicated vertices at
      one position (a cut, a slit), a single triangle, a chart with ~2000
-     holes (timed), coordinates scaled by 1e-6 and 1e6, vt seams that pinch
+     holes (timed), coordinates scaled by 1e-6 and 1e6 (and by 2^+-200 with
+     atlas_resolution: the atlas stays in [0,1]^2), vt seams that pinch
      (spot.obj), a good chart next to a closed one (uv, bp_check,
      bp_write_obj), every bp_status string, cancellation at many
      iterations, max_iterations and max_seconds. */
@@ -1244,6 +1245,46 @@ static void test_extreme_scales(void)
     bp_mesh_free(&base, NULL);
 }
 
+/* The outline packer puts the charts into [0,1]^2 (atlas_resolution), so
+   the map of a mesh solved on a rescaled copy must not be scaled back:
+   bishop x 2^200 and x 2^-200 with atlas_resolution 256 give an atlas in
+   [0,1]^2 that fills it about as the scale-1 one does (max coordinate
+   above 0.5), and all of it valid. */
+static void test_extreme_scale_atlas(void)
+{
+    static const int exps[2] = { 200, -200 };
+    bp_mesh base, m;
+    bp_error err;
+    int f;
+    if (!BPT_CHECK(bp_read_obj("tests/data/bishop_part_f1000.obj", &base, NULL, &err) == BP_OK, "read bishop")) return;
+    for (f = 0; f < 2; f++) {
+        bp_options o = defaults();
+        bp_atlas at;
+        bp_status st;
+        uint32_t i, c;
+        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        m = base;
+        m.positions = (double *)malloc(3 * base.num_vertices * sizeof(double));
+        for (i = 0; i < 3 * base.num_vertices; i++) m.positions[i] = ldexp(base.positions[i], exps[f]);
+        o.max_iterations = 20;
+        o.atlas_resolution = 256;
+        st = bp_parameterize(&at, &m, &o, &err);
+        if (BPT_CHECK(st == BP_OK, "bishop x 2^%d, atlas_resolution 256: BP_OK (%s)", exps[f], err.message)) {
+            for (c = 0; c < at.num_charts; c++)
+                for (i = 0; at.charts[c].uv && i < 2 * at.charts[c].num_vertices; i++) {
+                    if (at.charts[c].uv[i] < lo) lo = at.charts[c].uv[i];
+                    if (at.charts[c].uv[i] > hi) hi = at.charts[c].uv[i];
+                }
+            BPT_CHECK(lo >= 0 && hi <= 1 && hi > 0.5 && all_mapped_valid(&at),
+                      "bishop x 2^%d, atlas_resolution 256: the atlas lies in [0,1]^2 and fills it "
+                      "(coordinates %g .. %g), valid", exps[f], lo, hi);
+        }
+        bp_atlas_free(&at);
+        free(m.positions);
+    }
+    bp_mesh_free(&base, NULL);
+}
+
 static void test_limits(void)
 {
     bp_mesh m;
@@ -1311,6 +1352,7 @@ int main(void)
     test_cancel_states();
     test_local_defects();
     test_extreme_scales();
+    test_extreme_scale_atlas();
     test_limits();
     test_many_holes();
     return bpt_finish();
