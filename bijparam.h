@@ -4363,12 +4363,14 @@ static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b, bp_atla
     if (nl == 0 && chi == 2)
         bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
                  "chart %u (from %s, %u triangles) is a closed surface with no boundary: it cannot be "
-                 "flattened without seams; cut it into disks first (for example with vt seams)",
+                 "flattened without seams; cut it into disks first (vt seams, or opt.cut = BP_CUT_AUTO, the "
+                 "default, which cuts it automatically)",
                  c, bp__tri_name(m, t0, nm), ch->num_triangles);
     else
         bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
                  "chart %u (from %s) has genus %D and %u boundary loops (Euler characteristic %D): only "
-                 "disks and disks with holes can be flattened; it needs seams that cut it into disks",
+                 "disks and disks with holes can be flattened; it needs seams that cut it into disks (vt seams, or "
+                 "opt.cut = BP_CUT_AUTO, the default)",
                  c, bp__tri_name(m, t0, nm), g2 / 2, nl, chi);
     return BP_OK;
 }
