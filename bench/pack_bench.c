@@ -14,12 +14,11 @@
    measure). */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
+#include "tests/bpt_grid.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-typedef struct gen { double *pos; uint32_t *tri; uint32_t nv, nt, cap_v, cap_t; } gen;
 
 static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
 static double rnd(void)
@@ -28,30 +27,6 @@ static double rnd(void)
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return (double)((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-/* A (w+1) x (h+1) vertex grid with cells (i, j) kept where keep(i, j),
-   scaled by s, rotated by a, moved to (ox, oy). */
-static void add_grid(gen *g, int w, int h, int lshape, double s, double a, double ox, double oy)
-{
-    uint32_t base = g->nv;
-    int i, j;
-    double c = cos(a), sn = sin(a);
-    for (j = 0; j <= h; j++)
-        for (i = 0; i <= w; i++) {
-            double x = i * s, y = j * s;
-            g->pos[3 * g->nv] = ox + c * x - sn * y;
-            g->pos[3 * g->nv + 1] = oy + sn * x + c * y;
-            g->pos[3 * g->nv + 2] = 0;
-            g->nv++;
-        }
-    for (j = 0; j < h; j++)
-        for (i = 0; i < w; i++) {
-            uint32_t v00 = base + j * (w + 1) + i, v10 = v00 + 1, v01 = v00 + (w + 1), v11 = v01 + 1;
-            if (lshape && i >= w / 2 && j >= h / 2) continue;
-            g->tri[3 * g->nt] = v00; g->tri[3 * g->nt + 1] = v10; g->tri[3 * g->nt + 2] = v11; g->nt++;
-            g->tri[3 * g->nt] = v00; g->tri[3 * g->nt + 1] = v11; g->tri[3 * g->nt + 2] = v01; g->nt++;
-        }
 }
 
 static double now(void)
@@ -71,7 +46,7 @@ int main(int argc, char **argv)
 {
     int n = argc > 1 ? atoi(argv[1]) : 5000, res = argc > 2 ? atoi(argv[2]) : 1024, pad = argc > 3 ? atoi(argv[3]) : 4;
     int k, run;
-    gen g;
+    bpt_gen g;
     bp_mesh m;
     bp_options opt;
     bp_atlas atlas;
@@ -95,9 +70,9 @@ int main(int argc, char **argv)
                 g.nv++;
             }
             g.tri[3 * g.nt] = b; g.tri[3 * g.nt + 1] = b + 1; g.tri[3 * g.nt + 2] = b + 2; g.nt++;
-        } else if (kind == 1) add_grid(&g, w, h, 0, s, a, ox, oy);          /* rectangle */
-        else if (kind == 2) add_grid(&g, 2 + w, 2 + h, 1, s * 0.6, a, ox, oy); /* L shape */
-        else add_grid(&g, 4 + w, 1, 0, s * 0.5, a, ox, oy);                 /* thin strip */
+        } else if (kind == 1) bpt_add_grid(&g, w, h, 0, s, a, ox, oy);          /* rectangle */
+        else if (kind == 2) bpt_add_grid(&g, 2 + w, 2 + h, 1, s * 0.6, a, ox, oy); /* L shape */
+        else bpt_add_grid(&g, 4 + w, 1, 0, s * 0.5, a, ox, oy);                 /* thin strip */
     }
     memset(&m, 0, sizeof m);
     m.positions = g.pos; m.num_vertices = g.nv; m.triangles = g.tri; m.num_triangles = g.nt;

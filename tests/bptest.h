@@ -16,6 +16,7 @@
 #include <stdint.h>
 #include <string.h>
 #include <stdlib.h>
+#include <math.h>
 
 static int bpt__passed = 0, bpt__failed = 0;
 
@@ -147,4 +148,20 @@ static int bpt_finish(void)
     printf("BPTEST %d %d\n", bpt__passed, bpt__failed);
     return bpt__failed ? 1 : 0;
 }
+/* The squared diagonal of the mesh's bounding box (the scale the
+   library's relative degeneracy test is measured against). */
+static inline double bpt_bbox_diag2(const bp_mesh *m)
+{
+    double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL }, d = 0;
+    uint32_t v;
+    int k;
+    for (v = 0; v < m->num_vertices; v++)
+        for (k = 0; k < 3; k++) {
+            if (m->positions[3 * v + k] < lo[k]) lo[k] = m->positions[3 * v + k];
+            if (m->positions[3 * v + k] > hi[k]) hi[k] = m->positions[3 * v + k];
+        }
+    for (k = 0; k < 3; k++) d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    return d;
+}
+
 #endif

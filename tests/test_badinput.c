@@ -377,20 +377,6 @@ static bp_mesh grid_with_needle(double h)
     return m;
 }
 
-static double bbox_diag2(const bp_mesh *m)
-{
-    double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL }, d = 0;
-    uint32_t v;
-    int k;
-    for (v = 0; v < m->num_vertices; v++)
-        for (k = 0; k < 3; k++) {
-            if (m->positions[3 * v + k] < lo[k]) lo[k] = m->positions[3 * v + k];
-            if (m->positions[3 * v + k] > hi[k]) hi[k] = m->positions[3 * v + k];
-        }
-    for (k = 0; k < 3; k++) d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    return d;
-}
-
 static void test_degenerate(void)
 {
     /* a repeated vertex, in a file (line) and in memory (triangle) */
@@ -418,7 +404,7 @@ static void test_degenerate(void)
         int i;
         for (i = 0; i < 3; i++) {
             bp_mesh m = grid_with_needle(1.0);
-            double d2 = bbox_diag2(&m), h;
+            double d2 = bpt_bbox_diag2(&m), h;
             char what[96];
             bpt_mesh_free(&m);
             h = rel[i] * d2;               /* twice the area / diag^2 = rel */
@@ -1223,7 +1209,7 @@ static void test_extreme_scales(void)
             int k;
             for (k = 0; k < 2; k++) {
                 bp_mesh n = grid_with_needle(1.0);
-                double d2 = bbox_diag2(&n);
+                double d2 = bpt_bbox_diag2(&n);
                 bpt_mesh_free(&n);
                 n = grid_with_needle(rel[k] * d2);
                 for (i = 0; i < 3 * n.num_vertices; i++) n.positions[i] *= factors[f];

@@ -19,47 +19,24 @@
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
+#include "bpt_grid.h"
 #include <math.h>
 
-typedef struct gen { double *pos; uint32_t *tri; uint32_t nv, nt; } gen;
-
-static void add_grid(gen *g, int w, int h, int kind, double s, double a, double ox, double oy)
-{
-    uint32_t base = g->nv;
-    int i, j;
-    double c = cos(a), sn = sin(a);
-    for (j = 0; j <= h; j++)
-        for (i = 0; i <= w; i++) {
-            double x = i * s, y = j * s;
-            g->pos[3 * g->nv] = ox + c * x - sn * y;
-            g->pos[3 * g->nv + 1] = oy + sn * x + c * y;
-            g->pos[3 * g->nv + 2] = 0;
-            g->nv++;
-        }
-    for (j = 0; j < h; j++)
-        for (i = 0; i < w; i++) {
-            uint32_t v00 = base + j * (w + 1) + i, v10 = v00 + 1, v01 = v00 + (w + 1), v11 = v01 + 1;
-            if (kind == 1 && i >= w / 2 && j >= h / 2) continue;                /* L shape */
-            if (kind == 2 && i == w / 2 && j == h / 2) continue;                /* a hole */
-            g->tri[3 * g->nt] = v00; g->tri[3 * g->nt + 1] = v10; g->tri[3 * g->nt + 2] = v11; g->nt++;
-            g->tri[3 * g->nt] = v00; g->tri[3 * g->nt + 1] = v11; g->tri[3 * g->nt + 2] = v01; g->nt++;
-        }
-}
 
 /* n charts of assorted shapes; uv (when asked) = the x, y of each vertex. */
 static bp_mesh make_charts(int n, int with_uv)
 {
-    gen g;
+    bpt_gen g;
     bp_mesh m = bpt_mesh_new(60 * (uint32_t)n, 80 * (uint32_t)n);
     int k;
     g.pos = m.positions; g.tri = m.triangles; g.nv = 0; g.nt = 0;
     for (k = 0; k < n; k++) {
         int kind = k % 5;
         double a = bpt_rng_range(0, 6.283185307179586), s = bpt_rng_range(0.5, 1.5), ox = (k % 10) * 20.0, oy = (k / 10) * 20.0;
-        if (kind == 0) add_grid(&g, 1 + k % 3, 1 + k % 2, 0, s, a, ox, oy);
-        else if (kind == 1) add_grid(&g, 4, 4, 1, s * 0.7, a, ox, oy);
-        else if (kind == 2) add_grid(&g, 3, 3, 2, s * 0.8, a, ox, oy);
-        else if (kind == 3) add_grid(&g, 8, 1, 0, s * 0.5, a, ox, oy);
+        if (kind == 0) bpt_add_grid(&g, 1 + k % 3, 1 + k % 2, 0, s, a, ox, oy);
+        else if (kind == 1) bpt_add_grid(&g, 4, 4, 1, s * 0.7, a, ox, oy);
+        else if (kind == 2) bpt_add_grid(&g, 3, 3, 2, s * 0.8, a, ox, oy);
+        else if (kind == 3) bpt_add_grid(&g, 8, 1, 0, s * 0.5, a, ox, oy);
         else {
             uint32_t b = g.nv;
             g.pos[3 * b] = ox; g.pos[3 * b + 1] = oy;
@@ -219,13 +196,13 @@ static void test_padding_and_validity(void)
    than its own orientation, where its bounding box is mostly empty. */
 static void test_rotation(void)
 {
-    gen g;
+    bpt_gen g;
     bp_mesh m = bpt_mesh_new(40, 40);
     bp_atlas a1, a2;
     bp_error err;
     bp_status s1, s2;
     g.pos = m.positions; g.tri = m.triangles; g.nv = 0; g.nt = 0;
-    add_grid(&g, 10, 1, 0, 1.0, 0.5235987755982988, 0, 0);
+    bpt_add_grid(&g, 10, 1, 0, 1.0, 0.5235987755982988, 0, 0);
     m.num_vertices = g.nv; m.num_triangles = g.nt; m.num_faces = g.nt;
     m.corner_uv = (uint32_t *)malloc(sizeof(uint32_t) * 3 * g.nt);
     m.uvs = (double *)malloc(sizeof(double) * 2 * g.nv);
@@ -401,15 +378,15 @@ static void test_out_of_memory(void)
    allocated), and it ends on the diagonal or along a side. */
 static void test_long_strip(void)
 {
-    gen g;
+    bpt_gen g;
     bp_mesh m = bpt_mesh_new(2000, 2000);
     bp_atlas at;
     bp_error err;
     bp_status st;
     int k;
     g.pos = m.positions; g.tri = m.triangles; g.nv = 0; g.nt = 0;
-    add_grid(&g, 200, 1, 0, 1.0, 0.3, 0, 0);
-    for (k = 0; k < 10; k++) add_grid(&g, 2, 2, 0, 1.5, k * 0.7, 300.0 + 10 * k, 0);
+    bpt_add_grid(&g, 200, 1, 0, 1.0, 0.3, 0, 0);
+    for (k = 0; k < 10; k++) bpt_add_grid(&g, 2, 2, 0, 1.5, k * 0.7, 300.0 + 10 * k, 0);
     m.num_vertices = g.nv; m.num_triangles = g.nt; m.num_faces = g.nt;
     m.corner_uv = (uint32_t *)malloc(sizeof(uint32_t) * 3 * g.nt);
     m.uvs = (double *)malloc(sizeof(double) * 2 * g.nv);

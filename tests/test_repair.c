@@ -417,20 +417,6 @@ static double area2(const bp_mesh *m, uint32_t t)
     return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
-static double diag2(const bp_mesh *m)
-{
-    double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL }, d = 0;
-    uint32_t v;
-    int k;
-    for (v = 0; v < m->num_vertices; v++)
-        for (k = 0; k < 3; k++) {
-            if (m->positions[3 * v + k] < lo[k]) lo[k] = m->positions[3 * v + k];
-            if (m->positions[3 * v + k] > hi[k]) hi[k] = m->positions[3 * v + k];
-        }
-    for (k = 0; k < 3; k++) d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    return d;
-}
-
 /* bishop with triangle 100 made collinear (its third vertex moved to the
    midpoint of the other two), triangle 400 a needle of relative area
    1e-14 (below the 1e-12 threshold), and triangle 700 collapsed to a point
@@ -447,7 +433,7 @@ static void test_degenerate(const bp_mesh *clean, const bp_atlas *ref)
     bp_status st;
     uint32_t t, nt = m.num_triangles, k, ndeg = 0;
     int64_t want[4];
-    double d2 = diag2(clean), *P = m.positions;
+    double d2 = bpt_bbox_diag2(clean), *P = m.positions;
     const uint32_t *T = m.triangles;
     {   /* 100: collinear */
         uint32_t a = T[300], b = T[301], c = T[302];
