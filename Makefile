@@ -19,7 +19,11 @@
 #                     demo.svg (UV layout), demo.png (checkerboard render)
 #   make docs         regenerate the README pictures in docs/images/
 #   make bench        bench/run.sh: timings on tests/data and ../shared/meshes,
-#                     then bench/pack.sh (make bench-pack): packing utilization
+#                     then bench/pack.sh (make bench-pack): packing utilization,
+#                     then bench/scale.sh (make bench-scale)
+#   make bench-scale  bench/scale.sh: one chart subdivided to 8K, 133K, 298K
+#                     and 1M faces (bench/subdivide.py), 1 and 2 threads: time,
+#                     iterations, energy, bytes per face, exact checks
 #   make bench-atlas  bench/atlas.sh: every mesh through --atlas 1024
 #                     --padding 4, checked by uvcheck (~5 min; not in bench)
 #   make clean        remove build/
@@ -59,7 +63,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-atlas clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -153,10 +157,15 @@ docs: $(TOOL)
 bench: $(TOOL)
 	bash bench/run.sh
 	bash bench/pack.sh
+	bash bench/scale.sh
 
 # utilization of the outline packer and the time to pack 5,000 charts
 bench-pack: $(TOOL)
 	bash bench/pack.sh
+
+# time and memory against the face count, up to a million faces (~1 h)
+bench-scale: $(TOOL)
+	bash bench/scale.sh
 
 # every mesh through --atlas 1024 --padding 4: charts, seams, utilization,
 # energy, time, exact check, padding (docs/results.md, "Atlas")
