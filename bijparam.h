@@ -10922,6 +10922,7 @@ typedef struct bp__seg {
     double   *geo;        /* 7nt: unit normal, centroid, area                  */
     double   *w;          /* nt: relative importance (1 without)               */
     uint32_t *label;      /* nt: proxy of each triangle                        */
+    double   *dist;       /* nt: the flood's path length from the seed         */
     uint32_t *seed;       /* cap                                               */
     double   *prox;       /* 3 cap: proxy normals                              */
     double   *ctr;        /* 4 cap: region centroid sums and area              */
@@ -10973,7 +10974,7 @@ static int bp__seg_twins(const bp_allocator *a, const bp_chart *ch, uint32_t *tw
 
 static void bp__seg_free(const bp_allocator *a, bp__seg *S)
 {
-    bp__free(a, S->twin); bp__free(a, S->geo); bp__free(a, S->w); bp__free(a, S->label);
+    bp__free(a, S->twin); bp__free(a, S->geo); bp__free(a, S->w); bp__free(a, S->label); bp__free(a, S->dist);
     bp__free(a, S->seed); bp__free(a, S->prox); bp__free(a, S->ctr); bp__free(a, S->nsum); bp__free(a, S->worst);
     bp__free(a, S->worst_t); bp__free(a, S->count); bp__free(a, S->heap);
     memset(S, 0, sizeof *S);
@@ -10995,6 +10996,7 @@ static int bp__seg_setup(const bp_allocator *a, bp__seg *S, const bp_chart *ch, 
     S->geo = (double *)bp__alloc_array(a, 7 * (size_t)nt, sizeof(double));
     S->w = (double *)bp__alloc_array(a, nt, sizeof(double));
     S->label = (uint32_t *)bp__alloc_array(a, nt, sizeof(uint32_t));
+    S->dist = (double *)bp__alloc_array(a, nt, sizeof(double));
     S->seed = (uint32_t *)bp__alloc_array(a, cap, sizeof(uint32_t));
     S->prox = (double *)bp__alloc_array(a, 3 * (size_t)cap, sizeof(double));
     S->ctr = (double *)bp__alloc_array(a, 4 * (size_t)cap, sizeof(double));
@@ -11003,7 +11005,7 @@ static int bp__seg_setup(const bp_allocator *a, bp__seg *S, const bp_chart *ch, 
     S->worst_t = (uint32_t *)bp__alloc_array(a, cap, sizeof(uint32_t));
     S->count = (uint32_t *)bp__alloc_array(a, cap, sizeof(uint32_t));
     S->heap = (bp__seg_item *)bp__alloc_array(a, 3 * (size_t)nt + cap, sizeof(bp__seg_item));
-    if (!S->twin || !S->geo || !S->w || !S->label || !S->seed || !S->prox || !S->ctr || !S->nsum || !S->worst ||
+    if (!S->twin || !S->geo || !S->w || !S->label || !S->dist || !S->seed || !S->prox || !S->ctr || !S->nsum || !S->worst ||
         !S->worst_t || !S->count || !S->heap || !bp__seg_twins(a, ch, S->twin))
         return 0;
     for (t = 0; t < nt; t++) {
@@ -11094,6 +11096,7 @@ static void bp__seg_flood(bp__seg *S)
         const double *c0 = S->geo + 7 * (size_t)it.t + 3;
         if (S->label[it.t] != BP__NONE) continue;
         S->label[it.t] = it.k;
+        S->dist[it.t] = it.d;
         for (j = 0; j < 3; j++) {
             uint32_t tw = S->twin[3 * it.t + j], u;
             const double *c1;
@@ -11161,10 +11164,49 @@ static void bp__seg_fit(bp__seg *S, int reseed)
     for (k = 0; k < S->K; k++) S->worst[k] = S->ctr[4 * k + 3] > 0 ? S->worst[k] / S->ctr[4 * k + 3] : 0;
 }
 
+/* Seed k at triangle t, its proxy normal t's. */
+static void bp__seg_seed(bp__seg *S, uint32_t k, uint32_t t)
+{
+    S->seed[k] = t;
+    S->prox[3 * k] = S->geo[7 * (size_t)t];
+    S->prox[3 * k + 1] = S->geo[7 * (size_t)t + 1];
+    S->prox[3 * k + 2] = S->geo[7 * (size_t)t + 2];
+}
+
+/* The triangle the flood from one seed reached by the longest path (the
+   smallest index among equals). */
+static uint32_t bp__seg_farthest(bp__seg *S, uint32_t from)
+{
+    uint32_t t, far = from;
+    S->K = 1;
+    bp__seg_seed(S, 0, from);
+    bp__seg_flood(S);
+    for (t = 0; t < S->nt; t++)
+        if (S->label[t] != BP__NONE && S->dist[t] > S->dist[far]) far = t;
+    return far;
+}
+
+/* Mechanism (a)'s split in two: seeds at the ends of an approximate
+   diameter of the chart (two floods: the farthest p from triangle 0, then
+   the farthest q from p), then Lloyd's iterations.  Balanced halves: a
+   seed at the most deviating normal would often cut off a sliver. */
+static void bp__seg_label_two(bp__seg *S)
+{
+    uint32_t p = bp__seg_farthest(S, 0), q = bp__seg_farthest(S, p), it;
+    if (p == q) { S->K = 1; return; }
+    S->K = 2;
+    bp__seg_seed(S, 0, p);
+    bp__seg_seed(S, 1, q);
+    for (it = 0; it < BP__SEG_LLOYD; it++) {
+        bp__seg_flood(S);
+        bp__seg_fit(S, it + 1 < BP__SEG_LLOYD);
+    }
+}
+
 /* Label the chart's triangles into at most kmax regions: a region whose
    mean deviation 1 - n.N (area-weighted) is above `dev` and that has at
    least `least` triangles gets a new seed at its most deviating triangle
-   (dev = 0, least = 2: the split in two of mechanism (a)). */
+   (mechanism (b)). */
 static void bp__seg_label(bp__seg *S, uint32_t kmax, double dev, uint32_t least)
 {
     uint32_t k, it, round;
@@ -11470,7 +11512,8 @@ static bp_status bp__seg_chart(bp_atlas *atlas, uint32_t c, const bp_mesh *m, co
         bp__seg_free(&a, &S);
         return bp__oom(err, "segmenting charts");
     }
-    bp__seg_label(&S, kmax, dev, least);
+    if (dev < 0) bp__seg_label_two(&S);
+    else bp__seg_label(&S, kmax, dev, least);
     st = S.K > 1 ? bp__seg_split(atlas, c, m, S.twin, S.label, G, pieces, err) : BP_OK;
     bp__seg_free(&a, &S);
     return st;
@@ -11492,15 +11535,18 @@ BPDEF bp_status bp_atlas_segment(bp_atlas *atlas, const bp_mesh *m, const bp_opt
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_segment needs an atlas and its mesh");
     if ((st = bp__seg_options(opt, err)) != BP_OK) return st;
     n0 = atlas->num_charts;
-    if (!bp__seg_enabled(opt) || (opt->max_charts && opt->max_charts <= n0)) return bp__ok(err);
+    if (!bp__seg_enabled(opt) || !(opt->segment > 0 || opt->atlas_resolution > 0 || opt->max_charts > 0) ||
+        (opt->max_charts && opt->max_charts <= n0))
+        return bp__ok(err);       /* max_distortion alone: only (a), after the solve */
     if ((st = bp__seg_mesh_alloc(&atlas->allocator, &G, m, err)) != BP_OK) return st;
     for (c = 0; c < n0; c++) if (atlas->charts[c].error.status == BP_OK) total += atlas->charts[c].area3d;
     for (c = 0; c < n0 && st == BP_OK; c++) {
         const bp_chart *ch = &atlas->charts[c];
         uint32_t kmax = ch->num_triangles, pieces;
         if (ch->error.status != BP_OK || ch->uv) continue;
-        if (opt->max_charts)
-            kmax = 1 + (uint32_t)((double)(opt->max_charts - n0) * (total > 0 ? ch->area3d / total : 0));
+        if (opt->max_charts)      /* half the budget when (a) may need the rest */
+            kmax = 1 + (uint32_t)((double)(opt->max_charts - n0) * (total > 0 ? ch->area3d / total : 0) *
+                                  (opt->max_distortion > 0 ? 0.5 : 1));
         st = bp__seg_chart(atlas, c, m, opt->importance, kmax, BP__SEG_DEV, BP__SEG_LEAST, &G, &pieces, err);
     }
     bp__free(&atlas->allocator, G.glued);
@@ -11610,7 +11656,7 @@ BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *m, const bp_opti
         for (c = 0; c < n0 && st == BP_OK && atlas->num_charts < budget; c++) {
             uint32_t pieces, p, before = atlas->num_charts;
             if (stuck[c] || !bp__seg_too_high(atlas, c, m, opt)) continue;
-            st = bp__seg_chart(atlas, c, m, opt->importance, 2, 0, 2, &G, &pieces, err);
+            st = bp__seg_chart(atlas, c, m, opt->importance, 2, -1, 2, &G, &pieces, err);
             if (pieces < 2) { stuck[c] = 1; continue; }
             list[n++] = c;
             for (p = before; p < atlas->num_charts && n < 2 * (size_t)n0; p++) list[n++] = p;
