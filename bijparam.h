@@ -10908,9 +10908,13 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
    solves of the pieces, which are independent charts: the result is
    bit-identical for any number of threads. */
 
-#define BP__SEG_DEV 0.25        /* largest mean deviation 1 - n.N of a grown chart (a 60 degree cap) */
+#ifndef BP__SEG_DEV             /* largest mean deviation 1 - n.N of a grown chart (a 60 degree cap) */
+#define BP__SEG_DEV 0.25
+#endif
 #define BP__SEG_LEAST 16        /* a region of fewer triangles gets no new seed */
-#define BP__SEG_COMPACT 0.5     /* lambda: weight of roundness against planarity */
+#ifndef BP__SEG_COMPACT         /* lambda: weight of roundness against planarity */
+#define BP__SEG_COMPACT 0.5
+#endif
 #define BP__SEG_LLOYD 3         /* floods per insertion round */
 
 typedef struct bp__seg_item { double cost, d; uint32_t t, k; } bp__seg_item;
@@ -11216,10 +11220,8 @@ static void bp__seg_label(bp__seg *S, uint32_t kmax, double dev, uint32_t least)
     S->prox[0] = S->geo[0]; S->prox[1] = S->geo[1]; S->prox[2] = S->geo[2];
     for (round = 0; round < 64; round++) {
         uint32_t K0 = S->K;
-        for (it = 0; it < BP__SEG_LLOYD; it++) {
-            bp__seg_flood(S);
-            bp__seg_fit(S, it + 1 < BP__SEG_LLOYD);
-        }
+        bp__seg_flood(S);                 /* one Lloyd step per round ... */
+        bp__seg_fit(S, 1);
         for (k = 0; k < K0 && S->K < kmax; k++)
             if (S->worst_t[k] != BP__NONE && S->worst[k] > dev && S->count[k] >= least &&
                 S->worst_t[k] != S->seed[k]) {
@@ -11231,6 +11233,10 @@ static void bp__seg_label(bp__seg *S, uint32_t kmax, double dev, uint32_t least)
                 S->K++;
             }
         if (S->K == K0) break;
+    }
+    for (it = 0; it < BP__SEG_LLOYD; it++) {   /* ... and a few more at the end */
+        bp__seg_flood(S);
+        bp__seg_fit(S, it + 1 < BP__SEG_LLOYD);
     }
 }
 
