@@ -10868,10 +10868,14 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
        (1 without; below).  Lloyd iterations then move each proxy to the
        area-weighted mean normal of its region and its seed to the region's
        triangle of least cost from the region's centroid.  Proxies are
-       inserted where the fit is bad: every region with a triangle whose
-       normal deviates from N_k by more than the cone angle (BP__SEG_CONE,
-       cos 60 degrees) gets a new seed at its worst triangle, until none
-       does or the chart count allowed is reached.  Each region is
+       inserted where the fit is bad: every region whose mean deviation
+       1 - n_t.N_k (area-weighted) is above BP__SEG_DEV = 0.25 -- the mean
+       over a spherical cap of 60 degrees, (1 - cos 60)/2 -- and that has
+       at least BP__SEG_LEAST triangles gets a new seed at its most
+       deviating triangle, one Lloyd step per round, until no region
+       needs one or the chart count allowed is reached; three more Lloyd
+       steps finish.  A mean, not the largest deviation: a scan's noisy
+       triangles would otherwise each become a chart.  Each region is
        connected (the flood grows it from its seed), and a region of a
        disk with holes is a disk with holes (genus 0), so every piece
        passes the topology check; a piece enclosing another has a hole,
@@ -10883,12 +10887,17 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
        optimization (seed sec 3.6 suggests it): a chart whose mean
        distortion (bp_chart_distortion under opt.energy, area-weighted)
        is above opt.max_distortion is split in two by the same flood with
-       K = 2 (the second seed at the triangle whose normal deviates most),
-       each piece keeps its part of the map -- valid as it is, checked
-       exactly -- and is optimized again from it with its new free
-       boundary, which only lowers its energy.  Rounds repeat until every
-       chart meets the bound, the chart count reaches opt.max_charts, or
-       a chart cannot be split (one triangle, or planar).
+       K = 2, seeded at the two ends of an approximate diameter (two
+       floods: the farthest triangle from triangle 0, then the farthest
+       from it), which gives balanced halves -- a seed at the most
+       deviating normal cut off slivers, down to single triangles, on the
+       cow.  Each piece keeps its part of the map -- valid as it is,
+       checked exactly -- and is optimized again from it with its new free
+       boundary; the optimizer accepts only decreases of its objective, so
+       the piece ends near or below the energy it started with.  Rounds
+       repeat until every chart meets the bound, the chart count reaches
+       opt.max_charts, or a chart cannot be split (one triangle: its
+       energy is what the barrier allows, e.g. 4.44 for a thin one).
 
    Importance.  With opt.importance (painted, or the visibility of chapter
    4), the flood's path lengths are divided by the edge's mean relative

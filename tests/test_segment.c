@@ -28,7 +28,10 @@
        charts;
      - without --atlas and without the new options nothing is segmented
        (the charts are bp_atlas_build's), and max_distortion alone splits
-       only after the solve. */
+       only after the solve;
+     - importance steers the new seams: with 25 on one half of the cow and
+       1 on the other, the mean importance along the seams the
+       segmentation adds is lower than without importance. */
 #define _POSIX_C_SOURCE 200809L
 #define BP_IMPLEMENTATION
 #define BP_USE_PTHREADS
@@ -347,6 +350,76 @@ static void defaults(const char *what, const bp_mesh *m, double bound)
     bp_atlas_free(&base);
 }
 
+/* Length-weighted mean of (w_f + w_g) / 2 over the mesh edges between two
+   triangles f, g that are in one chart of `base` but in two of `seg`: the
+   seams the segmentation added. */
+static double mean_along_new_seams(const bp_mesh *m, const bp_atlas *base, const bp_atlas *seg, const double *w,
+                                   uint32_t *count)
+{
+    size_t n = 3 * (size_t)m->num_triangles, i;
+    dedge *e = (dedge *)malloc(n * sizeof *e);
+    double sum = 0, len = 0;
+    *count = 0;
+    for (i = 0; i < n; i++) {
+        uint32_t a = m->triangles[i], b = m->triangles[i - i % 3 + (i % 3 + 1) % 3];
+        e[i].a = a < b ? a : b;
+        e[i].b = a < b ? b : a;
+        e[i].t = (uint32_t)(i / 3);
+    }
+    qsort(e, n, sizeof *e, dedge_cmp);
+    for (i = 0; i + 1 < n; i++) {
+        uint32_t f = e[i].t, g = e[i + 1].t;
+        const double *p = m->positions + 3 * e[i].a, *q = m->positions + 3 * e[i].b;
+        double l;
+        if (e[i].a != e[i + 1].a || e[i].b != e[i + 1].b) continue;
+        if (base->corner_chart[3 * f] != base->corner_chart[3 * g]) continue;
+        if (seg->corner_chart[3 * f] == seg->corner_chart[3 * g]) continue;
+        l = sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
+        sum += l * 0.5 * (w[f] + w[g]);
+        len += l;
+        ++*count;
+    }
+    free(e);
+    return len > 0 ? sum / len : 0;
+}
+
+/* Importance steers the new seams: 25 on one half of the mesh, 1 on the
+   other; the charts grown with it put less of their seams on the
+   important half than those grown without it. */
+static void importance_steers(const char *what, const bp_mesh *m)
+{
+    bp_atlas base, plain, steered;
+    bp_error err;
+    bp_options o = seg_options(1, 0, 0, 1024);
+    double *w = (double *)malloc(m->num_triangles * sizeof(double)), lo = 1e300, hi = -1e300, a, b;
+    uint32_t t, v, na, nb;
+    for (v = 0; v < m->num_vertices; v++) {
+        if (m->positions[3 * v] < lo) lo = m->positions[3 * v];
+        if (m->positions[3 * v] > hi) hi = m->positions[3 * v];
+    }
+    for (t = 0; t < m->num_triangles; t++) {
+        const uint32_t *q = m->triangles + 3 * t;
+        double x = (m->positions[3 * q[0]] + m->positions[3 * q[1]] + m->positions[3 * q[2]]) / 3;
+        w[t] = x > (lo + hi) / 2 ? 25 : 1;
+    }
+    if (BPT_CHECK(bp_atlas_build(&base, m, &o, &err) == BP_OK && bp_atlas_build(&plain, m, &o, &err) == BP_OK &&
+                  bp_atlas_segment(&plain, m, &o, &err) == BP_OK, "%s: segmented (%s)", what, err.message)) {
+        o.importance = w;
+        if (BPT_CHECK(bp_atlas_build(&steered, m, &o, &err) == BP_OK && bp_atlas_segment(&steered, m, &o, &err) == BP_OK,
+                      "%s: segmented with importance (%s)", what, err.message)) {
+            a = mean_along_new_seams(m, &base, &plain, w, &na);
+            b = mean_along_new_seams(m, &base, &steered, w, &nb);
+            BPT_CHECK(na > 0 && nb > 0 && b < a, "%s: painted importance (25 on one half): mean importance along the "
+                      "new seams %.2f < %.2f without it (%u and %u seam edges, %u and %u charts)", what, b, a, nb, na,
+                      steered.num_charts, plain.num_charts);
+            bp_atlas_free(&steered);
+        }
+        bp_atlas_free(&plain);
+        bp_atlas_free(&base);
+    }
+    free(w);
+}
+
 int main(void)
 {
     bp_mesh m;
@@ -357,6 +430,7 @@ int main(void)
         run("cow without vt (closed, genus 0)", &m, 6, 4.1, 1);
         defaults("cow without vt", &m, 4.2);
         m.corner_uv = keep;
+        importance_steers("cow with its vt (one chart)", &m);
         bp_mesh_free(&m, NULL);
     }
     if (read_mesh("tests/data/torus_with_holes.obj", &m)) {
