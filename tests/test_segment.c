@@ -31,7 +31,10 @@
        only after the solve;
      - importance steers the new seams: with 25 on one half of the cow and
        1 on the other, the mean importance along the seams the
-       segmentation adds is lower than without importance. */
+       segmentation adds is lower than without importance;
+     - out of memory at each allocation of bp_atlas_segment and of
+       bp_atlas_refine (a cube of 108 triangles on a sphere): the status says so, no
+       leak, and every chart is still a valid disk with a valid map. */
 #define _POSIX_C_SOURCE 200809L
 #define BP_IMPLEMENTATION
 #define BP_USE_PTHREADS
@@ -420,9 +423,118 @@ static void importance_steers(const char *what, const bp_mesh *m)
     free(w);
 }
 
+/* A closed cube of side 1, each face an n x n grid of squares split in two. */
+static bp_mesh cube(uint32_t n)
+{
+    bp_mesh m = bpt_mesh_new(6 * (n + 1) * (n + 1), 12 * n * n);
+    uint32_t f, i, j, v = 0, t = 0;
+    for (f = 0; f < 6; f++) {
+        uint32_t ax = f / 2, s = f % 2, u = (ax + 1) % 3, w = (ax + 2) % 3, base = v;
+        for (j = 0; j <= n; j++)
+            for (i = 0; i <= n; i++, v++) {
+                m.positions[3 * v + ax] = s;
+                m.positions[3 * v + u] = (double)i / n;
+                m.positions[3 * v + w] = (double)j / n;
+            }
+        for (j = 0; j < n; j++)
+            for (i = 0; i < n; i++) {
+                uint32_t a = base + j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+                /* outward: counter-clockwise seen from outside (s = 1: u, w order; s = 0: reversed) */
+                if (s) { m.triangles[3*t] = a; m.triangles[3*t+1] = b; m.triangles[3*t+2] = d; t++;
+                         m.triangles[3*t] = a; m.triangles[3*t+1] = d; m.triangles[3*t+2] = c; t++; }
+                else   { m.triangles[3*t] = a; m.triangles[3*t+1] = d; m.triangles[3*t+2] = b; t++;
+                         m.triangles[3*t] = a; m.triangles[3*t+1] = c; m.triangles[3*t+2] = d; t++; }
+            }
+    }
+    for (t = 0; t < 3 * m.num_triangles; t++)   /* weld the faces' shared edges: one closed surface */
+        for (v = 0; v < m.triangles[t]; v++)
+            if (!memcmp(m.positions + 3 * v, m.positions + 3 * m.triangles[t], 3 * sizeof(double))) {
+                m.triangles[t] = v;
+                break;
+            }
+    return m;
+}
+
+typedef struct oom { long calls, fail_at, live; } oom;
+
+static void *oom_alloc(void *user, size_t size)
+{
+    oom *o = (oom *)user;
+    void *p;
+    if (o->fail_at && ++o->calls == o->fail_at) return NULL;
+    if (!o->fail_at) o->calls++;
+    p = malloc(size);
+    if (p) o->live++;
+    return p;
+}
+
+static void oom_free(void *user, void *p)
+{
+    if (p) ((oom *)user)->live--;
+    free(p);
+}
+
+/* Failing each allocation of bp_atlas_segment, then of bp_atlas_refine:
+   BP_ERR_OUT_OF_MEMORY (or BP_OK when the failure fell where no call is
+   made), every chart still a valid disk with its map valid, and nothing
+   leaked once the atlas is freed. */
+static void out_of_memory(const bp_mesh *m)
+{
+    int phase;
+    for (phase = 0; phase < 2; phase++) {
+        long k, total = 0, wrong = 0, leaks = 0, broken = 0;
+        oom counter;
+        bp_options o = seg_options(1, 0, phase ? 4.05 : 0, phase ? 0 : 64);
+        memset(&counter, 0, sizeof counter);
+        o.allocator.alloc = oom_alloc;
+        o.allocator.free = oom_free;
+        o.allocator.user = &counter;
+        for (k = 0;; k++) {
+            bp_atlas at;
+            bp_error err;
+            bp_status st;
+            uint32_t c;
+            char why[160];
+            counter.fail_at = 0;
+            st = bp_atlas_build(&at, m, &o, &err);
+            if (st == BP_OK && phase) st = bp_atlas_solve(&at, m, &o, &err);
+            if (st != BP_OK) { BPT_CHECK(0, "out-of-memory sweep set-up: %s", err.message); break; }
+            counter.calls = 0;
+            counter.fail_at = k;
+            st = phase ? bp_atlas_refine(&at, m, &o, &err) : bp_atlas_segment(&at, m, &o, &err);
+            counter.fail_at = 0;
+            if (k == 0) total = counter.calls;
+            else if (st != BP_ERR_OUT_OF_MEMORY && st != BP_OK) wrong++;
+            for (c = 0; c < at.num_charts; c++) {
+                const bp_chart *ch = &at.charts[c];
+                bp_check_report rep;
+                if (!chart_shape(ch, why, sizeof why) ||
+                    (ch->uv && bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &rep, NULL) != BP_OK))
+                    broken++;
+            }
+            bp_atlas_free(&at);
+            if (counter.live != 0) leaks++;
+            if (k > 0 && k >= total) break;
+        }
+        BPT_CHECK(total > 0 && wrong == 0 && leaks == 0 && broken == 0,
+                  "failing each of the %ld allocations of %s: out of memory or ok (%ld other), no leak (%ld), "
+                  "every chart still a valid disk (%ld broken)", total,
+                  phase ? "bp_atlas_refine (bound 4.05)" : "bp_atlas_segment", wrong, leaks, broken);
+    }
+}
+
 int main(void)
 {
-    bp_mesh m;
+    bp_mesh m = cube(3);
+    uint32_t v;
+    for (v = 0; v < m.num_vertices; v++) {     /* onto the unit sphere: not developable */
+        double *p = m.positions + 3 * v, r;
+        p[0] -= 0.5; p[1] -= 0.5; p[2] -= 0.5;
+        r = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        p[0] /= r; p[1] /= r; p[2] /= r;
+    }
+    out_of_memory(&m);
+    bpt_mesh_free(&m);
     if (read_mesh("tests/data/cow_param_withSUV.obj", &m)) {
         uint32_t *keep = m.corner_uv;
         m.corner_uv = NULL;                            /* read without its vt: closed, genus 0 */
