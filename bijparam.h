@@ -414,6 +414,18 @@ typedef struct bp_options {
     bp_cut        cut;            /* charts that are closed or of genus > 0:
                                      BP_CUT_AUTO (default) cuts them into disks
                                      (>>cut), BP_CUT_NONE rejects them         */
+    /* Segmentation into several charts (>>segment). */
+    int           segment;        /* 0: automatic -- on when atlas_resolution,
+                                     max_distortion or max_charts is set; 1:
+                                     always; -1: never (the charts are the
+                                     input's, cut only where >>cut must)       */
+    double        max_distortion; /* > 0: a chart whose mean distortion (under
+                                     `energy`, area-weighted) stays above this
+                                     after the optimization is split and its
+                                     pieces optimized again.  0: no bound      */
+    uint32_t      max_charts;     /* > 0: at most this many charts (those of the
+                                     input count; a mesh with more is left as
+                                     it is).  0: no limit                     */
 } bp_options;
 
 /* Growing bp_options.  New fields are only ever appended, so a caller's
@@ -588,6 +600,20 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
    marked failed (chart.error names it) and is not packed.  Returns BP_OK,
    or BP_ERR_CHARTS_FAILED when some charts failed. */
 BPDEF bp_status bp_atlas_use_input_uvs(bp_atlas *atlas, const bp_mesh *mesh, bp_error *err);
+/* Segmentation (>>segment), used by bp_parameterize when bp__seg_enabled:
+   bp_atlas_segment, after bp_atlas_build, splits every chart into charts
+   of bounded normal deviation (at most opt->max_charts in all);
+   bp_atlas_solve is the start map and optimization of every chart, the
+   charts in parallel (BP_ERR_CHARTS_FAILED: some failed, reported in
+   chart.error); bp_atlas_refine, after the solve, splits every chart whose
+   mean distortion is above opt->max_distortion and optimizes the pieces
+   again from their part of the map.  Each keeps every map valid and the
+   result bit-identical for any number of threads; with segmentation off
+   (opt->segment -1, or no atlas_resolution / max_distortion / max_charts,
+   or input uvs or pins) bp_atlas_segment and bp_atlas_refine do nothing. */
+BPDEF bp_status bp_atlas_segment(bp_atlas *atlas, const bp_mesh *mesh, const bp_options *opt, bp_error *err);
+BPDEF bp_status bp_atlas_solve(bp_atlas *atlas, const bp_mesh *mesh, const bp_options *opt, bp_error *err);
+BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *mesh, const bp_options *opt, bp_error *err);
 /* Everything: build, init, optimize, pack, and an exact check of the packed
    atlas.  BP_OK: every chart mapped.  BP_ERR_CHARTS_FAILED (not strict) and
    BP_ERR_CANCELLED: the atlas is kept, every chart valid or reported failed,
@@ -10815,6 +10841,853 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
     return st;
 }
 
+/* >>segment ================================================================
+
+   Segmentation into several charts (issue 14).  The cut of >>cut opens a
+   closed or high-genus chart into ONE disk; that disk can be long and
+   branched (fertility, a torus with holes), so it fills its square of the
+   atlas badly, and on a 90K-triangle scan the single large chart is what
+   makes the solve slow.  Splitting charts into several fixes both, and is
+   always safe for bijectivity: any part of a bijective map is bijective,
+   so a chart cut along mesh edges has valid sub-charts.  Two mechanisms:
+
+   (b) Growing charts by normal deviation, before the solve (Cohen-Steiner,
+       Alliez & Desbrun's variational shape approximation, 2004, with the
+       L^{2,1} metric on normals; xatlas, UVAtlas and D-charts grow charts
+       by the same kind of planarity cost).  K proxies, each a normal N_k
+       and a seed triangle, share the chart's triangles by a priority flood
+       from the seeds across interior edges; triangle t joins proxy k at
+       the cost
+
+           c(t, k) = ( |n_t - N_k|^2 + lambda (d_k(t) / r)^2 ) / w_t,
+
+       n_t its unit normal, d_k(t) the length of the flood's path from the
+       seed (between centroids), r = sqrt(A / (pi K)) the radius of a chart
+       of the mean area, lambda = BP__SEG_COMPACT the weight that keeps
+       charts round (round charts pack well), w_t the relative importance
+       (1 without; below).  Lloyd iterations then move each proxy to the
+       area-weighted mean normal of its region and its seed to the region's
+       triangle of least cost from the region's centroid.  Proxies are
+       inserted where the fit is bad: every region whose mean deviation
+       1 - n_t.N_k (area-weighted) is above BP__SEG_DEV = 0.25 -- the mean
+       over a spherical cap of 60 degrees, (1 - cos 60)/2 -- and that has
+       at least BP__SEG_LEAST triangles gets a new seed at its most
+       deviating triangle, one Lloyd step per round, until no region
+       needs one or the chart count allowed is reached; three more Lloyd
+       steps finish.  A mean, not the largest deviation: a scan's noisy
+       triangles would otherwise each become a chart.  Each region is
+       connected (the flood grows it from its seed), and a region of a
+       disk with holes is a disk with holes (genus 0), so every piece
+       passes the topology check; a piece enclosing another has a hole,
+       which the free boundary handles.  Charts that are already disks are
+       split too: this is what raises a single chart's utilization (the
+       cow's one vt chart).  The vt seams stay: pieces are parts of charts.
+
+   (a) Splitting charts whose distortion stays high after the bijective
+       optimization (seed sec 3.6 suggests it): a chart whose mean
+       distortion (bp_chart_distortion under opt.energy, area-weighted)
+       is above opt.max_distortion is split in two by the same flood with
+       K = 2, seeded at the two ends of an approximate diameter (two
+       floods: the farthest triangle from triangle 0, then the farthest
+       from it), which gives balanced halves -- a seed at the most
+       deviating normal cut off slivers, down to single triangles, on the
+       cow.  Each piece keeps its part of the map -- valid as it is,
+       checked exactly -- and is optimized again from it with its new free
+       boundary; the optimizer accepts only decreases of its objective, so
+       the piece ends near or below the energy it started with.  Rounds
+       repeat until every chart meets the bound, the chart count reaches
+       opt.max_charts, or a chart cannot be split (one triangle: its
+       energy is what the barrier allows, e.g. 4.44 for a thin one).
+
+   Importance.  With opt.importance (painted, or the visibility of chapter
+   4), the flood's path lengths are divided by the edge's mean relative
+   importance and the costs by w_t, and seeds prefer important triangles:
+   regions spread fast through what matters and their fronts meet -- the
+   seams -- where importance is low, as the cut's importance-weighted
+   paths do (>>cut).
+
+   Mechanics.  A split renumbers nothing of the other charts: the piece
+   with the chart's first triangle keeps its index, the others are
+   appended.  Each piece gets its chart vertices as in >>cut's split (the
+   chart's corners merged again across the interior edges inside the
+   piece, so a vertex on a new seam gets one copy per piece and per fan),
+   its loops walked by bp__chart_loops, its Euler characteristic checked,
+   and the atlas's corner_chart / corner_vertex follow, so the writers give
+   each side of a new seam its own vt.  Everything is serial except the
+   solves of the pieces, which are independent charts: the result is
+   bit-identical for any number of threads. */
+
+#ifndef BP__SEG_DEV             /* largest mean deviation 1 - n.N of a grown chart (a 60 degree cap) */
+#define BP__SEG_DEV 0.25
+#endif
+#define BP__SEG_LEAST 16        /* a region of fewer triangles gets no new seed */
+#ifndef BP__SEG_COMPACT         /* lambda: weight of roundness against planarity */
+#define BP__SEG_COMPACT 0.5
+#endif
+#define BP__SEG_LLOYD 3         /* floods per insertion round */
+
+typedef struct bp__seg_item { double cost, d; uint32_t t, k; } bp__seg_item;
+
+/* Scratch of one chart's segmentation. */
+typedef struct bp__seg {
+    uint32_t nt, K, cap;
+    uint32_t *twin;       /* 3nt: chart corner edge across an interior edge, or BP__NONE */
+    double   *geo;        /* 7nt: unit normal, centroid, area                  */
+    double   *w;          /* nt: relative importance (1 without)               */
+    uint32_t *label;      /* nt: proxy of each triangle                        */
+    double   *dist;       /* nt: the flood's path length from the seed         */
+    uint32_t *seed;       /* cap                                               */
+    double   *prox;       /* 3 cap: proxy normals                              */
+    double   *ctr;        /* 4 cap: region centroid sums and area              */
+    double   *nsum;       /* 3 cap: area-weighted normal sums                  */
+    double   *worst;      /* cap: mean deviation 1 - n.N in the region (area-weighted) */
+    uint32_t *worst_t;    /* cap: its triangle of largest deviation            */
+    uint32_t *count;      /* cap: its triangles                                */
+    bp__seg_item *heap;   /* 3nt + cap                                         */
+    double    area, r2;
+} bp__seg;
+
+typedef struct bp__seg_edge { uint32_t lo, hi, ce; } bp__seg_edge;
+
+static int bp__seg_edge_cmp(const void *pa, const void *pb)
+{
+    const bp__seg_edge *x = (const bp__seg_edge *)pa, *y = (const bp__seg_edge *)pb;
+    if (x->lo != y->lo) return x->lo < y->lo ? -1 : 1;
+    if (x->hi != y->hi) return x->hi < y->hi ? -1 : 1;
+    return x->ce < y->ce ? -1 : x->ce > y->ce;
+}
+
+/* Twins inside a chart: the two corner edges of an interior edge run
+   between the same two chart vertices in opposite directions.  An edge
+   met once, or more than twice, or twice in one direction, is boundary.
+   0 if out of memory. */
+static int bp__seg_twins(const bp_allocator *a, const bp_chart *ch, uint32_t *twin)
+{
+    uint32_t nc = 3 * ch->num_triangles, ce, i, j;
+    bp__seg_edge *e = (bp__seg_edge *)bp__alloc_array(a, nc ? nc : 1, sizeof *e);
+    if (!e) return 0;
+    for (ce = 0; ce < nc; ce++) {
+        uint32_t u = bp__ce_from(ch, ce), v = bp__ce_to(ch, ce);
+        e[ce].lo = u < v ? u : v;
+        e[ce].hi = u < v ? v : u;
+        e[ce].ce = ce;
+        twin[ce] = BP__NONE;
+    }
+    qsort(e, nc, sizeof *e, bp__seg_edge_cmp);
+    for (i = 0; i < nc; i = j) {
+        for (j = i + 1; j < nc && e[j].lo == e[i].lo && e[j].hi == e[i].hi; j++) {}
+        if (j - i == 2 && bp__ce_from(ch, e[i].ce) != bp__ce_from(ch, e[i + 1].ce)) {
+            twin[e[i].ce] = e[i + 1].ce;
+            twin[e[i + 1].ce] = e[i].ce;
+        }
+    }
+    bp__free(a, e);
+    return 1;
+}
+
+static void bp__seg_free(const bp_allocator *a, bp__seg *S)
+{
+    bp__free(a, S->twin); bp__free(a, S->geo); bp__free(a, S->w); bp__free(a, S->label); bp__free(a, S->dist);
+    bp__free(a, S->seed); bp__free(a, S->prox); bp__free(a, S->ctr); bp__free(a, S->nsum); bp__free(a, S->worst);
+    bp__free(a, S->worst_t); bp__free(a, S->count); bp__free(a, S->heap);
+    memset(S, 0, sizeof *S);
+}
+
+/* Normals, centroids and areas of the chart's triangles (oriented as the
+   chart is; a repaired degenerate triangle has no normal and its rest
+   area), the relative importance, and the scratch for up to cap proxies.
+   0 if out of memory. */
+static int bp__seg_setup(const bp_allocator *a, bp__seg *S, const bp_chart *ch, const bp_mesh *m,
+                         const double *importance, uint32_t cap)
+{
+    uint32_t nt = ch->num_triangles, t, k;
+    double isum = 0;
+    memset(S, 0, sizeof *S);
+    S->nt = nt;
+    S->cap = cap;
+    S->twin = (uint32_t *)bp__alloc_array(a, 3 * (size_t)nt, sizeof(uint32_t));
+    S->geo = (double *)bp__alloc_array(a, 7 * (size_t)nt, sizeof(double));
+    S->w = (double *)bp__alloc_array(a, nt, sizeof(double));
+    S->label = (uint32_t *)bp__alloc_array(a, nt, sizeof(uint32_t));
+    S->dist = (double *)bp__alloc_array(a, nt, sizeof(double));
+    S->seed = (uint32_t *)bp__alloc_array(a, cap, sizeof(uint32_t));
+    S->prox = (double *)bp__alloc_array(a, 3 * (size_t)cap, sizeof(double));
+    S->ctr = (double *)bp__alloc_array(a, 4 * (size_t)cap, sizeof(double));
+    S->nsum = (double *)bp__alloc_array(a, 3 * (size_t)cap, sizeof(double));
+    S->worst = (double *)bp__alloc_array(a, cap, sizeof(double));
+    S->worst_t = (uint32_t *)bp__alloc_array(a, cap, sizeof(uint32_t));
+    S->count = (uint32_t *)bp__alloc_array(a, cap, sizeof(uint32_t));
+    S->heap = (bp__seg_item *)bp__alloc_array(a, 3 * (size_t)nt + cap, sizeof(bp__seg_item));
+    if (!S->twin || !S->geo || !S->w || !S->label || !S->dist || !S->seed || !S->prox || !S->ctr || !S->nsum || !S->worst ||
+        !S->worst_t || !S->count || !S->heap || !bp__seg_twins(a, ch, S->twin))
+        return 0;
+    for (t = 0; t < nt; t++) {
+        const double *p[3];
+        double *g = S->geo + 7 * (size_t)t, e1[3], e2[3], n[3], len;
+        for (k = 0; k < 3; k++) p[k] = bp__pos(m, ch->vertex[ch->triangles[3 * t + k]]);
+        for (k = 0; k < 3; k++) { e1[k] = p[1][k] - p[0][k]; e2[k] = p[2][k] - p[0][k]; }
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (k = 0; k < 3; k++) {
+            g[k] = len > 0 && !(ch->rest_side && ch->rest_side[t] > 0) ? n[k] / len : 0;
+            g[3 + k] = (p[0][k] + p[1][k] + p[2][k]) / 3;
+        }
+        g[6] = ch->rest_side && ch->rest_side[t] > 0 ? 0.4330127018922193 * ch->rest_side[t] * ch->rest_side[t]
+                                                      : 0.5 * len;
+        S->area += g[6];
+        S->w[t] = importance ? importance[ch->face[t]] : 1;
+        if (!(S->w[t] > 0 && S->w[t] < HUGE_VAL)) S->w[t] = 1;
+        isum += S->w[t];
+    }
+    for (t = 0; t < nt; t++) S->w[t] /= isum / nt;          /* mean 1 */
+    if (!(S->area > 0)) S->area = 1;
+    return 1;
+}
+
+/* Deviation |n_t - N_k|^2 = 2 (1 - n_t . N_k) for unit vectors. */
+static double bp__seg_dev(const bp__seg *S, uint32_t t, uint32_t k)
+{
+    const double *n = S->geo + 7 * (size_t)t, *p = S->prox + 3 * (size_t)k;
+    double dx = n[0] - p[0], dy = n[1] - p[1], dz = n[2] - p[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+static double bp__seg_cost(const bp__seg *S, uint32_t t, uint32_t k, double d)
+{
+    return (bp__seg_dev(S, t, k) + BP__SEG_COMPACT * d * d / S->r2) / S->w[t];
+}
+
+/* The heap of the flood, ordered by (cost, triangle, proxy): deterministic. */
+static int bp__seg_less(const bp__seg_item *x, const bp__seg_item *y)
+{
+    if (x->cost != y->cost) return x->cost < y->cost;
+    if (x->t != y->t) return x->t < y->t;
+    return x->k < y->k;
+}
+
+static void bp__seg_push(bp__seg *S, uint32_t *n, bp__seg_item it)
+{
+    uint32_t i = (*n)++;
+    while (i > 0 && bp__seg_less(&it, &S->heap[(i - 1) / 2])) { S->heap[i] = S->heap[(i - 1) / 2]; i = (i - 1) / 2; }
+    S->heap[i] = it;
+}
+
+static bp__seg_item bp__seg_pop(bp__seg *S, uint32_t *n)
+{
+    bp__seg_item top = S->heap[0], last = S->heap[--*n];
+    uint32_t i = 0;
+    for (;;) {
+        uint32_t l = 2 * i + 1, r = l + 1, s = l;
+        if (l >= *n) break;
+        if (r < *n && bp__seg_less(&S->heap[r], &S->heap[l])) s = r;
+        if (!bp__seg_less(&S->heap[s], &last)) break;
+        S->heap[i] = S->heap[s];
+        i = s;
+    }
+    if (*n) S->heap[i] = last;
+    return top;
+}
+
+/* The flood: every seed claims its triangle first (cost -1), then the
+   cheapest (triangle, proxy) pair is taken, repeatedly; each triangle is
+   taken once, by a neighbour's proxy, so every region is connected.  At
+   most 3 nt + K entries are ever pushed. */
+static void bp__seg_flood(bp__seg *S)
+{
+    uint32_t n = 0, t, k, j;
+    S->r2 = S->area / (3.141592653589793 * S->K);
+    for (t = 0; t < S->nt; t++) S->label[t] = BP__NONE;
+    for (k = 0; k < S->K; k++) {
+        bp__seg_item it;
+        it.cost = -1; it.d = 0; it.t = S->seed[k]; it.k = k;
+        bp__seg_push(S, &n, it);
+    }
+    while (n > 0) {
+        bp__seg_item it = bp__seg_pop(S, &n);
+        const double *c0 = S->geo + 7 * (size_t)it.t + 3;
+        if (S->label[it.t] != BP__NONE) continue;
+        S->label[it.t] = it.k;
+        S->dist[it.t] = it.d;
+        for (j = 0; j < 3; j++) {
+            uint32_t tw = S->twin[3 * it.t + j], u;
+            const double *c1;
+            bp__seg_item nx;
+            if (tw == BP__NONE || S->label[u = tw / 3] != BP__NONE) continue;
+            c1 = S->geo + 7 * (size_t)u + 3;
+            nx.d = it.d + bp__dist3(c0, c1) * 2 / (S->w[it.t] + S->w[u]);
+            nx.cost = bp__seg_cost(S, u, it.k, nx.d);
+            nx.t = u;
+            nx.k = it.k;
+            bp__seg_push(S, &n, nx);
+        }
+    }
+}
+
+/* Lloyd's update: each proxy's normal becomes its region's area-weighted
+   mean normal, its seed the region's triangle of least cost from the
+   region's centroid; and each region's worst deviation is found. */
+static void bp__seg_fit(bp__seg *S, int reseed)
+{
+    uint32_t t, k, i;
+    double *best = S->worst;                     /* reused below */
+    for (i = 0; i < 4 * S->K; i++) S->ctr[i] = 0;
+    {
+        double *nsum = S->nsum;
+        for (i = 0; i < 3 * S->K; i++) nsum[i] = 0;
+        for (t = 0; t < S->nt; t++) {
+            const double *g = S->geo + 7 * (size_t)t;
+            k = S->label[t];
+            if (k == BP__NONE) continue;
+            for (i = 0; i < 3; i++) { nsum[3 * k + i] += g[6] * g[i]; S->ctr[4 * k + i] += g[6] * g[3 + i]; }
+            S->ctr[4 * k + 3] += g[6];
+        }
+        for (k = 0; k < S->K; k++) {
+            double len = sqrt(nsum[3 * k] * nsum[3 * k] + nsum[3 * k + 1] * nsum[3 * k + 1] +
+                              nsum[3 * k + 2] * nsum[3 * k + 2]);
+            if (len > 0) for (i = 0; i < 3; i++) S->prox[3 * k + i] = nsum[3 * k + i] / len;
+            if (S->ctr[4 * k + 3] > 0) for (i = 0; i < 3; i++) S->ctr[4 * k + i] /= S->ctr[4 * k + 3];
+        }
+    }
+    if (reseed) {
+        for (k = 0; k < S->K; k++) best[k] = HUGE_VAL;
+        for (t = 0; t < S->nt; t++) {
+            const double *c = S->geo + 7 * (size_t)t + 3;
+            double d, s;
+            k = S->label[t];
+            if (k == BP__NONE) continue;
+            d = bp__dist3(c, S->ctr + 4 * (size_t)k);
+            s = (bp__seg_dev(S, t, k) + BP__SEG_COMPACT * d * d / S->r2) / S->w[t];
+            if (s < best[k]) { best[k] = s; S->seed[k] = t; }
+        }
+    }
+    for (k = 0; k < S->K; k++) { S->worst[k] = 0; S->worst_t[k] = BP__NONE; S->count[k] = 0; }
+    for (t = 0; t < S->nt; t++) {
+        double dv, mx = -1;
+        k = S->label[t];
+        if (k == BP__NONE) continue;
+        S->count[k]++;
+        if (!(S->geo[7 * (size_t)t + 6] > 0)) continue;
+        dv = 0.5 * bp__seg_dev(S, t, k);                  /* 1 - n . N */
+        S->worst[k] += S->geo[7 * (size_t)t + 6] * dv;    /* area-weighted, divided below */
+        if (S->worst_t[k] != BP__NONE) mx = 0.5 * bp__seg_dev(S, S->worst_t[k], k);
+        if (dv > mx) S->worst_t[k] = t;
+    }
+    for (k = 0; k < S->K; k++) S->worst[k] = S->ctr[4 * k + 3] > 0 ? S->worst[k] / S->ctr[4 * k + 3] : 0;
+}
+
+/* Seed k at triangle t, its proxy normal t's. */
+static void bp__seg_seed(bp__seg *S, uint32_t k, uint32_t t)
+{
+    S->seed[k] = t;
+    S->prox[3 * k] = S->geo[7 * (size_t)t];
+    S->prox[3 * k + 1] = S->geo[7 * (size_t)t + 1];
+    S->prox[3 * k + 2] = S->geo[7 * (size_t)t + 2];
+}
+
+/* The triangle the flood from one seed reached by the longest path (the
+   smallest index among equals). */
+static uint32_t bp__seg_farthest(bp__seg *S, uint32_t from)
+{
+    uint32_t t, far = from;
+    S->K = 1;
+    bp__seg_seed(S, 0, from);
+    bp__seg_flood(S);
+    for (t = 0; t < S->nt; t++)
+        if (S->label[t] != BP__NONE && S->dist[t] > S->dist[far]) far = t;
+    return far;
+}
+
+/* Mechanism (a)'s split in two: seeds at the ends of an approximate
+   diameter of the chart (two floods: the farthest p from triangle 0, then
+   the farthest q from p), then Lloyd's iterations.  Balanced halves: a
+   seed at the most deviating normal would often cut off a sliver. */
+static void bp__seg_label_two(bp__seg *S)
+{
+    uint32_t p = bp__seg_farthest(S, 0), q = bp__seg_farthest(S, p), it;
+    if (p == q) { S->K = 1; return; }
+    S->K = 2;
+    bp__seg_seed(S, 0, p);
+    bp__seg_seed(S, 1, q);
+    for (it = 0; it < BP__SEG_LLOYD; it++) {
+        bp__seg_flood(S);
+        bp__seg_fit(S, it + 1 < BP__SEG_LLOYD);
+    }
+}
+
+/* Label the chart's triangles into at most kmax regions: a region whose
+   mean deviation 1 - n.N (area-weighted) is above `dev` and that has at
+   least `least` triangles gets a new seed at its most deviating triangle
+   (mechanism (b)). */
+static void bp__seg_label(bp__seg *S, uint32_t kmax, double dev, uint32_t least)
+{
+    uint32_t k, it, round;
+    if (kmax > S->cap) kmax = S->cap;
+    S->K = 1;
+    S->seed[0] = 0;
+    S->prox[0] = S->geo[0]; S->prox[1] = S->geo[1]; S->prox[2] = S->geo[2];
+    for (round = 0; round < 64; round++) {
+        uint32_t K0 = S->K;
+        bp__seg_flood(S);                 /* one Lloyd step per round ... */
+        bp__seg_fit(S, 1);
+        for (k = 0; k < K0 && S->K < kmax; k++)
+            if (S->worst_t[k] != BP__NONE && S->worst[k] > dev && S->count[k] >= least &&
+                S->worst_t[k] != S->seed[k]) {
+                uint32_t t = S->worst_t[k];
+                S->seed[S->K] = t;
+                S->prox[3 * S->K] = S->geo[7 * (size_t)t];
+                S->prox[3 * S->K + 1] = S->geo[7 * (size_t)t + 1];
+                S->prox[3 * S->K + 2] = S->geo[7 * (size_t)t + 2];
+                S->K++;
+            }
+        if (S->K == K0) break;
+    }
+    for (it = 0; it < BP__SEG_LLOYD; it++) {   /* ... and a few more at the end */
+        bp__seg_flood(S);
+        bp__seg_fit(S, it + 1 < BP__SEG_LLOYD);
+    }
+}
+
+/* Mesh-size scratch shared by the splits of one call. */
+typedef struct bp__seg_mesh {
+    uint32_t *glued;     /* 3 F: 0 inside a piece, BP__NONE on its boundary (for bp__chart_loops) */
+    uint32_t *facepos;   /* F: chart triangle of each mesh triangle of the chart split, else BP__NONE */
+} bp__seg_mesh;
+
+/* Scratch of one split, over the chart's triangles and corners. */
+typedef struct bp__split {
+    uint32_t P;          /* pieces                                           */
+    uint32_t *pid;       /* nt: piece of each triangle                       */
+    uint32_t *lt;        /* nt: its index in the piece                       */
+    uint32_t *cuf;       /* 3nt: corner union-find                          */
+    uint32_t *vid;       /* 3nt: piece vertex of each corner class root      */
+    uint32_t *next, *loop_id; /* 3nt + 1: for bp__chart_loops                */
+    uint32_t *cnt;       /* 2P: triangles and vertices of each piece         */
+    bp_chart *pc;        /* P pieces                                         */
+} bp__split;
+
+static uint32_t bp__seg_nextc(uint32_t x) { return x - x % 3 + (x % 3 + 1) % 3; }
+
+static void bp__split_free(const bp_allocator *a, bp__split *X)
+{
+    uint32_t p;
+    if (X->pc) for (p = 0; p < X->P; p++) bp__chart_free(a, &X->pc[p]);
+    bp__free(a, X->pc); bp__free(a, X->pid); bp__free(a, X->lt); bp__free(a, X->cuf);
+    bp__free(a, X->vid); bp__free(a, X->next); bp__free(a, X->loop_id); bp__free(a, X->cnt);
+    memset(X, 0, sizeof *X);
+}
+
+/* Pieces: the connected components of the triangles under `label` across
+   the chart's interior edges, numbered by their first triangle; then the
+   chart vertices of each piece, one per corner class across the interior
+   edges inside the piece, numbered by first appearance. */
+static void bp__split_pieces(bp__split *X, const bp_chart *ch, const uint32_t *twin, const uint32_t *label)
+{
+    uint32_t nt = ch->num_triangles, nc = 3 * nt, t, ce, *tuf = X->cuf, *rootp = X->lt;
+    for (t = 0; t < nt; t++) { tuf[t] = t; rootp[t] = BP__NONE; }
+    for (ce = 0; ce < nc; ce++)
+        if (twin[ce] != BP__NONE && label[ce / 3] == label[twin[ce] / 3]) bp__uf_union(tuf, ce / 3, twin[ce] / 3);
+    X->P = 0;
+    for (t = 0; t < nt; t++) {
+        uint32_t r = bp__uf_find(tuf, t);
+        if (rootp[r] == BP__NONE) rootp[r] = X->P++;
+        X->pid[t] = rootp[r];
+    }
+    for (ce = 0; ce < nc; ce++) { X->cuf[ce] = ce; X->vid[ce] = BP__NONE; }
+    for (ce = 0; ce < nc; ce++) {
+        uint32_t tw = twin[ce];
+        if (tw == BP__NONE || tw < ce || X->pid[ce / 3] != X->pid[tw / 3]) continue;
+        bp__uf_union(X->cuf, ce, bp__seg_nextc(tw));      /* corner at the edge's start */
+        bp__uf_union(X->cuf, bp__seg_nextc(ce), tw);      /* corner at its end          */
+    }
+}
+
+/* Number the pieces' triangles and vertices and fill their arrays (the
+   map too, restricted, when the chart has one).  0 if out of memory. */
+static int bp__split_fill(const bp_allocator *a, bp__split *X, const bp_chart *ch, const bp_mesh *m)
+{
+    uint32_t nt = ch->num_triangles, t, k, p, *nT = X->cnt, *nV = X->cnt + X->P;
+    for (p = 0; p < 2 * X->P; p++) X->cnt[p] = 0;
+    for (t = 0; t < nt; t++) {
+        nT[X->pid[t]]++;
+        for (k = 0; k < 3; k++) {
+            uint32_t r = bp__uf_find(X->cuf, 3 * t + k);
+            if (X->vid[r] == BP__NONE) X->vid[r] = nV[X->pid[t]]++;
+        }
+    }
+    for (p = 0; p < X->P; p++) {
+        bp_chart *pc = &X->pc[p];
+        pc->vertex = (uint32_t *)bp__alloc_array(a, nV[p], sizeof(uint32_t));
+        pc->vertex_uv = (uint32_t *)bp__alloc_array(a, nV[p], sizeof(uint32_t));
+        pc->triangles = (uint32_t *)bp__alloc_array(a, 3 * (size_t)nT[p], sizeof(uint32_t));
+        pc->face = (uint32_t *)bp__alloc_array(a, nT[p], sizeof(uint32_t));
+        if (ch->uv) pc->uv = (double *)bp__alloc_array(a, 2 * (size_t)nV[p], sizeof(double));
+        if (ch->rest_side) pc->rest_side = (double *)bp__calloc_array(a, nT[p], sizeof(double));
+        if (!pc->vertex || !pc->vertex_uv || !pc->triangles || !pc->face || (ch->uv && !pc->uv) ||
+            (ch->rest_side && !pc->rest_side))
+            return 0;
+        pc->num_vertices = nV[p];
+    }
+    for (t = 0; t < nt; t++) {
+        bp_chart *pc = &X->pc[X->pid[t]];
+        uint32_t l = pc->num_triangles++;
+        X->lt[t] = l;
+        pc->face[l] = ch->face[t];
+        for (k = 0; k < 3; k++) {
+            uint32_t old = ch->triangles[3 * t + k], nw = X->vid[bp__uf_find(X->cuf, 3 * t + k)];
+            pc->triangles[3 * l + k] = nw;
+            pc->vertex[nw] = ch->vertex[old];
+            pc->vertex_uv[nw] = ch->vertex_uv[old];
+            if (ch->uv) { pc->uv[2 * nw] = ch->uv[2 * old]; pc->uv[2 * nw + 1] = ch->uv[2 * old + 1]; }
+        }
+        if (ch->rest_side && ch->rest_side[t] > 0) {
+            pc->rest_side[l] = ch->rest_side[t];
+            pc->area3d += 0.4330127018922193 * ch->rest_side[t] * ch->rest_side[t];
+        } else
+            pc->area3d += 0.5 * bp__area2_3d(bp__pos(m, pc->vertex[pc->triangles[3 * l]]),
+                                             bp__pos(m, pc->vertex[pc->triangles[3 * l + 1]]),
+                                             bp__pos(m, pc->vertex[pc->triangles[3 * l + 2]]));
+    }
+    return 1;
+}
+
+/* Loops of every piece, and the test that it is a disk with holes (and,
+   with a map, that the restricted map is valid, exactly).  BP_OK: all
+   fine; BP_ERR_TOPOLOGY / BP_ERR_NOT_BIJECTIVE: leave the chart whole
+   (should not happen: a part of a disk with holes, of a bijective map);
+   BP_ERR_OUT_OF_MEMORY. */
+static bp_status bp__split_verify(const bp_allocator *a, bp__split *X, const bp_chart *ch, const bp_mesh *m,
+                                  const uint32_t *twin, bp__seg_mesh *G, uint32_t c)
+{
+    uint32_t nt = ch->num_triangles, t, k, p, ce;
+    bp_error why;
+    for (ce = 0; ce < 3 * nt; ce++) X->next[ce] = 0;
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t tw = twin[3 * t + k];
+            int in = tw != BP__NONE && X->pid[tw / 3] == X->pid[t];
+            G->glued[3 * (size_t)ch->face[t] + k] = in ? 0 : BP__NONE;
+            if (!in && ++X->next[bp__uf_find(X->cuf, 3 * t + k)] > 1) return BP_ERR_TOPOLOGY;  /* a pinch */
+        }
+    for (p = 0; p < X->P; p++) {
+        bp_chart *pc = &X->pc[p];
+        int64_t ne, chi;
+        bp_status st = bp__chart_loops(a, pc, m, X->next, X->loop_id, G->glued, c, &why);
+        if (st != BP_OK) return st;
+        ne = ((int64_t)3 * pc->num_triangles + pc->loop_start[pc->num_loops]) / 2;
+        chi = (int64_t)pc->num_vertices - ne + pc->num_triangles;
+        if (pc->num_loops == 0 || chi != 2 - (int64_t)pc->num_loops) return BP_ERR_TOPOLOGY;
+        if (pc->uv) {
+            bp_check_report rep;
+            st = bp_check(pc->triangles, pc->num_triangles, pc->uv, pc->num_vertices, a, &rep, NULL);
+            if (st == BP_ERR_OUT_OF_MEMORY) return st;
+            if (st != BP_OK) return BP_ERR_NOT_BIJECTIVE;
+        }
+    }
+    return BP_OK;
+}
+
+/* The atlas takes the pieces: corner_chart / corner_vertex of every mesh
+   corner of chart c (a dropped duplicate's corners, whose triangle is not
+   in the chart, follow the first corner of their chart vertex), piece 0 at
+   index c, the others appended.  0 if out of memory. */
+static int bp__split_commit(bp_atlas *atlas, uint32_t c, bp__split *X, const uint32_t *twin, bp__seg_mesh *G)
+{
+    bp_allocator a = atlas->allocator;
+    bp_chart *ch = &atlas->charts[c], *nch;
+    uint32_t nt = ch->num_triangles, n0 = atlas->num_charts, t, k, p, ce, seams = 0, i;
+    uint32_t *first = X->loop_id;                   /* free again: first corner of each chart vertex */
+    nch = (bp_chart *)bp__alloc_array(&a, (size_t)n0 + X->P - 1, sizeof(bp_chart));
+    if (!nch) return 0;
+    for (i = 0; i < ch->num_vertices; i++) first[i] = BP__NONE;
+    for (ce = 3 * nt; ce-- > 0;) first[ch->triangles[ce]] = ce;
+    for (t = 0; t < nt; t++) G->facepos[ch->face[t]] = t;
+    for (i = 0; i < atlas->num_corners; i++) {
+        uint32_t ov, f, hit = BP__NONE;
+        if (atlas->corner_chart[i] != c) continue;
+        ov = atlas->corner_vertex[i];
+        f = i / 3;
+        if ((t = G->facepos[f]) != BP__NONE)
+            for (k = 0; k < 3; k++) if (ch->triangles[3 * t + k] == ov) hit = 3 * t + k;
+        if (hit == BP__NONE) hit = first[ov];
+        p = X->pid[hit / 3];
+        atlas->corner_chart[i] = p ? n0 + p - 1 : c;
+        atlas->corner_vertex[i] = X->vid[bp__uf_find(X->cuf, hit)];
+    }
+    for (t = 0; t < nt; t++) G->facepos[ch->face[t]] = BP__NONE;
+    for (ce = 0; ce < 3 * nt; ce++)
+        seams += twin[ce] != BP__NONE && ce < twin[ce] && X->pid[ce / 3] != X->pid[twin[ce] / 3];
+    for (p = 0; p < X->P; p++) {
+        bp_chart *pc = &X->pc[p];
+        pc->energy_start = ch->energy_start;
+        pc->energy_end = ch->energy_end;
+        pc->energy_max = ch->energy_max;
+        pc->iterations = ch->iterations;
+        pc->stop = ch->stop;
+        pc->threads = ch->threads;
+        pc->init_used = ch->init_used;
+        bp__ok(&pc->error);
+    }
+    X->pc[0].cut_edges = ch->cut_edges + seams;
+    X->pc[0].split_vertices = ch->split_vertices;
+    memcpy(nch, atlas->charts, (size_t)n0 * sizeof(bp_chart));
+    bp__chart_free(&a, &nch[c]);
+    nch[c] = X->pc[0];
+    for (p = 1; p < X->P; p++) nch[n0 + p - 1] = X->pc[p];
+    bp__free(&a, X->pc);
+    X->pc = NULL;
+    bp__free(&a, atlas->charts);
+    atlas->charts = nch;
+    atlas->num_charts = n0 + X->P - 1;
+    return 1;
+}
+
+/* Replace chart c by the connected pieces of its triangles under `label`
+   (the essay above).  *pieces: how many charts it became (1: left whole).
+   Fails only for out of memory. */
+static bp_status bp__seg_split(bp_atlas *atlas, uint32_t c, const bp_mesh *m, const uint32_t *twin,
+                               const uint32_t *label, bp__seg_mesh *G, uint32_t *pieces, bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
+    const bp_chart *ch = &atlas->charts[c];
+    uint32_t nt = ch->num_triangles, nc = 3 * nt;
+    bp__split X;
+    bp_status st = BP_OK;
+    *pieces = 1;
+    memset(&X, 0, sizeof X);
+    X.pid = (uint32_t *)bp__alloc_array(&a, nt, sizeof(uint32_t));
+    X.lt = (uint32_t *)bp__alloc_array(&a, nt, sizeof(uint32_t));
+    X.cuf = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
+    X.vid = (uint32_t *)bp__alloc_array(&a, nc, sizeof(uint32_t));
+    X.next = (uint32_t *)bp__alloc_array(&a, (size_t)nc + 1, sizeof(uint32_t));
+    X.loop_id = (uint32_t *)bp__alloc_array(&a, (size_t)nc + 1 > ch->num_vertices ? (size_t)nc + 1 : ch->num_vertices,
+                                            sizeof(uint32_t));
+    if (!X.pid || !X.lt || !X.cuf || !X.vid || !X.next || !X.loop_id) { bp__split_free(&a, &X); return bp__oom(err, "splitting a chart"); }
+    bp__split_pieces(&X, ch, twin, label);
+    if (X.P < 2) { bp__split_free(&a, &X); return BP_OK; }
+    X.cnt = (uint32_t *)bp__alloc_array(&a, 2 * (size_t)X.P, sizeof(uint32_t));
+    X.pc = (bp_chart *)bp__calloc_array(&a, X.P, sizeof(bp_chart));
+    if (!X.cnt || !X.pc || !bp__split_fill(&a, &X, ch, m)) st = BP_ERR_OUT_OF_MEMORY;
+    if (st == BP_OK) st = bp__split_verify(&a, &X, ch, m, twin, G, c);
+    if (st == BP_OK) {
+        uint32_t P = X.P;
+        if (!bp__split_commit(atlas, c, &X, twin, G)) st = BP_ERR_OUT_OF_MEMORY;
+        else *pieces = P;
+    }
+    bp__split_free(&a, &X);
+    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "splitting a chart");
+    return BP_OK;
+}
+
+/* Is segmentation on (bp_options.segment, the essay above)?  Never for
+   charts started from the input uvs or pinned: those keep their charts. */
+static int bp__seg_enabled(const bp_options *opt)
+{
+    if (!opt || opt->segment < 0 || opt->init == BP_INIT_INPUT || (opt->pins && opt->num_pins)) return 0;
+    return opt->segment > 0 || opt->atlas_resolution > 0 || opt->max_distortion > 0 || opt->max_charts > 0;
+}
+
+static bp_status bp__seg_options(const bp_options *opt, bp_error *err)
+{
+    if (opt && (opt->max_distortion < 0 || opt->max_distortion != opt->max_distortion ||
+                opt->segment < -1 || opt->segment > 1))
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "segmentation options out of range: max_distortion %g must be >= 0 (0: no bound) "
+                        "and segment %d must be -1, 0 or 1", opt->max_distortion, opt->segment);
+    return BP_OK;
+}
+
+static bp_status bp__seg_mesh_alloc(const bp_allocator *a, bp__seg_mesh *G, const bp_mesh *m, bp_error *err)
+{
+    uint32_t t;
+    G->glued = (uint32_t *)bp__alloc_array(a, 3 * (size_t)m->num_triangles, sizeof(uint32_t));
+    G->facepos = (uint32_t *)bp__alloc_array(a, m->num_triangles, sizeof(uint32_t));
+    if (!G->glued || !G->facepos) {
+        bp__free(a, G->glued); bp__free(a, G->facepos);
+        return bp__oom(err, "segmenting charts");
+    }
+    for (t = 0; t < m->num_triangles; t++) G->facepos[t] = BP__NONE;
+    return BP_OK;
+}
+
+/* Label chart c into at most kmax regions (mechanism (b), or the split in
+   two of (a)) and split it; *pieces as bp__seg_split. */
+static bp_status bp__seg_chart(bp_atlas *atlas, uint32_t c, const bp_mesh *m, const double *importance,
+                               uint32_t kmax, double dev, uint32_t least, bp__seg_mesh *G, uint32_t *pieces,
+                               bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
+    bp__seg S;
+    bp_status st;
+    uint32_t cap = kmax < atlas->charts[c].num_triangles ? kmax : atlas->charts[c].num_triangles;
+    *pieces = 1;
+    if (cap < 2) return BP_OK;
+    if (!bp__seg_setup(&a, &S, &atlas->charts[c], m, importance, cap)) {
+        bp__seg_free(&a, &S);
+        return bp__oom(err, "segmenting charts");
+    }
+    if (dev < 0) bp__seg_label_two(&S);
+    else bp__seg_label(&S, kmax, dev, least);
+    st = S.K > 1 ? bp__seg_split(atlas, c, m, S.twin, S.label, G, pieces, err) : BP_OK;
+    bp__seg_free(&a, &S);
+    return st;
+}
+
+/* Mechanism (b): every chart that has no map yet and was built fine is
+   grown into charts of bounded normal deviation, before the solve.  With
+   opt.max_charts the extra charts are shared among the charts in
+   proportion to their 3D area. */
+BPDEF bp_status bp_atlas_segment(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_options o_;
+    bp_status st;
+    bp__seg_mesh G;
+    uint32_t c, n0;
+    double total = 0;
+    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
+    if (!atlas || !atlas->charts || !m)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_segment needs an atlas and its mesh");
+    if ((st = bp__seg_options(opt, err)) != BP_OK) return st;
+    n0 = atlas->num_charts;
+    if (!bp__seg_enabled(opt) || !(opt->segment > 0 || opt->atlas_resolution > 0 || opt->max_charts > 0) ||
+        (opt->max_charts && opt->max_charts <= n0))
+        return bp__ok(err);       /* max_distortion alone: only (a), after the solve */
+    if ((st = bp__seg_mesh_alloc(&atlas->allocator, &G, m, err)) != BP_OK) return st;
+    for (c = 0; c < n0; c++) if (atlas->charts[c].error.status == BP_OK) total += atlas->charts[c].area3d;
+    for (c = 0; c < n0 && st == BP_OK; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        uint32_t kmax = ch->num_triangles, pieces;
+        if (ch->error.status != BP_OK || ch->uv) continue;
+        if (opt->max_charts)      /* half the budget when (a) may need the rest */
+            kmax = 1 + (uint32_t)((double)(opt->max_charts - n0) * (total > 0 ? ch->area3d / total : 0) *
+                                  (opt->max_distortion > 0 ? 0.5 : 1));
+        st = bp__seg_chart(atlas, c, m, opt->importance, kmax, BP__SEG_DEV, BP__SEG_LEAST, &G, &pieces, err);
+    }
+    bp__free(&atlas->allocator, G.glued);
+    bp__free(&atlas->allocator, G.facepos);
+    return st == BP_OK ? bp__ok(err) : st;
+}
+
+static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err);
+
+/* Start map and optimization of every chart, the charts in parallel when
+   there are several (bp_parameterize's solve, >>driver). */
+BPDEF bp_status bp_atlas_solve(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_options o_;
+    bp_status st;
+    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
+    if (!atlas || !atlas->charts || !m)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_solve needs an atlas and its mesh");
+    st = bp__solve_charts(atlas, m, opt, err);
+    return st == BP_OK ? bp__charts_status(atlas, err) : st;
+}
+
+/* The pieces of one round of mechanism (a), optimized from their
+   restricted maps: independent charts, solved in parallel. */
+typedef struct bp__seg_job {
+    bp_atlas *atlas;
+    const bp_mesh *m;
+    const bp_options *opt;
+    const uint32_t *list;
+    const bp__par *inner;
+    bp_status *st;
+    bp_error *errs;
+} bp__seg_job;
+
+static void bp__seg_task(void *task, uint32_t i)
+{
+    bp__seg_job *J = (bp__seg_job *)task;
+    uint32_t c = J->list[i];
+    J->st[i] = bp__chart_optimize(&J->atlas->charts[c], c, J->m, J->opt, J->inner, &J->errs[i]);
+}
+
+/* 1 when chart c has a map whose mean distortion is above the bound. */
+static int bp__seg_too_high(const bp_atlas *atlas, uint32_t c, const bp_mesh *m, const bp_options *opt)
+{
+    const bp_chart *ch = &atlas->charts[c];
+    double mean = 0;
+    if (!ch->uv || ch->error.status != BP_OK || ch->num_triangles < 2) return 0;
+    if (bp_chart_distortion(ch, m, opt->energy, &mean, NULL, NULL, NULL) != BP_OK) return 0;
+    return !(mean <= opt->max_distortion);
+}
+
+static bp_status bp__seg_reoptimize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, const uint32_t *list,
+                                    uint32_t n, bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
+    bp__seg_job J;
+    bp__par par, serial = bp__par_serial();
+    void *pool = NULL;
+    uint32_t i;
+    bp_status st = BP_OK;
+    J.atlas = atlas; J.m = m; J.opt = opt; J.list = list;
+    J.st = (bp_status *)bp__alloc_array(&a, n, sizeof(bp_status));
+    J.errs = (bp_error *)bp__calloc_array(&a, n, sizeof(bp_error));
+    if (!J.st || !J.errs) { bp__free(&a, J.st); bp__free(&a, J.errs); return bp__oom(err, "optimizing split charts"); }
+    par = bp__par_begin(&a, opt, &pool);
+    if (n > 1 && par.threads != 1) { J.inner = &serial; par.run(par.user, bp__seg_task, &J, n); }
+    else { J.inner = &par; bp__serial_for(NULL, bp__seg_task, &J, n); }
+    bp__par_end(&a, pool);
+    for (i = 0; i < n && st == BP_OK; i++)     /* a piece that cannot improve keeps its valid start */
+        if (J.st[i] == BP_ERR_OUT_OF_MEMORY || J.st[i] == BP_ERR_CANCELLED) { st = J.st[i]; if (err) *err = J.errs[i]; }
+    bp__free(&a, J.st);
+    bp__free(&a, J.errs);
+    return st;
+}
+
+/* Mechanism (a): rounds of splitting every chart above opt.max_distortion
+   in two and optimizing the pieces again, until every chart meets the
+   bound, the count reaches opt.max_charts, or no chart can be split.
+   A cancel stops the rounds; every map stays valid. */
+BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_options o_;
+    bp_status st;
+    bp__seg_mesh G;
+    bp_allocator a;
+    uint32_t *list = NULL, round, nstuck = 0;
+    unsigned char *stuck = NULL;
+    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
+    if (!atlas || !atlas->charts || !m)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_refine needs an atlas and its mesh");
+    if ((st = bp__seg_options(opt, err)) != BP_OK) return st;
+    if (!bp__seg_enabled(opt) || !(opt->max_distortion > 0) || opt->no_barrier || opt->init_only) return bp__ok(err);
+    a = atlas->allocator;
+    if ((st = bp__seg_mesh_alloc(&a, &G, m, err)) != BP_OK) return st;
+    for (round = 0; round < 32 && st == BP_OK; round++) {
+        uint32_t n0 = atlas->num_charts, c, n = 0, budget = opt->max_charts ? opt->max_charts : BP__NONE;
+        bp__free(&a, list);
+        list = (uint32_t *)bp__alloc_array(&a, 2 * (size_t)n0, sizeof(uint32_t));
+        {
+            unsigned char *s2 = (unsigned char *)bp__calloc_array(&a, n0, 1);
+            if (s2 && stuck) memcpy(s2, stuck, nstuck);     /* charts only ever get added */
+            bp__free(&a, stuck);
+            stuck = s2;
+            nstuck = n0;
+        }
+        if (!list || !stuck) { st = bp__oom(err, "splitting charts"); break; }
+        for (c = 0; c < n0 && st == BP_OK && atlas->num_charts < budget; c++) {
+            uint32_t pieces, p, before = atlas->num_charts;
+            if (stuck[c] || !bp__seg_too_high(atlas, c, m, opt)) continue;
+            st = bp__seg_chart(atlas, c, m, opt->importance, 2, -1, 2, &G, &pieces, err);
+            if (pieces < 2) { stuck[c] = 1; continue; }
+            list[n++] = c;
+            for (p = before; p < atlas->num_charts && n < 2 * (size_t)n0; p++) list[n++] = p;
+        }
+        if (st != BP_OK || n == 0) break;
+        st = bp__seg_reoptimize(atlas, m, opt, list, n, err);
+        if (st == BP_ERR_CANCELLED) { st = BP_OK; break; }
+    }
+    bp__free(&a, list);
+    bp__free(&a, stuck);
+    bp__free(&a, G.glued);
+    bp__free(&a, G.facepos);
+    return st == BP_OK ? bp__ok(err) : st;
+}
+
+
 /* >>driver =================================================================
 
    bp_parameterize runs the whole pipeline: charts (bp_atlas_build), the
@@ -11417,8 +12290,13 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
         if (imp) local.importance = imp;
     }
     if (st == BP_OK) st = bp_atlas_build(atlas, &ms, &local, err);
+    if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {           /* >>segment: (b) */
+        bp_status ss = bp_atlas_segment(atlas, &ms, &local, err);
+        if (ss != BP_OK) st = ss;
+    }
     if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {
         st = bp__solve_charts(atlas, &ms, &local, &cancel);
+        if (st == BP_OK) st = bp_atlas_refine(atlas, &ms, &local, &cancel);   /* >>segment: (a) */
         if (st != BP_OK && st != BP_ERR_CANCELLED && err) *err = cancel;
     }
     if (st == BP_OK || (st == BP_ERR_CANCELLED && atlas->charts)) {   /* a cancel in bp_atlas_build: no charts */

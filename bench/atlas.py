@@ -28,9 +28,17 @@ and record, per mesh:
   border      the least distance of any vt from the edge of [0,1]^2, texels
   xatlas      xatlas's utilization at 1024 px / 4 px padding where measured
               (issue 14): spot, cow, torus_with_holes, fertility
+  unseg       with ATLAS_BASELINE=1: the utilization of a second run with
+              --segment off (the charts of the file and of the cut alone,
+              >>segment), for comparison; "-" otherwise
+
+Besides the meshes of the two folders, build/bench/bimba_closed.obj (made
+by bench/atlas.sh with bench/close_base.py: bimba_i.obj closed by a fan
+over its base, a closed genus-0 surface of 89,590 triangles) when present.
 
 Environment: ATLAS_RES (1024), ATLAS_PADDING (4), ATLAS_MESHES (names to
-restrict to), ATLAS_TIMEOUT (seconds per run, 600), BENCH_TOOL (the binary).
+restrict to), ATLAS_TIMEOUT (seconds per run, 600), BENCH_TOOL (the binary),
+ATLAS_BASELINE (1: the unseg column).
 Prints a Markdown table and writes one JSON line per mesh to
 build/bench/atlas.jsonl.  Exit status 1 if any run failed or any check failed.
 """
@@ -54,6 +62,8 @@ def meshes():
             if f.endswith((".obj", ".off")) and f not in seen:
                 seen.add(f)
                 out.append(os.path.join(d, f))
+    if os.path.exists("build/bench/bimba_closed.obj"):
+        out.append("build/bench/bimba_closed.obj")
     only = os.environ.get("ATLAS_MESHES", "").split()
     return [m for m in out if not only or os.path.basename(m) in only]
 
@@ -200,6 +210,12 @@ def run(mesh, tool, res, pad, outdir, timeout):
         except ValueError:
             rec["uvcheck_reasons"] = [c.stdout.strip()[-200:]]
     rec["xatlas"] = XATLAS.get(name)
+    if os.environ.get("ATLAS_BASELINE") == "1":
+        try:
+            b = subprocess.run(cmd[:-2] + ["--segment", "off"], capture_output=True, text=True, timeout=timeout)
+            rec["util_unsegmented"] = json.loads(b.stdout).get("utilization")
+        except (subprocess.TimeoutExpired, ValueError):
+            rec["util_unsegmented"] = None
     return rec
 
 
@@ -208,15 +224,15 @@ def row(r):
         x = r.get(k)
         return fmt % x if isinstance(x, (int, float)) and x is not None else "-"
     if "charts" not in r:
-        return "| %s | - | - | - | - | - | - | - | %s | **FAILED: %s** | - | - | - | - |" % (
+        return "| %s | - | - | - | - | - | - | - | - | %s | **FAILED: %s** | - | - | - | - |" % (
             r["mesh"], f("wall", "%.1f"), r.get("status"), r.get("message", "")[:120].replace("\n", " "))
     chk = "n/a" if "uvcheck_exit" not in r else ("valid" if r["uvcheck_exit"] == 0 else
                                                  "**INVALID** " + "; ".join(r["uvcheck_reasons"])[:120])
     util = f("utilization", "%.3f")
     if r.get("xatlas") is not None:
         util += " (xatlas %.3f%s)" % (r["xatlas"], "" if r["utilization"] >= r["xatlas"] else ", **below**")
-    return "| %s | %d | %d | %d | %d | %s | %s | %s | %s | %s | %s | %s | %s |" % (
-        r["mesh"], r["V"], r["F"], r["charts"], r["cut_edges"], util, f("E_SD", "%.3f"),
+    return "| %s | %d | %d | %d | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+        r["mesh"], r["V"], r["F"], r["charts"], r["cut_edges"], util, f("util_unsegmented", "%.3f"), f("E_SD", "%.3f"),
         f("wall", "%.1f"), f("cpu", "%.1f"), chk, "yes" if r["in01"] else "**NO**",
         f("gap_texels", "%.2f"), f("border_texels", "%.2g"))
 
@@ -240,8 +256,8 @@ def main():
             if ("charts" not in r or r.get("uvcheck_exit", 0) != 0 or not r.get("in01")
                     or (r.get("gap_texels") is not None and r["gap_texels"] < pad)):
                 bad += 1
-    print("| mesh | V | F | charts | cut edges | utilization | E_SD | wall s | CPU s | uvcheck | UV in [0,1] | gap texels | border texels |")
-    print("|---|---:|---:|---:|---:|---|---:|---:|---:|---|---|---:|---:|")
+    print("| mesh | V | F | charts | cut edges | utilization | unseg | E_SD | wall s | CPU s | uvcheck | UV in [0,1] | gap texels | border texels |")
+    print("|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---|---:|---:|")
     for r in recs:
         print(row(r))
     print("\n%d meshes, %d failed (--atlas %d --padding %d)" % (len(recs), bad, res, pad))

@@ -105,6 +105,12 @@ static const char usage_text[] =
     "                     (checked exactly), only pack them\n"
     "  --cut auto|none    charts that are closed or have handles: cut them into\n"
     "                     disks along mesh edges (default auto) or reject them\n"
+    "  --segment auto|on|off  grow several charts of bounded normal deviation\n"
+    "                     in each chart (default auto: with --atlas or\n"
+    "                     --max-charts; vt seams are kept)\n"
+    "  --max-distortion X split charts whose mean distortion stays above X\n"
+    "                     after the optimization, and optimize the pieces again\n"
+    "  --max-charts N     at most N charts when segmenting (0: no limit)\n"
     "  --strict           a mesh defect or a chart that cannot be flattened fails\n"
     "                     the whole run (default: defects -- flipped, duplicate,\n"
     "                     non-manifold, zero-area triangles -- are repaired and\n"
@@ -1026,7 +1032,7 @@ int main(int argc, char **argv)
     bpd_render_options png_opt;
     frames_state fs;
     char final_path[4096];
-    int json = 0, demo = 0, have_mesh = 0, i, status = 0, force = 0, quiet = 0, wrote = 0, check = 0, repack = 0, padding_set = 0;
+    int json = 0, demo = 0, have_mesh = 0, i, status = 0, segmented = 0, force = 0, quiet = 0, wrote = 0, check = 0, repack = 0, padding_set = 0;
     uint32_t c;
     double t0;
 
@@ -1056,7 +1062,8 @@ int main(int argc, char **argv)
             !strcmp(a, "--png") || !strcmp(a, "--png-view") || !strcmp(a, "--png-up") ||
             !strcmp(a, "--png-size") || !strcmp(a, "--png-views") || !strcmp(a, "--checker") ||
             !strcmp(a, "--frames") || !strcmp(a, "--frames-every") || !strcmp(a, "--atlas") ||
-            !strcmp(a, "--padding") || !strcmp(a, "--pin")) {
+            !strcmp(a, "--padding") || !strcmp(a, "--pin") || !strcmp(a, "--segment") ||
+            !strcmp(a, "--max-distortion") || !strcmp(a, "--max-charts")) {
             const char *v;
             if (i + 1 >= argc) return usage_error("option %s needs a value", a);
             v = argv[++i];
@@ -1099,6 +1106,18 @@ int main(int argc, char **argv)
                 if (!parse_int(v, 0, &opt.padding))
                     return usage_error("--padding needs an integer >= 0, not '%s'", v);
                 padding_set = 1;
+            } else if (!strcmp(a, "--segment")) {
+                if (!strcmp(v, "auto")) opt.segment = 0;
+                else if (!strcmp(v, "on")) opt.segment = 1;
+                else if (!strcmp(v, "off")) opt.segment = -1;
+                else return usage_error("unknown --segment '%s' (auto, on or off)", v);
+            } else if (!strcmp(a, "--max-distortion")) {
+                if (!parse_double(v, 0.0, &opt.max_distortion))
+                    return usage_error("--max-distortion needs a number >= 0, not '%s'", v);
+            } else if (!strcmp(a, "--max-charts")) {
+                int n;
+                if (!parse_int(v, 0, &n)) return usage_error("--max-charts needs an integer >= 0, not '%s'", v);
+                opt.max_charts = (uint32_t)n;
             } else if (!strcmp(a, "--cut")) {
                 if (!strcmp(v, "auto")) opt.cut = BP_CUT_AUTO;
                 else if (!strcmp(v, "none")) opt.cut = BP_CUT_NONE;
@@ -1344,8 +1363,24 @@ int main(int argc, char **argv)
         }
         tm.init = now_seconds() - t0;
     }
+    /* 3'. segmentation (bp_atlas_segment does nothing unless it is on):
+          several charts, solved in parallel, then the charts still above
+          --max-distortion split again (bp_atlas_refine) */
+    segmented = st == BP_OK && !repack && !fs.dir && !opt.init_only &&
+                (opt.segment > 0 || (opt.segment == 0 && (opt.atlas_resolution || opt.max_distortion > 0 || opt.max_charts)));
+    if (segmented) {
+        t0 = now_seconds();
+        st = bp_atlas_segment(&atlas, &mesh, &opt, &err);
+        tm.charts += now_seconds() - t0;
+        t0 = now_seconds();
+        if (st == BP_OK) st = bp_atlas_solve(&atlas, &mesh, &opt, &err);
+        if (st == BP_ERR_CHARTS_FAILED && !opt.strict) st = BP_OK;
+        if (st == BP_OK) st = bp_atlas_refine(&atlas, &mesh, &opt, &err);
+        tm.optimize += now_seconds() - t0;
+        rs.num_charts = atlas.num_charts;
+    }
     /* 3. start map and optimization, chart by chart */
-    for (c = 0; st == BP_OK && !repack && c < atlas.num_charts; c++) {
+    for (c = 0; st == BP_OK && !repack && !segmented && c < atlas.num_charts; c++) {
         if (atlas.charts[c].error.status != BP_OK) continue;   /* failed in step 2 */
         rs.chart = c;                        /* the progress bar's place */
         rs.tris_chart = atlas.charts[c].num_triangles;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # test_draw_tool.sh - the tool's atlas pictures (examples/bp_draw.h).
 #
-# - --svg-color chart on spot packed into an atlas (13 charts): one
+# - --svg-color chart on spot packed into an atlas (its 13 vt charts,
+#   --segment off: not split further by >>segment): one
 #   even-odd path per chart, 13 different colours, the legend says
 #   "colour: chart (13 charts"; the atlas square is drawn.
 # - A packed atlas's legend reports the energy at one common scale: its
@@ -28,7 +29,7 @@ fi
 d=$(mktemp -d /tmp/bptest_draw_XXXXXX)
 trap 'rm -rf "$d"' EXIT
 
-"$tool" --threads 1 tests/data/spot.obj --atlas 1024 --padding 4 --svg "$d/a.svg" --svg-color chart \
+"$tool" --threads 1 tests/data/spot.obj --atlas 1024 --padding 4 --segment off --svg "$d/a.svg" --svg-color chart \
     -o "$d/out.obj" >"$d/stdout" 2>"$d/stderr"
 rc=$?
 check $rc "spot --atlas 1024 --svg-color chart runs (exit $rc: $(head -c 300 "$d/stderr"))"
