@@ -6095,6 +6095,39 @@ done:
     return st;
 }
 
+/* Condition (b) for at most BP__CONFLICT_SCAN edges: every pair of edges
+   whose closed boxes overlap is decided by bp__edges_conflict, exactly the
+   pairs the grid above decides (each once), so the count is the same; what
+   goes is the grid itself -- its extent, cell size, counting sort and
+   cleared cells cost about 700 instructions per edge and call, more than
+   the nb^2/2 box tests of a small chart.  The line search calls this for
+   every trial map of such a chart (>>barrier).  Returns the number of
+   conflicting pairs, or 1 when a coordinate is not finite (not decided). */
+#define BP__CONFLICT_SCAN 64u
+
+static uint32_t bp__conflicts_scan(const double *uv, const bp__dedge *de, uint32_t nb)
+{
+    double box[4 * BP__CONFLICT_SCAN];
+    uint32_t i, j, n = 0;
+    for (i = 0; i < nb; i++) {
+        const double *p = uv + 2 * (size_t)de[i].a, *q = uv + 2 * (size_t)de[i].b;
+        if (!(p[0] - p[0] == 0 && p[1] - p[1] == 0 && q[0] - q[0] == 0 && q[1] - q[1] == 0)) return 1;
+        box[4 * i] = p[0] < q[0] ? p[0] : q[0];
+        box[4 * i + 1] = p[1] < q[1] ? p[1] : q[1];
+        box[4 * i + 2] = p[0] < q[0] ? q[0] : p[0];
+        box[4 * i + 3] = p[1] < q[1] ? q[1] : p[1];
+    }
+    for (i = 0; i < nb; i++) {
+        const double *b = box + 4 * i;
+        for (j = i + 1; j < nb; j++) {
+            const double *c = box + 4 * j;
+            if (b[0] > c[2] || c[0] > b[2] || b[1] > c[3] || c[1] > b[3]) continue;   /* boxes apart */
+            n += (uint32_t)bp__edges_conflict(uv, &de[i], &de[j]);
+        }
+    }
+    return n;
+}
+
 /* Winding number of the closed loop e[0..n) (directed edges) around p,
    exact (Sunday's crossing rule with orient2d); p must not lie on it. */
 static int bp__winding(const double *uv, const bp__dedge *e, uint32_t n, const double *p)
@@ -7558,7 +7591,22 @@ static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double 
    reports each item whose box overlaps it exactly once: an item covering
    several of those cells is reported only in the cell holding the lower-left
    corner of the overlap of the two boxes.  Queries only read the table, so
-   the edges of a loop can query it from several threads at once. */
+   the edges of a loop can query it from several threads at once.
+
+   Small loops are not entered at all.  Entering a vertex and answering an
+   edge's query cost the table several hundred instructions each (cell
+   sizes, hashed cells, buckets shared with other loops, the test of which
+   cell reports a pair), where scanning a loop's n boxes costs about 8 n;
+   so a loop of at most BP__SCAN_MAX vertices -- the holes of a scanned
+   facade, most loops of a photogrammetry atlas's thousands of small charts
+   -- answers its queries by that scan, and neither its cells nor its cell
+   size are computed (measured on bench/photogrammetry.py's charts: 64 and
+   128 both gain, 256 loses to the table).  The scan reports the
+   same items (each overlapping box once, in loop order), so the barrier sum
+   changes only in the order of its terms and the step bound, a minimum,
+   not at all.  A chart whose loops are all small builds no table. */
+#define BP__SCAN_MAX 128u
+
 typedef struct bp__hash {
     uint32_t  mask;              /* table size - 1 (power of two)             */
     uint32_t *start;             /* mask+2 bucket offsets                     */
@@ -7569,7 +7617,26 @@ typedef struct bp__hash {
     const uint32_t *group_start; /* items of loop g: [group_start[g], ..[g+1]) */
     const double *h;             /* cell size per loop                        */
     int64_t  *cell0;             /* 2 per item: its lower-left cell           */
+    uint32_t  scan_max;          /* loops of at most this many items: scanned */
+    uint32_t  entered;           /* items of the loops that are not scanned   */
 } bp__hash;
+
+/* Is loop g answered by a scan instead of the table? */
+static int bp__hash_scanned(const bp__hash *H, uint32_t g)
+{
+    return H->group_start[g + 1] - H->group_start[g] <= H->scan_max;
+}
+
+/* Scan the loops of at most scan_max items (0: none, the table holds every
+   loop); counts the items left for the table. */
+static void bp__hash_set_scan(bp__hash *H, uint32_t nloops, uint32_t scan_max)
+{
+    uint32_t g;
+    H->scan_max = scan_max;
+    H->entered = 0;
+    for (g = 0; g < nloops; g++)
+        if (!bp__hash_scanned(H, g)) H->entered += H->group_start[g + 1] - H->group_start[g];
+}
 
 static uint32_t bp__hash_cell(const bp__hash *H, int64_t ix, int64_t iy, uint32_t g)
 {
@@ -7596,9 +7663,12 @@ static int bp__hash_build(bp__hash *H, uint32_t n)
     for (i = 0; i < n; i++) {
         const double *bx = H->box + 4 * (size_t)i;
         uint32_t g = H->group[i];
-        double h = H->h[g];
-        int64_t x0 = bp__cell_of(bx[0], h), x1 = bp__cell_of(bx[2], h), ix;
-        int64_t y0 = bp__cell_of(bx[1], h), y1 = bp__cell_of(bx[3], h), iy;
+        double h;
+        int64_t x0, x1, ix, y0, y1, iy;
+        if (bp__hash_scanned(H, g)) continue;
+        h = H->h[g];
+        x0 = bp__cell_of(bx[0], h); x1 = bp__cell_of(bx[2], h);
+        y0 = bp__cell_of(bx[1], h); y1 = bp__cell_of(bx[3], h);
         if ((double)(x1 - x0 + 1) * (double)(y1 - y0 + 1) > (double)(H->cap - total)) return 0;
         H->cell0[2 * (size_t)i] = x0;
         H->cell0[2 * (size_t)i + 1] = y0;
@@ -7609,9 +7679,12 @@ static int bp__hash_build(bp__hash *H, uint32_t n)
     for (i = 0; i < n; i++) {
         const double *bx = H->box + 4 * (size_t)i;
         uint32_t g = H->group[i];
-        double h = H->h[g];
-        int64_t x0 = bp__cell_of(bx[0], h), x1 = bp__cell_of(bx[2], h), ix;
-        int64_t y0 = bp__cell_of(bx[1], h), y1 = bp__cell_of(bx[3], h), iy;
+        double h;
+        int64_t x0, x1, ix, y0, y1, iy;
+        if (bp__hash_scanned(H, g)) continue;
+        h = H->h[g];
+        x0 = bp__cell_of(bx[0], h); x1 = bp__cell_of(bx[2], h);
+        y0 = bp__cell_of(bx[1], h); y1 = bp__cell_of(bx[3], h);
         for (iy = y0; iy <= y1; iy++)
             for (ix = x0; ix <= x1; ix++) H->items[H->start[bp__hash_cell(H, ix, iy, g)]++] = i;
     }
@@ -7621,18 +7694,25 @@ static int bp__hash_build(bp__hash *H, uint32_t n)
 }
 
 /* Calls visit(user, item) once for every item of loop g whose box overlaps
-   the query box. */
+   the query box: a scan of the loop's items when the loop is not in the
+   table or the box covers more cells than the table has. */
 typedef void (*bp__visit_fn)(void *user, uint32_t item);
 
 static void bp__hash_query(const bp__hash *H, uint32_t g, double x0, double y0, double x1, double y1,
                            bp__visit_fn visit, void *user)
 {
-    double h = H->h[g];
-    int64_t cx0 = bp__cell_of(x0, h), cx1 = bp__cell_of(x1, h), ix;
-    int64_t cy0 = bp__cell_of(y0, h), cy1 = bp__cell_of(y1, h), iy;
+    double h;
+    int64_t cx0 = 0, cx1 = -1, ix, cy0 = 0, cy1 = -1, iy;
     uint32_t q;
-    if ((double)(cx1 - cx0 + 1) * (double)(cy1 - cy0 + 1) > 2.0 * (H->mask + 1)) {
-        /* a box larger than the table: test every item of the loop */
+    int scan = bp__hash_scanned(H, g);
+    if (!scan) {
+        h = H->h[g];
+        cx0 = bp__cell_of(x0, h); cx1 = bp__cell_of(x1, h);
+        cy0 = bp__cell_of(y0, h); cy1 = bp__cell_of(y1, h);
+        scan = (double)(cx1 - cx0 + 1) * (double)(cy1 - cy0 + 1) > 2.0 * (H->mask + 1);
+    }
+    if (scan) {
+        /* a small loop, or a box larger than the table: test every item of the loop */
         for (q = H->group_start[g]; q < H->group_start[g + 1]; q++) {
             const double *bx = H->box + 4 * (size_t)q;
             if (bx[0] <= x1 && bx[2] >= x0 && bx[1] <= y1 && bx[3] >= y0) visit(user, q);
@@ -7803,6 +7883,7 @@ static bp_status bp__solver_init(bp__solver *S, const bp_allocator *a, uint32_t 
     S->hash.group = S->bl_loop;
     S->hash.group_start = loop_start;
     S->hash.h = S->hs;
+    bp__hash_set_scan(&S->hash, nloops, BP__SCAN_MAX);
     /* corners around each vertex, in increasing corner order */
     for (t = 0; t < 3 * nt; t++) S->vc_start[tri[t] + 1]++;
     for (k = 0; k < nv; k++) S->vc_start[k + 1] += S->vc_start[k];
@@ -7994,11 +8075,19 @@ static void bp__hash_boxes(bp__solver *S, const double *x, const double *v, doub
     }
 }
 
+/* The cell size of each loop in the table (0 for a scanned loop). */
+static void bp__hash_cells(bp__solver *S, const double *x)
+{
+    uint32_t L;
+    for (L = 0; L < S->nloops; L++) S->hs[L] = bp__hash_scanned(&S->hash, L) ? 0 : bp__loop_cell(S, x, L);
+}
+
 static void bp__hash_fill(bp__solver *S, const double *x, const double *v, double tsweep)
 {
     uint32_t L;
-    for (L = 0; L < S->nloops; L++) S->hs[L] = bp__loop_cell(S, x, L);
     bp__hash_boxes(S, x, v, tsweep, 0, S->nb);
+    if (!S->hash.entered) return;                 /* every loop is scanned */
+    bp__hash_cells(S, x);
     while (!bp__hash_build(&S->hash, S->nb))
         for (L = 0; L < S->nloops; L++) S->hs[L] *= 2;
 }
@@ -8040,9 +8129,12 @@ static void bp__hash_count_task(void *task, uint32_t t)
     for (i = i0; i < i1; i++) {
         const double *bx = H->box + 4 * (size_t)i;
         uint32_t g = H->group[i];
-        double h = H->h[g];
-        int64_t x0 = bp__cell_of(bx[0], h), x1 = bp__cell_of(bx[2], h), ix;
-        int64_t y0 = bp__cell_of(bx[1], h), y1 = bp__cell_of(bx[3], h), iy;
+        double h;
+        int64_t x0, x1, ix, y0, y1, iy;
+        if (bp__hash_scanned(H, g)) continue;
+        h = H->h[g];
+        x0 = bp__cell_of(bx[0], h); x1 = bp__cell_of(bx[2], h);
+        y0 = bp__cell_of(bx[1], h); y1 = bp__cell_of(bx[3], h);
         if ((double)(x1 - x0 + 1) * (double)(y1 - y0 + 1) > (double)(H->cap - total)) { J->over[t] = 1; return; }
         H->cell0[2 * (size_t)i] = x0;
         H->cell0[2 * (size_t)i + 1] = y0;
@@ -8060,9 +8152,12 @@ static void bp__hash_place_task(void *task, uint32_t t)
     for (i = i0; i < i1; i++) {
         const double *bx = H->box + 4 * (size_t)i;
         uint32_t g = H->group[i];
-        double h = H->h[g];
-        int64_t x0 = H->cell0[2 * (size_t)i], x1 = bp__cell_of(bx[2], h), ix;
-        int64_t y0 = H->cell0[2 * (size_t)i + 1], y1 = bp__cell_of(bx[3], h), iy;
+        double h;
+        int64_t x0, x1, ix, y0, y1, iy;
+        if (bp__hash_scanned(H, g)) continue;
+        h = H->h[g];
+        x0 = H->cell0[2 * (size_t)i]; x1 = bp__cell_of(bx[2], h);
+        y0 = H->cell0[2 * (size_t)i + 1]; y1 = bp__cell_of(bx[3], h);
         for (iy = y0; iy <= y1; iy++)
             for (ix = x0; ix <= x1; ix++) H->items[cnt[bp__hash_cell(H, ix, iy, g)]++] = i;
     }
@@ -8081,7 +8176,11 @@ static void bp__step_hash(bp__solver *S, const double *x, const double *v, doubl
     J.x = x;
     J.v = v;
     J.tsweep = tsweep;
-    for (L = 0; L < S->nloops; L++) S->hs[L] = bp__loop_cell(S, x, L);
+    if (!H->entered) {                            /* every loop is scanned: boxes only */
+        bp__hash_boxes(S, x, v, tsweep, 0, S->nb);
+        return;
+    }
+    bp__hash_cells(S, x);
     for (;;) {
         size_t total = 0, run = 0;
         int over = 0;
@@ -8178,10 +8277,14 @@ static void bp__conflict_task(void *task, uint32_t c)
     bp_status st;
     (void)c;
     memset(&rep, 0, sizeof rep);
-    st = bp__boundary_conflicts(S->a, T->x, S->edges, S->nb, &rep, &S->ws, NULL);
-    if (st == BP_ERR_OUT_OF_MEMORY) S->oom = 1;
-    S->conflicts = (uint32_t)rep.boundary_intersections;
-    if (st != BP_OK) S->conflicts = 1;                     /* (an extent beyond DBL_MAX: not decided) */
+    if (S->nb <= BP__CONFLICT_SCAN) {
+        S->conflicts = bp__conflicts_scan(T->x, S->edges, S->nb);   /* a small chart: no grid */
+    } else {
+        st = bp__boundary_conflicts(S->a, T->x, S->edges, S->nb, &rep, &S->ws, NULL);
+        if (st == BP_ERR_OUT_OF_MEMORY) S->oom = 1;
+        S->conflicts = (uint32_t)rep.boundary_intersections;
+        if (st != BP_OK) S->conflicts = 1;                 /* (an extent beyond DBL_MAX: not decided) */
+    }
     if (!S->conflicts && !S->oom && bp__ccw_loops(T->x, S->edges, S->loop_start, S->nloops) != 1) S->conflicts = 1;
 }
 

@@ -57,6 +57,17 @@ medians (below 1: the default is faster); the JSON line of each case holds
 every run.  Measured in the same bench run, so both sides of a ratio saw
 the same machine.
 
+Many charts, many holes (issue 15): bench/photogrammetry.py writes a
+photogrammetry-like atlas (4,740 charts: 4,739 small curved pieces of 2-200
+faces, some thin, some with a hole or two, and one of 4,601 faces with 50
+holes; 226,273 faces in all; the same bytes on every machine) and the tool
+runs it with --threads 1 and --threads 2, BENCH_RUNS times each, alternated.
+The table gives the median wall and CPU seconds of each, the iterations of
+all charts, and the large chart's iterations and milliseconds per iteration
+(its own "seconds" in the tool's JSON, so wall time), and whether uvcheck
+passes the output; "same" says whether both thread counts gave the same
+energies bit for bit.
+
 Environment:
   BENCH_QUICK=1        only tests/data (runs default to 1); threads on camelhead
   BENCH_RUNS=N         runs per configuration (default 3, quick: 1)
@@ -65,6 +76,7 @@ Environment:
   BENCH_MESHES="a b"   only these mesh file names (e.g. "camel_b.obj cow_param_withSUV.obj")
   BENCH_BUSY=0         skip the idle/busy comparison (BENCH_BUSY=only: run only it)
   BENCH_BUSY_LIMIT=S   the competing processes' own time limit (default 600)
+  BENCH_PHOTO=0        skip the photogrammetry-like case (BENCH_PHOTO=only: run only it)
   BENCH_OUT=DIR        keep outputs, traces and bench.jsonl there
                        (default build/bench)
   BENCH_TOOL=PATH      the tool to time (run.sh copies build/bijparam to
@@ -104,6 +116,7 @@ THREADS_MIN_FACES = env_int("BENCH_THREADS_MIN_FACES", 20000)
 OUT = os.environ.get("BENCH_OUT") or os.path.join(ROOT, "build", "bench")
 BUSY = os.environ.get("BENCH_BUSY", "1").strip().lower()
 BUSY_LIMIT = env_int("BENCH_BUSY_LIMIT", 600)
+PHOTO = os.environ.get("BENCH_PHOTO", "1").strip().lower()
 
 
 def count_vf(path):
@@ -398,6 +411,39 @@ def bench_busy():
     return rows
 
 
+def bench_photo():
+    """The photogrammetry-like case with 1 and 2 threads (see the module text)."""
+    sys.path.insert(0, os.path.join(ROOT, "bench"))
+    import photogrammetry
+    path = os.path.join(OUT, "photogrammetry_4740.obj")
+    nchart, nface, _ = photogrammetry.write(path)
+    one = Config(path, ".t1", ["--threads", "1"])
+    two = Config(path, ".t2", ["--threads", "2"])
+    load0 = os.getloadavg()[0]
+    r1, r2 = measure(path, [one, two], RUNS)
+    row = {"photo_case": os.path.basename(path), "charts": nchart, "F": nface,
+           "loadavg_1min": [round(load0, 2), round(os.getloadavg()[0], 2)]}
+    for tag, r in (("t1", r1), ("t2", r2)):
+        rep = r["rep"] or {}
+        pc = rep.get("per_chart", [])
+        big = max(pc, key=lambda c: c["faces"]) if pc else {}
+        row.update({
+            tag + "_exit": r["rc"], tag + "_seconds": rnd(med(r["walls"])), tag + "_cpu": rnd(r["cpu"]),
+            tag + "_all": [rnd(w) for w in r["walls"]], tag + "_opt": rnd(r["opt"]),
+            tag + "_iterations": sum(c.get("iterations", 0) for c in pc),
+            tag + "_big_faces": big.get("faces"), tag + "_big_loops": len(big.get("loops", [])),
+            tag + "_big_iterations": big.get("iterations"),
+            tag + "_big_ms_per_iteration": rnd(1000.0 * big["seconds"] / big["iterations"], 3)
+            if big.get("iterations") else None})
+    if r1["rep"] and r2["rep"]:
+        row["same_result"] = ([c["energy_end"] for c in r1["rep"]["per_chart"]] ==
+                              [c["energy_end"] for c in r2["rep"]["per_chart"]])
+    code, _ = uvcheck(r1["out"], path)
+    row["bijective"] = None if code is None else code == 0
+    print(json.dumps(row), file=sys.stderr, flush=True)
+    return [row]
+
+
 def fmt(x, spec):
     return "-" if x is None else spec % x
 
@@ -420,15 +466,16 @@ def main():
         meshes = [m for m in meshes if os.path.basename(m) in only]
     rows = []
     t_start = time.perf_counter()
-    if BUSY == "only":
+    if BUSY == "only" or PHOTO == "only":
         meshes = []
     for mesh in meshes:
         row = bench_mesh(mesh)
         rows.append(row)
         print(json.dumps(row), file=sys.stderr, flush=True)
-    busy = bench_busy() if BUSY not in ("0", "no", "") else []
+    photo = bench_photo() if PHOTO not in ("0", "no", "") and BUSY != "only" else []
+    busy = bench_busy() if BUSY not in ("0", "no", "") and PHOTO != "only" else []
     with open(os.path.join(OUT, "bench.jsonl"), "w") as f:
-        for r in rows + busy:
+        for r in rows + photo + busy:
             f.write(json.dumps(r) + "\n")
 
     print("bench: %s, %d run(s) per configuration, %.0f s in all%s" % (
@@ -459,6 +506,18 @@ def main():
                         fmt(t["t2_seconds"], "%.3f"), fmt(t["speedup"], "%.2f"),
                         fmt(t["speedup_opt"], "%.2f"),
                         {True: "yes", False: "no", None: "-"}[t["same_result"]]))
+    if photo:
+        print()
+        h4 = "%-26s %7s %6s %8s %8s %8s %8s %7s %6s %8s %4s %5s"
+        print(h4 % ("many charts, many holes", "F", "charts", "1 thr s", "1thr cpu", "2 thr s", "2thr cpu",
+                    "iters", "big it", "big ms/it", "bij", "same"))
+        for r in photo:
+            print(h4 % (r["photo_case"], r["F"], r["charts"], fmt(r["t1_seconds"], "%.3f"), fmt(r["t1_cpu"], "%.3f"),
+                        fmt(r["t2_seconds"], "%.3f"), fmt(r["t2_cpu"], "%.3f"), r["t1_iterations"],
+                        fmt(r["t1_big_iterations"], "%d"), fmt(r["t1_big_ms_per_iteration"], "%.3f"),
+                        {True: "yes", False: "NO", None: "-"}[r["bijective"]],
+                        {True: "yes", False: "no", None: "-"}[r.get("same_result")]))
+        print("(medians of %d runs each, alternated; big = the 4,601-face chart with 51 loops, ms/it from its wall time)" % RUNS)
     if busy:
         print()
         h3 = "%-20s %-5s %6s %6s %9s %9s %7s %8s %8s"
@@ -472,7 +531,7 @@ def main():
         print("(busy: %d competing CPU-bound processes, each in its own session; ratio = median wall default / median wall 1 thread)"
               % (os.cpu_count() or 1))
     print()
-    for r in rows + busy:
+    for r in rows + photo + busy:
         print(json.dumps(r))
     return 0
 

@@ -7,14 +7,16 @@
 # meshes above 20K faces, the default thread count against --threads 1 on an
 # idle and on a busy machine (one competing CPU-bound process per core,
 # started and stopped by the bench; 10,000 one-triangle charts, spot,
-# camel_b, camelhead), and one JSON line per mesh and case.  bench/bench.py
-# does the work and documents every column.
+# camel_b, camelhead), the photogrammetry-like case of bench/photogrammetry.py
+# (4,740 charts, one with 50 holes) with 1 and 2 threads, and one JSON line
+# per mesh and case.  bench/bench.py does the work and documents every column.
 #
 #   bash bench/run.sh                    (or: make bench)      ~20 min on 2 cores
 #   BENCH_QUICK=1 bash bench/run.sh      tests/data only, 1 run  (~15 s)
 #   BENCH_RUNS=5 BENCH_TIMEOUT=300 bash bench/run.sh
 #   BENCH_MESHES="camel_b.obj horse_cut.obj" bash bench/run.sh
 #   BENCH_BUSY=only bash bench/run.sh    only the idle/busy comparison (~2 min)
+#   BENCH_PHOTO=only bash bench/run.sh   only the photogrammetry-like case (~1 min)
 #
 # Progress (one JSON line per mesh) goes to stderr; the tables and the JSON
 # lines go to stdout at the end, and to build/bench/bench.jsonl.

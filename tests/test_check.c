@@ -17,7 +17,9 @@
    grids with holes, pieces placed at random (inside holes: valid; on a
    piece: nested), moved vertices, vertices snapped onto others, reversed
    and duplicated triangles, a third triangle on an edge.  Coordinates on a
-   coarse lattice make exact touching common. */
+   coarse lattice make exact touching common.  The grid-free test of (b)
+   that the line search uses on small charts counts the same pairs as the
+   grid (conflict_scan_agreement). */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -296,6 +298,70 @@ static void random_agreement(void)
     BPT_CHECK(badname == 0, "every invalid verdict's message names the element of err.index/index2 (%d do not)", badname);
     BPT_CHECK(scaled_diff == 0, "scaling each layout by 2^900 and 2^-900 changes no verdict and no count (%d changed)",
               scaled_diff);
+}
+
+/* ---- condition (b) without the grid ---------------------------------------- */
+
+/* The line search decides (b) for a chart of at most BP__CONFLICT_SCAN
+   boundary edges by testing every pair of overlapping boxes
+   (bp__conflicts_scan) instead of the grid of bp__boundary_conflicts.  Both
+   must count the same conflicting pairs: on the random layouts above (their
+   boundary edges: pieces, holes, moved and snapped vertices, lattice
+   coordinates that make edges touch and overlap), and on soups of small
+   random polygons (many loops, from one to dozens of edges, crossing each
+   other and themselves), up to the scan's limit of edges. */
+static void conflict_scan_agreement(void)
+{
+    static layout L;
+    bp_allocator a = bp__allocator_of(NULL);
+    int i, cases = 0, differ = 0, with_conflicts = 0, many_loops = 0;
+    for (i = 0; i < 6000; i++) {
+        bp_check_report r;
+        bp__dedge *de = NULL, soup[BP__CONFLICT_SCAN];
+        bp__check_first first;
+        uint32_t nb = 0, scan, k;
+        memset(&r, 0, sizeof r);
+        memset(&first, 0, sizeof first);
+        if (i % 2 == 0) {
+            random_layout(&L, i % 3);
+            if (bp__check_edges(&a, L.tri, L.nt, L.nv, &r, &first, &de, &nb) != BP_OK) continue;
+            memset(&r, 0, sizeof r);
+        } else {
+            /* polygons of 1..12 edges with lattice or random corners */
+            int lattice = i % 4 == 1;
+            uint32_t target = 2 + rnd(BP__CONFLICT_SCAN - 1), loops = 0;
+            memset(&L, 0, sizeof L);
+            while (L.nv < target) {
+                uint32_t n = 1 + rnd(12), base = L.nv;
+                double cx = bpt_rng_range(0, 5), cy = bpt_rng_range(0, 5), rad = bpt_rng_range(0.1, 1.5);
+                if (L.nv + n > target) n = target - L.nv;
+                for (k = 0; k < n; k++) {
+                    double th = 6.283185307179586 * (k + bpt_rng_range(-0.4, 0.4)) / n;
+                    L.uv[2 * L.nv] = coord(cx + rad * cos(th) * bpt_rng_range(0.3, 1.2), lattice);
+                    L.uv[2 * L.nv + 1] = coord(cy + rad * sin(th) * bpt_rng_range(0.3, 1.2), lattice);
+                    soup[L.nv].a = L.nv;
+                    soup[L.nv].b = k + 1 < n ? L.nv + 1 : base;
+                    L.nv++;
+                }
+                loops++;
+            }
+            nb = L.nv;
+            if (loops >= 8) many_loops++;
+        }
+        if (nb <= BP__CONFLICT_SCAN) {
+            scan = bp__conflicts_scan(L.uv, de ? de : soup, nb);
+            if (bp__boundary_conflicts(&a, L.uv, de ? de : soup, nb, &r, NULL, NULL) == BP_OK) {
+                cases++;
+                if (scan != r.boundary_intersections) differ++;
+                if (scan) with_conflicts++;
+            }
+        }
+        bp__free(&a, de);
+    }
+    BPT_CHECK(differ == 0 && cases > 5000 && with_conflicts > 1000 && many_loops > 500,
+              "condition (b) by scanning every pair (charts of <= %u boundary edges) counts the same conflicting pairs "
+              "as the grid in %d of %d layouts (%d with conflicts, %d polygon soups of 8 loops or more)",
+              BP__CONFLICT_SCAN, cases - differ, cases, with_conflicts, many_loops);
 }
 
 /* ---- named cases ---------------------------------------------------------- */
@@ -589,5 +655,6 @@ int main(void)
     overlapping_start();
     loop_signs();
     acceptance_counts_loops();
+    conflict_scan_agreement();
     return bpt_finish();
 }

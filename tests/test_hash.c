@@ -11,18 +11,23 @@
          the query covers more than twice the table), hence at least every
          item whose cells meet the query's cells and every item whose box
          overlaps the query box; each item once.  Also across the stamp
-         wrap-around, and build refusing a too-small capacity.
+         wrap-around, and build refusing a too-small capacity.  Also with
+         the small groups left out of the table (scan_max): their queries
+         scan them and must answer the same.
      (b) E_B through the hash (bpt_barrier) equals a brute-force O(n^2) sum written here
          (each loop, each edge, each vertex of the same loop not on the edge,
          max(0, eps/dist - 1)^2) to 1e-12 relative, gradient included, on
          jittered polygons and on the 7 real loops of face_holes.off (start
          map and partly optimized), for eps from tiny to larger than the
-         chart.
+         chart; each case three times: small loops scanned (the solver's
+         default, BP__SCAN_MAX), every loop in the table, every loop
+         scanned.
      (c) The step bound's swept hash, built by parallel count and place
          tasks, is the table of the serial bp__hash_build (same bucket
          offsets, same items in the same order) under three task orders, on
          the real charts of face_holes (7 loops) and camelhead, for random
-         directions and sweep times that force the cells to grow.
+         directions and sweep times that force the cells to grow; with every
+         loop in the table, and with the small loops scanned (not entered).
      (d) The linear-time sort of the chart builder and the exact check
          (bp__bucket_sort: counting sort by vertex, then insertion, or
          qsort for a bucket above 32) puts corner edges, triangle keys and
@@ -56,7 +61,7 @@ static int64_t cell(double x, double h) { return (int64_t)floor(x / h); }
    items of g whose box overlaps the query box (closed boxes), each once. */
 static void test_hash(void)
 {
-    int round, bad_exact = 0, bad_repeat = 0, bad_range = 0, queries = 0, fallback = 0, bad_cap = 0;
+    int round, bad_exact = 0, bad_repeat = 0, bad_range = 0, queries = 0, fallback = 0, bad_cap = 0, scanned_groups = 0;
     long returned_total = 0, overlap_total = 0;
     for (round = 0; round < 300; round++) {
         uint32_t n = 1 + (uint32_t)(bpt_rng_unit() * (round % 3 == 0 ? 40 : 600)), i, q, ng = 1 + (uint32_t)(bpt_rng_unit() * 3);
@@ -93,6 +98,13 @@ static void test_hash(void)
         if (need > 0 && bp__hash_build(&H, n)) bad_cap++;
         H.cap = need;
         if (!bp__hash_build(&H, n)) bad_cap++;
+        if (round % 4 == 1) {
+            /* groups of at most scan_max items left out of the table: their
+               queries scan them (the solver's small loops, >>barrier) */
+            H.scan_max = (uint32_t)(bpt_rng_unit() * n);
+            if (!bp__hash_build(&H, n)) bad_cap++;
+            for (q = 0; q < ng; q++) scanned_groups += gstart[q + 1] - gstart[q] <= H.scan_max;
+        }
         L.n = n;
         L.count = (uint32_t *)calloc(n + 1, sizeof(uint32_t));
         for (q = 0; q < 40; q++) {
@@ -125,10 +137,10 @@ static void test_hash(void)
     BPT_CHECK(bad_cap == 0, "bp__hash_build refuses capacity one below the cell count and accepts the exact count (300 tables)");
     BPT_CHECK(bad_range == 0, "bp__hash_query never reports an item index out of range");
     BPT_CHECK(bad_repeat == 0, "bp__hash_query reports every item at most once (%d queries)", queries);
-    BPT_CHECK(bad_exact == 0 && overlap_total > 1000,
+    BPT_CHECK(bad_exact == 0 && overlap_total > 1000 && scanned_groups > 20,
               "bp__hash_query returns exactly the items of the queried loop whose box overlaps the query box "
-              "(%d queries, %d whole-loop fallbacks, %ld overlaps, %ld returned)", queries, fallback, overlap_total,
-              returned_total);
+              "(%d queries, %d whole-loop fallbacks, %d groups scanned instead of entered, %ld overlaps, %ld returned)",
+              queries, fallback, scanned_groups, overlap_total, returned_total);
 }
 
 /* ---- (b) the barrier sum -------------------------------------------------------- */
@@ -179,7 +191,7 @@ static double brute_barrier(uint32_t nloops, const uint32_t *ls, const uint32_t 
     return total;
 }
 
-typedef struct cmp_stats { int cases, bad, bad_g, nonzero; double worst, worst_g; long pairs; } cmp_stats;
+typedef struct cmp_stats { int cases, bad, bad_g, nonzero, tabled, scanned; double worst, worst_g; long pairs; } cmp_stats;
 
 static void compare_barrier(uint32_t nloops, const uint32_t *ls, const uint32_t *lv, uint32_t nv, const double *x,
                             double eps, cmp_stats *st)
@@ -188,6 +200,7 @@ static void compare_barrier(uint32_t nloops, const uint32_t *ls, const uint32_t 
     bp_allocator a;
     double *g1 = (double *)calloc(2 * nv, sizeof(double)), *g2 = (double *)calloc(2 * nv, sizeof(double)), f1, f2, f3, gmax = 0;
     uint32_t pairs, i;
+    int mode;
     memset(&S, 0, sizeof S);
     memset(&a, 0, sizeof a);
     S.a = &a;
@@ -199,20 +212,29 @@ static void compare_barrier(uint32_t nloops, const uint32_t *ls, const uint32_t 
     S.barrier = 1;
     S.eps = eps;
     bpt_solver_workspace(&S, S.nb);
-    f1 = bpt_barrier(&S, x, g1);
-    f3 = bpt_barrier(&S, x, NULL);
     f2 = brute_barrier(nloops, ls, lv, x, eps, g2, &pairs);
-    st->cases++;
-    st->pairs += pairs;
-    if (f2 > 0) st->nonzero++;
-    if (!(fabs(f1 - f2) <= 1e-12 * f2) && !(f1 == f2) ) st->bad++;
-    if (f1 != f3) st->bad++;
-    if (f2 > 0 && fabs(f1 - f2) / f2 > st->worst) st->worst = fabs(f1 - f2) / f2;
     for (i = 0; i < 2 * nv; i++) if (fabs(g2[i]) > gmax) gmax = fabs(g2[i]);
-    for (i = 0; i < 2 * nv; i++) {
-        double e = fabs(g1[i] - g2[i]) / (gmax > 0 ? gmax : 1);
-        if (e > st->worst_g) st->worst_g = e;
-        if (!(e <= 1e-12)) st->bad_g++;
+    for (mode = 0; mode < 3; mode++) {
+        /* small loops scanned (the default), none scanned, all scanned */
+        bp__hash_set_scan(&S.hash, nloops, mode == 0 ? BP__SCAN_MAX : mode == 1 ? 0 : 0xffffffffu);
+        if (mode == 0) {
+            if (S.hash.entered) st->tabled++;
+            if (S.hash.entered < S.nb) st->scanned++;
+        }
+        memset(g1, 0, 2 * nv * sizeof(double));
+        f1 = bpt_barrier(&S, x, g1);
+        f3 = bpt_barrier(&S, x, NULL);
+        st->cases++;
+        st->pairs += pairs;
+        if (f2 > 0) st->nonzero++;
+        if (!(fabs(f1 - f2) <= 1e-12 * f2) && !(f1 == f2) ) st->bad++;
+        if (f1 != f3) st->bad++;
+        if (f2 > 0 && fabs(f1 - f2) / f2 > st->worst) st->worst = fabs(f1 - f2) / f2;
+        for (i = 0; i < 2 * nv; i++) {
+            double e = fabs(g1[i] - g2[i]) / (gmax > 0 ? gmax : 1);
+            if (e > st->worst_g) st->worst_g = e;
+            if (!(e <= 1e-12)) st->bad_g++;
+        }
     }
     bpt_solver_free(&S);
     free(g1); free(g2);
@@ -260,8 +282,10 @@ static void test_barrier_polygons(void)
         for (e = 0; e < 6; e++) compare_barrier(nh ? 2 : 1, ls, lv, N, x, eps_list[e], &st);
         free(lv); free(x);
     }
-    BPT_CHECK(st.bad == 0, "E_B (hash) == brute-force O(n^2) sum to 1e-12 on %d polygon/eps cases (eps 0.005 .. 20 "
-              "on unit-size loops, %d nonzero, %ld pairs inside eps), worst rel %.3g", st.cases, st.nonzero, st.pairs, st.worst);
+    BPT_CHECK(st.bad == 0 && st.tabled > 50 && st.scanned > 50,
+              "E_B (hash) == brute-force O(n^2) sum to 1e-12 on %d polygon/eps cases (eps 0.005 .. 20 "
+              "on unit-size loops, %d nonzero, %ld pairs inside eps; by default %d with a loop in the table, %d with one "
+              "scanned), worst rel %.3g", st.cases, st.nonzero, st.pairs, st.tabled, st.scanned, st.worst);
     BPT_CHECK(st.bad_g == 0, "E_B gradient (hash) == brute-force gradient to 1e-12 of max |g| (worst %.3g)", st.worst_g);
 }
 
@@ -319,9 +343,9 @@ static void test_swept_hash(const char *path)
     bp_options opt;
     bp_allocator a = bp__allocator_of(NULL);
     bp__solver S;
-    double *v, sweeps[4] = { 0, 0.3, 3, 300 };
-    uint32_t *start, *items, i, nb, bad = 0, cases = 0, grown = 0;
-    int k, r, o;
+    double *v, *box, sweeps[4] = { 0, 0.3, 3, 300 };
+    uint32_t *start, *items, i, nb, bad = 0, cases = 0, grown = 0, scanned_only = 0;
+    int k, r, o, scan;
     memset(&opt, 0, sizeof opt);
     if (!BPT_CHECK(bp_read_mesh(path, &mesh, NULL, &err) == BP_OK, "read %s: %s", path, err.message)) return;
     if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK &&
@@ -334,29 +358,42 @@ static void test_swept_hash(const char *path)
     v = (double *)malloc(2 * sizeof(double) * S.nv);
     start = (uint32_t *)malloc(((size_t)S.hash.mask + 2) * sizeof(uint32_t));
     items = (uint32_t *)malloc(S.hash.cap * sizeof(uint32_t));
+    box = (double *)malloc(4 * (size_t)nb * sizeof(double));
+    for (scan = 0; scan < 2; scan++) {
+    /* scan 0: every loop in the table; 1: the solver's default, small loops
+       scanned (not entered; camelhead's one loop of 56 is then not hashed at
+       all, and the two builds must still agree on the boxes) */
+    bp__hash_set_scan(&S.hash, S.nloops, scan ? BP__SCAN_MAX : 0);
     for (r = 0; r < 3; r++)
         for (k = 0; k < 4; k++) {
             double h0;
             for (i = 0; i < 2 * S.nv; i++) v[i] = bpt_rng_range(-1, 1) * S.mean_edge;
+            memset(S.box, 0, 4 * (size_t)nb * sizeof(double));
             bp__hash_fill(&S, atlas.charts[0].uv, v, sweeps[k]);          /* serial reference */
             memcpy(start, S.hash.start, ((size_t)S.hash.mask + 2) * sizeof(uint32_t));
             memcpy(items, S.hash.items, S.hash.start[S.hash.mask + 1] * sizeof(uint32_t));
+            memcpy(box, S.box, 4 * (size_t)nb * sizeof(double));
             h0 = S.hs[0];
-            if (h0 > bp__loop_cell(&S, atlas.charts[0].uv, 0)) grown++;
+            if (!scan && h0 > bp__loop_cell(&S, atlas.charts[0].uv, 0)) grown++;
             for (o = 0; o < 3; o++) {
                 S.par.run = orders[o];
                 memset(S.hash.items, 0xff, S.hash.cap * sizeof(uint32_t));
+                memset(S.box, 0, 4 * (size_t)nb * sizeof(double));
                 bp__step_hash(&S, atlas.charts[0].uv, v, sweeps[k]);
                 cases++;
-                if (S.hs[0] != h0 || memcmp(start, S.hash.start, ((size_t)S.hash.mask + 2) * sizeof(uint32_t)) ||
-                    memcmp(items, S.hash.items, start[S.hash.mask + 1] * sizeof(uint32_t)))
+                if (S.hash.entered == 0) scanned_only++;
+                if (S.hs[0] != h0 || memcmp(box, S.box, 4 * (size_t)nb * sizeof(double)) ||
+                    (S.hash.entered && (memcmp(start, S.hash.start, ((size_t)S.hash.mask + 2) * sizeof(uint32_t)) ||
+                                        memcmp(items, S.hash.items, start[S.hash.mask + 1] * sizeof(uint32_t)))))
                     bad++;
             }
             S.par.run = bp__serial_for;
         }
+    }
     BPT_CHECK(bad == 0 && grown > 0, "%s (%u boundary vertices): the parallel swept hash equals the serial build in %u of "
-              "%u cases (3 task orders; %u with grown cells)", path, nb, cases - bad, cases, grown);
-    free(v); free(start); free(items);
+              "%u cases (3 task orders, all loops in the table or the small ones scanned, same swept boxes; %u with grown "
+              "cells, %u with no table at all)", path, nb, cases - bad, cases, grown, scanned_only);
+    free(v); free(start); free(items); free(box);
     bp__solver_free(&S);
     bp_atlas_free(&atlas);
     bp_mesh_free(&mesh, NULL);

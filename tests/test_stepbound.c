@@ -24,7 +24,8 @@
          (edge, vertex) pairs of each loop computed with the same
          bp__collinear_time without the hash -- exactly (the swept hash must
          lose nothing); also with the triangles removed so the boundary pairs
-         alone decide.  And the bound is tight and safe: the map is exactly
+         alone decide; and the same bits whether the small loops are
+         scanned (the default), hashed, or every loop scanned.  And the bound is tight and safe: the map is exactly
          valid (bp_check) on [0, tmax) samples, and invalid just after tmax. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
@@ -480,6 +481,18 @@ static void solver_free(bp__solver *S)
     bp__solver_free(S);       /* frees the rest shapes too */
 }
 
+/* The step bound with the loops of at most scan_max vertices scanned
+   instead of hashed (0: every loop in the table); the solver's default
+   (BP__SCAN_MAX) is restored. */
+static double bound_scanned(bp__solver *S, const double *x, const double *v, uint32_t scan_max)
+{
+    double t;
+    bp__hash_set_scan(&S->hash, S->nloops, scan_max);
+    t = bp__step_bound(S, x, v, HUGE_VAL);
+    bp__hash_set_scan(&S->hash, S->nloops, BP__SCAN_MAX);
+    return t;
+}
+
 /* The solver bp_chart_optimize builds, set up the same way by hand. */
 static void solver_for_chart(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m)
 {
@@ -534,6 +547,7 @@ static int map_valid(const bp_chart *ch, const double *uv)
 
 typedef struct chart_stats {
     int cases, equal, equal_bnd, boundary_binds, shrunk, safe_bad, tight, tight_total, bsafe_bad, btight, btight_total;
+    int scan_cases, scan_same;
     double worst_rel;
 } chart_stats;
 
@@ -626,6 +640,10 @@ static void check_chart(const char *name, const bp_chart *ch, const bp_mesh *m, 
         make_direction(d % 4, &S, ch->uv, v, size);
         t_hash = bp__step_bound(&S, ch->uv, v, HUGE_VAL);
         t_brute = brute_step_bound(&S, ch->uv, v, 1);
+        /* a minimum: the same bits whichever loops are scanned */
+        st->scan_cases++;
+        if (bound_scanned(&S, ch->uv, v, 0) == t_hash && bound_scanned(&S, ch->uv, v, 0xffffffffu) == t_hash)
+            st->scan_same++;
         st->cases++;
         if (t_hash == t_brute) st->equal++;
         else if (fabs(t_hash - t_brute) / t_brute > st->worst_rel) st->worst_rel = fabs(t_hash - t_brute) / t_brute;
@@ -658,6 +676,9 @@ static void check_chart(const char *name, const bp_chart *ch, const bp_mesh *m, 
             t_brute_b = brute_step_bound(&S, ch->uv, v, 0);
         }
         t_hash_b = bp__step_bound(&S, ch->uv, v, HUGE_VAL);
+        st->scan_cases++;
+        if (bound_scanned(&S, ch->uv, v, 0) == t_hash_b && bound_scanned(&S, ch->uv, v, 0xffffffffu) == t_hash_b)
+            st->scan_same++;
         S.nt = nt_save;
         {
             double vmax = 0;
@@ -734,6 +755,9 @@ static void test_real_charts(void)
         BPT_CHECK(st.equal == st.cases, "%s: bp__step_bound (swept hash) == brute force over all triangles and all "
                   "(edge, vertex) pairs of each loop, exactly, in %d of %d cases (%d boundary-only cases, %d of them with the cap near the contact; worst rel diff %.3g)",
                   files[f], st.equal, st.cases, st.cases / 2, st.shrunk, st.worst_rel);
+        BPT_CHECK(st.scan_same == st.scan_cases && st.scan_cases > 0, "%s: the step bound is the same bits with the small "
+                  "loops scanned (the default), every loop in the table and every loop scanned, in %d of %d cases",
+                  files[f], st.scan_same, st.scan_cases);
         BPT_CHECK(st.safe_bad == 0, "%s: map exactly valid (bp_check) at 0.1 .. 0.999999 tmax in all %d directions "
                   "(boundary bound the step in %d)", files[f], st.tight_total, st.boundary_binds);
         BPT_CHECK(st.bsafe_bad == 0 && st.btight_total > 0, "%s: boundary-only bound: no loop meets itself (all edge pairs, "
