@@ -398,8 +398,10 @@ typedef struct bp_options {
                                      bounding boxes (3D units, or [0,1]^2 with
                                      normalize), unchanged since 0.1          */
     int           padding;        /* with atlas_resolution: at least this many
-                                     texels between any two charts, measured on
-                                     the final UVs.  0: none (charts still never
+                                     texels between any two charts, and
+                                     ceil(padding/2) between every chart and
+                                     the edge of [0,1]^2, measured on the
+                                     final UVs.  0: none (charts still never
                                      share a texel).  Negative is invalid     */
     int           no_rotation;    /* nonzero: keep each chart's orientation
                                      (no minimum-area-box rotation and no 90
@@ -9719,7 +9721,8 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
    Without opt->atlas_resolution (0, the default) the charts' bounding
    boxes go on shelves (bp__pack_shelf, >>driver).  With atlas_resolution =
    RES the charts go into the square [0,1]^2 as a texture of RES x RES
-   texels, with opt->padding = P texels between any two of them.  Four
+   texels, with opt->padding = P texels between any two of them and
+   ceil(P/2) between each of them and the edge of the square.  Four
    steps:
 
    1. One texel density.  A texture spends its texels evenly only when every
@@ -9791,14 +9794,35 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
       it was falls back to its own orientation (scaled only) and the packing
       runs again.
 
+   The border.  The atlas starts with a frame of B = ceil(P/2) texels along
+   each of its four edges marked as taken, so every chart keeps at least
+   P/2 texels from the edge of the square.  Why half the padding and not
+   all of it, nor none: the padding is there for the texture filters and
+   for a baker's dilation (edge padding), which grow each chart into the
+   gutter around it.  Between two charts the gutter of P texels is shared,
+   P/2 for each side.  At the edge of the square only one chart grows
+   into it; with clamp-to-edge sampling nothing lies beyond, and with
+   wrap-around (repeat) sampling -- the case where a chart touching the
+   edge bleeds -- the chart across the edge keeps its own P/2, so the
+   tiled atlas keeps P texels between any two charts, across the edge as
+   inside.  A full P at the edge would leave 2P there, texels no filter
+   needs.  xatlas's packer (as read, source/xatlas/xatlas.cpp: "translate
+   to remove padding from top and left atlas edges", and the atlas size
+   reduced by twice the padding) keeps only about half a texel at the
+   edge, so its charts bleed under wrap-around; bakers that tile (lightmaps
+   and repeating textures) want the gutter.  Padding 0 keeps no border.
+
    Why the padding holds on the final coordinates: a point of a chart lies
    in one of its marked texels (the rasterization is conservative, and the
    margin of 1e-6 texel is far above the rounding of the final formula, at
    most RES * 2^-52 texel).  Marked texels of two different charts are at
    least P+1 apart in x or in y (the dilation), so their points are at least
-   P texels = P/RES apart in that coordinate.  Padding 0 still keeps the
-   charts on disjoint texels.  tests/test_pack.c measures the distance
-   between the boundary segments of different charts by brute force.
+   P texels = P/RES apart in that coordinate.  No marked texel lies in the
+   frame, so a point is at least B texels from each edge: uv in
+   [B/RES, 1 - B/RES].  Padding 0 still keeps the charts on disjoint
+   texels.  tests/test_pack.c measures the distance between the boundary
+   segments of different charts, and of every uv to the edge, by brute
+   force.
 
    The packer is serial and uses no floating-point state that depends on the
    thread count, so the atlas is bit-identical for any number of threads. */
@@ -9823,6 +9847,7 @@ typedef struct bp__shape {
 /* The atlas being filled. */
 typedef struct bp__occ {
     int res, aw;                /* texels per side, words per row (2 spare)  */
+    int border;                 /* texels along each edge kept free: ceil(P/2) */
     uint64_t *b;                /* res rows; bits at x >= res are set        */
     int *maxfree;               /* longest run of free texels in each row    */
     int *ylow;                  /* ylow[v]: every row below has maxfree < v  */
@@ -10128,15 +10153,21 @@ static bp_status bp__occ_init(const bp_allocator *a, bp__occ *O, int res)
     return BP_OK;
 }
 
-/* Empty atlas: texels [0, res) free, the spare bits beyond them taken. */
+/* Empty atlas: texels [B, res - B) free, where B = O->border; the frame
+   of B texels along each edge (the border padding, step 3 of the essay)
+   and the spare bits beyond res taken. */
 static void bp__occ_clear(bp__occ *O)
 {
-    int y, i;
+    int y, i, B = O->border;
     for (y = 0; y < O->res; y++) {
         uint64_t *row = O->b + (size_t)y * O->aw;
         for (i = 0; i < O->aw; i++) row[i] = 0;
-        bp__bits_set_range(row, O->res, O->aw * 64 - 1);
-        O->maxfree[y] = O->res;
+        if (y < B || y >= O->res - B) bp__bits_set_range(row, 0, O->aw * 64 - 1);
+        else {
+            if (B > 0) bp__bits_set_range(row, 0, B - 1);
+            bp__bits_set_range(row, O->res - B, O->aw * 64 - 1);
+        }
+        O->maxfree[y] = bp__bits_longest(row, O->res, 0);
     }
     for (i = 0; i <= O->res; i++) O->ylow[i] = 0;
     memset(O->floor_, 0, sizeof O->floor_);
@@ -10487,7 +10518,7 @@ static bp_status bp__pack_search(bp__packer *P, double *d_out)
     int it, r;
     *d_out = 0;
     for (i = 0; i < P->n; i++) total += P->pc[i].target;
-    d = P->res / sqrt(total);
+    d = (P->res - 2 * P->occ.border) / sqrt(total);     /* the free square */
     for (it = 0; it < 200; it++) {
         double f;
         r = bp__pack_attempt(P, d, &placed);
@@ -10604,6 +10635,7 @@ static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, bp_er
     if (!P.pc) return bp__oom(err, "packing charts");
     st = bp__pack_prepare(&P, opt, err);
     if (st == BP_OK && bp__occ_init(&P.a, &P.occ, P.res) != BP_OK) st = bp__oom(err, "packing charts");
+    P.occ.border = (P.pad + 1) / 2;                  /* ceil(P/2), the border padding */
     for (;;) {
         if (st != BP_OK || P.n == 0) break;
         st = bp__pack_search(&P, &d);
