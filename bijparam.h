@@ -698,7 +698,10 @@ BPDEF bp_status bp_read_mesh_opt(const char *path, bp_mesh *mesh,
    except that the old vt lines are replaced by the new ones (placed where
    the first vt or f line was) and each f corner gets its new vt index,
    keeping its v and vn indices as written.  Faces of failed charts keep v
-   (and vn) without vt.  `source` must be the file the mesh was read from
+   (and vn) without vt.  In both, a face the repair re-oriented
+   (atlas->repairs, BP_REPAIR_FLIPPED) has its corners in the repaired
+   order: corner 0, then the others reversed -- the v/vt/vn triples moved,
+   never altered -- so every face agrees with its uvs.  `source` must be the file the mesh was read from
    (checked face by face: BP_ERR_INVALID_ARGUMENT otherwise) and another
    path than `path` (the same string is refused; the library cannot tell
    two names of one file apart -- the tool compares device and inode). */
@@ -2931,7 +2934,18 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
        normal index exactly as written -- a relative index such as -1 still
        means the same element, since no v or vn line moves relative to the
        faces -- and gets the absolute index of its new vt;
-     - a face of a chart that failed keeps v (and vn) without vt.
+     - a face of a chart that failed keeps v (and vn) without vt;
+     - a face the repair re-oriented (>>charts, "repair") is written with
+       its corners in the repaired order: corner 0, then the others
+       reversed, each corner's text (v/vt/vn) moved as a whole while the
+       spacing stays in place.  The charts' maps are bijective for the
+       repaired orientation; a face left in its file order would run
+       against its own uvs (mirrored), and no order that keeps every face
+       as written can be valid (two neighbours running the same way along
+       their edge cannot both map counter-clockwise without overlap).  So
+       the file comes out consistently oriented; compared with the damaged
+       input, exactly these faces are reversed.  Which faces: those whose
+       chart triangle runs (0, 2, 1) of their corners (bp__face_flips).
 
    A polygon is one `f` line whose fan triangles (0, i, i+1) are the mesh
    triangles t .. t+n-3; its corner k is corner 0 of every fan triangle
@@ -2941,7 +2955,9 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
    non-manifold edge, a repair cut, an automatic seam of >>cut; or fan
    triangles in a failed and a valid chart), one polygon cannot carry
    both, and both writers write that polygon as its fan triangles, one `f`
-   line each (the only change to the line structure).  bp_write_obj_from
+   line each (the only change to the line structure); so too a polygon
+   whose fan triangles the repair re-oriented differently (across a cut
+   diagonal), each fan triangle in its own repaired order.  bp_write_obj_from
    checks as it goes that the file's faces are the mesh's triangles: a
    mesh from another file is refused, not mislabelled.
 
@@ -3050,6 +3066,42 @@ static uint32_t bp__corner_vt(const bp_atlas *atlas, const uint32_t *base, uint3
     return atlas->charts[c].uv ? base[c] + atlas->corner_vertex[3 * (size_t)t + k] : BP__NONE;
 }
 
+/* The triangles the repair re-oriented (>>charts, "repair"): flip[t] = 1
+   when the chart triangle of mesh triangle t runs its corners (0, 2, 1),
+   read from the charts themselves (a chart's three corners are distinct
+   chart vertices).  *out = NULL when the repair flipped nothing.  A dropped
+   copy (in no chart) keeps its file order. */
+static bp_status bp__face_flips(const bp_atlas *atlas, const bp_mesh *mesh, const bp_allocator *a,
+                                unsigned char **out)
+{
+    uint32_t c, t;
+    *out = NULL;
+    if (!atlas->repairs.kind[BP_REPAIR_FLIPPED].count) return BP_OK;
+    if (!(*out = (unsigned char *)bp__calloc_array(a, mesh->num_triangles ? mesh->num_triangles : 1, 1)))
+        return BP_ERR_OUT_OF_MEMORY;
+    for (c = 0; c < atlas->num_charts; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        for (t = 0; t < ch->num_triangles; t++) {
+            const uint32_t *tr = ch->triangles + 3 * (size_t)t, f = ch->face[t];
+            const uint32_t *cv = atlas->corner_vertex + 3 * (size_t)f;
+            if (f < mesh->num_triangles && tr[0] == cv[0] && tr[1] == cv[2] && tr[2] == cv[1] && tr[1] != tr[2])
+                (*out)[f] = 1;
+        }
+    }
+    return BP_OK;
+}
+
+/* Does every fan triangle of [t, end) have the same orientation flag? */
+static int bp__fan_flip(const unsigned char *flip, uint32_t t, uint32_t end, int *same)
+{
+    uint32_t j;
+    *same = 1;
+    if (!flip) return 0;
+    for (j = t + 1; j < end; j++)
+        if (flip[j] != flip[t]) *same = 0;
+    return flip[t];
+}
+
 /* Do the fan triangles [t, end) of one polygon give each of its corners
    one vt?  Triangle j shares corner 0 with triangle t and its corner 1 is
    triangle j-1's corner 2 (the essay above). */
@@ -3064,16 +3116,17 @@ static int bp__fan_agrees(const bp_atlas *atlas, const uint32_t *base, uint32_t 
 }
 
 /* One f line for the fan triangles [t, end): corners 0, 1, 2 of the first,
-   then corner 2 of each further one; a chart that failed has no map:
-   geometry only. */
+   then corner 2 of each further one; reversed after corner 0 (0, n-1, ...,
+   1) when `rev`, the triangles' repaired orientation; a chart that failed
+   has no map: geometry only. */
 static void bp__out_fan(bp__out *o, const bp_mesh *mesh, const bp_atlas *atlas, const uint32_t *base,
-                        uint32_t t, uint32_t end)
+                        uint32_t t, uint32_t end, int rev)
 {
-    uint32_t k;
+    uint32_t j, n = 3 + (end - t - 1);
     int mapped = atlas->charts[atlas->corner_chart[3 * (size_t)t]].uv != NULL;
     bp__out_str(o, "f");
-    for (k = 0; k < 3 + (end - t - 1); k++) {
-        uint32_t tt = k < 3 ? t : t + k - 2, kk = k < 3 ? k : 2;
+    for (j = 0; j < n; j++) {
+        uint32_t k = rev && j ? n - j : j, tt = k < 3 ? t : t + k - 2, kk = k < 3 ? k : 2;
         bp__out_str(o, " ");
         bp__out_uint(o, (uint64_t)mesh->triangles[3 * (size_t)tt + kk] + 1);
         if (mapped) {
@@ -3089,6 +3142,7 @@ static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
 {
     bp__out o;
     uint32_t i, t, *base;
+    unsigned char *flip = NULL;
     bp_allocator a;
     bp_status st;
     if (!path || !mesh || !atlas || atlas->num_corners != 3 * mesh->num_triangles)
@@ -3096,7 +3150,8 @@ static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
                         "bp_write_obj needs a path, the mesh and the atlas built from it");
     a = atlas->allocator;
     if (!(base = bp__vt_base(atlas, &a))) return bp__oom(err, "writing the OBJ file");
-    if ((st = bp__out_open(&o, path, err)) != BP_OK) { bp__free(&a, base); return st; }
+    if (bp__face_flips(atlas, mesh, &a, &flip) != BP_OK) { bp__free(&a, base); return bp__oom(err, "writing the OBJ file"); }
+    if ((st = bp__out_open(&o, path, err)) != BP_OK) { bp__free(&a, flip); bp__free(&a, base); return st; }
     o.opt = opt;
     if (fprintf(o.f, "# written by bijparam " BP_VERSION_STRING ": %u vertices, %u charts\n",
                 mesh->num_vertices, atlas->num_charts) < 0) { o.ok = 0; o.e = errno; }
@@ -3106,12 +3161,15 @@ static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
     bp__out_vt_block(&o, atlas, "\n");
     for (t = 0; t < mesh->num_triangles && o.ok; ) {
         uint32_t end = t + 1, j;
+        int same, rev;
         if (mesh->triangle_face)
             while (end < mesh->num_triangles && mesh->triangle_face[end] == mesh->triangle_face[t]) end++;
-        if (bp__fan_agrees(atlas, base, t, end)) bp__out_fan(&o, mesh, atlas, base, t, end);
-        else for (j = t; j < end; j++) bp__out_fan(&o, mesh, atlas, base, j, j + 1);   /* one line each */
+        rev = bp__fan_flip(flip, t, end, &same);
+        if (same && bp__fan_agrees(atlas, base, t, end)) bp__out_fan(&o, mesh, atlas, base, t, end, rev);
+        else for (j = t; j < end; j++) bp__out_fan(&o, mesh, atlas, base, j, j + 1, flip && flip[j]);   /* one line each */
         for (; t < end; t++) bp__out_tick(&o, t + 1, mesh->num_triangles);
     }
+    bp__free(&a, flip);
     bp__free(&a, base);
     return bp__out_close(&o, path, BP_OK, err);
 }
@@ -3136,6 +3194,7 @@ typedef struct bp__rewriter {
     const bp_mesh  *mesh;
     const bp_atlas *atlas;
     const uint32_t *base;     /* bp__vt_base                               */
+    const unsigned char *flip; /* bp__face_flips, or NULL                  */
     const char     *eol;      /* line ending of the vt lines: the file's own */
     int64_t         nv, nvt;  /* v and vt lines passed so far              */
     uint32_t        t;        /* mesh triangle of the next face            */
@@ -3235,29 +3294,33 @@ static bp_status bp__rewrite_face(bp__rewriter *r, const char *line)
     bp__src_corner *c;
     const char *tail = NULL, *term;
     size_t n, j, k;
-    int agree;
+    int agree, same, rev;
     bp_status st;
     if ((st = bp__rewrite_read_corners(r, &tail)) != BP_OK) return st;
     if ((st = bp__rewrite_match(r, &agree)) != BP_OK) return st;
     c = (bp__src_corner *)r->corners.data;
     n = r->corners.count;
+    rev = bp__fan_flip(r->flip, r->t, r->t + (uint32_t)(n - 2), &same);
     bp__next_line(ps);                            /* [tail, ps->p): the rest */
     for (term = tail; term < ps->p && !bp__is_eol(*term); term++) {}
-    if (agree) {
+    if (agree && same) {                          /* re-oriented: the corners
+                                                     move, the spacing stays */
         bp__out_bytes(r->o, line, (size_t)(c[0].pre - line));
         for (k = 0; k < n; k++) {
+            size_t pk = rev && k ? n - k : k;
             bp__out_bytes(r->o, c[k].pre, (size_t)(c[k].text.v - c[k].pre));
-            bp__out_corner(r->o, &c[k], c[k].vt);
+            bp__out_corner(r->o, &c[pk], c[pk].vt);
         }
     } else {
         for (j = 0; j + 2 < n; j++) {             /* one line per fan triangle */
+            int fl = r->flip && r->flip[r->t + (uint32_t)j];
             if (j && term < ps->p) bp__out_bytes(r->o, term, (size_t)(ps->p - term));
             else if (j) bp__out_str(r->o, r->eol);    /* the last line had none */
             bp__out_str(r->o, "f");
             for (k = 0; k < 3; k++) {
-                size_t pc = k == 0 ? 0 : j + k;
+                size_t kk = fl && k ? 3 - k : k, pc = kk == 0 ? 0 : j + kk;
                 bp__out_str(r->o, " ");
-                bp__out_corner(r->o, &c[pc], bp__corner_vt(r->atlas, r->base, r->t + (uint32_t)j, (int)k));
+                bp__out_corner(r->o, &c[pc], bp__corner_vt(r->atlas, r->base, r->t + (uint32_t)j, (int)kk));
             }
         }
     }
@@ -3305,6 +3368,7 @@ static bp_status bp__write_obj_from(const char *path, const char *source, const 
     char *text = NULL;
     size_t len = 0;
     uint32_t *base;
+    unsigned char *flip = NULL;
     bp_status st;
     if (!path || !source || !mesh || !atlas || atlas->num_corners != 3 * mesh->num_triangles)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
@@ -3315,6 +3379,10 @@ static bp_status bp__write_obj_from(const char *path, const char *source, const 
     a = atlas->allocator;
     if ((st = bp__load_file(source, &a, &text, &len, err, NULL)) != BP_OK) return st;
     if (!(base = bp__vt_base(atlas, &a))) { bp__free(&a, text); return bp__oom(err, "writing the OBJ file"); }
+    if (bp__face_flips(atlas, mesh, &a, &flip) != BP_OK) {
+        bp__free(&a, base); bp__free(&a, text);
+        return bp__oom(err, "writing the OBJ file");
+    }
     if ((st = bp__out_open(&o, path, err)) == BP_OK) {
         o.opt = opt;
         memset(&r, 0, sizeof r);
@@ -3327,12 +3395,14 @@ static bp_status bp__write_obj_from(const char *path, const char *source, const 
         r.mesh = mesh;
         r.atlas = atlas;
         r.base = base;
+        r.flip = flip;
         r.eol = bp__eol_of(text, text + len);
         r.corners.elem = sizeof(bp__src_corner);
         st = bp__rewrite_obj(&r);
         bp__free(&a, r.corners.data);
         st = bp__out_close(&o, path, st, err);
     }
+    bp__free(&a, flip);
     bp__free(&a, base);
     bp__free(&a, text);
     return st;
@@ -4061,7 +4131,7 @@ static void bp__repair_init(bp_repair_report *r)
 static void bp__repair_messages(bp_repair_report *r, const bp_mesh *m)
 {
     static const char *const what[] = {
-        "re-oriented to agree with the rest of their component",
+        "re-oriented to agree with the rest of their component (the OBJ writers give them their corners in that order)",
         "cut into seams: a non-orientable component (a Moebius band) cannot be glued there",
         "dropped as copies of another triangle on the same vertices",
         "shared by more than two triangles made seams for all of them",
@@ -4197,10 +4267,9 @@ static bp_status bp__glue(bp__build *b, const bp_mesh *m, bp_error *err)
     return BP_OK;
 }
 
-/* Corners of the glued mesh m = b->fm -> corners of the user's mesh: a
-   dropped copy's corners take its twin's chart vertices at the same mesh
-   vertices; a flipped triangle's corners 1 and 2 swap back. */
-static void bp__corners_to_mesh(bp__build *b, bp_atlas *atlas, const bp_mesh *m)
+/* A dropped copy's corners take its twin's chart vertices at the same
+   mesh vertices (again after >>cut renumbered the twin's chart). */
+static void bp__corners_of_copies(bp__build *b, bp_atlas *atlas, const bp_mesh *m)
 {
     uint32_t t, k, j, nt = m->num_triangles;
     for (t = 0; t < nt; t++) {
@@ -4212,6 +4281,14 @@ static void bp__corners_to_mesh(bp__build *b, bp_atlas *atlas, const bp_mesh *m)
             atlas->corner_vertex[3 * (size_t)t + k] = atlas->corner_vertex[3 * (size_t)tw + j];
         }
     }
+}
+
+/* Corners of the glued mesh m = b->fm -> corners of the user's mesh: the
+   copies as above; a flipped triangle's corners 1 and 2 swap back. */
+static void bp__corners_to_mesh(bp__build *b, bp_atlas *atlas, const bp_mesh *m)
+{
+    uint32_t t, nt = m->num_triangles;
+    bp__corners_of_copies(b, atlas, m);
     for (t = 0; t < nt; t++)
         if (b->flip[t]) {
             uint32_t x = atlas->corner_vertex[3 * (size_t)t + 1];
@@ -4427,6 +4504,7 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
     }
     if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {
         uint32_t t;
+        bp__corners_of_copies(&b, atlas, m);      /* the twins' charts may be cut */
         for (t = 0; t < m->num_triangles; t++)
             if (b.degen[t] && !b.drop[t]) bp__repair_note(&atlas->repairs, BP_REPAIR_DEGENERATE, t, -1);
         bp__repair_messages(&atlas->repairs, m);
@@ -4878,12 +4956,23 @@ static int bp__cut_split(const bp_allocator *a, bp__cut *K, bp_chart *ch, uint32
     vuv = (uint32_t *)bp__alloc_array(a, nnv, sizeof(uint32_t));
     if (!vtx || !vuv) { bp__free(a, vtx); bp__free(a, vuv); return 0; }
     for (ce = 0; ce < nc; ce++) {
-        uint32_t old = ch->triangles[ce], nw = id[bp__uf_find(uf, ce)];
-        size_t mc = 3 * (size_t)ch->face[ce / 3] + ce % 3;
+        uint32_t old = ch->triangles[ce], nw = id[bp__uf_find(uf, ce)], k = ce % 3;
+        size_t f3 = 3 * (size_t)ch->face[ce / 3];
+        /* chart corner k is corner k of the glued mesh (glued[] counts so),
+           but corner_vertex is per corner of the user's mesh: a triangle
+           the repair re-oriented runs its corners (0, 2, 1) in the chart,
+           seen (before corner 0 is rewritten) as chart corner 1 not being
+           the chart vertex of mesh corner 1 */
+        int flipped = ch->triangles[ce - k + 1] != corner_vertex[f3 + 1] && ch->triangles[ce - k] == corner_vertex[f3];
         vtx[nw] = ch->vertex[old];
         vuv[nw] = ch->vertex_uv[old];
-        corner_vertex[mc] = nw;
-        if (K->cut[ce]) glued[mc] = BP__NONE;
+        if (K->cut[ce]) glued[f3 + k] = BP__NONE;
+        if (k == 2) {                            /* the whole triangle at once */
+            uint32_t n0 = id[bp__uf_find(uf, ce - 2)], n1 = id[bp__uf_find(uf, ce - 1)];
+            corner_vertex[f3] = n0;
+            corner_vertex[f3 + 1] = flipped ? nw : n1;
+            corner_vertex[f3 + 2] = flipped ? n1 : nw;
+        }
     }
     for (ce = 0; ce < nc; ce++) ch->triangles[ce] = id[bp__uf_find(uf, ce)];
     bp__free(a, ch->vertex);
