@@ -173,6 +173,20 @@ for l in open(sys.argv[1]):
             if owner.setdefault(t, v) != v: sys.exit(1)
 EOF
 echo $?)" "cow flipped and cut: every vt of the output belongs to one v"
+    # three faces repeated at the end: the dropped copies take their twins'
+    # vt after the cut renumbered the twins' chart
+    (cat "$d/cow_novt.obj"; grep '^f ' "$d/cow_novt.obj" | sed -n '100p;2000p;4000p') >"$d/cow_dup.obj"
+    run "$d/cow_dup.obj" --json --max-iters 5 -o "$d/cow_dup_out.obj"
+    check "$([ "$(json "j['repairs']['duplicate']['count']")" = 3 ] && python3 - "$d/cow_dup_out.obj" <<'EOF'
+import sys
+owner = {}
+for l in open(sys.argv[1]):
+    if l.startswith('f '):
+        for c in l.split()[1:]:
+            v, t = c.split('/')[:2]
+            if owner.setdefault(t, v) != v: sys.exit(1)
+EOF
+echo $?)" "cow without vt, 3 faces repeated: 3 dropped, every vt of the output (copies too) belongs to one v"
     if [ -f "$uvcheck" ]; then
         python3 "$uvcheck" --compact "$d/cow_flip_out.obj" "$d/cow_novt.obj" >"$d/uvc.json"
         check "$?" "cow flipped and cut: uvcheck against the cow without vt passes ($(head -c 300 "$d/uvc.json"))"
