@@ -26,6 +26,9 @@ and record, per mesh:
               components of the output's vt triangles), by brute force over
               all pairs, times RES; "-" for a single chart.  Must be >= PX.
   border      the least distance of any vt from the edge of [0,1]^2, texels
+              (read from the file's vt, exact in double).  Must be >=
+              ceil(PX / 2): the packer keeps half the padding at the edge, so
+              the atlas tiled with wrap-around keeps PX texels across it.
   xatlas      xatlas's utilization at 1024 px / 4 px padding where measured
               (issue 14): spot, cow, torus_with_holes, fertility
   unseg       with ATLAS_BASELINE=1: the utilization of a second run with
@@ -234,7 +237,7 @@ def row(r):
     return "| %s | %d | %d | %d | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
         r["mesh"], r["V"], r["F"], r["charts"], r["cut_edges"], util, f("util_unsegmented", "%.3f"), f("E_SD", "%.3f"),
         f("wall", "%.1f"), f("cpu", "%.1f"), chk, "yes" if r["in01"] else "**NO**",
-        f("gap_texels", "%.2f"), f("border_texels", "%.2g"))
+        f("gap_texels", "%.2f"), f("border_texels", "%.6f"))
 
 
 def main():
@@ -254,7 +257,8 @@ def main():
             jl.flush()
             print(line, file=sys.stderr, flush=True)
             if ("charts" not in r or r.get("uvcheck_exit", 0) != 0 or not r.get("in01")
-                    or (r.get("gap_texels") is not None and r["gap_texels"] < pad)):
+                    or (r.get("gap_texels") is not None and r["gap_texels"] < pad)
+                    or (r.get("border_texels") is not None and r["border_texels"] < (pad + 1) // 2)):
                 bad += 1
     print("| mesh | V | F | charts | cut edges | utilization | unseg | E_SD | wall s | CPU s | uvcheck | UV in [0,1] | gap texels | border texels |")
     print("|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---|---:|---:|")

@@ -42,7 +42,9 @@
    Defects the library repairs (faces wound the other way, duplicate
    faces, edges of more than two faces, zero-area faces) get one line each
    on stderr ("bijparam: repaired: FILE: ..."; none with --quiet) and a
-   "repairs" object in --json; --strict makes each of them an error.
+   "repairs" object in --json; --strict makes each of them an error.  The
+   faces re-oriented are written with their corners in the repaired order
+   (corner 0, then the others reversed; "written_reordered" in --json).
 
    Exit status: 0 success, 1 input rejected or a step failed (one line on
    stderr: "bijparam: error: FILE:LINE: what" or "bijparam: error: FILE: what"),
@@ -721,8 +723,11 @@ typedef struct extra_report {
 /* "repairs": the defects the library mended (not --strict): per kind the
    count, the first elements numbered as the file does (triangles from 1;
    an edge as its two vertices from 1; a duplicate as [copy, kept]) and the
-   library's sentence naming them. */
-static void print_json_repairs(const bp_repair_report *r)
+   library's sentence naming them.  "flipped" also has "written_reordered":
+   how many of those triangles the output file lists with their corners in
+   the repaired order (all of them when a file was written, else 0): the
+   faces where OUT's winding differs from the input's. */
+static void print_json_repairs(const bp_repair_report *r, int written)
 {
     int k;
     uint32_t i;
@@ -737,7 +742,9 @@ static void print_json_repairs(const bp_repair_report *r)
             else
                 printf("%s%lld", i ? "," : "", (long long)p->first[i] + 1);
         }
-        printf("],\"message\":");
+        printf("]");
+        if (k == BP_REPAIR_FLIPPED) printf(",\"written_reordered\":%u", written ? (unsigned)p->count : 0u);
+        printf(",\"message\":");
         json_string(p->message);
         printf("}");
     }
@@ -762,7 +769,7 @@ static void print_json(const char *input, const char *output, bp_status status, 
     if (message) { printf(",\"error\":"); json_string(message); }
     printf(",\"charts\":%u,\"failed_charts\":%u,\"split_vertices\":%u,",
            (unsigned)atlas->num_charts, (unsigned)atlas->num_failed, (unsigned)atlas->num_split);
-    print_json_repairs(&atlas->repairs);
+    print_json_repairs(&atlas->repairs, output != NULL);
     printf(",\"per_chart\":[");
     for (c = 0; c < atlas->num_charts; c++) {
         const bp_chart *ch = atlas->charts + c;

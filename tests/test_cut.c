@@ -32,7 +32,10 @@
      - BP_CUT_NONE keeps the rejection (BP_ERR_TOPOLOGY naming the chart,
        the genus in the message);
      - the cut does not depend on the thread count (1 vs 2 threads: the
-       same charts, bit for bit the same map).
+       same charts, bit for bit the same map);
+     - junction moves (bp__cut_smooth, white box): a tree cut made here by
+       edge count on the closed cow gets strictly shorter in 3D and stays
+       a tree between the same three far vertices.
    Times and mean symmetric Dirichlet energies are printed (not asserted). */
 #define _POSIX_C_SOURCE 200809L
 #define BP_IMPLEMENTATION
@@ -569,6 +572,140 @@ static void test_importance(const bp_mesh *m)
     free(w);
 }
 
+
+/* ---- junction moves (bp__cut_smooth), white box ---------------------------
+
+   On the closed cow (genus 0, one chart built with BP_CUT_NONE), a cut is
+   made here as a tree: the paths from vertex 0 to three far-apart vertices
+   A0, A1, A2 in a shortest-path tree by *edge count* (not length), so its
+   junctions are in poor places and its pieces are not shortest in 3D.
+   bp__cut_smooth must then move at least one junction, make the cut
+   strictly shorter in 3D, and leave a tree (connected, edges = vertices -
+   1, counted here) whose leaves are among A0, A1, A2 and which still
+   reaches all three: a tree cut opens a sphere into a disk. */
+typedef struct ekey { uint32_t lo, hi, ce; } ekey;
+static int ekey_cmp(const void *pa, const void *pb)
+{
+    const ekey *a = (const ekey *)pa, *b = (const ekey *)pb;
+    if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
+    if (a->hi != b->hi) return a->hi < b->hi ? -1 : 1;
+    return (a->ce > b->ce) - (a->ce < b->ce);
+}
+
+static uint32_t uf_root(uint32_t *p, uint32_t x) { while (p[x] != x) x = p[x] = p[p[x]]; return x; }
+
+static void test_junction_moves(const bp_mesh *m)
+{
+    bp_atlas at;
+    bp_error err;
+    bp_options o;
+    bp_allocator a;
+    bp__cut K;
+    const bp_chart *ch;
+    uint32_t nt, nv, big, i, ce, A[3], moved, *glued, *deg, *uf, nedge = 0, nvert = 0, comps = 0, leaves_ok = 1, reach = 0;
+    double *ones, before = 0, after = 0;
+    ekey *ek;
+    unsigned char *src;
+    memset(&o, 0, sizeof o);
+    o.cut = BP_CUT_NONE;
+    o.threads = 1;
+    {   /* the cow and one open triangle: the triangle's chart keeps the atlas
+           (BP_ERR_CHARTS_FAILED) while the cow's stays closed and uncut */
+        bp_mesh tri = bpt_mesh_new(3, 1), both;
+        tri.positions[3] = 1; tri.positions[7] = 1;
+        tri.triangles[0] = 0; tri.triangles[1] = 1; tri.triangles[2] = 2;
+        tri.num_vertices = 3; tri.num_triangles = tri.num_faces = 1;
+        both = concat(m, &tri, 1000);
+        bpt_mesh_free(&tri);
+        bp_atlas_build(&at, &both, &o, &err);
+        bpt_mesh_free(&both);
+    }
+    if (!BPT_CHECK(at.num_charts == 2 && at.charts[0].num_loops == 0 && at.charts[0].error.status == BP_ERR_TOPOLOGY &&
+                   at.charts[0].num_triangles == m->num_triangles,
+                   "junction moves: the cow as one closed chart (%s)", err.message)) {
+        if (at.num_charts) bp_atlas_free(&at);
+        return;
+    }
+    ch = &at.charts[0];
+    a = at.allocator;
+    nt = ch->num_triangles; nv = ch->num_vertices; big = (3 * nt > nv ? 3 * nt : nv) + 1;
+    glued = (uint32_t *)malloc(3 * (size_t)m->num_triangles * sizeof(uint32_t));
+    ek = (ekey *)malloc(3 * (size_t)m->num_triangles * sizeof(ekey));
+    for (ce = 0; ce < 3 * m->num_triangles; ce++) {
+        uint32_t u = m->triangles[ce], v = m->triangles[ce - ce % 3 + (ce % 3 + 1) % 3];
+        ek[ce].lo = u < v ? u : v; ek[ce].hi = u < v ? v : u; ek[ce].ce = ce;
+        glued[ce] = BP__NONE;
+    }
+    qsort(ek, 3 * (size_t)m->num_triangles, sizeof *ek, ekey_cmp);
+    for (i = 0; i + 1 < 3 * m->num_triangles; i++)
+        if (ek[i].lo == ek[i + 1].lo && ek[i].hi == ek[i + 1].hi) { glued[ek[i].ce] = ek[i + 1].ce; glued[ek[i + 1].ce] = ek[i].ce; }
+    memset(&K, 0, sizeof K);
+    K.twin = (uint32_t *)malloc(3 * (size_t)nt * sizeof(uint32_t));
+    K.adj_start = (uint32_t *)malloc(((size_t)nv + 1) * sizeof(uint32_t));
+    K.adj = (uint32_t *)malloc(6 * (size_t)nt * sizeof(uint32_t));
+    K.len = (double *)malloc(6 * (size_t)nt * sizeof(double));
+    K.glen = K.len + 3 * (size_t)nt;
+    K.dist = (double *)malloc(nv * sizeof(double));
+    K.parent = (uint32_t *)malloc(nv * sizeof(uint32_t));
+    K.cut = (unsigned char *)calloc(3 * (size_t)nt, 1);
+    K.in_tree = (unsigned char *)calloc(3 * (size_t)nt, 1);
+    K.deg = (uint32_t *)malloc(nv * sizeof(uint32_t));
+    K.work = (uint32_t *)malloc(big * sizeof(uint32_t));
+    K.work2 = (uint32_t *)malloc(big * sizeof(uint32_t));
+    K.heap_d = (double *)malloc((6 * (size_t)nt + 1) * sizeof(double));
+    K.heap_v = (uint32_t *)malloc((6 * (size_t)nt + 1) * sizeof(uint32_t));
+    ones = (double *)malloc(3 * (size_t)nt * sizeof(double));
+    src = (unsigned char *)calloc(nv, 1);
+    BPT_CHECK(bp__cut_adjacency(&a, &K, ch, m, glued, NULL), "junction moves: adjacency");
+    for (ce = 0; ce < 3 * nt; ce++) ones[ce] = 1;
+    A[0] = bp__cut_dijkstra(&K, ch, K.glen, NULL, 0);
+    A[1] = bp__cut_dijkstra(&K, ch, K.glen, NULL, A[0]);
+    src[A[0]] = src[A[1]] = 1;
+    A[2] = bp__cut_dijkstra(&K, ch, K.glen, src, 0);
+    bp__cut_dijkstra(&K, ch, ones, NULL, 0);          /* the tree by edge count */
+    for (i = 0; i < 3; i++) {
+        uint32_t v = A[i];
+        while (v != 0 && K.parent[v] != BP__NONE) {
+            uint32_t e = K.parent[v];
+            bp__cut_mark(&K, e);
+            v = bp__ce_from(ch, e) == v ? bp__ce_to(ch, e) : bp__ce_from(ch, e);
+        }
+    }
+    for (ce = 0; ce < 3 * nt; ce++) if (K.cut[ce] && ce < K.twin[ce]) before += K.glen[ce];
+    {
+        int oom = 0;
+        moved = bp__cut_smooth(&a, &K, ch, &oom);
+        BPT_CHECK(!oom, "junction moves: scratch allocated");
+    }
+    deg = (uint32_t *)calloc(nv, sizeof(uint32_t));
+    uf = (uint32_t *)malloc(nv * sizeof(uint32_t));
+    for (i = 0; i < nv; i++) uf[i] = i;
+    for (ce = 0; ce < 3 * nt; ce++)
+        if (K.cut[ce] && ce < K.twin[ce]) {
+            uint32_t u = bp__ce_from(ch, ce), v = bp__ce_to(ch, ce);
+            after += K.glen[ce];
+            nedge++;
+            deg[u]++; deg[v]++;
+            if (uf_root(uf, u) != uf_root(uf, v)) uf[uf_root(uf, u)] = uf_root(uf, v);
+        }
+    for (i = 0; i < nv; i++)
+        if (deg[i]) {
+            nvert++;
+            comps += uf_root(uf, i) == i;
+            if (deg[i] == 1 && i != A[0] && i != A[1] && i != A[2]) leaves_ok = 0;
+        }
+    for (i = 0; i < 3; i++) reach += deg[A[i]] > 0;
+    BPT_CHECK(moved > 0 && after < before, "junction moves: %u junctions moved, the cut's 3D length %.6g -> %.6g (shorter)",
+              moved, before, after);
+    BPT_CHECK(comps == 1 && nedge == nvert - 1 && leaves_ok && reach == 3,
+              "junction moves: the cut is still one tree (%u component, %u edges on %u vertices) with its leaves among "
+              "the three far vertices, reaching all %u", comps, nedge, nvert, reach);
+    free(deg); free(uf); free(ones); free(src); free(glued); free(ek);
+    free(K.twin); free(K.adj_start); free(K.adj); free(K.len); free(K.dist); free(K.parent); free(K.cut);
+    free(K.in_tree); free(K.deg); free(K.work); free(K.work2); free(K.heap_d); free(K.heap_v);
+    bp_atlas_free(&at);
+}
+
 static int read_mesh(const char *path, bp_mesh *m)
 {
     bp_error err;
@@ -642,6 +779,7 @@ int main(void)
         expect_input("cow without vt", &m, 0, 0);
         run("cow without vt (closed, genus 0)", &m, 2, 100000);
         test_importance(&m);
+        test_junction_moves(&m);
         m.corner_uv = keep;
         run_iters("cow with its vt seam (one disk)", &m, 0, 0, 100);
         bp_mesh_free(&m, NULL);

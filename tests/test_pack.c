@@ -6,6 +6,10 @@
    - padding: the smallest distance between boundary segments of two
      different charts, over all pairs, is at least padding / RES (and > 0
      with padding 0);
+   - border: every uv is at least ceil(padding / 2) / RES from each edge
+     of the square (min(u, 1 - u, v, 1 - v) over all uvs, exact in double:
+     no tolerance), so the atlas tiled with wrap-around keeps the padding
+     across its edges too;
    - no overlap: every triangle positively oriented (exact orient2d), and no
      vertex of one chart inside or on a triangle of another, which with
      disjoint boundaries rules out any overlap; and the library's own exact
@@ -105,14 +109,17 @@ static void check_atlas(const char *what, const bp_atlas *at, int res, int pad, 
 {
     uint32_t c, d, i, t, e, f, bad_range = 0, flipped = 0, inside = 0;
     uint32_t **be = (uint32_t **)calloc(at->num_charts, sizeof *be), *nb = (uint32_t *)calloc(at->num_charts, sizeof *nb);
-    double mind = HUGE_VAL, area = 0, rmin = HUGE_VAL, rmax = 0;
+    double mind = HUGE_VAL, area = 0, rmin = HUGE_VAL, rmax = 0, border = HUGE_VAL, want_border = ((pad + 1) / 2) / (double)res;
     bp_error err;
     for (c = 0; c < at->num_charts; c++) {
         const bp_chart *ch = &at->charts[c];
         double ca = 0;
         if (!ch->uv) continue;
-        for (i = 0; i < 2 * ch->num_vertices; i++)
+        for (i = 0; i < 2 * ch->num_vertices; i++) {
             if (!(ch->uv[i] >= 0 && ch->uv[i] <= 1)) bad_range++;
+            if (ch->uv[i] < border) border = ch->uv[i];
+            if (1 - ch->uv[i] < border) border = 1 - ch->uv[i];
+        }
         for (t = 0; t < ch->num_triangles; t++) {
             const double *p0 = ch->uv + 2 * ch->triangles[3 * t], *p1 = ch->uv + 2 * ch->triangles[3 * t + 1], *p2 = ch->uv + 2 * ch->triangles[3 * t + 2];
             if (bp_orient2d(p0, p1, p2) <= 0) flipped++;
@@ -149,6 +156,8 @@ static void check_atlas(const char *what, const bp_atlas *at, int res, int pad, 
                   what, mind, pad, res, pad / (double)res);
     else
         BPT_CHECK(mind > 0, "%s: charts apart with padding 0 (distance %.3g)", what, mind);
+    BPT_CHECK(border >= want_border, "%s: every uv %.9g texels or more from the edge of the square (>= ceil(%d / 2))",
+              what, border * res, pad);
     BPT_CHECK(bp__atlas_verify(at, &err) == BP_OK, "%s: the whole atlas passes the exact check", what);
     BPT_CHECK(fabs(at->utilization - area) <= 1e-12 * area, "%s: utilization %.15g == shoelace area %.15g", what,
               at->utilization, area);

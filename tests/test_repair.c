@@ -619,6 +619,243 @@ static void test_alloc_failures(void)
     bp_mesh_free(&m, NULL);
 }
 
+
+/* ---- the writers and re-oriented faces ------------------------------------
+
+   A closed box of 6 x 3 x 3 quads with a vn per face, written as OBJ text,
+   every quad whose index is 1 mod 3 (a minority) wound the other way, and
+   the last face of each side given as two triangles: the repair re-orients
+   them, and the automatic cut opens the closed box (the cut renumbers the
+   chart vertices of re-oriented triangles too).  Both writers are read
+   back here, as text, and each output face is checked against the input
+   face it comes from:
+     - its corners are the input's corners (v, and vn for bp_write_obj_from,
+       as written): the same order for a face kept, corner 0 and then the
+       rest reversed for a re-oriented one -- a permutation, never an
+       altered triple -- or, when the writer split a polygon into its fan
+       triangles (a seam along a diagonal), each line a subset of them;
+     - every fan triangle of every output line is counter-clockwise in its
+       written vt (exact orient2d on the parsed coordinates), so the faces
+       agree with their uvs as an outside checker sees them;
+     - every vt is used with one v only;
+     - the faces reversed are exactly the ones damaged here. */
+static void box_obj(char *buf, size_t cap, uint32_t *nflipped_tris)
+{
+    size_t n = 0;
+    int side, i, j, q = 0;
+    uint32_t nv = 0;
+    *nflipped_tris = 0;
+    n += (size_t)snprintf(buf + n, cap - n, "# a closed box of quads, some wound the other way\n");
+    /* the vertices: the 4 x 4 x 4 lattice points on the surface; side s
+       lies at coordinate a = s / 2 equal to 0 (s even) or 3 (s odd), its
+       quads in the (u, w) = (a + 1, a + 2) plane, counter-clockwise seen
+       from outside */
+    {
+        int x, y, z;
+        int id[4][4][4];
+        for (x = 0; x < 4; x++)
+            for (y = 0; y < 4; y++)
+                for (z = 0; z < 4; z++) {
+                    id[x][y][z] = 0;
+                    if (x == 0 || x == 3 || y == 0 || y == 3 || z == 0 || z == 3) {
+                        id[x][y][z] = (int)++nv;
+                        n += (size_t)snprintf(buf + n, cap - n, "v %d %d %d\n", x, y, z);
+                    }
+                }
+        for (side = 0; side < 6; side++)
+            n += (size_t)snprintf(buf + n, cap - n, "vn %d %d %d\n", side == 0 ? -1 : side == 1 ? 1 : 0,
+                                  side == 2 ? -1 : side == 3 ? 1 : 0, side == 4 ? -1 : side == 5 ? 1 : 0);
+        for (side = 0; side < 6; side++)
+            for (i = 0; i < 3; i++)
+                for (j = 0; j < 3; j++, q++) {
+                    int c[4][3], k, a = side / 2, fixed = side % 2 ? 3 : 0, u = (a + 1) % 3, w = (a + 2) % 3, fl;
+                    int corner[4], ord[4];
+                    for (k = 0; k < 4; k++) {
+                        c[k][a] = fixed;
+                        c[k][u] = i + (k == 1 || k == 2);
+                        c[k][w] = j + (k >= 2);
+                        corner[k] = id[c[k][0]][c[k][1]][c[k][2]];
+                    }
+                    /* outward: (u, w) counter-clockwise seen from outside when the side is at 3 */
+                    for (k = 0; k < 4; k++) ord[k] = side % 2 ? k : (4 - k) % 4;
+                    fl = q % 3 == 1;
+                    if (fl) { int t = ord[1]; ord[1] = ord[3]; ord[3] = t; *nflipped_tris += 2; }
+                    if (i == 2 && j == 2) {      /* the last of each side as two triangles */
+                        n += (size_t)snprintf(buf + n, cap - n, "f %d//%d %d//%d %d//%d\nf %d//%d %d//%d %d//%d\n",
+                                              corner[ord[0]], side + 1, corner[ord[1]], side + 1, corner[ord[2]], side + 1,
+                                              corner[ord[0]], side + 1, corner[ord[2]], side + 1, corner[ord[3]], side + 1);
+                    } else {
+                        n += (size_t)snprintf(buf + n, cap - n, "f %d//%d  %d//%d %d//%d\t%d//%d # quad %d\n",
+                                              corner[ord[0]], side + 1, corner[ord[1]], side + 1, corner[ord[2]], side + 1,
+                                              corner[ord[3]], side + 1, q + 1);
+                    }
+                }
+    }
+}
+
+typedef struct face_line { int n; char v[8][16], vn[8][16]; long vt[8]; } face_line;
+
+/* The f lines (corners split into v, vt, vn text) and vt lines of OBJ text. */
+static int read_faces(const char *path, face_line *f, int cap, double *vt, int vcap, int *nvt)
+{
+    FILE *fp = fopen(path, "rb");
+    char line[512];
+    int n = 0;
+    *nvt = 0;
+    if (!fp) return -1;
+    while (fgets(line, sizeof line, fp)) {
+        if (!strncmp(line, "vt ", 3) && *nvt < vcap) {
+            char *e;
+            vt[2 * *nvt] = strtod(line + 3, &e);
+            vt[2 * *nvt + 1] = strtod(e, NULL);
+            (*nvt)++;
+        } else if (!strncmp(line, "f ", 2) && n < cap) {
+            char *tok, *save = NULL, *hash = strchr(line, '#');
+            face_line *F = &f[n++];
+            if (hash) *hash = 0;
+            F->n = 0;
+            for (tok = strtok_r(line + 2, " \t\r\n", &save); tok && F->n < 8; tok = strtok_r(NULL, " \t\r\n", &save)) {
+                char *s1 = strchr(tok, '/'), *s2 = s1 ? strchr(s1 + 1, '/') : NULL;
+                F->vt[F->n] = s1 && s1[1] != '/' && s1[1] ? strtol(s1 + 1, NULL, 10) : 0;
+                if (s1) *s1 = 0;
+                snprintf(F->v[F->n], sizeof F->v[0], "%s", tok);
+                snprintf(F->vn[F->n], sizeof F->vn[0], "%s", s2 ? s2 + 1 : "");
+                F->n++;
+            }
+        }
+    }
+    fclose(fp);
+    return n;
+}
+
+static int corner_in(const face_line *in, const face_line *out, int k, int with_vn)
+{
+    int i;
+    for (i = 0; i < in->n; i++)
+        if (!strcmp(in->v[i], out->v[k]) && (!with_vn || !strcmp(in->vn[i], out->vn[k]))) return i;
+    return -1;
+}
+
+static void check_written(const char *what, const char *in_path, const char *out_path, int with_vn,
+                          const unsigned char *damaged)
+{
+    static face_line in[256], out[512];
+    static double vt[2 * 4096];
+    static char vt_v[4096][16];
+    int nin, nout, nvt, nvt_in, i, o = 0, k, bad_perm = 0, bad_rev = 0, negative = 0, shared = 0, reversed = 0;
+    double dummy[2];
+    nin = read_faces(in_path, in, 256, dummy, 0, &nvt_in);
+    nout = read_faces(out_path, out, 512, vt, 4096, &nvt);
+    if (!BPT_CHECK(nin > 0 && nout >= nin && nvt > 0 && nvt <= 4096, "%s: read back (%d faces in, %d out, %d vt)",
+                   what, nin, nout, nvt))
+        return;
+    for (i = 0; i < nvt; i++) vt_v[i][0] = 0;
+    for (i = 0; i < nout; i++)
+        for (k = 0; k < out[i].n; k++) {
+            long t = out[i].vt[k];
+            if (t < 1 || t > nvt) { negative++; continue; }
+            if (!vt_v[t - 1][0]) snprintf(vt_v[t - 1], sizeof vt_v[0], "%s", out[i].v[k]);
+            else if (strcmp(vt_v[t - 1], out[i].v[k])) shared++;
+        }
+    for (i = 0; i < nout; i++)                  /* every fan triangle counter-clockwise */
+        for (k = 1; k + 1 < out[i].n; k++) {
+            long a = out[i].vt[0], b = out[i].vt[k], c = out[i].vt[k + 1];
+            if (a < 1 || b < 1 || c < 1 || a > nvt || b > nvt || c > nvt ||
+                bp_orient2d(vt + 2 * (a - 1), vt + 2 * (b - 1), vt + 2 * (c - 1)) <= 0)
+                negative++;
+        }
+    for (i = 0; i < nin; i++) {
+        int tris = 0, rev = -1;
+        while (tris < in[i].n - 2 && o < nout) {
+            const face_line *F = &out[o++];
+            int m[8];
+            tris += F->n - 2;
+            for (k = 0; k < F->n; k++)
+                if ((m[k] = corner_in(&in[i], F, k, with_vn)) < 0) bad_perm++;
+            if (F->n == in[i].n) {               /* one line: the same order, or reversed after corner 0 */
+                int same = 1, back = 1;
+                for (k = 0; k < F->n; k++) {
+                    same &= m[k] == k;
+                    back &= m[k] == (k ? F->n - k : 0);
+                }
+                if (!same && !back) bad_perm++;
+                rev = back && !same;
+            } else if (F->n == 3 && m[0] == 0 && m[1] > 0 && m[2] > 0 && (m[2] == m[1] + 1 || m[1] == m[2] + 1)) {
+                int back = m[1] == m[2] + 1;     /* fan triangle (0, j+1, j+2), or reversed */
+                if (rev >= 0 && rev != back) bad_perm++;   /* one face, one orientation */
+                rev = back;
+            } else {
+                bad_perm++;
+            }
+        }
+        if (tris != in[i].n - 2) bad_perm++;
+        if (rev == 1) reversed++;
+        if ((rev == 1) != (damaged[i] != 0)) bad_rev++;
+    }
+    BPT_CHECK(o == nout && bad_perm == 0, "%s: every output line's corners are its input face's corners "
+              "(v%s as written), in the same order or reversed after corner 0 (%d not; %d of %d lines used)",
+              what, with_vn ? " and vn" : "", bad_perm, o, nout);
+    BPT_CHECK(negative == 0, "%s: every written fan triangle is counter-clockwise in its vt, exact (%d not)", what,
+              negative);
+    BPT_CHECK(shared == 0, "%s: every vt belongs to one v (%d corners disagree)", what, shared);
+    BPT_CHECK(bad_rev == 0, "%s: the faces written reversed (%d) are exactly the ones wound the other way (%d differ)",
+              what, reversed, bad_rev);
+}
+
+static void test_write_reoriented(void)
+{
+    static char text[65536];
+    const char *src = "/tmp/bptest_repair_box.obj", *o1 = "/tmp/bptest_repair_box_from.obj",
+               *o2 = "/tmp/bptest_repair_box_plain.obj";
+    unsigned char damaged[256];
+    uint32_t nflip, i;
+    int nin = 0, q = 0;
+    FILE *fp;
+    bp_mesh m;
+    bp_atlas at;
+    bp_error err;
+    bp_options o = options(0);
+    bp_status st;
+    memset(&at, 0, sizeof at);
+    box_obj(text, sizeof text, &nflip);
+    fp = fopen(src, "wb");
+    if (!BPT_CHECK(fp && fputs(text, fp) >= 0 && fclose(fp) == 0, "write the box to %s", src)) return;
+    /* which input faces are damaged: quad q with q % 3 == 1; the split last
+       quad of a side is two faces */
+    {
+        int side, ij;
+        for (side = 0; side < 6; side++)
+            for (ij = 0; ij < 9; ij++, q++) {
+                damaged[nin++] = q % 3 == 1;
+                if (ij == 8) damaged[nin++] = q % 3 == 1;
+            }
+    }
+    if (!BPT_CHECK(bp_read_obj(src, &m, NULL, &err) == BP_OK, "read the box (%s)", err.message)) return;
+    st = bp_parameterize(&at, &m, &o, &err);
+    if (BPT_CHECK(st == BP_OK && all_valid(&at), "box with re-wound faces: parameterized, valid (%s)", err.message)) {
+        unsigned char *fl = (unsigned char *)malloc(m.num_triangles);
+        uint32_t cut = 0;
+        for (i = 0; i < at.num_charts; i++) cut += at.charts[i].cut_edges;
+        BPT_CHECK(at.repairs.kind[BP_REPAIR_FLIPPED].count == nflip && cut > 0,
+                  "box: %u triangles re-oriented (want %u), and cut along %u edges", at.repairs.kind[BP_REPAIR_FLIPPED].count,
+                  nflip, cut);
+        BPT_CHECK(corners_consistent(&at, &m, fl), "box: corners consistent with the charts after the cut");
+        BPT_CHECK(strstr(at.repairs.kind[BP_REPAIR_FLIPPED].message, "corners in that order") != NULL,
+                  "box: the repair message says how the writers write them (\"%s\")",
+                  at.repairs.kind[BP_REPAIR_FLIPPED].message);
+        free(fl);
+        st = bp_write_obj_from(o1, src, &m, &at, &err);
+        if (BPT_CHECK(st == BP_OK, "box: bp_write_obj_from (%s)", err.message))
+            check_written("bp_write_obj_from", src, o1, 1, damaged);
+        st = bp_write_obj(o2, &m, &at, &err);
+        if (BPT_CHECK(st == BP_OK, "box: bp_write_obj (%s)", err.message))
+            check_written("bp_write_obj", src, o2, 0, damaged);
+    }
+    bp_atlas_free(&at);
+    bp_mesh_free(&m, NULL);
+    remove(src); remove(o1); remove(o2);
+}
+
 int main(void)
 {
     bp_mesh clean;
@@ -641,6 +878,7 @@ int main(void)
     test_fins();
     test_cones();
     test_obj_file();
+    test_write_reoriented();
     test_degenerate_scaled();
     test_alloc_failures();
     return bpt_finish();

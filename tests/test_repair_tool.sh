@@ -9,9 +9,20 @@
 #   with --quiet; every f line of the output has a vt on each corner.
 # - --strict: exit 1, nothing written, the error names the element.
 # - camel_b with every second face flipped: 1788 re-oriented (a tie: the
-#   first face's orientation wins), first faces 2 4 6 8.
-# - spot with every 7th face flipped: after swapping those f lines back, the
-#   output is the clean output byte for byte (vt of every corner right).
+#   first face's orientation wins), first faces 2 4 6 8.  The output is
+#   written with those faces' corners in the repaired order, so the
+#   independent checker passes it against the consistently wound camel_b
+#   (exit 0: bijective, every face's corners those of camel_b's face, up
+#   to rotation), and against the damaged input it finds exactly the 1788
+#   re-oriented faces reversed; every f line's corners are a permutation
+#   of the input line's v/vt/vn triples.
+# - the cow without its vt (closed: the automatic cut) and every third face
+#   flipped: the same against the cow without vt, and every vt of the
+#   output belongs to one v (the cut renumbers re-oriented triangles).
+# - spot with every 7th face flipped: the output is the clean output byte
+#   for byte (the re-oriented faces come back in the clean file's order,
+#   with the vt of every corner right).
+# uvcheck is ../shared/tools/uvcheck.py (a failed check without it).
 # The validity of repaired maps is proven exactly in test_repair.c.
 # Prints "BPTEST <passed> <failed>" last.  Run from the repository root.
 set -u
@@ -93,12 +104,35 @@ check "$([ "$(rc)" = 1 ] && [ "$(json "j['status']")" = "two triangles use the s
          json "j['error']" | grep -q 'triangle 1 (line 10) and triangle 5 (line 14)'; echo $?)" \
     "--strict --json: the duplicate is the error, naming both faces ($(json "j.get('error')"))"
 
+uvcheck=../shared/tools/uvcheck.py
 # camel_b, every second face flipped
 if [ -f tests/data/camel_b.obj ]; then
     awk '/^f /{n++; if (n % 2 == 0) { print $1, $2, $4, $3; next } } {print}' tests/data/camel_b.obj >"$d/camel_flip.obj"
     run "$d/camel_flip.obj" --json --max-iters 50
     check "$([ "$(rc)" = 0 ] && [ "$(json "j['repairs']['flipped']['count'], j['repairs']['flipped']['first']")" = "1788 [2, 4, 6, 8]" ]; echo $?)" \
         "camel_b, every second face flipped: 1788 re-oriented, first 2 4 6 8 ($(json "j['repairs']['flipped']"))"
+    run "$d/camel_flip.obj" --json --max-iters 50 -o "$d/camel_flip_out.obj"
+    check "$(python3 - "$d/camel_flip.obj" "$d/camel_flip_out.obj" <<'EOF'
+import sys
+fi = [l.split()[1:] for l in open(sys.argv[1]) if l.startswith('f ')]
+fo = [l.split()[1:] for l in open(sys.argv[2]) if l.startswith('f ')]
+strip = lambda c: (c.split('/')[0], c.split('/')[2] if c.count('/') == 2 else '')
+ok = len(fi) == len(fo) and all(sorted(map(strip, a)) == sorted(map(strip, b)) for a, b in zip(fi, fo))
+rev = sum(1 for a, b in zip(fi, fo) if list(map(strip, a)) != list(map(strip, b)))
+sys.exit(0 if ok and rev == 1788 else 1)
+EOF
+echo $?)" "camel_b flipped: every output f line is a permutation of the input's v/vn, 1788 lines reordered"
+    check "$([ "$(json "j['repairs']['flipped']['written_reordered']")" = 1788 ]; echo $?)" \
+        "camel_b flipped, written: --json says 1788 written reordered ($(json "j['repairs']['flipped']"))"
+    if [ -f "$uvcheck" ]; then
+        python3 "$uvcheck" --compact "$d/camel_flip_out.obj" tests/data/camel_b.obj >"$d/uvc.json"
+        check "$?" "camel_b flipped: uvcheck against the consistently wound camel_b passes ($(head -c 300 "$d/uvc.json"))"
+        python3 "$uvcheck" --compact "$d/camel_flip_out.obj" "$d/camel_flip.obj" >"$d/uvc.json"
+        check "$(python3 -c "import json; j=json.load(open('$d/uvc.json')); g=j['geometry_match']; v=j['validity']; print(0 if g['mismatched_faces'] == 1788 and v['flipped_triangles'] == 0 else 1)")" \
+            "camel_b flipped: against the damaged input, uvcheck sees exactly the 1788 re-oriented faces reversed, none flipped"
+    else
+        check 1 "$uvcheck exists"
+    fi
     run "$d/camel_flip.obj" --json --strict --max-iters 50
     check "$([ "$(rc)" = 1 ] && json "j['error']" | grep -q 'orientations disagree'; echo $?)" \
         "camel_b flipped, --strict: rejected ($(json "j.get('error')"))"
@@ -116,11 +150,49 @@ if [ -f tests/data/spot.obj ]; then
     check "$([ "$(rc)" = 0 ] && [ "$(json "j['repairs']['flipped']['count'], j['repairs']['total'], j['charts']")" = "837 837 13" ]; echo $?)" \
         "spot with 837 faces flipped: 837 re-oriented, 13 charts ($(json "j['repairs']['flipped']['count'], j['charts']"))"
     run tests/data/spot.obj -q -o "$d/spot_clean.obj"
-    flip7 "$d/spot_flip_out.obj" >"$d/spot_unflip.obj"
-    check "$(cmp -s "$d/spot_unflip.obj" "$d/spot_clean.obj"; echo $?)" \
-        "spot flipped and repaired: with the flipped f lines swapped back, the output is the clean output byte for byte"
+    check "$(cmp -s "$d/spot_flip_out.obj" "$d/spot_clean.obj"; echo $?)" \
+        "spot flipped and repaired: the output is the clean output byte for byte (re-oriented faces in the clean order)"
 else
     check 1 "tests/data/spot.obj exists"
+fi
+
+# the cow without vt (closed: cut automatically), every third face flipped
+if [ -f tests/data/cow_param_withSUV.obj ]; then
+    sed -e '/^vt /d' -e '/^vn /d' -e 's|/[0-9/]*||g' tests/data/cow_param_withSUV.obj >"$d/cow_novt.obj"
+    awk '/^f /{n++; if (n % 3 == 0) { print $1, $2, $4, $3; next } } {print}' "$d/cow_novt.obj" >"$d/cow_flip.obj"
+    run "$d/cow_flip.obj" --json --max-iters 30 -o "$d/cow_flip_out.obj"
+    check "$([ "$(rc)" = 0 ] && [ "$(json "j['repairs']['flipped']['count'], j['per_chart'][0]['cut_edges'] > 0")" = "1934 True" ]; echo $?)" \
+        "cow without vt, every third face flipped: 1934 re-oriented and cut ($(json "j['repairs']['flipped']['count']"))"
+    check "$(python3 - "$d/cow_flip_out.obj" <<'EOF'
+import sys
+owner = {}
+for l in open(sys.argv[1]):
+    if l.startswith('f '):
+        for c in l.split()[1:]:
+            v, t = c.split('/')[:2]
+            if owner.setdefault(t, v) != v: sys.exit(1)
+EOF
+echo $?)" "cow flipped and cut: every vt of the output belongs to one v"
+    # three faces repeated at the end: the dropped copies take their twins'
+    # vt after the cut renumbered the twins' chart
+    (cat "$d/cow_novt.obj"; grep '^f ' "$d/cow_novt.obj" | sed -n '100p;2000p;4000p') >"$d/cow_dup.obj"
+    run "$d/cow_dup.obj" --json --max-iters 5 -o "$d/cow_dup_out.obj"
+    check "$([ "$(json "j['repairs']['duplicate']['count']")" = 3 ] && python3 - "$d/cow_dup_out.obj" <<'EOF'
+import sys
+owner = {}
+for l in open(sys.argv[1]):
+    if l.startswith('f '):
+        for c in l.split()[1:]:
+            v, t = c.split('/')[:2]
+            if owner.setdefault(t, v) != v: sys.exit(1)
+EOF
+echo $?)" "cow without vt, 3 faces repeated: 3 dropped, every vt of the output (copies too) belongs to one v"
+    if [ -f "$uvcheck" ]; then
+        python3 "$uvcheck" --compact "$d/cow_flip_out.obj" "$d/cow_novt.obj" >"$d/uvc.json"
+        check "$?" "cow flipped and cut: uvcheck against the cow without vt passes ($(head -c 300 "$d/uvc.json"))"
+    fi
+else
+    check 1 "tests/data/cow_param_withSUV.obj exists"
 fi
 
 echo "BPTEST $passed $failed"
