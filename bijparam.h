@@ -8832,7 +8832,8 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
    positive semidefinite part of the barrier's, and hands v to the same
    step bound, line search and exact checks as every other direction (the
    first trial step is 1, clipped at 0.9 of the bound), so every iterate
-   stays bijective.  H is positive semidefinite by construction; the shift
+   stays bijective (and after an accepted full step, longer ones are
+   tried: below).  H is positive semidefinite by construction; the shift
    delta = 1e-8 mean diag(H) makes it definite (translations, and the
    rotation of a chart at a rotation-invariant minimum, are exact null
    directions).  If the factorization still meets a pivot that is not
@@ -8878,7 +8879,21 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
    Pins (>>pins) are fixed variables here too: a held vertex's rows and
    columns are those of the identity (bp__newton_pins), its right-hand side
    is 0, and the direction is exactly 0 there; the homotopy's pull adds its
-   own curvature 2 w to the pinned diagonal. */
+   own curvature 2 w to the pinned diagonal.
+
+   Two things make an iteration go further for its factorization (docs/
+   performance.md sec 6.2): a full step accepted at once is followed by
+   longer trial steps t = 2, 4, ... (bp__opt_extend, >>optimize), since the
+   quadratic model of a crushed triangle's 1/s^2 stops far short of the
+   line's minimum; and near the minimum the factor of an earlier H
+   preconditions conjugate gradients on the current one instead of a new
+   factorization (bp__newton_reuse_solve, below).  Even so an iteration
+   costs 10-300 L-BFGS ones, and measured on issue 15's ten meshes Newton
+   reaches SCAF's energy sooner than the preconditioned L-BFGS only on face
+   (13.4 against 17.5 CPU seconds), ties on camel_b, is 1.1-5.3x later on
+   seven others and does not get there on lucy (240 s), so the default stays
+   BP_DIRECTION_PRECONDITIONED; bench/scaf_ratio.py (make bench-scaf)
+   repeats the comparison. */
 
 #ifndef BP__NEWTON_BARRIER
 #define BP__NEWTON_BARRIER 3
