@@ -26,6 +26,10 @@
 #                     iterations, energy, bytes per face, exact checks
 #   make bench-atlas  bench/atlas.sh: every mesh through --atlas 1024
 #                     --padding 4, checked by uvcheck (~5 min; not in bench)
+#   make bench-scaf   bench/scaf_ratio.py: issue 15's table, time to SCAF's
+#                     energy x 1.001 per --direction, one thread (~10 min of
+#                     CPU on an idle machine, far more on a busy one; not in
+#                     bench)
 #   make clean        remove build/
 #
 # Every program includes bijparam.h, so every program depends on it.
@@ -63,7 +67,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -171,6 +175,11 @@ bench-scale: $(TOOL)
 # energy, time, exact check, padding (docs/results.md, "Atlas")
 bench-atlas: $(TOOL)
 	bash bench/atlas.sh
+
+# issue 15's table: CPU seconds to SCAF's final energy x 1.001, one thread,
+# for SCAF_DIRECTIONS (default "precond newton"); docs/performance.md 6.2
+bench-scaf: $(TOOL)
+	python3 bench/scaf_ratio.py
 
 clean:
 	rm -rf $(BUILD)

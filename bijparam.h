@@ -9331,7 +9331,8 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
    positive semidefinite part of the barrier's, and hands v to the same
    step bound, line search and exact checks as every other direction (the
    first trial step is 1, clipped at 0.9 of the bound), so every iterate
-   stays bijective.  H is positive semidefinite by construction; the shift
+   stays bijective (and after an accepted full step, longer ones are
+   tried: below).  H is positive semidefinite by construction; the shift
    delta = 1e-8 mean diag(H) makes it definite (translations, and the
    rotation of a chart at a rotation-invariant minimum, are exact null
    directions).  If the factorization still meets a pivot that is not
@@ -9377,7 +9378,21 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
    Pins (>>pins) are fixed variables here too: a held vertex's rows and
    columns are those of the identity (bp__newton_pins), its right-hand side
    is 0, and the direction is exactly 0 there; the homotopy's pull adds its
-   own curvature 2 w to the pinned diagonal. */
+   own curvature 2 w to the pinned diagonal.
+
+   Two things make an iteration go further for its factorization (docs/
+   performance.md sec 6.2): a full step accepted at once is followed by
+   longer trial steps t = 2, 4, ... (bp__opt_extend, >>optimize), since the
+   quadratic model of a crushed triangle's 1/s^2 stops far short of the
+   line's minimum; and near the minimum the factor of an earlier H
+   preconditions conjugate gradients on the current one instead of a new
+   factorization (bp__newton_reuse_solve, below).  Even so an iteration
+   costs 10-300 L-BFGS ones, and measured on issue 15's ten meshes Newton
+   reaches SCAF's energy sooner than the preconditioned L-BFGS only on face
+   (13.4 against 17.5 CPU seconds), ties on camel_b, is 1.1-5.3x later on
+   seven others and does not get there on lucy (240 s), so the default stays
+   BP_DIRECTION_PRECONDITIONED; bench/scaf_ratio.py (make bench-scaf)
+   repeats the comparison. */
 
 #ifndef BP__NEWTON_BARRIER
 #define BP__NEWTON_BARRIER 3
@@ -9397,6 +9412,7 @@ typedef struct bp__newton {
     bp__sparse H;                 /* 2nv x 2nv, full symmetric pattern      */
     bp__factor F;
     int        factored;          /* ordering and pattern of L are known    */
+    int        fvalid;            /* F holds the factor of an earlier H     */
     uint32_t  *tpos;              /* 36 per triangle: its entries in H.val  */
     uint32_t  *dpos;              /* 4 per vertex: its 2x2 diagonal block   */
     double    *ht;                /* 36 per triangle: its Hessian           */
@@ -9406,7 +9422,13 @@ typedef struct bp__newton {
     bp__vec    pairs;             /* bp__bpair: the barrier's pairs at x     */
     bp__vec    extra;             /* vertex couplings added to the pattern   */
     bp__vec    near;              /* bp__bpair: pairs within 3 eps at x      */
-    int        since_grow;        /* factorizations since the pattern grew   */
+    int        since_grow;        /* directions since the pattern grew       */
+    int        reused, cut;       /* consecutive reuses of F; the last line
+                                     search had to shrink its first step     */
+    long       nfact, nreuse, ncg, ntry; /* factorizations, directions from a
+                                     reused factor, CG steps, reuse attempts
+                                     (counts for tests and measurements)     */
+    double    *w;                 /* CG: F^-1 r                              */
     int        oom;
     bp__solver *S;                /* for the chunk tasks                    */
     const double *x;
@@ -9421,7 +9443,7 @@ static void bp__newton_free(const bp_allocator *a, bp__newton *N)
     bp__factor_free(a, &N->F);
     bp__free(a, N->tpos); bp__free(a, N->dpos); bp__free(a, N->ht); bp__free(a, N->bd);
     bp__free(a, N->rhs); bp__free(a, N->z);
-    bp__free(a, N->r); bp__free(a, N->p); bp__free(a, N->q); bp__free(a, N->pairs.data);
+    bp__free(a, N->r); bp__free(a, N->p); bp__free(a, N->q); bp__free(a, N->w); bp__free(a, N->pairs.data);
     bp__free(a, N->extra.data); bp__free(a, N->near.data);
     memset(N, 0, sizeof *N);
 }
@@ -9471,6 +9493,7 @@ static bp_status bp__newton_pattern(bp__newton *N, const bp_allocator *a, bp__so
     bp__sparse_free(a, &N->H);
     bp__factor_free(a, &N->F);
     N->factored = 0;
+    N->fvalid = 0;
     N->H.symmetric = 1;
     if (!bp__sparse_from_triplets(a, n, tr, nt, &N->H)) { bp__free(a, tr); return BP_ERR_OUT_OF_MEMORY; }
     bp__free(a, tr);
@@ -9500,7 +9523,8 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
     N->r = (double *)bp__alloc_array(a, n, sizeof(double));
     N->p = (double *)bp__alloc_array(a, n, sizeof(double));
     N->q = (double *)bp__alloc_array(a, n, sizeof(double));
-    if (!N->tpos || !N->dpos || !N->ht || !N->bd || !N->rhs || !N->z || !N->r || !N->p || !N->q ||
+    N->w = (double *)bp__alloc_array(a, n, sizeof(double));
+    if (!N->tpos || !N->dpos || !N->ht || !N->bd || !N->rhs || !N->z || !N->r || !N->p || !N->q || !N->w ||
         bp__newton_pattern(N, a, S) != BP_OK) {
         bp__newton_free(a, N);
         return BP_ERR_OUT_OF_MEMORY;
@@ -9779,29 +9803,138 @@ static void bp__newton_pcg(bp__newton *N, uint32_t nv, const double *b, double *
     }
 }
 
-/* v = -(H + delta I)^-1 g at x, *gv = g.v.  Returns 1; 0 when H could
-   not be factored or v is not a descent direction (the caller then takes
-   -g); -1 out of memory. */
+/* Factor reuse.  The factorization is most of an iteration's cost, and
+   near the minimum (or along a long valley) H changes little from one
+   iterate to the next.  So the factor F of an earlier H serves as the
+   preconditioner of conjugate gradients on the current system
+       (H + delta I) v = -g,
+   started from v = 0: the first step is F^-1 (-g) scaled to minimize the
+   quadratic model m(v) = g.v + v.(H + delta I) v / 2 along it, and every
+   later one minimizes m over a larger Krylov space, so m(v) < m(0) = 0 and
+   hence g.v < -v.(H + delta I) v / 2 < 0: every CG iterate is a descent
+   direction (a truncated Newton step).  CG stops when its steps stop
+   lowering m (the test below).  Not by the residual in F's norm, r.F^-1 r
+   <= eta^2 g.F^-1 g, the usual forcing term: measured on camel_b
+   (tests/test_newton.c (h)), where the step grew some crushed triangles
+   F is far stiffer than H along them, that norm all but ignores them, and
+   CG "converged" at half of the model's decrease.  No cheap test inside
+   CG sees that (Nash & Sofer's, below, was fooled the same way), so the
+   factor is reused only where H changes slowly: when the last step was the
+   full step t = 1 (not shrunk, not clipped by the bound, not extended) and
+   its decrease f - f(x + v) was within [rho, 1/rho] of the decrease the
+   model predicted, -m(v) = -g.v / 2 (for CG from 0 and for the exact step
+   alike, v.H v = -g.v), rho = 1/2 -- the ratio test of trust-region
+   methods -- and at most a tenth of f (far from the minimum the model's
+   ratio can look right while whole regions of the map still change
+   scale: camel_b at f = 3e5).  CG then stops when the last step's share
+   of the model's decrease so far, times the step number k, is at most
+   1/10 (Nash & Sofer's truncation test, 1990); at the maps the gate lets
+   through, test (h) finds it within 10% of the exact step's decrease.  If
+   CG needs more than BP__NEWTON_REUSE_CG steps, or F was already reused
+   BP__NEWTON_REUSE times running, H is factored afresh.  Serial, in a
+   fixed order: the same bits on any number of threads. */
+#ifndef BP__NEWTON_REUSE
+#define BP__NEWTON_REUSE 4            /* reuses of one factor in a row (0: never) */
+#endif
+#ifndef BP__NEWTON_REUSE_CG
+#define BP__NEWTON_REUSE_CG 20
+#endif
+#ifndef BP__NEWTON_REUSE_Q
+#define BP__NEWTON_REUSE_Q 0.1
+#endif
+#ifndef BP__NEWTON_REUSE_RHO
+#define BP__NEWTON_REUSE_RHO 0.5      /* decrease / predicted within [rho, 1/rho] */
+#endif
+#ifndef BP__NEWTON_REUSE_DF
+#define BP__NEWTON_REUSE_DF 0.1       /* ... and at most this share of f */
+#endif
+
+/* y = H x, H's values as assembled (its pattern holds both triangles). */
+static void bp__newton_mul(const bp__sparse *H, const double *x, double *y)
+{
+    uint32_t j, p;
+    for (j = 0; j < H->n; j++) y[j] = 0;
+    for (j = 0; j < H->n; j++) {
+        double xj = x[j];
+        for (p = H->colp[j]; p < H->colp[j + 1]; p++) y[H->row[p]] += H->val[p] * xj;
+    }
+}
+
+/* CG on H v = b from v = 0, preconditioned by the (older) factor F.
+   Step k lowers the model by alpha_k r_k.F^-1 r_k / 2, so m(v_k) is known
+   as CG goes; it stops when the last step's share of the whole decrease,
+   times k, is at most BP__NEWTON_REUSE_Q (Nash & Sofer's truncation test
+   for truncated Newton, 1990): returns 1 then, 0 when that takes more
+   than BP__NEWTON_REUSE_CG steps. */
+static int bp__newton_reuse_solve(bp__newton *N, const double *b, double *v)
+{
+    uint32_t n = N->H.n, i;
+    double rz = 0, pq, alpha, rzn, beta, m = 0, dm;
+    int k;
+    double *r = N->r, *p = N->p, *q = N->q, *w = N->w;
+    N->ntry++;
+    for (i = 0; i < n; i++) { v[i] = 0; r[i] = b[i]; }
+    bp__factor_solve(&N->F, r, w, N->z);
+    for (i = 0; i < n; i++) { p[i] = w[i]; rz += r[i] * w[i]; }
+    if (!(rz > 0 && rz < HUGE_VAL)) return 0;
+    for (k = 1; k <= BP__NEWTON_REUSE_CG; k++) {
+        N->ncg++;
+        bp__newton_mul(&N->H, p, q);
+        pq = 0;
+        for (i = 0; i < n; i++) pq += p[i] * q[i];
+        if (!(pq > 0 && pq < HUGE_VAL)) return 0;
+        alpha = rz / pq;
+        for (i = 0; i < n; i++) { v[i] += alpha * p[i]; r[i] -= alpha * q[i]; }
+        dm = 0.5 * alpha * rz;                 /* m(v_k) = m(v_k-1) - dm */
+        m -= dm;
+        if (k > 1 && k * dm <= BP__NEWTON_REUSE_Q * -m) return 1;
+        bp__factor_solve(&N->F, r, w, N->z);
+        rzn = 0;
+        for (i = 0; i < n; i++) rzn += r[i] * w[i];
+        if (!(rzn > 0)) return 1;              /* exact */
+        beta = rzn / rz;
+        for (i = 0; i < n; i++) p[i] = w[i] + beta * p[i];
+        rz = rzn;
+    }
+    return 0;
+}
+
+/* v = -(H + delta I)^-1 g at x, *gv = g.v: by the factor of an earlier H
+   and CG when that converges (above), else by factoring H.  Returns 1; 0
+   when H could not be factored or v is not a descent direction (the
+   caller then takes -g); -1 out of memory. */
 static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, const double *g, double *v, double *gv)
 {
-    uint32_t n = N->H.n, i, bad;
+    uint32_t n, i, bad;
     double s = 0;
     bp__newton_assemble(N, S, x);
     if (N->oom) return -1;
-    if (!N->factored) {
-        bp_status st = bp__factorize(S->a, &N->H, &N->F, &bad, &S->par);
-        if (st == BP_ERR_OUT_OF_MEMORY) return -1;
-        if (st != BP_OK) return 0;
-        N->factored = 1;
-        if (!bp__newton_pivots_ok(&N->F)) return 0;
-    } else {
-        int ok = bp__newton_refactor(N, S->a, &S->par);
-        if (ok <= 0) return ok;
-    }
+    n = N->H.n;
     N->since_grow++;
     for (i = 0; i < n; i++) N->rhs[i] = -g[i];
-    bp__factor_solve(&N->F, N->rhs, v, N->z);
-    if (BP__NEWTON_BARRIER == 2 && N->pairs.count) bp__newton_pcg(N, S->nv, N->rhs, v);
+    if (N->factored && N->fvalid && BP__NEWTON_BARRIER != 2 && !N->cut && N->reused < BP__NEWTON_REUSE &&
+        bp__newton_reuse_solve(N, N->rhs, v)) {
+        N->reused++;
+        N->nreuse++;
+    } else {
+        if (!N->factored) {
+            bp_status st = bp__factorize(S->a, &N->H, &N->F, &bad, &S->par);
+            if (st == BP_ERR_OUT_OF_MEMORY) return -1;
+            if (st != BP_OK) return 0;
+            N->factored = 1;
+            N->fvalid = 0;
+            if (!bp__newton_pivots_ok(&N->F)) return 0;
+        } else {
+            int ok = bp__newton_refactor(N, S->a, &S->par);
+            N->fvalid = 0;
+            if (ok <= 0) return ok;
+        }
+        N->fvalid = 1;
+        N->nfact++;
+        N->reused = 0;
+        bp__factor_solve(&N->F, N->rhs, v, N->z);
+        if (BP__NEWTON_BARRIER == 2 && N->pairs.count) bp__newton_pcg(N, S->nv, N->rhs, v);
+    }
     for (i = 0; i < n; i++) s += g[i] * v[i];
     *gv = s;
     return s < 0 && s > -HUGE_VAL;
@@ -9830,6 +9963,7 @@ typedef struct bp__opt {
     bp__newton   N;
     uint32_t     nv2;
     double      *x, *g, *xn, *gn, *v, *pwork, *vpart;
+    double      *xe, *ge;        /* Newton's longer trial steps (bp__opt_extend) */
     double       tlast;          /* the last accepted step                   */
     uint32_t    *pidx, *held, nheld; /* pins: chart vertex -> pin, the pinned
                                     chart vertices (held fixed, >>pins)      */
@@ -9841,6 +9975,7 @@ static void bp__opt_free(bp__opt *P)
     bp__solver_free(&P->S);
     bp__free(&P->a, P->x); bp__free(&P->a, P->g); bp__free(&P->a, P->xn); bp__free(&P->a, P->gn);
     bp__free(&P->a, P->v); bp__free(&P->a, P->pwork); bp__free(&P->a, P->vpart);
+    bp__free(&P->a, P->xe); bp__free(&P->a, P->ge);
     bp__free(&P->a, P->pidx); bp__free(&P->a, P->held);
     bp__lbfgs_free(&P->a, &P->L);
     bp__newton_free(&P->a, &P->N);
@@ -9985,6 +10120,11 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
     P->pwork = (double *)bp__alloc_array(&P->a, 4 * (size_t)P->S.nv, sizeof(double));
     P->vpart = (double *)bp__alloc_array(&P->a, 2 * ((size_t)bp__vec_nchunks(nv2) + 1) +
                                          (size_t)bp__nchunks(P->S.nv, BP__QUAD_CHUNK) + 1, sizeof(double));
+    if (P->newton) {
+        P->xe = (double *)bp__alloc_array(&P->a, nv2, sizeof(double));
+        P->ge = (double *)bp__alloc_array(&P->a, nv2, sizeof(double));
+        if (!P->xe || !P->ge) return bp__oom(err, "optimizing a chart");
+    }
     if (!P->pwork || !P->vpart || !P->x || !P->g || !P->xn || !P->gn || !P->v ||
         !bp__lbfgs_init(&P->a, &P->L, P->hist, nv2))
         return bp__oom(err, "optimizing a chart");
@@ -10031,6 +10171,51 @@ static double bp__opt_direction(bp__opt *P)
     return gv;
 }
 
+/* Longer Newton steps (beyond the dissertation).  A full Newton step that
+   is accepted at once says little about how far the line goes down: the
+   quadratic model of a term 1/s^2 (a triangle crushed by the start map,
+   s its scale) puts the minimum at s + s/3, so a full step only shrinks
+   such a term by (3/4)^2 = 9/16, while the true minimum along the line
+   lies many steps out.  So, after an accepted full step, try t = 2, 4,
+   8, ... (each one evaluation of the energy and the exact check, cheap
+   next to a factorization), within 0.9 of the step bound computed again
+   for the longer line, and keep the lowest energy among them; stop at the
+   first trial that does not lower it (or fails the check).  Every kept
+   point passed the same exact check as any other, so it is bijective.
+   The trial points go to P->xe / P->ge and are swapped in when better. */
+#ifndef BP__NEWTON_EXTEND
+#define BP__NEWTON_EXTEND 1           /* 0: stop at the full step (measurements) */
+#endif
+#ifndef BP__NEWTON_EXTEND_MAX
+#define BP__NEWTON_EXTEND_MAX 40      /* doublings: t up to 2^40 */
+#endif
+static int bp__opt_extend(bp__opt *P, double f, double gv, double *t, double *fn, double *edn)
+{
+    double cap = 1024, tmax = bp__step_bound(&P->S, P->x, P->v, cap), tt = *t;
+    int k;
+    for (k = 0; k < BP__NEWTON_EXTEND_MAX; k++) {
+        double fe, ede, *tp;
+        int valid;
+        tt *= 2;
+        while (tt > 0.9 * tmax && tmax == cap && cap < 1e30) {   /* the bound was the cap: look further */
+            cap *= 1024;
+            tmax = bp__step_bound(&P->S, P->x, P->v, cap);
+        }
+        if (tt > 0.9 * tmax) tt = 0.9 * tmax;
+        if (!(tt > *t)) return 1;
+        bp__vec_axpy(&P->par, P->vpart, P->nv2, P->xe, P->x, tt, P->v, NULL, NULL, NULL);
+        fe = bp__evaluate(&P->S, P->xe, P->ge, &ede, *fn, &valid);
+        if (P->S.oom) return -1;
+        bp__opt_hold(P, P->ge);               /* pins */
+        if (P->pen) fe += bp__opt_penalty(P, P->xe, P->ge);
+        if (!(fe < *fn && fe <= f + 1e-4 * tt * gv) || !valid) return 1;
+        *t = tt; *fn = fe; *edn = ede;
+        P->N.cut = 1;                         /* not the model's step: refactor next */
+        tp = P->xn; P->xn = P->xe; P->xe = tp; tp = P->gn; P->gn = P->ge; P->ge = tp;
+    }
+    return 1;
+}
+
 /* Phase 4 (steps 3 and 4): the singularity-aware bound tmax, then the
    backtracking line search from min(first step, 0.9 tmax): the first t with
    sufficient decrease whose map xn passes the exact check (bp__evaluate:
@@ -10053,6 +10238,11 @@ static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, doubl
         if (!(*fn <= f + 1e-4 * tt * gv)) continue;
         if (!valid) continue;                 /* floating point was wrong: shrink */
         *t = tt;
+        /* Newton: the factor may serve the next iteration only when this
+           step behaved as the quadratic model said (>>newton) */
+        P->N.cut = !(tries == 0 && tt == 1 && f - *fn >= -0.5 * BP__NEWTON_REUSE_RHO * gv &&
+                     f - *fn <= -0.5 * gv / BP__NEWTON_REUSE_RHO && f - *fn <= BP__NEWTON_REUSE_DF * fabs(f));
+        if (P->nd && tries == 0 && tt == 1 && BP__NEWTON_EXTEND) return bp__opt_extend(P, f, gv, t, fn, edn);
         return 1;
     }
     return 0;

@@ -33,7 +33,23 @@
          matrix assembled without pins (so the held rows were fixed, not
          dropped from the other rows' equations); and without the hold the
          same direction is not 0 there (so the check can fail).
-         tests/test_pins.c runs whole pinned Newton solves. */
+         tests/test_pins.c runs whole pinned Newton solves;
+     (g) longer steps (bp__opt_extend): a whole Newton solve of camel_b
+         whose progress callback runs the exact bp_check on every accepted
+         map: all bijective, and some accepted steps are longer than 1 (so
+         the extension ran), every one of those maps checked too;
+     (h) factor reuse: along 30 camel_b maps of a Newton iteration with its
+         own backtracking line search (without the barrier, so that H's
+         pattern is fixed), conjugate gradients preconditioned by the
+         factor of the previous map's H (bp__newton_reuse_solve) give a
+         descent direction with a negative quadratic model m(v) = g.v +
+         v.H v / 2 (H multiplied here, not by the library), never below
+         the exact Newton step's model (its minimum, from a fresh
+         factorization); and at the maps where the library's gate allows
+         reuse (the last step was the full step and decreased f by 1/2 to 2
+         times the model's prediction and by at most a tenth) CG converges
+         within 10% of that minimum.  The plain gradient direction scaled to its best length
+         is shown far worse, so the bound can fail. */
 /* every loop through the job system, even on these small charts (as in
    test_threads.c), so that (e)'s reversed task order is a real test */
 #define BP__PAR_MIN_TRIANGLES 1u
@@ -387,6 +403,164 @@ static void test_pinned_direction(void)
     bp_mesh_free(&mesh, NULL);
 }
 
+/* (g) */
+typedef struct ext_watch { bp_chart *ch; int iters, longer, bad, longer_checked; double tmax; } ext_watch;
+
+static int ext_progress(void *user, uint32_t chart, int it, double e, double step)
+{
+    ext_watch *W = (ext_watch *)user;
+    bp_check_report rep;
+    bp_status st = bp_check(W->ch->triangles, W->ch->num_triangles, W->ch->uv, W->ch->num_vertices, NULL, &rep, NULL);
+    (void)chart; (void)e;
+    W->iters = it;
+    if (st != BP_OK || rep.flipped || rep.degenerate || rep.boundary_intersections || rep.nonfinite) W->bad++;
+    if (step > 1) { W->longer++; if (st == BP_OK) W->longer_checked++; }
+    if (step > W->tmax) W->tmax = step;
+    return 0;
+}
+
+static void test_longer_steps(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options o;
+    ext_watch W;
+    memset(&o, 0, sizeof o);
+    memset(&W, 0, sizeof W);
+    if (!BPT_CHECK(bp_read_obj("tests/data/camel_b.obj", &mesh, NULL, &err) == BP_OK, "read camel_b: %s", err.message))
+        return;
+    if (BPT_CHECK(bp_atlas_build(&atlas, &mesh, &o, &err) == BP_OK && atlas.num_charts == 1 &&
+                  bp_chart_init(&atlas.charts[0], &mesh, &o, &err) == BP_OK, "camel_b: one chart, start map")) {
+        W.ch = &atlas.charts[0];
+        o.direction = BP_DIRECTION_NEWTON;
+        o.threads = 1;
+        o.progress = ext_progress;
+        o.progress_user = &W;
+        BPT_CHECK(bp_chart_optimize(W.ch, 0, &mesh, &o, &err) == BP_OK && W.ch->stop == BP_STOP_CONVERGED,
+                  "camel_b Newton with the progress check: converged (%s, %d iterations)", bp_stop_string(W.ch->stop),
+                  W.ch->iterations);
+        BPT_CHECK(W.iters > 0 && W.bad == 0, "camel_b Newton: all %d accepted maps exactly bijective by bp_check (%d not)",
+                  W.iters, W.bad);
+        BPT_CHECK(W.longer > 0 && W.longer_checked == W.longer,
+                  "camel_b Newton: %d accepted steps longer than 1 (longest %.3g), each map checked bijective",
+                  W.longer, W.tmax);
+        bp_atlas_free(&atlas);
+    }
+    bp_mesh_free(&mesh, NULL);
+}
+
+/* (h): m(v) = g.v + v.H v / 2 with H's stored values (full pattern). */
+static double model(const bp__sparse *H, const double *g, const double *v)
+{
+    uint32_t j, p;
+    double vhv = 0, gv = 0;
+    for (j = 0; j < H->n; j++) {
+        gv += g[j] * v[j];
+        for (p = H->colp[j]; p < H->colp[j + 1]; p++) vhv += v[H->row[p]] * H->val[p] * v[j];
+    }
+    return gv + 0.5 * vhv;
+}
+
+static void test_reuse(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options o;
+    bp_allocator a;
+    bp__solver S;
+    bp__newton N, N2;
+    uint32_t nv2, i, j, p;
+    double *x, *xn, *g, *v, *vs, *rhs, ed, f, fn;
+    int k, descent = 0, above = 0, gated = 0, gconv = 0, close = 0, tries = 0, prev_full = 0;
+    double worst_gap = 0, gd_gap = 1, prev_pred = 0, prev_dec = 0, prev_f = 0;
+    memset(&o, 0, sizeof o);
+    memset(&a, 0, sizeof a);
+    o.no_barrier = 1;
+    if (!BPT_CHECK(bp_read_obj("tests/data/camel_b.obj", &mesh, NULL, &err) == BP_OK, "read camel_b: %s", err.message))
+        return;
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &o, &err) == BP_OK && atlas.num_charts == 1 &&
+                   bp_chart_init(&atlas.charts[0], &mesh, &o, &err) == BP_OK, "camel_b: one chart, start map")) {
+        bp_mesh_free(&mesh, NULL);
+        return;
+    }
+    nv2 = 2 * atlas.charts[0].num_vertices;
+    x = (double *)malloc(nv2 * sizeof(double)); g = (double *)malloc(nv2 * sizeof(double));
+    v = (double *)malloc(nv2 * sizeof(double)); vs = (double *)malloc(nv2 * sizeof(double));
+    rhs = (double *)malloc(nv2 * sizeof(double)); xn = (double *)malloc(nv2 * sizeof(double));
+    if (BPT_CHECK(bp__solver_chart(&S, &a, &atlas.charts[0], &mesh, &o, NULL, &err) == BP_OK, "solver for camel_b") &&
+        BPT_CHECK(bp__newton_init(&N, &a, &S) == BP_OK, "Newton set-up")) {
+        memcpy(x, atlas.charts[0].uv, nv2 * sizeof(double));
+        f = bp__objective(&S, x, g, &ed);
+        for (k = 0; k < 30; k++) {
+            double gv = 0, ms, mr, tmax, t;
+            int ok;
+            if (k > 0) {                                   /* N.F: the factor at the previous map */
+                /* the library's gate: the last step was the full one and
+                   decreased f by [1/2, 2] x the model's prediction */
+                int gate = prev_full && prev_dec >= 0.5 * prev_pred && prev_dec <= 2 * prev_pred && prev_dec <= 0.1 * prev_f;
+                bp__newton_assemble(&N, &S, x);
+                for (i = 0; i < nv2; i++) rhs[i] = -g[i];
+                ok = bp__newton_reuse_solve(&N, rhs, v);
+                tries++;
+                if (bp__newton_init(&N2, &a, &S) == BP_OK) {  /* the exact step at x: a fresh factorization */
+                    bp__newton_direction(&N2, &S, x, g, vs, &gv);
+                    gv = 0;
+                    for (i = 0; i < nv2; i++) gv += g[i] * v[i];
+                    ms = model(&N2.H, g, vs);
+                    mr = model(&N2.H, g, v);
+                    descent += gv < 0 && mr < 0;
+                    above += mr >= ms - 1e-9 * fabs(ms);
+                    if (gate) {
+                        gated++;
+                        if (ok) { gconv++; close += mr <= 0.9 * ms; if (1 - mr / ms > worst_gap) worst_gap = 1 - mr / ms; }
+                    }
+                    {   /* the gradient at its best length: m(-a g) = -a |g|^2 + a^2 g.H g / 2 */
+                        double gg = 0, gHg = 0;
+                        for (j = 0; j < nv2; j++) {
+                            gg += g[j] * g[j];
+                            for (p = N2.H.colp[j]; p < N2.H.colp[j + 1]; p++) gHg += g[N2.H.row[p]] * N2.H.val[p] * g[j];
+                        }
+                        if (gHg > 0 && (-0.5 * gg * gg / gHg) / ms < gd_gap) gd_gap = (-0.5 * gg * gg / gHg) / ms;
+                    }
+                    bp__newton_free(&a, &N2);
+                }
+            }
+            N.cut = 1;                                     /* factor at x: the next map's preconditioner */
+            if (bp__newton_direction(&N, &S, x, g, v, &gv) != 1) break;
+            /* a plain backtracking line search within the bound */
+            tmax = bp__step_bound(&S, x, v, 1 / 0.9);
+            t = tmax < 1 / 0.9 ? 0.9 * tmax : 1;
+            for (;; t *= 0.5) {
+                for (i = 0; i < nv2; i++) xn[i] = x[i] + t * v[i];
+                fn = bp__objective(&S, xn, rhs, &ed);
+                if (fn <= f + 1e-4 * t * gv || t < 1e-12) break;
+            }
+            prev_full = t == 1;
+            prev_pred = -0.5 * gv;
+            prev_dec = f - fn;
+            prev_f = f;
+            memcpy(x, xn, nv2 * sizeof(double));
+            f = bp__objective(&S, x, g, &ed);
+        }
+        BPT_CHECK(tries == 29 && descent == tries && above == tries,
+                  "camel_b, 29 maps: CG preconditioned by the previous map's factor gives descent directions with "
+                  "m(v) < 0 (%d), never below the exact step's model (%d)", descent, above);
+        BPT_CHECK(gated >= 5 && gconv == gated && close == gconv,
+                  "camel_b: at the %d maps the gate lets reuse, CG converged (%d) within 10%% of the exact step's model "
+                  "decrease (%d; largest shortfall %.3g; the best gradient step reaches only %.3g of it)",
+                  gated, gconv, close, worst_gap, gd_gap);
+        BPT_CHECK(gd_gap < 0.9, "the gradient step falls short of 90%% of the model decrease (%.3g), so the bound can fail",
+                  gd_gap);
+        bp__newton_free(&a, &N);
+        bp__solver_free(&S);
+    }
+    free(x); free(xn); free(g); free(v); free(vs); free(rhs);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+}
+
 int main(void)
 {
     bpt_rng_state = 0x9E3779B97F4A7C15ull;
@@ -395,5 +569,7 @@ int main(void)
     test_optimize("tests/data/bishop_part_f1000.obj");
     test_optimize("tests/data/camel_b.obj");
     test_pinned_direction();
+    test_longer_steps();
+    test_reuse();
     return bpt_finish();
 }
