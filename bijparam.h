@@ -4984,7 +4984,11 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
       never meet, so they are computed in parallel phases.
    The start map's solves are followed by one step of iterative refinement;
    the preconditioner's and Newton's (which only shape a search direction,
-   checked like any other) are not. */
+   checked like any other) are not.
+   Newton's systems, symmetric positive definite and in 2x2 blocks (x, y of
+   a vertex; bp__sparse.blocks2), take a supernodal Cholesky instead
+   (bp__super_*, its essay before bp__super_graph), through the same
+   bp__factorize, bp__fact_numeric and bp__factor_solve. */
 
 typedef struct bp__sparse {       /* n x n, compressed columns            */
     uint32_t n;
@@ -5029,6 +5033,7 @@ typedef struct bp__super {
     double   *x;                  /* xp[ns]: the blocks of L                */
     uint32_t *up, *uk, *uo;       /* ns+1; up[ns]; up[ns]                   */
     uint32_t  ntask, maxcols;     /* work arrays: tasks of a phase, 2 max |cols| */
+    uint32_t  maxrows;            /* ... and max |rows|                     */
 } bp__super;
 
 static void bp__super_free(const bp_allocator *a, bp__super *S)
@@ -5585,7 +5590,70 @@ done:
 }
 
 /* ---- The supernodal Cholesky factorization of a 2x2-block matrix ---------
-   ESSAY-PLACEHOLDER */
+
+   Projected Newton (>>newton) solves (H + delta I) v = -g every iteration
+   with H the 2nv x 2nv matrix of a chart's vertices' x and y.  Factored by
+   the scalar up-looking rows above, each entry of L is one sparse gather
+   through an index, and the factorization was 85% of a Newton iteration
+   (face, 51,712 faces: 1.4 s of 1.45 s).  Three things make it cheaper;
+   Davis, "Direct Methods for Sparse Linear Systems" (SIAM 2006), ch. 4
+   and 9, is the reference for all of them.
+
+   The vertex graph.  H is made of 2x2 blocks: a triangle couples all six
+   coordinates of its vertices, a barrier pair all four of its two
+   vertices.  Eliminating the two columns of a vertex fills exactly where
+   eliminating the vertex in the graph of the blocks does, so L is the
+   vertex graph's factor with every entry a full 2x2 block (the diagonal
+   blocks lower triangular).  The ordering, the elimination tree, the row
+   and column counts and the supernodes are all computed on the vertex
+   graph G (bp__super_graph): a quarter of the symbolic work, and x and y
+   of a vertex always side by side (a level-set separator of the scalar
+   graph can take one without the other and be twice as thick).
+
+   Supernodes (Ng & Peyton, "Block sparse Cholesky algorithms on advanced
+   uniprocessor computers", SIAM J. Sci. Comput. 14, 1993).  Consecutive
+   columns whose patterns below the diagonal are the same, j + 1 = parent
+   of j and |L(:, j)| = |L(:, j+1)| + 1, form a dense trapezoid: it is
+   stored as one dense block, indexed once per row vertex (one index per
+   2 x 2 nc values), and computed by dense loops with no indirection.  On
+   mesh graphs the fundamental supernodes are short (1.7 vertices on
+   face), so they are amalgamated (Ashcraft & Grimes 1989): a child joins
+   its parent when few explicit zeros come with it (bp__super_relax); the
+   supernodes then average about 7 vertices, and the top separators are
+   one dense block each.
+
+   The numeric factorization is left-looking by supernodes.  For supernode
+   J with columns C and rows R (C first), its block B (|R| x |C| in 2x2
+   blocks) starts as A(R, C); then for every earlier supernode K with rows
+   in C, in increasing K,
+       B(R_K, C_K) -= L_K(R_K, :) L_K(C_K, :)^T,
+   C_K = K's rows that lie in C, R_K = K's rows from the first of them on
+   (both runs of K's sorted rows, so the product is dense; a map from
+   vertex to row of B places it); then the dense Cholesky of B's diagonal
+   block, B(C, C) = L_CC L_CC^T, and the rows below by the triangular
+   solve L_RC = B(R \ C, C) L_CC^-T.  Ng and Peyton find the K of each J
+   by linked lists that follow the computation; here the lists are built
+   once by the analysis (bp__super_updates), sorted by K, so every entry
+   sums its terms in one fixed order: the same bits whatever the schedule,
+   and a task writes only its own supernodes' blocks while it reads only
+   finished ones.  The tasks are those of the scalar code: the dissection
+   tree's subtrees in parallel, then its separators bottom-up (supernodes
+   never cross a tree node's boundary).  The dense loops run on blocks by
+   rows, dots of contiguous rows, four rows by two columns at a time with
+   each sum split into even and odd terms (a fixed order that compilers
+   vectorize without licence to reassociate).
+
+   The ordering.  Nested dissection as above, on G, but each separator is
+   the best of three candidate cuts (bp__nd_split): on face the flop count
+   falls from 1.85e9 to 1.0e9 and L from 5.1M to 4.6M entries.
+
+   This is Cholesky, L L^T, not L D L^T: H + delta I is positive definite
+   (>>newton) and a pivot d_i that is not positive stops the factorization
+   with BP_ERR_NUMERICAL; the pivots d_i = L(i,i)^2 stay in F->D, where
+   the Newton code checks them.  The scalar code remains for the Tutte
+   system (not symmetric with mean-value weights) and the L-BFGS
+   preconditioner (a scalar Laplacian factored once per chart and kept in
+   single precision); docs/performance.md sec 6.1 has the measurements. */
 
 /* The vertex graph G of A: G(w, v) != 0 when A's 2x2 block (w, v) is in
    its pattern.  Returns 1; 0 when A is not made of whole 2x2 blocks (the
@@ -5776,13 +5844,14 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     if (!S->rp || !S->xp) goto done;
     S->rp[0] = 0;
     S->xp[0] = 0;
-    S->maxcols = 0;
+    S->maxcols = S->maxrows = 0;
     for (s = 0; s < S->ns; s++) {
         uint32_t nc = S->first[s + 1] - S->first[s];
         if ((uint64_t)S->rp[s] + msz[s] > BP__FACTOR_MAX_NNZ) { st = BP_ERR_TOO_LARGE; goto done; }
         S->rp[s + 1] = S->rp[s] + msz[s];
         S->xp[s + 1] = S->xp[s] + 4 * (size_t)msz[s] * nc;
         if (2 * nc > S->maxcols) S->maxcols = 2 * nc;
+        if (msz[s] > S->maxrows) S->maxrows = msz[s];
         for (k = S->first[s]; k < S->first[s + 1]; k++) S->snode[k] = s;
     }
     S->ri = (uint32_t *)bp__alloc_array(a, S->rp[S->ns] ? S->rp[S->ns] : 1, sizeof(uint32_t));
@@ -5801,39 +5870,111 @@ done:
     return st;
 }
 
-/* s[0..3] = a0.b0, a0.b1, a1.b0, a1.b1 over n terms, each sum in
-   increasing k. */
-static void bp__dot2x2(const double *a0, const double *a1, const double *b0, const double *b1, uint32_t n, double *s)
+/* The update kernel: s[4r + c] = a_r . b_c for the rows a_0 .. a_3 (two
+   row vertices; nr = 2: only a_0, a_1) and b_0, b_1 (one column vertex),
+   n (even) terms each.  Every sum runs in two lanes, even and odd k, added
+   at the end: a fixed order, so the same bits on any schedule, and one
+   that compilers turn into packed SIMD instructions without licence to
+   reassociate. */
+static void bp__super_dots(const double *a0, const double *a1, const double *a2, const double *a3, int nr,
+                           const double *b0, const double *b1, uint32_t n, double *s)
 {
-    double s00 = 0, s01 = 0, s10 = 0, s11 = 0;
+    double e00 = 0, o00 = 0, e01 = 0, o01 = 0, e10 = 0, o10 = 0, e11 = 0, o11 = 0;
     uint32_t k;
-    for (k = 0; k < n; k++) {
-        double x0 = a0[k], x1 = a1[k], y0 = b0[k], y1 = b1[k];
-        s00 += x0 * y0; s01 += x0 * y1; s10 += x1 * y0; s11 += x1 * y1;
+    if (nr == 4) {
+        double e20 = 0, o20 = 0, e21 = 0, o21 = 0, e30 = 0, o30 = 0, e31 = 0, o31 = 0;
+        for (k = 0; k < n; k += 2) {
+            double y0 = b0[k], z0 = b0[k + 1], y1 = b1[k], z1 = b1[k + 1];
+            e00 += a0[k] * y0; o00 += a0[k + 1] * z0; e01 += a0[k] * y1; o01 += a0[k + 1] * z1;
+            e10 += a1[k] * y0; o10 += a1[k + 1] * z0; e11 += a1[k] * y1; o11 += a1[k + 1] * z1;
+            e20 += a2[k] * y0; o20 += a2[k + 1] * z0; e21 += a2[k] * y1; o21 += a2[k + 1] * z1;
+            e30 += a3[k] * y0; o30 += a3[k + 1] * z0; e31 += a3[k] * y1; o31 += a3[k + 1] * z1;
+        }
+        s[4] = e20 + o20; s[5] = e21 + o21; s[6] = e30 + o30; s[7] = e31 + o31;
+    } else {
+        for (k = 0; k < n; k += 2) {
+            double y0 = b0[k], z0 = b0[k + 1], y1 = b1[k], z1 = b1[k + 1];
+            e00 += a0[k] * y0; o00 += a0[k + 1] * z0; e01 += a0[k] * y1; o01 += a0[k + 1] * z1;
+            e10 += a1[k] * y0; o10 += a1[k + 1] * z0; e11 += a1[k] * y1; o11 += a1[k + 1] * z1;
+        }
     }
-    s[0] = s00; s[1] = s01; s[2] = s10; s[3] = s11;
+    s[0] = e00 + o00; s[1] = e01 + o01; s[2] = e10 + o10; s[3] = e11 + o11;
 }
 
-/* The update of supernode J (block B, 2 nc columns, rows mapped by map[])
-   by supernode K from K's row position o: for K's rows i >= o and its
-   rows c in J's columns (c >= o),
+/* The update of supernode J (block B, 2 nc columns) by supernode K from
+   K's row position o, in J's column vertices [v0, v1): for K's rows
+   i >= c and its rows c that are such columns,
        L_J(i, c) -= sum_k L_K(i, k) L_K(c, k),
-   in 2x2 blocks (two rows by two columns, one vertex each). */
-static void bp__super_update(const bp__super *S, uint32_t K, uint32_t o, uint32_t J, double *B, const uint32_t *map)
+   by 2x2 blocks (one row vertex by one column vertex), two row vertices
+   at a time.  Where K's rows lie in J's: map[] (a vertex's row in J), or
+   with map NULL by a merge of the two sorted lists; pos: mK words. */
+static void bp__super_update(const bp__super *S, uint32_t K, uint32_t o, uint32_t J, double *B, const uint32_t *map,
+                             uint32_t *pos, uint32_t v0, uint32_t v1)
 {
-    const uint32_t *rk = S->ri + S->rp[K];
+    const uint32_t *rk = S->ri + S->rp[K], *rj = S->ri + S->rp[J];
     const double *LK = S->x + S->xp[K];
     uint32_t mK = S->rp[K + 1] - S->rp[K], cK = 2 * (S->first[K + 1] - S->first[K]);
-    uint32_t f = S->first[J], l = S->first[J + 1], c2 = 2 * (l - f), c, i;
-    for (c = o; c < mK && rk[c] < l; c++) {
+    uint32_t f = S->first[J], c2 = 2 * (S->first[J + 1] - f), c, i, r, q = 0;
+    for (c = o; c < mK && rk[c] < v0; c++) {}
+    if (c == mK || rk[c] >= v1) return;
+    for (i = c; i < mK; i++) {
+        if (map) pos[i] = map[rk[i]];
+        else { while (rj[q] < rk[i]) q++; pos[i] = q; }
+    }
+    for (; c < mK && rk[c] < v1; c++) {
         const double *b0 = LK + 2 * (size_t)c * cK, *b1 = b0 + cK;
         uint32_t jc = 2 * (rk[c] - f);
-        for (i = c; i < mK; i++) {
+        for (i = c; i < mK; i += 2) {
             const double *a0 = LK + 2 * (size_t)i * cK;
-            double *t = B + 2 * (size_t)map[rk[i]] * c2 + jc, s[4];
-            bp__dot2x2(a0, a0 + cK, b0, b1, cK, s);
-            t[0] -= s[0]; t[1] -= s[1]; t[c2] -= s[2]; t[c2 + 1] -= s[3];
+            int nr = i + 1 < mK ? 4 : 2;
+            double s[8];
+            bp__super_dots(a0, a0 + cK, a0 + 2 * cK, a0 + 3 * cK, nr, b0, b1, cK, s);
+            for (r = 0; r < (uint32_t)nr / 2; r++) {
+                double *t = B + 2 * (size_t)pos[i + r] * c2 + jc;
+                t[0] -= s[4 * r]; t[1] -= s[4 * r + 1]; t[c2] -= s[4 * r + 2]; t[c2 + 1] -= s[4 * r + 3];
+            }
         }
+    }
+}
+
+/* The triangular solve of rows below the diagonal block, four rows
+   (two, bp__super_trsm2) at a time: for j < c2,
+       L(i, j) = (B(i, j) - sum_{k<j} L(i, k) L(j, k)) / L(j, j),
+   each sum in two lanes (even and odd k) as in bp__super_dots. */
+static void bp__super_trsm4(double *r0, const double *D, uint32_t c2, const double *inv)
+{
+    double *r1 = r0 + c2, *r2 = r1 + c2, *r3 = r2 + c2;
+    uint32_t j, k;
+    for (j = 0; j < c2; j++) {
+        const double *rj = D + (size_t)j * c2;
+        double e0 = 0, o0 = 0, e1 = 0, o1 = 0, e2 = 0, o2 = 0, e3 = 0, o3 = 0;
+        for (k = 0; k + 1 < j; k += 2) {
+            double y = rj[k], z = rj[k + 1];
+            e0 += r0[k] * y; o0 += r0[k + 1] * z; e1 += r1[k] * y; o1 += r1[k + 1] * z;
+            e2 += r2[k] * y; o2 += r2[k + 1] * z; e3 += r3[k] * y; o3 += r3[k + 1] * z;
+        }
+        if (k < j) { e0 += r0[k] * rj[k]; e1 += r1[k] * rj[k]; e2 += r2[k] * rj[k]; e3 += r3[k] * rj[k]; }
+        r0[j] = (r0[j] - (e0 + o0)) * inv[j];
+        r1[j] = (r1[j] - (e1 + o1)) * inv[j];
+        r2[j] = (r2[j] - (e2 + o2)) * inv[j];
+        r3[j] = (r3[j] - (e3 + o3)) * inv[j];
+    }
+}
+
+static void bp__super_trsm2(double *r0, const double *D, uint32_t c2, const double *inv)
+{
+    double *r1 = r0 + c2;
+    uint32_t j, k;
+    for (j = 0; j < c2; j++) {
+        const double *rj = D + (size_t)j * c2;
+        double e0 = 0, o0 = 0, e1 = 0, o1 = 0;
+        for (k = 0; k + 1 < j; k += 2) {
+            double y = rj[k], z = rj[k + 1];
+            e0 += r0[k] * y; o0 += r0[k + 1] * z; e1 += r1[k] * y; o1 += r1[k + 1] * z;
+        }
+        if (k < j) { e0 += r0[k] * rj[k]; e1 += r1[k] * rj[k]; }
+        r0[j] = (r0[j] - (e0 + o0)) * inv[j];
+        r1[j] = (r1[j] - (e1 + o1)) * inv[j];
     }
 }
 
@@ -5863,64 +6004,127 @@ static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv)
         r[i] = sqrt(d);
         inv[i] = 1 / r[i];
     }
-    for (i = c2; i < m2; i += 2) {
-        double *r0 = B + (size_t)i * c2, *r1 = r0 + c2;
-        for (j = 0; j < c2; j++) {
-            const double *rj = B + (size_t)j * c2;
-            double t0 = r0[j], t1 = r1[j];
-            for (k = 0; k < j; k++) { t0 -= r0[k] * rj[k]; t1 -= r1[k] * rj[k]; }
-            r0[j] = t0 * inv[j];
-            r1[j] = t1 * inv[j];
-        }
+    for (i = c2; i < m2; i += 4) {
+        if (i + 2 < m2) bp__super_trsm4(B + (size_t)i * c2, B, c2, inv);
+        else bp__super_trsm2(B + (size_t)i * c2, B, c2, inv);
     }
 }
 
-/* Supernode s complete: A's columns into its block, the updates from its
-   list in order, the dense factorization.  map: nv words of workspace. */
-static void bp__super_node(const bp__sparse *A, bp__factor *F, uint32_t s, uint32_t *map, double *inv)
+/* Supernode s's column vertices [v0, v1) set to A's values: zero, then
+   A(R, v) placed (its row in s found by a binary search of s's sorted
+   rows). */
+static void bp__super_start(const bp__sparse *A, const bp__super *S, uint32_t s, uint32_t v0, uint32_t v1)
 {
-    const bp__super *S = F->sn;
-    uint32_t f = S->first[s], l = S->first[s + 1], c2 = 2 * (l - f), m = S->rp[s + 1] - S->rp[s], i, v, p, q;
+    uint32_t f = S->first[s], c2 = 2 * (S->first[s + 1] - f), m = S->rp[s + 1] - S->rp[s], i, v, p, b, col;
     const uint32_t *rows = S->ri + S->rp[s];
     double *B = S->x + S->xp[s];
-    memset(B, 0, 2 * (size_t)m * c2 * sizeof(double));
-    for (i = 0; i < m; i++) map[rows[i]] = i;
-    for (v = f; v < l; v++) {
-        uint32_t b, col;
+    for (i = 0; i < 2 * m; i++) memset(B + (size_t)i * c2 + 2 * (v0 - f), 0, 2 * (size_t)(v1 - v0) * sizeof(double));
+    for (v = v0; v < v1; v++)
         for (b = 0; b < 2; b++)
             for (col = 2 * S->vperm[v] + b, p = A->colp[col]; p < A->colp[col + 1]; p++) {
-                uint32_t u = S->viperm[A->row[p] / 2];
-                if (u >= f) B[(2 * (size_t)map[u] + A->row[p] % 2) * c2 + 2 * (v - f) + b] = A->val[p];
+                uint32_t u = S->viperm[A->row[p] / 2], r;
+                if (u < f) continue;
+                r = bp__lower_bound(rows, 0, m, u);
+                B[(2 * (size_t)r + A->row[p] % 2) * c2 + 2 * (v - f) + b] = A->val[p];
             }
-    }
-    for (q = S->up[s]; q < S->up[s + 1]; q++) bp__super_update(S, S->uk[q], S->uo[q], s, B, map);
+}
+
+/* Supernode s from its update q0 on (the earlier ones done), then the
+   dense factorization; with q0 = up[s] after bp__super_start, the whole
+   supernode.  map: nv words, pos: maxrows words of workspace. */
+static void bp__super_finish(bp__factor *F, uint32_t s, uint32_t q0, uint32_t *map, uint32_t *pos, double *inv)
+{
+    const bp__super *S = F->sn;
+    uint32_t f = S->first[s], l = S->first[s + 1], m = S->rp[s + 1] - S->rp[s], i, q;
+    const uint32_t *rows = S->ri + S->rp[s];
+    double *B = S->x + S->xp[s];
+    for (i = 0; i < m; i++) map[rows[i]] = i;
+    for (q = q0; q < S->up[s + 1]; q++) bp__super_update(S, S->uk[q], S->uo[q], s, B, map, pos, f, l);
     bp__super_dense(F, s, B, inv);
 }
 
 /* The numeric factorization in the phases of the dissection tree (as
-   bp__fact_numeric's): phase 0 the subtrees whole, phase p the separators
-   at depth BP__ND_DEPTH - p, one task per tree node, its supernodes in
-   order.  A supernode reads only blocks of its descendants, all in
-   earlier phases or earlier in its own task, so every value is the same
-   on any schedule. */
+   bp__fact_numeric's): phase 0 the subtrees whole, one task per tree
+   node, its supernodes in order.  A separator [b, hi) of phase p > 0
+   takes two passes, as in the scalar code: most of its work is the
+   updates from supernodes below b, finished in earlier phases, and those
+   are independent of each other's results.
+     OUTSIDE: pieces (a supernode of the separator and a range of its
+       column vertices, cut by equal shares of the trapezoid's rows) in
+       parallel: bp__super_start, then the updates from below b;
+     INSIDE: one task per separator, its supernodes in order: the updates
+       from within the separator, then the dense factorization.
+   A supernode reads only blocks of its descendants, all finished in
+   earlier phases or earlier in its own task, and every entry sums its
+   terms in increasing K either way, so every value is the same on any
+   schedule and any cut into pieces. */
+#define BP__SUPER_PIECES 64u              /* pieces per parallel loop, at most */
+typedef struct bp__super_piece { uint32_t s, v0, v1, k0; } bp__super_piece;
 typedef struct bp__super_task {
     const bp__sparse *A;
     bp__factor *F;
     uint32_t nodes[BP__ND_NODES];
-    int sep;
-    uint32_t *map;                /* ntask x nv  */
-    double *inv;                  /* ntask x maxcols */
+    int mode;                     /* 0 whole nodes, 1 OUTSIDE, 2 INSIDE   */
+    bp__super_piece piece[BP__SUPER_PIECES];
+    uint32_t *map;                /* ntask x nv                            */
+    uint32_t *pos;                /* max(ntask, BP__SUPER_PIECES) x maxrows */
+    double *inv;                  /* ntask x maxcols                       */
 } bp__super_task;
 
 static void bp__super_run(void *task, uint32_t t)
 {
     bp__super_task *T = (bp__super_task *)task;
     const bp__super *S = T->F->sn;
-    const bp__ndnode *N = &T->F->tree[T->nodes[t]];
-    uint32_t v0 = T->sep ? N->b : N->lo, s;
-    if (v0 >= N->hi) return;
-    for (s = S->snode[v0]; s <= S->snode[N->hi - 1]; s++)
-        bp__super_node(T->A, T->F, s, T->map + (size_t)t * S->nv, T->inv + (size_t)t * S->maxcols);
+    uint32_t *pos = T->pos + (size_t)t * S->maxrows, s, q;
+    if (T->mode == 1) {
+        const bp__super_piece *P = &T->piece[t];
+        bp__super_start(T->A, S, P->s, P->v0, P->v1);
+        for (q = S->up[P->s]; q < S->up[P->s + 1] && S->uk[q] < P->k0; q++)
+            bp__super_update(S, S->uk[q], S->uo[q], P->s, S->x + S->xp[P->s], NULL, pos, P->v0, P->v1);
+    } else {
+        const bp__ndnode *N = &T->F->tree[T->nodes[t]];
+        uint32_t v0 = T->mode == 2 ? N->b : N->lo, *map = T->map + (size_t)t * S->nv;
+        if (v0 >= N->hi) return;
+        for (s = S->snode[v0]; s <= S->snode[N->hi - 1]; s++) {
+            q = S->up[s];
+            if (T->mode == 2)                              /* past the OUTSIDE updates */
+                while (q < S->up[s + 1] && S->uk[q] < S->snode[v0]) q++;
+            else
+                bp__super_start(T->A, S, s, S->first[s], S->first[s + 1]);
+            bp__super_finish(T->F, s, q, map, pos, T->inv + (size_t)t * S->maxcols);
+        }
+    }
+}
+
+/* The OUTSIDE pass of one phase's separators, in loops of at most
+   BP__SUPER_PIECES pieces: a supernode of nc vertices is cut into
+   min(nc / 8, 8) column ranges (at least one) of about equal work, the
+   column vertex j of m rows counting m - j. */
+static void bp__super_outside(bp__super_task *T, const bp__par *par, uint32_t cnt)
+{
+    const bp__super *S = T->F->sn;
+    uint32_t k, s, n = 0;
+    T->mode = 1;
+    for (k = 0; k < cnt; k++) {
+        const bp__ndnode *N = &T->F->tree[T->nodes[k]];
+        if (N->b >= N->hi) continue;
+        for (s = S->snode[N->b]; s <= S->snode[N->hi - 1]; s++) {
+            uint32_t f = S->first[s], nc = S->first[s + 1] - f, m = S->rp[s + 1] - S->rp[s], parts = nc / 8, r, j = 0;
+            double w = 0, tot = (double)nc * m - (double)nc * (nc - 1) / 2;
+            if (parts < 1) parts = 1;
+            if (parts > 8) parts = 8;
+            for (r = 0; r < parts; r++) {
+                bp__super_piece *P = &T->piece[n];
+                P->s = s;
+                P->k0 = S->snode[N->b];
+                P->v0 = f + j;
+                while (j < nc && (r + 1 == parts || w < tot * (r + 1) / parts)) { w += m - j; j++; }
+                P->v1 = f + j;
+                if (P->v1 > P->v0 && ++n == BP__SUPER_PIECES) { par->run(par->user, bp__super_run, T, n); n = 0; }
+            }
+        }
+    }
+    if (n) par->run(par->user, bp__super_run, T, n);
 }
 
 static int bp__super_numeric(const bp_allocator *a, const bp__sparse *A, bp__factor *F, const bp__par *par)
@@ -5928,19 +6132,23 @@ static int bp__super_numeric(const bp_allocator *a, const bp__sparse *A, bp__fac
     bp__super *S = F->sn;
     bp__super_task T;
     int phase;
+    uint32_t np = S->ntask > BP__SUPER_PIECES ? S->ntask : BP__SUPER_PIECES;
     memset(&T, 0, sizeof T);
     if (!S->x) S->x = (double *)bp__alloc_array(a, S->xp[S->ns] ? S->xp[S->ns] : 1, sizeof(double));
     T.map = (uint32_t *)bp__alloc_array(a, (size_t)S->ntask * S->nv, sizeof(uint32_t));
+    T.pos = (uint32_t *)bp__alloc_array(a, (size_t)np * S->maxrows + 1, sizeof(uint32_t));
     T.inv = (double *)bp__alloc_array(a, (size_t)S->ntask * S->maxcols + 1, sizeof(double));
-    if (!S->x || !T.map || !T.inv) { bp__free(a, T.map); bp__free(a, T.inv); return 0; }
+    if (!S->x || !T.map || !T.pos || !T.inv) { bp__free(a, T.map); bp__free(a, T.pos); bp__free(a, T.inv); return 0; }
     T.A = A;
     T.F = F;
     for (phase = 0; phase <= BP__ND_DEPTH; phase++) {
         uint32_t c = bp__nd_phase(F, phase, T.nodes);
-        T.sep = phase > 0;
-        if (c) par->run(par->user, bp__super_run, &T, c);
+        if (!c) continue;
+        if (phase > 0) bp__super_outside(&T, par, c);
+        T.mode = phase > 0 ? 2 : 0;
+        par->run(par->user, bp__super_run, &T, c);
     }
-    bp__free(a, T.map); bp__free(a, T.inv);
+    bp__free(a, T.map); bp__free(a, T.pos); bp__free(a, T.inv);
     return 1;
 }
 

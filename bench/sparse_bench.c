@@ -29,6 +29,22 @@ static int cmpd(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* A parallel loop run serially, each task timed: acc[0] += the loop's
+   time, acc[1] += its time on two threads taking the tasks in order, each
+   to the less loaded one. */
+static void timed_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+{
+    double *acc = (double *)user, load[2] = {0, 0}, t0;
+    uint32_t i;
+    for (i = 0; i < count; i++) {
+        t0 = cpu();
+        fn(task, i);
+        load[load[1] < load[0]] += cpu() - t0;
+    }
+    acc[0] += load[0] + load[1];
+    acc[1] += load[0] > load[1] ? load[0] : load[1];
+}
+
 static double residual(const bp__sparse *A, const double *x, const double *b)
 {
     uint32_t j, p, n = A->n;
@@ -115,6 +131,14 @@ int main(int argc, char **argv)
                     }
                     printf("  phase %d: flops %.3g\n", ph, fl[ph]);
                 }
+            }
+            {   /* every task timed alone: the two-thread bound */
+                double acc[2] = {0, 0};
+                bp__par tp = bp__par_serial();
+                tp.run = timed_for;
+                tp.user = acc;
+                bp__fact_numeric(&a, &N.H, &F, NULL, &tp);
+                printf("  numeric by tasks: %.4f s; on two threads at best %.4f s (%.2fx)\n", acc[0], acc[1], acc[0] / acc[1]);
             }
             printf("supernodes %u (mean %.2f vertices), row indices %u, stored doubles %zu\n", S->ns, (double)S->nv / S->ns,
                    S->rp[S->ns], S->xp[S->ns]);
