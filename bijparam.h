@@ -9717,7 +9717,7 @@ typedef struct bp__newton {
     bp__sparse H;                 /* 2nv x 2nv, full symmetric pattern      */
     bp__factor F;
     int        factored;          /* ordering and pattern of L are known    */
-    uint32_t  *tpos;              /* 36 per triangle: its entries in H.val  */
+    uint32_t  *tpos;              /* 9 per triangle: its 2x2 blocks in H.val */
     uint32_t  *dpos;              /* 4 per vertex: its 2x2 diagonal block   */
     double    *ht;                /* 36 per triangle: its Hessian           */
     double    *bd;                /* 3 per vertex: barrier block xx, xy, yy */
@@ -9764,44 +9764,67 @@ static uint32_t bp__sparse_has(const bp__sparse *A, uint32_t i, uint32_t j)
     return p != BP__NONE && A->row[p] == i ? p : BP__NONE;
 }
 
-/* The pattern of H (all values 0): the triangles' blocks, every vertex's
-   diagonal block and the 2x2 blocks of the vertex couplings in `extra`
-   (barrier pairs met so far); and where each triangle's and each vertex's
-   entries lie in it.  Any factorization of the old pattern is dropped. */
+/* The pattern of H (all values 0): the 2x2 blocks of the vertex graph G
+   of the triangles' edges, every vertex's diagonal block and the vertex
+   couplings in `extra` (barrier pairs met so far); and where each
+   triangle's 3x3 blocks and each vertex's diagonal entries lie in it.
+   G is built first (6 triplets per triangle instead of H's 36), then
+   expanded: columns 2v and 2v+1 of H both hold the rows 2w, 2w+1 of every
+   w in G's column v, so block (w, v) of H starts at
+       colp[2v] + 2 (position of w in G's column v)
+   and its entry (2w + a, 2v + b) lies a + b (colp[2v+1] - colp[2v]) after
+   that: tpos keeps one position per block (9 per triangle).  The old
+   pattern and its factor are freed first, so that a rebuild (the barrier
+   growing the pattern) never holds two of them. */
 static bp_status bp__newton_pattern(bp__newton *N, const bp_allocator *a, bp__solver *S)
 {
-    uint32_t n = 2 * S->nv, t, v, k, l;
+    uint32_t nv = S->nv, n = 2 * nv, t, v, k, l, p, w = 0;
     const uint32_t *ex = (const uint32_t *)N->extra.data;
     size_t nt = 0, e;
-    bp__trip *tr = (bp__trip *)bp__alloc_array(a, 36 * (size_t)S->nt + n + 8 * N->extra.count, sizeof(bp__trip));
-    if (!tr) return BP_ERR_OUT_OF_MEMORY;
-    for (t = 0; t < S->nt; t++)
-        for (k = 0; k < 6; k++)
-            for (l = 0; l < 6; l++) {
-                tr[nt].i = 2 * S->tri[3 * (size_t)t + k / 2] + k % 2;
-                tr[nt].j = 2 * S->tri[3 * (size_t)t + l / 2] + l % 2;
-                tr[nt++].v = 0;
-            }
-    for (v = 0; v < n; v++) { tr[nt].i = tr[nt].j = v; tr[nt++].v = 0; }
-    for (e = 0; e < N->extra.count; e++)
-        for (k = 0; k < 4; k++) {
-            tr[nt].i = 2 * ex[2 * e] + k % 2; tr[nt].j = 2 * ex[2 * e + 1] + k / 2; tr[nt++].v = 0;
-            tr[nt].j = 2 * ex[2 * e] + k % 2; tr[nt].i = 2 * ex[2 * e + 1] + k / 2; tr[nt++].v = 0;
-        }
+    bp__sparse G;
+    bp__trip *tr;
     bp__sparse_free(a, &N->H);
     bp__factor_free(a, &N->F);
     N->factored = 0;
+    memset(&G, 0, sizeof G);
+    tr = (bp__trip *)bp__alloc_array(a, 6 * (size_t)S->nt + nv + 2 * N->extra.count, sizeof(bp__trip));
+    if (!tr) return BP_ERR_OUT_OF_MEMORY;
+    for (t = 0; t < S->nt; t++)
+        for (k = 0; k < 3; k++)
+            for (l = 0; l < 3; l++)
+                if (k != l) { tr[nt].i = S->tri[3 * (size_t)t + k]; tr[nt].j = S->tri[3 * (size_t)t + l]; tr[nt++].v = 0; }
+    for (v = 0; v < nv; v++) { tr[nt].i = tr[nt].j = v; tr[nt++].v = 0; }
+    for (e = 0; e < N->extra.count; e++) {
+        tr[nt].i = ex[2 * e]; tr[nt].j = ex[2 * e + 1]; tr[nt++].v = 0;
+        tr[nt].i = ex[2 * e + 1]; tr[nt].j = ex[2 * e]; tr[nt++].v = 0;
+    }
+    G.symmetric = 1;
+    if (!bp__sparse_from_triplets(a, nv, tr, nt, &G)) { bp__free(a, tr); bp__sparse_free(a, &G); return BP_ERR_OUT_OF_MEMORY; }
+    bp__free(a, tr);
+    N->H.n = n;
     N->H.symmetric = 1;
     N->H.blocks2 = 1;
-    if (!bp__sparse_from_triplets(a, n, tr, nt, &N->H)) { bp__free(a, tr); return BP_ERR_OUT_OF_MEMORY; }
-    bp__free(a, tr);
+    N->H.colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    N->H.row = (uint32_t *)bp__alloc_array(a, 4 * (size_t)G.colp[nv] + 1, sizeof(uint32_t));
+    N->H.val = (double *)bp__calloc_array(a, 4 * (size_t)G.colp[nv] + 1, sizeof(double));
+    if (!N->H.colp || !N->H.row || !N->H.val || G.colp[nv] > 0x3ffffffcu) { bp__sparse_free(a, &G); return BP_ERR_OUT_OF_MEMORY; }
+    for (v = 0; v < nv; v++)
+        for (k = 0; k < 2; k++) {
+            N->H.colp[2 * v + k] = w;
+            for (p = G.colp[v]; p < G.colp[v + 1]; p++) { N->H.row[w++] = 2 * G.row[p]; N->H.row[w++] = 2 * G.row[p] + 1; }
+        }
+    N->H.colp[n] = w;
     for (t = 0; t < S->nt; t++)
-        for (k = 0; k < 6; k++)
-            for (l = 0; l < 6; l++)
-                N->tpos[36 * (size_t)t + 6 * k + l] =
-                    bp__sparse_find(&N->H, 2 * S->tri[3 * (size_t)t + k / 2] + k % 2, 2 * S->tri[3 * (size_t)t + l / 2] + l % 2);
-    for (v = 0; v < S->nv; v++)
-        for (k = 0; k < 4; k++) N->dpos[4 * (size_t)v + k] = bp__sparse_find(&N->H, 2 * v + k % 2, 2 * v + k / 2);
+        for (k = 0; k < 3; k++)
+            for (l = 0; l < 3; l++) {
+                uint32_t r = S->tri[3 * (size_t)t + k], c = S->tri[3 * (size_t)t + l];
+                N->tpos[9 * (size_t)t + 3 * k + l] = N->H.colp[2 * c] + 2 * (bp__sparse_find(&G, r, c) - G.colp[c]);
+            }
+    for (v = 0; v < nv; v++) {
+        uint32_t base = N->H.colp[2 * v] + 2 * (bp__sparse_find(&G, v, v) - G.colp[v]), len = N->H.colp[2 * v + 1] - N->H.colp[2 * v];
+        for (k = 0; k < 4; k++) N->dpos[4 * (size_t)v + k] = base + k % 2 + (k / 2) * len;
+    }
+    bp__sparse_free(a, &G);
     return BP_OK;
 }
 
@@ -9812,7 +9835,7 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
     N->extra.elem = 2 * sizeof(uint32_t);
     N->pairs.elem = sizeof(bp__bpair);
     N->near.elem = sizeof(bp__bpair);
-    N->tpos = (uint32_t *)bp__alloc_array(a, 36 * (size_t)S->nt, sizeof(uint32_t));
+    N->tpos = (uint32_t *)bp__alloc_array(a, 9 * (size_t)S->nt, sizeof(uint32_t));
     N->dpos = (uint32_t *)bp__alloc_array(a, 4 * (size_t)S->nv, sizeof(uint32_t));
     N->ht = (double *)bp__calloc_array(a, 36 * (size_t)S->nt, sizeof(double));
     N->bd = (double *)bp__alloc_array(a, 3 * (size_t)S->nv, sizeof(double));
@@ -9990,7 +10013,12 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
     n = N->H.n;
     memset(N->H.val, 0, (size_t)N->H.colp[n] * sizeof(double));
     for (t = 0; t < S->nt; t++)
-        for (k = 0; k < 36; k++) N->H.val[N->tpos[36 * (size_t)t + k]] += N->ht[36 * (size_t)t + k];
+        for (k = 0; k < 9; k++) {          /* block (r, c) = (k / 3, k % 3) of the triangle */
+            const double *ht = N->ht + 36 * (size_t)t + 12 * (k / 3) + 2 * (k % 3);
+            uint32_t P = N->tpos[9 * (size_t)t + k], c = 2 * S->tri[3 * (size_t)t + k % 3];
+            uint32_t len = N->H.colp[c + 1] - N->H.colp[c];
+            N->H.val[P] += ht[0]; N->H.val[P + 1] += ht[6]; N->H.val[P + len] += ht[1]; N->H.val[P + len + 1] += ht[7];
+        }
     if (BP__NEWTON_BARRIER == 3) {                  /* the pairs' full terms */
         const bp__bpair *pr = (const bp__bpair *)N->pairs.data;
         size_t q;
