@@ -5616,11 +5616,10 @@ done:
    of j and |L(:, j)| = |L(:, j+1)| + 1, form a dense trapezoid: it is
    stored as one dense block, indexed once per row vertex (one index per
    2 x 2 nc values), and computed by dense loops with no indirection.  On
-   mesh graphs the fundamental supernodes are short (1.7 vertices on
-   face), so they are amalgamated (Ashcraft & Grimes 1989): a child joins
-   its parent when few explicit zeros come with it (bp__super_relax); the
-   supernodes then average about 7 vertices, and the top separators are
-   one dense block each.
+   mesh graphs the fundamental supernodes are short (1.6 vertices on
+   face, most of the work in the long ones of the separators); merging a
+   child into its parent at the price of explicit zeros (relaxed
+   amalgamation, bp__super_relax) was measured and is off by default.
 
    The numeric factorization is left-looking by supernodes.  For supernode
    J with columns C and rows R (C first), its block B (|R| x |C| in 2x2
@@ -5687,7 +5686,10 @@ static int bp__super_graph(const bp_allocator *a, const bp__sparse *A, bp__spars
    CHOLMOD's, in vertices = 2 columns): a supernode of nc vertices whose
    lower trapezoid would hold a fraction z of explicit zeros is accepted
    when nc <= 2, or nc <= 8 and z < 0.8, or nc <= 24 and z < 0.1, or
-   z < 0.05. */
+   z < 0.05.  Off unless BP__SUPER_RELAX is 1: on face and bimba it made
+   the supernodes 7.3 vertices long instead of 1.6 but the factorization
+   no faster (the 2x2 blocks are dense enough for the kernels), and L 14%
+   larger (docs/performance.md sec 6.1). */
 #ifndef BP__SUPER_ORDER
 #define BP__SUPER_ORDER 1           /* bp__nd_order's mode for the supernodal factor */
 #endif
@@ -5695,7 +5697,7 @@ static int bp__super_graph(const bp_allocator *a, const bp__sparse *A, bp__spars
 #define BP__SCALAR_ORDER 0          /* ... and for the scalar one */
 #endif
 #ifndef BP__SUPER_RELAX
-#define BP__SUPER_RELAX 1
+#define BP__SUPER_RELAX 0           /* measured: no faster, 14% more values */
 #endif
 static int bp__super_relax(uint32_t nc, double nz, double size)
 {
