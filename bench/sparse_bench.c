@@ -1,13 +1,18 @@
 /* sparse_bench.c - the Newton system's factorization on a real chart
    (>>sparse, >>newton; docs/performance.md sec 6.1).
 
+   Build: cc -std=c99 -O2 -I. bench/sparse_bench.c -o build/bench/sparse_bench -lm -pthread
    Usage: build/bench/sparse_bench MESH [repeats]
    Takes the mesh's largest chart at its start map, assembles projected
    Newton's matrix H (bp__newton_assemble) and reports, for the scalar
    up-looking LDL^T and the supernodal Cholesky: nnz(L), the flop count
    sum_j colcount_j^2, CPU seconds of the analysis, of one numeric
    factorization (median of `repeats`) and of one solve, and the relative
-   residual |H x - b| / |b|.  One thread. */
+   residual |H x - b| / |b|; for the supernodal factor also its flops by
+   dissection phase and a two-thread bound (every task timed alone, the
+   tasks of each parallel loop dealt in order to the less loaded of two
+   threads).  One thread. */
+#define _POSIX_C_SOURCE 199309L     /* clock_gettime */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 
