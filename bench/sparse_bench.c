@@ -1,0 +1,170 @@
+/* sparse_bench.c - the Newton system's factorization on a real chart
+   (>>sparse, >>newton; docs/performance.md sec 6.1).
+
+   Build: cc -std=c99 -O2 -I. bench/sparse_bench.c -o build/bench/sparse_bench -lm -pthread
+   Usage: build/bench/sparse_bench MESH [repeats]
+   Takes the mesh's largest chart at its start map, assembles projected
+   Newton's matrix H (bp__newton_assemble) and reports, for the scalar
+   up-looking LDL^T and the supernodal Cholesky: nnz(L), the flop count
+   sum_j colcount_j^2, CPU seconds of the analysis, of one numeric
+   factorization (median of `repeats`) and of one solve, and the relative
+   residual |H x - b| / |b|; for the supernodal factor also its flops by
+   dissection phase and a two-thread bound (every task timed alone, the
+   tasks of each parallel loop dealt in order to the less loaded of two
+   threads).  One thread. */
+#define _POSIX_C_SOURCE 199309L     /* clock_gettime */
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double cpu(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static int cmpd(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* A parallel loop run serially, each task timed: acc[0] += the loop's
+   time, acc[1] += its time on two threads taking the tasks in order, each
+   to the less loaded one. */
+static void timed_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+{
+    double *acc = (double *)user, load[2] = {0, 0}, t0;
+    uint32_t i;
+    for (i = 0; i < count; i++) {
+        t0 = cpu();
+        fn(task, i);
+        load[load[1] < load[0]] += cpu() - t0;
+    }
+    acc[0] += load[0] + load[1];
+    acc[1] += load[0] > load[1] ? load[0] : load[1];
+}
+
+static double residual(const bp__sparse *A, const double *x, const double *b)
+{
+    uint32_t j, p, n = A->n;
+    double *r = (double *)malloc(n * sizeof(double)), rr = 0, bb = 0;
+    for (j = 0; j < n; j++) r[j] = b[j];
+    for (j = 0; j < n; j++)
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) r[A->row[p]] -= A->val[p] * x[j];
+    for (j = 0; j < n; j++) { rr += r[j] * r[j]; bb += b[j] * b[j]; }
+    free(r);
+    return sqrt(rr / bb);
+}
+
+int main(int argc, char **argv)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options opt;
+    bp_allocator a;
+    bp__solver S;
+    bp__newton N;
+    uint32_t c, best = 0, n, j, bad, k;
+    int reps = argc > 2 ? atoi(argv[2]) : 3, r;
+    double t0, t_an, t[64], *b, *x, *z, flops = 0;
+    if (argc < 2) { fprintf(stderr, "usage: %s MESH [repeats]\n", argv[0]); return 2; }
+    if (reps > 64) reps = 64;
+    memset(&opt, 0, sizeof opt);
+    memset(&a, 0, sizeof a);
+    if (bp_read_mesh(argv[1], &mesh, NULL, &err) != BP_OK || bp_atlas_build(&atlas, &mesh, &opt, &err) != BP_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return 1;
+    }
+    for (c = 1; c < atlas.num_charts; c++)
+        if (atlas.charts[c].num_triangles > atlas.charts[best].num_triangles) best = c;
+    if (bp_chart_init(&atlas.charts[best], &mesh, &opt, &err) != BP_OK ||
+        bp__solver_chart(&S, &a, &atlas.charts[best], &mesh, &opt, NULL, &err) != BP_OK ||
+        bp__newton_init(&N, &a, &S) != BP_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return 1;
+    }
+    bp__newton_assemble(&N, &S, atlas.charts[best].uv);
+    n = N.H.n;
+    b = (double *)malloc(n * sizeof(double));
+    x = (double *)malloc(n * sizeof(double));
+    z = (double *)malloc(n * sizeof(double));
+    for (j = 0; j < n; j++) b[j] = sin(1.0 + j);
+    printf("%s: chart of %u faces, %u vertices, n = %u, nnz(A) = %u\n", argv[1], atlas.charts[best].num_triangles, S.nv, n,
+           N.H.colp[n]);
+    for (int sup = 0; sup < 2; sup++) {   /* scalar, supernodal */
+        bp__factor F;
+        uint32_t *cc = (uint32_t *)calloc(n, sizeof(uint32_t));
+        bp__par ser = bp__par_serial();
+        double nnzl = 0;
+        N.H.blocks2 = sup;
+        flops = 0;
+        t0 = cpu();
+        if (bp__factorize(&a, &N.H, &F, &bad, NULL) != BP_OK) { fprintf(stderr, "factorize failed\n"); return 1; }
+        t_an = cpu() - t0;
+        if (!sup) {
+            for (k = 0; k < F.Rp[n]; k++) cc[F.Ri[k]]++;
+            for (j = 0; j < n; j++) flops += (double)(cc[j] + 1) * (cc[j] + 1);
+            nnzl = F.Rp[n] + n;
+        } else {
+            const bp__super *S = F.sn;
+            uint32_t s;
+            for (s = 0; s < S->ns; s++) {
+                double c = 2.0 * (S->first[s + 1] - S->first[s]), m = 2.0 * (S->rp[s + 1] - S->rp[s]);
+                for (j = 0; j < c; j++) { nnzl += m - j; flops += (m - j) * (m - j); }
+            }
+            {
+                double fl[BP__ND_DEPTH + 2] = {0};
+                int ph;
+                for (ph = 0; ph <= BP__ND_DEPTH; ph++) {
+                    uint32_t nodes[BP__ND_NODES], cn = bp__nd_phase(&F, ph, nodes), q, s2;
+                    for (q = 0; q < cn; q++) {
+                        const bp__ndnode *Nd = &F.tree[nodes[q]];
+                        uint32_t v0 = ph ? Nd->b : Nd->lo;
+                        if (v0 >= Nd->hi) continue;
+                        if (ph) printf("  phase %d node %u: separator %u vertices of %u\n", ph, nodes[q], Nd->hi - Nd->b, Nd->hi - Nd->lo);
+                        for (s2 = S->snode[v0]; s2 <= S->snode[Nd->hi - 1]; s2++) {
+                            double c = 2.0 * (S->first[s2 + 1] - S->first[s2]), m = 2.0 * (S->rp[s2 + 1] - S->rp[s2]);
+                            for (j = 0; j < c; j++) fl[ph] += (m - j) * (m - j);
+                        }
+                    }
+                    printf("  phase %d: flops %.3g\n", ph, fl[ph]);
+                }
+            }
+            {   /* every task timed alone: the two-thread bound */
+                double acc[2] = {0, 0};
+                bp__par tp = bp__par_serial();
+                tp.run = timed_for;
+                tp.user = acc;
+                bp__fact_numeric(&a, &N.H, &F, NULL, &tp);
+                printf("  numeric by tasks: %.4f s; on two threads at best %.4f s (%.2fx)\n", acc[0], acc[1], acc[0] / acc[1]);
+            }
+            printf("supernodes %u (mean %.2f vertices), row indices %u, stored doubles %zu\n", S->ns, (double)S->nv / S->ns,
+                   S->rp[S->ns], S->xp[S->ns]);
+        }
+        for (r = 0; r < reps; r++) {
+            t0 = cpu();
+            bp__fact_numeric(&a, &N.H, &F, NULL, &ser);
+            t[r] = cpu() - t0;
+        }
+        qsort(t, reps, sizeof(double), cmpd);
+        t0 = cpu();
+        bp__factor_solve(&F, b, x, z);
+        printf("%s nnz(L) %10.0f  flops %.4g  analyse+factor %.3f s  numeric %.3f s  solve %.4f s  residual %.2g\n",
+               sup ? "supernodal:" : "scalar:    ", nnzl, flops, t_an, t[reps / 2], cpu() - t0, residual(&N.H, x, b));
+        bp__factor_free(&a, &F);
+        free(cc);
+    }
+    free(b); free(x); free(z);
+    bp__newton_free(&a, &N);
+    bp__solver_free(&S);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+    return 0;
+}

@@ -1,0 +1,345 @@
+/* test_sparse.c - the supernodal Cholesky factorization of >>sparse.
+
+   Nothing here takes the factorization on trust:
+
+     (a) random symmetric positive definite matrices in 2x2 blocks with
+         mesh-like patterns (a triangulated grid of vertices, random 6x6
+         positive semidefinite "triangle" blocks R R^T, plus random
+         long-range vertex pairs like the barrier's, plus a small shift):
+         the ordering is a permutation and its inverse; no entry of the
+         matrix joins the two halves of a split of the dissection tree
+         (what the parallel phases rely on); every entry of the dense
+         Cholesky factor of the permuted matrix, computed here by brute
+         force, that lies outside the supernodal pattern is exactly 0 (the
+         symbolic analysis misses no fill), and every stored entry equals
+         the dense one to rounding; the solve's relative residual
+         |A x - b| / |b| is at rounding level; the scalar up-looking LDL^T
+         of the same matrix gives the same solution to rounding;
+     (b) the same bits (factor values and pivots) when the parallel tasks
+         run in reverse and in odd-even order, also on a 48 x 48 grid
+         whose separators are cut into several OUTSIDE pieces (no dense
+         brute force there: 4,608 unknowns; residual and scalar only);
+     (c) a matrix that is not positive definite is reported
+         (BP_ERR_NUMERICAL) and a matrix flagged blocks2 that is not made
+         of whole 2x2 blocks falls back to the scalar factorization and is
+         still solved;
+     (d) projected Newton's matrix on camel_b (the Tutte start, with a
+         wide barrier so that its vertex pairs are in the pattern): the
+         supernodal solve's residual, the scalar solve's solution to the
+         conditioning's rounding, and the same bits in reverse task order. */
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include "bptest.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A random SPD matrix in 2x2 blocks on a g x g grid of vertices: two
+   triangles per cell (the diagonal chosen at random), each adding R R^T
+   (R 6x6 random) on its vertices' coordinates; `pairs` random vertex
+   pairs each adding w w^T (w random on both vertices' 4 coordinates);
+   1e-3 on the diagonal. */
+static int random_matrix(uint32_t g, uint32_t pairs, bp__sparse *A)
+{
+    bp_allocator al;
+    uint32_t nv = g * g, i, j, t, k, l, r, ntri = 2 * (g - 1) * (g - 1);
+    size_t cap = 36 * (size_t)ntri + 16 * (size_t)pairs + 2 * (size_t)nv, nt = 0;
+    bp__trip *tr = (bp__trip *)malloc(cap * sizeof *tr);
+    int ok;
+    memset(&al, 0, sizeof al);
+    memset(A, 0, sizeof *A);
+    for (i = 0; i + 1 < g; i++)
+        for (j = 0; j + 1 < g; j++)
+            for (t = 0; t < 2; t++) {
+                uint32_t v[3], a = i * g + j, b = a + 1, c = a + g, d = c + 1;
+                double R[36];
+                if (bpt_rng_unit() < 0.5) { v[0] = a; v[1] = b; v[2] = t ? d : c; if (t) { v[0] = a; v[1] = d; v[2] = c; } }
+                else { v[0] = a; v[1] = b; v[2] = d; if (t) { v[0] = b; v[1] = d; v[2] = c; } }
+                for (k = 0; k < 36; k++) R[k] = bpt_rng_range(-1, 1);
+                for (k = 0; k < 6; k++)
+                    for (l = 0; l < 6; l++) {
+                        double s = 0;
+                        for (r = 0; r < 6; r++) s += R[6 * k + r] * R[6 * l + r];
+                        tr[nt].i = 2 * v[k / 2] + k % 2; tr[nt].j = 2 * v[l / 2] + l % 2; tr[nt++].v = s;
+                    }
+            }
+    for (k = 0; k < pairs; k++) {
+        uint32_t u = (uint32_t)(bpt_rng_unit() * nv) % nv, w = (uint32_t)(bpt_rng_unit() * nv) % nv, vv[2];
+        double x[4];
+        if (u == w) continue;
+        vv[0] = u; vv[1] = w;
+        for (l = 0; l < 4; l++) x[l] = bpt_rng_range(-1, 1);
+        for (l = 0; l < 4; l++)
+            for (r = 0; r < 4; r++) { tr[nt].i = 2 * vv[l / 2] + l % 2; tr[nt].j = 2 * vv[r / 2] + r % 2; tr[nt++].v = x[l] * x[r]; }
+    }
+    for (k = 0; k < 2 * nv; k++) { tr[nt].i = tr[nt].j = k; tr[nt++].v = 1e-3; }
+    A->symmetric = 1;
+    A->blocks2 = 1;
+    ok = bp__sparse_from_triplets(&al, 2 * nv, tr, nt, A);
+    free(tr);
+    return ok;
+}
+
+/* y = A x */
+static void mul(const bp__sparse *A, const double *x, double *y)
+{
+    uint32_t j, p;
+    for (j = 0; j < A->n; j++) y[j] = 0;
+    for (j = 0; j < A->n; j++)
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) y[A->row[p]] += A->val[p] * x[j];
+}
+
+static double rel_residual(const bp__sparse *A, const double *x, const double *b)
+{
+    double *y = (double *)malloc(A->n * sizeof(double)), rr = 0, bb = 0;
+    uint32_t i;
+    mul(A, x, y);
+    for (i = 0; i < A->n; i++) { rr += (y[i] - b[i]) * (y[i] - b[i]); bb += b[i] * b[i]; }
+    free(y);
+    return sqrt(rr / bb);
+}
+
+static double rel_diff(const double *x, const double *y, uint32_t n)
+{
+    double d = 0, s = 0;
+    uint32_t i;
+    for (i = 0; i < n; i++) { d += (x[i] - y[i]) * (x[i] - y[i]); s += y[i] * y[i]; }
+    return sqrt(d / s);
+}
+
+/* (a): the factor against brute force. */
+static void check_against_dense(const bp__sparse *A, const bp__factor *F, const char *what)
+{
+    const bp__super *S = F->sn;
+    uint32_t n = A->n, nv = n / 2, i, j, k, p, s, bad = 0, outside = 0, isperm = 1;
+    double *L = (double *)calloc((size_t)n * n, sizeof(double)), worst = 0, scale = 0;
+    unsigned char *in = (unsigned char *)calloc((size_t)n * n, 1), *seen = (unsigned char *)calloc(nv, 1);
+    /* the ordering */
+    for (i = 0; i < nv; i++) {
+        if (S->vperm[i] >= nv || seen[S->vperm[i]]) isperm = 0;
+        else seen[S->vperm[i]] = 1;
+        if (S->vperm[i] < nv && S->viperm[S->vperm[i]] != i) isperm = 0;
+    }
+    BPT_CHECK(isperm, "%s: the vertex order is a permutation of %u and viperm its inverse", what, nv);
+    /* the dissection tree's splits: no entry joins [lo, a) and [a, b) */
+    for (k = 0; k < BP__ND_NODES; k++) {
+        const bp__ndnode *N = &F->tree[k];
+        uint32_t cross = 0;
+        if (!N->used || !N->split) continue;
+        for (j = 0; j < n; j++)
+            for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
+                uint32_t u = S->viperm[j / 2], w = S->viperm[A->row[p] / 2];
+                if (u >= N->lo && u < N->a && w >= N->a && w < N->b) cross++;
+            }
+        if (cross) bad++;
+    }
+    BPT_CHECK(bad == 0, "%s: no matrix entry joins the two halves of a split of the dissection tree (%u bad nodes)", what, bad);
+    /* dense P A P^T, then its Cholesky factor in place (lower) */
+    for (j = 0; j < n; j++)
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
+            uint32_t r = 2 * S->viperm[A->row[p] / 2] + A->row[p] % 2, c = 2 * S->viperm[j / 2] + j % 2;
+            L[(size_t)r * n + c] = A->val[p];
+        }
+    for (j = 0; j < n; j++) {
+        double d = L[(size_t)j * n + j];
+        for (k = 0; k < j; k++) d -= L[(size_t)j * n + k] * L[(size_t)j * n + k];
+        d = sqrt(d);
+        L[(size_t)j * n + j] = d;
+        for (i = j + 1; i < n; i++) {
+            double t = L[(size_t)i * n + j];
+            for (k = 0; k < j; k++) t -= L[(size_t)i * n + k] * L[(size_t)j * n + k];
+            L[(size_t)i * n + j] = t / d;
+        }
+    }
+    for (i = 0; i < n; i++) for (j = 0; j <= i; j++) if (fabs(L[(size_t)i * n + j]) > scale) scale = fabs(L[(size_t)i * n + j]);
+    /* every stored entry against the dense one */
+    for (s = 0; s < S->ns; s++) {
+        uint32_t c2 = 2 * (S->first[s + 1] - S->first[s]), m2 = 2 * (S->rp[s + 1] - S->rp[s]);
+        const double *B = S->x + S->xp[s];
+        for (i = 0; i < m2; i++)
+            for (j = 0; j < c2; j++) {
+                uint32_t r = 2 * S->ri[S->rp[s] + i / 2] + i % 2, c = 2 * S->first[s] + j;
+                double e;
+                if (r < c) continue;
+                in[(size_t)r * n + c] = 1;
+                e = fabs(B[(size_t)i * c2 + j] - L[(size_t)r * n + c]);
+                if (e > worst) worst = e;
+            }
+    }
+    for (i = 0; i < n; i++)
+        for (j = 0; j <= i; j++)
+            if (!in[(size_t)i * n + j] && L[(size_t)i * n + j] != 0) outside++;
+    BPT_CHECK(outside == 0, "%s: the dense Cholesky factor has no nonzero outside the supernodal pattern (%u found)", what,
+              outside);
+    BPT_CHECK(worst <= 1e-10 * scale, "%s: every stored entry equals the dense factor's, max |diff| %.3g (max |L| %.3g)", what,
+              worst, scale);
+    free(L); free(in); free(seen);
+}
+
+static void test_random(void)
+{
+    static const uint32_t G[] = { 3, 6, 9, 12, 48 };
+    static const uint32_t PAIRS[] = { 0, 4, 20, 40, 30 };
+    bp_allocator al;
+    int c;
+    memset(&al, 0, sizeof al);
+    for (c = 0; c < 5; c++) {
+        bp__sparse A;
+        bp__factor F, Fs, Fr;
+        uint32_t n, i, bad;
+        double *b, *x, *xs, *z;
+        char what[64];
+        bp__par rev = bp__par_serial(), oe = bp__par_serial();
+        rev.run = bpt_backwards_for;
+        oe.run = bpt_odd_even_for;
+        sprintf(what, "grid %ux%u + %u pairs", G[c], G[c], PAIRS[c]);
+        if (!BPT_CHECK(random_matrix(G[c], PAIRS[c], &A), "%s: built", what)) return;
+        n = A.n;
+        b = (double *)malloc(n * sizeof(double)); x = (double *)malloc(n * sizeof(double));
+        xs = (double *)malloc(n * sizeof(double)); z = (double *)malloc(n * sizeof(double));
+        for (i = 0; i < n; i++) b[i] = bpt_rng_range(-1, 1);
+        if (!BPT_CHECK(bp__factorize(&al, &A, &F, &bad, NULL) == BP_OK && F.sn, "%s: supernodal factorization", what)) return;
+        if (G[c] <= 12) check_against_dense(&A, &F, what);
+        else {
+            /* big enough for separators cut into several OUTSIDE pieces */
+            uint32_t s, big = 0;
+            for (s = 0; s < F.sn->ns; s++) if (F.sn->first[s + 1] - F.sn->first[s] >= 16) big++;
+            BPT_CHECK(big > 0, "%s: %u supernodes of 16 vertices or more (cut into pieces)", what, big);
+        }
+        bp__factor_solve(&F, b, x, z);
+        BPT_CHECK(rel_residual(&A, x, b) < 1e-10, "%s: |A x - b| / |b| = %.3g", what, rel_residual(&A, x, b));
+        A.blocks2 = 0;
+        BPT_CHECK(bp__factorize(&al, &A, &Fs, &bad, NULL) == BP_OK && !Fs.sn, "%s: scalar factorization", what);
+        bp__factor_solve(&Fs, b, xs, z);
+        BPT_CHECK(rel_diff(x, xs, n) < 1e-9, "%s: supernodal and scalar solutions agree, rel. diff %.3g", what, rel_diff(x, xs, n));
+        A.blocks2 = 1;
+        /* (b) the same bits on other task orders: a new analysis with the
+           numeric phase run backwards, then refactored odd-even */
+        if (BPT_CHECK(bp__factorize(&al, &A, &Fr, &bad, &rev) == BP_OK && Fr.sn, "%s: factorization, tasks backwards", what)) {
+            int same = memcmp(F.sn->x, Fr.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)) == 0 &&
+                       memcmp(F.D, Fr.D, n * sizeof(double)) == 0;
+            BPT_CHECK(same, "%s: tasks run backwards give the same bits", what);
+            memset(Fr.sn->x, 0, Fr.sn->xp[Fr.sn->ns] * sizeof(double));
+            bp__fact_numeric(&al, &A, &Fr, NULL, &oe);
+            same = memcmp(F.sn->x, Fr.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)) == 0;
+            BPT_CHECK(same, "%s: refactored in odd-even task order: the same bits", what);
+            bp__factor_free(&al, &Fr);
+        }
+        bp__factor_free(&al, &F);
+        bp__factor_free(&al, &Fs);
+        /* (c) not positive definite: one diagonal entry made very negative */
+        A.val[bp__sparse_find(&A, n / 2, n / 2)] = -1e6;
+        BPT_CHECK(bp__factorize(&al, &A, &F, &bad, NULL) == BP_ERR_NUMERICAL, "%s: an indefinite matrix is reported (row %u)",
+                  what, bad);
+        bp__sparse_free(&al, &A);
+        free(b); free(x); free(xs); free(z);
+    }
+}
+
+/* (c) flagged blocks2 but not in whole blocks: a tridiagonal matrix of odd
+   and even size. */
+static void test_fallback(void)
+{
+    bp_allocator al;
+    uint32_t sz, i, bad;
+    memset(&al, 0, sizeof al);
+    for (sz = 7; sz <= 8; sz++) {
+        bp__trip tr[32];
+        size_t nt = 0;
+        bp__sparse A;
+        bp__factor F;
+        double b[8], x[8], z[8];
+        memset(&A, 0, sizeof A);
+        for (i = 0; i < sz; i++) {
+            tr[nt].i = tr[nt].j = i; tr[nt++].v = 4;
+            if (i + 1 < sz) { tr[nt].i = i; tr[nt].j = i + 1; tr[nt++].v = -1; tr[nt].i = i + 1; tr[nt].j = i; tr[nt++].v = -1; }
+            b[i] = i + 1.0;
+        }
+        A.symmetric = 1;
+        A.blocks2 = 1;
+        bp__sparse_from_triplets(&al, sz, tr, nt, &A);
+        if (BPT_CHECK(bp__factorize(&al, &A, &F, &bad, NULL) == BP_OK && !F.sn,
+                      "tridiagonal %u x %u flagged blocks2: the scalar factorization serves", sz, sz)) {
+            bp__factor_solve(&F, b, x, z);
+            BPT_CHECK(rel_residual(&A, x, b) < 1e-14, "tridiagonal %u: solved, residual %.3g", sz, rel_residual(&A, x, b));
+            bp__factor_free(&al, &F);
+        }
+        bp__sparse_free(&al, &A);
+    }
+}
+
+/* (d) projected Newton's matrix on camel_b. */
+static void test_newton_matrix(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options opt;
+    bp_allocator a;
+    bp__solver S;
+    bp__newton N;
+    memset(&opt, 0, sizeof opt);
+    memset(&a, 0, sizeof a);
+    if (!BPT_CHECK(bp_read_obj("tests/data/camel_b.obj", &mesh, NULL, &err) == BP_OK, "read camel_b: %s", err.message)) return;
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1, "camel_b: one chart") ||
+        !BPT_CHECK(bp_chart_init(&atlas.charts[0], &mesh, &opt, &err) == BP_OK, "camel_b start map") ||
+        !BPT_CHECK(bp__solver_chart(&S, &a, &atlas.charts[0], &mesh, &opt, NULL, &err) == BP_OK, "camel_b solver")) {
+        bp_mesh_free(&mesh, NULL);
+        return;
+    }
+    S.eps = 4 * S.mean_edge;     /* many barrier pairs: their couplings join the pattern */
+    if (BPT_CHECK(bp__newton_init(&N, &a, &S) == BP_OK, "Newton set-up")) {
+        uint32_t n, i, bad, extra;
+        double *b, *x, *xs, *z;
+        bp__factor F, Fs;
+        bp__par rev = bp__par_serial();
+        rev.run = bpt_backwards_for;
+        bp__newton_assemble(&N, &S, atlas.charts[0].uv);
+        N.factored = 1;
+        N.since_grow = 8;
+        bp__newton_assemble(&N, &S, atlas.charts[0].uv);          /* the pairs' couplings now in the pattern */
+        extra = (uint32_t)N.extra.count;
+        n = N.H.n;
+        BPT_CHECK(extra > 0 && N.H.blocks2, "camel_b Newton matrix: %u barrier couplings in the pattern, blocks2 set", extra);
+        b = (double *)malloc(n * sizeof(double)); x = (double *)malloc(n * sizeof(double));
+        xs = (double *)malloc(n * sizeof(double)); z = (double *)malloc(n * sizeof(double));
+        for (i = 0; i < n; i++) b[i] = sin(1.0 + i);
+        if (BPT_CHECK(bp__factorize(&a, &N.H, &F, &bad, NULL) == BP_OK && F.sn, "camel_b Newton matrix: supernodal")) {
+            double res;
+            bp__factor_solve(&F, b, x, z);
+            res = rel_residual(&N.H, x, b);
+            BPT_CHECK(res < 1e-6, "camel_b Newton matrix: |H x - b| / |b| = %.3g", res);
+            N.H.blocks2 = 0;
+            if (BPT_CHECK(bp__factorize(&a, &N.H, &Fs, &bad, NULL) == BP_OK, "camel_b Newton matrix: scalar")) {
+                bp__factor_solve(&Fs, b, xs, z);
+                BPT_CHECK(rel_diff(x, xs, n) < 1e-5, "camel_b Newton matrix: supernodal and scalar solutions agree, rel. diff "
+                          "%.3g (scalar residual %.3g)", rel_diff(x, xs, n), rel_residual(&N.H, xs, b));
+                bp__factor_free(&a, &Fs);
+            }
+            N.H.blocks2 = 1;
+            {
+                double *keep = (double *)malloc(F.sn->xp[F.sn->ns] * sizeof(double));
+                memcpy(keep, F.sn->x, F.sn->xp[F.sn->ns] * sizeof(double));
+                bp__fact_numeric(&a, &N.H, &F, NULL, &rev);
+                BPT_CHECK(memcmp(keep, F.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)) == 0,
+                          "camel_b Newton matrix: refactored with tasks backwards, the same bits");
+                free(keep);
+            }
+            bp__factor_free(&a, &F);
+        }
+        free(b); free(x); free(xs); free(z);
+        bp__newton_free(&a, &N);
+    }
+    bp__solver_free(&S);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+}
+
+int main(void)
+{
+    test_random();
+    test_fallback();
+    test_newton_matrix();
+    return bpt_finish();
+}
