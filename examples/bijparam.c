@@ -119,7 +119,8 @@ static const char usage_text[] =
     "                     reported; a failed chart is reported, the others written)\n"
     "  --trace FILE       one line per iteration: chart iter seconds energy step\n"
     "                     cpu (seconds since start, wall and process CPU)\n"
-    "  --threads N        threads (default 0: all cores; 1: serial)\n"
+    "  --threads N        threads (default 0: all cores; 1: serial)\n";
+static const char usage_views[] =
     "  --visibility uniform|front|ring|side   optimize texel density for a view\n"
     "                     model (chapter 4): visible parts get more texture area\n"
     "  --view-dir X,Y,Z   front axis / side direction (default +z / +x)\n"
@@ -130,7 +131,7 @@ static const char usage_text[] =
     "  --importance FILE  one weight > 0 per face (painted importance)\n"
     "  --density-report uniform|front|ring|side   texel density of the result\n"
     "                     against a plain isometric map under that view model\n";
-/* (two strings: C99 promises string literals of 4095 characters only) */
+/* (three strings: C99 promises string literals of 4095 characters only) */
 static const char usage_pictures[] =
     "pictures:\n"
     "  --svg FILE         the UV layout as SVG: triangles coloured by distortion,\n"
@@ -1200,7 +1201,7 @@ int main(int argc, char **argv)
                 return usage_error("--max-iters needs an integer >= 1, not '%s'", v);
             }
         }
-        else if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_text, stdout); fputs(usage_pictures, stdout); return 0; }
+        else if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_text, stdout); fputs(usage_views, stdout); fputs(usage_pictures, stdout); return 0; }
         else if (!strcmp(a, "--version")) { printf("bijparam %s\n", BP_VERSION_STRING); return 0; }
         else if (!strcmp(a, "--force")) force = 1;
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) quiet = 1;
