@@ -20,6 +20,8 @@
 #   make docs         regenerate the README pictures in docs/images/
 #   make bench        bench/run.sh: timings on tests/data and ../shared/meshes,
 #                     then bench/pack.sh (make bench-pack): packing utilization
+#   make bench-start  bench/start.sh: the thin strips and lucy, --start auto
+#                     against plain (~3 min; also in bench)
 #   make bench-atlas  bench/atlas.sh: every mesh through --atlas 1024
 #                     --padding 4, checked by uvcheck (~5 min; not in bench)
 #   make clean        remove build/
@@ -59,7 +61,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-atlas clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-atlas bench-start clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -153,6 +155,11 @@ docs: $(TOOL)
 bench: $(TOOL)
 	bash bench/run.sh
 	bash bench/pack.sh
+	bash bench/start.sh
+
+# the better start: thin strips and lucy, --start auto against plain
+bench-start: $(TOOL)
+	bash bench/start.sh
 
 # utilization of the outline packer and the time to pack 5,000 charts
 bench-pack: $(TOOL)

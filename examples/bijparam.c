@@ -84,6 +84,11 @@ static const char usage_text[] =
     "                     as in the input; vt: only that side of a seam; '#'\n"
     "                     comments): they end exactly at (u, v) and their charts\n"
     "                     are not moved by packing\n"
+    "  --start auto|plain|progressive   auto (default): a planar chart starts\n"
+    "                     from its own projection (when exactly bijective),\n"
+    "                     any other from the --init map; plain: the --init\n"
+    "                     map always; progressive: auto, then a Tutte start\n"
+    "                     relaxed toward the rest shapes in rounds\n"
     "  --init-only        stop after the start map\n"
     "  --energy sd|conformal|mips|iso|maxiso   distortion (default sd)\n"
     "  --no-barrier       locally injective only (no boundary barrier)\n"
@@ -1056,7 +1061,7 @@ int main(int argc, char **argv)
             !strcmp(a, "--png") || !strcmp(a, "--png-view") || !strcmp(a, "--png-up") ||
             !strcmp(a, "--png-size") || !strcmp(a, "--png-views") || !strcmp(a, "--checker") ||
             !strcmp(a, "--frames") || !strcmp(a, "--frames-every") || !strcmp(a, "--atlas") ||
-            !strcmp(a, "--padding") || !strcmp(a, "--pin")) {
+            !strcmp(a, "--padding") || !strcmp(a, "--pin") || !strcmp(a, "--start")) {
             const char *v;
             if (i + 1 >= argc) return usage_error("option %s needs a value", a);
             v = argv[++i];
@@ -1099,6 +1104,11 @@ int main(int argc, char **argv)
                 if (!parse_int(v, 0, &opt.padding))
                     return usage_error("--padding needs an integer >= 0, not '%s'", v);
                 padding_set = 1;
+            } else if (!strcmp(a, "--start")) {
+                if (!strcmp(v, "auto")) opt.start = BP_START_AUTO;
+                else if (!strcmp(v, "plain")) opt.start = BP_START_PLAIN;
+                else if (!strcmp(v, "progressive")) opt.start = BP_START_PROGRESSIVE;
+                else return usage_error("unknown --start '%s' (auto, plain or progressive)", v);
             } else if (!strcmp(a, "--cut")) {
                 if (!strcmp(v, "auto")) opt.cut = BP_CUT_AUTO;
                 else if (!strcmp(v, "none")) opt.cut = BP_CUT_NONE;
