@@ -7153,7 +7153,7 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     bp__tutte T;
     bp_status st = BP_OK;
     uint32_t *pidx = NULL;
-    int mvc = opt && opt->init == BP_INIT_MEAN_VALUE, better = opt && opt->start != BP_START_PLAIN, planar = 0;
+    int mvc = opt && opt->init == BP_INIT_MEAN_VALUE, better = !opt || opt->start != BP_START_PLAIN, planar = 0;
     if (ch && ch->error.status != BP_OK) {
         if (err) *err = ch->error;
         return ch->error.status;                 /* a chart that cannot be flattened */

@@ -206,10 +206,21 @@ static void check_planar_grid(void)
     memset(&opt, 0, sizeof opt);
     if (BPT_CHECK(bp_atlas_build(&atlas, &m, &opt, &err) == BP_OK && atlas.num_charts == 1 &&
                   atlas.charts[0].num_loops == 2, "tilted grid with a hole: one chart, two loops (%s)", err.message)) {
-        bp_status st = bp_chart_init(&atlas.charts[0], &m, &opt, &err);
-        double e = st == BP_OK ? mean_sd_energy(&atlas.charts[0], &m, atlas.charts[0].uv) : -1;
-        BPT_CHECK(st == BP_OK && map_valid(&atlas.charts[0], atlas.charts[0].uv) && fabs(e - 4) < 1e-9,
-                  "tilted planar grid: the start map is its own projection (bijective, energy %.12g = 4)", e);
+        int pass;
+        for (pass = 0; pass < 3; pass++) {     /* default options, NULL options, BP_START_PLAIN */
+            bp_status st;
+            double e;
+            opt.start = pass == 2 ? BP_START_PLAIN : BP_START_AUTO;
+            st = bp_chart_init(&atlas.charts[0], &m, pass == 1 ? NULL : &opt, &err);
+            e = st == BP_OK ? mean_sd_energy(&atlas.charts[0], &m, atlas.charts[0].uv) : -1;
+            if (pass < 2)
+                BPT_CHECK(st == BP_OK && map_valid(&atlas.charts[0], atlas.charts[0].uv) && fabs(e - 4) < 1e-9,
+                          "tilted planar grid (%s options): the start map is its own projection (bijective, energy "
+                          "%.12g = 4)", pass ? "NULL" : "default", e);
+            else
+                BPT_CHECK(st == BP_OK && map_valid(&atlas.charts[0], atlas.charts[0].uv) && e > 4.01,
+                          "tilted planar grid, BP_START_PLAIN: the Tutte map (bijective, energy %.6g > 4)", e);
+        }
         bp_atlas_free(&atlas);
     }
     bpt_mesh_free(&m);
