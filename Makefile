@@ -20,10 +20,13 @@
 #   make docs         regenerate the README pictures in docs/images/
 #   make bench        bench/run.sh: timings on tests/data and ../shared/meshes,
 #                     then bench/pack.sh (make bench-pack): packing utilization,
-#                     then bench/scale.sh (make bench-scale)
+#                     then bench/scale.sh (make bench-scale), then
+#                     bench/start.sh (make bench-start)
 #   make bench-scale  bench/scale.sh: one chart subdivided to 8K, 133K, 298K
 #                     and 1M faces (bench/subdivide.py), 1 and 2 threads: time,
 #                     iterations, energy, bytes per face, exact checks
+#   make bench-start  bench/start.sh: the thin strips and lucy, --start auto
+#                     against plain (~3 min; also in bench)
 #   make bench-atlas  bench/atlas.sh: every mesh through --atlas 1024
 #                     --padding 4, checked by uvcheck (~5 min; not in bench)
 #   make bench-scaf   bench/scaf_ratio.py: issue 15's table, time to SCAF's
@@ -67,7 +70,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-start clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -162,6 +165,11 @@ bench: $(TOOL)
 	bash bench/run.sh
 	bash bench/pack.sh
 	bash bench/scale.sh
+	bash bench/start.sh
+
+# the better start: thin strips and lucy, --start auto against plain
+bench-start: $(TOOL)
+	bash bench/start.sh
 
 # utilization of the outline packer and the time to pack 5,000 charts
 bench-pack: $(TOOL)

@@ -245,6 +245,14 @@ typedef enum bp_init {
                             bijective, else Tutte; see bp_chart.init_used    */
 } bp_init;
 
+typedef enum bp_start {
+    BP_START_AUTO = 0,   /* a planar chart: its own projection when exactly
+                            bijective; any other: the map of opt.init (>>start) */
+    BP_START_PLAIN,      /* the map of opt.init, unchanged (as before 0.3)  */
+    BP_START_PROGRESSIVE /* AUTO, then a Tutte start relaxed by rounds of
+                            progressive references (>>start)              */
+} bp_start;
+
 /* A pinned vertex (see >>pins): chart vertices of mesh vertex `vertex`
    (0-based) end exactly at (u, v).  uv = 0: every chart vertex of it -- on
    a seam that is one in each chart the vertex belongs to, all at the same
@@ -428,6 +436,12 @@ typedef struct bp_options {
     uint32_t      max_charts;     /* > 0: at most this many charts (those of the
                                      input count; a mesh with more is left as
                                      it is).  0: no limit                     */
+    bp_start      start;          /* BP_START_AUTO (default): a planar chart
+                                     starts from its own projection, others
+                                     from the init map; BP_START_PLAIN: the
+                                     init map always; BP_START_PROGRESSIVE:
+                                     AUTO, then progressive references
+                                     (>>start)                                 */
 } bp_options;
 
 /* Growing bp_options.  New fields are only ever appended, so a caller's
@@ -7802,7 +7816,12 @@ static int bp__check_verdict_status(bp_status st)
    The solve is exact in theory but rounded in practice: on large charts a
    few triangles can come out with an area near the rounding level.  The map
    is therefore checked exactly before it is returned, and a chart whose
-   start map is not valid fails with BP_ERR_NUMERICAL naming the triangle. */
+   start map is not valid fails with BP_ERR_NUMERICAL naming the triangle.
+
+   Tutte's map crushes long protrusions and thin charts (the boundary on a
+   circle, every interior vertex at a mean of its neighbours): >>start
+   gives a planar chart its own projection instead (the default), and can
+   relax a Tutte start by progressive references (bp_options.start). */
 
 /* Angle at corner p between directions to q and r, in (0, pi). */
 static double bp__angle3(const double *p, const double *q, const double *r)
@@ -8351,6 +8370,12 @@ static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options
 static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                      bp_error *err);
 
+/* >>start, defined after the optimizer it uses. */
+static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const bp_mesh *m, double *eps);
+static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m);
+static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                       bp_error *err);
+
 /* The pins' part of a start map: the three necessary conditions, the fit
    (Tutte starts only) and the homotopy. */
 static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp_options *opt,
@@ -8368,8 +8393,9 @@ static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_me
     return bp__pins_reach(ch, m, opt, runner, pidx, err);
 }
 
-/* The start map in the seven phases above (or the input uvs), then the
-   pins. */
+/* The start map: the input uvs (BP_INIT_INPUT), or a planar chart's own
+   projection (>>start, 1), or the seven phases above, optionally relaxed
+   by progressive references (>>start, 3); then the pins. */
 static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                 bp_error *err)
 {
@@ -8377,7 +8403,7 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     bp__tutte T;
     bp_status st = BP_OK;
     uint32_t *pidx = NULL;
-    int mvc = opt && opt->init == BP_INIT_MEAN_VALUE;
+    int mvc = opt && opt->init == BP_INIT_MEAN_VALUE, better = !opt || opt->start != BP_START_PLAIN, planar = 0;
     if (ch && ch->error.status != BP_OK) {
         if (err) *err = ch->error;
         return ch->error.status;                 /* a chart that cannot be flattened */
@@ -8395,12 +8421,18 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
         if (used < 0) st = bp__oom(err, "checking the input map");
         ch->init_used = used > 0 ? 1 : -1;
     }
-    if (st == BP_OK && ch->init_used != 1) {
+    if (st == BP_OK && ch->init_used != 1 && better) {                   /* >>start, 1 */
+        planar = bp__start_planar(&a, ch, m);
+        if (planar < 0) st = bp__oom(err, "checking the planar start map");
+    }
+    if (st == BP_OK && ch->init_used != 1 && planar != 1) {
         if (!bp__tutte_fill(&a, &T, ch, m) || !bp__tutte_adjacency(&a, &T) || !bp__tutte_weights(&a, &T, mvc) ||
             !bp__tutte_circle(&a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(&a, &T, ch, mvc)))
             st = bp__oom(err, "computing the start map");
         if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(&a, &T, ch, runner, err);
         if (st == BP_OK) st = bp__tutte_verify(&a, ch, m, err);
+        if (st == BP_OK && opt && opt->start == BP_START_PROGRESSIVE && !pidx)
+            st = bp__start_progressive(ch, m, opt, runner, err);                /* >>start, 3 */
     }
     bp__tutte_free(&a, &T);
     if (st == BP_OK && pidx) st = bp__pins_start(&a, ch, m, opt, runner, pidx, err);
@@ -9914,6 +9946,10 @@ static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp
         }
     S->mean_edge = len / S->nb;
     S->eps = o->epsilon > 0 ? o->epsilon : S->mean_edge / 4;
+    if (!(o->epsilon > 0) && !bp__start_thin_eps(a, ch, m, &S->eps)) {      /* thin charts, >>start */
+        bp__solver_free(S);
+        return bp__oom(err, "optimizing a chart");
+    }
     return BP_OK;
 }
 
@@ -12384,6 +12420,322 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
     return st;
 }
 
+/* >>start ==================================================================
+
+   A better start (issue 15).  The Tutte map of >>tutte is bijective but
+   far from the optimum where a chart is long or thin: the boundary goes on
+   a circle, and a protrusion or a strip is squeezed exponentially toward
+   its tip -- triangles a million times too small (a 1 x 1e-7 strip of 398
+   triangles starts at mean energy 9e8, lucy at 4e12) -- and every step
+   bound of the optimizer is throttled by them.  What is here, each handing
+   the optimizer a map that passed the exact check (bp_check), and each
+   measured (docs/performance.md, sec 6.3):
+
+   1. Planar charts start from themselves (bp_options.start = AUTO, the
+      default).  A chart whose triangles all face one side of a plane
+      within about 37 degrees is projected onto the plane of its
+      area-weighted normal n; when every triangle keeps at least
+      BP__START_PLANAR of its 3D area there and bp_check passes the
+      projection exactly, the projection is the start: its singular values
+      are s_max <= 1 and s_min >= BP__START_PLANAR, and for a flat chart it
+      is the optimum itself (energy 4, nothing left to do).  A nearly flat
+      chart whose projection overlaps itself (a helix band) fails the check
+      and starts from Tutte as before.  No chart of ../shared/meshes is
+      planar: their start maps are the same bits as before.
+
+   2. Thin charts: the barrier width (bp__start_thin_eps below, used by
+      the solver of >>optimize).  Without it no start helps a strip: the
+      barrier itself pushes the strip wider than its rest shape.
+
+   3. Progressive references (Liu, Ye et al. 2018, "Progressive
+      parameterizations"; bp_options.start = PROGRESSIVE, not the default:
+      it cuts lucy's iterations but not its time, sec 6.3).  After Tutte,
+      in rounds, each triangle gets a reference shape between its current
+      image and its rest shape,
+          C = J^T J = V diag(s1^2, s2^2) V^T   (J the current Jacobian),
+          reference metric C^a,   a = max(0, 1 - log K / log d),
+          d = max(s1, 1/s2),
+      so that the current map is within a factor K in both singular values
+      of the reference, and a triangle already within K of its rest shape
+      gets the rest shape itself (a = 0).  The iteration of >>optimize then
+      runs up to BP__START_ITERS steps on the energy measured against the
+      references (the same interior point method: every iterate is exactly
+      bijective), preconditioned by the Laplacian of the reference
+      triangles (cotangent weights of shapes close to the current ones; the
+      rest shapes' Laplacian, tried, leaves the crushed triangles crushed).
+      The crushed triangles see a moderate distortion and grow by about K
+      per round.  The rounds stop when every triangle is within K of its
+      rest shape or after BP__START_ROUNDS; the ordinary optimization takes
+      over from there. */
+
+#define BP__START_PLANAR 0.8      /* least projected / 3D area of a planar start */
+#define BP__START_K 4.0           /* the current map within K of the references */
+#define BP__START_ITERS 30        /* optimizer iterations per round            */
+#define BP__START_ROUNDS 40
+
+/* The reference of one triangle (3 above) into out = (w', x', y'):
+   the rest triangle F1 = (0, 0), F2 = (w, 0), F3 = (x, y) (read back from
+   M^-1 = [1/w  -x/(w y); 0  1/y], importance included) mapped by a linear
+   A with A^T A = C^a:
+       w' = w sqrt(Ca_00),  x' = (Ca_00 x + Ca_01 y) / sqrt(Ca_00),
+       y' = det(A) w y / w',  det(A) = (s1 s2)^a.
+   Returns log d, the triangle's distortion (0 when not finite: the rest). */
+static double bp__start_triangle(const bp__rest *r, const double *u1, const double *u2, const double *u3,
+                                 double logk, double *out)
+{
+    double w = 1 / r->m00, y = 1 / r->m11, x = -r->m01 * w * y;
+    double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
+    double j00 = d00 * r->m00, j01 = d00 * r->m01 + d01 * r->m11, j10 = d10 * r->m00, j11 = d10 * r->m01 + d11 * r->m11;
+    double c00 = j00 * j00 + j10 * j10, c01 = j00 * j01 + j10 * j11, c11 = j01 * j01 + j11 * j11;
+    double det = j00 * j11 - j01 * j10, h = 0.5 * (c00 + c11), q = 0.5 * (c00 - c11);
+    double l1 = h + sqrt(q * q + c01 * c01), l2, s1, s2, logd, a, v[2], n1, n2, p1, p2, ca00, ca01;
+    out[0] = w; out[1] = x; out[2] = y;
+    l2 = det * det / l1;
+    s1 = sqrt(l1);
+    s2 = fabs(det) / s1;
+    logd = log(s1) > -log(s2) ? log(s1) : -log(s2);
+    if (!(logd - logd == 0) || !(det > 0)) return 0;
+    if (logd <= logk) return logd;
+    a = 1 - logk / logd;
+    /* the eigenvector of l1: the better conditioned of two candidates */
+    n1 = c01 * c01 + (l1 - c00) * (l1 - c00);
+    n2 = (l1 - c11) * (l1 - c11) + c01 * c01;
+    if (n1 >= n2 && n1 > 0) { v[0] = c01; v[1] = l1 - c00; n1 = sqrt(n1); }
+    else if (n2 > 0) { v[0] = l1 - c11; v[1] = c01; n1 = sqrt(n2); }
+    else { v[0] = 1; v[1] = 0; n1 = 1; }
+    v[0] /= n1; v[1] /= n1;
+    p1 = pow(l1, a);
+    p2 = pow(l2, a);
+    ca00 = p1 * v[0] * v[0] + p2 * v[1] * v[1];          /* C^a = p1 v v^T + p2 v' v'^T */
+    ca01 = (p1 - p2) * v[0] * v[1];
+    {
+        double wn = w * sqrt(ca00), xn = (ca00 * x + ca01 * y) / sqrt(ca00), yn = sqrt(p1 * p2) * w * y / wn;
+        if (wn > 0 && yn > 0 && wn - wn == 0 && xn - xn == 0 && yn - yn == 0) { out[0] = wn; out[1] = xn; out[2] = yn; }
+    }
+    return logd;
+}
+
+/* The references of every triangle (3 above) from the rest shapes rest0
+   and the map x: into S's rest shapes (weights kept) and wxy (3 per
+   triangle, for the preconditioner); returns the largest log d. */
+static double bp__start_references(bp__solver *S, const bp__rest *rest0, const double *x, double logk, double *wxy)
+{
+    double worst = 0;
+    uint32_t t;
+    for (t = 0; t < S->nt; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        double *r = wxy + 3 * (size_t)t;
+        double lg = bp__start_triangle(&rest0[t], x + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1], x + 2 * (size_t)tr[2],
+                                       logk, r);
+        if (lg > worst) worst = lg;
+        bp__rest_inverse(r[0], r[1], r[2], 1, &S->rest[t]);
+        S->rest[t].weight = rest0[t].weight;
+    }
+    return worst;
+}
+
+/* 3 above: the rounds of progressive references in one solver of
+   >>optimize (set up once), each round: the references, their Laplacian
+   factored as the preconditioner, the L-BFGS memory cleared, and at most
+   BP__START_ITERS iterations of >>optimize (direction, step bound and
+   line search with the exact check) on the energy against the references.
+   Only the last accepted, exactly valid map is kept. */
+static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                       bp_error *err)
+{
+    bp__opt P;
+    bp__rest *rest0 = NULL;
+    double *wxy = NULL, logk = log(BP__START_K);
+    int round;
+    bp_status st;
+    memset(&P, 0, sizeof P);
+    P.a = bp__allocator_of(opt);
+    P.o = *opt;
+    P.o.progress = NULL;
+    P.o.max_seconds = 0;
+    P.o.pins = NULL;
+    P.o.num_pins = 0;
+    P.tlast = 1;
+    P.precond = opt->direction == BP_DIRECTION_PRECONDITIONED;
+    P.newton = opt->direction == BP_DIRECTION_NEWTON;
+    P.par = *runner;
+    if ((st = bp__opt_setup(&P, ch, 0, m, err)) != BP_OK) goto done;
+    rest0 = (bp__rest *)bp__alloc_array(&P.a, P.S.nt, sizeof(bp__rest));
+    wxy = (double *)bp__alloc_array(&P.a, 3 * (size_t)P.S.nt, sizeof(double));
+    if (!rest0 || !wxy) { st = bp__oom(err, "computing the start map"); goto done; }
+    memcpy(rest0, P.S.rest, P.S.nt * sizeof(bp__rest));
+    for (round = 0; round < BP__START_ROUNDS; round++) {
+        double f, ed;
+        int it, small = 0;
+        double worst = bp__start_references(&P.S, rest0, P.x, logk, wxy);
+        if (worst <= logk) break;
+        if (P.precond) {                       /* the references' Laplacian */
+            bp__sparse_free(&P.a, &P.K);
+            bp__factor_free(&P.a, &P.KF);
+            memset(&P.K, 0, sizeof P.K);
+            memset(&P.KF, 0, sizeof P.KF);
+            if ((st = bp__laplacian(&P.a, &P.S, wxy, NULL, &P.K, &P.KF)) != BP_OK) {
+                if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "factoring the preconditioner");
+                else {
+                    char name[48];
+                    st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, ch->face[0], -1, 0,
+                                  "the progressive start of the chart with %s: the Laplacian of its references "
+                                  "could not be factored", bp__tri_name(m, ch->face[0], name));
+                }
+                goto done;
+            }
+        }
+        f = bp__objective(&P.S, P.x, P.g, &ed);
+        if (P.S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
+        P.L.nh = 0;
+        for (it = 0; it < BP__START_ITERS; it++) {
+            double gv = bp__opt_direction(&P), tt = 0, fn = HUGE_VAL, edn = HUGE_VAL;
+            int found;
+            if (P.nd < 0) { st = bp__oom(err, "factoring Newton's system"); goto done; }
+            if (gv == 0) break;
+            found = bp__opt_line_search(&P, f, gv, &tt, &fn, &edn);
+            if (found < 0) { st = bp__oom(err, "evaluating a step"); goto done; }
+            if (!found) break;
+            P.tlast = tt;
+            bp__lbfgs_push(&P.L, &P.par, P.x, P.xn, P.g, P.gn);
+            { double *tp = P.x; P.x = P.xn; P.xn = tp; tp = P.g; P.g = P.gn; P.gn = tp; }
+            if ((f - fn) <= P.o.tolerance * fabs(fn)) small++; else small = 0;
+            f = fn;
+            if (small >= 3) break;
+        }
+    }
+    memcpy(ch->uv, P.x, P.nv2 * sizeof(double));      /* every accepted x passed the exact check */
+done:
+    bp__free(&P.a, rest0);
+    bp__free(&P.a, wxy);
+    bp__opt_free(&P);
+    return st;
+}
+
+/* (q - p) x (r - p) */
+static void bp__start_cross(const double *p, const double *q, const double *r, double *c)
+{
+    double u[3], v[3];
+    int k;
+    for (k = 0; k < 3; k++) { u[k] = q[k] - p[k]; v[k] = r[k] - p[k]; }
+    c[0] = u[1] * v[2] - u[2] * v[1];
+    c[1] = u[2] * v[0] - u[0] * v[2];
+    c[2] = u[0] * v[1] - u[1] * v[0];
+}
+
+/* An orthonormal e1, e2 with e1 x e2 = n (unit): e1 the coordinate axis
+   least aligned with n, made orthogonal to it; e2 = n x e1. */
+static void bp__start_frame(const double *n, double *e1, double *e2)
+{
+    int k, ax = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : fabs(n[1]) <= fabs(n[2]) ? 1 : 2;
+    double len;
+    for (k = 0; k < 3; k++) e1[k] = (k == ax) - n[ax] * n[k];
+    len = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    for (k = 0; k < 3; k++) e1[k] /= len;
+    e2[0] = n[1] * e1[2] - n[2] * e1[1];
+    e2[1] = n[2] * e1[0] - n[0] * e1[2];
+    e2[2] = n[0] * e1[1] - n[1] * e1[0];
+}
+
+static int bp__start_dbl_cmp(const void *pa, const void *pb)
+{
+    double x = *(const double *)pa, y = *(const double *)pb;
+    return x < y ? -1 : x > y;
+}
+
+/* Thin charts: the barrier width.  The barrier of >>barrier acts on every
+   boundary vertex within eps of a boundary edge, eps a quarter of the mean
+   boundary edge.  Across a strip thinner than that, every boundary vertex
+   is within eps of the opposite side in the rest shape itself, so the
+   barrier pushes the strip wider than its rest shape and the optimum of
+   E_D + E_B is not the isometry: a 1 x 1e-4 strip of 398 triangles
+   "converges" at mean energy 16.8, a 1 x 1e-7 one at 17,600, from any
+   start.  So eps is also at most the chart's thickness at its boundary,
+       eps <= median over boundary edges e of  h_e = 2 A_t / |e|,
+   the altitude onto e of its triangle t, in the rest shape (>>rest).  On
+   an ordinary mesh h_e is about 0.8 of an edge and the bound never acts
+   (eps stays |e| / 4: the 15 meshes of ../shared/meshes keep their eps bit
+   for bit); on a strip of width h, eps = h and the isometric map has no
+   barrier energy at all (every boundary vertex is at least h from every
+   boundary edge not its own).  The barrier's guarantee does not depend on
+   eps: any eps > 0 is infinite at contact, and the exact check accepts
+   every iterate anyway.  Returns 0 when out of memory. */
+static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const bp_mesh *m, double *eps)
+{
+    uint32_t nb = ch->loop_start[ch->num_loops], L, k, t, n = 0;
+    uint32_t *next = (uint32_t *)bp__alloc_array(a, ch->num_vertices, sizeof(uint32_t));
+    double *h = (double *)bp__alloc_array(a, (size_t)nb + 1, sizeof(double));
+    if (!next || !h) { bp__free(a, next); bp__free(a, h); return 0; }
+    for (k = 0; k < ch->num_vertices; k++) next[k] = BP__NONE;
+    for (L = 0; L < ch->num_loops; L++)
+        for (k = ch->loop_start[L]; k < ch->loop_start[L + 1]; k++)
+            next[ch->loop_vertices[k]] = ch->loop_vertices[k + 1 < ch->loop_start[L + 1] ? k + 1 : ch->loop_start[L]];
+    for (t = 0; t < ch->num_triangles && n < nb; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        double w, x, y, len[3];
+        int c;
+        bp__chart_rest(ch, m, t, &w, &x, &y);     /* F1 = (0,0), F2 = (w,0), F3 = (x,y) */
+        len[0] = w;
+        len[1] = sqrt((x - w) * (x - w) + y * y);
+        len[2] = sqrt(x * x + y * y);
+        for (c = 0; c < 3; c++) {
+            uint32_t vi = tr[c], vj = tr[(c + 1) % 3];
+            if (next[vi] == vj || next[vj] == vi) h[n++] = w * y / len[c];     /* 2 A / |e| */
+        }
+    }
+    bp__free(a, next);
+    if (n > 0) {
+        double med;
+        qsort(h, n, sizeof(double), bp__start_dbl_cmp);
+        med = h[n / 2];
+        if (med > 0 && med < *eps) *eps = med;
+    }
+    bp__free(a, h);
+    return 1;
+}
+
+/* 1 above: the projection of a planar chart onto its plane (the
+   area-weighted normal n, e1 e2 n right-handed so that a triangle facing
+   n is counter-clockwise), used when every triangle keeps
+   BP__START_PLANAR of its area and the map passes bp_check: 1 used, 0
+   not, -1 out of memory. */
+static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m)
+{
+    double n[3] = { 0, 0, 0 }, c[3] = { 0, 0, 0 }, e1[3], e2[3], len;
+    uint32_t t, i, k;
+    bp_check_report rep;
+    bp_status st;
+    for (t = 0; ch->rest_side && t < ch->num_triangles; t++) if (ch->rest_side[t] > 0) return 0;
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        double cr[3];
+        bp__start_cross(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]), bp__pos(m, ch->vertex[tr[2]]), cr);
+        for (k = 0; k < 3; k++) n[k] += cr[k];
+    }
+    len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 0) || !(len < HUGE_VAL)) return 0;
+    for (k = 0; k < 3; k++) n[k] /= len;
+    bp__start_frame(n, e1, e2);
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        double cr[3], ar;
+        bp__start_cross(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]), bp__pos(m, ch->vertex[tr[2]]), cr);
+        ar = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        if (!(cr[0] * n[0] + cr[1] * n[1] + cr[2] * n[2] >= BP__START_PLANAR * ar)) return 0;
+    }
+    for (i = 0; i < ch->num_vertices; i++)
+        for (k = 0; k < 3; k++) c[k] += bp__pos(m, ch->vertex[i])[k] / ch->num_vertices;
+    for (i = 0; i < ch->num_vertices; i++) {
+        const double *p = bp__pos(m, ch->vertex[i]);
+        double d[3];
+        for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
+        ch->uv[2 * (size_t)i] = d[0] * e1[0] + d[1] * e1[1] + d[2] * e1[2];
+        ch->uv[2 * (size_t)i + 1] = d[0] * e2[0] + d[1] * e2[1] + d[2] * e2[2];
+    }
+    st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, NULL);
+    if (st == BP_ERR_OUT_OF_MEMORY) return -1;
+    return st == BP_OK;
+}
 /* >>segment ================================================================
 
    Segmentation into several charts (issue 14).  The cut of >>cut opens a

@@ -86,10 +86,16 @@ static const char usage_text[] =
     "                     as in the input; vt: only that side of a seam; '#'\n"
     "                     comments): they end exactly at (u, v) and their charts\n"
     "                     are not moved by packing\n"
+    "  --start auto|plain|progressive   auto (default): a planar chart starts\n"
+    "                     from its own projection (when exactly bijective),\n"
+    "                     any other from the --init map; plain: the --init\n"
+    "                     map always; progressive: auto, then a Tutte start\n"
+    "                     relaxed toward the rest shapes in rounds\n"
     "  --init-only        stop after the start map\n"
     "  --energy sd|conformal|mips|iso|maxiso   distortion (default sd)\n"
     "  --no-barrier       locally injective only (no boundary barrier)\n"
-    "  --epsilon X        barrier width (default: mean boundary edge / 4)\n"
+    "  --epsilon X        barrier width (default: mean boundary edge / 4, at\n"
+    "                     most the median boundary triangle height)\n"
     "  --direction precond|lbfgs|gd|newton   search direction: L-BFGS\n"
     "                     preconditioned by the Laplacian (default), plain L-BFGS,\n"
     "                     gradient descent, projected Newton\n"
@@ -1082,7 +1088,7 @@ int main(int argc, char **argv)
             !strcmp(a, "--png-size") || !strcmp(a, "--png-views") || !strcmp(a, "--checker") ||
             !strcmp(a, "--frames") || !strcmp(a, "--frames-every") || !strcmp(a, "--atlas") ||
             !strcmp(a, "--padding") || !strcmp(a, "--pin") || !strcmp(a, "--segment") ||
-            !strcmp(a, "--max-distortion") || !strcmp(a, "--max-charts")) {
+            !strcmp(a, "--max-distortion") || !strcmp(a, "--max-charts") || !strcmp(a, "--start")) {
             const char *v;
             if (i + 1 >= argc) return usage_error("option %s needs a value", a);
             v = argv[++i];
@@ -1137,6 +1143,11 @@ int main(int argc, char **argv)
                 int n;
                 if (!parse_int(v, 0, &n)) return usage_error("--max-charts needs an integer >= 0, not '%s'", v);
                 opt.max_charts = (uint32_t)n;
+            } else if (!strcmp(a, "--start")) {
+                if (!strcmp(v, "auto")) opt.start = BP_START_AUTO;
+                else if (!strcmp(v, "plain")) opt.start = BP_START_PLAIN;
+                else if (!strcmp(v, "progressive")) opt.start = BP_START_PROGRESSIVE;
+                else return usage_error("unknown --start '%s' (auto, plain or progressive)", v);
             } else if (!strcmp(a, "--cut")) {
                 if (!strcmp(v, "auto")) opt.cut = BP_CUT_AUTO;
                 else if (!strcmp(v, "none")) opt.cut = BP_CUT_NONE;

@@ -1,0 +1,348 @@
+/* test_start.c - the better start of >>start (issue 15).
+
+   (a) Thin strips, the issue's two cases: a 1 x 1e-7 and a 1 x 1e-4 strip
+       of 398 triangles (two rows of 200 vertices), flat in z = 0 and
+       rotated into a general 3D plane, through bp_parameterize with the
+       default options: the result passes bp_check and its area-weighted
+       mean symmetric Dirichlet energy, computed here from the 3D triangles
+       and the uvs (not by the library), is <= 4.01 (the isometry has 4).
+       The 1e-4 strip also from the plain Tutte start (BP_START_PLAIN): the
+       barrier width of thin charts alone lets it reach the isometry.
+   (b) The barrier width: on the strips eps is at most the strip's width;
+       on every chart of the meshes of tests/data it is a quarter of the
+       mean boundary edge exactly, as before (the bound never acts there).
+   (c) A planar chart (a rotated grid with a hole) starts from its own
+       projection: bp_chart_init's map already has energy 4.
+   (d) A nearly planar chart whose projection overlaps itself (a band
+       wound 1.5 times around a helix of tiny pitch): the projection,
+       computed here, fails bp_check, and the start map of bp_chart_init
+       passes it (the projection was refused, Tutte used).
+   (e) The progressive start (BP_START_PROGRESSIVE) on real meshes (camel_b,
+       cow, and face_holes, whose 8,288 triangles run the parallel loops):
+       the start map passes bp_check, has a lower mean energy than the plain
+       Tutte start, and the same bits with 1 and 2 threads and with the
+       parallel loops run backwards.  AUTO on these meshes gives the Tutte
+       map itself (they are not planar): the same bits as PLAIN. */
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include "bptest.h"
+#include "bpt_grid.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NSTRIP 200
+
+/* Independent energy: each 3D triangle in its own frame, J from the uvs,
+   E = |J|_F^2 + |J^-1|_F^2; the area-weighted mean. */
+static double mean_sd_energy(const bp_chart *ch, const bp_mesh *m, const double *uv)
+{
+    double sum = 0, area = 0;
+    uint32_t t;
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        const double *p0 = m->positions + 3 * (size_t)ch->vertex[tr[0]];
+        const double *p1 = m->positions + 3 * (size_t)ch->vertex[tr[1]];
+        const double *p2 = m->positions + 3 * (size_t)ch->vertex[tr[2]];
+        double e1[3], e2[3], w, x, y, cr[3], a3, u1[2], u2[2], j00, j01, j10, j11, det, fro;
+        int k;
+        for (k = 0; k < 3; k++) { e1[k] = p1[k] - p0[k]; e2[k] = p2[k] - p0[k]; }
+        cr[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        cr[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        cr[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        a3 = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        w = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+        x = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / w;
+        y = a3 / w;
+        for (k = 0; k < 2; k++) {
+            u1[k] = uv[2 * (size_t)tr[1] + k] - uv[2 * (size_t)tr[0] + k];
+            u2[k] = uv[2 * (size_t)tr[2] + k] - uv[2 * (size_t)tr[0] + k];
+        }
+        /* J [w x; 0 y] = [u1 u2]  ->  J = [u1 u2] [1/w  -x/(w y); 0  1/y] */
+        j00 = u1[0] / w; j10 = u1[1] / w;
+        j01 = (u2[0] - x * j00) / y; j11 = (u2[1] - x * j10) / y;
+        det = j00 * j11 - j01 * j10;
+        fro = j00 * j00 + j01 * j01 + j10 * j10 + j11 * j11;
+        sum += 0.5 * a3 * (fro + fro / (det * det));
+        area += 0.5 * a3;
+    }
+    return sum / area;
+}
+
+static int map_valid(const bp_chart *ch, const double *uv)
+{
+    bp_check_report rep;
+    return bp_check(ch->triangles, ch->num_triangles, uv, ch->num_vertices, NULL, &rep, NULL) == BP_OK;
+}
+
+/* Two rows of NSTRIP vertices, 1 long and h wide; rot: turned into the
+   plane through the origin spanned by two unit vectors in general position. */
+static bp_mesh make_strip(double h, int rot)
+{
+    bp_mesh m = bpt_mesh_new(2 * NSTRIP, 2 * (NSTRIP - 1));
+    const double a[3] = { 0.48, 0.6, 0.64 }, b0[3] = { -0.8, 0.6, 0 };
+    double b[3], d = b0[0] * a[0] + b0[1] * a[1] + b0[2] * a[2], len;
+    uint32_t i, r, k;
+    for (k = 0; k < 3; k++) b[k] = b0[k] - d * a[k];
+    len = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+    for (k = 0; k < 3; k++) b[k] /= len;
+    for (r = 0; r < 2; r++)
+        for (i = 0; i < NSTRIP; i++) {
+            double x = (double)i / (NSTRIP - 1), y = r * h, *p = m.positions + 3 * (size_t)(r * NSTRIP + i);
+            if (!rot) { p[0] = x; p[1] = y; p[2] = 0; }
+            else for (k = 0; k < 3; k++) p[k] = x * a[k] + y * b[k];
+        }
+    for (i = 0; i + 1 < NSTRIP; i++) {
+        uint32_t *t = m.triangles + 6 * (size_t)i, v0 = i, v1 = i + 1, v2 = NSTRIP + i, v3 = NSTRIP + i + 1;
+        t[0] = v0; t[1] = v1; t[2] = v3;
+        t[3] = v0; t[4] = v3; t[5] = v2;
+    }
+    return m;
+}
+
+/* ---- (a), (b) ------------------------------------------------------------ */
+
+static void check_strip(double h, int rot, bp_start start)
+{
+    bp_mesh m = make_strip(h, rot);
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    bp_status st;
+    memset(&opt, 0, sizeof opt);
+    opt.start = start;
+    st = bp_parameterize(&atlas, &m, &opt, &err);
+    if (BPT_CHECK(st == BP_OK && atlas.num_charts == 1, "strip 1 x %g%s%s: parameterized (%s)", h, rot ? " (3D)" : "",
+                  start == BP_START_PLAIN ? " from plain Tutte" : "", err.message)) {
+        const bp_chart *ch = &atlas.charts[0];
+        double e = mean_sd_energy(ch, &m, ch->uv);
+        BPT_CHECK(map_valid(ch, ch->uv) && e <= 4.01, "strip 1 x %g%s%s: bijective (bp_check), mean energy %.9g <= 4.01 "
+                  "(%d iterations, %s)", h, rot ? " (3D)" : "", start == BP_START_PLAIN ? " from plain Tutte" : "", e,
+                  ch->iterations, bp_stop_string(ch->stop));
+        bp_atlas_free(&atlas);
+    }
+    bpt_mesh_free(&m);
+}
+
+/* eps of the optimizer's solver for chart c, and the mean boundary edge */
+static double solver_eps(const bp_chart *ch, const bp_mesh *m, double *mean_edge)
+{
+    bp__solver S;
+    bp_options o;
+    bp_error err;
+    double eps = -1;
+    static const bp_allocator plain = { NULL, NULL, NULL };
+    memset(&S, 0, sizeof S);
+    memset(&o, 0, sizeof o);
+    if (bp__solver_chart(&S, &plain, ch, m, &o, NULL, &err) == BP_OK) {
+        eps = S.eps;
+        *mean_edge = S.mean_edge;
+        bp__solver_free(&S);
+    }
+    return eps;
+}
+
+static void check_strip_eps(double h)
+{
+    bp_mesh m = make_strip(h, 1);
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    double me = 0, eps;
+    memset(&opt, 0, sizeof opt);
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &m, &opt, &err) == BP_OK, "strip atlas (%s)", err.message)) { bpt_mesh_free(&m); return; }
+    eps = solver_eps(&atlas.charts[0], &m, &me);
+    BPT_CHECK(eps > 0 && eps <= h * (1 + 1e-6) && eps < me / 4, "strip 1 x %g: barrier width %.3g <= the width (mean "
+              "boundary edge / 4 = %.3g)", h, eps, me / 4);
+    bp_atlas_free(&atlas);
+    bpt_mesh_free(&m);
+}
+
+static void check_mesh_eps(const char *path)
+{
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    uint32_t c, same = 0, n = 0;
+    memset(&opt, 0, sizeof opt);
+    if (!BPT_CHECK(bp_read_mesh(path, &m, NULL, &err) == BP_OK, "%s read (%s)", path, err.message)) return;
+    if (bp_atlas_build(&atlas, &m, &opt, &err) == BP_OK) {
+        for (c = 0; c < atlas.num_charts; c++) {
+            double me = 0, eps;
+            if (atlas.charts[c].error.status != BP_OK) continue;
+            eps = solver_eps(&atlas.charts[c], &m, &me);
+            n++;
+            same += eps == me / 4;
+        }
+        bp_atlas_free(&atlas);
+    }
+    BPT_CHECK(n > 0 && same == n, "%s: the barrier width is the mean boundary edge / 4 on %u of %u charts", path, same, n);
+    bp_mesh_free(&m, NULL);
+}
+
+/* ---- (c), (d) ------------------------------------------------------------ */
+
+static void check_planar_grid(void)
+{
+    double pos[3 * 121];
+    uint32_t tri[3 * 200];
+    bpt_gen g;
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    uint32_t i;
+    g.pos = pos; g.tri = tri; g.nv = 0; g.nt = 0;
+    bpt_add_grid(&g, 10, 10, 2, 0.1, 0.3, 0, 0);
+    m = bpt_mesh_new(g.nv, g.nt);
+    for (i = 0; i < g.nv; i++) {                       /* tilt the plane: z = 0.3 x - 0.2 y */
+        m.positions[3 * i] = pos[3 * i];
+        m.positions[3 * i + 1] = pos[3 * i + 1];
+        m.positions[3 * i + 2] = 0.3 * pos[3 * i] - 0.2 * pos[3 * i + 1];
+    }
+    memcpy(m.triangles, tri, 3 * (size_t)g.nt * sizeof(uint32_t));
+    memset(&opt, 0, sizeof opt);
+    if (BPT_CHECK(bp_atlas_build(&atlas, &m, &opt, &err) == BP_OK && atlas.num_charts == 1 &&
+                  atlas.charts[0].num_loops == 2, "tilted grid with a hole: one chart, two loops (%s)", err.message)) {
+        int pass;
+        for (pass = 0; pass < 3; pass++) {     /* default options, NULL options, BP_START_PLAIN */
+            bp_status st;
+            double e;
+            opt.start = pass == 2 ? BP_START_PLAIN : BP_START_AUTO;
+            st = bp_chart_init(&atlas.charts[0], &m, pass == 1 ? NULL : &opt, &err);
+            e = st == BP_OK ? mean_sd_energy(&atlas.charts[0], &m, atlas.charts[0].uv) : -1;
+            if (pass < 2)
+                BPT_CHECK(st == BP_OK && map_valid(&atlas.charts[0], atlas.charts[0].uv) && fabs(e - 4) < 1e-9,
+                          "tilted planar grid (%s options): the start map is its own projection (bijective, energy "
+                          "%.12g = 4)", pass ? "NULL" : "default", e);
+            else
+                BPT_CHECK(st == BP_OK && map_valid(&atlas.charts[0], atlas.charts[0].uv) && e > 4.01,
+                          "tilted planar grid, BP_START_PLAIN: the Tutte map (bijective, energy %.6g > 4)", e);
+        }
+        bp_atlas_free(&atlas);
+    }
+    bpt_mesh_free(&m);
+}
+
+static void check_helix(void)
+{
+    /* 1.5 turns of a band between radii 1 and 1.05, rising 1e-3 per turn */
+    const int n = 120;
+    bp_mesh m = bpt_mesh_new(2 * (uint32_t)n, 2 * (uint32_t)(n - 1));
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    int i, r;
+    for (r = 0; r < 2; r++)
+        for (i = 0; i < n; i++) {
+            double th = 3 * 3.14159265358979323846 * i / (n - 1), rad = 1 + 0.05 * r;
+            double *p = m.positions + 3 * (size_t)(r * n + i);
+            p[0] = rad * cos(th); p[1] = rad * sin(th); p[2] = 1e-3 * th / (2 * 3.14159265358979323846);
+        }
+    for (i = 0; i + 1 < n; i++) {
+        uint32_t *t = m.triangles + 6 * (size_t)i, v0 = (uint32_t)(n + i), v1 = (uint32_t)(n + i + 1), v2 = (uint32_t)i,
+                 v3 = (uint32_t)(i + 1);   /* outer row first: counter-clockwise seen from +z */
+        t[0] = v2; t[1] = v0; t[2] = v1;
+        t[3] = v2; t[4] = v1; t[5] = v3;
+    }
+    memset(&opt, 0, sizeof opt);
+    if (BPT_CHECK(bp_atlas_build(&atlas, &m, &opt, &err) == BP_OK && atlas.num_charts == 1, "helix band: one chart (%s)",
+                  err.message)) {
+        bp_chart *ch = &atlas.charts[0];
+        double *proj = (double *)malloc(2 * (size_t)ch->num_vertices * sizeof(double));
+        uint32_t v;
+        bp_check_report rep;
+        bp_status st;
+        for (v = 0; v < ch->num_vertices; v++) {      /* the plane is z = const */
+            proj[2 * v] = m.positions[3 * (size_t)ch->vertex[v]];
+            proj[2 * v + 1] = m.positions[3 * (size_t)ch->vertex[v] + 1];
+        }
+        st = bp_check(ch->triangles, ch->num_triangles, proj, ch->num_vertices, NULL, &rep, NULL);
+        BPT_CHECK(st != BP_OK && rep.flipped == 0 && rep.degenerate == 0 && rep.boundary_intersections > 0,
+                  "helix band: its projection has positive triangles but overlaps itself (%u boundary intersections)",
+                  rep.boundary_intersections);
+        st = bp_chart_init(ch, &m, &opt, &err);
+        BPT_CHECK(st == BP_OK && map_valid(ch, ch->uv), "helix band: the start map is bijective (%s)", err.message);
+        free(proj);
+        bp_atlas_free(&atlas);
+    }
+    bpt_mesh_free(&m);
+}
+
+/* ---- (e) ----------------------------------------------------------------- */
+
+static void check_progressive(const char *path)
+{
+    bp_mesh m;
+    bp_error err;
+    double e_plain = 0, *plain = NULL, *prog = NULL;
+    int variant;
+    if (!BPT_CHECK(bp_read_mesh(path, &m, NULL, &err) == BP_OK, "%s read (%s)", path, err.message)) return;
+    /* 0 plain; 1 progressive, 1 thread; 2 with 2 threads; 3 tasks backwards; 4 auto */
+    for (variant = 0; variant < 5; variant++) {
+        static const char *what[5] = { "plain", "progressive", "progressive, 2 threads", "progressive, backwards", "auto" };
+        bp_atlas atlas;
+        bp_options opt;
+        bp_chart *ch;
+        size_t bytes;
+        memset(&opt, 0, sizeof opt);
+        opt.start = variant == 0 ? BP_START_PLAIN : variant == 4 ? BP_START_AUTO : BP_START_PROGRESSIVE;
+        opt.threads = variant == 2 ? 2 : 1;
+        if (variant == 3) opt.parallel_for = bpt_backwards_for;
+        if (bp_atlas_build(&atlas, &m, &opt, &err) != BP_OK || atlas.num_charts != 1) {
+            BPT_CHECK(0, "%s: one chart (%s)", path, err.message);
+            break;
+        }
+        ch = &atlas.charts[0];
+        bytes = 2 * (size_t)ch->num_vertices * sizeof(double);
+        if (!BPT_CHECK(bp_chart_init(ch, &m, &opt, &err) == BP_OK && map_valid(ch, ch->uv), "%s: start map (%s) "
+                       "bijective by bp_check (%s)", path, what[variant], err.message)) {
+            bp_atlas_free(&atlas);
+            break;
+        }
+        if (variant == 0) {
+            plain = (double *)malloc(bytes);
+            prog = (double *)malloc(bytes);
+            memcpy(plain, ch->uv, bytes);
+            e_plain = mean_sd_energy(ch, &m, ch->uv);
+        } else if (variant == 1) {
+            double e = mean_sd_energy(ch, &m, ch->uv);
+            BPT_CHECK(e < e_plain, "%s: the progressive start has a lower mean energy than Tutte (%.6g < %.6g)", path, e,
+                      e_plain);
+            memcpy(prog, ch->uv, bytes);
+        } else {
+            BPT_CHECK(!memcmp(variant == 4 ? plain : prog, ch->uv, bytes), "%s: %s gives the same start map bits as %s",
+                      path, what[variant], variant == 4 ? "plain (not planar)" : "progressive with 1 thread");
+        }
+        bp_atlas_free(&atlas);
+    }
+    free(plain);
+    free(prog);
+    bp_mesh_free(&m, NULL);
+}
+
+int main(void)
+{
+    int rot;
+    for (rot = 0; rot < 2; rot++) {
+        check_strip(1e-7, rot, BP_START_AUTO);
+        check_strip(1e-4, rot, BP_START_AUTO);
+    }
+    check_strip(1e-4, 1, BP_START_PLAIN);
+    check_strip_eps(1e-7);
+    check_strip_eps(1e-4);
+    check_mesh_eps("tests/data/camel_b.obj");
+    check_mesh_eps("tests/data/cow_param_withSUV.obj");
+    check_mesh_eps("tests/data/face_holes.off");
+    check_mesh_eps("tests/data/mech-holes-shark.off");
+    check_mesh_eps("tests/data/spot.obj");
+    check_mesh_eps("tests/data/bishop_part_f1000.obj");
+    check_planar_grid();
+    check_helix();
+    check_progressive("tests/data/camel_b.obj");
+    check_progressive("tests/data/cow_param_withSUV.obj");
+    check_progressive("tests/data/face_holes.off");
+    return bpt_finish();
+}
