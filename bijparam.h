@@ -35,7 +35,7 @@
       >>io             OBJ / OFF / PLY reading, OBJ writing           (BP_NO_STDIO)
       >>charts         seams, components, repairs, pinches, loops     (sec 3.1, 3.6)
       >>cut            automatic seams: closed / genus > 0 charts to disks
-      >>sparse         ordering + sparse LDL^T / LU direct solver
+      >>sparse         ordering + sparse LDL^T / LU, supernodal Cholesky
       >>check          exact bijectivity check (the ground truth)
       >>tutte          Tutte / Floater start with filled holes        (sec 3.4.1, 3.6)
       >>rest           isometric flattening of each triangle          (sec 3.1)
@@ -48,6 +48,8 @@
       >>optimize       one chart's iteration in phases                (sec 3.4, 3.5)
       >>pack           texel density, rotation, outline packing, padding
       >>pins           pinned vertices: the homotopy to the targets
+      >>start          planar start, thin-chart barrier, progressive references
+      >>segment        several charts: grown by normal deviation, split by distortion
       >>driver         charts -> start -> optimize -> pack
       >>bvh            bounding volume hierarchy, watertight rays      (chap 4)
       >>visibility     view models, V_t, texel density               (sec 4.2, 4.3)
@@ -4638,8 +4640,9 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
    is moved to the point that makes its three pieces shortest, and the
    branches run again where a move left a part far from the cut.
 
-   Not done here: segmentation into several charts when one disk flattens
-   with high distortion. */
+   Segmentation into several charts (grown by normal deviation, or split
+   when one disk flattens with high distortion) is >>segment's: it works
+   on the disks made here. */
 
 /* Scratch of one cut, freed together. */
 typedef struct bp__cut {
