@@ -90,6 +90,60 @@ static inline void bpt_mesh_free(bp_mesh *m)
     memset(m, 0, sizeof *m);
 }
 
+/* Read a mesh that must be one chart, build its atlas and, with init, its
+   start map; on failure report it, free what was made and return 0. */
+static inline int bpt_one_chart(const char *path, bp_mesh *mesh, bp_atlas *atlas, const bp_options *opt, int init)
+{
+    bp_error err;
+    if (!BPT_CHECK(bp_read_obj(path, mesh, NULL, &err) == BP_OK, "read %s: %s", path, err.message)) return 0;
+    if (!BPT_CHECK(bp_atlas_build(atlas, mesh, opt, &err) == BP_OK, "%s: atlas: %s", path, err.message)) {
+        bp_mesh_free(mesh, NULL);
+        return 0;
+    }
+    if (!BPT_CHECK(atlas->num_charts == 1, "%s: one chart (%u)", path, (unsigned)atlas->num_charts) ||
+        (init && !BPT_CHECK(bp_chart_init(&atlas->charts[0], mesh, opt, &err) == BP_OK, "%s: start map: %s", path,
+                            err.message))) {
+        bp_atlas_free(atlas);
+        bp_mesh_free(mesh, NULL);
+        return 0;
+    }
+    return 1;
+}
+
+/* Mesh b appended to a (b moved by dx along x), without vt. */
+static inline bp_mesh bpt_concat(const bp_mesh *a, const bp_mesh *b, double dx)
+{
+    bp_mesh m = bpt_mesh_new(a->num_vertices + b->num_vertices, a->num_triangles + b->num_triangles);
+    uint32_t i;
+    memcpy(m.positions, a->positions, 3 * a->num_vertices * sizeof(double));
+    memcpy(m.triangles, a->triangles, 3 * a->num_triangles * sizeof(uint32_t));
+    for (i = 0; i < 3 * b->num_vertices; i++) m.positions[3 * a->num_vertices + i] = b->positions[i] + (i % 3 ? 0 : dx);
+    for (i = 0; i < 3 * b->num_triangles; i++) m.triangles[3 * a->num_triangles + i] = b->triangles[i] + a->num_vertices;
+    return m;
+}
+
+/* An allocator that counts its calls and fails call number fail_at (0:
+   never), and counts the blocks alive, for out-of-memory sweeps: set
+   bp_allocator { bpt_oom_alloc, bpt_oom_free, &counter }. */
+typedef struct bpt_oom { long calls, fail_at, live; } bpt_oom;
+
+static inline void *bpt_oom_alloc(void *user, size_t size)
+{
+    bpt_oom *o = (bpt_oom *)user;
+    void *p;
+    o->calls++;
+    if (o->fail_at && o->calls == o->fail_at) return NULL;
+    p = malloc(size);
+    if (p) o->live++;
+    return p;
+}
+
+static inline void bpt_oom_free(void *user, void *p)
+{
+    bpt_oom *o = (bpt_oom *)user;
+    if (p) { o->live--; free(p); }
+}
+
 #ifdef BP__IMPLEMENTATION_DONE
 /* For tests that build a bp__solver by hand over bare polygons: allocate
    its workspace with bp__solver_init, keeping the fields the test set

@@ -203,18 +203,6 @@ static bp_mesh torus(uint32_t n, uint32_t k, int seam)
     return m;
 }
 
-/* a and b in one mesh, b moved by dx along x (no vt) */
-static bp_mesh concat(const bp_mesh *a, const bp_mesh *b, double dx)
-{
-    bp_mesh m = bpt_mesh_new(a->num_vertices + b->num_vertices, a->num_triangles + b->num_triangles);
-    uint32_t i;
-    memcpy(m.positions, a->positions, 3 * a->num_vertices * sizeof(double));
-    memcpy(m.triangles, a->triangles, 3 * a->num_triangles * sizeof(uint32_t));
-    for (i = 0; i < 3 * b->num_vertices; i++) m.positions[3 * a->num_vertices + i] = b->positions[i] + (i % 3 ? 0 : dx);
-    for (i = 0; i < 3 * b->num_triangles; i++) m.triangles[3 * a->num_triangles + i] = b->triangles[i] + a->num_vertices;
-    return m;
-}
-
 /* ---- checks ----------------------------------------------------------------- */
 
 /* Every chart of a built atlas: a disk (with holes) by its own topology,
@@ -615,7 +603,7 @@ static void test_junction_moves(const bp_mesh *m)
         tri.positions[3] = 1; tri.positions[7] = 1;
         tri.triangles[0] = 0; tri.triangles[1] = 1; tri.triangles[2] = 2;
         tri.num_vertices = 3; tri.num_triangles = tri.num_faces = 1;
-        both = concat(m, &tri, 1000);
+        both = bpt_concat(m, &tri, 1000);
         bpt_mesh_free(&tri);
         bp_atlas_build(&at, &both, &o, &err);
         bpt_mesh_free(&both);
@@ -737,8 +725,8 @@ int main(void)
     bpt_mesh_free(&m);
     {
         /* three closed components in one mesh: each its own chart, each cut */
-        bp_mesh t4 = tetrahedron(), i20 = icosahedron(), to = torus(12, 6, 0), a = concat(&t4, &i20, 5);
-        bp_mesh b = concat(&a, &to, 12);
+        bp_mesh t4 = tetrahedron(), i20 = icosahedron(), to = torus(12, 6, 0), a = bpt_concat(&t4, &i20, 5);
+        bp_mesh b = bpt_concat(&a, &to, 12);
         bp_atlas at;
         bp_error err;
         bp_options o;

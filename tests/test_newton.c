@@ -234,13 +234,7 @@ static void test_assembled(void)
     int withb;
     memset(&opt, 0, sizeof opt);
     memset(&a, 0, sizeof a);
-    if (!BPT_CHECK(bp_read_obj("tests/data/camel_b.obj", &mesh, NULL, &err) == BP_OK, "read camel_b: %s", err.message))
-        return;
-    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1, "camel_b: one chart")) {
-        bp_mesh_free(&mesh, NULL);
-        return;
-    }
-    BPT_CHECK(bp_chart_init(&atlas.charts[0], &mesh, &opt, &err) == BP_OK, "camel_b start map: %s", err.message);
+    if (!bpt_one_chart("tests/data/camel_b.obj", &mesh, &atlas, &opt, 1)) return;
     for (withb = 0; withb < 2; withb++) {
         bp_chart *ch = &atlas.charts[0];
         bp__solver S;
@@ -353,13 +347,7 @@ static void test_pinned_direction(void)
     int nd, nd0;
     memset(&o, 0, sizeof o);
     memset(&a, 0, sizeof a);
-    if (!BPT_CHECK(bp_read_obj("tests/data/camel_b.obj", &mesh, NULL, &err) == BP_OK, "read camel_b: %s", err.message))
-        return;
-    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &o, &err) == BP_OK && atlas.num_charts == 1 &&
-                   bp_chart_init(&atlas.charts[0], &mesh, &o, &err) == BP_OK, "camel_b: one chart, start map")) {
-        bp_mesh_free(&mesh, NULL);
-        return;
-    }
+    if (!bpt_one_chart("tests/data/camel_b.obj", &mesh, &atlas, &o, 1)) return;
     ch = &atlas.charts[0];
     nv2 = 2 * ch->num_vertices;
     x = (double *)malloc(nv2 * sizeof(double)); g = (double *)malloc(nv2 * sizeof(double));
@@ -428,10 +416,7 @@ static void test_longer_steps(void)
     ext_watch W;
     memset(&o, 0, sizeof o);
     memset(&W, 0, sizeof W);
-    if (!BPT_CHECK(bp_read_obj("tests/data/camel_b.obj", &mesh, NULL, &err) == BP_OK, "read camel_b: %s", err.message))
-        return;
-    if (BPT_CHECK(bp_atlas_build(&atlas, &mesh, &o, &err) == BP_OK && atlas.num_charts == 1 &&
-                  bp_chart_init(&atlas.charts[0], &mesh, &o, &err) == BP_OK, "camel_b: one chart, start map")) {
+    if (bpt_one_chart("tests/data/camel_b.obj", &mesh, &atlas, &o, 1)) {
         W.ch = &atlas.charts[0];
         o.direction = BP_DIRECTION_NEWTON;
         o.threads = 1;
@@ -446,8 +431,8 @@ static void test_longer_steps(void)
                   "camel_b Newton: %d accepted steps longer than 1 (longest %.3g), each map checked bijective",
                   W.longer, W.tmax);
         bp_atlas_free(&atlas);
+        bp_mesh_free(&mesh, NULL);
     }
-    bp_mesh_free(&mesh, NULL);
 }
 
 /* (h): m(v) = g.v + v.H v / 2 with H's stored values (full pattern). */
@@ -478,13 +463,7 @@ static void test_reuse(void)
     memset(&o, 0, sizeof o);
     memset(&a, 0, sizeof a);
     o.no_barrier = 1;
-    if (!BPT_CHECK(bp_read_obj("tests/data/camel_b.obj", &mesh, NULL, &err) == BP_OK, "read camel_b: %s", err.message))
-        return;
-    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &o, &err) == BP_OK && atlas.num_charts == 1 &&
-                   bp_chart_init(&atlas.charts[0], &mesh, &o, &err) == BP_OK, "camel_b: one chart, start map")) {
-        bp_mesh_free(&mesh, NULL);
-        return;
-    }
+    if (!bpt_one_chart("tests/data/camel_b.obj", &mesh, &atlas, &o, 1)) return;
     nv2 = 2 * atlas.charts[0].num_vertices;
     x = (double *)malloc(nv2 * sizeof(double)); g = (double *)malloc(nv2 * sizeof(double));
     v = (double *)malloc(nv2 * sizeof(double)); vs = (double *)malloc(nv2 * sizeof(double));

@@ -318,36 +318,17 @@ static void test_repack(void)
 /* Out of memory at every allocation of bp_atlas_pack in turn: the call
    returns BP_ERR_OUT_OF_MEMORY, frees what it took, and leaves the maps as
    they were; with no failure it packs. */
-typedef struct oom { long calls, fail_at, live; } oom;
-
-static void *oom_alloc(void *user, size_t size)
-{
-    oom *o = (oom *)user;
-    void *p;
-    o->calls++;
-    if (o->fail_at && o->calls == o->fail_at) return NULL;
-    p = malloc(size);
-    if (p) o->live++;
-    return p;
-}
-
-static void oom_free(void *user, void *p)
-{
-    ((oom *)user)->live--;
-    free(p);
-}
-
 static void test_out_of_memory(void)
 {
     bp_mesh m = make_charts(8, 1);
     bp_options o;
     bp_error err;
-    oom counter;
+    bpt_oom counter;
     long k, total = 0, wrong = 0, leaks = 0, moved = 0;
     memset(&o, 0, sizeof o);
     memset(&counter, 0, sizeof counter);
-    o.allocator.alloc = oom_alloc;
-    o.allocator.free = oom_free;
+    o.allocator.alloc = bpt_oom_alloc;
+    o.allocator.free = bpt_oom_free;
     o.allocator.user = &counter;
     for (k = 0;; k++) {
         bp_atlas at;

@@ -157,36 +157,31 @@ else
 fi
 
 # the cow without vt (closed: cut automatically), every third face flipped
+# exit 0 when every vt of the OBJ's f lines belongs to one v
+vt_owned() {
+    python3 - "$1" <<'EOF'
+import sys
+owner = {}
+for l in open(sys.argv[1]):
+    if l.startswith('f '):
+        for c in l.split()[1:]:
+            v, t = c.split('/')[:2]
+            if owner.setdefault(t, v) != v: sys.exit(1)
+EOF
+}
+
 if [ -f tests/data/cow_param_withSUV.obj ]; then
     sed -e '/^vt /d' -e '/^vn /d' -e 's|/[0-9/]*||g' tests/data/cow_param_withSUV.obj >"$d/cow_novt.obj"
     awk '/^f /{n++; if (n % 3 == 0) { print $1, $2, $4, $3; next } } {print}' "$d/cow_novt.obj" >"$d/cow_flip.obj"
     run "$d/cow_flip.obj" --json --max-iters 30 -o "$d/cow_flip_out.obj"
     check "$([ "$(rc)" = 0 ] && [ "$(json "j['repairs']['flipped']['count'], j['per_chart'][0]['cut_edges'] > 0")" = "1934 True" ]; echo $?)" \
         "cow without vt, every third face flipped: 1934 re-oriented and cut ($(json "j['repairs']['flipped']['count']"))"
-    check "$(python3 - "$d/cow_flip_out.obj" <<'EOF'
-import sys
-owner = {}
-for l in open(sys.argv[1]):
-    if l.startswith('f '):
-        for c in l.split()[1:]:
-            v, t = c.split('/')[:2]
-            if owner.setdefault(t, v) != v: sys.exit(1)
-EOF
-echo $?)" "cow flipped and cut: every vt of the output belongs to one v"
+    check "$(vt_owned "$d/cow_flip_out.obj"; echo $?)" "cow flipped and cut: every vt of the output belongs to one v"
     # three faces repeated at the end: the dropped copies take their twins'
     # vt after the cut renumbered the twins' chart
     (cat "$d/cow_novt.obj"; grep '^f ' "$d/cow_novt.obj" | sed -n '100p;2000p;4000p') >"$d/cow_dup.obj"
     run "$d/cow_dup.obj" --json --max-iters 5 -o "$d/cow_dup_out.obj"
-    check "$([ "$(json "j['repairs']['duplicate']['count']")" = 3 ] && python3 - "$d/cow_dup_out.obj" <<'EOF'
-import sys
-owner = {}
-for l in open(sys.argv[1]):
-    if l.startswith('f '):
-        for c in l.split()[1:]:
-            v, t = c.split('/')[:2]
-            if owner.setdefault(t, v) != v: sys.exit(1)
-EOF
-echo $?)" "cow without vt, 3 faces repeated: 3 dropped, every vt of the output (copies too) belongs to one v"
+    check "$([ "$(json "j['repairs']['duplicate']['count']")" = 3 ] && vt_owned "$d/cow_dup_out.obj"; echo $?)" "cow without vt, 3 faces repeated: 3 dropped, every vt of the output (copies too) belongs to one v"
     if [ -f "$uvcheck" ]; then
         python3 "$uvcheck" --compact "$d/cow_flip_out.obj" "$d/cow_novt.obj" >"$d/uvc.json"
         check "$?" "cow flipped and cut: uvcheck against the cow without vt passes ($(head -c 300 "$d/uvc.json"))"

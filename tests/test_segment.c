@@ -50,18 +50,6 @@ static int read_mesh(const char *path, bp_mesh *m)
     return BPT_CHECK(st == BP_OK, "read %s: %s", path, st ? err.message : "ok");
 }
 
-/* a and b in one mesh, b moved by dx along x (no vt) */
-static bp_mesh concat(const bp_mesh *a, const bp_mesh *b, double dx)
-{
-    bp_mesh m = bpt_mesh_new(a->num_vertices + b->num_vertices, a->num_triangles + b->num_triangles);
-    uint32_t i;
-    memcpy(m.positions, a->positions, 3 * a->num_vertices * sizeof(double));
-    memcpy(m.triangles, a->triangles, 3 * a->num_triangles * sizeof(uint32_t));
-    for (i = 0; i < 3 * b->num_vertices; i++) m.positions[3 * a->num_vertices + i] = b->positions[i] + (i % 3 ? 0 : dx);
-    for (i = 0; i < 3 * b->num_triangles; i++) m.triangles[3 * a->num_triangles + i] = b->triangles[i] + a->num_vertices;
-    return m;
-}
-
 /* ---- one chart, from its own triangles ------------------------------------ */
 
 typedef struct dedge { uint32_t a, b, t; } dedge;
@@ -455,25 +443,6 @@ static bp_mesh cube(uint32_t n)
     return m;
 }
 
-typedef struct oom { long calls, fail_at, live; } oom;
-
-static void *oom_alloc(void *user, size_t size)
-{
-    oom *o = (oom *)user;
-    void *p;
-    if (o->fail_at && ++o->calls == o->fail_at) return NULL;
-    if (!o->fail_at) o->calls++;
-    p = malloc(size);
-    if (p) o->live++;
-    return p;
-}
-
-static void oom_free(void *user, void *p)
-{
-    if (p) ((oom *)user)->live--;
-    free(p);
-}
-
 /* Failing each allocation of bp_atlas_segment, then of bp_atlas_refine:
    BP_ERR_OUT_OF_MEMORY (or BP_OK when the failure fell where no call is
    made), every chart still a valid disk with its map valid, and nothing
@@ -483,11 +452,11 @@ static void out_of_memory(const bp_mesh *m)
     int phase;
     for (phase = 0; phase < 2; phase++) {
         long k, total = 0, wrong = 0, leaks = 0, broken = 0;
-        oom counter;
+        bpt_oom counter;
         bp_options o = seg_options(1, 0, phase ? 4.05 : 0, phase ? 0 : 64);
         memset(&counter, 0, sizeof counter);
-        o.allocator.alloc = oom_alloc;
-        o.allocator.free = oom_free;
+        o.allocator.alloc = bpt_oom_alloc;
+        o.allocator.free = bpt_oom_free;
         o.allocator.user = &counter;
         for (k = 0;; k++) {
             bp_atlas at;
@@ -546,7 +515,7 @@ int main(void)
         bp_mesh_free(&m, NULL);
     }
     if (read_mesh("tests/data/torus_with_holes.obj", &m)) {
-        bp_mesh two = concat(&m, &m, 40);
+        bp_mesh two = bpt_concat(&m, &m, 40);
         run("torus_with_holes (genus 1, 2 loops)", &m, 40, 4.05, 1);
         run("two torus_with_holes (two components)", &two, 30, 4.05, 1);
         bpt_mesh_free(&two);

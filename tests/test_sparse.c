@@ -281,10 +281,9 @@ static void test_newton_matrix(void)
     bp__newton N;
     memset(&opt, 0, sizeof opt);
     memset(&a, 0, sizeof a);
-    if (!BPT_CHECK(bp_read_obj("tests/data/camel_b.obj", &mesh, NULL, &err) == BP_OK, "read camel_b: %s", err.message)) return;
-    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1, "camel_b: one chart") ||
-        !BPT_CHECK(bp_chart_init(&atlas.charts[0], &mesh, &opt, &err) == BP_OK, "camel_b start map") ||
-        !BPT_CHECK(bp__solver_chart(&S, &a, &atlas.charts[0], &mesh, &opt, NULL, &err) == BP_OK, "camel_b solver")) {
+    if (!bpt_one_chart("tests/data/camel_b.obj", &mesh, &atlas, &opt, 1)) return;
+    if (!BPT_CHECK(bp__solver_chart(&S, &a, &atlas.charts[0], &mesh, &opt, NULL, &err) == BP_OK, "camel_b solver")) {
+        bp_atlas_free(&atlas);
         bp_mesh_free(&mesh, NULL);
         return;
     }
