@@ -267,13 +267,20 @@ typedef struct bp_pin {
 } bp_pin;
 
 typedef enum bp_direction {
-    BP_DIRECTION_PRECONDITIONED = 0, /* default: L-BFGS with the rest-shape Laplacian
-                                        as initial Hessian (far fewer iterations)  */
+    BP_DIRECTION_DEFAULT = 0,        /* chosen per chart before solving (>>optimize,
+                                        bp__opt_choose_newton): NEWTON for charts of
+                                        20,000-99,999 triangles whose start map's
+                                        mean energy is at most 1e9, else
+                                        PRECONDITIONED                             */
     BP_DIRECTION_LBFGS,              /* the dissertation's L-BFGS, scalar initial
                                         Hessian (sec 3.5, Algorithm 1)             */
     BP_DIRECTION_GRADIENT,           /* gradient descent (for comparison)          */
-    BP_DIRECTION_NEWTON              /* projected Newton: per-triangle Hessians
+    BP_DIRECTION_NEWTON,             /* projected Newton: per-triangle Hessians
                                         projected to PSD, sparse LDL^T (>>newton)  */
+    BP_DIRECTION_PRECONDITIONED      /* L-BFGS with the rest-shape Laplacian as
+                                        initial Hessian (far fewer iterations);
+                                        every chart's default, as the value 0,
+                                        until docs/performance.md sec 6.6          */
 } bp_direction;
 
 typedef enum bp_stop {
@@ -10246,13 +10253,16 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
    quadratic model of a crushed triangle's 1/s^2 stops far short of the
    line's minimum; and near the minimum the factor of an earlier H
    preconditions conjugate gradients on the current one instead of a new
-   factorization (bp__newton_reuse_solve, below).  Even so an iteration
-   costs 10-300 L-BFGS ones, and measured on issue 15's ten meshes Newton
-   reaches SCAF's energy sooner than the preconditioned L-BFGS only on face
-   (13.4 against 17.5 CPU seconds), ties on camel_b, is 1.1-5.3x later on
-   seven others and does not get there on lucy (240 s), so the default stays
-   BP_DIRECTION_PRECONDITIONED; bench/scaf_ratio.py (make bench-scaf)
-   repeats the comparison. */
+   factorization (bp__newton_reuse_solve, below).  With the
+   supernodal factorization (sec 6.1) an iteration costs 7-24 L-BFGS ones,
+   and on issue 15's ten meshes (sec 6.6) Newton reaches SCAF's energy
+   3.4-6.7x sooner than the preconditioned L-BFGS on the charts of 22K-89K
+   triangles, but 1.3x later on the 10K-triangle shark, and on lucy, whose
+   Tutte start (mean energy 3.9e12) clips every step, it takes 1.2x the
+   CPU in all and ends higher; so the default
+   (BP_DIRECTION_DEFAULT, bp__opt_choose_newton in >>optimize) takes Newton
+   only for 20,000-99,999 triangles and a start's mean energy <= 1e9.
+   bench/scaf_ratio.py (make bench-scaf) repeats the comparison. */
 
 #ifndef BP__NEWTON_BARRIER
 #define BP__NEWTON_BARRIER 3
@@ -10965,15 +10975,57 @@ static void bp__opt_hold(const bp__opt *P, double *g)
     for (k = 0; k < P->nheld; k++) g[2 * (size_t)P->held[k]] = g[2 * (size_t)P->held[k] + 1] = 0;
 }
 
-/* Phase 2: options, the pins held, solver, Newton's pattern or the
-   preconditioner, vectors; x = the start map. */
+/* The default direction (BP_DIRECTION_DEFAULT) is chosen per chart before
+   the first iteration, from what is known then: the number of triangles
+   and the start map's mean energy E0 = sum_t w_t E_t / n_t (the report's
+   energy_start).  On issue 15's ten meshes (docs/performance.md sec 6.6:
+   CPU seconds to SCAF's final energy x 1.001, one thread, medians of 3)
+   projected Newton, with the supernodal factorization, reaches it 3.4-6.7x
+   sooner than the preconditioned L-BFGS on camelhead, face and bimba
+   (22,704-89,215 triangles), 2.5x on hilbert, and ties on horse_cut; it
+   also wins on the small camel_b and cow, but loses 1.3x on the 10,192
+   triangles of mech-holes-shark, so below 20,000 triangles the
+   preconditioned L-BFGS stays (an iteration of it costs 0.7-1.6 ms there,
+   one of Newton 7-17 times as much).  Newton also loses on lucy (48,275 triangles;
+   1.2x the CPU in all, a higher final energy), whose Tutte start has
+   E0 = 3.9e12: every Newton step is clipped by the step bound, the energy
+   falls only 1.3-2x per factorization and about 80 pass before it nears
+   the minimum, so a start above E0 = 1e9 keeps L-BFGS
+   (hilbert, which Newton wins, starts at 3.8e5).  Above 100,000 triangles
+   nothing was compared, and Newton's factor needs ~1.7 KB per face against
+   L-BFGS's ~0.75 (issue 15's million-face chart must stay under 1 KiB),
+   so L-BFGS stays there.  The sum is serial: the choice is the same for
+   any number of threads. */
+#ifndef BP__AUTO_NEWTON_MIN
+#define BP__AUTO_NEWTON_MIN 20000u
+#endif
+#ifndef BP__AUTO_NEWTON_MAX
+#define BP__AUTO_NEWTON_MAX 100000u
+#endif
+#ifndef BP__AUTO_NEWTON_E0
+#define BP__AUTO_NEWTON_E0 1e9
+#endif
+static int bp__opt_choose_newton(const bp__solver *S, const double *x)
+{
+    double sum = 0;
+    uint32_t t;
+    if (S->nt < BP__AUTO_NEWTON_MIN || S->nt >= BP__AUTO_NEWTON_MAX) return 0;
+    for (t = 0; t < S->nt; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        sum += S->rest[t].weight * bp__triangle_energy(S->energy, &S->rest[t], x + 2 * (size_t)tr[0],
+                                                       x + 2 * (size_t)tr[1], x + 2 * (size_t)tr[2], NULL, NULL, NULL);
+    }
+    return sum / S->nt <= BP__AUTO_NEWTON_E0;      /* also false for a NaN or infinite start */
+}
+
+/* Phase 2: options, the pins held, solver, the direction (the default's
+   choice, above), Newton's pattern or the preconditioner, vectors; x = the
+   start map. */
 static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, const bp_mesh *m, bp_error *err)
 {
     double *rest_wxy;
     bp_status st;
     uint32_t nv2;
-    P->hist = P->o.history > 0 ? P->o.history : 5;
-    if (P->o.direction == BP_DIRECTION_GRADIENT || P->newton) P->hist = 0;   /* Newton falls back to -g */
     if (P->o.max_iterations <= 0) P->o.max_iterations = 10000;
     if (!(P->o.tolerance > 0)) P->o.tolerance = 1e-7;
     if ((st = bp__opt_pins(P, ch, m, err)) != BP_OK) return st;                 /* pins */
@@ -10981,6 +11033,12 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
     if (!rest_wxy) return bp__oom(err, "optimizing a chart");
     if ((st = bp__solver_chart(&P->S, &P->a, ch, m, &P->o, rest_wxy, err)) != BP_OK) { bp__free(&P->a, rest_wxy); return st; }
     P->S.par = P->par;
+    if (P->o.direction == BP_DIRECTION_DEFAULT) {
+        P->newton = bp__opt_choose_newton(&P->S, ch->uv);
+        P->precond = !P->newton;
+    }
+    P->hist = P->o.history > 0 ? P->o.history : 5;
+    if (P->o.direction == BP_DIRECTION_GRADIENT || P->newton) P->hist = 0;   /* Newton falls back to -g */
     if (P->newton) {                          /* >>newton; pins held or pulled */
         if (bp__newton_init(&P->N, &P->a, &P->S) != BP_OK) {
             bp__free(&P->a, rest_wxy);
@@ -11177,7 +11235,7 @@ static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, cons
     P.a = bp__allocator_of(opt);
     P.pen = pen;                              /* pins (homotopy) */
     P.tlast = 1;
-    P.precond = !opt || opt->direction == BP_DIRECTION_PRECONDITIONED;
+    P.precond = opt && opt->direction == BP_DIRECTION_PRECONDITIONED;   /* the default: bp__opt_setup */
     P.newton = opt && opt->direction == BP_DIRECTION_NEWTON;
     if (opt) P.o = *opt;
     if (!ch || !m || !ch->uv || !ch->num_loops)

@@ -96,9 +96,11 @@ static const char usage_text[] =
     "  --no-barrier       locally injective only (no boundary barrier)\n"
     "  --epsilon X        barrier width (default: mean boundary edge / 4, at\n"
     "                     most the median boundary triangle height)\n"
-    "  --direction precond|lbfgs|gd|newton   search direction: L-BFGS\n"
-    "                     preconditioned by the Laplacian (default), plain L-BFGS,\n"
-    "                     gradient descent, projected Newton\n"
+    "  --direction default|precond|lbfgs|gd|newton   search direction; default:\n"
+    "                     projected Newton for charts of 20,000-99,999 triangles\n"
+    "                     whose start's mean energy is <= 1e9, else precond;\n"
+    "                     precond: L-BFGS preconditioned by the Laplacian, lbfgs:\n"
+    "                     plain L-BFGS, gd: gradient descent, newton: always Newton\n"
     "  --history M        L-BFGS memory (default 5)\n"
     "  --max-iters N      iterations per chart (default 10000)\n"
     "  --tol X            relative energy decrease to stop (default 1e-7)\n"
@@ -1191,11 +1193,12 @@ int main(int argc, char **argv)
                 if (!found)
                     return usage_error("unknown energy '%s' (sd, conformal, mips, iso, maxiso)", v);
             } else if (!strcmp(a, "--direction")) {
-                if (!strcmp(v, "precond")) opt.direction = BP_DIRECTION_PRECONDITIONED;
+                if (!strcmp(v, "default")) opt.direction = BP_DIRECTION_DEFAULT;
+                else if (!strcmp(v, "precond")) opt.direction = BP_DIRECTION_PRECONDITIONED;
                 else if (!strcmp(v, "lbfgs")) opt.direction = BP_DIRECTION_LBFGS;
                 else if (!strcmp(v, "gd")) opt.direction = BP_DIRECTION_GRADIENT;
                 else if (!strcmp(v, "newton")) opt.direction = BP_DIRECTION_NEWTON;
-                else return usage_error("unknown direction '%s' (precond, lbfgs, gd or newton)", v);
+                else return usage_error("unknown direction '%s' (default, precond, lbfgs, gd or newton)", v);
             } else if (!strcmp(a, "--epsilon")) {
                 if (!parse_double(v, 0.0, &opt.epsilon) || opt.epsilon <= 0.0)
                     return usage_error("--epsilon needs a positive number, not '%s'", v);

@@ -540,6 +540,46 @@ static void test_reuse(void)
     bp_mesh_free(&mesh, NULL);
 }
 
+/* The default direction (bp__opt_choose_newton, docs/performance.md sec
+   6.6): for each chart the default's map after a few iterations must be,
+   bit for bit, the one of the direction that the documented rule names for
+   the chart's size and reported start energy (Newton for 20,000 <= F <
+   100,000 with energy_start <= 1e9, else the preconditioned L-BFGS), and
+   differ from the other direction's (so that the comparison can fail).
+   camel_b is below the size, camelhead inside it, lucy inside it with a
+   crushed Tutte start (mean energy 3.9e12). */
+static void test_default_choice(const char *path)
+{
+    bp_mesh mesh;
+    bp_error err;
+    bp_atlas at[3];
+    bp_options opt;
+    int r, ok = 1;
+    if (!BPT_CHECK(bp_read_mesh(path, &mesh, NULL, &err) == BP_OK, "read %s: %s", path, err.message)) return;
+    for (r = 0; r < 3; r++) {
+        static const bp_direction D[3] = { BP_DIRECTION_DEFAULT, BP_DIRECTION_PRECONDITIONED, BP_DIRECTION_NEWTON };
+        memset(&opt, 0, sizeof opt);
+        opt.threads = 1;
+        opt.max_iterations = 3;
+        opt.direction = D[r];
+        ok &= BPT_CHECK(bp_parameterize(&at[r], &mesh, &opt, &err) == BP_OK, "%s direction %d: %s", path, (int)D[r],
+                        err.message);
+    }
+    if (ok) {
+        const bp_chart *cd = &at[0].charts[0];
+        size_t n = 2 * (size_t)cd->num_vertices * sizeof(double);
+        int newton = cd->num_triangles >= 20000 && cd->num_triangles < 100000 && cd->energy_start <= 1e9;
+        const bp_chart *want = &at[newton ? 2 : 1].charts[0], *other = &at[newton ? 1 : 2].charts[0];
+        BPT_CHECK(at[0].num_charts == 1 && memcmp(cd->uv, want->uv, n) == 0 && cd->iterations == want->iterations,
+                  "%s (%u triangles, start energy %.3g): the default is %s, bit for bit", path, cd->num_triangles,
+                  cd->energy_start, newton ? "Newton" : "the preconditioned L-BFGS");
+        BPT_CHECK(memcmp(cd->uv, other->uv, n) != 0, "%s: and not %s", path,
+                  newton ? "the preconditioned L-BFGS" : "Newton");
+    }
+    for (r = 0; r < 3; r++) if (ok) bp_atlas_free(&at[r]);
+    bp_mesh_free(&mesh, NULL);
+}
+
 int main(void)
 {
     bpt_rng_state = 0x9E3779B97F4A7C15ull;
@@ -550,5 +590,8 @@ int main(void)
     test_pinned_direction();
     test_longer_steps();
     test_reuse();
+    test_default_choice("tests/data/camel_b.obj");
+    test_default_choice("tests/data/camelhead.off");
+    test_default_choice("../shared/meshes/lucy_o_f48275.obj");
     return bpt_finish();
 }
