@@ -7834,14 +7834,16 @@ static int bp__check_verdict_status(bp_status st)
    resolution: on the face with six holes subdivided to 133K and 298K faces
    the optimizer needs 447 and 623 iterations from Tutte, 42 and 52 from
    the mean-value map, which reproduces the shape (start energy 4.19 at
-   every size).  Over the corpus the mean-value start cost less CPU in
-   all on one thread, with equal final energies (within 2e-4 relative).
-   Its price: the weights are not symmetric (w_ij != w_ji), so the system
-   is solved by LU instead of LDL^T: about twice the factorization time
-   and +10-15% peak memory.  On a few charts with long crushed
-   protrusions (bimba, lucy, hilbert) both starts are equally bad and the
-   mean-value one costs 4-14% more; no size rule separates them, so AUTO is
-   the mean-value map for every chart.  Floater's theorem makes it an
+   every size): 4-5.6x less CPU.  On the 15 corpus meshes (one thread)
+   it needs fewer iterations on 12, half the CPU on camelhead, and 120.0
+   against 121.3 s of CPU in all, with equal final energies (within 2e-4
+   relative).  Its price: the weights are not symmetric (w_ij != w_ji), so
+   the system is solved by LU instead of LDL^T: about twice the
+   factorization time and up to 17% more peak memory.  On charts with long
+   crushed protrusions (bimba, lucy, hilbert) both starts are about as bad
+   and the mean-value one costs 3-11% more; no size rule separates them
+   (bimba, 89K faces, loses; camelhead, 23K, wins), so AUTO is the
+   mean-value map for every chart.  Floater's theorem makes it an
    embedding like Tutte's, but the LU solve is rounded like any other: if
    its map fails the exact check, AUTO recomputes the chart with uniform
    weights (whose symmetric system is the better conditioned) before
