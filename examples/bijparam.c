@@ -79,8 +79,10 @@ static const char usage_text[] =
     "  --demo             use the built-in wavy cone instead of a file\n"
     "  --check            only check the file's own vt charts exactly (each chart\n"
     "                     bijective, no two overlapping): exit 0 yes, 1 no\n"
-    "  --init tutte|mvc|input   start map (default tutte); input: the file's own\n"
-    "                     vt per chart when bijective (else tutte, reported), and\n"
+    "  --init auto|mvc|tutte|input   start map; auto (default): mean-value\n"
+    "                     (Floater), Tutte if that one fails its exact check;\n"
+    "                     tutte: uniform weights; input: the file's own\n"
+    "                     vt per chart when bijective (else auto, reported), and\n"
     "                     those charts keep their place unless --normalize\n"
     "  --pin FILE         pinned vertices, lines 'vertex u v [vt]' (numbered from 1\n"
     "                     as in the input; vt: only that side of a seam; '#'\n"
@@ -89,7 +91,7 @@ static const char usage_text[] =
     "  --start auto|plain|progressive   auto (default): a planar chart starts\n"
     "                     from its own projection (when exactly bijective),\n"
     "                     any other from the --init map; plain: the --init\n"
-    "                     map always; progressive: auto, then a Tutte start\n"
+    "                     map always; progressive: auto, then a non-planar start\n"
     "                     relaxed toward the rest shapes in rounds\n"
     "  --init-only        stop after the start map\n"
     "  --energy sd|conformal|mips|iso|maxiso   distortion (default sd)\n"
@@ -1182,10 +1184,11 @@ int main(int argc, char **argv)
                     return usage_error("--vis-floor needs a positive number, not '%s'", v);
             }
             else if (!strcmp(a, "--init")) {
-                if (!strcmp(v, "tutte")) opt.init = BP_INIT_TUTTE;
+                if (!strcmp(v, "auto")) opt.init = BP_INIT_AUTO;
+                else if (!strcmp(v, "tutte")) opt.init = BP_INIT_TUTTE;
                 else if (!strcmp(v, "mvc")) opt.init = BP_INIT_MEAN_VALUE;
                 else if (!strcmp(v, "input")) opt.init = BP_INIT_INPUT;
-                else return usage_error("unknown start map '%s' (tutte, mvc or input)", v);
+                else return usage_error("unknown start map '%s' (auto, mvc, tutte or input)", v);
             } else if (!strcmp(a, "--energy")) {
                 int e, found = 0;
                 for (e = 0; e < (int)BP_ENERGY_COUNT; e++)

@@ -631,6 +631,7 @@ static void test_objective_on_chart(void)
     bp_allocator a;
     int phase;
     memset(&opt, 0, sizeof opt);
+    opt.init = BP_INIT_TUTTE;   /* the maps whose inconclusive counts the limits below were set on */
     memset(&a, 0, sizeof a);
     if (!BPT_CHECK(bp_read_obj("tests/data/bishop_part_f1000.obj", &mesh, NULL, &err) == BP_OK, "read bishop: %s", err.message))
         return;

@@ -126,7 +126,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     o.max_iterations = 20;
     o.max_seconds = 5;
     o.energy = (bp_energy)(sel % 5);
-    o.init = (bp_init)((sel / 5) % 2);
+    o.init = (sel / 5) % 2 ? BP_INIT_MEAN_VALUE : BP_INIT_TUTTE;
     o.direction = (bp_direction)((sel / 10) % 3);
     o.history = (int)(sel % 7);
     o.normalize = (sel / 3) % 2;
