@@ -93,7 +93,8 @@ static const char usage_text[] =
     "                     any other from the --init map; plain: the --init\n"
     "                     map always; progressive: auto, then a non-planar start\n"
     "                     relaxed toward the rest shapes in rounds\n"
-    "  --init-only        stop after the start map\n"
+    "  --init-only        stop after the start map\n";
+static const char usage_solver[] =
     "  --energy sd|conformal|mips|iso|maxiso   distortion (default sd)\n"
     "  --no-barrier       locally injective only (no boundary barrier)\n"
     "  --epsilon X        barrier width (default: mean boundary edge / 4, at\n"
@@ -141,7 +142,7 @@ static const char usage_views[] =
     "  --importance FILE  one weight > 0 per face (painted importance)\n"
     "  --density-report uniform|front|ring|side   texel density of the result\n"
     "                     against a plain isometric map under that view model\n";
-/* (three strings: C99 promises string literals of 4095 characters only) */
+/* (four strings: C99 promises string literals of 4095 characters only) */
 static const char usage_pictures[] =
     "pictures:\n"
     "  --svg FILE         the UV layout as SVG: triangles coloured by distortion,\n"
@@ -1218,7 +1219,7 @@ int main(int argc, char **argv)
                 return usage_error("--max-iters needs an integer >= 1, not '%s'", v);
             }
         }
-        else if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_text, stdout); fputs(usage_views, stdout); fputs(usage_pictures, stdout); return 0; }
+        else if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_text, stdout); fputs(usage_solver, stdout); fputs(usage_views, stdout); fputs(usage_pictures, stdout); return 0; }
         else if (!strcmp(a, "--version")) { printf("bijparam %s\n", BP_VERSION_STRING); return 0; }
         else if (!strcmp(a, "--force")) force = 1;
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) quiet = 1;
