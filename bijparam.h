@@ -378,7 +378,7 @@ typedef struct bp_options {
                                      no boundary check, so the map may overlap
                                      itself (fig 3.2, 3.3)                     */
     double        epsilon;        /* barrier width; 0: mean 3D boundary edge/4 */
-    bp_direction  direction;      /* default: preconditioned L-BFGS            */
+    bp_direction  direction;      /* default: per chart (BP_DIRECTION_DEFAULT) */
     int           history;        /* L-BFGS memory m; 0: 5                     */
     int           max_iterations; /* 0: 10000                                  */
     double        tolerance;      /* relative decrease; 0: 1e-7                */
