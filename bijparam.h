@@ -13638,8 +13638,11 @@ BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     bp_status st;
     bp__seg_mesh G;
     bp_allocator a;
-    uint32_t *list = NULL, round, nstuck = 0;
+    bp__vec list;                 /* uint32_t: the split charts and their pieces, in order */
+    uint32_t round, nstuck = 0;
     unsigned char *stuck = NULL;
+    memset(&list, 0, sizeof list);
+    list.elem = sizeof(uint32_t);
     if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
     if (!atlas || !atlas->charts || !m)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_refine needs an atlas and its mesh");
@@ -13648,9 +13651,8 @@ BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     a = atlas->allocator;
     if ((st = bp__seg_mesh_alloc(&a, &G, m, err)) != BP_OK) return st;
     for (round = 0; round < 32 && st == BP_OK; round++) {
-        uint32_t n0 = atlas->num_charts, c, n = 0, budget = opt->max_charts ? opt->max_charts : BP__NONE;
-        bp__free(&a, list);
-        list = (uint32_t *)bp__alloc_array(&a, 2 * (size_t)n0, sizeof(uint32_t));
+        uint32_t n0 = atlas->num_charts, c, budget = opt->max_charts ? opt->max_charts : BP__NONE;
+        list.count = 0;
         {
             unsigned char *s2 = (unsigned char *)bp__calloc_array(&a, n0, 1);
             if (s2 && stuck) memcpy(s2, stuck, nstuck);     /* charts only ever get added */
@@ -13658,20 +13660,23 @@ BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *m, const bp_opti
             stuck = s2;
             nstuck = n0;
         }
-        if (!list || !stuck) { st = bp__oom(err, "splitting charts"); break; }
+        if (!stuck) { st = bp__oom(err, "splitting charts"); break; }
         for (c = 0; c < n0 && st == BP_OK && atlas->num_charts < budget; c++) {
             uint32_t pieces, p, before = atlas->num_charts;
             if (stuck[c] || !bp__seg_too_high(atlas, c, m, opt)) continue;
             st = bp__seg_chart(atlas, c, m, opt->importance, 2, -1, 2, &G, &pieces, err);
             if (pieces < 2) { stuck[c] = 1; continue; }
-            list[n++] = c;
-            for (p = before; p < atlas->num_charts && n < 2 * (size_t)n0; p++) list[n++] = p;
+            /* c itself, then each of its new pieces (a split may give more than two) */
+            for (p = before - 1; p < atlas->num_charts; p++) {
+                uint32_t id = p == before - 1 ? c : p;
+                if (!bp__vec_push(&a, &list, &id)) { st = bp__oom(err, "splitting charts"); break; }
+            }
         }
-        if (st != BP_OK || n == 0) break;
-        st = bp__seg_reoptimize(atlas, m, opt, list, n, err);
+        if (st != BP_OK || list.count == 0) break;
+        st = bp__seg_reoptimize(atlas, m, opt, (const uint32_t *)list.data, (uint32_t)list.count, err);
         if (st == BP_ERR_CANCELLED) { st = BP_OK; break; }
     }
-    bp__free(&a, list);
+    bp__free(&a, list.data);
     bp__free(&a, stuck);
     bp__free(&a, G.glued);
     bp__free(&a, G.facepos);
