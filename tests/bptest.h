@@ -144,6 +144,33 @@ static inline void bpt_oom_free(void *user, void *p)
     if (p) { o->live--; free(p); }
 }
 
+/* Zero the counter and make it the options' allocator. */
+static inline void bpt_oom_use(bp_options *opt, bpt_oom *counter)
+{
+    memset(counter, 0, sizeof *counter);
+    opt->allocator.alloc = bpt_oom_alloc;
+    opt->allocator.free = bpt_oom_free;
+    opt->allocator.user = counter;
+}
+
+/* Painted importance for steering tests: 25 on the triangles whose
+   centroid lies in the upper half of the x range, 1 elsewhere (malloc). */
+static inline double *bpt_half_importance(const bp_mesh *m)
+{
+    double *w = (double *)malloc(m->num_triangles * sizeof(double)), lo = 1e300, hi = -1e300;
+    uint32_t t, v;
+    for (v = 0; v < m->num_vertices; v++) {
+        if (m->positions[3 * v] < lo) lo = m->positions[3 * v];
+        if (m->positions[3 * v] > hi) hi = m->positions[3 * v];
+    }
+    for (t = 0; w && t < m->num_triangles; t++) {
+        const uint32_t *q = m->triangles + 3 * t;
+        double x = (m->positions[3 * q[0]] + m->positions[3 * q[1]] + m->positions[3 * q[2]]) / 3;
+        w[t] = x > (lo + hi) / 2 ? 25 : 1;
+    }
+    return w;
+}
+
 #ifdef BP__IMPLEMENTATION_DONE
 /* For tests that build a bp__solver by hand over bare polygons: allocate
    its workspace with bp__solver_init, keeping the fields the test set

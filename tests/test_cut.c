@@ -513,18 +513,8 @@ static void test_importance(const bp_mesh *m)
     bp_atlas at;
     bp_error err;
     bp_options o;
-    double *w = (double *)malloc(m->num_triangles * sizeof(double)), lo = 1e300, hi = -1e300, len0, len1, plain, steered;
-    uint32_t t, v;
+    double *w = bpt_half_importance(m), len0, len1, plain, steered;
     char why[200] = "";
-    for (v = 0; v < m->num_vertices; v++) {
-        if (m->positions[3 * v] < lo) lo = m->positions[3 * v];
-        if (m->positions[3 * v] > hi) hi = m->positions[3 * v];
-    }
-    for (t = 0; t < m->num_triangles; t++) {
-        const uint32_t *q = m->triangles + 3 * t;
-        double x = (m->positions[3 * q[0]] + m->positions[3 * q[1]] + m->positions[3 * q[2]]) / 3;
-        w[t] = x > (lo + hi) / 2 ? 25 : 1;
-    }
     memset(&o, 0, sizeof o);
     if (bp_atlas_build(&at, m, &o, &err) != BP_OK) { BPT_CHECK(0, "importance: build %s", err.message); free(w); return; }
     plain = mean_along_cut(m, &at, w, &len0);

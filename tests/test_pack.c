@@ -326,10 +326,7 @@ static void test_out_of_memory(void)
     bpt_oom counter;
     long k, total = 0, wrong = 0, leaks = 0, moved = 0;
     memset(&o, 0, sizeof o);
-    memset(&counter, 0, sizeof counter);
-    o.allocator.alloc = bpt_oom_alloc;
-    o.allocator.free = bpt_oom_free;
-    o.allocator.user = &counter;
+    bpt_oom_use(&o, &counter);
     for (k = 0;; k++) {
         bp_atlas at;
         bp_status st;

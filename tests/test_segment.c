@@ -382,17 +382,8 @@ static void importance_steers(const char *what, const bp_mesh *m)
     bp_atlas base, plain, steered;
     bp_error err;
     bp_options o = seg_options(1, 0, 0, 1024);
-    double *w = (double *)malloc(m->num_triangles * sizeof(double)), lo = 1e300, hi = -1e300, a, b;
-    uint32_t t, v, na, nb;
-    for (v = 0; v < m->num_vertices; v++) {
-        if (m->positions[3 * v] < lo) lo = m->positions[3 * v];
-        if (m->positions[3 * v] > hi) hi = m->positions[3 * v];
-    }
-    for (t = 0; t < m->num_triangles; t++) {
-        const uint32_t *q = m->triangles + 3 * t;
-        double x = (m->positions[3 * q[0]] + m->positions[3 * q[1]] + m->positions[3 * q[2]]) / 3;
-        w[t] = x > (lo + hi) / 2 ? 25 : 1;
-    }
+    double *w = bpt_half_importance(m), a, b;
+    uint32_t na, nb;
     if (BPT_CHECK(bp_atlas_build(&base, m, &o, &err) == BP_OK && bp_atlas_build(&plain, m, &o, &err) == BP_OK &&
                   bp_atlas_segment(&plain, m, &o, &err) == BP_OK, "%s: segmented (%s)", what, err.message)) {
         o.importance = w;
@@ -454,10 +445,7 @@ static void out_of_memory(const bp_mesh *m)
         long k, total = 0, wrong = 0, leaks = 0, broken = 0;
         bpt_oom counter;
         bp_options o = seg_options(1, 0, phase ? 4.05 : 0, phase ? 0 : 64);
-        memset(&counter, 0, sizeof counter);
-        o.allocator.alloc = bpt_oom_alloc;
-        o.allocator.free = bpt_oom_free;
-        o.allocator.user = &counter;
+        bpt_oom_use(&o, &counter);
         for (k = 0;; k++) {
             bp_atlas at;
             bp_error err;
