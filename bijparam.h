@@ -9613,6 +9613,131 @@ static double bp__objective(bp__solver *S, const double *x, double *g, double *e
     return bp__evaluate(S, x, g, ed, HUGE_VAL, NULL);
 }
 
+/* The barrier's full curvature for one pair (for Newton, >>newton).  With
+   f(d) = (eps / d - 1)^2 and d = d(P, A, B) the distance from P to the
+   segment AB, the pair's Hessian in the six coordinates (P, A, B) is
+       K = f''(d) grad d grad d^T + f'(d) Hess d,
+   f' = -2 (eps / d - 1) eps / d^2 < 0.  The Gauss-Newton part alone (the
+   first term) sees only the relative motion along the normal n.  Where
+   the closest point is an end of the segment, d = |P - A| and Hess d =
+   (I - n n^T) / d is positive semidefinite, so the second term is negative
+   semidefinite and dropping it is the right projection.  Where the closest
+   point is inside the segment it is not: with q = P - A, e = B - A,
+   c = q x e and L = |e|, d = sigma c / L (sigma = sign c) is bilinear in q
+   and e up to the 1/L, and Hess d couples the vertex's slide along the
+   edge with the edge's rotation.  A step that slides P along AB by a
+   distance a while AB turns by an angle w brings them closer by about
+   a w, a second-order change the Gauss-Newton model calls free; near
+   contact, |f'| a w can outweigh f'' times the normal motion squared by
+   orders of magnitude (docs/performance.md sec 6.10: on hilbert, a vertex
+   at eps/170 from an edge slides 200 d per unit step while the edge turns,
+   and Newton's steps are cut to t = 0.005 for 100 iterations).  So K is
+   formed whole and projected onto the positive semidefinite cone: its 6x6
+   eigen-decomposition (cyclic Jacobi), negative eigenvalues set to 0.
+   In q, e (4 coordinates; c's Hessian has d2c/dqx dey = 1,
+   d2c/dqy dex = -1, and grad (1/L) = -e / L^3, Hess (1/L) = -I / L^3 +
+   3 e e^T / L^5 on e):
+       Hess d = sigma (Hess c / L + grad c grad(1/L)^T + grad(1/L) grad c^T
+                       + c Hess(1/L)),
+   and (P, A, B) -> (q, e) is linear: q = P - A, e = B - A.  K (row-major
+   6x6, P's x y, then A's, then B's) is written for d in (0, eps); returns
+   0 (K untouched) outside.  With project = 0 it is the whole Hessian
+   (for the tests), at an end too. */
+static void bp__sym_psd6(double *K)
+{
+    double V[36], a[36];
+    int i, j, k, sweep;
+    memcpy(a, K, sizeof a);
+    for (i = 0; i < 36; i++) V[i] = (i % 7 == 0) ? 1 : 0;
+    for (sweep = 0; sweep < 30; sweep++) {
+        double off = 0, tot = 0;
+        for (i = 0; i < 6; i++)
+            for (j = 0; j < 6; j++) { tot += a[6 * i + j] * a[6 * i + j]; if (i != j) off += a[6 * i + j] * a[6 * i + j]; }
+        if (!(off > 1e-30 * tot)) break;
+        for (i = 0; i < 5; i++)
+            for (j = i + 1; j < 6; j++) {
+                double apq = a[6 * i + j], th, t, c, sn;
+                if (apq == 0) continue;
+                th = (a[6 * j + j] - a[6 * i + i]) / (2 * apq);
+                t = (th >= 0 ? 1 : -1) / (fabs(th) + sqrt(th * th + 1));
+                c = 1 / sqrt(t * t + 1); sn = t * c;
+                for (k = 0; k < 6; k++) {                       /* columns i, j */
+                    double x = a[6 * k + i], y = a[6 * k + j];
+                    a[6 * k + i] = c * x - sn * y; a[6 * k + j] = sn * x + c * y;
+                }
+                for (k = 0; k < 6; k++) {                       /* rows i, j */
+                    double x = a[6 * i + k], y = a[6 * j + k];
+                    a[6 * i + k] = c * x - sn * y; a[6 * j + k] = sn * x + c * y;
+                }
+                for (k = 0; k < 6; k++) {
+                    double x = V[6 * k + i], y = V[6 * k + j];
+                    V[6 * k + i] = c * x - sn * y; V[6 * k + j] = sn * x + c * y;
+                }
+            }
+    }
+    for (i = 0; i < 6; i++)
+        for (j = 0; j < 6; j++) {
+            double sum = 0;
+            for (k = 0; k < 6; k++) if (a[7 * k] > 0) sum += V[6 * i + k] * a[7 * k] * V[6 * j + k];
+            K[6 * i + j] = sum;
+        }
+}
+
+static int bp__barrier_pair_hessian(const double *P, const double *A, const double *B, double eps, int project,
+                                    double *K)
+{
+    double ex = B[0] - A[0], ey = B[1] - A[1], qx = P[0] - A[0], qy = P[1] - A[1];
+    double L2 = ex * ex + ey * ey, sp = L2 > 0 ? (qx * ex + qy * ey) / L2 : 0, dx, dy, d, f1, f2, g[6];
+    int i, j;
+    if (sp < 0) sp = 0;
+    if (sp > 1) sp = 1;
+    dx = qx - sp * ex; dy = qy - sp * ey;
+    d = sqrt(dx * dx + dy * dy);
+    if (!(d < eps) || !(d > 0)) return 0;
+    f1 = -2 * (eps / d - 1) * eps / (d * d);
+    f2 = 2 * eps * eps / (d * d * d * d) + 4 * (eps / d - 1) * eps / (d * d * d);
+    g[0] = dx / d; g[1] = dy / d;
+    g[2] = -(1 - sp) * g[0]; g[3] = -(1 - sp) * g[1];
+    g[4] = -sp * g[0]; g[5] = -sp * g[1];
+    for (i = 0; i < 6; i++) for (j = 0; j < 6; j++) K[6 * i + j] = f2 * g[i] * g[j];
+    if (sp > 0 && sp < 1) {                      /* inside the segment: the whole Hessian */
+        double L = sqrt(L2), c = qx * ey - qy * ex, sg = c >= 0 ? 1 : -1, iL3 = 1 / (L * L2);
+        double gc[4], gi[4], H4[16], J[4][6];
+        memset(H4, 0, sizeof H4);
+        gc[0] = ey; gc[1] = -ex; gc[2] = -qy; gc[3] = qx;
+        gi[0] = 0; gi[1] = 0; gi[2] = -ex * iL3; gi[3] = -ey * iL3;
+        H4[0 * 4 + 3] = H4[3 * 4 + 0] = 1 / L;
+        H4[1 * 4 + 2] = H4[2 * 4 + 1] = -1 / L;
+        for (i = 0; i < 4; i++) for (j = 0; j < 4; j++) H4[4 * i + j] += gc[i] * gi[j] + gi[i] * gc[j];
+        H4[2 * 4 + 2] += c * (-iL3 + 3 * ex * ex * iL3 / L2);
+        H4[2 * 4 + 3] += c * (3 * ex * ey * iL3 / L2);
+        H4[3 * 4 + 2] += c * (3 * ex * ey * iL3 / L2);
+        H4[3 * 4 + 3] += c * (-iL3 + 3 * ey * ey * iL3 / L2);
+        memset(J, 0, sizeof J);                  /* q = P - A, e = B - A */
+        J[0][0] = 1; J[0][2] = -1; J[1][1] = 1; J[1][3] = -1;
+        J[2][4] = 1; J[2][2] = -1; J[3][5] = 1; J[3][3] = -1;
+        for (i = 0; i < 6; i++)
+            for (j = 0; j < 6; j++) {
+                double sum = 0;
+                int k, l;
+                for (k = 0; k < 4; k++) for (l = 0; l < 4; l++) sum += J[k][i] * H4[4 * k + l] * J[l][j];
+                K[6 * i + j] += f1 * sg * sum;
+            }
+        if (project) bp__sym_psd6(K);
+    } else if (!project) {                       /* at an end E: f'(d) (I - n n^T) / d on P - E (its projection: 0) */
+        int e = sp > 0 ? 2 : 1, a_, b_;
+        double t[2];
+        t[0] = -g[1]; t[1] = g[0];
+        for (a_ = 0; a_ < 2; a_++)
+            for (b_ = 0; b_ < 2; b_++) {
+                double w = f1 / d * t[a_] * t[b_];
+                K[6 * a_ + b_] += w; K[6 * (2 * e + a_) + 2 * e + b_] += w;
+                K[6 * a_ + 2 * e + b_] -= w; K[6 * (2 * e + a_) + b_] -= w;
+            }
+    }
+    return 1;
+}
+
 /* >>stepbound ==============================================================
 
    Sec 3.4.2.  Along a search line U + t V every singularity of the energy is
@@ -10302,6 +10427,9 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
 #ifndef BP__NEWTON_BARRIER
 #define BP__NEWTON_BARRIER 3
 #endif
+#ifndef BP__BARRIER_FULL
+#define BP__BARRIER_FULL 1            /* 0: the Gauss-Newton part only (measurements) */
+#endif
 #ifndef BP__NEWTON_CG_MAX
 #define BP__NEWTON_CG_MAX 30
 #endif
@@ -10311,7 +10439,7 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
 
 /* One barrier pair's Gauss-Newton term f'' w w^T: w = c_i n on vertices
    v[0] (c = 1), v[1] (c = -(1 - s)), v[2] (c = -s). */
-typedef struct bp__bpair { uint32_t v[3]; double s, nx, ny, f2; } bp__bpair;
+typedef struct bp__bpair { uint32_t v[3]; double s, nx, ny, f2, K[36]; } bp__bpair;   /* K: >>barrier */
 
 typedef struct bp__newton {
     bp__sparse H;                 /* 2nv x 2nv, full symmetric pattern      */
@@ -10543,6 +10671,12 @@ static void bp__barrier_hess_visit(void *user, uint32_t k)
         bp__bpair bp;
         bp.v[0] = vv[0]; bp.v[1] = vv[1]; bp.v[2] = vv[2];
         bp.s = sp; bp.nx = nx; bp.ny = ny; bp.f2 = f2;
+        if (!BP__BARRIER_FULL || !bp__barrier_pair_hessian(P, A, B, S->eps, 1, bp.K)) {
+            int a_, b_;
+            for (a_ = 0; a_ < 6; a_++)
+                for (b_ = 0; b_ < 6; b_++)
+                    bp.K[6 * a_ + b_] = f2 * cc[a_ / 2] * cc[b_ / 2] * (a_ % 2 ? ny : nx) * (b_ % 2 ? ny : nx);
+        }
         if (!bp__vec_push(S->a, Q->pairs, &bp)) Q->oom = 1;
     }
     for (j = 0; j < 3; j++) {
@@ -10632,10 +10766,7 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
         const bp__bpair *pr = (const bp__bpair *)N->pairs.data;
         size_t q;
         for (q = 0; q < N->pairs.count; q++) {
-            double c[3], nn[2];
             int i, j, al, be, full = 1;       /* all couplings in the pattern, else only the blocks */
-            c[0] = 1; c[1] = -(1 - pr[q].s); c[2] = -pr[q].s;
-            nn[0] = pr[q].nx; nn[1] = pr[q].ny;
             for (i = 0; i < 3; i++)
                 for (j = i + 1; j < 3; j++)
                     if (bp__sparse_has(&N->H, 2 * pr[q].v[i], 2 * pr[q].v[j]) == BP__NONE) full = 0;
@@ -10644,7 +10775,7 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
                     for (al = 0; al < 2 && (full || i == j); al++)
                         for (be = 0; be < 2; be++)
                             N->H.val[bp__sparse_find(&N->H, 2 * pr[q].v[i] + al, 2 * pr[q].v[j] + be)] +=
-                                pr[q].f2 * c[i] * c[j] * nn[al] * nn[be];
+                                pr[q].K[6 * (2 * i + al) + 2 * j + be];   /* >>barrier: f'' c c n n^T, or whole */
         }
     }
     for (v = 0; v < S->nv; v++) {

@@ -26,7 +26,11 @@
          lose nothing); also with the triangles removed so the boundary pairs
          alone decide; and the same bits whether the small loops are
          scanned (the default), hashed, or every loop scanned.  And the bound is tight and safe: the map is exactly
-         valid (bp_check) on [0, tmax) samples, and invalid just after tmax. */
+         valid (bp_check) on [0, tmax) samples, and invalid just after tmax.
+     (d) the barrier pair's whole Hessian for Newton (bp__barrier_pair_hessian,
+         >>barrier) against second differences of the pair's energy in long
+         double; its projection PSD and above the unprojected one; inside the
+         segment it is not the Gauss-Newton part alone. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -772,11 +776,111 @@ static void test_real_charts(void)
     }
 }
 
+/* ---- (d) the barrier pair's curvature for Newton (>>barrier) ------------- */
+
+/* The barrier of one pair, (eps / d - 1)^2 for d < eps, with d the
+   distance from P to the segment AB: long double, written here. */
+static long double pair_energy(const double *x, double eps)
+{
+    long double ex = (long double)x[4] - x[2], ey = (long double)x[5] - x[3];
+    long double qx = (long double)x[0] - x[2], qy = (long double)x[1] - x[3];
+    long double s = (qx * ex + qy * ey) / (ex * ex + ey * ey), dx, dy, d;
+    if (s < 0) s = 0;
+    if (s > 1) s = 1;
+    dx = qx - s * ex; dy = qy - s * ey;
+    d = sqrtl(dx * dx + dy * dy);
+    return d < eps ? ((long double)eps / d - 1) * ((long double)eps / d - 1) : 0;
+}
+
+/* Checks bp__barrier_pair_hessian against second differences of the
+   energy above (the whole Hessian, unprojected), then its projection: PSD
+   on random vectors and K_proj - K PSD too (only negative eigenvalues were
+   raised), and where the closest point is inside the segment the whole
+   Hessian differs from the Gauss-Newton part (the slide-rotate coupling
+   that part misses: a test of this change that the old code fails). */
+static void test_barrier_pair_hessian(void)
+{
+    int trial, fd_bad = 0, psd_bad = 0, raise_bad = 0, inside = 0, inside_differs = 0, far_ok = 1, n = 0;
+    double worst = 0;
+    for (trial = 0; trial < 400; trial++) {
+        double x[6], K0[36], K[36], G[36], eps = 0.5, h, scale = 0;
+        long double f0;
+        int i, j, k, interior;
+        x[2] = bpt_rng_range(-1, 1); x[3] = bpt_rng_range(-1, 1);
+        x[4] = x[2] + bpt_rng_range(0.5, 1.5); x[5] = x[3] + bpt_rng_range(-0.5, 0.5);
+        {   /* P at a random distance in (eps/50, eps) from a random point of (or beyond) the segment */
+            double s = bpt_rng_range(-0.3, 1.3), ex = x[4] - x[2], ey = x[5] - x[3], L = sqrt(ex * ex + ey * ey);
+            double d = eps * pow(50, -bpt_rng_range(0, 1)), side = trial % 2 ? 1 : -1;
+            double cx = x[2] + (s < 0 ? 0 : s > 1 ? 1 : s) * ex, cy = x[3] + (s < 0 ? 0 : s > 1 ? 1 : s) * ey;
+            double nx = -ey / L * side, ny = ex / L * side;
+            if (s < 0 || s > 1) { double a = bpt_rng_range(-1.2, 1.2); nx = cos(a) * (s < 0 ? -ex : ex) / L - sin(a) * (s < 0 ? -ey : ey) / L;
+                                  ny = sin(a) * (s < 0 ? -ex : ex) / L + cos(a) * (s < 0 ? -ey : ey) / L; }
+            x[0] = cx + d * nx; x[1] = cy + d * ny;
+            interior = s > 0.02 && s < 0.98;
+            if (s > -0.02 && s < 0.02) continue;                 /* near the switch: differences straddle it */
+            if (s > 0.98 && s < 1.02) continue;
+            h = 1e-4 * d;
+        }
+        if (!bp__barrier_pair_hessian(x, x + 2, x + 4, eps, 0, K0)) continue;
+        memcpy(K, K0, sizeof K);
+        bp__barrier_pair_hessian(x, x + 2, x + 4, eps, 1, K);
+        n++;
+        f0 = pair_energy(x, eps);
+        (void)f0;
+        for (i = 0; i < 36; i++) if (fabs(K0[i]) > scale) scale = fabs(K0[i]);
+        for (i = 0; i < 6; i++)
+            for (j = 0; j < 6; j++) {
+                double y[6];
+                long double fpp, fpm, fmp, fmm;
+                memcpy(y, x, sizeof y); y[i] += h; y[j] += h; fpp = pair_energy(y, eps);
+                memcpy(y, x, sizeof y); y[i] += h; y[j] -= h; fpm = pair_energy(y, eps);
+                memcpy(y, x, sizeof y); y[i] -= h; y[j] += h; fmp = pair_energy(y, eps);
+                memcpy(y, x, sizeof y); y[i] -= h; y[j] -= h; fmm = pair_energy(y, eps);
+                G[6 * i + j] = (double)((fpp - fpm - fmp + fmm) / (4.0L * h * h));
+            }
+        for (i = 0; i < 36; i++) {
+            double e = fabs(G[i] - K0[i]) / scale;
+            if (e > worst) worst = e;
+            if (e > 1e-4) fd_bad++;
+        }
+        for (k = 0; k < 20; k++) {
+            double u[6], a = 0, b = 0, nu = 0;
+            for (i = 0; i < 6; i++) { u[i] = bpt_rng_range(-1, 1); nu += u[i] * u[i]; }
+            for (i = 0; i < 6; i++)
+                for (j = 0; j < 6; j++) { a += u[i] * K[6 * i + j] * u[j]; b += u[i] * (K[6 * i + j] - K0[6 * i + j]) * u[j]; }
+            if (a < -1e-10 * scale * nu) psd_bad++;
+            if (b < -1e-10 * scale * nu) raise_bad++;
+        }
+        if (interior) {
+            /* the Gauss-Newton part f'' g g^T, g = grad d = (n, -(1-s) n, -s n) */
+            double ex = x[4] - x[2], ey = x[5] - x[3], s = ((x[0] - x[2]) * ex + (x[1] - x[3]) * ey) / (ex * ex + ey * ey);
+            double dx = x[0] - x[2] - s * ex, dy = x[1] - x[3] - s * ey, d = sqrt(dx * dx + dy * dy), g[6], f2, diff = 0;
+            f2 = 2 * eps * eps / (d * d * d * d) + 4 * (eps / d - 1) * eps / (d * d * d);
+            g[0] = dx / d; g[1] = dy / d; g[2] = -(1 - s) * g[0]; g[3] = -(1 - s) * g[1]; g[4] = -s * g[0]; g[5] = -s * g[1];
+            for (i = 0; i < 6; i++) for (j = 0; j < 6; j++) diff += fabs(K0[6 * i + j] - f2 * g[i] * g[j]);
+            inside++;
+            if (diff > 1e-3 * scale) inside_differs++;
+        }
+    }
+    {   /* beyond eps: no term */
+        double x[6] = {0, 0.6, -1, 0, 1, 0}, K[36];
+        far_ok = !bp__barrier_pair_hessian(x, x + 2, x + 4, 0.5, 1, K);
+    }
+    BPT_CHECK(n >= 300 && fd_bad == 0, "(d) barrier pair Hessian = second differences of (eps/d - 1)^2 (long double) "
+              "on %d pairs, all 36 entries (worst relative error %.2g)", n, worst);
+    BPT_CHECK(psd_bad == 0 && raise_bad == 0, "(d) the projected pair Hessian is PSD and K_proj - K is PSD (20 random "
+              "vectors x %d pairs)", n);
+    BPT_CHECK(inside > 100 && inside_differs == inside, "(d) closest point inside the segment: the whole Hessian is not "
+              "the Gauss-Newton part (%d of %d pairs differ)", inside_differs, inside);
+    BPT_CHECK(far_ok, "(d) a pair beyond eps has no term");
+}
+
 int main(void)
 {
     bpt_rng_state = 0xD1B54A32D192ED03ull;
     test_triangle_case();
     test_edge_case();
     test_real_charts();
+    test_barrier_pair_hessian();
     return bpt_finish();
 }
