@@ -272,9 +272,8 @@ typedef struct bp_pin {
 typedef enum bp_direction {
     BP_DIRECTION_DEFAULT = 0,        /* chosen per chart before solving (>>optimize,
                                         bp__opt_choose_newton): NEWTON for charts of
-                                        20,000-99,999 triangles whose start map's
-                                        mean energy is at most 1e9, else
-                                        PRECONDITIONED                             */
+                                        20,000-99,999 triangles (start energy
+                                        finite), else PRECONDITIONED               */
     BP_DIRECTION_LBFGS,              /* the dissertation's L-BFGS, scalar initial
                                         Hessian (sec 3.5, Algorithm 1)             */
     BP_DIRECTION_GRADIENT,           /* gradient descent (for comparison)          */
@@ -10369,10 +10368,12 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
    The barrier.  E_B = sum f(d) over boundary vertex / edge pairs closer
    than eps, f(d) = (eps / d - 1)^2 (>>barrier), has the Gauss-Newton part
    f''(d) grad d grad d^T, f'' = 2 eps^2 / d^4 + 4 (eps / d - 1) eps / d^3
-   >= 0 (the other part, f'(d) times the Hessian of the distance, is
-   dropped: f' < 0), with grad d = c_i n on the vertex (c = 1) and the
-   edge's ends (c = -(1 - s), -s; n the unit direction from the closest
-   point).  Its pairs join a vertex to an edge anywhere on the boundary,
+   >= 0, with grad d = c_i n on the vertex (c = 1) and the edge's ends
+   (c = -(1 - s), -s; n the unit direction from the closest point); the
+   other part, f'(d) times the Hessian of the distance, couples a vertex's
+   slide along its edge with the edge's turn, so in mode 3 each pair gives
+   its whole 6x6 Hessian projected to PSD instead (bp__barrier_pair_hessian,
+   >>barrier; BP__BARRIER_FULL 0: the Gauss-Newton part alone).  Its pairs join a vertex to an edge anywhere on the boundary,
    outside the mesh's pattern, and they come and go as the map moves.
    Four treatments were measured (BP__NEWTON_BARRIER; docs/performance.md
    sec 5):
@@ -10417,11 +10418,10 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
    supernodal factorization (sec 6.1) an iteration costs 7-24 L-BFGS ones,
    and on issue 15's ten meshes (sec 6.6) Newton reaches SCAF's energy
    3.4-6.7x sooner than the preconditioned L-BFGS on the charts of 22K-89K
-   triangles, but 1.3x later on the 10K-triangle shark, and on lucy, whose
-   Tutte start (mean energy 3.9e12) clips every step, it takes 1.2x the
-   CPU in all and ends higher; so the default
+   triangles, but 1.3x later on the 10K-triangle shark (on lucy, 1.9x
+   sooner from the mean-value start, sec 6.10); so the default
    (BP_DIRECTION_DEFAULT, bp__opt_choose_newton in >>optimize) takes Newton
-   only for 20,000-99,999 triangles and a start's mean energy <= 1e9.
+   for 20,000-99,999 triangles.
    bench/scaf_ratio.py (make bench-scaf) repeats the comparison. */
 
 #ifndef BP__NEWTON_BARRIER
@@ -11152,12 +11152,13 @@ static void bp__opt_hold(const bp__opt *P, double *g)
    also wins on the small camel_b and cow, but loses 1.3x on the 10,192
    triangles of mech-holes-shark, so below 20,000 triangles the
    preconditioned L-BFGS stays (an iteration of it costs 0.7-1.6 ms there,
-   one of Newton 7-17 times as much).  Newton also loses on lucy (48,275 triangles;
-   1.2x the CPU in all, a higher final energy), whose Tutte start has
-   E0 = 3.9e12: every Newton step is clipped by the step bound, the energy
-   falls only 1.3-2x per factorization and about 80 pass before it nears
-   the minimum, so a start above E0 = 1e9 keeps L-BFGS
-   (hilbert, which Newton wins, starts at 3.8e5).  Above 100,000 triangles
+   one of Newton 7-17 times as much).  Sec 6.6 also kept L-BFGS for a
+   start above E0 = 1e9, for lucy (48,275 triangles), whose Tutte start
+   (E0 = 3.9e12) clipped every Newton step; from the mean-value start that
+   is now the default (E0 = 1.2e15, sec 6.7) Newton reaches SCAF's energy
+   in 77 iterations, 1.9x sooner than L-BFGS (sec 6.10), so that threshold
+   is gone (BP__AUTO_NEWTON_E0 is infinite; a start whose energy is not
+   finite keeps L-BFGS).  Above 100,000 triangles
    nothing was compared, and Newton's factor needs ~1.7 KB per face against
    L-BFGS's ~0.75 (issue 15's million-face chart must stay under 1 KiB),
    so L-BFGS stays there.  The sum is serial: the choice is the same for
@@ -11169,7 +11170,7 @@ static void bp__opt_hold(const bp__opt *P, double *g)
 #define BP__AUTO_NEWTON_MAX 100000u
 #endif
 #ifndef BP__AUTO_NEWTON_E0
-#define BP__AUTO_NEWTON_E0 1e9
+#define BP__AUTO_NEWTON_E0 HUGE_VAL   /* sec 6.6 had 1e9 (measurements) */
 #endif
 static int bp__opt_choose_newton(const bp__solver *S, const double *x)
 {
@@ -11181,7 +11182,7 @@ static int bp__opt_choose_newton(const bp__solver *S, const double *x)
         sum += S->rest[t].weight * bp__triangle_energy(S->energy, &S->rest[t], x + 2 * (size_t)tr[0],
                                                        x + 2 * (size_t)tr[1], x + 2 * (size_t)tr[2], NULL, NULL, NULL);
     }
-    return sum / S->nt <= BP__AUTO_NEWTON_E0;      /* also false for a NaN or infinite start */
+    return sum / S->nt < BP__AUTO_NEWTON_E0;       /* also false for a NaN or infinite start */
 }
 
 /* Phase 2: options, the pins held, solver, the direction (the default's
