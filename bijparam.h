@@ -10440,6 +10440,7 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
 /* One barrier pair's Gauss-Newton term f'' w w^T: w = c_i n on vertices
    v[0] (c = 1), v[1] (c = -(1 - s)), v[2] (c = -s). */
 typedef struct bp__bpair { uint32_t v[3]; double s, nx, ny, f2, K[36]; } bp__bpair;   /* K: >>barrier */
+typedef struct bp__bnear { uint32_t v[3]; } bp__bnear;   /* a pair within 3 eps (its couplings) */
 
 typedef struct bp__newton {
     bp__sparse H;                 /* 2nv x 2nv, full symmetric pattern      */
@@ -10454,7 +10455,7 @@ typedef struct bp__newton {
     double    *r, *p, *q;         /* conjugate gradients (the barrier pairs) */
     bp__vec    pairs;             /* bp__bpair: the barrier's pairs at x     */
     bp__vec    extra;             /* vertex couplings added to the pattern   */
-    bp__vec    near;              /* bp__bpair: pairs within 3 eps at x      */
+    bp__vec    near;              /* bp__bnear: pairs within 3 eps at x      */
     int        since_grow;        /* directions since the pattern grew       */
     int        reused, cut;       /* consecutive reuses of F; the last line
                                      search had to shrink its first step     */
@@ -10570,7 +10571,7 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
     memset(N, 0, sizeof *N);
     N->extra.elem = 2 * sizeof(uint32_t);
     N->pairs.elem = sizeof(bp__bpair);
-    N->near.elem = sizeof(bp__bpair);
+    N->near.elem = sizeof(bp__bnear);
     N->tpos = (uint32_t *)bp__alloc_array(a, 9 * (size_t)S->nt, sizeof(uint32_t));
     N->dpos = (uint32_t *)bp__alloc_array(a, 4 * (size_t)S->nv, sizeof(uint32_t));
     N->ht = (double *)bp__calloc_array(a, 36 * (size_t)S->nt, sizeof(double));
@@ -10596,7 +10597,7 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
    this happens a few times per chart.  Returns 0 out of memory. */
 static int bp__newton_grow(bp__newton *N, bp__solver *S)
 {
-    const bp__bpair *pr = (const bp__bpair *)N->near.data;
+    const bp__bnear *pr = (const bp__bnear *)N->near.data;
     size_t k, before = N->extra.count;
     int i, j;
     for (k = 0; k < N->near.count; k++)
@@ -10657,8 +10658,7 @@ static void bp__barrier_hess_visit(void *user, uint32_t k)
     dx = P[0] - (A[0] + sp * ex); dy = P[1] - (A[1] + sp * ey);
     d = sqrt(dx * dx + dy * dy);
     if (Q->near && d < 3 * S->eps) {
-        bp__bpair nb;
-        memset(&nb, 0, sizeof nb);
+        bp__bnear nb;
         nb.v[0] = vv[0]; nb.v[1] = vv[1]; nb.v[2] = vv[2];
         if (!bp__vec_push(S->a, Q->near, &nb)) Q->oom = 1;
     }
