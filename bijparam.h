@@ -5411,7 +5411,15 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
    Newton's systems, symmetric positive definite and in 2x2 blocks (x, y of
    a vertex; bp__sparse.blocks2), take a supernodal Cholesky instead
    (bp__super_*, its essay before bp__super_graph), through the same
-   bp__factorize, bp__fact_numeric and bp__factor_solve. */
+   bp__factorize, bp__fact_numeric and bp__factor_solve; so do the scalar
+   SPD systems with blocks of 1 (bp__sparse.super1: the preconditioner's
+   Laplacian, converted afterwards to the single-precision rows its
+   solves read, and the uniform Tutte system), and the mean-value system
+   is solved by BiCGSTAB preconditioned with the supernodal Cholesky of
+   its symmetrized Laplacian (>>tutte, phase 6a).  The up-looking rows
+   remain as the fallback: the mean-value LU when the iteration does not
+   converge, and any scalar system whose Cholesky meets a pivot that is
+   not positive (the rows' LDL^T needs only nonzero pivots). */
 
 typedef struct bp__sparse {       /* n x n, compressed columns            */
     uint32_t n;
@@ -6077,10 +6085,24 @@ done:
    This is Cholesky, L L^T, not L D L^T: H + delta I is positive definite
    (>>newton) and a pivot d_i that is not positive stops the factorization
    with BP_ERR_NUMERICAL; the pivots d_i = L(i,i)^2 stay in F->D, where
-   the Newton code checks them.  The scalar code remains for the Tutte
-   system (not symmetric with mean-value weights) and the L-BFGS
-   preconditioner (a scalar Laplacian factored once per chart and kept in
-   single precision); docs/performance.md sec 6.1 has the measurements. */
+   the Newton code checks them.  docs/performance.md sec 6.1 has the
+   measurements.
+
+   Blocks of 1 (bp__super.bs; docs/performance.md sec 6.8).  A scalar SPD
+   matrix (A->super1: the L-BFGS preconditioner's Laplacian, the uniform
+   Tutte system, the symmetrized mean-value Laplacian of >>tutte phase 6a)
+   is the same computation with 1x1 blocks: the vertex graph is the
+   matrix's own, a supernode's block is |rows| x |cols| doubles, and the
+   kernels take two columns of B at a time as before, now two column
+   vertices (bp__super_update), rows four at a time with an odd count's
+   remainder one by one (bp__super_trsm1), every dot product's lanes as
+   before plus an odd last term in the even lane: bs 2 computes exactly
+   the bits it did.  On the 1M-face chart's Laplacian this is 5-7x fewer
+   seconds than the scalar up-looking rows, which gather one scattered
+   entry per multiply-add, while the dense loops stream; and mode 1's
+   better separators cut the flops by 40%.  The preconditioner's solves
+   stay with the rows (bp__super_to_rows: L in single precision by rows,
+   solved in parallel phases, both coordinates at once). */
 
 /* The vertex graph G of A: G(w, v) != 0 when A's 2x2 block (w, v) is in
    its pattern.  Returns 1; 0 when A is not made of whole 2x2 blocks (the
@@ -8175,6 +8197,9 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
 #endif
 #define BP__KRYLOV_TOL 1e-13
 #define BP__KRYLOV_ITERS 200
+#ifndef BP__KRYLOV_GMRES
+#define BP__KRYLOV_GMRES 0          /* 1: GMRES instead of BiCGSTAB (measured, sec 6.8) */
+#endif
 
 /* M of A (see above), on A's pattern (A's rows sorted: the transposes by
    bp__fact_transpose). */
@@ -8299,6 +8324,96 @@ done:
     return ok;
 }
 
+/* The same by restarted GMRES(BP__GMRES_M) (Saad & Schultz 1986), right-
+   preconditioned, both coordinates in lockstep: one solve with K and one
+   product with A per iteration (BiCGSTAB takes two of each), but
+   BP__GMRES_M + 1 basis vectors of 2n.  Modified Gram-Schmidt, Givens
+   rotations per coordinate; a cycle ends when both estimated residuals are
+   below the tolerance or after BP__GMRES_M steps, and x += K^-1 V y. */
+#ifndef BP__GMRES_M
+#define BP__GMRES_M 24
+#endif
+static int bp__tutte_gmres(const bp_allocator *a, const bp__sparse *A, const bp__factor *K, const bp__par *par,
+                           const double *b, double *x, double *rel)
+{
+    size_t n = A->n, i, m2 = 2 * n;
+    uint32_t M = BP__GMRES_M, j, k;
+    double *V = (double *)bp__alloc_array(a, ((size_t)M + 1) * m2 + 1, sizeof(double));
+    double *w = (double *)bp__alloc_array(a, 2 * m2 + 1, sizeof(double)), *u = w + m2;
+    double *z = (double *)bp__alloc_array(a, 4 * n + 1, sizeof(double));
+    double H[2][BP__GMRES_M + 1][BP__GMRES_M], cs[2][BP__GMRES_M], sn[2][BP__GMRES_M], g[2][BP__GMRES_M + 1];
+    double bb[2], y[BP__GMRES_M];
+    int it = 0, ok = -1, c;
+    if (!V || !w || !z) goto done;
+    for (i = 0; i < m2; i++) x[i] = 0;
+    bp__dot2(b, b, n, bb);
+    *rel = 1;
+    while (it < BP__KRYLOV_ITERS) {
+        double beta[2];
+        if (bp__krylov_done(A, b, x, V, rel)) { ok = it > 0 ? it : 1; break; }   /* V_0 = b - A x */
+        bp__dot2(V, V, n, beta);
+        for (c = 0; c < 2; c++) {
+            beta[c] = sqrt(beta[c]);
+            for (i = c; i < m2; i += 2) V[i] = beta[c] > 0 ? V[i] / beta[c] : 0;
+            memset(g[c], 0, sizeof g[c]);
+            g[c][0] = beta[c];
+        }
+        for (j = 0; j < M && it < BP__KRYLOV_ITERS; j++, it++) {
+            double *vj = V + (size_t)j * m2, *vn = vj + m2, h[2];
+            int done = 1;
+            bp__precondition(K, par, vj, u, z);
+            bp__spmv2(A, u, w);
+            for (k = 0; k <= j; k++) {                   /* modified Gram-Schmidt */
+                bp__dot2(V + (size_t)k * m2, w, n, h);
+                for (c = 0; c < 2; c++) {
+                    const double *vk = V + (size_t)k * m2;
+                    H[c][k][j] = h[c];
+                    for (i = c; i < m2; i += 2) w[i] -= h[c] * vk[i];
+                }
+            }
+            bp__dot2(w, w, n, h);
+            for (c = 0; c < 2; c++) {
+                double hn = sqrt(h[c]), t, r;
+                H[c][j + 1][j] = hn;
+                for (i = c; i < m2; i += 2) vn[i] = hn > 0 ? w[i] / hn : 0;
+                for (k = 0; k < j; k++) {                /* the earlier rotations */
+                    t = cs[c][k] * H[c][k][j] + sn[c][k] * H[c][k + 1][j];
+                    H[c][k + 1][j] = -sn[c][k] * H[c][k][j] + cs[c][k] * H[c][k + 1][j];
+                    H[c][k][j] = t;
+                }
+                r = sqrt(H[c][j][j] * H[c][j][j] + hn * hn);
+                cs[c][j] = r > 0 ? H[c][j][j] / r : 1;
+                sn[c][j] = r > 0 ? hn / r : 0;
+                H[c][j][j] = r;
+                H[c][j + 1][j] = 0;
+                g[c][j + 1] = -sn[c][j] * g[c][j];
+                g[c][j] = cs[c][j] * g[c][j];
+                if (!(g[c][j + 1] * g[c][j + 1] <= 0.01 * BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[c])) done = 0;
+            }
+            if (done) { j++; it++; break; }
+        }
+        memset(u, 0, m2 * sizeof(double));
+        for (c = 0; c < 2; c++) {                        /* y = H^-1 g, u = V y */
+            uint32_t q;
+            for (k = j; k-- > 0;) {
+                double t = g[c][k];
+                for (q = k + 1; q < j; q++) t -= H[c][k][q] * y[q];
+                y[k] = H[c][k][k] != 0 ? t / H[c][k][k] : 0;
+            }
+            for (k = 0; k < j; k++)
+                for (i = c; i < m2; i += 2) u[i] += y[k] * V[(size_t)k * m2 + i];
+        }
+        bp__precondition(K, par, u, w, z);
+        for (i = 0; i < m2; i++) x[i] += w[i];
+    }
+    if (ok < 0 && bp__krylov_done(A, b, x, w ? w : x, rel) && w) ok = it;
+done:
+    bp__free(a, V);
+    bp__free(a, w);
+    bp__free(a, z);
+    return ok;
+}
+
 /* Phase 6a as a whole: M, its factor, the iteration; the solution in
    T->sol (x then y).  Returns 1 when it converged, 0 otherwise (the LU
    serves). */
@@ -8319,7 +8434,8 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
     if (b && x && bp__tutte_symmetric(a, &T->A, &M) && bp__factorize(a, &M, &K, &bad, runner) == BP_OK && K.sn && bp__factor_single(a, &K) &&
         bp__solve_plan(a, &K)) {
         for (i = 0; i < nfree; i++) { b[2 * (size_t)i] = T->rhs[i]; b[2 * (size_t)i + 1] = T->rhs[nfree + i]; }
-        it = bp__tutte_bicgstab(a, &T->A, &K, runner ? runner : &serial, b, x, &rel);
+        it = BP__KRYLOV_GMRES ? bp__tutte_gmres(a, &T->A, &K, runner ? runner : &serial, b, x, &rel)
+                              : bp__tutte_bicgstab(a, &T->A, &K, runner ? runner : &serial, b, x, &rel);
         if (it > 0) {
             for (i = 0; i < nfree; i++) { T->sol[i] = x[2 * (size_t)i]; T->sol[nfree + i] = x[2 * (size_t)i + 1]; }
             ok = 1;

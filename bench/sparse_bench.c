@@ -2,7 +2,7 @@
    (>>sparse, >>newton; docs/performance.md sec 6.1).
 
    Build: cc -std=c99 -O2 -I. bench/sparse_bench.c -o build/bench/sparse_bench -lm -pthread
-   Usage: build/bench/sparse_bench MESH [repeats]
+   Usage: build/bench/sparse_bench MESH [repeats [laplacian | meanvalue]]
    Takes the mesh's largest chart at its start map, assembles projected
    Newton's matrix H (bp__newton_assemble) and reports, for the scalar
    up-looking LDL^T and the supernodal Cholesky: nnz(L), the flop count
@@ -18,7 +18,12 @@
    by the scalar rows and by the supernodal Cholesky with blocks of 1
    (K.super1): nnz(L), flops, analysis+numeric, numeric alone, the
    conversion to the single-precision rows (bp__factor_single and the solve
-   plan) and one bp__precondition (both coordinates), all CPU seconds. */
+   plan) and one bp__precondition (both coordinates), all CPU seconds.
+   With `meanvalue`: the start map's mean-value system of the chart
+   (>>tutte phases 1-5) solved both ways: the LU by the scalar rows
+   (bp__factorize + bp__solve_refined per coordinate, the fallback) and
+   phase 6a (the symmetrized Laplacian's supernodal Cholesky and
+   BiCGSTAB, bp__tutte_krylov): CPU seconds, iterations, residuals. */
 #define _POSIX_C_SOURCE 199309L     /* clock_gettime */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
@@ -67,6 +72,41 @@ static double residual(const bp__sparse *A, const double *x, const double *b)
     for (j = 0; j < n; j++) { rr += r[j] * r[j]; bb += b[j] * b[j]; }
     free(r);
     return sqrt(rr / bb);
+}
+
+/* The mean-value section (see the top). */
+static int meanvalue(const bp_allocator *a, bp_chart *ch, const bp_mesh *mesh)
+{
+    bp__tutte T;
+    bp__factor F;
+    uint32_t n, bad, i;
+    double t0, t_lu, t_kr, diff = 0, big = 0, *keep;
+    memset(&T, 0, sizeof T);
+    if (!bp__tutte_fill(a, &T, ch, mesh) || !bp__tutte_adjacency(a, &T) || !bp__tutte_weights(a, &T, 1) ||
+        !bp__tutte_circle(a, &T, ch) || !bp__tutte_system(a, &T, ch, 1)) { fprintf(stderr, "system failed\n"); return 1; }
+    n = T.nfree;
+    keep = (double *)malloc(2 * sizeof(double) * n);
+    printf("mean-value system: %u faces, n = %u, nnz(A) = %u\n", ch->num_triangles, n, T.A.colp[n]);
+    t0 = cpu();
+    if (!bp__tutte_krylov(a, &T, NULL)) { fprintf(stderr, "krylov failed\n"); return 1; }
+    t_kr = cpu() - t0;
+    memcpy(keep, T.sol, 2 * sizeof(double) * n);
+    printf("krylov: %.3f s, %d iterations, relative residual %.2g\n", t_kr, T.krylov_iters, T.krylov_rel);
+    t0 = cpu();
+    if (bp__factorize(a, &T.A, &F, &bad, NULL) != BP_OK) { fprintf(stderr, "LU failed\n"); return 1; }
+    printf("LU: factor %.3f s, nnz(L) %u\n", cpu() - t0, F.Rp[n]);
+    bp__solve_refined(&T.A, &F, T.rhs, T.sol, T.work);
+    bp__solve_refined(&T.A, &F, T.rhs + n, T.sol + n, T.work);
+    t_lu = cpu() - t0;
+    for (i = 0; i < 2 * n; i++) {
+        if (fabs(T.sol[i] - keep[i]) > diff) diff = fabs(T.sol[i] - keep[i]);
+        if (fabs(T.sol[i]) > big) big = fabs(T.sol[i]);
+    }
+    printf("LU + refined solves: %.3f s; max |x_LU - x_krylov| %.2g of %.2g; LU / krylov %.2fx\n", t_lu, diff, big, t_lu / t_kr);
+    bp__factor_free(a, &F);
+    bp__tutte_free(a, &T);
+    free(keep);
+    return 0;
 }
 
 /* The Laplacian section (see the top). */
@@ -164,13 +204,14 @@ int main(int argc, char **argv)
     }
     for (c = 1; c < atlas.num_charts; c++)
         if (atlas.charts[c].num_triangles > atlas.charts[best].num_triangles) best = c;
-    if (argc > 3 && !strcmp(argv[3], "laplacian")) opt.init = BP_INIT_TUTTE;
+    if (argc > 3 && (!strcmp(argv[3], "laplacian") || !strcmp(argv[3], "meanvalue"))) opt.init = BP_INIT_TUTTE;
     if (bp_chart_init(&atlas.charts[best], &mesh, &opt, &err) != BP_OK ||
         bp__solver_chart(&S, &a, &atlas.charts[best], &mesh, &opt, NULL, &err) != BP_OK ||
         bp__newton_init(&N, &a, &S) != BP_OK) {
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
+    if (argc > 3 && !strcmp(argv[3], "meanvalue")) return meanvalue(&a, &atlas.charts[best], &mesh);
     if (argc > 3 && !strcmp(argv[3], "laplacian")) return laplacian(&a, &S, &atlas.charts[best], &mesh, &opt, reps);
     bp__newton_assemble(&N, &S, atlas.charts[best].uv);
     n = N.H.n;
