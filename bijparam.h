@@ -6097,10 +6097,11 @@ done:
    vertices (bp__super_update), rows four at a time with an odd count's
    remainder one by one (bp__super_trsm1), every dot product's lanes as
    before plus an odd last term in the even lane: bs 2 computes exactly
-   the bits it did.  On the 1M-face chart's Laplacian this is 5-7x fewer
-   seconds than the scalar up-looking rows, which gather one scattered
-   entry per multiply-add, while the dense loops stream; and mode 1's
-   better separators cut the flops by 40%.  The preconditioner's solves
+   the bits it did.  On the 1M-face chart's Laplacian the numeric phase
+   takes 13x fewer seconds than the scalar up-looking rows, which gather
+   one scattered entry per multiply-add while the dense loops stream
+   (5.7x with the analysis, now the larger part), and mode 1's better
+   separators cut the flops by 36%.  The preconditioner's solves
    stay with the rows (bp__super_to_rows: L in single precision by rows,
    solved in parallel phases, both coordinates at once). */
 
@@ -6265,6 +6266,7 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
 {
     bp__super *S = F->sn;
     uint32_t nv = G->n, k, s, i, *parent, *mark, *cnt, *reach, *msz;
+    double nnzl = 0;
     uint8_t *bound;
     bp__factor Fv;
     bp_status st = BP_ERR_OUT_OF_MEMORY;
@@ -6302,7 +6304,9 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     S->maxcols = S->maxrows = 0;
     for (s = 0; s < S->ns; s++) {
         uint32_t nc = S->first[s + 1] - S->first[s];
-        if ((uint64_t)S->rp[s] + msz[s] > BP__FACTOR_MAX_NNZ) { st = BP_ERR_TOO_LARGE; goto done; }
+        double cb = (double)S->bs * nc;
+        nnzl += cb * S->bs * msz[s] - cb * (cb + 1) / 2;        /* L's entries below the diagonal */
+        if ((uint64_t)S->rp[s] + msz[s] > BP__FACTOR_MAX_NNZ || nnzl > BP__FACTOR_MAX_NNZ) { st = BP_ERR_TOO_LARGE; goto done; }
         S->rp[s + 1] = S->rp[s] + msz[s];
         S->xp[s + 1] = S->xp[s] + (size_t)S->bs * S->bs * msz[s] * nc;
         if (S->bs * nc > S->maxcols) S->maxcols = S->bs * nc;
@@ -8219,7 +8223,11 @@ static int bp__tutte_symmetric(const bp_allocator *a, const bp__sparse *A, bp__s
     M->colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
     M->row = (uint32_t *)bp__alloc_array(a, A->colp[n] ? A->colp[n] : 1, sizeof(uint32_t));
     M->val = (double *)bp__alloc_array(a, A->colp[n] ? A->colp[n] : 1, sizeof(double));
-    if (!fix || !M->colp || !M->row || !M->val || !bp__fact_transpose(a, A, &tpos)) { bp__free(a, fix); return 0; }
+    if (!fix || !M->colp || !M->row || !M->val || !bp__fact_transpose(a, A, &tpos)) {
+        bp__free(a, fix);
+        bp__free(a, tpos);
+        return 0;
+    }
     memcpy(M->colp, A->colp, ((size_t)n + 1) * sizeof(uint32_t));
     memcpy(M->row, A->row, A->colp[n] * sizeof(uint32_t));
     for (j = 0; j < n; j++)                   /* row sums of A: the fixed weights */
@@ -8290,8 +8298,8 @@ static void bp__krylov_apply(const bp__factor *K, const bp__par *par, const doub
 }
 
 /* Right-preconditioned BiCGSTAB for both coordinates (b, x: 2n
-   interleaved; x starts at 0).  Returns the iterations taken, or -1 when
-   it did not converge (breakdown or BP__KRYLOV_ITERS) or out of memory. */
+   interleaved; x starts at 0).  Returns the iterations taken, -1 when it
+   did not converge (breakdown or BP__KRYLOV_ITERS), -2 out of memory. */
 static int bp__tutte_bicgstab(const bp_allocator *a, const bp__sparse *A, const bp__factor *K, const bp__par *par,
                               const double *b, double *x, double *rel)
 {
@@ -8299,10 +8307,10 @@ static int bp__tutte_bicgstab(const bp_allocator *a, const bp__sparse *A, const 
     double *buf = (double *)bp__alloc_array(a, 12 * n + 1, sizeof(double));
     double *r, *rh, *p, *v, *ph, *t, *z, rho[2] = {1, 1}, al[2] = {1, 1}, om[2] = {1, 1};
     int it, c, ok = -1, live[2] = {1, 1};
-    if (!buf) return -1;
+    if (!buf) return -2;
     r = buf; rh = r + m; p = rh + m; v = p + m; ph = v + m; t = ph + m;
     z = (double *)bp__alloc_array(a, 4 * n + 1, sizeof(double));
-    if (!z) { bp__free(a, buf); return -1; }
+    if (!z) { bp__free(a, buf); return -2; }
     for (i = 0; i < m; i++) { x[i] = 0; r[i] = rh[i] = b[i]; p[i] = v[i] = 0; }
     *rel = 1;
     for (it = 1; it <= BP__KRYLOV_ITERS; it++) {
@@ -8366,7 +8374,7 @@ static int bp__tutte_gmres(const bp_allocator *a, const bp__sparse *A, const bp_
     double H[2][BP__GMRES_M + 1][BP__GMRES_M], cs[2][BP__GMRES_M], sn[2][BP__GMRES_M], g[2][BP__GMRES_M + 1];
     double bb[2], y[BP__GMRES_M];
     int it = 0, ok = -1, c;
-    if (!V || !w || !z) goto done;
+    if (!V || !w || !z) { ok = -2; goto done; }
     for (i = 0; i < m2; i++) x[i] = 0;
     bp__dot2(b, b, n, bb);
     *rel = 1;
@@ -8437,8 +8445,9 @@ done:
 }
 
 /* Phase 6a as a whole: M, its factor, the iteration; the solution in
-   T->sol (x then y).  Returns 1 when it converged, 0 otherwise (the LU
-   serves). */
+   T->sol (x then y).  Returns 1 when it converged, 0 when it did not (the
+   LU serves), -1 out of memory (reported as such: a failed allocation is
+   never hidden by the fallback). */
 static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *runner)
 {
     bp__sparse M, As = T->A;
@@ -8447,6 +8456,7 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
     uint32_t bad, i, j, p, nfree = T->nfree;
     double *b = NULL, *x = NULL, *dg = NULL, rel = 1;
     int ok = 0, it = -1;
+    bp_status st;
     memset(&K, 0, sizeof K);
     memset(&M, 0, sizeof M);
     T->krylov_iters = -1;
@@ -8464,10 +8474,14 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
             for (p = T->A.colp[j]; p < T->A.colp[j + 1]; p++) As.val[p] = T->A.val[p] / dg[T->A.row[p]];
         for (i = 0; i < nfree; i++) { b[2 * (size_t)i] = T->rhs[i] / dg[i]; b[2 * (size_t)i + 1] = T->rhs[nfree + i] / dg[i]; }
     }
-    if (b && x && dg && As.val && bp__tutte_symmetric(a, &As, &M) && bp__factorize(a, &M, &K, &bad, runner) == BP_OK &&
-        K.sn && (BP__KRYLOV_DOUBLE || (bp__factor_single(a, &K) && bp__solve_plan(a, &K)))) {
+    if (!b || !x || !dg || !As.val || !bp__tutte_symmetric(a, &As, &M)) ok = -1;
+    else if ((st = bp__factorize(a, &M, &K, &bad, runner)) != BP_OK) ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0;
+    else if (!K.sn) ok = 0;                           /* (the scalar rows took over: not SPD) */
+    else if (!BP__KRYLOV_DOUBLE && (!bp__factor_single(a, &K) || !bp__solve_plan(a, &K))) ok = -1;
+    else {
         it = BP__KRYLOV_GMRES ? bp__tutte_gmres(a, &As, &K, runner ? runner : &serial, b, x, &rel)
                               : bp__tutte_bicgstab(a, &As, &K, runner ? runner : &serial, b, x, &rel);
+        if (it == -2) ok = -1;
         if (it > 0) {
             for (i = 0; i < nfree; i++) { T->sol[i] = x[2 * (size_t)i]; T->sol[nfree + i] = x[2 * (size_t)i + 1]; }
             ok = 1;
@@ -8493,8 +8507,9 @@ static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *
     bp__factor F;
     uint32_t bad = 0, i, nfree = T->nfree;
     bp_status st;
+    int k;
     memset(&F, 0, sizeof F);
-    if (!T->A.symmetric && bp__tutte_krylov(a, T, runner)) st = BP_OK;
+    if (!T->A.symmetric && (k = bp__tutte_krylov(a, T, runner)) != 0) st = k > 0 ? BP_OK : BP_ERR_OUT_OF_MEMORY;
     else {
         st = bp__factorize(a, &T->A, &F, &bad, runner);
         if (st == BP_OK) {

@@ -88,7 +88,7 @@ static int meanvalue(const bp_allocator *a, bp_chart *ch, const bp_mesh *mesh)
     keep = (double *)malloc(2 * sizeof(double) * n);
     printf("mean-value system: %u faces, n = %u, nnz(A) = %u\n", ch->num_triangles, n, T.A.colp[n]);
     t0 = cpu();
-    if (!bp__tutte_krylov(a, &T, NULL)) { fprintf(stderr, "krylov failed\n"); return 1; }
+    if (bp__tutte_krylov(a, &T, NULL) != 1) { fprintf(stderr, "krylov failed\n"); return 1; }
     t_kr = cpu() - t0;
     memcpy(keep, T.sol, 2 * sizeof(double) * n);
     printf("krylov: %.3f s, %d iterations, relative residual %.2g\n", t_kr, T.krylov_iters, T.krylov_rel);

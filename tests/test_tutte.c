@@ -120,7 +120,7 @@ static void test_solver(int w, int h, int symmetric, double *worst_err, double *
         T.rhs = (double *)malloc(2 * n * sizeof(double));
         T.sol = (double *)malloc(2 * n * sizeof(double));
         for (i = 0; i < n; i++) T.rhs[i] = T.rhs[n + i] = b[i];
-        if (bp__tutte_krylov(&a, &T, NULL))
+        if (bp__tutte_krylov(&a, &T, NULL) == 1)
             for (i = 0; i < 2 * n; i++) {
                 if (fabs(T.sol[i] - xd[i % n]) > kerr) kerr = fabs(T.sol[i] - xd[i % n]);
                 if (fabs(xd[i % n]) > kscale) kscale = fabs(xd[i % n]);
@@ -393,7 +393,7 @@ static void check_krylov(const char *path)
                    bp__tutte_circle(&a, &T, &at.charts[best]) && bp__tutte_system(&a, &T, &at.charts[best], 1),
                    "%s: the mean-value system", path)) goto out;
     n = T.nfree;
-    ok = bp__tutte_krylov(&a, &T, NULL);
+    ok = bp__tutte_krylov(&a, &T, NULL) == 1;
     BPT_CHECK(ok, "%s (%u unknowns): BiCGSTAB converged in %d iterations, its residual %.2g", path, n, T.krylov_iters,
               T.krylov_rel);
     r = (double *)malloc(2 * n * sizeof(double));
@@ -418,7 +418,7 @@ static void check_krylov(const char *path)
         BPT_CHECK(diff <= 1e-9 * big, "%s: the LU's solution agrees, max diff %.2g of %.2g", path, diff, big);
         bp__factor_free(&a, &F);
     }
-    BPT_CHECK(bp__tutte_krylov(&a, &T, &rev) && !memcmp(keep, T.sol, 2 * n * sizeof(double)),
+    BPT_CHECK(bp__tutte_krylov(&a, &T, &rev) == 1 && !memcmp(keep, T.sol, 2 * n * sizeof(double)),
               "%s: the same bits with the tasks run backwards", path);
     free(r); free(keep); free(work);
 out:
