@@ -5410,7 +5410,15 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
    Newton's systems, symmetric positive definite and in 2x2 blocks (x, y of
    a vertex; bp__sparse.blocks2), take a supernodal Cholesky instead
    (bp__super_*, its essay before bp__super_graph), through the same
-   bp__factorize, bp__fact_numeric and bp__factor_solve. */
+   bp__factorize, bp__fact_numeric and bp__factor_solve; so do the scalar
+   SPD systems with blocks of 1 (bp__sparse.super1: the preconditioner's
+   Laplacian, converted afterwards to the single-precision rows its
+   solves read, and the uniform Tutte system), and the mean-value system
+   is solved by BiCGSTAB preconditioned with the supernodal Cholesky of
+   its symmetrized Laplacian (>>tutte, phase 6a).  The up-looking rows
+   remain as the fallback: the mean-value LU when the iteration does not
+   converge, and any scalar system whose Cholesky meets a pivot that is
+   not positive (the rows' LDL^T needs only nonzero pivots). */
 
 typedef struct bp__sparse {       /* n x n, compressed columns            */
     uint32_t n;
@@ -5420,6 +5428,9 @@ typedef struct bp__sparse {       /* n x n, compressed columns            */
     int       symmetric;          /* values symmetric (pattern always is) */
     int       blocks2;            /* symmetric, in whole 2x2 blocks (x, y of
                                      a vertex): bp__factorize goes supernodal */
+    int       super1;             /* symmetric and positive definite, scalar:
+                                     supernodal too, with blocks of 1 (the
+                                     scalar rows when a pivot fails)      */
 } bp__sparse;
 
 /* The top of the nested-dissection tree: node k covers the permuted range
@@ -5446,7 +5457,9 @@ typedef struct bp__ndnode {
    the supernodes uk[up[s] .. up[s+1]) (increasing), each from its row
    position uo[] on. */
 typedef struct bp__super {
-    uint32_t  nv, ns;             /* vertices (the matrix is 2nv x 2nv), supernodes */
+    uint32_t  nv, ns;             /* vertices (the matrix is bs nv x bs nv), supernodes */
+    uint32_t  bs;                 /* the block size: 2 (Newton's x, y), or 1
+                                     (a scalar matrix: vertex = unknown)  */
     uint32_t *vperm, *viperm;     /* vertex order: new -> old, old -> new   */
     uint32_t *first;              /* ns+1                                   */
     uint32_t *snode;              /* nv: the supernode of each new vertex    */
@@ -5454,7 +5467,7 @@ typedef struct bp__super {
     size_t   *xp;                 /* ns+1                                   */
     double   *x;                  /* xp[ns]: the blocks of L                */
     uint32_t *up, *uk, *uo;       /* ns+1; up[ns]; up[ns]                   */
-    uint32_t  ntask, maxcols;     /* work arrays: tasks of a phase, 2 max |cols| */
+    uint32_t  ntask, maxcols;     /* work arrays: tasks of a phase, bs max |cols| */
     uint32_t  maxrows;            /* ... and max |rows|                     */
 } bp__super;
 
@@ -6071,10 +6084,25 @@ done:
    This is Cholesky, L L^T, not L D L^T: H + delta I is positive definite
    (>>newton) and a pivot d_i that is not positive stops the factorization
    with BP_ERR_NUMERICAL; the pivots d_i = L(i,i)^2 stay in F->D, where
-   the Newton code checks them.  The scalar code remains for the Tutte
-   system (not symmetric with mean-value weights) and the L-BFGS
-   preconditioner (a scalar Laplacian factored once per chart and kept in
-   single precision); docs/performance.md sec 6.1 has the measurements. */
+   the Newton code checks them.  docs/performance.md sec 6.1 has the
+   measurements.
+
+   Blocks of 1 (bp__super.bs; docs/performance.md sec 6.8).  A scalar SPD
+   matrix (A->super1: the L-BFGS preconditioner's Laplacian, the uniform
+   Tutte system, the symmetrized mean-value Laplacian of >>tutte phase 6a)
+   is the same computation with 1x1 blocks: the vertex graph is the
+   matrix's own, a supernode's block is |rows| x |cols| doubles, and the
+   kernels take two columns of B at a time as before, now two column
+   vertices (bp__super_update), rows four at a time with an odd count's
+   remainder one by one (bp__super_trsm1), every dot product's lanes as
+   before plus an odd last term in the even lane: bs 2 computes exactly
+   the bits it did.  On the 1M-face chart's Laplacian the numeric phase
+   takes 13x fewer seconds than the scalar up-looking rows, which gather
+   one scattered entry per multiply-add while the dense loops stream
+   (5.7x with the analysis, now the larger part), and mode 1's better
+   separators cut the flops by 36%.  The preconditioner's solves
+   stay with the rows (bp__super_to_rows: L in single precision by rows,
+   solved in parallel phases, both coordinates at once). */
 
 /* The vertex graph G of A: G(w, v) != 0 when A's 2x2 block (w, v) is in
    its pattern.  Returns 1; 0 when A is not made of whole 2x2 blocks (the
@@ -6117,6 +6145,9 @@ static int bp__super_graph(const bp_allocator *a, const bp__sparse *A, bp__spars
 #endif
 #ifndef BP__SCALAR_ORDER
 #define BP__SCALAR_ORDER 0          /* ... and for the scalar one */
+#endif
+#ifndef BP__SUPER_SCALAR
+#define BP__SUPER_SCALAR 1          /* the scalar SPD systems (A->super1) go supernodal */
 #endif
 #ifndef BP__SUPER_RELAX
 #define BP__SUPER_RELAX 0           /* measured: no faster, 14% more values */
@@ -6234,6 +6265,7 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
 {
     bp__super *S = F->sn;
     uint32_t nv = G->n, k, s, i, *parent, *mark, *cnt, *reach, *msz;
+    double nnzl = 0;
     uint8_t *bound;
     bp__factor Fv;
     bp_status st = BP_ERR_OUT_OF_MEMORY;
@@ -6271,10 +6303,12 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     S->maxcols = S->maxrows = 0;
     for (s = 0; s < S->ns; s++) {
         uint32_t nc = S->first[s + 1] - S->first[s];
-        if ((uint64_t)S->rp[s] + msz[s] > BP__FACTOR_MAX_NNZ) { st = BP_ERR_TOO_LARGE; goto done; }
+        double cb = (double)S->bs * nc;
+        nnzl += cb * S->bs * msz[s] - cb * (cb + 1) / 2;        /* L's entries below the diagonal */
+        if ((uint64_t)S->rp[s] + msz[s] > BP__FACTOR_MAX_NNZ || nnzl > BP__FACTOR_MAX_NNZ) { st = BP_ERR_TOO_LARGE; goto done; }
         S->rp[s + 1] = S->rp[s] + msz[s];
-        S->xp[s + 1] = S->xp[s] + 4 * (size_t)msz[s] * nc;
-        if (2 * nc > S->maxcols) S->maxcols = 2 * nc;
+        S->xp[s + 1] = S->xp[s] + (size_t)S->bs * S->bs * msz[s] * nc;
+        if (S->bs * nc > S->maxcols) S->maxcols = S->bs * nc;
         if (msz[s] > S->maxrows) S->maxrows = msz[s];
         for (k = S->first[s]; k < S->first[s + 1]; k++) S->snode[k] = s;
     }
@@ -6294,75 +6328,91 @@ done:
     return st;
 }
 
-/* The update kernel: s[4r + c] = a_r . b_c for the rows a_0 .. a_3 (two
-   row vertices; nr = 2: only a_0, a_1) and b_0, b_1 (one column vertex),
-   n (even) terms each.  Every sum runs in two lanes, even and odd k, added
-   at the end: a fixed order, so the same bits on any schedule, and one
-   that compilers turn into packed SIMD instructions without licence to
-   reassociate. */
-static void bp__super_dots(const double *a0, const double *a1, const double *a2, const double *a3, int nr,
-                           const double *b0, const double *b1, uint32_t n, double *s)
+/* The update kernel: s[2r + c] = a_r . b_c for the nr <= 4 rows
+   a_r = a + r stride and the two rows b_0, b_1, n terms each.  Every sum
+   runs in two lanes, even and odd k (an odd n's last term goes to the
+   even lane), added at the end: a fixed order, so the same bits on any
+   schedule, and one that compilers turn into packed SIMD instructions
+   without licence to reassociate. */
+static void bp__super_dots(const double *a, size_t stride, int nr, const double *b0, const double *b1, uint32_t n,
+                           double *s)
 {
-    double e00 = 0, o00 = 0, e01 = 0, o01 = 0, e10 = 0, o10 = 0, e11 = 0, o11 = 0;
     uint32_t k;
+    int r;
     if (nr == 4) {
+        const double *a0 = a, *a1 = a + stride, *a2 = a1 + stride, *a3 = a2 + stride;
+        double e00 = 0, o00 = 0, e01 = 0, o01 = 0, e10 = 0, o10 = 0, e11 = 0, o11 = 0;
         double e20 = 0, o20 = 0, e21 = 0, o21 = 0, e30 = 0, o30 = 0, e31 = 0, o31 = 0;
-        for (k = 0; k < n; k += 2) {
+        for (k = 0; k + 1 < n; k += 2) {
             double y0 = b0[k], z0 = b0[k + 1], y1 = b1[k], z1 = b1[k + 1];
             e00 += a0[k] * y0; o00 += a0[k + 1] * z0; e01 += a0[k] * y1; o01 += a0[k + 1] * z1;
             e10 += a1[k] * y0; o10 += a1[k + 1] * z0; e11 += a1[k] * y1; o11 += a1[k + 1] * z1;
             e20 += a2[k] * y0; o20 += a2[k + 1] * z0; e21 += a2[k] * y1; o21 += a2[k + 1] * z1;
             e30 += a3[k] * y0; o30 += a3[k + 1] * z0; e31 += a3[k] * y1; o31 += a3[k + 1] * z1;
         }
-        s[4] = e20 + o20; s[5] = e21 + o21; s[6] = e30 + o30; s[7] = e31 + o31;
-    } else {
-        for (k = 0; k < n; k += 2) {
-            double y0 = b0[k], z0 = b0[k + 1], y1 = b1[k], z1 = b1[k + 1];
-            e00 += a0[k] * y0; o00 += a0[k + 1] * z0; e01 += a0[k] * y1; o01 += a0[k + 1] * z1;
-            e10 += a1[k] * y0; o10 += a1[k + 1] * z0; e11 += a1[k] * y1; o11 += a1[k + 1] * z1;
+        if (k < n) {
+            e00 += a0[k] * b0[k]; e01 += a0[k] * b1[k]; e10 += a1[k] * b0[k]; e11 += a1[k] * b1[k];
+            e20 += a2[k] * b0[k]; e21 += a2[k] * b1[k]; e30 += a3[k] * b0[k]; e31 += a3[k] * b1[k];
         }
+        s[0] = e00 + o00; s[1] = e01 + o01; s[2] = e10 + o10; s[3] = e11 + o11;
+        s[4] = e20 + o20; s[5] = e21 + o21; s[6] = e30 + o30; s[7] = e31 + o31;
+        return;
     }
-    s[0] = e00 + o00; s[1] = e01 + o01; s[2] = e10 + o10; s[3] = e11 + o11;
+    for (r = 0; r < nr; r++) {
+        const double *a0 = a + (size_t)r * stride;
+        double e0 = 0, o0 = 0, e1 = 0, o1 = 0;
+        for (k = 0; k + 1 < n; k += 2) {
+            e0 += a0[k] * b0[k]; o0 += a0[k + 1] * b0[k + 1];
+            e1 += a0[k] * b1[k]; o1 += a0[k + 1] * b1[k + 1];
+        }
+        if (k < n) { e0 += a0[k] * b0[k]; e1 += a0[k] * b1[k]; }
+        s[2 * r] = e0 + o0;
+        s[2 * r + 1] = e1 + o1;
+    }
 }
 
-/* The update of supernode J (block B, 2 nc columns) by supernode K from
+/* The update of supernode J (block B, bs nc columns) by supernode K from
    K's row position o, in J's column vertices [v0, v1): for K's rows
    i >= c and its rows c that are such columns,
        L_J(i, c) -= sum_k L_K(i, k) L_K(c, k),
-   by 2x2 blocks (one row vertex by one column vertex), two row vertices
-   at a time.  Where K's rows lie in J's: map[] (a vertex's row in J), or
-   with map NULL by a merge of the two sorted lists; pos: mK words. */
+   two columns of B at a time (bs 2: x and y of a column vertex; bs 1: two
+   column vertices, the second only when it is a column in range too; an
+   entry this puts above the diagonal of J's diagonal block is never
+   read), four rows of B at a time.  Where K's rows lie in J's: map[] (a
+   vertex's row in J), or with map NULL by a merge of the two sorted
+   lists; pos: mK words. */
 static void bp__super_update(const bp__super *S, uint32_t K, uint32_t o, uint32_t J, double *B, const uint32_t *map,
                              uint32_t *pos, uint32_t v0, uint32_t v1)
 {
     const uint32_t *rk = S->ri + S->rp[K], *rj = S->ri + S->rp[J];
     const double *LK = S->x + S->xp[K];
-    uint32_t mK = S->rp[K + 1] - S->rp[K], cK = 2 * (S->first[K + 1] - S->first[K]);
-    uint32_t f = S->first[J], c2 = 2 * (S->first[J + 1] - f), c, i, r, q = 0;
+    uint32_t bs = S->bs, mK = S->rp[K + 1] - S->rp[K], cK = bs * (S->first[K + 1] - S->first[K]);
+    uint32_t f = S->first[J], c2 = bs * (S->first[J + 1] - f), c, i, r, q = 0;
     for (c = o; c < mK && rk[c] < v0; c++) {}
     if (c == mK || rk[c] >= v1) return;
     for (i = c; i < mK; i++) {
         if (map) pos[i] = map[rk[i]];
         else { while (rj[q] < rk[i]) q++; pos[i] = q; }
     }
-    for (; c < mK && rk[c] < v1; c++) {
-        const double *b0 = LK + 2 * (size_t)c * cK, *b1 = b0 + cK;
-        uint32_t jc = 2 * (rk[c] - f);
-        for (i = c; i < mK; i += 2) {
-            const double *a0 = LK + 2 * (size_t)i * cK;
-            int nr = i + 1 < mK ? 4 : 2;
+    for (; c < mK && rk[c] < v1; c += 2 / bs) {
+        uint32_t R0 = bs * c, R1 = bs == 2 ? R0 + 1 : c + 1 < mK && rk[c + 1] < v1 ? c + 1 : c;
+        uint32_t j0 = bs * (rk[c] - f), j1 = bs == 2 ? j0 + 1 : rk[R1] - f;
+        const double *b0 = LK + (size_t)R0 * cK, *b1 = LK + (size_t)R1 * cK;
+        for (i = R0; i < bs * mK; i += 4) {
+            int nr = bs * mK - i < 4 ? (int)(bs * mK - i) : 4;
             double s[8];
-            bp__super_dots(a0, a0 + cK, a0 + 2 * cK, a0 + 3 * cK, nr, b0, b1, cK, s);
-            for (r = 0; r < (uint32_t)nr / 2; r++) {
-                double *t = B + 2 * (size_t)pos[i + r] * c2 + jc;
-                t[0] -= s[4 * r]; t[1] -= s[4 * r + 1]; t[c2] -= s[4 * r + 2]; t[c2 + 1] -= s[4 * r + 3];
+            bp__super_dots(LK + (size_t)i * cK, cK, nr, b0, b1, cK, s);
+            for (r = 0; r < (uint32_t)nr; r++) {
+                double *t = B + ((size_t)bs * pos[(i + r) / bs] + (i + r) % bs) * c2;
+                t[j0] -= s[2 * r];
+                if (R1 != R0) t[j1] -= s[2 * r + 1];
             }
         }
     }
 }
 
 /* The triangular solve of rows below the diagonal block, four rows
-   (two, bp__super_trsm2) at a time: for j < c2,
+   (one, bp__super_trsm1) at a time: for j < c2,
        L(i, j) = (B(i, j) - sum_{k<j} L(i, k) L(j, k)) / L(j, j),
    each sum in two lanes (even and odd k) as in bp__super_dots. */
 static void bp__super_trsm4(double *r0, const double *D, uint32_t c2, const double *inv)
@@ -6385,20 +6435,15 @@ static void bp__super_trsm4(double *r0, const double *D, uint32_t c2, const doub
     }
 }
 
-static void bp__super_trsm2(double *r0, const double *D, uint32_t c2, const double *inv)
+static void bp__super_trsm1(double *r0, const double *D, uint32_t c2, const double *inv)
 {
-    double *r1 = r0 + c2;
     uint32_t j, k;
     for (j = 0; j < c2; j++) {
         const double *rj = D + (size_t)j * c2;
-        double e0 = 0, o0 = 0, e1 = 0, o1 = 0;
-        for (k = 0; k + 1 < j; k += 2) {
-            double y = rj[k], z = rj[k + 1];
-            e0 += r0[k] * y; o0 += r0[k + 1] * z; e1 += r1[k] * y; o1 += r1[k + 1] * z;
-        }
-        if (k < j) { e0 += r0[k] * rj[k]; e1 += r1[k] * rj[k]; }
+        double e0 = 0, o0 = 0;
+        for (k = 0; k + 1 < j; k += 2) { e0 += r0[k] * rj[k]; o0 += r0[k + 1] * rj[k + 1]; }
+        if (k < j) e0 += r0[k] * rj[k];
         r0[j] = (r0[j] - (e0 + o0)) * inv[j];
-        r1[j] = (r1[j] - (e1 + o1)) * inv[j];
     }
 }
 
@@ -6413,7 +6458,7 @@ static void bp__super_trsm2(double *r0, const double *D, uint32_t c2, const doub
 static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv)
 {
     const bp__super *S = F->sn;
-    uint32_t f = S->first[s], c2 = 2 * (S->first[s + 1] - f), m2 = 2 * (S->rp[s + 1] - S->rp[s]), i, j, k;
+    uint32_t f = S->first[s], c2 = S->bs * (S->first[s + 1] - f), m2 = S->bs * (S->rp[s + 1] - S->rp[s]), i, j, k;
     for (i = 0; i < c2; i++) {
         double *r = B + (size_t)i * c2, d;
         for (j = 0; j < i; j++) {
@@ -6424,14 +6469,12 @@ static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv)
         }
         d = r[i];
         for (k = 0; k < i; k++) d -= r[k] * r[k];
-        F->D[2 * (size_t)f + i] = d;
+        F->D[(size_t)S->bs * f + i] = d;
         r[i] = sqrt(d);
         inv[i] = 1 / r[i];
     }
-    for (i = c2; i < m2; i += 4) {
-        if (i + 2 < m2) bp__super_trsm4(B + (size_t)i * c2, B, c2, inv);
-        else bp__super_trsm2(B + (size_t)i * c2, B, c2, inv);
-    }
+    for (i = c2; i + 4 <= m2; i += 4) bp__super_trsm4(B + (size_t)i * c2, B, c2, inv);
+    for (; i < m2; i++) bp__super_trsm1(B + (size_t)i * c2, B, c2, inv);
 }
 
 /* Supernode s's column vertices [v0, v1) set to A's values: zero, then
@@ -6439,17 +6482,17 @@ static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv)
    rows). */
 static void bp__super_start(const bp__sparse *A, const bp__super *S, uint32_t s, uint32_t v0, uint32_t v1)
 {
-    uint32_t f = S->first[s], c2 = 2 * (S->first[s + 1] - f), m = S->rp[s + 1] - S->rp[s], i, v, p, b, col;
+    uint32_t bs = S->bs, f = S->first[s], c2 = bs * (S->first[s + 1] - f), m = S->rp[s + 1] - S->rp[s], i, v, p, b, col;
     const uint32_t *rows = S->ri + S->rp[s];
     double *B = S->x + S->xp[s];
-    for (i = 0; i < 2 * m; i++) memset(B + (size_t)i * c2 + 2 * (v0 - f), 0, 2 * (size_t)(v1 - v0) * sizeof(double));
+    for (i = 0; i < bs * m; i++) memset(B + (size_t)i * c2 + bs * (v0 - f), 0, (size_t)bs * (v1 - v0) * sizeof(double));
     for (v = v0; v < v1; v++)
-        for (b = 0; b < 2; b++)
-            for (col = 2 * S->vperm[v] + b, p = A->colp[col]; p < A->colp[col + 1]; p++) {
-                uint32_t u = S->viperm[A->row[p] / 2], r;
+        for (b = 0; b < bs; b++)
+            for (col = bs * S->vperm[v] + b, p = A->colp[col]; p < A->colp[col + 1]; p++) {
+                uint32_t u = S->viperm[A->row[p] / bs], r;
                 if (u < f) continue;
                 r = bp__lower_bound(rows, 0, m, u);
-                B[(2 * (size_t)r + A->row[p] % 2) * c2 + 2 * (v - f) + b] = A->val[p];
+                B[((size_t)bs * r + A->row[p] % bs) * c2 + bs * (v - f) + b] = A->val[p];
             }
 }
 
@@ -6581,13 +6624,14 @@ static int bp__super_numeric(const bp_allocator *a, const bp__sparse *A, bp__fac
 static void bp__super_solve(const bp__factor *F, const double *b, double *x, double *z)
 {
     const bp__super *S = F->sn;
-    uint32_t v, s, i, j;
-    for (v = 0; v < S->nv; v++) { z[2 * v] = b[2 * S->vperm[v]]; z[2 * v + 1] = b[2 * S->vperm[v] + 1]; }
+    uint32_t bs = S->bs, v, s, i, j, a;
+    for (v = 0; v < S->nv; v++)
+        for (a = 0; a < bs; a++) z[bs * (size_t)v + a] = b[bs * (size_t)S->vperm[v] + a];
     for (s = 0; s < S->ns; s++) {
-        uint32_t c2 = 2 * (S->first[s + 1] - S->first[s]), m2 = 2 * (S->rp[s + 1] - S->rp[s]);
+        uint32_t c2 = bs * (S->first[s + 1] - S->first[s]), m2 = bs * (S->rp[s + 1] - S->rp[s]);
         const uint32_t *rows = S->ri + S->rp[s];
         const double *B = S->x + S->xp[s];
-        double *zs = z + 2 * (size_t)S->first[s];
+        double *zs = z + bs * (size_t)S->first[s];
         for (i = 0; i < c2; i++) {
             const double *r = B + (size_t)i * c2;
             double t = zs[i];
@@ -6598,17 +6642,17 @@ static void bp__super_solve(const bp__factor *F, const double *b, double *x, dou
             const double *r = B + (size_t)i * c2;
             double t = 0;
             for (j = 0; j < c2; j++) t += r[j] * zs[j];
-            z[2 * (size_t)rows[i / 2] + i % 2] -= t;
+            z[bs * (size_t)rows[i / bs] + i % bs] -= t;
         }
     }
     for (s = S->ns; s-- > 0;) {
-        uint32_t c2 = 2 * (S->first[s + 1] - S->first[s]), m2 = 2 * (S->rp[s + 1] - S->rp[s]);
+        uint32_t c2 = bs * (S->first[s + 1] - S->first[s]), m2 = bs * (S->rp[s + 1] - S->rp[s]);
         const uint32_t *rows = S->ri + S->rp[s];
         const double *B = S->x + S->xp[s];
-        double *zs = z + 2 * (size_t)S->first[s];
+        double *zs = z + bs * (size_t)S->first[s];
         for (i = c2; i < m2; i++) {
             const double *r = B + (size_t)i * c2;
-            double t = z[2 * (size_t)rows[i / 2] + i % 2];
+            double t = z[bs * (size_t)rows[i / bs] + i % bs];
             for (j = 0; j < c2; j++) zs[j] -= r[j] * t;
         }
         for (i = c2; i-- > 0;) {
@@ -6617,22 +6661,27 @@ static void bp__super_solve(const bp__factor *F, const double *b, double *x, dou
             for (j = 0; j < i; j++) zs[j] -= r[j] * zs[i];
         }
     }
-    for (v = 0; v < S->nv; v++) { x[2 * S->vperm[v]] = z[2 * v]; x[2 * S->vperm[v] + 1] = z[2 * v + 1]; }
+    for (v = 0; v < S->nv; v++)
+        for (a = 0; a < bs; a++) x[bs * (size_t)S->vperm[v] + a] = z[bs * (size_t)v + a];
 }
 
-/* bp__factorize for a symmetric matrix in whole 2x2 blocks (A->blocks2):
-   the analysis and the numeric factorization above.  Returns as
+/* bp__factorize for a symmetric matrix in whole 2x2 blocks (bs 2,
+   A->blocks2) or a scalar one (bs 1, A->super1: the vertex graph is A's
+   own): the analysis and the numeric factorization above.  Returns as
    bp__factorize, and BP_ERR_NUMERICAL also for a pivot that is not
    positive (this is Cholesky: A must be positive definite); *fallback = 1
    when A is not in whole blocks after all (nothing done). */
 static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
-                                     const bp__par *par, int *fallback)
+                                     const bp__par *par, uint32_t bs, int *fallback)
 {
     bp__sparse G;
     bp__par serial = bp__par_serial();
     bp_status st = BP_ERR_OUT_OF_MEMORY;
     uint32_t k;
-    int g = bp__super_graph(a, A, &G);
+    int g = 1;
+    if (bs == 2) g = bp__super_graph(a, A, &G);
+    else if (A->symmetric) G = *A;
+    else g = 0;
     *fallback = g == 0;
     if (g <= 0) return BP_ERR_OUT_OF_MEMORY;
     memset(F, 0, sizeof *F);
@@ -6640,19 +6689,19 @@ static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A,
     F->symmetric = 1;
     F->sn = (bp__super *)bp__calloc_array(a, 1, sizeof(bp__super));
     F->D = (double *)bp__alloc_array(a, A->n ? A->n : 1, sizeof(double));
+    if (F->sn && F->D) F->sn->bs = bs;
     if (F->sn && F->D && (st = bp__super_analyse(a, &G, F)) == BP_OK) {
         st = BP_ERR_OUT_OF_MEMORY;
         if (bp__super_numeric(a, A, F, par ? par : &serial)) {
             st = BP_OK;
             for (k = 0; k < A->n && st == BP_OK; k++)
                 if (!(F->D[k] > 0) || !(F->D[k] < HUGE_VAL)) {
-                    *bad_row = 2 * F->sn->vperm[k / 2] + k % 2;
+                    *bad_row = bs * F->sn->vperm[k / bs] + k % bs;
                     st = BP_ERR_NUMERICAL;
                 }
         }
     }
-    bp__free(a, G.colp);
-    bp__free(a, G.row);
+    if (bs == 2) { bp__free(a, G.colp); bp__free(a, G.row); }
     if (st != BP_OK) bp__factor_free(a, F);
     return st;
 }
@@ -6713,10 +6762,10 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
     uint32_t *parent = NULL, *mark = NULL, *tpos = NULL;
     bp__par serial = bp__par_serial();
     bp_status st = BP_ERR_OUT_OF_MEMORY;
-    if (A->blocks2) {
+    if (A->blocks2 || A->super1) {
         int fallback;
-        st = bp__super_factorize(a, A, F, bad_row, par, &fallback);
-        if (!fallback) return st;
+        st = bp__super_factorize(a, A, F, bad_row, par, A->blocks2 ? 2 : 1, &fallback);
+        if (!fallback && (st != BP_ERR_NUMERICAL || A->blocks2)) return st;
         st = BP_ERR_OUT_OF_MEMORY;
     }
     memset(F, 0, sizeof *F);
@@ -6814,11 +6863,16 @@ static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const do
    Laplacian's last pivot is 1e-8 of its diagonal), so the conversion
    happens afterwards, in place: float p goes to bytes [4p, 4p + 4) of the
    double array, which only overlap doubles already read.  The bytes are
-   moved with memcpy, which is exact about aliasing. */
-static void bp__factor_single(bp__factor *F)
+   moved with memcpy, which is exact about aliasing.
+   A supernodal factor of a scalar matrix (bs 1, A->super1) is turned into
+   the same rows instead (bp__super_to_rows).  Returns 0 out of memory. */
+static int bp__super_to_rows(const bp_allocator *a, bp__factor *F);
+static int bp__factor_single(const bp_allocator *a, bp__factor *F)
 {
-    size_t p, nnz = F->Rp[F->n];
+    size_t p, nnz;
     unsigned char *buf = (unsigned char *)F->Rx;
+    if (F->sn) return bp__super_to_rows(a, F);
+    nnz = F->Rp[F->n];
     for (p = 0; p < nnz; p++) {
         double d;
         float f;
@@ -6828,6 +6882,53 @@ static void bp__factor_single(bp__factor *F)
     }
     F->Rxf = (float *)(void *)buf;
     F->Rx = NULL;
+    return 1;
+}
+
+/* The preconditioner's solves (bp__precondition) read a unit lower L by
+   rows in single precision, and D.  From the supernodal Cholesky factor
+   C C^T of a scalar matrix (bs 1) that is
+       L(i, j) = C(i, j) / C(j, j),    D(j) = C(j, j)^2 (F->D already),
+   written supernode by supernode, column by column: j increases, so every
+   row comes out sorted.  The ordering and the dissection tree stay (vertex
+   = unknown), and the supernodal blocks are freed. */
+static int bp__super_to_rows(const bp_allocator *a, bp__factor *F)
+{
+    bp__super *S = F->sn;
+    uint32_t n = S->nv, s, jj, ii, *cur;
+    size_t nnz = 0;
+    if (S->bs != 1) return 0;
+    F->perm = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
+    F->iperm = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
+    F->Rp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    cur = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
+    if (!F->perm || !F->iperm || !F->Rp || !cur) { bp__free(a, cur); return 0; }
+    for (s = 0; s < S->ns; s++) {
+        uint32_t nc = S->first[s + 1] - S->first[s], m = S->rp[s + 1] - S->rp[s];
+        for (ii = 1; ii < m; ii++) F->Rp[S->ri[S->rp[s] + ii] + 1] += ii < nc ? ii : nc;
+    }
+    for (jj = 0; jj < n; jj++) { nnz += F->Rp[jj + 1]; F->Rp[jj + 1] = (uint32_t)(nnz <= BP__FACTOR_MAX_NNZ ? nnz : 0); }
+    F->Ri = (uint32_t *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(uint32_t));
+    F->Rxf = (float *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(float));
+    if (nnz > BP__FACTOR_MAX_NNZ || !F->Ri || !F->Rxf) { bp__free(a, cur); return 0; }
+    memcpy(cur, F->Rp, n * sizeof(uint32_t));
+    for (s = 0; s < S->ns; s++) {
+        uint32_t f = S->first[s], nc = S->first[s + 1] - f, m = S->rp[s + 1] - S->rp[s];
+        const uint32_t *rows = S->ri + S->rp[s];
+        const double *B = S->x + S->xp[s];
+        for (jj = 0; jj < nc; jj++)
+            for (ii = jj + 1; ii < m; ii++) {
+                uint32_t q = cur[rows[ii]]++;
+                F->Ri[q] = f + jj;
+                F->Rxf[q] = (float)(B[(size_t)ii * nc + jj] / B[(size_t)jj * nc + jj]);
+            }
+    }
+    memcpy(F->perm, S->vperm, n * sizeof(uint32_t));
+    memcpy(F->iperm, S->viperm, n * sizeof(uint32_t));
+    bp__free(a, cur);
+    bp__super_free(a, S);
+    F->sn = NULL;
+    return 1;
 }
 
 /* The preconditioner solve r = K^-1 q for both coordinates at once (q, r
@@ -7896,6 +7997,8 @@ typedef struct bp__tutte {
     uint32_t *idx, nfree;         /* free-vertex number, BP__NONE when fixed */
     bp__sparse A;
     double   *rhs, *sol, *work;
+    int       krylov_iters;       /* phase 6a: iterations, -1 not converged */
+    double    krylov_rel;         /* ... and its relative residual          */
 } bp__tutte;
 
 static void bp__tutte_free(const bp_allocator *a, bp__tutte *T)
@@ -8033,6 +8136,7 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
     bp__sparse *A = &T->A;
     A->n = nfree;
     A->symmetric = !mvc;
+    A->super1 = !mvc && BP__SUPER_SCALAR;
     A->colp = (uint32_t *)bp__alloc_array(a, (size_t)nfree + 1, sizeof(uint32_t));
     A->row = (uint32_t *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(uint32_t));
     A->val = (double *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(double));
@@ -8070,6 +8174,329 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
     return 1;
 }
 
+/* Phase 6a, the mean-value system without its LU.  The mean-value matrix
+   A is not symmetric, and its LU by the scalar up-looking rows (>>sparse)
+   was half of a million-face chart's whole run (docs/performance.md sec
+   6.5: 40 s of 79).  First each row is divided by its diagonal, so the
+   system reads u_i - sum_j lambda_ij u_j = rhs_i with Floater's
+   normalized weights lambda_ij = w_ij / sum_k w_ik (the same solution;
+   measured, this made the iteration below 2.5x shorter on 132K faces than
+   the raw weights: 16 against 40 iterations).  The symmetric part of that
+   A, made a Laplacian again,
+       M(i, j) = -(a_ij + a_ji) / 2  (i != j, both free),
+       M(i, i) = -sum_j (a_ij + a_ji) / 2 over free j + the row's fixed part,
+   is symmetric positive definite (weakly diagonally dominant, strictly
+   next to the boundary, irreducible) on the same pattern, and close to A
+   where the mesh is regular.  So the supernodal Cholesky of M (A->super1),
+   in the preconditioner's single-precision rows (bp__factor_single: both
+   coordinates per solve, in parallel), preconditions BiCGSTAB (van der
+   Vorst 1992) on A from the right,
+       A K^-1 y = b,  x = K^-1 y,  K = M,
+   one iteration per coordinate in lockstep (the two share each solve with
+   K), until |b - A x| <= BP__KRYLOV_TOL |b| for both.  The residual is the
+   true one, recomputed from x in double; K only steers, so its rounding to
+   single precision costs iterations, not accuracy.  If that does not happen
+   within BP__KRYLOV_ITERS iterations, or K cannot be factored, the LU
+   below solves as before; either way the exact check of phase 7 follows.
+   Every sum runs serially in a fixed order and bp__precondition's bits do
+   not depend on the schedule, so x is the same on any thread count. */
+#ifndef BP__TUTTE_KRYLOV
+#define BP__TUTTE_KRYLOV 1
+#endif
+#define BP__KRYLOV_TOL 1e-13
+#define BP__KRYLOV_ITERS 200
+#ifndef BP__KRYLOV_GMRES
+#define BP__KRYLOV_GMRES 0          /* 1: GMRES instead of BiCGSTAB (measured, sec 6.8) */
+#endif
+
+/* M of A (see above), on A's pattern (A's rows sorted: the transposes by
+   bp__fact_transpose). */
+static int bp__tutte_symmetric(const bp_allocator *a, const bp__sparse *A, bp__sparse *M)
+{
+    uint32_t n = A->n, j, p, *tpos = NULL;
+    double *fix = (double *)bp__calloc_array(a, n ? n : 1, sizeof(double));
+    memset(M, 0, sizeof *M);
+    M->n = n;
+    M->symmetric = 1;
+    M->super1 = 1;
+    M->colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    M->row = (uint32_t *)bp__alloc_array(a, A->colp[n] ? A->colp[n] : 1, sizeof(uint32_t));
+    M->val = (double *)bp__alloc_array(a, A->colp[n] ? A->colp[n] : 1, sizeof(double));
+    if (!fix || !M->colp || !M->row || !M->val || !bp__fact_transpose(a, A, &tpos)) {
+        bp__free(a, fix);
+        bp__free(a, tpos);
+        return 0;
+    }
+    memcpy(M->colp, A->colp, ((size_t)n + 1) * sizeof(uint32_t));
+    memcpy(M->row, A->row, A->colp[n] * sizeof(uint32_t));
+    for (j = 0; j < n; j++)                   /* row sums of A: the fixed weights */
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) fix[A->row[p]] += A->val[p];
+    for (j = 0; j < n; j++) {
+        uint32_t d = BP__NONE;
+        double off = 0;
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
+            if (A->row[p] == j) { d = p; continue; }
+            M->val[p] = 0.5 * (A->val[p] + A->val[tpos[p]]);
+            off -= M->val[p];
+        }
+        if (d != BP__NONE) M->val[d] = fix[j] + off;
+    }
+    bp__free(a, tpos);
+    bp__free(a, fix);
+    return 1;
+}
+
+/* y = A x for two interleaved vectors (x, y: 2n). */
+static void bp__spmv2(const bp__sparse *A, const double *x, double *y)
+{
+    uint32_t j, p;
+    memset(y, 0, 2 * (size_t)A->n * sizeof(double));
+    for (j = 0; j < A->n; j++)
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
+            y[2 * (size_t)A->row[p]] += A->val[p] * x[2 * (size_t)j];
+            y[2 * (size_t)A->row[p] + 1] += A->val[p] * x[2 * (size_t)j + 1];
+        }
+}
+
+/* d[c] = u . v per coordinate c of two interleaved vectors. */
+static void bp__dot2(const double *u, const double *v, size_t n, double *d)
+{
+    size_t i;
+    d[0] = d[1] = 0;
+    for (i = 0; i < n; i++) { d[0] += u[2 * i] * v[2 * i]; d[1] += u[2 * i + 1] * v[2 * i + 1]; }
+}
+
+/* |b - A x| <= BP__KRYLOV_TOL |b| for both coordinates (r: 2n of work). */
+static int bp__krylov_done(const bp__sparse *A, const double *b, const double *x, double *r, double *rel)
+{
+    double rr[2], bb[2];
+    size_t i, n = A->n;
+    bp__spmv2(A, x, r);
+    for (i = 0; i < 2 * n; i++) r[i] = b[i] - r[i];
+    bp__dot2(r, r, n, rr);
+    bp__dot2(b, b, n, bb);
+    *rel = sqrt(rr[0] > rr[1] ? rr[0] / (bb[0] > 0 ? bb[0] : 1) : rr[1] / (bb[1] > 0 ? bb[1] : 1));
+    return rr[0] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[0] && rr[1] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[1];
+}
+
+/* r = K^-1 q for two interleaved vectors: the single-precision rows
+   (bp__precondition), or with BP__KRYLOV_DOUBLE the supernodal factor
+   itself, one coordinate at a time (z: 4n). */
+#ifndef BP__KRYLOV_DOUBLE
+#define BP__KRYLOV_DOUBLE 0
+#endif
+static void bp__krylov_apply(const bp__factor *K, const bp__par *par, const double *q, double *r, double *z)
+{
+    size_t n = K->n, i, c;
+    if (!K->sn) { bp__precondition(K, par, q, r, z); return; }
+    for (c = 0; c < 2; c++) {
+        for (i = 0; i < n; i++) z[i] = q[2 * i + c];
+        bp__factor_solve(K, z, z + n, z + 2 * n);
+        for (i = 0; i < n; i++) r[2 * i + c] = z[n + i];
+    }
+}
+
+/* Right-preconditioned BiCGSTAB for both coordinates (b, x: 2n
+   interleaved; x starts at 0).  Returns the iterations taken, -1 when it
+   did not converge (breakdown or BP__KRYLOV_ITERS), -2 out of memory. */
+static int bp__tutte_bicgstab(const bp_allocator *a, const bp__sparse *A, const bp__factor *K, const bp__par *par,
+                              const double *b, double *x, double *rel)
+{
+    size_t n = A->n, i, m = 2 * n;
+    double *buf = (double *)bp__alloc_array(a, 12 * n + 1, sizeof(double));
+    double *r, *rh, *p, *v, *ph, *t, *z, rho[2] = {1, 1}, al[2] = {1, 1}, om[2] = {1, 1};
+    int it, c, ok = -1, live[2] = {1, 1};
+    if (!buf) return -2;
+    r = buf; rh = r + m; p = rh + m; v = p + m; ph = v + m; t = ph + m;
+    z = (double *)bp__alloc_array(a, 4 * n + 1, sizeof(double));
+    if (!z) { bp__free(a, buf); return -2; }
+    for (i = 0; i < m; i++) { x[i] = 0; r[i] = rh[i] = b[i]; p[i] = v[i] = 0; }
+    *rel = 1;
+    for (it = 1; it <= BP__KRYLOV_ITERS; it++) {
+        double rn[2], d[2], e[2];
+        bp__dot2(rh, r, n, rn);
+        for (c = 0; c < 2; c++) {
+            double beta = live[c] ? (rn[c] / rho[c]) * (al[c] / om[c]) : 0;
+            if (live[c] && !(beta - beta == 0)) goto done;               /* breakdown */
+            rho[c] = rn[c];
+            for (i = c; i < m; i += 2) p[i] = live[c] ? r[i] + beta * (p[i] - om[c] * v[i]) : 0;
+        }
+        bp__krylov_apply(K, par, p, ph, z);                               /* ph = K^-1 p */
+        bp__spmv2(A, ph, v);
+        bp__dot2(rh, v, n, d);
+        for (c = 0; c < 2; c++) {
+            al[c] = live[c] ? rho[c] / d[c] : 0;
+            if (!(al[c] - al[c] == 0)) goto done;
+            for (i = c; i < m; i += 2) { x[i] += al[c] * ph[i]; r[i] -= al[c] * v[i]; }   /* r = s */
+        }
+        bp__krylov_apply(K, par, r, ph, z);                               /* ph = K^-1 s */
+        bp__spmv2(A, ph, t);
+        bp__dot2(t, r, n, d);
+        bp__dot2(t, t, n, e);
+        for (c = 0; c < 2; c++) {
+            om[c] = live[c] && e[c] > 0 ? d[c] / e[c] : 0;
+            if (live[c] && !(om[c] != 0 && om[c] - om[c] == 0)) live[c] = 0;   /* s = 0 or breakdown */
+            for (i = c; i < m; i += 2) { x[i] += om[c] * ph[i]; r[i] -= om[c] * t[i]; }
+        }
+        bp__dot2(r, r, n, d);
+        bp__dot2(b, b, n, e);
+        for (c = 0; c < 2; c++)
+            if (live[c] && d[c] <= 0.01 * BP__KRYLOV_TOL * BP__KRYLOV_TOL * e[c]) live[c] = 0;
+        if ((!live[0] && !live[1]) || it % 10 == 0) {                     /* the true residual */
+            if (bp__krylov_done(A, b, x, t, rel)) { ok = it; break; }
+            if (!live[0] && !live[1]) break;
+        }
+    }
+done:
+    bp__free(a, buf);
+    bp__free(a, z);
+    return ok;
+}
+
+/* The same by restarted GMRES(BP__GMRES_M) (Saad & Schultz 1986), right-
+   preconditioned, both coordinates in lockstep: one solve with K and one
+   product with A per iteration (BiCGSTAB takes two of each), but
+   BP__GMRES_M + 1 basis vectors of 2n.  Modified Gram-Schmidt, Givens
+   rotations per coordinate; a cycle ends when both estimated residuals are
+   below the tolerance or after BP__GMRES_M steps, and x += K^-1 V y. */
+#ifndef BP__GMRES_M
+#define BP__GMRES_M 24
+#endif
+static int bp__tutte_gmres(const bp_allocator *a, const bp__sparse *A, const bp__factor *K, const bp__par *par,
+                           const double *b, double *x, double *rel)
+{
+    size_t n = A->n, i, m2 = 2 * n;
+    uint32_t M = BP__GMRES_M, j, k;
+    double *V = (double *)bp__alloc_array(a, ((size_t)M + 1) * m2 + 1, sizeof(double));
+    double *w = (double *)bp__alloc_array(a, 2 * m2 + 1, sizeof(double)), *u = w + m2;
+    double *z = (double *)bp__alloc_array(a, 4 * n + 1, sizeof(double));
+    double H[2][BP__GMRES_M + 1][BP__GMRES_M], cs[2][BP__GMRES_M], sn[2][BP__GMRES_M], g[2][BP__GMRES_M + 1];
+    double bb[2], y[BP__GMRES_M];
+    int it = 0, ok = -1, c;
+    if (!V || !w || !z) { ok = -2; goto done; }
+    for (i = 0; i < m2; i++) x[i] = 0;
+    bp__dot2(b, b, n, bb);
+    *rel = 1;
+    while (it < BP__KRYLOV_ITERS) {
+        double beta[2];
+        if (bp__krylov_done(A, b, x, V, rel)) { ok = it > 0 ? it : 1; break; }   /* V_0 = b - A x */
+        bp__dot2(V, V, n, beta);
+        for (c = 0; c < 2; c++) {
+            beta[c] = sqrt(beta[c]);
+            for (i = c; i < m2; i += 2) V[i] = beta[c] > 0 ? V[i] / beta[c] : 0;
+            memset(g[c], 0, sizeof g[c]);
+            g[c][0] = beta[c];
+        }
+        for (j = 0; j < M && it < BP__KRYLOV_ITERS; j++, it++) {
+            double *vj = V + (size_t)j * m2, *vn = vj + m2, h[2];
+            int done = 1;
+            bp__krylov_apply(K, par, vj, u, z);
+            bp__spmv2(A, u, w);
+            for (k = 0; k <= j; k++) {                   /* modified Gram-Schmidt */
+                bp__dot2(V + (size_t)k * m2, w, n, h);
+                for (c = 0; c < 2; c++) {
+                    const double *vk = V + (size_t)k * m2;
+                    H[c][k][j] = h[c];
+                    for (i = c; i < m2; i += 2) w[i] -= h[c] * vk[i];
+                }
+            }
+            bp__dot2(w, w, n, h);
+            for (c = 0; c < 2; c++) {
+                double hn = sqrt(h[c]), t, r;
+                H[c][j + 1][j] = hn;
+                for (i = c; i < m2; i += 2) vn[i] = hn > 0 ? w[i] / hn : 0;
+                for (k = 0; k < j; k++) {                /* the earlier rotations */
+                    t = cs[c][k] * H[c][k][j] + sn[c][k] * H[c][k + 1][j];
+                    H[c][k + 1][j] = -sn[c][k] * H[c][k][j] + cs[c][k] * H[c][k + 1][j];
+                    H[c][k][j] = t;
+                }
+                r = sqrt(H[c][j][j] * H[c][j][j] + hn * hn);
+                cs[c][j] = r > 0 ? H[c][j][j] / r : 1;
+                sn[c][j] = r > 0 ? hn / r : 0;
+                H[c][j][j] = r;
+                H[c][j + 1][j] = 0;
+                g[c][j + 1] = -sn[c][j] * g[c][j];
+                g[c][j] = cs[c][j] * g[c][j];
+                if (!(g[c][j + 1] * g[c][j + 1] <= 0.01 * BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[c])) done = 0;
+            }
+            if (done) { j++; it++; break; }
+        }
+        memset(u, 0, m2 * sizeof(double));
+        for (c = 0; c < 2; c++) {                        /* y = H^-1 g, u = V y */
+            uint32_t q;
+            for (k = j; k-- > 0;) {
+                double t = g[c][k];
+                for (q = k + 1; q < j; q++) t -= H[c][k][q] * y[q];
+                y[k] = H[c][k][k] != 0 ? t / H[c][k][k] : 0;
+            }
+            for (k = 0; k < j; k++)
+                for (i = c; i < m2; i += 2) u[i] += y[k] * V[(size_t)k * m2 + i];
+        }
+        bp__krylov_apply(K, par, u, w, z);
+        for (i = 0; i < m2; i++) x[i] += w[i];
+    }
+    if (ok < 0 && bp__krylov_done(A, b, x, w ? w : x, rel) && w) ok = it;
+done:
+    bp__free(a, V);
+    bp__free(a, w);
+    bp__free(a, z);
+    return ok;
+}
+
+/* Phase 6a as a whole: M, its factor, the iteration; the solution in
+   T->sol (x then y).  Returns 1 when it converged, 0 when it did not (the
+   LU serves), -1 out of memory (reported as such: a failed allocation is
+   never hidden by the fallback). */
+static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *runner)
+{
+    bp__sparse M, As = T->A;
+    bp__factor K;
+    bp__par serial = bp__par_serial();
+    uint32_t bad, i, j, p, nfree = T->nfree;
+    double *b = NULL, *x = NULL, *dg = NULL, rel = 1;
+    int ok = 0, it = -1;
+    bp_status st;
+    memset(&K, 0, sizeof K);
+    memset(&M, 0, sizeof M);
+    T->krylov_iters = -1;
+    if (!BP__TUTTE_KRYLOV || T->A.symmetric) return 0;
+    b = (double *)bp__alloc_array(a, 2 * (size_t)nfree, sizeof(double));
+    x = (double *)bp__alloc_array(a, 2 * (size_t)nfree, sizeof(double));
+    dg = (double *)bp__alloc_array(a, nfree ? nfree : 1, sizeof(double));
+    As.val = (double *)bp__alloc_array(a, T->A.colp[nfree] ? T->A.colp[nfree] : 1, sizeof(double));
+    if (b && x && dg && As.val) {                     /* the rows over their diagonals */
+        for (j = 0; j < nfree; j++) dg[j] = 1;
+        for (j = 0; j < nfree; j++)
+            for (p = T->A.colp[j]; p < T->A.colp[j + 1]; p++)
+                if (T->A.row[p] == j && T->A.val[p] > 0) dg[j] = T->A.val[p];
+        for (j = 0; j < nfree; j++)
+            for (p = T->A.colp[j]; p < T->A.colp[j + 1]; p++) As.val[p] = T->A.val[p] / dg[T->A.row[p]];
+        for (i = 0; i < nfree; i++) { b[2 * (size_t)i] = T->rhs[i] / dg[i]; b[2 * (size_t)i + 1] = T->rhs[nfree + i] / dg[i]; }
+    }
+    if (!b || !x || !dg || !As.val || !bp__tutte_symmetric(a, &As, &M)) ok = -1;
+    else if ((st = bp__factorize(a, &M, &K, &bad, runner)) != BP_OK) ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0;
+    else if (!K.sn) ok = 0;                           /* (the scalar rows took over: not SPD) */
+    else if (!BP__KRYLOV_DOUBLE && (!bp__factor_single(a, &K) || !bp__solve_plan(a, &K))) ok = -1;
+    else {
+        it = BP__KRYLOV_GMRES ? bp__tutte_gmres(a, &As, &K, runner ? runner : &serial, b, x, &rel)
+                              : bp__tutte_bicgstab(a, &As, &K, runner ? runner : &serial, b, x, &rel);
+        if (it == -2) ok = -1;
+        if (it > 0) {
+            for (i = 0; i < nfree; i++) { T->sol[i] = x[2 * (size_t)i]; T->sol[nfree + i] = x[2 * (size_t)i + 1]; }
+            ok = 1;
+        }
+    }
+    T->krylov_iters = it;
+    T->krylov_rel = rel;
+    bp__factor_free(a, &K);
+    bp__free(a, M.colp); bp__free(a, M.row); bp__free(a, M.val);
+    bp__free(a, As.val);
+    bp__free(a, dg);
+    bp__free(a, b);
+    bp__free(a, x);
+    return ok;
+}
+
 /* Phase 6, factor and solve (with iterative refinement); the free
    vertices' uv from the solution.  BP_ERR_NUMERICAL names the vertex of a
    zero pivot. */
@@ -8079,8 +8506,16 @@ static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *
     bp__factor F;
     uint32_t bad = 0, i, nfree = T->nfree;
     bp_status st;
+    int k;
     memset(&F, 0, sizeof F);
-    st = bp__factorize(a, &T->A, &F, &bad, runner);
+    if (!T->A.symmetric && (k = bp__tutte_krylov(a, T, runner)) != 0) st = k > 0 ? BP_OK : BP_ERR_OUT_OF_MEMORY;
+    else {
+        st = bp__factorize(a, &T->A, &F, &bad, runner);
+        if (st == BP_OK) {
+            bp__solve_refined(&T->A, &F, T->rhs, T->sol, T->work);
+            bp__solve_refined(&T->A, &F, T->rhs + nfree, T->sol + nfree, T->work);
+        }
+    }
     if (st == BP_ERR_NUMERICAL) {
         uint32_t bv = 0;
         for (i = 0; i < T->nv; i++) if (T->idx[i] == bad) bv = ch->vertex[i];
@@ -8093,8 +8528,6 @@ static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *
         return bp__factor_too_large(err, BP__NONE, ch->num_triangles, "start-map system", nfree);
     }
     if (st != BP_OK) { bp__factor_free(a, &F); return bp__oom(err, "computing the start map"); }
-    bp__solve_refined(&T->A, &F, T->rhs, T->sol, T->work);
-    bp__solve_refined(&T->A, &F, T->rhs + nfree, T->sol + nfree, T->work);
     bp__factor_free(a, &F);
     for (i = 0; i < T->nv; i++)
         if (T->idx[i] != BP__NONE) {
@@ -10033,11 +10466,9 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
     K->symmetric = 1;
     if (!bp__sparse_from_triplets(a, S->nv, t, n, K)) { bp__free(a, t); return BP_ERR_OUT_OF_MEMORY; }
     bp__free(a, t);
+    K->super1 = BP__SUPER_SCALAR;
     st = bp__factorize(a, K, F, &bad, &S->par);
-    if (st == BP_OK) {
-        bp__factor_single(F);
-        if (!bp__solve_plan(a, F)) st = BP_ERR_OUT_OF_MEMORY;
-    }
+    if (st == BP_OK && (!bp__factor_single(a, F) || !bp__solve_plan(a, F))) st = BP_ERR_OUT_OF_MEMORY;
     return st;
 }
 

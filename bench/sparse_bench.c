@@ -2,7 +2,7 @@
    (>>sparse, >>newton; docs/performance.md sec 6.1).
 
    Build: cc -std=c99 -O2 -I. bench/sparse_bench.c -o build/bench/sparse_bench -lm -pthread
-   Usage: build/bench/sparse_bench MESH [repeats]
+   Usage: build/bench/sparse_bench MESH [repeats [laplacian | meanvalue]]
    Takes the mesh's largest chart at its start map, assembles projected
    Newton's matrix H (bp__newton_assemble) and reports, for the scalar
    up-looking LDL^T and the supernodal Cholesky: nnz(L), the flop count
@@ -11,7 +11,19 @@
    residual |H x - b| / |b|; for the supernodal factor also its flops by
    dissection phase and a two-thread bound (every task timed alone, the
    tasks of each parallel loop dealt in order to the less loaded of two
-   threads).  One thread. */
+   threads).  One thread.
+   With `laplacian` as the third argument (docs/performance.md sec 6.8):
+   the L-BFGS preconditioner's scalar Laplacian instead (bp__laplacian's K,
+   from the Tutte start, which is faster to reach on big charts), factored
+   by the scalar rows and by the supernodal Cholesky with blocks of 1
+   (K.super1): nnz(L), flops, analysis+numeric, numeric alone, the
+   conversion to the single-precision rows (bp__factor_single and the solve
+   plan) and one bp__precondition (both coordinates), all CPU seconds.
+   With `meanvalue`: the start map's mean-value system of the chart
+   (>>tutte phases 1-5) solved both ways: the LU by the scalar rows
+   (bp__factorize + bp__solve_refined per coordinate, the fallback) and
+   phase 6a (the symmetrized Laplacian's supernodal Cholesky and
+   BiCGSTAB, bp__tutte_krylov): CPU seconds, iterations, residuals. */
 #define _POSIX_C_SOURCE 199309L     /* clock_gettime */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
@@ -62,6 +74,114 @@ static double residual(const bp__sparse *A, const double *x, const double *b)
     return sqrt(rr / bb);
 }
 
+/* The mean-value section (see the top). */
+static int meanvalue(const bp_allocator *a, bp_chart *ch, const bp_mesh *mesh)
+{
+    bp__tutte T;
+    bp__factor F;
+    uint32_t n, bad, i;
+    double t0, t_lu, t_kr, diff = 0, big = 0, *keep;
+    memset(&T, 0, sizeof T);
+    if (!bp__tutte_fill(a, &T, ch, mesh) || !bp__tutte_adjacency(a, &T) || !bp__tutte_weights(a, &T, 1) ||
+        !bp__tutte_circle(a, &T, ch) || !bp__tutte_system(a, &T, ch, 1)) { fprintf(stderr, "system failed\n"); return 1; }
+    n = T.nfree;
+    keep = (double *)malloc(2 * sizeof(double) * n);
+    printf("mean-value system: %u faces, n = %u, nnz(A) = %u\n", ch->num_triangles, n, T.A.colp[n]);
+    t0 = cpu();
+    if (bp__tutte_krylov(a, &T, NULL) != 1) { fprintf(stderr, "krylov failed\n"); return 1; }
+    t_kr = cpu() - t0;
+    memcpy(keep, T.sol, 2 * sizeof(double) * n);
+    printf("krylov: %.3f s, %d iterations, relative residual %.2g\n", t_kr, T.krylov_iters, T.krylov_rel);
+    t0 = cpu();
+    if (bp__factorize(a, &T.A, &F, &bad, NULL) != BP_OK) { fprintf(stderr, "LU failed\n"); return 1; }
+    printf("LU: factor %.3f s, nnz(L) %u\n", cpu() - t0, F.Rp[n]);
+    bp__solve_refined(&T.A, &F, T.rhs, T.sol, T.work);
+    bp__solve_refined(&T.A, &F, T.rhs + n, T.sol + n, T.work);
+    t_lu = cpu() - t0;
+    for (i = 0; i < 2 * n; i++) {
+        if (fabs(T.sol[i] - keep[i]) > diff) diff = fabs(T.sol[i] - keep[i]);
+        if (fabs(T.sol[i]) > big) big = fabs(T.sol[i]);
+    }
+    printf("LU + refined solves: %.3f s; max |x_LU - x_krylov| %.2g of %.2g; LU / krylov %.2fx\n", t_lu, diff, big, t_lu / t_kr);
+    bp__factor_free(a, &F);
+    bp__tutte_free(a, &T);
+    free(keep);
+    return 0;
+}
+
+/* The Laplacian section (see the top). */
+static int laplacian(const bp_allocator *a, bp__solver *S, const bp_chart *ch, const bp_mesh *mesh, const bp_options *opt,
+                     int reps)
+{
+    double *rw = (double *)malloc(3 * sizeof(double) * ch->num_triangles), *q, *r, *z, t0, t[64];
+    uint32_t n, i, k, bad;
+    int sup, rr;
+    bp__sparse K;
+    bp__factor F;
+    bp_error err;
+    bp__solver_free(S);
+    if (bp__solver_chart(S, a, ch, mesh, opt, rw, &err) != BP_OK) { fprintf(stderr, "%s\n", err.message); return 1; }
+    memset(&K, 0, sizeof K);
+    memset(&F, 0, sizeof F);
+    if (bp__laplacian(a, S, rw, NULL, &K, &F) != BP_OK) { fprintf(stderr, "laplacian failed\n"); return 1; }
+    bp__factor_free(a, &F);
+    n = K.n;
+    q = (double *)malloc(2 * sizeof(double) * n);
+    r = (double *)malloc(2 * sizeof(double) * n);
+    z = (double *)malloc(4 * sizeof(double) * n);
+    for (i = 0; i < 2 * n; i++) q[i] = sin(1.0 + i);
+    printf("Laplacian: %u faces, n = %u, nnz(K) = %u\n", ch->num_triangles, n, K.colp[n]);
+    for (sup = 0; sup < 2; sup++) {
+        bp__par ser = bp__par_serial();
+        double flops = 0, nnzl = 0, t_an, t_single, res = 0, qq = 0;
+        uint32_t *cc = (uint32_t *)calloc(n, sizeof(uint32_t)), j, p;
+        K.super1 = sup;
+        t0 = cpu();
+        if (bp__factorize(a, &K, &F, &bad, NULL) != BP_OK || (sup && !F.sn)) { fprintf(stderr, "factorize failed\n"); return 1; }
+        t_an = cpu() - t0;
+        if (sup) {
+            const bp__super *SS = F.sn;
+            uint32_t s;
+            for (s = 0; s < SS->ns; s++) {
+                double c = SS->first[s + 1] - SS->first[s], m = SS->rp[s + 1] - SS->rp[s];
+                for (j = 0; j < c; j++) { nnzl += m - j; flops += (m - j) * (m - j); }
+            }
+            printf("  supernodes %u (mean %.2f vertices), stored doubles %zu\n", SS->ns, (double)SS->nv / SS->ns, SS->xp[SS->ns]);
+        } else {
+            for (k = 0; k < F.Rp[n]; k++) cc[F.Ri[k]]++;
+            for (j = 0; j < n; j++) flops += (double)(cc[j] + 1) * (cc[j] + 1);
+            nnzl = F.Rp[n] + n;
+        }
+        for (rr = 0; rr < reps; rr++) {
+            t0 = cpu();
+            bp__fact_numeric(a, &K, &F, NULL, &ser);
+            t[rr] = cpu() - t0;
+        }
+        qsort(t, reps, sizeof(double), cmpd);
+        t0 = cpu();
+        if (!bp__factor_single(a, &F) || !bp__solve_plan(a, &F)) { fprintf(stderr, "single failed\n"); return 1; }
+        t_single = cpu() - t0;
+        t0 = cpu();
+        bp__precondition(&F, &ser, q, r, z);
+        t0 = cpu() - t0;
+        for (i = 0; i < 2 * n; i++) z[i] = -q[i];
+        for (j = 0; j < n; j++)
+            for (p = K.colp[j]; p < K.colp[j + 1]; p++) {
+                z[2 * K.row[p]] += K.val[p] * r[2 * j];
+                z[2 * K.row[p] + 1] += K.val[p] * r[2 * j + 1];
+            }
+        for (i = 0; i < 2 * n; i++) { res += z[i] * z[i]; qq += q[i] * q[i]; }
+        printf("%s nnz(L) %10.0f  flops %.4g  analyse+factor %.3f s  numeric %.3f s  to single rows %.3f s  "
+               "precondition %.4f s  residual %.2g\n", sup ? "supernodal:" : "scalar:    ", nnzl, flops, t_an, t[reps / 2],
+               t_single, t0, sqrt(res / qq));
+        bp__factor_free(a, &F);
+        free(cc);
+    }
+    free(q); free(r); free(z); free(rw);
+    bp__sparse_free(a, &K);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     bp_mesh mesh;
@@ -84,12 +204,15 @@ int main(int argc, char **argv)
     }
     for (c = 1; c < atlas.num_charts; c++)
         if (atlas.charts[c].num_triangles > atlas.charts[best].num_triangles) best = c;
+    if (argc > 3 && (!strcmp(argv[3], "laplacian") || !strcmp(argv[3], "meanvalue"))) opt.init = BP_INIT_TUTTE;
     if (bp_chart_init(&atlas.charts[best], &mesh, &opt, &err) != BP_OK ||
         bp__solver_chart(&S, &a, &atlas.charts[best], &mesh, &opt, NULL, &err) != BP_OK ||
         bp__newton_init(&N, &a, &S) != BP_OK) {
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
+    if (argc > 3 && !strcmp(argv[3], "meanvalue")) return meanvalue(&a, &atlas.charts[best], &mesh);
+    if (argc > 3 && !strcmp(argv[3], "laplacian")) return laplacian(&a, &S, &atlas.charts[best], &mesh, &opt, reps);
     bp__newton_assemble(&N, &S, atlas.charts[best].uv);
     n = N.H.n;
     b = (double *)malloc(n * sizeof(double));

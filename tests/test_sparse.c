@@ -26,7 +26,14 @@
      (d) projected Newton's matrix on camel_b (the Tutte start, with a
          wide barrier so that its vertex pairs are in the pattern): the
          supernodal solve's residual, the scalar solve's solution to the
-         conditioning's rounding, and the same bits in reverse task order. */
+         conditioning's rounding, and the same bits in reverse task order;
+     (e) the same as (a), (b) and (c) for scalar SPD matrices (A->super1,
+         blocks of 1) on mesh-like grids: against the dense Cholesky by
+         brute force, residuals, the scalar rows' solution, the same bits
+         in other task orders; converted to the preconditioner's single-
+         precision rows, bp__precondition solves both coordinates as the
+         double factor does; an indefinite matrix falls back to the scalar
+         rows and is still solved. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -112,7 +119,7 @@ static double rel_diff(const double *x, const double *y, uint32_t n)
 static void check_against_dense(const bp__sparse *A, const bp__factor *F, const char *what)
 {
     const bp__super *S = F->sn;
-    uint32_t n = A->n, nv = n / 2, i, j, k, p, s, bad = 0, outside = 0, isperm = 1;
+    uint32_t bs = S->bs, n = A->n, nv = n / bs, i, j, k, p, s, bad = 0, outside = 0, isperm = 1;
     double *L = (double *)calloc((size_t)n * n, sizeof(double)), worst = 0, scale = 0;
     unsigned char *in = (unsigned char *)calloc((size_t)n * n, 1), *seen = (unsigned char *)calloc(nv, 1);
     /* the ordering */
@@ -129,7 +136,7 @@ static void check_against_dense(const bp__sparse *A, const bp__factor *F, const 
         if (!N->used || !N->split) continue;
         for (j = 0; j < n; j++)
             for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
-                uint32_t u = S->viperm[j / 2], w = S->viperm[A->row[p] / 2];
+                uint32_t u = S->viperm[j / bs], w = S->viperm[A->row[p] / bs];
                 if (u >= N->lo && u < N->a && w >= N->a && w < N->b) cross++;
             }
         if (cross) bad++;
@@ -138,7 +145,7 @@ static void check_against_dense(const bp__sparse *A, const bp__factor *F, const 
     /* dense P A P^T, then its Cholesky factor in place (lower) */
     for (j = 0; j < n; j++)
         for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
-            uint32_t r = 2 * S->viperm[A->row[p] / 2] + A->row[p] % 2, c = 2 * S->viperm[j / 2] + j % 2;
+            uint32_t r = bs * S->viperm[A->row[p] / bs] + A->row[p] % bs, c = bs * S->viperm[j / bs] + j % bs;
             L[(size_t)r * n + c] = A->val[p];
         }
     for (j = 0; j < n; j++) {
@@ -155,11 +162,11 @@ static void check_against_dense(const bp__sparse *A, const bp__factor *F, const 
     for (i = 0; i < n; i++) for (j = 0; j <= i; j++) if (fabs(L[(size_t)i * n + j]) > scale) scale = fabs(L[(size_t)i * n + j]);
     /* every stored entry against the dense one */
     for (s = 0; s < S->ns; s++) {
-        uint32_t c2 = 2 * (S->first[s + 1] - S->first[s]), m2 = 2 * (S->rp[s + 1] - S->rp[s]);
+        uint32_t c2 = bs * (S->first[s + 1] - S->first[s]), m2 = bs * (S->rp[s + 1] - S->rp[s]);
         const double *B = S->x + S->xp[s];
         for (i = 0; i < m2; i++)
             for (j = 0; j < c2; j++) {
-                uint32_t r = 2 * S->ri[S->rp[s] + i / 2] + i % 2, c = 2 * S->first[s] + j;
+                uint32_t r = bs * S->ri[S->rp[s] + i / bs] + i % bs, c = bs * S->first[s] + j;
                 double e;
                 if (r < c) continue;
                 in[(size_t)r * n + c] = 1;
@@ -234,6 +241,133 @@ static void test_random(void)
                   what, bad);
         bp__sparse_free(&al, &A);
         free(b); free(x); free(xs); free(z);
+    }
+}
+
+/* (e) A random scalar SPD matrix (A->super1) on the same grids: each
+   triangle adds R R^T (R 3x3 random) on its three vertices, `pairs`
+   random vertex pairs w w^T, 1e-3 on the diagonal. */
+static int random_scalar(uint32_t g, uint32_t pairs, bp__sparse *A)
+{
+    bp_allocator al;
+    uint32_t nv = g * g, i, j, t, k, l, r, ntri = 2 * (g - 1) * (g - 1);
+    size_t nt = 0;
+    bp__trip *tr = (bp__trip *)malloc((9 * (size_t)ntri + 4 * (size_t)pairs + nv) * sizeof *tr);
+    int ok;
+    memset(&al, 0, sizeof al);
+    memset(A, 0, sizeof *A);
+    for (i = 0; i + 1 < g; i++)
+        for (j = 0; j + 1 < g; j++)
+            for (t = 0; t < 2; t++) {
+                uint32_t v[3], a = i * g + j, b = a + 1, c = a + g, d = c + 1;
+                double R[9];
+                if (bpt_rng_unit() < 0.5) { v[0] = a; v[1] = t ? d : b; v[2] = t ? c : d; }
+                else { v[0] = t ? b : a; v[1] = t ? d : b; v[2] = c; }
+                for (k = 0; k < 9; k++) R[k] = bpt_rng_range(-1, 1);
+                for (k = 0; k < 3; k++)
+                    for (l = 0; l < 3; l++) {
+                        double s = 0;
+                        for (r = 0; r < 3; r++) s += R[3 * k + r] * R[3 * l + r];
+                        tr[nt].i = v[k]; tr[nt].j = v[l]; tr[nt++].v = s;
+                    }
+            }
+    for (k = 0; k < pairs; k++) {
+        uint32_t u = (uint32_t)(bpt_rng_unit() * nv) % nv, w = (uint32_t)(bpt_rng_unit() * nv) % nv;
+        double x0 = bpt_rng_range(-1, 1), x1 = bpt_rng_range(-1, 1);
+        if (u == w) continue;
+        tr[nt].i = u; tr[nt].j = u; tr[nt++].v = x0 * x0;
+        tr[nt].i = w; tr[nt].j = w; tr[nt++].v = x1 * x1;
+        tr[nt].i = u; tr[nt].j = w; tr[nt++].v = x0 * x1;
+        tr[nt].i = w; tr[nt].j = u; tr[nt++].v = x0 * x1;
+    }
+    for (k = 0; k < nv; k++) { tr[nt].i = tr[nt].j = k; tr[nt++].v = 1e-3; }
+    A->symmetric = 1;
+    A->super1 = 1;
+    ok = bp__sparse_from_triplets(&al, nv, tr, nt, A);
+    free(tr);
+    return ok;
+}
+
+/* (e): the scalar supernodal factor (blocks of 1) as (a), (b) and (c),
+   and its single-precision rows for the preconditioner. */
+static void test_scalar(void)
+{
+    static const uint32_t G[] = { 3, 7, 10, 13, 64 };
+    static const uint32_t PAIRS[] = { 0, 3, 10, 30, 40 };
+    bp_allocator al;
+    int c;
+    memset(&al, 0, sizeof al);
+    for (c = 0; c < 5; c++) {
+        bp__sparse A;
+        bp__factor F, Fs, Fr;
+        uint32_t n, i, bad;
+        double *b, *x, *xs, *z, *q2, *r2, err = 0, big = 0;
+        char what[80];
+        bp__par rev = bp__par_serial(), oe = bp__par_serial();
+        rev.run = bpt_backwards_for;
+        oe.run = bpt_odd_even_for;
+        sprintf(what, "scalar grid %ux%u + %u pairs", G[c], G[c], PAIRS[c]);
+        if (!BPT_CHECK(random_scalar(G[c], PAIRS[c], &A), "%s: built", what)) return;
+        n = A.n;
+        b = (double *)malloc(n * sizeof(double)); x = (double *)malloc(n * sizeof(double));
+        xs = (double *)malloc(n * sizeof(double)); z = (double *)malloc(4 * n * sizeof(double));
+        q2 = (double *)malloc(2 * n * sizeof(double)); r2 = (double *)malloc(2 * n * sizeof(double));
+        for (i = 0; i < n; i++) b[i] = bpt_rng_range(-1, 1);
+        if (!BPT_CHECK(bp__factorize(&al, &A, &F, &bad, NULL) == BP_OK && F.sn && F.sn->bs == 1,
+                       "%s: supernodal factorization with blocks of 1", what)) return;
+        if (G[c] <= 13) check_against_dense(&A, &F, what);
+        else {
+            uint32_t s, big16 = 0;
+            for (s = 0; s < F.sn->ns; s++) if (F.sn->first[s + 1] - F.sn->first[s] >= 16) big16++;
+            BPT_CHECK(big16 > 0, "%s: %u supernodes of 16 vertices or more (cut into pieces)", what, big16);
+        }
+        bp__factor_solve(&F, b, x, z);
+        BPT_CHECK(rel_residual(&A, x, b) < 1e-10, "%s: |A x - b| / |b| = %.3g", what, rel_residual(&A, x, b));
+        A.super1 = 0;
+        BPT_CHECK(bp__factorize(&al, &A, &Fs, &bad, NULL) == BP_OK && !Fs.sn, "%s: scalar rows", what);
+        bp__factor_solve(&Fs, b, xs, z);
+        BPT_CHECK(rel_diff(x, xs, n) < 1e-9, "%s: supernodal and scalar-row solutions agree, rel. diff %.3g", what,
+                  rel_diff(x, xs, n));
+        bp__factor_free(&al, &Fs);
+        A.super1 = 1;
+        if (BPT_CHECK(bp__factorize(&al, &A, &Fr, &bad, &rev) == BP_OK && Fr.sn, "%s: factorization, tasks backwards", what)) {
+            int same = memcmp(F.sn->x, Fr.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)) == 0 &&
+                       memcmp(F.D, Fr.D, n * sizeof(double)) == 0;
+            BPT_CHECK(same, "%s: tasks run backwards give the same bits", what);
+            memset(Fr.sn->x, 0, Fr.sn->xp[Fr.sn->ns] * sizeof(double));
+            bp__fact_numeric(&al, &A, &Fr, NULL, &oe);
+            same = memcmp(F.sn->x, Fr.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)) == 0;
+            BPT_CHECK(same, "%s: refactored in odd-even task order: the same bits", what);
+            bp__factor_free(&al, &Fr);
+        }
+        /* the preconditioner's form: single-precision rows, both
+           coordinates (the second one b reversed) against the double solve */
+        for (i = 0; i < n; i++) { q2[2 * i] = b[i]; q2[2 * i + 1] = b[n - 1 - i]; }
+        for (i = 0; i < n; i++) xs[i] = b[n - 1 - i];
+        bp__factor_solve(&F, xs, xs, z + n);
+        if (BPT_CHECK(bp__factor_single(&al, &F) && !F.sn && bp__solve_plan(&al, &F), "%s: converted to single rows", what)) {
+            bp__precondition(&F, &oe, q2, r2, z);
+            for (i = 0; i < n; i++) {
+                if (fabs(r2[2 * i] - x[i]) > err) err = fabs(r2[2 * i] - x[i]);
+                if (fabs(r2[2 * i + 1] - xs[i]) > err) err = fabs(r2[2 * i + 1] - xs[i]);
+                if (fabs(x[i]) > big) big = fabs(x[i]);
+                if (fabs(xs[i]) > big) big = fabs(xs[i]);
+            }
+            BPT_CHECK(err < 1e-3 * big, "%s: the single-precision rows solve both coordinates as the double factor "
+                      "(max diff %.2g of %.2g)", what, err, big);
+        }
+        bp__factor_free(&al, &F);
+        /* (c) not positive definite: the scalar rows (LDL^T) take over */
+        A.val[bp__sparse_find(&A, n / 2, n / 2)] = -1e3;
+        if (BPT_CHECK(bp__factorize(&al, &A, &F, &bad, NULL) == BP_OK && !F.sn,
+                      "%s: an indefinite matrix falls back to the scalar rows", what)) {
+            bp__factor_solve(&F, b, x, z);
+            BPT_CHECK(rel_residual(&A, x, b) < 1e-8, "%s: ... and is solved, |A x - b| / |b| = %.3g", what,
+                      rel_residual(&A, x, b));
+            bp__factor_free(&al, &F);
+        }
+        bp__sparse_free(&al, &A);
+        free(b); free(x); free(xs); free(z); free(q2); free(r2);
     }
 }
 
@@ -338,6 +472,7 @@ static void test_newton_matrix(void)
 int main(void)
 {
     test_random();
+    test_scalar();
     test_fallback();
     test_newton_matrix();
     return bpt_finish();
