@@ -8712,7 +8712,13 @@ static double bp__triangle_energy(bp_energy kind, const bp__rest *r, const doubl
    g_3 = (0, m11), g_1 = -g_2 - g_3: the rows of M^-1 read as in >>energy),
        d^2 E_t / dU_k,alpha dU_l,beta = weight sum_pq g_k[p] H4(2 alpha + p, 2 beta + q) g_l[q],
    a congruence, so a positive semidefinite H4 gives a positive
-   semidefinite 6x6 block. */
+   semidefinite 6x6 block.  It is computed by 2x2 blocks (docs/
+   performance.md sec 6.9): with B_ab the block H4(2a + p, 2b + q) and
+   G = [g_2 g_3], the corners 2 and 3 take M_ab = G^T B_ab G, and corner 1
+   follows from g_1 = -g_2 - g_3 by linearity (its rows and columns are
+   minus the sums of the others'); M_ba = M_ab^T since H4 is symmetric, so
+   three 2x2 congruences make all 36 entries (~60 multiplications instead
+   of 288). */
 
 /* Second partials (f_aa, f_ab, f_bb) and the twist and flip eigenvalues of
    one energy at (sa, sb) = (s_max, s_min), given its partials fa, fb. */
@@ -8788,12 +8794,12 @@ static int bp__hessian_j(bp_energy kind, const double J[4], int project, double 
         m[3][k] = -c2 * d1 + c1 * d2;        /* eigenvector of l2 */
     }
     lam[2] = l1; lam[3] = l2;
-    for (i = 0; i < 4; i++)
-        for (j = 0; j < 4; j++) {
+    for (k = 0; k < 4; k++) if (project && !(lam[k] > 0)) lam[k] = 0;
+    for (i = 0; i < 4; i++)                  /* symmetric: the upper triangle, mirrored */
+        for (j = i; j < 4; j++) {
             double s = 0;
-            for (k = 0; k < 4; k++)
-                if (!project || lam[k] > 0) s += lam[k] * m[k][i] * m[k][j];
-            h4[4 * i + j] = s;
+            for (k = 0; k < 4; k++) s += lam[k] * m[k][i] * m[k][j];
+            h4[4 * i + j] = h4[4 * j + i] = s;
         }
     return 1;
 }
@@ -8805,23 +8811,29 @@ static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double 
                                 const double *u3, int project, double h6[36])
 {
     double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
-    double J[4], h4[16], gk[3][2];
-    int k, l, al, be, p, q;
+    double J[4], h4[16], w = r->weight;
+    int k, l, al, be;
     J[0] = d00 * r->m00; J[1] = d00 * r->m01 + d01 * r->m11;
     J[2] = d10 * r->m00; J[3] = d10 * r->m01 + d11 * r->m11;
     if (!bp__hessian_j(kind, J, project, h4)) return 0;
-    gk[1][0] = r->m00; gk[1][1] = r->m01;
-    gk[2][0] = 0;      gk[2][1] = r->m11;
-    gk[0][0] = -r->m00; gk[0][1] = -r->m01 - r->m11;
-    for (k = 0; k < 3; k++)
-        for (al = 0; al < 2; al++)
-            for (l = 0; l < 3; l++)
-                for (be = 0; be < 2; be++) {
-                    double s = 0;
-                    for (p = 0; p < 2; p++)
-                        for (q = 0; q < 2; q++) s += gk[k][p] * h4[4 * (2 * al + p) + 2 * be + q] * gk[l][q];
-                    h6[6 * (2 * k + al) + 2 * l + be] = r->weight * s;
+    for (al = 0; al < 2; al++)
+        for (be = al; be < 2; be++) {
+            const double *b0 = h4 + 4 * (2 * al) + 2 * be, *b1 = b0 + 4;   /* rows p = 0, 1 of B_ab */
+            double c[2][2], M[3][3];
+            /* c = B_ab G (g_2 = (m00, m01), g_3 = (0, m11)), then M = G^T c */
+            c[0][0] = b0[0] * r->m00 + b0[1] * r->m01; c[0][1] = b0[1] * r->m11;
+            c[1][0] = b1[0] * r->m00 + b1[1] * r->m01; c[1][1] = b1[1] * r->m11;
+            M[1][1] = r->m00 * c[0][0] + r->m01 * c[1][0]; M[1][2] = r->m00 * c[0][1] + r->m01 * c[1][1];
+            M[2][1] = r->m11 * c[1][0];                    M[2][2] = r->m11 * c[1][1];
+            M[0][1] = -M[1][1] - M[2][1]; M[0][2] = -M[1][2] - M[2][2];      /* corner 1: g_1 = -g_2 - g_3 */
+            M[1][0] = -M[1][1] - M[1][2]; M[2][0] = -M[2][1] - M[2][2];
+            M[0][0] = -M[0][1] - M[0][2];
+            for (k = 0; k < 3; k++)
+                for (l = 0; l < 3; l++) {
+                    h6[6 * (2 * k + al) + 2 * l + be] = w * M[k][l];
+                    h6[6 * (2 * l + be) + 2 * k + al] = w * M[k][l];     /* (M_ba = M_ab^T) */
                 }
+        }
     return 1;
 }
 
