@@ -9082,6 +9082,7 @@ typedef struct bp__solver {
     uint32_t   nchunk_t, nchunk_v, nchunk_b;
     bp__vec   *rec;                /* barrier records per edge chunk          */
     int        oom;                /* a task could not grow its records       */
+    int        bclip;              /* the last step bound was the boundary's  */
     bp__dedge *edges;              /* the loops' edges, for the exact check   */
     uint32_t  *hcnt;               /* per-task bucket counts of the swept hash */
     uint32_t   conflicts;          /* boundary conflicts found by that check  */
@@ -9776,6 +9777,7 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
     T.S = S;
     T.x = x;
     T.dir = v;
+    S->bclip = 0;
     S->par.run(S->par.user, bp__step_tri_task, &T, S->nchunk_t);
     for (c = 0; c < S->nchunk_t; c++) if (S->part[c] < tmax) tmax = S->part[c];
     if (tmax > tcap) tmax = tcap;
@@ -9793,6 +9795,7 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
     T.tmax = tmax;
     bp__par_run(&S->par, bp__step_edge_task, &T, S->nchunk_b, S->nb);
     for (c = 0; c < S->nchunk_b; c++) if (S->part_b[c] < tmax) tmax = S->part_b[c];
+    S->bclip = tmax < T.tmax;             /* (>>newton: the model's wider barrier) */
     return tmax;
 }
 
@@ -10276,6 +10279,27 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
         the pair gives its diagonal blocks.  Every term is positive
         semidefinite either way.
 
+   A wider barrier in the model (docs/performance.md sec 6.9).  The
+   barrier is 0 beyond eps, so the model cannot see two parts of the
+   boundary that are further apart than eps: a full Newton step runs a
+   boundary vertex through an edge, the step bound clips it to 0.9 of the
+   collision, and the next iterations creep (horse_cut, whose cut's two
+   sides lie side by side: 22 of its first 29 steps clipped by the
+   boundary; hilbert: 220 of 243).  So after a step clipped by the
+   boundary's step bound (bp__step_bound sets S->bclip), and for the
+   first direction, the matrix takes the Gauss-Newton terms of the
+   barrier of width em = BP__NEWTON_WIDE eps = 3 eps, f''(d; em) w w^T
+   for every pair closer than em (their couplings are in the pattern
+   already: those within 3 eps grow it), in place of width eps's.  The
+   energy, the gradient, the step bound and the checks are untouched:
+   only the matrix changes, by a positive semidefinite term (f''(d; e) =
+   2 e (3 e - 2 d) / d^4 grows with e for d < e), so the direction is
+   still one of descent; it is a proxy, not Newton's, and so only used
+   while the boundary clips (always: hilbert needs 770 iterations instead
+   of 185 to SCAF's energy, the extra stiffness near the minimum slowing
+   the end).  Measured (one thread, CPU to SCAF's E x 1.001): horse_cut
+   29 -> 20 iterations, hilbert 185 -> 157; the others within one.
+
    The system is the 2nv x 2nv matrix with the mesh Laplacian's pattern in
    2x2 blocks (x and y of a vertex interleaved, as in the map), plus the
    barrier's couplings.  Its pattern is built once per chart (and again
@@ -10314,6 +10338,9 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
 #ifndef BP__NEWTON_BARRIER
 #define BP__NEWTON_BARRIER 3
 #endif
+#ifndef BP__NEWTON_WIDE
+#define BP__NEWTON_WIDE 3.0       /* the model's barrier width after a boundary clip, in eps (1: off) */
+#endif
 #ifndef BP__NEWTON_CG_MAX
 #define BP__NEWTON_CG_MAX 30
 #endif
@@ -10342,6 +10369,8 @@ typedef struct bp__newton {
     int        since_grow;        /* directions since the pattern grew       */
     int        reused, cut;       /* consecutive reuses of F; the last line
                                      search had to shrink its first step     */
+    int        wide;              /* the last step was clipped by the boundary
+                                     step bound: the model's barrier is wider */
     long       nfact, nreuse, ncg, ntry; /* factorizations, directions from a
                                      reused factor, CG steps, reuse attempts
                                      (counts for tests and measurements)     */
@@ -10452,6 +10481,7 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
 {
     uint32_t n = 2 * S->nv;
     memset(N, 0, sizeof *N);
+    N->wide = 1;                      /* the first direction: as after a boundary clip */
     N->extra.elem = 2 * sizeof(uint32_t);
     N->pairs.elem = sizeof(bp__bpair);
     N->near.elem = sizeof(bp__bpair);
@@ -10519,6 +10549,7 @@ typedef struct bp__bhess_query {
     double *bd;
     bp__vec *pairs, *near;      /* pairs within eps; within 3 eps (mode 3) */
     int oom;
+    double em;                  /* the model's barrier width (>= eps)     */
     uint32_t s0, n, i;
 } bp__bhess_query;
 
@@ -10546,9 +10577,9 @@ static void bp__barrier_hess_visit(void *user, uint32_t k)
         nb.v[0] = vv[0]; nb.v[1] = vv[1]; nb.v[2] = vv[2];
         if (!bp__vec_push(S->a, Q->near, &nb)) Q->oom = 1;
     }
-    if (!(d < S->eps) || !(d > 0)) return;
-    r = S->eps / d - 1;
-    f2 = 2 * S->eps * S->eps / (d * d * d * d) + 4 * r * S->eps / (d * d * d);   /* f''(d) */
+    if (!(d < Q->em) || !(d > 0)) return;
+    r = Q->em / d - 1;
+    f2 = 2 * Q->em * Q->em / (d * d * d * d) + 4 * r * Q->em / (d * d * d);   /* f''(d) of width em */
     nx = dx / d; ny = dy / d;
     cc[0] = 1; cc[1] = -(1 - sp); cc[2] = -sp;
     {
@@ -10583,6 +10614,8 @@ static void bp__newton_barrier(bp__newton *N, bp__solver *S, const double *x)
     Q.near = BP__NEWTON_BARRIER == 3 ? &N->near : NULL;
     N->near.count = 0;
     Q.oom = 0;
+    Q.em = N->wide ? BP__NEWTON_WIDE * S->eps : S->eps;
+    if (Q.em > rad) rad = Q.em;
     for (e = 0; e < S->nb; e++) {
         uint32_t L = S->bl_loop[e];
         const double *p, *q;
@@ -10645,18 +10678,23 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
         size_t q;
         for (q = 0; q < N->pairs.count; q++) {
             double c[3], nn[2];
+            uint32_t pos[3][3];                /* block (v_i, v_j): its (2 v_i, 2 v_j) entry */
             int i, j, al, be, full = 1;       /* all couplings in the pattern, else only the blocks */
             c[0] = 1; c[1] = -(1 - pr[q].s); c[2] = -pr[q].s;
             nn[0] = pr[q].nx; nn[1] = pr[q].ny;
             for (i = 0; i < 3; i++)
-                for (j = i + 1; j < 3; j++)
-                    if (bp__sparse_has(&N->H, 2 * pr[q].v[i], 2 * pr[q].v[j]) == BP__NONE) full = 0;
+                for (j = 0; j < 3; j++) {
+                    pos[i][j] = i == j ? N->dpos[4 * (size_t)pr[q].v[i]] : bp__sparse_has(&N->H, 2 * pr[q].v[i], 2 * pr[q].v[j]);
+                    if (pos[i][j] == BP__NONE) full = 0;
+                }
             for (i = 0; i < 3; i++)
-                for (j = 0; j < 3; j++)
-                    for (al = 0; al < 2 && (full || i == j); al++)
+                for (j = 0; j < 3; j++) {
+                    uint32_t col = 2 * pr[q].v[j], len = N->H.colp[col + 1] - N->H.colp[col];
+                    if (!full && i != j) continue;
+                    for (al = 0; al < 2; al++)    /* entry (2 v_i + al, 2 v_j + be): al + be len further */
                         for (be = 0; be < 2; be++)
-                            N->H.val[bp__sparse_find(&N->H, 2 * pr[q].v[i] + al, 2 * pr[q].v[j] + be)] +=
-                                pr[q].f2 * c[i] * c[j] * nn[al] * nn[be];
+                            N->H.val[pos[i][j] + al + be * len] += pr[q].f2 * c[i] * c[j] * nn[al] * nn[be];
+                }
         }
     }
     for (v = 0; v < S->nv; v++) {
@@ -11236,6 +11274,7 @@ static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, doubl
            step behaved as the quadratic model said (>>newton) */
         P->N.cut = !(tries == 0 && tt == 1 && f - *fn >= -0.5 * BP__NEWTON_REUSE_RHO * gv &&
                      f - *fn <= -0.5 * gv / BP__NEWTON_REUSE_RHO && f - *fn <= BP__NEWTON_REUSE_DF * fabs(f));
+        P->N.wide = tries == 0 && tt < 1 && P->S.bclip;   /* clipped by the boundary (>>newton) */
         if (P->nd && tries == 0 && tt == 1 && BP__NEWTON_EXTEND) return bp__opt_extend(P, f, gv, t, fn, edn);
         return 1;
     }
