@@ -10286,19 +10286,22 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
    collision, and the next iterations creep (horse_cut, whose cut's two
    sides lie side by side: 22 of its first 29 steps clipped by the
    boundary; hilbert: 220 of 243).  So after a step clipped by the
-   boundary's step bound (bp__step_bound sets S->bclip), and for the
-   first direction, the matrix takes the Gauss-Newton terms of the
-   barrier of width em = BP__NEWTON_WIDE eps = 3 eps, f''(d; em) w w^T
-   for every pair closer than em (their couplings are in the pattern
-   already: those within 3 eps grow it), in place of width eps's.  The
+   boundary's step bound (bp__step_bound sets S->bclip) the matrix takes
+   the Gauss-Newton terms of the barrier of width em = BP__NEWTON_WIDE
+   eps = 3 eps, f''(d; em) w w^T for every pair closer than em (their
+   couplings are in the pattern already: those within 3 eps grow it; a
+   width above 3 eps would give the pairs beyond only their diagonal
+   blocks), in place of width eps's.  The
    energy, the gradient, the step bound and the checks are untouched:
    only the matrix changes, by a positive semidefinite term (f''(d; e) =
    2 e (3 e - 2 d) / d^4 grows with e for d < e), so the direction is
    still one of descent; it is a proxy, not Newton's, and so only used
    while the boundary clips (always: hilbert needs 770 iterations instead
    of 185 to SCAF's energy, the extra stiffness near the minimum slowing
-   the end).  Measured (one thread, CPU to SCAF's E x 1.001): horse_cut
-   29 -> 20 iterations, hilbert 185 -> 157; the others within one.
+   the end; and from the first direction on, beetle's first steps go
+   worse).  Measured (one thread, CPU to SCAF's E x 1.001): horse_cut
+   29 -> 23 iterations, hilbert 185 -> 162; bimba, face and camelhead
+   the same iterations.
 
    The system is the 2nv x 2nv matrix with the mesh Laplacian's pattern in
    2x2 blocks (x and y of a vertex interleaved, as in the map), plus the
@@ -10481,7 +10484,6 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
 {
     uint32_t n = 2 * S->nv;
     memset(N, 0, sizeof *N);
-    N->wide = 1;                      /* the first direction: as after a boundary clip */
     N->extra.elem = 2 * sizeof(uint32_t);
     N->pairs.elem = sizeof(bp__bpair);
     N->near.elem = sizeof(bp__bpair);
