@@ -9144,7 +9144,13 @@ static double bp__triangle_energy(bp_energy kind, const bp__rest *r, const doubl
    g_3 = (0, m11), g_1 = -g_2 - g_3: the rows of M^-1 read as in >>energy),
        d^2 E_t / dU_k,alpha dU_l,beta = weight sum_pq g_k[p] H4(2 alpha + p, 2 beta + q) g_l[q],
    a congruence, so a positive semidefinite H4 gives a positive
-   semidefinite 6x6 block. */
+   semidefinite 6x6 block.  It is computed by 2x2 blocks (docs/
+   performance.md sec 6.9): with B_ab the block H4(2a + p, 2b + q) and
+   G = [g_2 g_3], the corners 2 and 3 take M_ab = G^T B_ab G, and corner 1
+   follows from g_1 = -g_2 - g_3 by linearity (its rows and columns are
+   minus the sums of the others'); M_ba = M_ab^T since H4 is symmetric, so
+   three 2x2 congruences make all 36 entries (~60 multiplications instead
+   of 288). */
 
 /* Second partials (f_aa, f_ab, f_bb) and the twist and flip eigenvalues of
    one energy at (sa, sb) = (s_max, s_min), given its partials fa, fb. */
@@ -9220,12 +9226,12 @@ static int bp__hessian_j(bp_energy kind, const double J[4], int project, double 
         m[3][k] = -c2 * d1 + c1 * d2;        /* eigenvector of l2 */
     }
     lam[2] = l1; lam[3] = l2;
-    for (i = 0; i < 4; i++)
-        for (j = 0; j < 4; j++) {
+    for (k = 0; k < 4; k++) if (project && !(lam[k] > 0)) lam[k] = 0;
+    for (i = 0; i < 4; i++)                  /* symmetric: the upper triangle, mirrored */
+        for (j = i; j < 4; j++) {
             double s = 0;
-            for (k = 0; k < 4; k++)
-                if (!project || lam[k] > 0) s += lam[k] * m[k][i] * m[k][j];
-            h4[4 * i + j] = s;
+            for (k = 0; k < 4; k++) s += lam[k] * m[k][i] * m[k][j];
+            h4[4 * i + j] = h4[4 * j + i] = s;
         }
     return 1;
 }
@@ -9237,23 +9243,29 @@ static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double 
                                 const double *u3, int project, double h6[36])
 {
     double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
-    double J[4], h4[16], gk[3][2];
-    int k, l, al, be, p, q;
+    double J[4], h4[16], w = r->weight;
+    int k, l, al, be;
     J[0] = d00 * r->m00; J[1] = d00 * r->m01 + d01 * r->m11;
     J[2] = d10 * r->m00; J[3] = d10 * r->m01 + d11 * r->m11;
     if (!bp__hessian_j(kind, J, project, h4)) return 0;
-    gk[1][0] = r->m00; gk[1][1] = r->m01;
-    gk[2][0] = 0;      gk[2][1] = r->m11;
-    gk[0][0] = -r->m00; gk[0][1] = -r->m01 - r->m11;
-    for (k = 0; k < 3; k++)
-        for (al = 0; al < 2; al++)
-            for (l = 0; l < 3; l++)
-                for (be = 0; be < 2; be++) {
-                    double s = 0;
-                    for (p = 0; p < 2; p++)
-                        for (q = 0; q < 2; q++) s += gk[k][p] * h4[4 * (2 * al + p) + 2 * be + q] * gk[l][q];
-                    h6[6 * (2 * k + al) + 2 * l + be] = r->weight * s;
+    for (al = 0; al < 2; al++)
+        for (be = al; be < 2; be++) {
+            const double *b0 = h4 + 4 * (2 * al) + 2 * be, *b1 = b0 + 4;   /* rows p = 0, 1 of B_ab */
+            double c[2][2], M[3][3];
+            /* c = B_ab G (g_2 = (m00, m01), g_3 = (0, m11)), then M = G^T c */
+            c[0][0] = b0[0] * r->m00 + b0[1] * r->m01; c[0][1] = b0[1] * r->m11;
+            c[1][0] = b1[0] * r->m00 + b1[1] * r->m01; c[1][1] = b1[1] * r->m11;
+            M[1][1] = r->m00 * c[0][0] + r->m01 * c[1][0]; M[1][2] = r->m00 * c[0][1] + r->m01 * c[1][1];
+            M[2][1] = r->m11 * c[1][0];                    M[2][2] = r->m11 * c[1][1];
+            M[0][1] = -M[1][1] - M[2][1]; M[0][2] = -M[1][2] - M[2][2];      /* corner 1: g_1 = -g_2 - g_3 */
+            M[1][0] = -M[1][1] - M[1][2]; M[2][0] = -M[2][1] - M[2][2];
+            M[0][0] = -M[0][1] - M[0][2];
+            for (k = 0; k < 3; k++)
+                for (l = 0; l < 3; l++) {
+                    h6[6 * (2 * k + al) + 2 * l + be] = w * M[k][l];
+                    h6[6 * (2 * l + be) + 2 * k + al] = w * M[k][l];     /* (M_ba = M_ab^T) */
                 }
+        }
     return 1;
 }
 
@@ -9502,6 +9514,7 @@ typedef struct bp__solver {
     uint32_t   nchunk_t, nchunk_v, nchunk_b;
     bp__vec   *rec;                /* barrier records per edge chunk          */
     int        oom;                /* a task could not grow its records       */
+    int        bclip;              /* the last step bound was the boundary's  */
     bp__dedge *edges;              /* the loops' edges, for the exact check   */
     uint32_t  *hcnt;               /* per-task bucket counts of the swept hash */
     uint32_t   conflicts;          /* boundary conflicts found by that check  */
@@ -10321,6 +10334,7 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
     T.S = S;
     T.x = x;
     T.dir = v;
+    S->bclip = 0;
     S->par.run(S->par.user, bp__step_tri_task, &T, S->nchunk_t);
     for (c = 0; c < S->nchunk_t; c++) if (S->part[c] < tmax) tmax = S->part[c];
     if (tmax > tcap) tmax = tcap;
@@ -10338,6 +10352,7 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
     T.tmax = tmax;
     bp__par_run(&S->par, bp__step_edge_task, &T, S->nchunk_b, S->nb);
     for (c = 0; c < S->nchunk_b; c++) if (S->part_b[c] < tmax) tmax = S->part_b[c];
+    S->bclip = tmax < T.tmax;             /* (>>newton: the model's wider barrier) */
     return tmax;
 }
 
@@ -10821,6 +10836,30 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
         the pair gives its diagonal blocks.  Every term is positive
         semidefinite either way.
 
+   A wider barrier in the model (docs/performance.md sec 6.9).  The
+   barrier is 0 beyond eps, so the model cannot see two parts of the
+   boundary that are further apart than eps: a full Newton step runs a
+   boundary vertex through an edge, the step bound clips it to 0.9 of the
+   collision, and the next iterations creep (horse_cut, whose cut's two
+   sides lie side by side: 22 of its first 29 steps clipped by the
+   boundary; hilbert: 220 of 243).  So after a step clipped by the
+   boundary's step bound (bp__step_bound sets S->bclip) the matrix takes
+   the Gauss-Newton terms of the barrier of width em = BP__NEWTON_WIDE
+   eps = 3 eps, f''(d; em) w w^T for every pair closer than em (their
+   couplings are in the pattern already: those within 3 eps grow it; a
+   width above 3 eps would give the pairs beyond only their diagonal
+   blocks), in place of width eps's.  The
+   energy, the gradient, the step bound and the checks are untouched:
+   only the matrix changes, by a positive semidefinite term (f''(d; e) =
+   2 e (3 e - 2 d) / d^4 grows with e for d < e), so the direction is
+   still one of descent; it is a proxy, not Newton's, and so only used
+   while the boundary clips (always: hilbert needs 770 iterations instead
+   of 185 to SCAF's energy, the extra stiffness near the minimum slowing
+   the end; and from the first direction on, beetle's first steps go
+   worse).  Measured (one thread, CPU to SCAF's E x 1.001): horse_cut
+   29 -> 23 iterations, hilbert 185 -> 162; bimba, face and camelhead
+   the same iterations.
+
    The system is the 2nv x 2nv matrix with the mesh Laplacian's pattern in
    2x2 blocks (x and y of a vertex interleaved, as in the map), plus the
    barrier's couplings.  Its pattern is built once per chart (and again
@@ -10861,6 +10900,9 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
 #ifndef BP__BARRIER_FULL
 #define BP__BARRIER_FULL 1            /* 0: the Gauss-Newton part only (measurements) */
 #endif
+#ifndef BP__NEWTON_WIDE
+#define BP__NEWTON_WIDE 3.0       /* the model's barrier width after a boundary clip, in eps (1: off) */
+#endif
 #ifndef BP__NEWTON_CG_MAX
 #define BP__NEWTON_CG_MAX 30
 #endif
@@ -10890,6 +10932,8 @@ typedef struct bp__newton {
     int        since_grow;        /* directions since the pattern grew       */
     int        reused, cut;       /* consecutive reuses of F; the last line
                                      search had to shrink its first step     */
+    int        wide;              /* the last step was clipped by the boundary
+                                     step bound: the model's barrier is wider */
     long       nfact, nreuse, ncg, ntry; /* factorizations, directions from a
                                      reused factor, CG steps, reuse attempts
                                      (counts for tests and measurements)     */
@@ -11067,6 +11111,7 @@ typedef struct bp__bhess_query {
     double *bd;
     bp__vec *pairs, *near;      /* pairs within eps; within 3 eps (mode 3) */
     int oom;
+    double em;                  /* the model's barrier width (>= eps)     */
     uint32_t s0, n, i;
 } bp__bhess_query;
 
@@ -11093,16 +11138,16 @@ static void bp__barrier_hess_visit(void *user, uint32_t k)
         nb.v[0] = vv[0]; nb.v[1] = vv[1]; nb.v[2] = vv[2];
         if (!bp__vec_push(S->a, Q->near, &nb)) Q->oom = 1;
     }
-    if (!(d < S->eps) || !(d > 0)) return;
-    r = S->eps / d - 1;
-    f2 = 2 * S->eps * S->eps / (d * d * d * d) + 4 * r * S->eps / (d * d * d);   /* f''(d) */
+    if (!(d < Q->em) || !(d > 0)) return;
+    r = Q->em / d - 1;
+    f2 = 2 * Q->em * Q->em / (d * d * d * d) + 4 * r * Q->em / (d * d * d);   /* f''(d) of width em */
     nx = dx / d; ny = dy / d;
     cc[0] = 1; cc[1] = -(1 - sp); cc[2] = -sp;
     {
         bp__bpair bp;
         bp.v[0] = vv[0]; bp.v[1] = vv[1]; bp.v[2] = vv[2];
         bp.s = sp; bp.nx = nx; bp.ny = ny; bp.f2 = f2;
-        if (!BP__BARRIER_FULL || !bp__barrier_pair_hessian(P, A, B, S->eps, 1, bp.K)) {
+        if (!BP__BARRIER_FULL || !bp__barrier_pair_hessian(P, A, B, Q->em, 1, bp.K)) {
             int a_, b_;
             for (a_ = 0; a_ < 6; a_++)
                 for (b_ = 0; b_ < 6; b_++)
@@ -11136,6 +11181,8 @@ static void bp__newton_barrier(bp__newton *N, bp__solver *S, const double *x)
     Q.near = BP__NEWTON_BARRIER == 3 ? &N->near : NULL;
     N->near.count = 0;
     Q.oom = 0;
+    Q.em = N->wide ? BP__NEWTON_WIDE * S->eps : S->eps;
+    if (Q.em > rad) rad = Q.em;
     for (e = 0; e < S->nb; e++) {
         uint32_t L = S->bl_loop[e];
         const double *p, *q;
@@ -11197,16 +11244,22 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
         const bp__bpair *pr = (const bp__bpair *)N->pairs.data;
         size_t q;
         for (q = 0; q < N->pairs.count; q++) {
+            uint32_t pos[3][3];                /* block (v_i, v_j): its (2 v_i, 2 v_j) entry */
             int i, j, al, be, full = 1;       /* all couplings in the pattern, else only the blocks */
             for (i = 0; i < 3; i++)
-                for (j = i + 1; j < 3; j++)
-                    if (bp__sparse_has(&N->H, 2 * pr[q].v[i], 2 * pr[q].v[j]) == BP__NONE) full = 0;
+                for (j = 0; j < 3; j++) {
+                    pos[i][j] = i == j ? N->dpos[4 * (size_t)pr[q].v[i]] : bp__sparse_has(&N->H, 2 * pr[q].v[i], 2 * pr[q].v[j]);
+                    if (pos[i][j] == BP__NONE) full = 0;
+                }
             for (i = 0; i < 3; i++)
-                for (j = 0; j < 3; j++)
-                    for (al = 0; al < 2 && (full || i == j); al++)
+                for (j = 0; j < 3; j++) {
+                    uint32_t col = 2 * pr[q].v[j], len = N->H.colp[col + 1] - N->H.colp[col];
+                    if (!full && i != j) continue;
+                    for (al = 0; al < 2; al++)    /* entry (2 v_i + al, 2 v_j + be): al + be len further */
                         for (be = 0; be < 2; be++)
-                            N->H.val[bp__sparse_find(&N->H, 2 * pr[q].v[i] + al, 2 * pr[q].v[j] + be)] +=
+                            N->H.val[pos[i][j] + al + be * len] +=
                                 pr[q].K[6 * (2 * i + al) + 2 * j + be];   /* >>barrier: f'' c c n n^T, or whole */
+                }
         }
     }
     for (v = 0; v < S->nv; v++) {
@@ -11787,6 +11840,7 @@ static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, doubl
            step behaved as the quadratic model said (>>newton) */
         P->N.cut = !(tries == 0 && tt == 1 && f - *fn >= -0.5 * BP__NEWTON_REUSE_RHO * gv &&
                      f - *fn <= -0.5 * gv / BP__NEWTON_REUSE_RHO && f - *fn <= BP__NEWTON_REUSE_DF * fabs(f));
+        P->N.wide = tries == 0 && tt < 1 && P->S.bclip;   /* clipped by the boundary (>>newton) */
         if (P->nd && tries == 0 && tt == 1 && BP__NEWTON_EXTEND) return bp__opt_extend(P, f, gv, t, fn, edn);
         return 1;
     }

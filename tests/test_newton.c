@@ -49,7 +49,12 @@
          reuse (the last step was the full step and decreased f by 1/2 to 2
          times the model's prediction and by at most a tenth) CG converges
          within 10% of that minimum.  The plain gradient direction scaled to its best length
-         is shown far worse, so the bound can fail. */
+         is shown far worse, so the bound can fail;
+     (i) the model's wider barrier after a boundary clip: the assembled
+         matrix with it minus the one without equals, along random w, the
+         brute-force sum of the wider barrier's Gauss-Newton terms (second
+         derivatives by finite differences), so it is positive
+         semidefinite, and it is not 0. */
 /* every loop through the job system, even on these small charts (as in
    test_threads.c), so that (e)'s reversed task order is a real test */
 #define BP__PAR_MIN_TRIANGLES 1u
@@ -581,6 +586,115 @@ static void test_default_choice(const char *path)
     bp_mesh_free(&mesh, NULL);
 }
 
+/* (i) the model's wider barrier (>>newton, docs/performance.md sec 6.9):
+   after a step clipped by the boundary's step bound, the matrix takes the
+   Gauss-Newton terms of a barrier of width em = BP__NEWTON_WIDE eps.  On
+   camel_b (eps = one mean edge, so that many pairs lie within 3 eps), the
+   matrix assembled with it minus the one without, along random w, must be
+       sum over the pairs (f''(d; em) - f''(d; eps)) (sum_j c_j n.w_j)^2
+   plus the change of the shift delta I, f''(d; e) of f = (e/d - 1)^2 taken
+   by central differences here (0 beyond e), every boundary vertex / edge
+   pair of a loop enumerated by brute force (no hash), c = 1, -(1 - s), -s
+   on the vertex and the edge's ends, n the unit direction from the
+   edge's closest point.  Hence also: the difference is positive
+   semidefinite (the direction stays a descent direction), and it is not 0. */
+static double fd_f2(double d, double e)
+{
+    double h = 1e-4 * d, f0, fp, fm;
+    if (!(d < e)) return 0;
+    f0 = (e / d - 1) * (e / d - 1);
+    fp = d + h < e ? (e / (d + h) - 1) * (e / (d + h) - 1) : 0;
+    fm = (e / (d - h) - 1) * (e / (d - h) - 1);
+    return (fp - 2 * f0 + fm) / (h * h);
+}
+
+static void test_wide_barrier(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options o;
+    bp_allocator a;
+    bp__solver S;
+    bp__newton N;
+    uint32_t nv2, i, e, k, p, j;
+    double *x, *g, *hn, ed, worst = 0, tn = 0, tw = 0;
+    int trial, npairs = 0, nbeyond = 0, neg = 0, nonzero = 0;
+    memset(&o, 0, sizeof o);
+    memset(&a, 0, sizeof a);
+    if (!bpt_one_chart("tests/data/camel_b.obj", &mesh, &atlas, &o, 1)) return;
+    nv2 = 2 * atlas.charts[0].num_vertices;
+    x = (double *)malloc(nv2 * sizeof(double)); g = (double *)malloc(nv2 * sizeof(double));
+    if (BPT_CHECK(bp__solver_chart(&S, &a, &atlas.charts[0], &mesh, &o, NULL, &err) == BP_OK, "solver for camel_b") &&
+        BPT_CHECK(bp__newton_init(&N, &a, &S) == BP_OK, "Newton set-up")) {
+        double em;
+        S.eps = S.mean_edge;
+        em = BP__NEWTON_WIDE * S.eps;
+        memcpy(x, atlas.charts[0].uv, nv2 * sizeof(double));
+        bp__objective(&S, x, g, &ed);
+        N.wide = 0;
+        bp__newton_assemble(&N, &S, x);               /* grows the pattern by every pair within 3 eps */
+        hn = (double *)malloc((size_t)N.H.colp[N.H.n] * sizeof(double));
+        memcpy(hn, N.H.val, (size_t)N.H.colp[N.H.n] * sizeof(double));
+        for (i = 0; i < S.nv; i++) tn += hn[N.dpos[4 * i]] + hn[N.dpos[4 * i + 3]];
+        N.wide = 1;
+        bp__newton_assemble(&N, &S, x);
+        for (i = 0; i < S.nv; i++) tw += N.H.val[N.dpos[4 * i]] + N.H.val[N.dpos[4 * i + 3]];
+        BPT_CHECK(N.H.colp[N.H.n] > 0 && N.H.n == nv2, "camel_b: the same pattern with and without the wider barrier");
+        for (trial = 0; trial < 20; trial++) {
+            double *wv = (double *)malloc(nv2 * sizeof(double)), got = 0, want = 0, ww = 0, dn, dw;
+            for (i = 0; i < nv2; i++) { wv[i] = bpt_rng_range(-1, 1); ww += wv[i] * wv[i]; }
+            for (j = 0; j < nv2; j++)
+                for (p = N.H.colp[j]; p < N.H.colp[j + 1]; p++) got += wv[N.H.row[p]] * (N.H.val[p] - hn[p]) * wv[j];
+            /* the shifts: delta = 1e-8 trace / n of the matrix before the shift */
+            dn = 1e-8 * (tn / (1 + 1e-8)) / nv2;
+            dw = 1e-8 * (tw / (1 + 1e-8)) / nv2;
+            want = (dw - dn) * ww;
+            for (e = 0; e < S.nb; e++) {
+                uint32_t L = S.bl_loop[e], s0 = S.loop_start[L], n = S.loop_start[L + 1] - s0, ii = e - s0, i1 = (ii + 1) % n;
+                const double *A = x + 2 * (size_t)S.loop_vertices[e], *B = x + 2 * (size_t)S.loop_vertices[s0 + i1];
+                for (k = 0; k < n; k++) {
+                    const double *P;
+                    double ex, ey, len2, sp, dx, dy, d, c[3], t;
+                    uint32_t vv[3];
+                    if (k == ii || k == i1) continue;
+                    vv[0] = S.loop_vertices[s0 + k]; vv[1] = S.loop_vertices[e]; vv[2] = S.loop_vertices[s0 + i1];
+                    P = x + 2 * (size_t)vv[0];
+                    ex = B[0] - A[0]; ey = B[1] - A[1];
+                    len2 = ex * ex + ey * ey;
+                    sp = len2 > 0 ? ((P[0] - A[0]) * ex + (P[1] - A[1]) * ey) / len2 : 0;
+                    if (sp < 0) sp = 0;
+                    if (sp > 1) sp = 1;
+                    dx = P[0] - (A[0] + sp * ex); dy = P[1] - (A[1] + sp * ey);
+                    d = sqrt(dx * dx + dy * dy);
+                    if (!(d < em) || !(d > 0)) continue;
+                    if (trial == 0) { npairs++; nbeyond += d >= S.eps; }
+                    c[0] = 1; c[1] = -(1 - sp); c[2] = -sp;
+                    t = 0;
+                    for (j = 0; j < 3; j++) t += c[j] * (dx / d * wv[2 * vv[j]] + dy / d * wv[2 * vv[j] + 1]);
+                    want += (fd_f2(d, em) - fd_f2(d, S.eps)) * t * t;
+                }
+            }
+            if (fabs(got - want) / fabs(want) > worst) worst = fabs(got - want) / fabs(want);
+            neg += got < 0;
+            nonzero += got > 0;
+            free(wv);
+        }
+        BPT_CHECK(nbeyond > 0 && npairs > nbeyond, "camel_b, eps = 1 mean edge: %d pairs within %g eps, %d of them "
+                  "beyond eps", npairs, (double)BP__NEWTON_WIDE, nbeyond);
+        BPT_CHECK(worst < 1e-5, "camel_b: w.(H_wide - H) w == the brute-force sum of the wider barrier's terms by "
+                  "finite differences, 20 random w (max relative error %.3g)", worst);
+        BPT_CHECK(neg == 0 && nonzero == 20, "camel_b: the wider barrier adds a positive semidefinite, nonzero term "
+                  "(%d of 20 w negative, %d positive)", neg, nonzero);
+        free(hn);
+        bp__newton_free(&a, &N);
+        bp__solver_free(&S);
+    }
+    free(x); free(g);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+}
+
 int main(void)
 {
     bpt_rng_state = 0x9E3779B97F4A7C15ull;
@@ -591,6 +705,7 @@ int main(void)
     test_pinned_direction();
     test_longer_steps();
     test_reuse();
+    test_wide_barrier();
     test_default_choice("tests/data/camel_b.obj");
     test_default_choice("tests/data/camelhead.off");
     test_default_choice("../shared/meshes/lucy_o_f48275.obj");
