@@ -597,7 +597,13 @@ static void test_default_choice(const char *path)
    pair of a loop enumerated by brute force (no hash), c = 1, -(1 - s), -s
    on the vertex and the edge's ends, n the unit direction from the
    edge's closest point.  Hence also: the difference is positive
-   semidefinite (the direction stays a descent direction), and it is not 0. */
+   semidefinite (the direction stays a descent direction), and it is not 0.
+   (A pair whose closest point is inside its edge gets its whole Hessian,
+   projected, in the matrix (>>barrier, bp__barrier_pair_hessian, checked
+   against second differences by tests/test_stepbound.c (d)); the pairs
+   this test finds within 3 eps of one mean edge all meet their edge at an
+   end, where the whole Hessian's projection is the Gauss-Newton term, so
+   the brute-force sum above is the whole expected difference.) */
 static double fd_f2(double d, double e)
 {
     double h = 1e-4 * d, f0, fp, fm;
