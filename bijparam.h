@@ -8407,6 +8407,14 @@ static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const b
 static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m);
 static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                        bp_error *err);
+struct bp__opt;
+static int bp__start_scale(struct bp__opt *P, double *f, double *ed);
+#ifndef BP__START_SCALE
+#define BP__START_SCALE 1                /* 0: never enlarge a crushed start (>>start, 4) */
+#endif
+#ifndef BP__START_SCALE_E0
+#define BP__START_SCALE_E0 1e9           /* mean start energy that counts as crushed */
+#endif
 
 /* The pins' part of a start map: the three necessary conditions, the fit
    (Tutte starts only) and the homotopy. */
@@ -11427,6 +11435,7 @@ static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, cons
         goto done;
     }
     ch->energy_start = ed / P.S.nt;
+    if (BP__START_SCALE && bp__start_scale(&P, &f, &ed) < 0) { st = bp__oom(err, "evaluating the barrier"); goto done; }
     ch->stop = BP_STOP_MAX_ITERATIONS;
     for (it = 0; it < P.o.max_iterations; it++) {
         double gv = bp__opt_direction(&P), tt = 0, fn = HUGE_VAL, edn = HUGE_VAL;
@@ -12838,6 +12847,45 @@ done:
     bp__free(&P.a, wxy);
     bp__opt_free(&P);
     return st;
+}
+
+/* 4. A crushed start, enlarged (beyond the dissertation; issue 15, lucy).
+   A start whose mean energy is astronomical (lucy's mean-value map:
+   1.2e15) has whole protrusions crushed to slivers: the symmetric
+   Dirichlet terms 1/s^2 of their singular values s dominate it, while the
+   rest of the chart sits near scale 1.  Enlarging the whole map by c
+   divides the crushed terms by c^2 and multiplies the others by c^2, so
+   the energy-optimal c is about (E0 / 2)^(1/4), lucy's ~5000.  That
+   optimum is the wrong target (measured: 287 iterations to SCAF's energy
+   against 77 unscaled, the body then shrinks back by steps clipped at
+   t ~ 0.01); the geometric middle between it and 1, c ~ E0^(1/8), took
+   65 of them (c = 10 ... 100 all between 65 and 69; 300: 83; 1000: 122;
+   docs/performance.md 6.11).  The scale is a power of two,
+   c = 2^round(log2(E0) / 8): multiplying by it is exact in floating point,
+   so every orientation and every boundary predicate keeps its exact sign
+   and the map stays bijective; it is checked again anyway (bp__evaluate),
+   and kept only if it passes and lowers the energy.  Only Newton charts
+   (>>optimize's rule) whose start exceeds BP__START_SCALE_E0 and that hold
+   no pins are enlarged (the others' maps are left bit for bit as before):
+   the energy is scale-aware, so the result is the same kind of minimum.
+   Returns k (0: not scaled), -1 when out of memory. */
+static int bp__start_scale(bp__opt *P, double *f, double *ed)
+{
+    double e0 = *ed / P->S.nt, c, fs, eds;
+    uint32_t i;
+    int k, valid;
+    if (!P->newton || P->nheld || P->pen || !(e0 > BP__START_SCALE_E0) || !(e0 < HUGE_VAL)) return 0;
+    k = (int)floor(log(e0) / log(2.0) / 8 + 0.5);
+    if (k <= 0) return 0;
+    c = ldexp(1.0, k);
+    for (i = 0; i < P->nv2; i++) P->xn[i] = c * P->x[i];
+    fs = bp__evaluate(&P->S, P->xn, P->gn, &eds, *f, &valid);
+    if (P->S.oom) return -1;
+    if (!(fs < *f) || !valid) return 0;
+    { double *tp = P->x; P->x = P->xn; P->xn = tp; tp = P->g; P->g = P->gn; P->gn = tp; }
+    *f = fs;
+    *ed = eds;
+    return k;
 }
 
 /* (q - p) x (r - p) */
