@@ -12865,16 +12865,19 @@ done:
    so every orientation and every boundary predicate keeps its exact sign
    and the map stays bijective; it is checked again anyway (bp__evaluate),
    and kept only if it passes and lowers the energy.  Only Newton charts
-   (>>optimize's rule) whose start exceeds BP__START_SCALE_E0 and that hold
-   no pins are enlarged (the others' maps are left bit for bit as before):
-   the energy is scale-aware, so the result is the same kind of minimum.
+   (>>optimize's rule) with the symmetric Dirichlet energy (the one
+   measured; conformal and MIPS do not see the scale at all) whose start
+   exceeds BP__START_SCALE_E0 and that hold no pins are enlarged (the
+   others' maps are left bit for bit as before); the energy has one
+   minimum scale, so the result is the same kind of minimum.
    Returns k (0: not scaled), -1 when out of memory. */
 static int bp__start_scale(bp__opt *P, double *f, double *ed)
 {
     double e0 = *ed / P->S.nt, c, fs, eds;
     uint32_t i;
     int k, valid;
-    if (!P->newton || P->nheld || P->pen || !(e0 > BP__START_SCALE_E0) || !(e0 < HUGE_VAL)) return 0;
+    if (!P->newton || P->nheld || P->pen || P->S.energy != BP_ENERGY_SYMMETRIC_DIRICHLET ||
+        !(e0 > BP__START_SCALE_E0) || !(e0 < HUGE_VAL)) return 0;
     k = (int)floor(log(e0) / log(2.0) / 8 + 0.5);
     if (k <= 0) return 0;
     c = ldexp(1.0, k);
