@@ -33,6 +33,9 @@
 #                     energy x 1.001 per --direction, one thread (~10 min of
 #                     CPU on an idle machine, far more on a busy one; not in
 #                     bench)
+#   make bench-threads bench/threads.py: 1 against 2 threads on face, bimba
+#                     and the 132K and 1M subdivided charts, idle then busy
+#                     (~4 min; not in bench)
 #   make clean        remove build/
 #
 # Every program includes bijparam.h, so every program depends on it.
@@ -70,7 +73,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-start clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-start bench-threads clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -188,6 +191,12 @@ bench-atlas: $(TOOL)
 # for SCAF_DIRECTIONS (default "precond newton"); docs/performance.md 6.2
 bench-scaf: $(TOOL)
 	python3 bench/scaf_ratio.py
+
+# issue 15's thread target: wall time with 1 and 2 threads above 50K faces,
+# on the machine as it is, then with two spinning processes beside it
+bench-threads: $(TOOL)
+	python3 bench/threads.py 3 idle
+	python3 bench/threads.py 3 busy face,bimba,n4_132K
 
 clean:
 	rm -rf $(BUILD)

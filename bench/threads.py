@@ -1,0 +1,94 @@
+#!/usr/bin/env python3
+"""bench/threads.py - two threads against one on the large charts (issue 15:
+"2 threads at least 1.7x faster than 1 on charts above 50K faces on an idle
+machine, and never slower on a busy one"; docs/performance.md 6.12).
+
+    python3 bench/threads.py [RUNS] [idle|busy] [MESHES]
+
+For face (51,712 F, Newton by default), bimba (89,215 F, Newton),
+face_holes subdivided 4 x 4 (132,608 F, L-BFGS) and 11 x 11 (1,002,848 F,
+one run only) it runs
+
+    TOOL CHART -o OUT --json --threads T -q        T = 1, 2 alternated
+
+RUNS times (default 3) and prints one JSON line per run (wall and CPU
+seconds of the process, iterations, final energy, bytes per face, the
+tool's exact verdict, the load average) and one Markdown row per chart:
+median wall 1 thread, 2 threads, their ratio, median CPU 1 / 2 threads,
+iterations, bytes per face, and whether both outputs are the same bytes.
+"busy" starts two processes that spin on the two cores for the whole
+run. MESHES: a comma-separated subset of face,bimba,n4_132K,n11_1M.
+TOOL (environment) defaults to build/bijparam. Never asserts times.
+"""
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+MESHDIR = os.path.join(ROOT, "..", "shared", "meshes")
+OUT = os.path.join(ROOT, "build", "bench", "threads")
+TOOL = os.environ.get("TOOL") or os.path.join(ROOT, "build", "bijparam")
+
+
+def subdivided(n):
+    path = os.path.join(ROOT, "build", "bench", "scale", "face_holes_n%d.obj" % n)
+    if not os.path.exists(path):
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        subprocess.check_call([sys.executable, os.path.join(ROOT, "bench", "subdivide.py"),
+                               os.path.join(MESHDIR, "face_holes.off"), str(n), path])
+    return path
+
+
+def run(path, name, T):
+    out = os.path.join(OUT, "%s_%d.obj" % (name, T))
+    r0, t0 = resource.getrusage(resource.RUSAGE_CHILDREN), time.time()
+    p = subprocess.run([TOOL, path, "-o", out, "--json", "--threads", str(T), "-q"],
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    wall, r1 = time.time() - t0, resource.getrusage(resource.RUSAGE_CHILDREN)
+    rep = json.loads(p.stdout.decode().strip().splitlines()[-1])
+    pc = rep["per_chart"]
+    return {"mesh": name, "T": T, "wall": wall, "cpu": r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime,
+            "iters": sum(c["iterations"] for c in pc), "E": pc[0]["energy_end"], "bpf": rep.get("bytes_per_face"),
+            "exact": all(not c["flipped"] and not c["degenerate"] and not c["boundary_intersections"] for c in pc),
+            "load": os.getloadavg()[0]}
+
+
+def main():
+    runs = int(sys.argv[1]) if len(sys.argv) > 1 else 3
+    busy = len(sys.argv) > 2 and sys.argv[2] == "busy"
+    meshes = [("face", lambda: os.path.join(MESHDIR, "face.obj"), runs),
+              ("bimba", lambda: os.path.join(MESHDIR, "bimba_i.obj"), runs),
+              ("n4_132K", lambda: subdivided(4), runs), ("n11_1M", lambda: subdivided(11), 1)]
+    if len(sys.argv) > 3:
+        meshes = [m for m in meshes if m[0] in sys.argv[3].split(",")]
+    os.makedirs(OUT, exist_ok=True)
+    hogs = [subprocess.Popen(["sh", "-c", "while :; do :; done"]) for _ in range(2)] if busy else []
+    rows = []
+    try:
+        for name, path_of, R in meshes:
+            path, res = path_of(), {1: [], 2: []}
+            for _ in range(R):
+                for T in (1, 2):
+                    r = run(path, name, T)
+                    r["busy"] = busy
+                    res[T].append(r)
+                    print(json.dumps(r), flush=True)
+            w1, w2 = (statistics.median(x["wall"] for x in res[T]) for T in (1, 2))
+            c1, c2 = (statistics.median(x["cpu"] for x in res[T]) for T in (1, 2))
+            same = subprocess.run(["cmp", "-s"] + [os.path.join(OUT, "%s_%d.obj" % (name, T)) for T in (1, 2)]).returncode == 0
+            rows.append("| %s | %.2f | %.2f | %.2f | %.2f / %.2f | %d | %.0f | %s |" % (
+                name, w1, w2, w1 / w2, c1, c2, res[1][0]["iters"], res[2][0]["bpf"] or 0, "yes" if same else "NO"))
+    finally:
+        for h in hogs:
+            h.kill()
+    print("\n| chart | wall 1 thread | wall 2 threads | speed-up | CPU 1 / 2 | iters | B/face | same bytes |")
+    print("|---|---:|---:|---:|---|---:|---:|---|")
+    print("\n".join(rows))
+
+
+if __name__ == "__main__":
+    main()
