@@ -5469,6 +5469,10 @@ typedef struct bp__super {
     uint32_t *up, *uk, *uo;       /* ns+1; up[ns]; up[ns]                   */
     uint32_t  ntask, maxcols;     /* work arrays: tasks of a phase, bs max |cols| */
     uint32_t  maxrows;            /* ... and max |rows|                     */
+    uint32_t *amap;               /* bs 2: per entry p of A, its row of its
+                                     supernode's block (BP__NONE above the
+                                     supernode), or NULL                   */
+    int       amap_ok;            /* amap filled (by the first numeric)    */
 } bp__super;
 
 static void bp__super_free(const bp_allocator *a, bp__super *S)
@@ -5476,7 +5480,7 @@ static void bp__super_free(const bp_allocator *a, bp__super *S)
     if (!S) return;
     bp__free(a, S->vperm); bp__free(a, S->viperm); bp__free(a, S->first); bp__free(a, S->snode);
     bp__free(a, S->rp); bp__free(a, S->ri); bp__free(a, S->xp); bp__free(a, S->x);
-    bp__free(a, S->up); bp__free(a, S->uk); bp__free(a, S->uo);
+    bp__free(a, S->up); bp__free(a, S->uk); bp__free(a, S->uo); bp__free(a, S->amap);
     bp__free(a, S);
 }
 
@@ -6478,22 +6482,40 @@ static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv)
 }
 
 /* Supernode s's column vertices [v0, v1) set to A's values: zero, then
-   A(R, v) placed (its row in s found by a binary search of s's sorted
-   rows). */
+   A(R, v) placed: entry p of A, in row vertex u = viperm[row / bs], goes
+   to the row r of s's sorted rows with rows[r] = u (none when u < first[s]:
+   the upper triangle), and into B's row bs r + row % bs.  Finding r is a
+   binary search of s's rows; Newton refactors the same pattern at every
+   factorized iteration, so for bs 2 the first numeric factorization also
+   writes B's row (or BP__NONE) to the scatter map amap[p] (one word per
+   entry of A; every p belongs to one column, so to one task: no races),
+   and the later ones read it: no search, no division.  The same place
+   either way, so the same bits. */
 static void bp__super_start(const bp__sparse *A, const bp__super *S, uint32_t s, uint32_t v0, uint32_t v1)
 {
     uint32_t bs = S->bs, f = S->first[s], c2 = bs * (S->first[s + 1] - f), m = S->rp[s + 1] - S->rp[s], i, v, p, b, col;
     const uint32_t *rows = S->ri + S->rp[s];
+    uint32_t *amap = S->amap;
     double *B = S->x + S->xp[s];
     for (i = 0; i < bs * m; i++) memset(B + (size_t)i * c2 + bs * (v0 - f), 0, (size_t)bs * (v1 - v0) * sizeof(double));
     for (v = v0; v < v1; v++)
-        for (b = 0; b < bs; b++)
-            for (col = bs * S->vperm[v] + b, p = A->colp[col]; p < A->colp[col + 1]; p++) {
+        for (b = 0; b < bs; b++) {
+            col = bs * S->vperm[v] + b;
+            if (amap && S->amap_ok) {
+                double *Bc = B + bs * (v - f) + b;
+                for (p = A->colp[col]; p < A->colp[col + 1]; p++)
+                    if (amap[p] != BP__NONE) Bc[(size_t)amap[p] * c2] = A->val[p];
+                continue;
+            }
+            for (p = A->colp[col]; p < A->colp[col + 1]; p++) {
                 uint32_t u = S->viperm[A->row[p] / bs], r;
+                if (amap) amap[p] = BP__NONE;
                 if (u < f) continue;
                 r = bp__lower_bound(rows, 0, m, u);
+                if (amap) amap[p] = bs * r + A->row[p] % bs;
                 B[((size_t)bs * r + A->row[p] % bs) * c2 + bs * (v - f) + b] = A->val[p];
             }
+        }
 }
 
 /* Supernode s from its update q0 on (the earlier ones done), then the
@@ -6692,8 +6714,13 @@ static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A,
     if (F->sn && F->D) F->sn->bs = bs;
     if (F->sn && F->D && (st = bp__super_analyse(a, &G, F)) == BP_OK) {
         st = BP_ERR_OUT_OF_MEMORY;
-        if (bp__super_numeric(a, A, F, par ? par : &serial)) {
+        /* the scatter map for the refactorizations (bp__super_start; its
+           rows 2 r + 1 < BP__NONE, else the binary searches stay) */
+        int want = bs == 2 && F->sn->maxrows < 0x7fffffffu;
+        if (want) F->sn->amap = (uint32_t *)bp__alloc_array(a, (size_t)A->colp[A->n] + 1, sizeof(uint32_t));
+        if ((!want || F->sn->amap) && bp__super_numeric(a, A, F, par ? par : &serial)) {
             st = BP_OK;
+            F->sn->amap_ok = F->sn->amap != NULL;
             for (k = 0; k < A->n && st == BP_OK; k++)
                 if (!(F->D[k] > 0) || !(F->D[k] < HUGE_VAL)) {
                     *bad_row = bs * F->sn->vperm[k / bs] + k % bs;

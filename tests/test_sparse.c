@@ -33,7 +33,14 @@
          in other task orders; converted to the preconditioner's single-
          precision rows, bp__precondition solves both coordinates as the
          double factor does; an indefinite matrix falls back to the scalar
-         rows and is still solved. */
+         rows and is still solved;
+     (f) the scatter map of the refactorizations (bp__super_start, blocks
+         of 2): every entry of A maps to the row of its supernode's block
+         found by a linear scan (BP__NONE above the supernode's first
+         vertex); a
+         refactorization through the map of new values on the same
+         pattern solves the new matrix (residual) and gives the same bits
+         as a fresh factorization of those values (binary searches). */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -184,6 +191,56 @@ static void check_against_dense(const bp__sparse *A, const bp__factor *F, const 
     free(L); free(in); free(seen);
 }
 
+/* (f) the scatter map against a linear scan of each supernode's rows, then
+   new values on the same pattern (each entry scaled by 1 + 0.3 r, r in
+   [-1, 1] symmetric, and the diagonal raised: still SPD) refactored
+   through the map: the residual of the new matrix, and the same bits as a
+   fresh analysis and factorization of the new values. */
+static void check_scatter_map(bp__sparse *A, bp__factor *F, const double *b, const char *what)
+{
+    const bp__super *S = F->sn;
+    uint32_t s, v, c, p, bad, wrong = 0, n = A->n;
+    double *old = (double *)malloc(A->colp[n] * sizeof(double)), *x = (double *)malloc(n * sizeof(double)),
+           *z = (double *)malloc(n * sizeof(double));
+    bp__factor Ff;
+    bp_allocator al;
+    bp__par ser = bp__par_serial();
+    memset(&al, 0, sizeof al);
+    if (!BPT_CHECK(S->amap && S->amap_ok, "%s: the scatter map is built", what)) { free(old); free(x); free(z); return; }
+    for (s = 0; s < S->ns; s++)
+        for (v = S->first[s]; v < S->first[s + 1]; v++)
+            for (c = 2 * S->vperm[v]; c < 2 * S->vperm[v] + 2; c++)
+                for (p = A->colp[c]; p < A->colp[c + 1]; p++) {
+                    uint32_t u = S->viperm[A->row[p] / 2], r, want = BP__NONE;
+                    if (u >= S->first[s])
+                        for (r = 0; r < S->rp[s + 1] - S->rp[s]; r++)
+                            if (S->ri[S->rp[s] + r] == u) want = 2 * r + A->row[p] % 2;
+                    if (S->amap[p] != want) wrong++;
+                }
+    BPT_CHECK(wrong == 0, "%s: every entry's scatter map row is the linear scan's (%u wrong)", what, wrong);
+    memcpy(old, A->val, A->colp[n] * sizeof(double));
+    for (c = 0; c < n; c++)
+        for (p = A->colp[c]; p < A->colp[c + 1]; p++)
+            if (A->row[p] < c) {
+                double f = 1 + 0.3 * bpt_rng_range(-1, 1);
+                A->val[p] *= f;
+                A->val[bp__sparse_find(A, c, A->row[p])] *= f;
+            } else if (A->row[p] == c) A->val[p] = 1.5 * A->val[p] + 1;
+    if (BPT_CHECK(bp__fact_numeric(&al, A, F, NULL, &ser), "%s: refactored through the map", what)) {
+        bp__factor_solve(F, b, x, z);
+        BPT_CHECK(rel_residual(A, x, b) < 1e-10, "%s: new values through the map: |A x - b| / |b| = %.3g", what,
+                  rel_residual(A, x, b));
+        if (BPT_CHECK(bp__factorize(&al, A, &Ff, &bad, NULL) == BP_OK && Ff.sn, "%s: new values factored afresh", what)) {
+            int same = Ff.sn->xp[Ff.sn->ns] == S->xp[S->ns] &&
+                       memcmp(Ff.sn->x, S->x, S->xp[S->ns] * sizeof(double)) == 0 && memcmp(Ff.D, F->D, n * sizeof(double)) == 0;
+            BPT_CHECK(same, "%s: through the map and afresh: the same bits", what);
+            bp__factor_free(&al, &Ff);
+        }
+    }
+    memcpy(A->val, old, A->colp[n] * sizeof(double));
+    free(old); free(x); free(z);
+}
+
 static void test_random(void)
 {
     static const uint32_t G[] = { 3, 6, 9, 12, 48 };
@@ -233,6 +290,7 @@ static void test_random(void)
             BPT_CHECK(same, "%s: refactored in odd-even task order: the same bits", what);
             bp__factor_free(&al, &Fr);
         }
+        check_scatter_map(&A, &F, b, what);
         bp__factor_free(&al, &F);
         bp__factor_free(&al, &Fs);
         /* (c) not positive definite: one diagonal entry made very negative */
