@@ -241,6 +241,38 @@ static void check_scatter_map(bp__sparse *A, bp__factor *F, const double *b, con
     free(old); free(x); free(z);
 }
 
+/* A grid big enough for separators cut into several OUTSIDE pieces: some
+   supernode spans 16 vertices or more. */
+static void check_big_supernodes(const bp__factor *F, const char *what)
+{
+    uint32_t s, big = 0;
+    for (s = 0; s < F->sn->ns; s++) if (F->sn->first[s + 1] - F->sn->first[s] >= 16) big++;
+    BPT_CHECK(big > 0, "%s: %u supernodes of 16 vertices or more (cut into pieces)", what, big);
+}
+
+/* (b) the same bits on other task orders: a new analysis of A with the
+   numeric phase run backwards, then refactored odd-even, against F. */
+static void check_task_orders(const bp__sparse *A, const bp__factor *F, const char *what)
+{
+    bp_allocator al;
+    bp__factor Fr;
+    uint32_t bad;
+    bp__par rev = bp__par_serial(), oe = bp__par_serial();
+    memset(&al, 0, sizeof al);
+    rev.run = bpt_backwards_for;
+    oe.run = bpt_odd_even_for;
+    if (BPT_CHECK(bp__factorize(&al, A, &Fr, &bad, &rev) == BP_OK && Fr.sn, "%s: factorization, tasks backwards", what)) {
+        int same = memcmp(F->sn->x, Fr.sn->x, F->sn->xp[F->sn->ns] * sizeof(double)) == 0 &&
+                   memcmp(F->D, Fr.D, A->n * sizeof(double)) == 0;
+        BPT_CHECK(same, "%s: tasks run backwards give the same bits", what);
+        memset(Fr.sn->x, 0, Fr.sn->xp[Fr.sn->ns] * sizeof(double));
+        bp__fact_numeric(&al, A, &Fr, NULL, &oe);
+        same = memcmp(F->sn->x, Fr.sn->x, F->sn->xp[F->sn->ns] * sizeof(double)) == 0;
+        BPT_CHECK(same, "%s: refactored in odd-even task order: the same bits", what);
+        bp__factor_free(&al, &Fr);
+    }
+}
+
 static void test_random(void)
 {
     static const uint32_t G[] = { 3, 6, 9, 12, 48 };
@@ -250,13 +282,10 @@ static void test_random(void)
     memset(&al, 0, sizeof al);
     for (c = 0; c < 5; c++) {
         bp__sparse A;
-        bp__factor F, Fs, Fr;
+        bp__factor F, Fs;
         uint32_t n, i, bad;
         double *b, *x, *xs, *z;
         char what[64];
-        bp__par rev = bp__par_serial(), oe = bp__par_serial();
-        rev.run = bpt_backwards_for;
-        oe.run = bpt_odd_even_for;
         sprintf(what, "grid %ux%u + %u pairs", G[c], G[c], PAIRS[c]);
         if (!BPT_CHECK(random_matrix(G[c], PAIRS[c], &A), "%s: built", what)) return;
         n = A.n;
@@ -265,12 +294,7 @@ static void test_random(void)
         for (i = 0; i < n; i++) b[i] = bpt_rng_range(-1, 1);
         if (!BPT_CHECK(bp__factorize(&al, &A, &F, &bad, NULL) == BP_OK && F.sn, "%s: supernodal factorization", what)) return;
         if (G[c] <= 12) check_against_dense(&A, &F, what);
-        else {
-            /* big enough for separators cut into several OUTSIDE pieces */
-            uint32_t s, big = 0;
-            for (s = 0; s < F.sn->ns; s++) if (F.sn->first[s + 1] - F.sn->first[s] >= 16) big++;
-            BPT_CHECK(big > 0, "%s: %u supernodes of 16 vertices or more (cut into pieces)", what, big);
-        }
+        else check_big_supernodes(&F, what);
         bp__factor_solve(&F, b, x, z);
         BPT_CHECK(rel_residual(&A, x, b) < 1e-10, "%s: |A x - b| / |b| = %.3g", what, rel_residual(&A, x, b));
         A.blocks2 = 0;
@@ -280,16 +304,7 @@ static void test_random(void)
         A.blocks2 = 1;
         /* (b) the same bits on other task orders: a new analysis with the
            numeric phase run backwards, then refactored odd-even */
-        if (BPT_CHECK(bp__factorize(&al, &A, &Fr, &bad, &rev) == BP_OK && Fr.sn, "%s: factorization, tasks backwards", what)) {
-            int same = memcmp(F.sn->x, Fr.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)) == 0 &&
-                       memcmp(F.D, Fr.D, n * sizeof(double)) == 0;
-            BPT_CHECK(same, "%s: tasks run backwards give the same bits", what);
-            memset(Fr.sn->x, 0, Fr.sn->xp[Fr.sn->ns] * sizeof(double));
-            bp__fact_numeric(&al, &A, &Fr, NULL, &oe);
-            same = memcmp(F.sn->x, Fr.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)) == 0;
-            BPT_CHECK(same, "%s: refactored in odd-even task order: the same bits", what);
-            bp__factor_free(&al, &Fr);
-        }
+        check_task_orders(&A, &F, what);
         check_scatter_map(&A, &F, b, what);
         bp__factor_free(&al, &F);
         bp__factor_free(&al, &Fs);
@@ -357,12 +372,11 @@ static void test_scalar(void)
     memset(&al, 0, sizeof al);
     for (c = 0; c < 5; c++) {
         bp__sparse A;
-        bp__factor F, Fs, Fr;
+        bp__factor F, Fs;
         uint32_t n, i, bad;
         double *b, *x, *xs, *z, *q2, *r2, err = 0, big = 0;
         char what[80];
-        bp__par rev = bp__par_serial(), oe = bp__par_serial();
-        rev.run = bpt_backwards_for;
+        bp__par oe = bp__par_serial();
         oe.run = bpt_odd_even_for;
         sprintf(what, "scalar grid %ux%u + %u pairs", G[c], G[c], PAIRS[c]);
         if (!BPT_CHECK(random_scalar(G[c], PAIRS[c], &A), "%s: built", what)) return;
@@ -374,11 +388,7 @@ static void test_scalar(void)
         if (!BPT_CHECK(bp__factorize(&al, &A, &F, &bad, NULL) == BP_OK && F.sn && F.sn->bs == 1,
                        "%s: supernodal factorization with blocks of 1", what)) return;
         if (G[c] <= 13) check_against_dense(&A, &F, what);
-        else {
-            uint32_t s, big16 = 0;
-            for (s = 0; s < F.sn->ns; s++) if (F.sn->first[s + 1] - F.sn->first[s] >= 16) big16++;
-            BPT_CHECK(big16 > 0, "%s: %u supernodes of 16 vertices or more (cut into pieces)", what, big16);
-        }
+        else check_big_supernodes(&F, what);
         bp__factor_solve(&F, b, x, z);
         BPT_CHECK(rel_residual(&A, x, b) < 1e-10, "%s: |A x - b| / |b| = %.3g", what, rel_residual(&A, x, b));
         A.super1 = 0;
@@ -388,16 +398,7 @@ static void test_scalar(void)
                   rel_diff(x, xs, n));
         bp__factor_free(&al, &Fs);
         A.super1 = 1;
-        if (BPT_CHECK(bp__factorize(&al, &A, &Fr, &bad, &rev) == BP_OK && Fr.sn, "%s: factorization, tasks backwards", what)) {
-            int same = memcmp(F.sn->x, Fr.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)) == 0 &&
-                       memcmp(F.D, Fr.D, n * sizeof(double)) == 0;
-            BPT_CHECK(same, "%s: tasks run backwards give the same bits", what);
-            memset(Fr.sn->x, 0, Fr.sn->xp[Fr.sn->ns] * sizeof(double));
-            bp__fact_numeric(&al, &A, &Fr, NULL, &oe);
-            same = memcmp(F.sn->x, Fr.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)) == 0;
-            BPT_CHECK(same, "%s: refactored in odd-even task order: the same bits", what);
-            bp__factor_free(&al, &Fr);
-        }
+        check_task_orders(&A, &F, what);
         /* the preconditioner's form: single-precision rows, both
            coordinates (the second one b reversed) against the double solve */
         for (i = 0; i < n; i++) { q2[2 * i] = b[i]; q2[2 * i + 1] = b[n - 1 - i]; }
