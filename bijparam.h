@@ -8232,9 +8232,6 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
 #endif
 #define BP__KRYLOV_TOL 1e-13
 #define BP__KRYLOV_ITERS 200
-#ifndef BP__KRYLOV_GMRES
-#define BP__KRYLOV_GMRES 0          /* 1: GMRES instead of BiCGSTAB (measured, sec 6.8) */
-#endif
 
 /* M of A (see above), on A's pattern (A's rows sorted: the transposes by
    bp__fact_transpose). */
@@ -8306,23 +8303,6 @@ static int bp__krylov_done(const bp__sparse *A, const double *b, const double *x
     return rr[0] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[0] && rr[1] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[1];
 }
 
-/* r = K^-1 q for two interleaved vectors: the single-precision rows
-   (bp__precondition), or with BP__KRYLOV_DOUBLE the supernodal factor
-   itself, one coordinate at a time (z: 4n). */
-#ifndef BP__KRYLOV_DOUBLE
-#define BP__KRYLOV_DOUBLE 0
-#endif
-static void bp__krylov_apply(const bp__factor *K, const bp__par *par, const double *q, double *r, double *z)
-{
-    size_t n = K->n, i, c;
-    if (!K->sn) { bp__precondition(K, par, q, r, z); return; }
-    for (c = 0; c < 2; c++) {
-        for (i = 0; i < n; i++) z[i] = q[2 * i + c];
-        bp__factor_solve(K, z, z + n, z + 2 * n);
-        for (i = 0; i < n; i++) r[2 * i + c] = z[n + i];
-    }
-}
-
 /* Right-preconditioned BiCGSTAB for both coordinates (b, x: 2n
    interleaved; x starts at 0).  Returns the iterations taken, -1 when it
    did not converge (breakdown or BP__KRYLOV_ITERS), -2 out of memory. */
@@ -8348,7 +8328,7 @@ static int bp__tutte_bicgstab(const bp_allocator *a, const bp__sparse *A, const 
             rho[c] = rn[c];
             for (i = c; i < m; i += 2) p[i] = live[c] ? r[i] + beta * (p[i] - om[c] * v[i]) : 0;
         }
-        bp__krylov_apply(K, par, p, ph, z);                               /* ph = K^-1 p */
+        bp__precondition(K, par, p, ph, z);                               /* ph = K^-1 p */
         bp__spmv2(A, ph, v);
         bp__dot2(rh, v, n, d);
         for (c = 0; c < 2; c++) {
@@ -8356,7 +8336,7 @@ static int bp__tutte_bicgstab(const bp_allocator *a, const bp__sparse *A, const 
             if (!(al[c] - al[c] == 0)) goto done;
             for (i = c; i < m; i += 2) { x[i] += al[c] * ph[i]; r[i] -= al[c] * v[i]; }   /* r = s */
         }
-        bp__krylov_apply(K, par, r, ph, z);                               /* ph = K^-1 s */
+        bp__precondition(K, par, r, ph, z);                               /* ph = K^-1 s */
         bp__spmv2(A, ph, t);
         bp__dot2(t, r, n, d);
         bp__dot2(t, t, n, e);
@@ -8376,96 +8356,6 @@ static int bp__tutte_bicgstab(const bp_allocator *a, const bp__sparse *A, const 
     }
 done:
     bp__free(a, buf);
-    bp__free(a, z);
-    return ok;
-}
-
-/* The same by restarted GMRES(BP__GMRES_M) (Saad & Schultz 1986), right-
-   preconditioned, both coordinates in lockstep: one solve with K and one
-   product with A per iteration (BiCGSTAB takes two of each), but
-   BP__GMRES_M + 1 basis vectors of 2n.  Modified Gram-Schmidt, Givens
-   rotations per coordinate; a cycle ends when both estimated residuals are
-   below the tolerance or after BP__GMRES_M steps, and x += K^-1 V y. */
-#ifndef BP__GMRES_M
-#define BP__GMRES_M 24
-#endif
-static int bp__tutte_gmres(const bp_allocator *a, const bp__sparse *A, const bp__factor *K, const bp__par *par,
-                           const double *b, double *x, double *rel)
-{
-    size_t n = A->n, i, m2 = 2 * n;
-    uint32_t M = BP__GMRES_M, j, k;
-    double *V = (double *)bp__alloc_array(a, ((size_t)M + 1) * m2 + 1, sizeof(double));
-    double *w = (double *)bp__alloc_array(a, 2 * m2 + 1, sizeof(double)), *u = w + m2;
-    double *z = (double *)bp__alloc_array(a, 4 * n + 1, sizeof(double));
-    double H[2][BP__GMRES_M + 1][BP__GMRES_M], cs[2][BP__GMRES_M], sn[2][BP__GMRES_M], g[2][BP__GMRES_M + 1];
-    double bb[2], y[BP__GMRES_M];
-    int it = 0, ok = -1, c;
-    if (!V || !w || !z) { ok = -2; goto done; }
-    for (i = 0; i < m2; i++) x[i] = 0;
-    bp__dot2(b, b, n, bb);
-    *rel = 1;
-    while (it < BP__KRYLOV_ITERS) {
-        double beta[2];
-        if (bp__krylov_done(A, b, x, V, rel)) { ok = it > 0 ? it : 1; break; }   /* V_0 = b - A x */
-        bp__dot2(V, V, n, beta);
-        for (c = 0; c < 2; c++) {
-            beta[c] = sqrt(beta[c]);
-            for (i = c; i < m2; i += 2) V[i] = beta[c] > 0 ? V[i] / beta[c] : 0;
-            memset(g[c], 0, sizeof g[c]);
-            g[c][0] = beta[c];
-        }
-        for (j = 0; j < M && it < BP__KRYLOV_ITERS; j++, it++) {
-            double *vj = V + (size_t)j * m2, *vn = vj + m2, h[2];
-            int done = 1;
-            bp__krylov_apply(K, par, vj, u, z);
-            bp__spmv2(A, u, w);
-            for (k = 0; k <= j; k++) {                   /* modified Gram-Schmidt */
-                bp__dot2(V + (size_t)k * m2, w, n, h);
-                for (c = 0; c < 2; c++) {
-                    const double *vk = V + (size_t)k * m2;
-                    H[c][k][j] = h[c];
-                    for (i = c; i < m2; i += 2) w[i] -= h[c] * vk[i];
-                }
-            }
-            bp__dot2(w, w, n, h);
-            for (c = 0; c < 2; c++) {
-                double hn = sqrt(h[c]), t, r;
-                H[c][j + 1][j] = hn;
-                for (i = c; i < m2; i += 2) vn[i] = hn > 0 ? w[i] / hn : 0;
-                for (k = 0; k < j; k++) {                /* the earlier rotations */
-                    t = cs[c][k] * H[c][k][j] + sn[c][k] * H[c][k + 1][j];
-                    H[c][k + 1][j] = -sn[c][k] * H[c][k][j] + cs[c][k] * H[c][k + 1][j];
-                    H[c][k][j] = t;
-                }
-                r = sqrt(H[c][j][j] * H[c][j][j] + hn * hn);
-                cs[c][j] = r > 0 ? H[c][j][j] / r : 1;
-                sn[c][j] = r > 0 ? hn / r : 0;
-                H[c][j][j] = r;
-                H[c][j + 1][j] = 0;
-                g[c][j + 1] = -sn[c][j] * g[c][j];
-                g[c][j] = cs[c][j] * g[c][j];
-                if (!(g[c][j + 1] * g[c][j + 1] <= 0.01 * BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[c])) done = 0;
-            }
-            if (done) { j++; it++; break; }
-        }
-        memset(u, 0, m2 * sizeof(double));
-        for (c = 0; c < 2; c++) {                        /* y = H^-1 g, u = V y */
-            uint32_t q;
-            for (k = j; k-- > 0;) {
-                double t = g[c][k];
-                for (q = k + 1; q < j; q++) t -= H[c][k][q] * y[q];
-                y[k] = H[c][k][k] != 0 ? t / H[c][k][k] : 0;
-            }
-            for (k = 0; k < j; k++)
-                for (i = c; i < m2; i += 2) u[i] += y[k] * V[(size_t)k * m2 + i];
-        }
-        bp__krylov_apply(K, par, u, w, z);
-        for (i = 0; i < m2; i++) x[i] += w[i];
-    }
-    if (ok < 0 && bp__krylov_done(A, b, x, w ? w : x, rel) && w) ok = it;
-done:
-    bp__free(a, V);
-    bp__free(a, w);
     bp__free(a, z);
     return ok;
 }
@@ -8503,10 +8393,9 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
     if (!b || !x || !dg || !As.val || !bp__tutte_symmetric(a, &As, &M)) ok = -1;
     else if ((st = bp__factorize(a, &M, &K, &bad, runner)) != BP_OK) ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0;
     else if (!K.sn) ok = 0;                           /* (the scalar rows took over: not SPD) */
-    else if (!BP__KRYLOV_DOUBLE && (!bp__factor_single(a, &K) || !bp__solve_plan(a, &K))) ok = -1;
+    else if (!bp__factor_single(a, &K) || !bp__solve_plan(a, &K)) ok = -1;
     else {
-        it = BP__KRYLOV_GMRES ? bp__tutte_gmres(a, &As, &K, runner ? runner : &serial, b, x, &rel)
-                              : bp__tutte_bicgstab(a, &As, &K, runner ? runner : &serial, b, x, &rel);
+        it = bp__tutte_bicgstab(a, &As, &K, runner ? runner : &serial, b, x, &rel);
         if (it == -2) ok = -1;
         if (it > 0) {
             for (i = 0; i < nfree; i++) { T->sol[i] = x[2 * (size_t)i]; T->sol[nfree + i] = x[2 * (size_t)i + 1]; }
