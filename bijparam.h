@@ -6642,46 +6642,188 @@ static int bp__super_numeric(const bp_allocator *a, const bp__sparse *A, bp__fac
 }
 
 /* x = A^-1 b: forward L z = P b, backward L^T y = z, x = P^T y, supernode
-   by supernode (z: n doubles of workspace). */
-static void bp__super_solve(const bp__factor *F, const double *b, double *x, double *z)
+   by supernode (z: n doubles of workspace), in the dissection tree's
+   phases like the factorization (bp__super_numeric).
+   The forward solve, serially, is a scatter: supernode K solves with its
+   diagonal block,
+       z_i = (z_i - sum_{j<i} L(i, j) z_j) / L(i, i),
+   then subtracts its terms from the rows below it,
+       z_v -= sum_j L(v, j) z_j     (j over K's columns, increasing),
+   K increasing, so each z_v subtracts its terms in increasing K.  In
+   parallel a task owns the range of a tree node and scatters only into
+   rows inside it: phase 0's subtrees whole (all their rows' terms come
+   from inside), and a separator [b, hi) of a later phase in two passes:
+     OUTSIDE: the terms of the supernodes below b (finished in earlier
+       phases, whose scatters stopped at their own ranges) gathered by the
+       separator's supernodes s from the factorization's update lists
+       uk[up[s] .. up[s+1]) (increasing K), as parallel pieces (a
+       supernode of the separator and a range of its column vertices);
+     INSIDE: one task per separator, its supernodes in order: the diagonal
+       block, then the scatter into the separator's own rows.
+   Every z_v still subtracts its terms in increasing K (those from below
+   b first, then the separator's own) and every term is the same dot
+   product, so the bits are the serial scatter's on any schedule.  The
+   scatter inside the subtrees streams L in memory order; a gather for
+   everything was measured 10% slower on face's whole run (small
+   supernodes: many short pieces of many blocks).  One thread
+   (par->threads 1) takes the plain scatter without the phases: the same
+   bits, L streamed once in memory order.
+   The backward solve, L^T y = z, reads only ancestors (the rows of s
+   below its diagonal block):
+       y_j -= sum_i L(i, j) y_i  (i over s's rows below, increasing),
+   then the diagonal block backwards; so it runs top-down: the separators
+   from the top phase down, each one task, its supernodes in decreasing
+   order, then phase 0's subtrees whole.  A separator's rows are few (its
+   own and its ancestors'), so its backward work is small; most of the
+   work is in the subtrees, parallel in phase 0. */
+typedef struct bp__ssolve_task {
+    const bp__factor *F;
+    double *z;
+    uint32_t nodes[BP__ND_NODES];
+    int mode;                     /* 0 forward whole, 1 OUTSIDE pieces, 2 INSIDE,
+                                     3 backward separators, 4 backward whole */
+    bp__super_piece piece[BP__SUPER_PIECES];
+} bp__ssolve_task;
+
+/* z of s's column vertices [v0, v1) minus the terms of the updates
+   uk[q0 .. q1) of s (bs 2: both coordinates of a row vertex). */
+static void bp__super_gather(const bp__super *S, uint32_t q0, uint32_t q1, uint32_t v0, uint32_t v1, double *z)
 {
-    const bp__super *S = F->sn;
-    uint32_t bs = S->bs, v, s, i, j, a;
-    for (v = 0; v < S->nv; v++)
-        for (a = 0; a < bs; a++) z[bs * (size_t)v + a] = b[bs * (size_t)S->vperm[v] + a];
-    for (s = 0; s < S->ns; s++) {
-        uint32_t c2 = bs * (S->first[s + 1] - S->first[s]), m2 = bs * (S->rp[s + 1] - S->rp[s]);
-        const uint32_t *rows = S->ri + S->rp[s];
-        const double *B = S->x + S->xp[s];
-        double *zs = z + bs * (size_t)S->first[s];
-        for (i = 0; i < c2; i++) {
-            const double *r = B + (size_t)i * c2;
-            double t = zs[i];
-            for (j = 0; j < i; j++) t -= r[j] * zs[j];
-            zs[i] = t / r[i];
-        }
-        for (i = c2; i < m2; i++) {
-            const double *r = B + (size_t)i * c2;
-            double t = 0;
-            for (j = 0; j < c2; j++) t += r[j] * zs[j];
-            z[bs * (size_t)rows[i / bs] + i % bs] -= t;
+    uint32_t bs = S->bs, q, c, a, j;
+    for (q = q0; q < q1; q++) {
+        uint32_t K = S->uk[q], mK = S->rp[K + 1] - S->rp[K], cK = bs * (S->first[K + 1] - S->first[K]);
+        const uint32_t *rk = S->ri + S->rp[K];
+        const double *B = S->x + S->xp[K], *zK = z + bs * (size_t)S->first[K];
+        c = rk[S->uo[q]] < v0 ? bp__lower_bound(rk, S->uo[q], mK, v0) : S->uo[q];
+        for (; c < mK && rk[c] < v1; c++)
+            for (a = 0; a < bs; a++) {
+                const double *r = B + ((size_t)bs * c + a) * cK;
+                double t = 0;
+                for (j = 0; j < cK; j++) t += r[j] * zK[j];
+                z[bs * (size_t)rk[c] + a] -= t;
+            }
+    }
+}
+
+/* Supernode s, forward: its diagonal block, z_s = L_ss^-1 z_s, then its
+   terms scattered to the rows below it that are less than vhi (the end
+   of its task's range; the rows from vhi on gather them later). */
+static void bp__super_fscatter(const bp__super *S, uint32_t s, uint32_t vhi, double *z)
+{
+    uint32_t bs = S->bs, c2 = bs * (S->first[s + 1] - S->first[s]), m2 = bs * (S->rp[s + 1] - S->rp[s]), i, j;
+    const uint32_t *rows = S->ri + S->rp[s];
+    const double *B = S->x + S->xp[s];
+    double *zs = z + bs * (size_t)S->first[s];
+    for (i = 0; i < c2; i++) {
+        const double *r = B + (size_t)i * c2;
+        double t = zs[i];
+        for (j = 0; j < i; j++) t -= r[j] * zs[j];
+        zs[i] = t / r[i];
+    }
+    for (i = c2; i < m2 && rows[i / bs] < vhi; i++) {
+        const double *r = B + (size_t)i * c2;
+        double t = 0;
+        for (j = 0; j < c2; j++) t += r[j] * zs[j];
+        z[bs * (size_t)rows[i / bs] + i % bs] -= t;
+    }
+}
+
+/* Supernode s, backward: its rows below, then its diagonal block. */
+static void bp__super_back(const bp__super *S, uint32_t s, double *z)
+{
+    uint32_t bs = S->bs, c2 = bs * (S->first[s + 1] - S->first[s]), m2 = bs * (S->rp[s + 1] - S->rp[s]), i, j;
+    const uint32_t *rows = S->ri + S->rp[s];
+    const double *B = S->x + S->xp[s];
+    double *zs = z + bs * (size_t)S->first[s];
+    for (i = c2; i < m2; i++) {
+        const double *r = B + (size_t)i * c2;
+        double t = z[bs * (size_t)rows[i / bs] + i % bs];
+        for (j = 0; j < c2; j++) zs[j] -= r[j] * t;
+    }
+    for (i = c2; i-- > 0;) {
+        const double *r = B + (size_t)i * c2;
+        zs[i] /= r[i];
+        for (j = 0; j < i; j++) zs[j] -= r[j] * zs[i];
+    }
+}
+
+static void bp__ssolve_run(void *task, uint32_t t)
+{
+    bp__ssolve_task *T = (bp__ssolve_task *)task;
+    const bp__super *S = T->F->sn;
+    const bp__ndnode *N;
+    uint32_t s, s0, s1, q;
+    if (T->mode == 1) {
+        const bp__super_piece *P = &T->piece[t];
+        for (q = S->up[P->s]; q < S->up[P->s + 1] && S->uk[q] < P->k0; q++) {}
+        bp__super_gather(S, S->up[P->s], q, P->v0, P->v1, T->z);
+        return;
+    }
+    N = &T->F->tree[T->nodes[t]];
+    if ((T->mode == 2 || T->mode == 3 ? N->b : N->lo) >= N->hi) return;
+    s0 = S->snode[T->mode == 2 || T->mode == 3 ? N->b : N->lo];
+    s1 = S->snode[N->hi - 1] + 1;
+    if (T->mode >= 3) {
+        for (s = s1; s-- > s0;) bp__super_back(S, s, T->z);
+        return;
+    }
+    for (s = s0; s < s1; s++) bp__super_fscatter(S, s, N->hi, T->z);
+}
+
+/* The OUTSIDE pieces of one phase's separators: each supernode of nc
+   vertices cut into min(nc / 8, 8) (at least one) equal column ranges. */
+static void bp__ssolve_outside(bp__ssolve_task *T, const bp__par *par, uint32_t cnt)
+{
+    const bp__super *S = T->F->sn;
+    uint32_t k, s, r, n = 0;
+    T->mode = 1;
+    for (k = 0; k < cnt; k++) {
+        const bp__ndnode *N = &T->F->tree[T->nodes[k]];
+        if (N->b >= N->hi) continue;
+        for (s = S->snode[N->b]; s <= S->snode[N->hi - 1]; s++) {
+            uint32_t f = S->first[s], nc = S->first[s + 1] - f, parts = nc / 8;
+            if (parts < 1) parts = 1;
+            if (parts > 8) parts = 8;
+            for (r = 0; r < parts; r++) {
+                bp__super_piece *P = &T->piece[n];
+                P->s = s;
+                P->k0 = S->snode[N->b];
+                P->v0 = f + (uint32_t)((uint64_t)nc * r / parts);
+                P->v1 = f + (uint32_t)((uint64_t)nc * (r + 1) / parts);
+                if (P->v1 > P->v0 && ++n == BP__SUPER_PIECES) { par->run(par->user, bp__ssolve_run, T, n); n = 0; }
+            }
         }
     }
-    for (s = S->ns; s-- > 0;) {
-        uint32_t c2 = bs * (S->first[s + 1] - S->first[s]), m2 = bs * (S->rp[s + 1] - S->rp[s]);
-        const uint32_t *rows = S->ri + S->rp[s];
-        const double *B = S->x + S->xp[s];
-        double *zs = z + bs * (size_t)S->first[s];
-        for (i = c2; i < m2; i++) {
-            const double *r = B + (size_t)i * c2;
-            double t = z[bs * (size_t)rows[i / bs] + i % bs];
-            for (j = 0; j < c2; j++) zs[j] -= r[j] * t;
-        }
-        for (i = c2; i-- > 0;) {
-            const double *r = B + (size_t)i * c2;
-            zs[i] /= r[i];
-            for (j = 0; j < i; j++) zs[j] -= r[j] * zs[i];
-        }
+    if (n) par->run(par->user, bp__ssolve_run, T, n);
+}
+
+static void bp__super_solve(const bp__factor *F, const double *b, double *x, double *z, const bp__par *par)
+{
+    const bp__super *S = F->sn;
+    bp__ssolve_task T;
+    uint32_t bs = S->bs, v, a, c;
+    int phase;
+    for (v = 0; v < S->nv; v++)
+        for (a = 0; a < bs; a++) z[bs * (size_t)v + a] = b[bs * (size_t)S->vperm[v] + a];
+    memset(&T, 0, sizeof T);
+    T.F = F;
+    T.z = z;
+    if (par->threads == 1) {                     /* one thread: the plain scatter, no phases */
+        for (v = 0; v < S->ns; v++) bp__super_fscatter(S, v, S->nv, z);
+        for (v = S->ns; v-- > 0;) bp__super_back(S, v, z);
+        phase = BP__ND_DEPTH + 1;
+    } else
+        phase = 0;
+    for (; phase <= BP__ND_DEPTH; phase++) {
+        if (!(c = bp__nd_phase(F, phase, T.nodes))) continue;
+        if (phase > 0) bp__ssolve_outside(&T, par, c);
+        T.mode = phase > 0 ? 2 : 0;
+        par->run(par->user, bp__ssolve_run, &T, c);
+    }
+    for (phase = par->threads == 1 ? -1 : BP__ND_DEPTH; phase >= 0; phase--) {
+        if (!(c = bp__nd_phase(F, phase, T.nodes))) continue;
+        T.mode = phase > 0 ? 3 : 4;
+        par->run(par->user, bp__ssolve_run, &T, c);
     }
     for (v = 0; v < S->nv; v++)
         for (a = 0; a < bs; a++) x[bs * (size_t)S->vperm[v] + a] = z[bs * (size_t)v + a];
@@ -6844,11 +6986,17 @@ static bp_status bp__factor_too_large(bp_error *err, uint32_t chart, uint32_t nt
 
 /* x = A^-1 b through the factors; z is workspace of size n.  Forward
    L z = b by rows (gathers); backward U x = z by rows of U^T (scatters:
-   x_i is final once every later row has been subtracted). */
-static void bp__factor_solve(const bp__factor *F, const double *b, double *x, double *z)
+   x_i is final once every later row has been subtracted).  A supernodal
+   factor is solved in the dissection's phases on par's threads (NULL:
+   serial; the same bits either way); the rows, serially. */
+static void bp__factor_solve_par(const bp__factor *F, const double *b, double *x, double *z, const bp__par *par)
 {
     uint32_t n = F->n, i, q;
-    if (F->sn) { bp__super_solve(F, b, x, z); return; }
+    if (F->sn) {
+        bp__par serial = bp__par_serial();
+        bp__super_solve(F, b, x, z, par ? par : &serial);
+        return;
+    }
     for (i = 0; i < n; i++) z[i] = b[F->perm[i]];
     for (i = 0; i < n; i++) {                        /* L z = b (unit)   */
         double s = z[i];
@@ -6866,6 +7014,12 @@ static void bp__factor_solve(const bp__factor *F, const double *b, double *x, do
         }
     }
     for (i = 0; i < n; i++) x[F->perm[i]] = z[i];
+}
+
+/* The same, serial. */
+static void bp__factor_solve(const bp__factor *F, const double *b, double *x, double *z)
+{
+    bp__factor_solve_par(F, b, x, z, NULL);
 }
 
 /* Solve with one step of iterative refinement: x += A^-1 (b - A x).
@@ -10842,6 +10996,8 @@ typedef struct bp__bnear { uint32_t v[3]; } bp__bnear;   /* a pair within 3 eps 
 typedef struct bp__newton {
     bp__sparse H;                 /* 2nv x 2nv, full symmetric pattern      */
     bp__factor F;
+    const bp__par *par;           /* the solves' threads (NULL: serial), set
+                                     by bp__newton_direction               */
     int        factored;          /* ordering and pattern of L are known    */
     int        fvalid;            /* F holds the factor of an earlier H     */
     uint32_t  *tpos;              /* 9 per triangle: its 2x2 blocks in H.val */
@@ -11259,7 +11415,7 @@ static void bp__newton_pcg(bp__newton *N, uint32_t nv, const double *b, double *
     double *r = N->r, *p = N->p, *q = N->q;
     bp__newton_apply(N, nv, v, q);
     for (i = 0; i < n; i++) { r[i] = b[i] - q[i]; rz0 += b[i] * v[i]; }
-    bp__factor_solve(&N->F, r, p, N->z);
+    bp__factor_solve_par(&N->F, r, p, N->z, N->par);
     for (i = 0; i < n; i++) rz += r[i] * p[i];
     for (k = 0; k < BP__NEWTON_CG_MAX && rz > BP__NEWTON_CG_TOL * rz0; k++) {
         bp__newton_apply(N, nv, p, q);
@@ -11268,7 +11424,7 @@ static void bp__newton_pcg(bp__newton *N, uint32_t nv, const double *b, double *
         if (!(pq > 0)) break;
         alpha = rz / pq;
         for (i = 0; i < n; i++) { v[i] += alpha * p[i]; r[i] -= alpha * q[i]; }
-        bp__factor_solve(&N->F, r, q, N->z);              /* q = M^-1 r */
+        bp__factor_solve_par(&N->F, r, q, N->z, N->par);              /* q = M^-1 r */
         rzn = 0;
         for (i = 0; i < n; i++) rzn += r[i] * q[i];
         for (i = 0; i < n; i++) p[i] = q[i] + (rzn / rz) * p[i];
@@ -11347,7 +11503,7 @@ static int bp__newton_reuse_solve(bp__newton *N, const double *b, double *v)
     double *r = N->r, *p = N->p, *q = N->q, *w = N->w;
     N->ntry++;
     for (i = 0; i < n; i++) { v[i] = 0; r[i] = b[i]; }
-    bp__factor_solve(&N->F, r, w, N->z);
+    bp__factor_solve_par(&N->F, r, w, N->z, N->par);
     for (i = 0; i < n; i++) { p[i] = w[i]; rz += r[i] * w[i]; }
     if (!(rz > 0 && rz < HUGE_VAL)) return 0;
     for (k = 1; k <= BP__NEWTON_REUSE_CG; k++) {
@@ -11361,7 +11517,7 @@ static int bp__newton_reuse_solve(bp__newton *N, const double *b, double *v)
         dm = 0.5 * alpha * rz;                 /* m(v_k) = m(v_k-1) - dm */
         m -= dm;
         if (k > 1 && k * dm <= BP__NEWTON_REUSE_Q * -m) return 1;
-        bp__factor_solve(&N->F, r, w, N->z);
+        bp__factor_solve_par(&N->F, r, w, N->z, N->par);
         rzn = 0;
         for (i = 0; i < n; i++) rzn += r[i] * w[i];
         if (!(rzn > 0)) return 1;              /* exact */
@@ -11380,6 +11536,7 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
 {
     uint32_t n, i, bad;
     double s = 0;
+    N->par = &S->par;
     bp__newton_assemble(N, S, x);
     if (N->oom) return -1;
     n = N->H.n;
@@ -11405,7 +11562,7 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
         N->fvalid = 1;
         N->nfact++;
         N->reused = 0;
-        bp__factor_solve(&N->F, N->rhs, v, N->z);
+        bp__factor_solve_par(&N->F, N->rhs, v, N->z, N->par);
         if (BP__NEWTON_BARRIER == 2 && N->pairs.count) bp__newton_pcg(N, S->nv, N->rhs, v);
     }
     for (i = 0; i < n; i++) s += g[i] * v[i];

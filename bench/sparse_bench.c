@@ -11,7 +11,9 @@
    residual |H x - b| / |b|; for the supernodal factor also its flops by
    dissection phase and a two-thread bound (every task timed alone, the
    tasks of each parallel loop dealt in order to the less loaded of two
-   threads).  One thread.
+   threads), and the same for the solve: one thread's time (median of
+   `repeats`) and the dissection phases' two-thread bound (sec 6.14).
+   One thread.
    With `laplacian` as the third argument (docs/performance.md sec 6.8):
    the L-BFGS preconditioner's scalar Laplacian instead (bp__laplacian's K,
    from the Tutte start, which is faster to reach on big charts), factored
@@ -267,6 +269,27 @@ int main(int argc, char **argv)
                 tp.user = acc;
                 bp__fact_numeric(&a, &N.H, &F, NULL, &tp);
                 printf("  numeric by tasks: %.4f s; on two threads at best %.4f s (%.2fx)\n", acc[0], acc[1], acc[0] / acc[1]);
+            }
+            {   /* the solve (sec 6.14): one thread's plain scatter, median of
+                   reps, and the phases with every task timed alone */
+                double acc[2] = {0, 0}, ts[64], tall, *y = (double *)malloc(n * sizeof(double));
+                bp__par tp = bp__par_serial();
+                for (r = 0; r < reps; r++) {
+                    t0 = cpu();
+                    bp__factor_solve(&F, b, x, z);
+                    ts[r] = cpu() - t0;
+                }
+                qsort(ts, reps, sizeof(double), cmpd);
+                tp.run = timed_for;
+                tp.user = acc;
+                tp.threads = 2;
+                t0 = cpu();
+                bp__factor_solve_par(&F, b, y, z, &tp);
+                tall = cpu() - t0;
+                printf("  solve: one thread %.4f s; phases by tasks %.4f s + serial %.4f s, on two threads at best "
+                       "%.4f s (%.2fx); same bits %s\n", ts[reps / 2], acc[0], tall - acc[0], tall - acc[0] + acc[1],
+                       ts[reps / 2] / (tall - acc[0] + acc[1]), memcmp(x, y, n * sizeof(double)) ? "NO" : "yes");
+                free(y);
             }
             printf("supernodes %u (mean %.2f vertices), row indices %u, stored doubles %zu\n", S->ns, (double)S->nv / S->ns,
                    S->rp[S->ns], S->xp[S->ns]);
