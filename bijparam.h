@@ -6098,7 +6098,7 @@ done:
    matrix's own, a supernode's block is |rows| x |cols| doubles, and the
    kernels take two columns of B at a time as before, now two column
    vertices (bp__super_update), rows four at a time with an odd count's
-   remainder one by one (bp__super_trsm1), every dot product's lanes as
+   remainder one by one (bp__super_trsm_rows), every dot product's lanes as
    before plus an odd last term in the even lane: bs 2 computes exactly
    the bits it did.  On the 1M-face chart's Laplacian the numeric phase
    takes 13x fewer seconds than the scalar up-looking rows, which gather
@@ -6415,70 +6415,127 @@ static void bp__super_update(const bp__super *S, uint32_t K, uint32_t o, uint32_
     }
 }
 
-/* The triangular solve of rows below the diagonal block, four rows
-   (one, bp__super_trsm1) at a time: for j < c2,
-       L(i, j) = (B(i, j) - sum_{k<j} L(i, k) L(j, k)) / L(j, j),
-   each sum in two lanes (even and odd k) as in bp__super_dots. */
-static void bp__super_trsm4(double *r0, const double *D, uint32_t c2, const double *inv)
-{
-    double *r1 = r0 + c2, *r2 = r1 + c2, *r3 = r2 + c2;
-    uint32_t j, k;
-    for (j = 0; j < c2; j++) {
-        const double *rj = D + (size_t)j * c2;
-        double e0 = 0, o0 = 0, e1 = 0, o1 = 0, e2 = 0, o2 = 0, e3 = 0, o3 = 0;
-        for (k = 0; k + 1 < j; k += 2) {
-            double y = rj[k], z = rj[k + 1];
-            e0 += r0[k] * y; o0 += r0[k + 1] * z; e1 += r1[k] * y; o1 += r1[k + 1] * z;
-            e2 += r2[k] * y; o2 += r2[k + 1] * z; e3 += r3[k] * y; o3 += r3[k + 1] * z;
-        }
-        if (k < j) { e0 += r0[k] * rj[k]; e1 += r1[k] * rj[k]; e2 += r2[k] * rj[k]; e3 += r3[k] * rj[k]; }
-        r0[j] = (r0[j] - (e0 + o0)) * inv[j];
-        r1[j] = (r1[j] - (e1 + o1)) * inv[j];
-        r2[j] = (r2[j] - (e2 + o2)) * inv[j];
-        r3[j] = (r3[j] - (e3 + o3)) * inv[j];
-    }
-}
-
-static void bp__super_trsm1(double *r0, const double *D, uint32_t c2, const double *inv)
-{
-    uint32_t j, k;
-    for (j = 0; j < c2; j++) {
-        const double *rj = D + (size_t)j * c2;
-        double e0 = 0, o0 = 0;
-        for (k = 0; k + 1 < j; k += 2) { e0 += r0[k] * rj[k]; o0 += r0[k + 1] * rj[k + 1]; }
-        if (k < j) e0 += r0[k] * rj[k];
-        r0[j] = (r0[j] - (e0 + o0)) * inv[j];
-    }
-}
-
-/* The dense Cholesky of supernode s's block after its updates: the
-   diagonal block row by row,
-       L(i, j) = (B(i, j) - sum_{k<j} L(i, k) L(j, k)) / L(j, j),
+/* The dense Cholesky of supernode s's block B (2|rows| x c2, by rows)
+   after its updates, entry by entry,
+       L(i, j) = (B(i, j) - sum_{k<j} L(i, k) L(j, k)) / L(j, j),   j < i,
        d_i = B(i, i) - sum_{k<i} L(i, k)^2,   L(i, i) = sqrt(d_i),
-   then the rows below by the same formula for j < 2 nc (a triangular
-   solve with L's diagonal block).  D[] gets the pivots d_i; one that is
-   not positive leaves a NaN or infinity behind, which the caller's check
-   of D reports. */
-static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv)
+   the diagonal block's rows first, then the rows below it (a triangular
+   solve with L's diagonal block, j < c2).  Each sum runs in a fixed order:
+   in the diagonal block one accumulator over increasing k; below it two
+   lanes, even and odd k (an odd count's last term to the even lane),
+   added at the end, as in bp__super_dots.  Every entry needs only its own
+   row left of it and the rows j above it up to column j, so the order in
+   which entries are computed is free as long as that holds, and the bits
+   never depend on it.  The work goes by panels of BP__DENSE_PANEL
+   columns [q0, q1):
+     the triangle: the panel's own rows i in [q0, q1), columns [q0, i),
+       and their pivots (their columns left of q0 are done);
+     the rows below the triangle, i >= q1, in columns [q0, q1): each row
+       independent of the others, so big supernodes (the top separators,
+       where a phase has fewer tasks than threads) cut them into ranges
+       for several threads (bp__super_dense_wide).
+   Rows go four at a time where they can (four independent sums, so the
+   loads of row j serve four rows and the additions do not wait on each
+   other; one row at a time gives the same bits).  D[] gets the pivots
+   d_i; one that is not positive leaves a NaN or infinity behind, which
+   the caller's check of D reports. */
+#define BP__DENSE_PANEL 32u               /* columns; a multiple of 4 */
+
+/* Rows [i0, i1) of the diagonal block, columns [j0, j1) (j1 <= i0). */
+static void bp__super_diag_rows(double *B, uint32_t c2, uint32_t i0, uint32_t i1, uint32_t j0, uint32_t j1,
+                                const double *inv)
 {
-    const bp__super *S = F->sn;
-    uint32_t f = S->first[s], c2 = S->bs * (S->first[s + 1] - f), m2 = S->bs * (S->rp[s + 1] - S->rp[s]), i, j, k;
-    for (i = 0; i < c2; i++) {
-        double *r = B + (size_t)i * c2, d;
-        for (j = 0; j < i; j++) {
+    uint32_t i = i0, j, k;
+    for (; i + 4 <= i1; i += 4) {
+        double *r0 = B + (size_t)i * c2, *r1 = r0 + c2, *r2 = r1 + c2, *r3 = r2 + c2;
+        for (j = j0; j < j1; j++) {
+            const double *rj = B + (size_t)j * c2;
+            double t0 = r0[j], t1 = r1[j], t2 = r2[j], t3 = r3[j];
+            for (k = 0; k < j; k++) {
+                double y = rj[k];
+                t0 -= r0[k] * y; t1 -= r1[k] * y; t2 -= r2[k] * y; t3 -= r3[k] * y;
+            }
+            r0[j] = t0 * inv[j]; r1[j] = t1 * inv[j]; r2[j] = t2 * inv[j]; r3[j] = t3 * inv[j];
+        }
+    }
+    for (; i < i1; i++) {
+        double *r = B + (size_t)i * c2;
+        for (j = j0; j < j1; j++) {
             const double *rj = B + (size_t)j * c2;
             double t = r[j];
             for (k = 0; k < j; k++) t -= r[k] * rj[k];
             r[j] = t * inv[j];
         }
+    }
+}
+
+/* Rows [i0, i1) below the diagonal block (i0 >= c2), columns [j0, j1):
+   the two-lane sums. */
+static void bp__super_trsm_rows(double *B, uint32_t c2, uint32_t i0, uint32_t i1, uint32_t j0, uint32_t j1,
+                                const double *inv)
+{
+    uint32_t i = i0, j, k;
+    for (; i + 4 <= i1; i += 4) {
+        double *r0 = B + (size_t)i * c2, *r1 = r0 + c2, *r2 = r1 + c2, *r3 = r2 + c2;
+        for (j = j0; j < j1; j++) {
+            const double *rj = B + (size_t)j * c2;
+            double e0 = 0, o0 = 0, e1 = 0, o1 = 0, e2 = 0, o2 = 0, e3 = 0, o3 = 0;
+            for (k = 0; k + 1 < j; k += 2) {
+                double y = rj[k], z = rj[k + 1];
+                e0 += r0[k] * y; o0 += r0[k + 1] * z; e1 += r1[k] * y; o1 += r1[k + 1] * z;
+                e2 += r2[k] * y; o2 += r2[k + 1] * z; e3 += r3[k] * y; o3 += r3[k + 1] * z;
+            }
+            if (k < j) { e0 += r0[k] * rj[k]; e1 += r1[k] * rj[k]; e2 += r2[k] * rj[k]; e3 += r3[k] * rj[k]; }
+            r0[j] = (r0[j] - (e0 + o0)) * inv[j];
+            r1[j] = (r1[j] - (e1 + o1)) * inv[j];
+            r2[j] = (r2[j] - (e2 + o2)) * inv[j];
+            r3[j] = (r3[j] - (e3 + o3)) * inv[j];
+        }
+    }
+    for (; i < i1; i++) {
+        double *r0 = B + (size_t)i * c2;
+        for (j = j0; j < j1; j++) {
+            const double *rj = B + (size_t)j * c2;
+            double e0 = 0, o0 = 0;
+            for (k = 0; k + 1 < j; k += 2) { e0 += r0[k] * rj[k]; o0 += r0[k + 1] * rj[k + 1]; }
+            if (k < j) e0 += r0[k] * rj[k];
+            r0[j] = (r0[j] - (e0 + o0)) * inv[j];
+        }
+    }
+}
+
+/* Rows [i0, i1) (all at or below q1) in the panel's columns [q0, q1). */
+static void bp__super_panel_rows(double *B, uint32_t c2, uint32_t i0, uint32_t i1, uint32_t q0, uint32_t q1,
+                                 const double *inv)
+{
+    if (i0 < c2) bp__super_diag_rows(B, c2, i0, i1 < c2 ? i1 : c2, q0, q1, inv);
+    if (i1 > c2) bp__super_trsm_rows(B, c2, i0 > c2 ? i0 : c2, i1, q0, q1, inv);
+}
+
+/* The panel's triangle: rows i in [q0, q1), columns [q0, i), pivots. */
+static void bp__super_panel_tri(double *B, uint32_t c2, uint32_t q0, uint32_t q1, double *D, double *inv)
+{
+    uint32_t i, k;
+    for (i = q0; i < q1; i++) {
+        double *r = B + (size_t)i * c2, d;
+        bp__super_diag_rows(B, c2, i, i + 1, q0, i, inv);
         d = r[i];
         for (k = 0; k < i; k++) d -= r[k] * r[k];
-        F->D[(size_t)S->bs * f + i] = d;
+        D[i] = d;
         r[i] = sqrt(d);
         inv[i] = 1 / r[i];
     }
-    for (i = c2; i + 4 <= m2; i += 4) bp__super_trsm4(B + (size_t)i * c2, B, c2, inv);
-    for (; i < m2; i++) bp__super_trsm1(B + (size_t)i * c2, B, c2, inv);
+}
+
+static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv)
+{
+    const bp__super *S = F->sn;
+    uint32_t f = S->first[s], c2 = S->bs * (S->first[s + 1] - f), m2 = S->bs * (S->rp[s + 1] - S->rp[s]), q0, q1;
+    for (q0 = 0; q0 < c2; q0 = q1) {
+        q1 = q0 + BP__DENSE_PANEL < c2 ? q0 + BP__DENSE_PANEL : c2;
+        bp__super_panel_tri(B, c2, q0, q1, F->D + (size_t)S->bs * f, inv);
+        bp__super_panel_rows(B, c2, q1, m2, q0, q1, inv);
+    }
 }
 
 /* Supernode s's column vertices [v0, v1) set to A's values: zero, then
