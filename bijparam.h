@@ -6610,7 +6610,8 @@ typedef struct bp__super_task {
     const bp__sparse *A;
     bp__factor *F;
     uint32_t nodes[BP__ND_NODES];
-    int mode;                     /* 0 whole nodes, 1 OUTSIDE, 2 INSIDE   */
+    int mode;                     /* 0 whole nodes, 1 OUTSIDE, 2 INSIDE,
+                                     3 WIDE's updates (bp__super_wide)    */
     bp__super_piece piece[BP__SUPER_PIECES];
     uint32_t *map;                /* ntask x nv                            */
     uint32_t *pos;                /* max(ntask, BP__SUPER_PIECES) x maxrows */
@@ -6627,6 +6628,11 @@ static void bp__super_run(void *task, uint32_t t)
         bp__super_start(T->A, S, P->s, P->v0, P->v1);
         for (q = S->up[P->s]; q < S->up[P->s + 1] && S->uk[q] < P->k0; q++)
             bp__super_update(S, S->uk[q], S->uo[q], P->s, S->x + S->xp[P->s], NULL, pos, P->v0, P->v1);
+    } else if (T->mode == 3) {                             /* WIDE: the updates from k0 on */
+        const bp__super_piece *P = &T->piece[t];
+        for (q = S->up[P->s]; q < S->up[P->s + 1]; q++)
+            if (S->uk[q] >= P->k0)
+                bp__super_update(S, S->uk[q], S->uo[q], P->s, S->x + S->xp[P->s], NULL, pos, P->v0, P->v1);
     } else {
         const bp__ndnode *N = &T->F->tree[T->nodes[t]];
         uint32_t v0 = T->mode == 2 ? N->b : N->lo, *map = T->map + (size_t)t * S->nv;
@@ -6646,6 +6652,25 @@ static void bp__super_run(void *task, uint32_t t)
    BP__SUPER_PIECES pieces: a supernode of nc vertices is cut into
    min(nc / 8, 8) column ranges (at least one) of about equal work, the
    column vertex j of m rows counting m - j. */
+static uint32_t bp__super_cut(bp__super_task *T, const bp__par *par, uint32_t s, uint32_t k0, uint32_t n)
+{
+    const bp__super *S = T->F->sn;
+    uint32_t f = S->first[s], nc = S->first[s + 1] - f, m = S->rp[s + 1] - S->rp[s], parts = nc / 8, r, j = 0;
+    double w = 0, tot = (double)nc * m - (double)nc * (nc - 1) / 2;
+    if (parts < 1) parts = 1;
+    if (parts > 8) parts = 8;
+    for (r = 0; r < parts; r++) {
+        bp__super_piece *P = &T->piece[n];
+        P->s = s;
+        P->k0 = k0;
+        P->v0 = f + j;
+        while (j < nc && (r + 1 == parts || w < tot * (r + 1) / parts)) { w += m - j; j++; }
+        P->v1 = f + j;
+        if (P->v1 > P->v0 && ++n == BP__SUPER_PIECES) { par->run(par->user, bp__super_run, T, n); n = 0; }
+    }
+    return n;
+}
+
 static void bp__super_outside(bp__super_task *T, const bp__par *par, uint32_t cnt)
 {
     const bp__super *S = T->F->sn;
@@ -6654,23 +6679,75 @@ static void bp__super_outside(bp__super_task *T, const bp__par *par, uint32_t cn
     for (k = 0; k < cnt; k++) {
         const bp__ndnode *N = &T->F->tree[T->nodes[k]];
         if (N->b >= N->hi) continue;
-        for (s = S->snode[N->b]; s <= S->snode[N->hi - 1]; s++) {
-            uint32_t f = S->first[s], nc = S->first[s + 1] - f, m = S->rp[s + 1] - S->rp[s], parts = nc / 8, r, j = 0;
-            double w = 0, tot = (double)nc * m - (double)nc * (nc - 1) / 2;
-            if (parts < 1) parts = 1;
-            if (parts > 8) parts = 8;
-            for (r = 0; r < parts; r++) {
-                bp__super_piece *P = &T->piece[n];
-                P->s = s;
-                P->k0 = S->snode[N->b];
-                P->v0 = f + j;
-                while (j < nc && (r + 1 == parts || w < tot * (r + 1) / parts)) { w += m - j; j++; }
-                P->v1 = f + j;
-                if (P->v1 > P->v0 && ++n == BP__SUPER_PIECES) { par->run(par->user, bp__super_run, T, n); n = 0; }
-            }
-        }
+        for (s = S->snode[N->b]; s <= S->snode[N->hi - 1]; s++) n = bp__super_cut(T, par, s, S->snode[N->b], n);
     }
     if (n) par->run(par->user, bp__super_run, T, n);
+}
+
+/* WIDE: a phase with fewer separators than threads (the top of the
+   tree: one separator on two threads) would leave threads idle in the
+   INSIDE pass, and the top separator's dense block is the biggest of
+   the factor.  So each separator in turn gets every thread: for each of
+   its supernodes, the updates from within the separator in OUTSIDE-like
+   pieces (mode 3: column ranges; each entry still takes its terms in
+   increasing K), then the dense factorization, its panels' rows cut into
+   ranges (bp__super_dense_wide) when the block is big, else on the
+   calling thread with task 0's workspace.  The same entries get the same
+   sums as in the one-task INSIDE pass: the same bits. */
+#define BP__DENSE_WIDE 2000000.0          /* multiply-adds of a block worth cutting */
+typedef struct bp__dense_task {
+    double *B;
+    const double *inv;
+    uint32_t c2, q0, q1;
+    uint32_t cut[BP__SUPER_PIECES + 1];
+} bp__dense_task;
+
+static void bp__dense_run(void *task, uint32_t t)
+{
+    bp__dense_task *T = (bp__dense_task *)task;
+    bp__super_panel_rows(T->B, T->c2, T->cut[t], T->cut[t + 1], T->q0, T->q1, T->inv);
+}
+
+static void bp__super_dense_wide(bp__factor *F, uint32_t s, double *B, double *inv, const bp__par *par)
+{
+    const bp__super *S = F->sn;
+    uint32_t f = S->first[s], c2 = S->bs * (S->first[s + 1] - f), m2 = S->bs * (S->rp[s + 1] - S->rp[s]), parts, r;
+    bp__dense_task T;
+    parts = 2 * (uint32_t)par->threads;
+    if (parts > BP__SUPER_PIECES) parts = BP__SUPER_PIECES;
+    T.B = B; T.inv = inv; T.c2 = c2;
+    for (T.q0 = 0; T.q0 < c2; T.q0 = T.q1) {
+        uint32_t rows;
+        T.q1 = T.q0 + BP__DENSE_PANEL < c2 ? T.q0 + BP__DENSE_PANEL : c2;
+        bp__super_panel_tri(B, c2, T.q0, T.q1, F->D + (size_t)S->bs * f, inv);
+        rows = m2 - T.q1;
+        if (rows < 8 * parts) { bp__super_panel_rows(B, c2, T.q1, m2, T.q0, T.q1, inv); continue; }
+        for (r = 0; r <= parts; r++) T.cut[r] = T.q1 + 4 * (uint32_t)(((uint64_t)rows / 4 * r) / parts);
+        T.cut[parts] = m2;
+        par->run(par->user, bp__dense_run, &T, parts);
+    }
+}
+
+static void bp__super_wide(bp__super_task *T, const bp__par *par, uint32_t cnt)
+{
+    bp__factor *F = T->F;
+    const bp__super *S = F->sn;
+    uint32_t k, s, q, n;
+    for (k = 0; k < cnt; k++) {
+        const bp__ndnode *N = &F->tree[T->nodes[k]];
+        if (N->b >= N->hi) continue;
+        for (s = S->snode[N->b]; s <= S->snode[N->hi - 1]; s++) {
+            uint32_t c2 = S->bs * (S->first[s + 1] - S->first[s]), m2 = S->bs * (S->rp[s + 1] - S->rp[s]);
+            double *B = S->x + S->xp[s];
+            for (q = S->up[s]; q < S->up[s + 1] && S->uk[q] < S->snode[N->b]; q++) {}
+            if (q < S->up[s + 1]) {
+                T->mode = 3;
+                if ((n = bp__super_cut(T, par, s, S->snode[N->b], 0)) != 0) par->run(par->user, bp__super_run, T, n);
+            }
+            if ((double)m2 * c2 * c2 / 2 >= BP__DENSE_WIDE) bp__super_dense_wide(F, s, B, T->inv, par);
+            else bp__super_dense(F, s, B, T->inv);
+        }
+    }
 }
 
 static int bp__super_numeric(const bp_allocator *a, const bp__sparse *A, bp__factor *F, const bp__par *par)
@@ -6691,6 +6768,7 @@ static int bp__super_numeric(const bp_allocator *a, const bp__sparse *A, bp__fac
         uint32_t c = bp__nd_phase(F, phase, T.nodes);
         if (!c) continue;
         if (phase > 0) bp__super_outside(&T, par, c);
+        if (phase > 0 && par->threads > 1 && c < (uint32_t)par->threads) { bp__super_wide(&T, par, c); continue; }
         T.mode = phase > 0 ? 2 : 0;
         par->run(par->user, bp__super_run, &T, c);
     }

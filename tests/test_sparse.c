@@ -16,8 +16,11 @@
          |A x - b| / |b| is at rounding level; the scalar up-looking LDL^T
          of the same matrix gives the same solution to rounding;
      (b) the same bits (factor values and pivots) when the parallel tasks
-         run in reverse and in odd-even order, also on a 48 x 48 grid
-         whose separators are cut into several OUTSIDE pieces (no dense
+         run in reverse and in odd-even order on a runner of two threads
+         (so the top phase, one separator, takes the WIDE pass), also on
+         a 48 x 48 grid whose separators are cut into several OUTSIDE
+         pieces and a 100 x 100 grid whose top supernode is big enough for
+         the dense panels' rows to be cut (BP__DENSE_WIDE) (no dense
          brute force there: 4,608 unknowns; residual and scalar only);
      (c) a matrix that is not positive definite is reported
          (BP_ERR_NUMERICAL) and a matrix flagged blocks2 that is not made
@@ -257,7 +260,8 @@ static void check_big_supernodes(const bp__factor *F, const char *what)
 }
 
 /* (b) the same bits on other task orders: a new analysis of A with the
-   numeric phase run backwards, then refactored odd-even, against F. */
+   numeric phase run backwards, then refactored odd-even, against F; the
+   runners say two threads, so a phase of one separator goes WIDE. */
 static void check_task_orders(const bp__sparse *A, const bp__factor *F, const char *what)
 {
     bp_allocator al;
@@ -267,6 +271,7 @@ static void check_task_orders(const bp__sparse *A, const bp__factor *F, const ch
     memset(&al, 0, sizeof al);
     rev.run = bpt_backwards_for;
     oe.run = bpt_odd_even_for;
+    rev.threads = oe.threads = 2;
     if (BPT_CHECK(bp__factorize(&al, A, &Fr, &bad, &rev) == BP_OK && Fr.sn, "%s: factorization, tasks backwards", what)) {
         int same = memcmp(F->sn->x, Fr.sn->x, F->sn->xp[F->sn->ns] * sizeof(double)) == 0 &&
                    memcmp(F->D, Fr.D, A->n * sizeof(double)) == 0;
@@ -328,12 +333,12 @@ static void check_solve(const bp__sparse *A, const bp__factor *F, const double *
 
 static void test_random(void)
 {
-    static const uint32_t G[] = { 3, 6, 9, 12, 48 };
-    static const uint32_t PAIRS[] = { 0, 4, 20, 40, 30 };
+    static const uint32_t G[] = { 3, 6, 9, 12, 48, 100 };
+    static const uint32_t PAIRS[] = { 0, 4, 20, 40, 30, 60 };
     bp_allocator al;
     int c;
     memset(&al, 0, sizeof al);
-    for (c = 0; c < 5; c++) {
+    for (c = 0; c < 6; c++) {
         bp__sparse A;
         bp__factor F, Fs;
         uint32_t n, i, bad;
@@ -348,6 +353,14 @@ static void test_random(void)
         if (!BPT_CHECK(bp__factorize(&al, &A, &F, &bad, NULL) == BP_OK && F.sn, "%s: supernodal factorization", what)) return;
         if (G[c] <= 12) check_against_dense(&A, &F, what);
         else check_big_supernodes(&F, what);
+        if (G[c] == 100) {
+            uint32_t s, wide = 0;
+            for (s = 0; s < F.sn->ns; s++) {
+                double c2 = 2.0 * (F.sn->first[s + 1] - F.sn->first[s]), m2 = 2.0 * (F.sn->rp[s + 1] - F.sn->rp[s]);
+                if (m2 * c2 * c2 / 2 >= BP__DENSE_WIDE) wide++;
+            }
+            BPT_CHECK(wide > 0, "%s: %u supernodes big enough for the WIDE dense panels", what, wide);
+        }
         bp__factor_solve(&F, b, x, z);
         BPT_CHECK(rel_residual(&A, x, b) < 1e-10, "%s: |A x - b| / |b| = %.3g", what, rel_residual(&A, x, b));
         check_solve(&A, &F, b, x, what);
