@@ -5640,17 +5640,260 @@ static int bp__nd_split(const bp__sparse *A, const uint32_t *owner, uint32_t id,
     return 1;
 }
 
-/* Mode 0: the level split above for every node; mode 1: bp__nd_split's
-   best of three keys first (the supernodal factorization's ordering). */
-static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *order, bp__ndnode *tree, int mode)
+/* The dissection's state.  Shared by all its pieces: the order being
+   built (each piece owns the range [lo, hi) of it), and the arrays indexed
+   by vertex (owner, seen, level, and W's dv, dw, dw2, key).  Private to
+   one piece's task (bp__nd_task): its stack, its BFS queue, W's q2, hist
+   and diff, and its stamp counter. */
+typedef struct bp__nd {
+    const bp__sparse *A;
+    uint32_t   *order, *owner, *level, *seen;
+    bp__ndnode *tree;
+    int         mode;
+} bp__nd;
+
+typedef struct bp__nd_task {
+    uint32_t   *queue, *stack, sp, stamp;
+    bp__nd_work W;
+} bp__nd_task;
+
+/* One node of the dissection: the piece [lo, hi) of the order (its
+   vertices marked owner == lo), node `node` of the recorded tree (or
+   BP__NONE below it).  Records the node, splits the piece into
+   [A | B | S] (or a reached component and the rest) and pushes A and B on
+   T's stack; a piece of 32 vertices or fewer, or too shallow to cut, is a
+   leaf and pushes nothing.
+
+   Mode 0: the level split for every node; mode 1: bp__nd_split's best of
+   three keys first (the supernodal factorization's ordering). */
+static void bp__nd_step(const bp__nd *D, bp__nd_task *T, uint32_t lo, uint32_t hi, uint32_t node)
 {
-    uint32_t n = A->n, i, sp = 0, stamp = 0;
+    const bp__sparse *A = D->A;
+    uint32_t *order = D->order, *owner = D->owner, *level = D->level, *seen = D->seen, *queue = T->queue;
+    bp__ndnode *tree = D->tree;
+    uint32_t size = hi - lo, cnt, nlev, m, ca, cs, cb, j;
+    uint32_t c1 = node < BP__ND_NODES && 2 * node + 1 < BP__ND_NODES ? 2 * node + 1 : BP__NONE;
+    uint32_t c2 = c1 != BP__NONE ? c1 + 1 : BP__NONE;
+    if (node < BP__ND_NODES) {
+        tree[node].used = 1;
+        tree[node].lo = lo; tree[node].hi = hi; tree[node].a = tree[node].b = hi;
+    }
+    if (size <= 32) return;
+    /* pseudo-peripheral start: the last vertex of a BFS from any vertex */
+    cnt = bp__bfs(A, owner, lo, order[lo], queue, level, seen, ++T->stamp);
+    cnt = bp__bfs(A, owner, lo, queue[cnt - 1], queue, level, seen, ++T->stamp);
+    if (cnt < size) {
+        /* disconnected: reached component first, then the rest */
+        uint32_t w = cnt;
+        for (j = lo; j < hi; j++)
+            if (seen[order[j]] != T->stamp) queue[w++] = order[j];
+        memcpy(order + lo, queue, size * sizeof(uint32_t));
+        for (j = lo + cnt; j < hi; j++) owner[order[j]] = lo + cnt;
+        if (node < BP__ND_NODES) { tree[node].split = 1; tree[node].a = lo + cnt; tree[node].b = hi; }
+        T->stack[T->sp++] = lo; T->stack[T->sp++] = lo + cnt; T->stack[T->sp++] = c1;
+        T->stack[T->sp++] = lo + cnt; T->stack[T->sp++] = hi; T->stack[T->sp++] = c2;
+        return;
+    }
+    nlev = level[queue[cnt - 1]] + 1;
+    if (nlev < 3) return;
+    if (D->mode && bp__nd_split(A, owner, lo, queue, cnt, level, &T->W, seen, &T->stamp, order + lo, &ca, &cb)) goto split;
+    /* separator: the smallest level among those that leave between 30%
+       and 70% of the vertices on the near side (the middle level if
+       none qualifies) */
+    {
+        uint32_t best = BP__NONE, best_size = BP__NONE, lev = 0, lsize = 0, before = 0, mid = 1;
+        for (j = 0; j <= cnt; j++) {
+            if (j == cnt || level[queue[j]] != lev) {
+                /* level `lev` has lsize vertices, `before` lie below it */
+                if (lev >= 1 && lev <= nlev - 2) {
+                    if (before <= size / 2) mid = lev;
+                    if (10 * (uint64_t)before >= 3 * (uint64_t)size && 10 * (uint64_t)(before + lsize) <= 7 * (uint64_t)size &&
+                        lsize < best_size) { best = lev; best_size = lsize; }
+                }
+                if (j == cnt) break;
+                before += lsize;
+                lev = level[queue[j]];
+                lsize = 0;
+            }
+            lsize++;
+        }
+        m = best != BP__NONE ? best : mid;
+    }
+    for (ca = 0; level[queue[ca]] < m; ca++) {}
+    for (cs = 0; ca + cs < cnt && level[queue[ca + cs]] == m; cs++) {}
+    cb = cnt - ca - cs;
+    /* queue is in level order: [A | S | B] -> order [A | B | S].  A
+       vertex of level m with no neighbour at level m + 1 separates
+       nothing: it joins A, and the separator (and the fill) shrinks */
+    memcpy(order + lo, queue, ca * sizeof(uint32_t));
+    {
+        uint32_t s0 = ca, keep = 0, s, q2;
+        for (s = s0; s < s0 + cs; s++) {
+            uint32_t v = queue[s];
+            int needed = 0;
+            for (q2 = A->colp[v]; q2 < A->colp[v + 1] && !needed; q2++)
+                needed = owner[A->row[q2]] == lo && level[A->row[q2]] == m + 1;
+            if (needed) queue[s0 + keep++] = v;
+            else order[lo + ca++] = v;
+        }
+        memcpy(order + lo + ca, queue + s0 + cs, cb * sizeof(uint32_t));
+        memcpy(order + lo + ca + cb, queue + s0, keep * sizeof(uint32_t));
+        cs = keep;
+    }
+split:
+    for (j = lo + ca; j < lo + ca + cb; j++) owner[order[j]] = lo + ca;
+    for (j = lo + ca + cb; j < hi; j++) owner[order[j]] = BP__NONE;
+    if (node < BP__ND_NODES) { tree[node].split = 1; tree[node].a = lo + ca; tree[node].b = lo + ca + cb; }
+    T->stack[T->sp++] = lo; T->stack[T->sp++] = lo + ca; T->stack[T->sp++] = c1;
+    T->stack[T->sp++] = lo + ca; T->stack[T->sp++] = lo + ca + cb; T->stack[T->sp++] = c2;
+}
+
+/* Every node below those on T's stack, depth first. */
+static void bp__nd_subtree(const bp__nd *D, bp__nd_task *T)
+{
+    while (T->sp) {
+        uint32_t node = T->stack[--T->sp], hi = T->stack[--T->sp], lo = T->stack[--T->sp];
+        bp__nd_step(D, T, lo, hi, node);
+    }
+}
+
+/* The ordering on several threads.
+
+   The pieces of a split are independent.  The task of a piece [lo, hi)
+   reads and writes order[lo, hi) and, of the arrays indexed by vertex
+   (owner, seen, level, W's dv, dw, dw2, key), only the entries of its own
+   vertices, those with owner == lo: bp__bfs, bp__nd_cut, bp__nd_split and
+   the level split test owner[w] == id before they touch anything else of
+   a neighbour w; bp__nd_key_diff and the disconnected case read only the
+   piece's own list; the owner writes after a split are to its own
+   vertices.  Of a neighbour w outside the piece it reads owner[w] alone,
+   and that is BP__NONE, written before the task began and never again,
+   because every such w lies in the separator S of an ancestor.  By
+   induction from the root (the whole graph, no outside), since no edge
+   joins the two halves of any split (the pattern is symmetric,
+   bp__sparse):
+     - level split: the BFS levels of two neighbours differ by at most 1;
+       A holds the levels below m and the vertices of level m with no
+       neighbour at m + 1, B the levels above m;
+     - key split: a vertex below the threshold with a neighbour at or
+       above it is in S, not in A;
+     - disconnected: the reached part is a whole connected component of
+       the piece, the rest has no edge to it.
+   (With an unsymmetric pattern a neighbour could lie in a sibling piece;
+   its owner would be the sibling's id or a sub-piece's, all inside the
+   sibling's range, never lo: the same result, but a race.)  A piece's id
+   is the start of its range, so the ids of the pieces alive at one time
+   differ.  Each task writes its own nodes of tree[].  tests/test_sparse.c
+   (h) checks the premise: no edge across a recorded split.
+
+   The same bits.  A piece's result is a function of its own vertices'
+   state and of owner == BP__NONE around it, so it depends neither on which
+   piece runs first nor on the thread.  Stamps are compared for equality
+   only, and only at the piece's own vertices; a task starts its counter at
+   `base`, above every stamp written before it (the maximum over the
+   previous level's tasks), and counts up, so each BFS's stamp is new at
+   every vertex it may visit: exactly what the serial loop's single
+   counter guarantees.  Sibling tasks use the same stamp values on
+   disjoint vertices, which no comparison ever sees.
+
+   The schedule.  The root is split alone (a tenth of the work on the
+   26K-vertex face chart: 3.8 of 36 ms); then each level of the recorded tree
+   down to depth BP__ND_PAR_DEPTH is one parallel loop with a task per
+   piece (one split each), and the pieces at that depth (up to
+   2^BP__ND_PAR_DEPTH) are ordered whole, one task each, largest first
+   (the pool hands tasks out in index order).  A task's private scratch
+   is carved from the serial loop's arrays, allocated with room for it:
+   at a level sorted by lo, piece r of m vertices takes queue and q2 from
+   lo (m each), hist and diff from 2 lo + 2 r (2 m + 2 each: its keys stay
+   below 2 m) and the stack from 3 lo + 3 r (3 m + 3: the depth-first walk
+   of the piece holds one pending sibling per node on its path, and every
+   split shrinks the piece).  No piece's scratch meets another's, and the
+   loops allocate nothing (a failure can only happen before them, and the
+   allocator is not called from the pool's threads). */
+#ifndef BP__ND_PAR_DEPTH
+#define BP__ND_PAR_DEPTH BP__ND_DEPTH /* up to 16 subtree tasks */
+#endif
+#define BP__ND_PIECES (1u << BP__ND_PAR_DEPTH)
+
+typedef struct bp__nd_par {
+    const bp__nd *D;
+    uint32_t   *queue, *stack, *q2;   /* the serial loop's arrays      */
+    int32_t    *hist, *diff;
+    uint32_t    npiece, whole, base;  /* whole: order the subtrees     */
+    uint32_t    piece[3 * BP__ND_PIECES];   /* lo, hi, node; by lo    */
+    uint32_t    kids[6 * BP__ND_PIECES];    /* each piece's halves     */
+    uint32_t    ksp[BP__ND_PIECES], stamp[BP__ND_PIECES];
+    uint32_t    turn[BP__ND_PIECES];  /* task index -> piece, largest first */
+    bp__nd_work W;                    /* the shared dv, dw, dw2, key  */
+} bp__nd_par;
+
+static void bp__nd_piece_task(void *task, uint32_t i)
+{
+    bp__nd_par *P = (bp__nd_par *)task;
+    uint32_t r = P->turn[i], lo = P->piece[3 * r], hi = P->piece[3 * r + 1], node = P->piece[3 * r + 2];
+    bp__nd_task T;
+    T.W = P->W;
+    T.queue = P->queue + lo;
+    T.stamp = P->base;
+    if (P->D->mode) {
+        T.W.q2 = P->q2 + lo;
+        T.W.hist = P->hist + 2 * (size_t)lo + 2 * r;
+        T.W.diff = P->diff + 2 * (size_t)lo + 2 * r;
+    }
+    if (P->whole) {
+        T.stack = P->stack + 3 * (size_t)lo + 3 * r;
+        T.stack[0] = lo; T.stack[1] = hi; T.stack[2] = node;
+        T.sp = 3;
+        bp__nd_subtree(P->D, &T);
+    } else {
+        T.stack = P->kids + 6 * r;
+        T.sp = 0;
+        bp__nd_step(P->D, &T, lo, hi, node);
+        P->ksp[r] = T.sp;
+    }
+    P->stamp[r] = T.stamp;
+}
+
+/* One parallel loop over P's pieces: a split each, or (whole) their
+   subtrees; then the next level's pieces, in lo order, and the new base. */
+static void bp__nd_par_level(bp__nd_par *P, const bp__par *par, uint32_t n)
+{
+    uint32_t r, i, k = 0, sz;
+    for (r = 0; r < P->npiece; r++) {               /* largest first */
+        sz = P->piece[3 * r + 1] - P->piece[3 * r];
+        for (i = r; i > 0 && P->piece[3 * P->turn[i - 1] + 1] - P->piece[3 * P->turn[i - 1]] < sz; i--)
+            P->turn[i] = P->turn[i - 1];
+        P->turn[i] = r;
+    }
+    bp__par_run(par, bp__nd_piece_task, P, P->npiece, n);
+    for (r = 0; r < P->npiece; r++) if (P->stamp[r] > P->base) P->base = P->stamp[r];
+    if (P->whole) return;
+    for (r = 0; r < P->npiece; r++)                 /* kids: A then B */
+        for (i = 0; i < P->ksp[r]; i += 3) {
+            P->piece[3 * k] = P->kids[6 * r + i];
+            P->piece[3 * k + 1] = P->kids[6 * r + i + 1];
+            P->piece[3 * k + 2] = P->kids[6 * r + i + 2];
+            k++;
+        }
+    P->npiece = k;
+}
+
+/* The nested-dissection order of A's graph (order: new -> old) and the
+   top of its tree; on par's threads when par is given (any thread count,
+   any task order: the same order and tree).  Returns 0 out of memory. */
+static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *order, bp__ndnode *tree, int mode,
+                        const bp__par *par)
+{
+    uint32_t n = A->n, i;
     uint32_t *owner = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
     uint32_t *level = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
     uint32_t *queue = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
     uint32_t *seen = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-    uint32_t *stack = (uint32_t *)bp__alloc_array(a, 3 * (size_t)n + 3, sizeof(uint32_t));
+    uint32_t *stack = (uint32_t *)bp__alloc_array(a, 3 * (size_t)n + 3 * BP__ND_PIECES, sizeof(uint32_t));
     bp__nd_work W;
+    bp__nd D;
+    bp__nd_task T;
+    int ok = 0;
     memset(&W, 0, sizeof W);
     if (mode) {
         W.dv = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
@@ -5658,100 +5901,36 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
         W.dw2 = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
         W.key = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
         W.q2 = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
-        W.hist = (int32_t *)bp__alloc_array(a, 2 * (size_t)n + 2, sizeof(int32_t));
-        W.diff = (int32_t *)bp__alloc_array(a, 2 * (size_t)n + 2, sizeof(int32_t));
+        W.hist = (int32_t *)bp__alloc_array(a, 2 * (size_t)n + 2 * BP__ND_PIECES, sizeof(int32_t));
+        W.diff = (int32_t *)bp__alloc_array(a, 2 * (size_t)n + 2 * BP__ND_PIECES, sizeof(int32_t));
     }
     if (!owner || !level || !queue || !seen || !stack ||
-        (mode && (!W.dv || !W.dw || !W.dw2 || !W.key || !W.q2 || !W.hist || !W.diff))) {
-        bp__free(a, owner); bp__free(a, level); bp__free(a, queue); bp__free(a, seen); bp__free(a, stack);
-        bp__free(a, W.dv); bp__free(a, W.dw); bp__free(a, W.dw2); bp__free(a, W.key); bp__free(a, W.q2);
-        bp__free(a, W.hist); bp__free(a, W.diff);
-        return 0;
-    }
+        (mode && (!W.dv || !W.dw || !W.dw2 || !W.key || !W.q2 || !W.hist || !W.diff))) goto done;
     for (i = 0; i < n; i++) { order[i] = i; owner[i] = 0; seen[i] = 0; }
     memset(tree, 0, BP__ND_NODES * sizeof *tree);
-    stack[sp++] = 0; stack[sp++] = n; stack[sp++] = 0;
-    while (sp) {
-        uint32_t node = stack[--sp], hi = stack[--sp], lo = stack[--sp], size = hi - lo, cnt, nlev, m, ca, cs, cb, j;
-        uint32_t c1 = node < BP__ND_NODES && 2 * node + 1 < BP__ND_NODES ? 2 * node + 1 : BP__NONE;
-        uint32_t c2 = c1 != BP__NONE ? c1 + 1 : BP__NONE;
-        if (node < BP__ND_NODES) {
-            tree[node].used = 1;
-            tree[node].lo = lo; tree[node].hi = hi; tree[node].a = tree[node].b = hi;
-        }
-        if (size <= 32) continue;
-        /* pseudo-peripheral start: the last vertex of a BFS from any vertex */
-        cnt = bp__bfs(A, owner, lo, order[lo], queue, level, seen, ++stamp);
-        cnt = bp__bfs(A, owner, lo, queue[cnt - 1], queue, level, seen, ++stamp);
-        if (cnt < size) {
-            /* disconnected: reached component first, then the rest */
-            uint32_t w = cnt;
-            for (j = lo; j < hi; j++)
-                if (seen[order[j]] != stamp) queue[w++] = order[j];
-            memcpy(order + lo, queue, size * sizeof(uint32_t));
-            for (j = lo + cnt; j < hi; j++) owner[order[j]] = lo + cnt;
-            if (node < BP__ND_NODES) { tree[node].split = 1; tree[node].a = lo + cnt; tree[node].b = hi; }
-            stack[sp++] = lo; stack[sp++] = lo + cnt; stack[sp++] = c1;
-            stack[sp++] = lo + cnt; stack[sp++] = hi; stack[sp++] = c2;
-            continue;
-        }
-        nlev = level[queue[cnt - 1]] + 1;
-        if (nlev < 3) continue;
-        if (mode && bp__nd_split(A, owner, lo, queue, cnt, level, &W, seen, &stamp, order + lo, &ca, &cb)) goto split;
-        /* separator: the smallest level among those that leave between 30%
-           and 70% of the vertices on the near side (the middle level if
-           none qualifies) */
-        {
-            uint32_t best = BP__NONE, best_size = BP__NONE, lev = 0, lsize = 0, before = 0, mid = 1;
-            for (j = 0; j <= cnt; j++) {
-                if (j == cnt || level[queue[j]] != lev) {
-                    /* level `lev` has lsize vertices, `before` lie below it */
-                    if (lev >= 1 && lev <= nlev - 2) {
-                        if (before <= size / 2) mid = lev;
-                        if (10 * (uint64_t)before >= 3 * (uint64_t)size && 10 * (uint64_t)(before + lsize) <= 7 * (uint64_t)size &&
-                            lsize < best_size) { best = lev; best_size = lsize; }
-                    }
-                    if (j == cnt) break;
-                    before += lsize;
-                    lev = level[queue[j]];
-                    lsize = 0;
-                }
-                lsize++;
-            }
-            m = best != BP__NONE ? best : mid;
-        }
-        for (ca = 0; level[queue[ca]] < m; ca++) {}
-        for (cs = 0; ca + cs < cnt && level[queue[ca + cs]] == m; cs++) {}
-        cb = cnt - ca - cs;
-        /* queue is in level order: [A | S | B] -> order [A | B | S].  A
-           vertex of level m with no neighbour at level m + 1 separates
-           nothing: it joins A, and the separator (and the fill) shrinks */
-        memcpy(order + lo, queue, ca * sizeof(uint32_t));
-        {
-            uint32_t s0 = ca, keep = 0, s, q2;
-            for (s = s0; s < s0 + cs; s++) {
-                uint32_t v = queue[s];
-                int needed = 0;
-                for (q2 = A->colp[v]; q2 < A->colp[v + 1] && !needed; q2++)
-                    needed = owner[A->row[q2]] == lo && level[A->row[q2]] == m + 1;
-                if (needed) queue[s0 + keep++] = v;
-                else order[lo + ca++] = v;
-            }
-            memcpy(order + lo + ca, queue + s0 + cs, cb * sizeof(uint32_t));
-            memcpy(order + lo + ca + cb, queue + s0, keep * sizeof(uint32_t));
-            cs = keep;
-        }
-    split:
-        for (j = lo + ca; j < lo + ca + cb; j++) owner[order[j]] = lo + ca;
-        for (j = lo + ca + cb; j < hi; j++) owner[order[j]] = BP__NONE;
-        if (node < BP__ND_NODES) { tree[node].split = 1; tree[node].a = lo + ca; tree[node].b = lo + ca + cb; }
-        stack[sp++] = lo; stack[sp++] = lo + ca; stack[sp++] = c1;
-        stack[sp++] = lo + ca; stack[sp++] = lo + ca + cb; stack[sp++] = c2;
+    D.A = A; D.order = order; D.owner = owner; D.level = level; D.seen = seen; D.tree = tree; D.mode = mode;
+    if (!par || par->threads == 1) {
+        T.queue = queue; T.stack = stack; T.stamp = 0; T.W = W;
+        T.stack[0] = 0; T.stack[1] = n; T.stack[2] = 0;
+        T.sp = 3;
+        bp__nd_subtree(&D, &T);
+    } else {
+        bp__nd_par P;
+        int d;
+        memset(&P, 0, sizeof P);
+        P.D = &D; P.queue = queue; P.stack = stack; P.q2 = W.q2; P.hist = W.hist; P.diff = W.diff; P.W = W;
+        P.npiece = 1;
+        P.piece[0] = 0; P.piece[1] = n; P.piece[2] = 0;
+        for (d = 0; d < BP__ND_PAR_DEPTH && P.npiece; d++) bp__nd_par_level(&P, par, n);
+        P.whole = 1;
+        if (P.npiece) bp__nd_par_level(&P, par, n);
     }
+    ok = 1;
+done:
     bp__free(a, owner); bp__free(a, level); bp__free(a, queue); bp__free(a, seen); bp__free(a, stack);
     bp__free(a, W.dv); bp__free(a, W.dw); bp__free(a, W.dw2); bp__free(a, W.key); bp__free(a, W.q2);
     bp__free(a, W.hist); bp__free(a, W.diff);
-    return 1;
+    return ok;
 }
 
 /* The nodes of the recorded top of the nested-dissection tree, in the order
@@ -6262,10 +6441,10 @@ static int bp__super_updates(const bp_allocator *a, bp__super *S)
 }
 
 /* The analysis on the vertex graph: ordering (nested dissection, its tree
-   in F->tree in vertex ranges), elimination tree, column counts (by row
+   in F->tree in vertex ranges; on par's threads), elimination tree, column counts (by row
    subtrees), supernodes, their rows, the update lists and the blocks'
    offsets. */
-static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, bp__factor *F)
+static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, bp__factor *F, const bp__par *par)
 {
     bp__super *S = F->sn;
     uint32_t nv = G->n, k, s, i, *parent, *mark, *cnt, *reach, *msz;
@@ -6285,7 +6464,7 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     msz = (uint32_t *)bp__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
     bound = (uint8_t *)bp__calloc_array(a, (size_t)nv + 1, 1);
     if (!S->vperm || !S->viperm || !S->snode || !S->first || !parent || !mark || !cnt || !reach || !msz || !bound) goto done;
-    if (!bp__nd_order(a, G, S->vperm, F->tree, BP__SUPER_ORDER)) goto done;
+    if (!bp__nd_order(a, G, S->vperm, F->tree, BP__SUPER_ORDER, par)) goto done;
     for (k = 0; k < nv; k++) S->viperm[S->vperm[k]] = k;
     memset(&Fv, 0, sizeof Fv);
     Fv.perm = S->vperm;
@@ -6989,7 +7168,7 @@ static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A,
     F->sn = (bp__super *)bp__calloc_array(a, 1, sizeof(bp__super));
     F->D = (double *)bp__alloc_array(a, A->n ? A->n : 1, sizeof(double));
     if (F->sn && F->D) F->sn->bs = bs;
-    if (F->sn && F->D && (st = bp__super_analyse(a, &G, F)) == BP_OK) {
+    if (F->sn && F->D && (st = bp__super_analyse(a, &G, F, par)) == BP_OK) {
         st = BP_ERR_OUT_OF_MEMORY;
         /* the scatter map for the refactorizations (bp__super_start; its
            rows 2 r + 1 < BP__NONE, else the binary searches stay) */
@@ -7056,9 +7235,9 @@ static int bp__fact_numeric(const bp_allocator *a, const bp__sparse *A, bp__fact
    Returns BP_OK; BP_ERR_OUT_OF_MEMORY; BP_ERR_TOO_LARGE when L would have
    more than BP__FACTOR_MAX_NNZ entries (*bad_row: the row where the count
    passed it); BP_ERR_NUMERICAL with *bad_row set (the original row) when a
-   pivot is zero or not finite.  The numeric rows run in parallel phases
-   when par is given; every row is computed by the same operations either
-   way. */
+   pivot is zero or not finite.  The ordering's subtrees and the numeric
+   rows run in parallel when par is given; the order and every row are
+   computed by the same operations either way. */
 static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
                                const bp__par *par)
 {
@@ -7083,7 +7262,7 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
     mark = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
     if (!F->perm || !F->iperm || !F->Rp || !F->D || !parent || !mark) goto done;
     if (!A->symmetric && !bp__fact_transpose(a, A, &tpos)) goto done;
-    if (!bp__nd_order(a, A, F->perm, F->tree, BP__SCALAR_ORDER)) goto done;
+    if (!bp__nd_order(a, A, F->perm, F->tree, BP__SCALAR_ORDER, par)) goto done;
     for (k = 0; k < n; k++) F->iperm[F->perm[k]] = k;
     bp__fact_etree(A, F, parent, mark);
     bp__free(a, mark);

@@ -13,7 +13,8 @@
    tasks of each parallel loop dealt in order to the less loaded of two
    threads), and the same for the solve: one thread's time (median of
    `repeats`) and the dissection phases' two-thread bound (sec 6.14).
-   One thread.
+   One thread, but for the ordering's line (sec 6.15): bp__nd_order alone
+   on one thread and on a pool of two, wall and CPU, medians of `repeats`.
    With `laplacian` as the third argument (docs/performance.md sec 6.8):
    the L-BFGS preconditioner's scalar Laplacian instead (bp__laplacian's K,
    from the Tutte start, which is faster to reach on big charts), factored
@@ -28,6 +29,7 @@
    BiCGSTAB, bp__tutte_krylov): CPU seconds, iterations, residuals. */
 #define _POSIX_C_SOURCE 199309L     /* clock_gettime */
 #define BP_IMPLEMENTATION
+#define BP_USE_PTHREADS             /* the ordering on two threads (sec 6.15) */
 #include "bijparam.h"
 
 #include <stdio.h>
@@ -62,6 +64,55 @@ static void timed_for(void *user, bp_task_fn fn, void *task, uint32_t count)
     }
     acc[0] += load[0] + load[1];
     acc[1] += load[0] > load[1] ? load[0] : load[1];
+}
+
+static double wall(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* The ordering alone (sec 6.15): bp__nd_order of the vertex graph (mode
+   1, the supernodal factor's) and of H itself (mode 0, the scalar rows'),
+   on one thread (par NULL: the serial loop) and on a pool of two;
+   medians of `reps` of wall and CPU seconds, the ratio, the two-thread
+   bound of its tasks timed alone, and whether order and tree are the
+   same bits. */
+static void ordering(const bp_allocator *a, const bp__sparse *H, int reps)
+{
+    bp__sparse G;
+    bp__pool *P = bp__pool_start(a, 2);
+    int mode, r;
+    if (bp__super_graph(a, H, &G) != 1 || !P) { fprintf(stderr, "ordering: no graph or no pool\n"); return; }
+    for (mode = 1; mode >= 0; mode--) {
+        const bp__sparse *M = mode ? &G : H;
+        uint32_t *o1 = (uint32_t *)malloc(M->n * sizeof(uint32_t)), *o2 = (uint32_t *)malloc(M->n * sizeof(uint32_t));
+        bp__ndnode t1[BP__ND_NODES], t2[BP__ND_NODES];
+        double w[2][64], c[2][64], acc[2] = {0, 0}, t0, c0;
+        bp__par two = bp__par_serial(), tp = bp__par_serial();
+        int same = 1, th;
+        two.run = bp__pool_for; two.user = P; two.threads = 2;
+        for (r = 0; r < reps; r++)
+            for (th = 0; th < 2; th++) {
+                t0 = wall(); c0 = cpu();
+                bp__nd_order(a, M, th ? o2 : o1, th ? t2 : t1, mode, th ? &two : NULL);
+                w[th][r] = wall() - t0; c[th][r] = cpu() - c0;
+                if (th) same &= !memcmp(o1, o2, M->n * sizeof(uint32_t)) && !memcmp(t1, t2, sizeof t1);
+            }
+        tp.run = timed_for; tp.user = acc; tp.threads = 2;
+        t0 = cpu();
+        bp__nd_order(a, M, o2, t2, mode, &tp);
+        t0 = cpu() - t0;
+        for (th = 0; th < 2; th++) { qsort(w[th], reps, sizeof(double), cmpd); qsort(c[th], reps, sizeof(double), cmpd); }
+        printf("ordering mode %d (n = %u): 1 thread wall %.4f s cpu %.4f s; 2 threads wall %.4f s cpu %.4f s; "
+               "wall ratio %.2fx; by tasks %.4f s + serial %.4f s, on two threads at best %.2fx; same bits %s\n",
+               mode, M->n, w[0][reps / 2], c[0][reps / 2], w[1][reps / 2], c[1][reps / 2], w[0][reps / 2] / w[1][reps / 2],
+               acc[0], t0 - acc[0], t0 / (t0 - acc[0] + acc[1]), same ? "yes" : "NO");
+        free(o1); free(o2);
+    }
+    bp__pool_stop(a, P);
+    bp__sparse_free(a, &G);
 }
 
 static double residual(const bp__sparse *A, const double *x, const double *b)
@@ -223,6 +274,7 @@ int main(int argc, char **argv)
     for (j = 0; j < n; j++) b[j] = sin(1.0 + j);
     printf("%s: chart of %u faces, %u vertices, n = %u, nnz(A) = %u\n", argv[1], atlas.charts[best].num_triangles, S.nv, n,
            N.H.colp[n]);
+    ordering(&a, &N.H, reps);
     for (int sup = 0; sup < 2; sup++) {   /* scalar, supernodal */
         bp__factor F;
         uint32_t *cc = (uint32_t *)calloc(n, sizeof(uint32_t));

@@ -49,7 +49,17 @@
          OUTSIDE pieces on the 48 x 48 and 64 x 64 grids, the backward
          solve top-down), for (a) and (e): the same bits with its tasks
          run backwards and odd-even, and the solution of Gaussian
-         elimination on the dense matrix by brute force. */
+         elimination on the dense matrix by brute force;
+     (h) the nested-dissection ordering on several threads
+         (bp__nd_order with a runner): on the 48 x 48 grid's vertex graph
+         and the 64 x 64 scalar grid, a graph of 9 mesh-like components
+         (grids, a path, lone vertices) with its vertices shuffled, and
+         camel_b's Newton matrix and vertex graph, in both modes: the
+         order is a permutation, no edge of the graph joins the two
+         halves of a recorded split (what makes the pieces independent),
+         and with the tasks run backwards and odd-even (counted: the
+         parallel path is taken, with several tasks a loop) the order and
+         the tree are the serial loop's, bit for bit. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -498,6 +508,148 @@ static void test_scalar(void)
     }
 }
 
+/* (h) the ordering on several threads against the serial loop.  A
+   runner that counts its loops and tasks and hands them to `run`. */
+typedef struct counted_runner {
+    bp_parallel_for_fn run;
+    uint32_t loops, tasks;
+} counted_runner;
+
+static void counted_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+{
+    counted_runner *c = (counted_runner *)user;
+    c->loops++;
+    c->tasks += count;
+    c->run(NULL, fn, task, count);
+}
+
+static void check_order(const bp__sparse *M, const char *what)
+{
+    bp_allocator al;
+    uint32_t n = M->n, i, j, p, k, bad, cross;
+    uint32_t *o = (uint32_t *)malloc(n * sizeof(uint32_t)), *op = (uint32_t *)malloc(n * sizeof(uint32_t)),
+             *inv = (uint32_t *)malloc(n * sizeof(uint32_t));
+    bp__ndnode t[BP__ND_NODES], tp[BP__ND_NODES];
+    int mode, r;
+    memset(&al, 0, sizeof al);
+    for (mode = 0; mode < 2; mode++) {
+        if (!BPT_CHECK(bp__nd_order(&al, M, o, t, mode, NULL), "%s, mode %d: ordered serially", what, mode)) break;
+        for (i = 0; i < n; i++) inv[i] = BP__NONE;
+        for (i = 0, bad = 0; i < n; i++) {
+            if (o[i] >= n || inv[o[i]] != BP__NONE) bad++;
+            else inv[o[i]] = i;
+        }
+        BPT_CHECK(bad == 0, "%s, mode %d: the order is a permutation of %u (%u bad)", what, mode, n, bad);
+        if (bad) break;
+        for (k = 0, bad = 0; k < BP__ND_NODES; k++) {
+            const bp__ndnode *N = &t[k];
+            if (!N->used || !N->split) continue;
+            for (j = 0, cross = 0; j < n; j++)
+                for (p = M->colp[j]; p < M->colp[j + 1]; p++) {
+                    uint32_t u = inv[j], w = inv[M->row[p]];
+                    if (u >= N->lo && u < N->a && w >= N->a && w < N->b) cross++;
+                }
+            if (cross) bad++;
+        }
+        BPT_CHECK(bad == 0 && t[0].split, "%s, mode %d: the root is split and no edge joins the two halves of a split "
+                  "(%u bad nodes)", what, mode, bad);
+        for (r = 0; r < 2; r++) {
+            counted_runner c;
+            bp__par par = bp__par_serial();
+            c.run = r ? bpt_odd_even_for : bpt_backwards_for;
+            c.loops = c.tasks = 0;
+            par.run = counted_for;
+            par.user = &c;
+            par.threads = 2;
+            memset(op, 0xff, n * sizeof(uint32_t));
+            memset(tp, 0xff, sizeof tp);
+            if (!BPT_CHECK(bp__nd_order(&al, M, op, tp, mode, &par), "%s, mode %d: ordered with a runner", what, mode)) break;
+            BPT_CHECK(c.loops >= 2 && c.tasks >= c.loops + 2, "%s, mode %d: the parallel path (%u tasks in %u loops)", what,
+                      mode, c.tasks, c.loops);
+            BPT_CHECK(memcmp(o, op, n * sizeof(uint32_t)) == 0 && memcmp(t, tp, sizeof t) == 0,
+                      "%s, mode %d: tasks run %s: the serial loop's order and tree, bit for bit", what, mode,
+                      r ? "odd-even" : "backwards");
+        }
+#ifdef BP_USE_PTHREADS
+        for (r = 2; r <= 3; r++) {      /* on real threads (built with the pool: ThreadSanitizer) */
+            bp__pool *P = bp__pool_start(&al, r);
+            bp__par par = bp__par_serial();
+            if (!BPT_CHECK(P != NULL, "%s: a pool of %d threads", what, r)) break;
+            par.run = bp__pool_for;
+            par.user = P;
+            par.threads = r;
+            BPT_CHECK(bp__nd_order(&al, M, op, tp, mode, &par) && memcmp(o, op, n * sizeof(uint32_t)) == 0 &&
+                      memcmp(t, tp, sizeof t) == 0, "%s, mode %d: on %d threads: the serial loop's order and tree", what,
+                      mode, r);
+            bp__pool_stop(&al, P);
+        }
+#endif
+    }
+    free(o); free(op); free(inv);
+}
+
+/* A graph of mesh-like components, its vertices shuffled: grids g x h
+   (two triangles a cell), a path, lone vertices. */
+static int components_graph(bp__sparse *A)
+{
+    static const uint32_t GW[] = { 30, 13, 3, 40, 1, 2, 17, 1, 5 }, GH[] = { 30, 20, 3, 6, 1, 1, 1, 200, 33 };
+    bp_allocator al;
+    uint32_t nv = 0, c, i, j, k, *perm, base = 0;
+    size_t nt = 0;
+    bp__trip *tr;
+    int ok;
+    memset(&al, 0, sizeof al);
+    memset(A, 0, sizeof *A);
+    for (c = 0; c < 9; c++) nv += GW[c] * GH[c];
+    perm = (uint32_t *)malloc(nv * sizeof(uint32_t));
+    tr = (bp__trip *)malloc((size_t)(nv * 9 + nv) * sizeof *tr);
+    for (i = 0; i < nv; i++) perm[i] = i;
+    for (i = nv; i > 1; i--) { k = (uint32_t)(bpt_rng_unit() * i) % i; j = perm[i - 1]; perm[i - 1] = perm[k]; perm[k] = j; }
+    for (c = 0; c < 9; c++) {
+        uint32_t g = GW[c], h = GH[c];
+        for (i = 0; i < h; i++)
+            for (j = 0; j < g; j++) {
+                uint32_t v = perm[base + i * g + j], nb[3], q;
+                nb[0] = j + 1 < g ? perm[base + i * g + j + 1] : BP__NONE;
+                nb[1] = i + 1 < h ? perm[base + (i + 1) * g + j] : BP__NONE;
+                nb[2] = j + 1 < g && i + 1 < h ? perm[base + (i + 1) * g + j + 1] : BP__NONE;
+                for (q = 0; q < 3; q++)
+                    if (nb[q] != BP__NONE) {
+                        tr[nt].i = v; tr[nt].j = nb[q]; tr[nt++].v = -1;
+                        tr[nt].i = nb[q]; tr[nt].j = v; tr[nt++].v = -1;
+                    }
+                tr[nt].i = tr[nt].j = v; tr[nt++].v = 8;
+            }
+        base += g * h;
+    }
+    A->symmetric = 1;
+    ok = bp__sparse_from_triplets(&al, nv, tr, nt, A);
+    free(tr); free(perm);
+    return ok;
+}
+
+static void test_order(void)
+{
+    bp_allocator al;
+    bp__sparse A, G;
+    memset(&al, 0, sizeof al);
+    if (BPT_CHECK(random_matrix(48, 30, &A), "order: 48 x 48 grid built")) {
+        if (BPT_CHECK(bp__super_graph(&al, &A, &G) == 1, "order: the 48 x 48 grid's vertex graph")) {
+            check_order(&G, "vertex graph of the 48 x 48 grid");
+            bp__sparse_free(&al, &G);
+        }
+        bp__sparse_free(&al, &A);
+    }
+    if (BPT_CHECK(random_scalar(64, 40, &A), "order: scalar 64 x 64 grid built")) {
+        check_order(&A, "scalar 64 x 64 grid");
+        bp__sparse_free(&al, &A);
+    }
+    if (BPT_CHECK(components_graph(&A), "order: the components graph built")) {
+        check_order(&A, "9 shuffled components");
+        bp__sparse_free(&al, &A);
+    }
+}
+
 /* (c) flagged blocks2 but not in whole blocks: a tridiagonal matrix of odd
    and even size. */
 static void test_fallback(void)
@@ -562,6 +714,14 @@ static void test_newton_matrix(void)
         extra = (uint32_t)N.extra.count;
         n = N.H.n;
         BPT_CHECK(extra > 0 && N.H.blocks2, "camel_b Newton matrix: %u barrier couplings in the pattern, blocks2 set", extra);
+        {   /* (h) the ordering of the matrix and of its vertex graph */
+            bp__sparse G;
+            check_order(&N.H, "camel_b Newton matrix");
+            if (BPT_CHECK(bp__super_graph(&a, &N.H, &G) == 1, "camel_b vertex graph")) {
+                check_order(&G, "camel_b vertex graph");
+                bp__sparse_free(&a, &G);
+            }
+        }
         b = (double *)malloc(n * sizeof(double)); x = (double *)malloc(n * sizeof(double));
         xs = (double *)malloc(n * sizeof(double)); z = (double *)malloc(n * sizeof(double));
         for (i = 0; i < n; i++) b[i] = sin(1.0 + i);
@@ -601,6 +761,7 @@ int main(void)
     test_random();
     test_scalar();
     test_fallback();
+    test_order();
     test_newton_matrix();
     return bpt_finish();
 }
