@@ -215,7 +215,9 @@ clean:
 #                thread_pool.c under ThreadSanitizer in build/tsan/, run
 #                with 2 threads on camel_b, spot and face_holes; then
 #                tests/test_threads.c and tests/test_cancel.c (one cancel
-#                flag read by charts solved in parallel)
+#                flag read by charts solved in parallel), and
+#                tests/test_sparse.c with the pool (the ordering and the
+#                factorization on real pools of 2 and 3 threads)
 .PHONY: fuzz asan tsan
 FUZZ_SECONDS ?= 300
 FUZZ_CC ?= clang
@@ -269,6 +271,10 @@ tsan:
 	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_cancel.c -o $(BUILD)/tsan/test_cancel $(LDLIBS)
 	$(TSAN_ENV) $(BUILD)/tsan/test_cancel > $(BUILD)/tsan/test_cancel.log || { tail -30 $(BUILD)/tsan/test_cancel.log; exit 1; }
 	@tail -1 $(BUILD)/tsan/test_cancel.log
+	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) -DBP_USE_PTHREADS -pthread tests/test_sparse.c \
+	    -o $(BUILD)/tsan/test_sparse $(LDLIBS)
+	$(TSAN_ENV) $(BUILD)/tsan/test_sparse > $(BUILD)/tsan/test_sparse.log || { tail -30 $(BUILD)/tsan/test_sparse.log; exit 1; }
+	@tail -1 $(BUILD)/tsan/test_sparse.log
 	@echo "tsan: no data race reported"
 
 # ---- installation (header, tool, pkg-config file) --------------------------

@@ -292,6 +292,25 @@ static void check_task_orders(const bp__sparse *A, const bp__factor *F, const ch
         BPT_CHECK(same, "%s: refactored in odd-even task order: the same bits", what);
         bp__factor_free(&al, &Fr);
     }
+#ifdef BP_USE_PTHREADS
+    {   /* on real threads (built with the pool: ThreadSanitizer's make tsan) */
+        int r;
+        for (r = 2; r <= 3; r++) {
+            bp__pool *P = bp__pool_start(&al, r);
+            bp__par par = bp__par_serial();
+            if (!BPT_CHECK(P != NULL, "%s: a pool of %d threads", what, r)) break;
+            par.run = bp__pool_for;
+            par.user = P;
+            par.threads = r;
+            if (BPT_CHECK(bp__factorize(&al, A, &Fr, &bad, &par) == BP_OK && Fr.sn, "%s: factored on %d threads", what, r)) {
+                BPT_CHECK(memcmp(F->sn->x, Fr.sn->x, F->sn->xp[F->sn->ns] * sizeof(double)) == 0 &&
+                          memcmp(F->D, Fr.D, A->n * sizeof(double)) == 0, "%s: on %d threads: the same bits", what, r);
+                bp__factor_free(&al, &Fr);
+            }
+            bp__pool_stop(&al, P);
+        }
+    }
+#endif
 }
 
 /* (g) the supernodal solve in the dissection's parallel phases: its
