@@ -11498,6 +11498,35 @@ static void bp__newton_tri_task(void *task, uint32_t c)
     }
 }
 
+/* H's columns 2v, 2v+1 for the vertices v of chunk c, from the
+   triangles' 6x6 Hessians: zeroed, then for each corner of v (vc_list:
+   increasing corner number, so increasing triangle t) the three blocks
+   (r, c) of t with c = v's corner, at their places tpos.  An entry of
+   H(u, v) gets one term per triangle holding both u and v, in increasing
+   t: the order of a scatter over the triangles in turn, so the same
+   bits; but a gather writes only its own columns, so the chunks run in
+   parallel (the scatter was serial: 2 ms of face's 10 per iteration on
+   two threads). */
+static void bp__newton_gather_task(void *task, uint32_t c)
+{
+    bp__newton *N = (bp__newton *)task;
+    const bp__solver *S = N->S;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p, r;
+    double *val = N->H.val;
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
+        uint32_t c0 = N->H.colp[2 * v], len = N->H.colp[2 * v + 1] - c0;
+        memset(val + c0, 0, (size_t)(N->H.colp[2 * v + 2] - c0) * sizeof(double));
+        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
+            uint32_t t = S->vc_list[p] / 3, cc = S->vc_list[p] % 3;
+            for (r = 0; r < 3; r++) {        /* block (r, cc) of the triangle */
+                const double *ht = N->ht + 36 * (size_t)t + 12 * r + 2 * cc;
+                uint32_t P = N->tpos[9 * (size_t)t + 3 * r + cc];
+                val[P] += ht[0]; val[P + 1] += ht[6]; val[P + len] += ht[1]; val[P + len + 1] += ht[7];
+            }
+        }
+    }
+}
+
 /* The barrier's diagonal blocks for the pairs of one edge query. */
 typedef struct bp__bhess_query {
     const bp__solver *S;
@@ -11618,7 +11647,7 @@ static void bp__newton_pins(bp__newton *N, const bp__solver *S)
    blocks + delta I, with the pins' rows (bp__newton_pins). */
 static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
 {
-    uint32_t t, v, k, n = N->H.n;
+    uint32_t v, n = N->H.n;
     double trace = 0, delta;
     N->S = S;
     N->x = x;
@@ -11626,14 +11655,7 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
     bp__newton_barrier(N, S, x);
     if (BP__NEWTON_BARRIER == 3 && !bp__newton_grow(N, S)) { N->oom = 1; return; }
     n = N->H.n;
-    memset(N->H.val, 0, (size_t)N->H.colp[n] * sizeof(double));
-    for (t = 0; t < S->nt; t++)
-        for (k = 0; k < 9; k++) {          /* block (r, c) = (k / 3, k % 3) of the triangle */
-            const double *ht = N->ht + 36 * (size_t)t + 12 * (k / 3) + 2 * (k % 3);
-            uint32_t P = N->tpos[9 * (size_t)t + k], c = 2 * S->tri[3 * (size_t)t + k % 3];
-            uint32_t len = N->H.colp[c + 1] - N->H.colp[c];
-            N->H.val[P] += ht[0]; N->H.val[P + 1] += ht[6]; N->H.val[P + len] += ht[1]; N->H.val[P + len + 1] += ht[7];
-        }
+    S->par.run(S->par.user, bp__newton_gather_task, N, S->nchunk_v);
     if (BP__NEWTON_BARRIER == 3) {                  /* the pairs' full terms */
         const bp__bpair *pr = (const bp__bpair *)N->pairs.data;
         size_t q;

@@ -18,6 +18,10 @@
          convex in J (a twist eigenvalue <= 0, or a linear piece), which the
          finite differences must confirm;
      (d) on a real chart (camel_b, Tutte start), the assembled matrix
+         (gathered by vertex in parallel chunks) is, without the barrier,
+         the scatter of the triangles' Hessians in triangle order written
+         here (searching H's columns) plus delta I, bit for bit, and has the
+         same bits with its chunks run backwards; it
          without the barrier dominates the true Hessian: w^T H w >=
          w^T (finite-difference Hessian) w for random w, since clamping
          adds a positive semidefinite term per triangle; with the barrier,
@@ -228,6 +232,51 @@ static void test_triangle_hessians(void)
     }
 }
 
+/* (d) H's gather by vertex (bp__newton_gather_task) against a scatter
+   written here: every triangle in turn adds its 6x6 Hessian N->ht to the
+   entries it finds by searching H's columns (not through tpos).  Without
+   the barrier (delta given) H is that plus delta on the diagonal, bit for
+   bit (the scatter's order per entry is the gather's); and assembled
+   again with the vertex chunks run backwards on a two-thread runner, H
+   has the same bits. */
+static void check_gather(bp__newton *N, bp__solver *S, const double *x, const double *delta)
+{
+    uint32_t n = N->H.n, t, r, c, a, b, p, bad = 0, miss = 0;
+    double *Hs = (double *)calloc(N->H.colp[n] + 1, sizeof(double)), *H1 = (double *)malloc((N->H.colp[n] + 1) * sizeof(double));
+    bp__par keep = S->par;
+    for (t = 0; t < S->nt; t++)
+        for (r = 0; r < 3; r++)
+            for (c = 0; c < 3; c++)
+                for (a = 0; a < 2; a++)
+                    for (b = 0; b < 2; b++) {
+                        uint32_t row = 2 * S->tri[3 * t + r] + a, col = 2 * S->tri[3 * t + c] + b;
+                        for (p = N->H.colp[col]; p < N->H.colp[col + 1] && N->H.row[p] != row; p++) {}
+                        if (p == N->H.colp[col + 1]) { miss++; continue; }
+                        Hs[p] += N->ht[36 * (size_t)t + 6 * (2 * r + a) + 2 * c + b];
+                    }
+    BPT_CHECK(miss == 0, "camel_b: every triangle block is in H's pattern (%u missing)", miss);
+    if (delta) {       /* the library's shift from this H's trace: 1e-8 trace / n */
+        double tr = 0, d;
+        for (c = 0; c < S->nv; c++) tr += Hs[N->dpos[4 * c]] + Hs[N->dpos[4 * c + 3]];
+        d = 1e-8 * tr / n;
+        BPT_CHECK(fabs(d - *delta) <= 1e-6 * *delta, "camel_b without barrier: the shift %.6g as recovered from H's trace (%.6g)", d,
+                  *delta);
+        for (c = 0; c < n; c++)
+            for (p = N->H.colp[c]; p < N->H.colp[c + 1]; p++)
+                if (N->H.val[p] != (N->H.row[p] == c ? Hs[p] + d : Hs[p])) bad++;
+        BPT_CHECK(bad == 0, "camel_b without barrier: H is the triangle-order scatter + delta I, bit for bit (%u differ)", bad);
+    }
+    memcpy(H1, N->H.val, N->H.colp[n] * sizeof(double));
+    S->par.run = bpt_backwards_for;
+    S->par.user = NULL;
+    S->par.threads = 2;
+    bp__newton_assemble(N, S, x);
+    BPT_CHECK(memcmp(H1, N->H.val, N->H.colp[n] * sizeof(double)) == 0,
+              "camel_b %s: H assembled with the vertex chunks backwards: the same bits", delta ? "without barrier" : "with the barrier");
+    S->par = keep;
+    free(Hs); free(H1);
+}
+
 /* (d) the assembled system on a real chart. */
 static void test_assembled(void)
 {
@@ -265,6 +314,7 @@ static void test_assembled(void)
             delta = 1e-8 * (tr / (1 + 1e-8)) / nv2;
             if (withb) BPT_CHECK(bsum > 0, "camel_b, eps = 4 mean edges: the barrier adds to H (sum |blocks| %.3g)", bsum);
         }
+        check_gather(&N, &S, x, withb ? NULL : &delta);
         for (k = 0; k < 20; k++) {
             double wHw = 0, wFw = 0, ww = 0, h, wmax = 0;
             for (i = 0; i < nv2; i++) { w[i] = bpt_rng_range(-1, 1); ww += w[i] * w[i]; if (fabs(w[i]) > wmax) wmax = fabs(w[i]); }
