@@ -5623,7 +5623,7 @@ static uint32_t bp__nd_key_diff(const uint32_t *queue, uint32_t cnt, const uint3
 #define BP__ND_FM_PASSES 8
 #endif
 #ifndef BP__ND_FM_STALL
-#define BP__ND_FM_STALL 50
+#define BP__ND_FM_STALL 100
 #endif
 
 /* Vertex v of the piece takes side x (0 A, 1 B, 2 S): the counts na, nb
