@@ -5385,7 +5385,10 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
       breadth-first search from a pseudo-peripheral vertex (a level is a
       separator: no edge jumps over a BFS level), order both halves first
       and the separator last, and recurse.  Disconnected pieces are ordered
-      one after the other.
+      one after the other.  For the supernodal factorization the cut is
+      the best of three distance keys, then shortened by
+      Fiduccia-Mattheyses moves (bp__nd_refine), which halves the
+      factorization's flops on real charts.
    2. Symbolic.  The elimination tree (Liu's algorithm with path compression)
       and, for each row k, the "row subtree" reach of A(0:k-1, k) in it give
       the exact pattern of L, so its storage is allocated once, by rows.
