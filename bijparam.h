@@ -8494,6 +8494,8 @@ typedef struct bp__tutte {
     double   *rhs, *sol, *work;
     int       krylov_iters;       /* phase 6a: iterations, -1 not converged */
     double    krylov_rel;         /* ... and its relative residual          */
+    uint32_t *incp, *inc;         /* corners 3t+k of each vertex, increasing */
+    bp__par   par;                /* who runs the phases' tasks (run NULL: serial) */
 } bp__tutte;
 
 static void bp__tutte_free(const bp_allocator *a, bp__tutte *T)
@@ -8501,6 +8503,7 @@ static void bp__tutte_free(const bp_allocator *a, bp__tutte *T)
     bp__free(a, T->tri); bp__free(a, T->pos); bp__free(a, T->adjp); bp__free(a, T->adj);
     bp__free(a, T->w); bp__free(a, T->idx); bp__free(a, T->rhs); bp__free(a, T->sol); bp__free(a, T->work);
     bp__free(a, T->A.colp); bp__free(a, T->A.row); bp__free(a, T->A.val);
+    bp__free(a, T->incp); bp__free(a, T->inc);
 }
 
 /* Phase 1, the filled chart: real triangles, then one fan per hole to a
@@ -8531,49 +8534,122 @@ static int bp__tutte_fill(const bp_allocator *a, bp__tutte *T, const bp_chart *c
     return 1;
 }
 
+/* The phases on several threads (issue 15).  Phases 2, 3 and 5 were
+   scatters over the triangles (and a qsort per vertex): serial set-up of
+   tens of milliseconds on a 132K-face chart, while the iterations after
+   them run on every thread.  They are gathers per vertex instead, run by
+   vertex chunks (>>threads: chunk boundaries depend on the count alone),
+   and each gives the scatter's bits:
+   - the corners of each vertex, inc[incp[v] .. incp[v+1]), are the corner
+     numbers 3t+k with tri[3t+k] = v in increasing order (a counting sort
+     in triangle order), so a vertex that visits its corners in that order
+     adds into each of its own entries in the scatter's order (triangle t,
+     then corner k), and only it writes them;
+   - a vertex's neighbour list is a set (sorted, without repeats), the same
+     whichever sort builds it;
+   - a column of the system is written by its own vertex alone, in the
+     order of the serial loop, once the columns' offsets are known.
+   The phases take their runner from T->par (run NULL: a plain loop). */
+static uint32_t bp__nchunks(uint32_t n, uint32_t size);
+static uint32_t bp__chunk_at(uint32_t n, uint32_t nc, uint32_t c);
+#define BP__TUTTE_CHUNK 2048u             /* vertices per task */
+
+typedef struct bp__tutte_task {
+    bp__tutte *T;
+    const bp_chart *ch;
+    uint32_t nc, *cnt;                    /* chunks over N; per vertex counts */
+    int mvc;
+} bp__tutte_task;
+
+static void bp__tutte_run(bp__tutte_task *J, bp_task_fn fn)
+{
+    bp__tutte *T = J->T;
+    J->nc = bp__nchunks(T->N, BP__TUTTE_CHUNK);
+    if (T->par.run) bp__par_run(&T->par, fn, J, J->nc, T->N);
+    else bp__serial_for(NULL, fn, J, J->nc);
+}
+
+/* Sort a few vertex numbers (a neighbour list, a dozen on a mesh; a hole
+   centre's can be long, and goes to qsort). */
+static void bp__u32_sort(uint32_t *v, uint32_t n)
+{
+    uint32_t k, m;
+    if (n > 32) { qsort(v, n, sizeof(uint32_t), bp__u32_cmp); return; }
+    for (k = 1; k < n; k++) {
+        uint32_t x = v[k];
+        for (m = k; m > 0 && v[m - 1] > x; m--) v[m] = v[m - 1];
+        v[m] = x;
+    }
+}
+
+/* Phase 2, vertex chunk c: the neighbours of each vertex v (the two other
+   corners of each of its corners), sorted and without repeats, written at
+   the start of v's slot adj[2 incp[v] .. 2 incp[v+1]); their count in
+   cnt[v]. */
+static void bp__tutte_adj_task(void *task, uint32_t c)
+{
+    bp__tutte_task *J = (bp__tutte_task *)task;
+    bp__tutte *T = J->T;
+    uint32_t v, v1 = bp__chunk_at(T->N, J->nc, c + 1), q;
+    for (v = bp__chunk_at(T->N, J->nc, c); v < v1; v++) {
+        uint32_t *row = T->adj + 2 * (size_t)T->incp[v], n = 0, k, last = BP__NONE;
+        for (q = T->incp[v]; q < T->incp[v + 1]; q++) {
+            uint32_t t = T->inc[q] / 3, kk = T->inc[q] % 3;
+            row[n++] = T->tri[3 * (size_t)t + (kk + 1) % 3];
+            row[n++] = T->tri[3 * (size_t)t + (kk + 2) % 3];
+        }
+        bp__u32_sort(row, n);
+        for (k = 0, q = 0; k < n; k++)
+            if (row[k] != last) row[q++] = last = row[k];
+        J->cnt[v] = q;
+    }
+}
+
 /* Phase 2, adjacency: both directions of every triangle edge, sorted and
-   deduplicated per vertex (counting sort into place, then qsort per row). */
+   deduplicated per vertex.  The corners of each vertex first (kept for
+   phase 3), then each vertex's list from them in parallel, then the lists
+   moved together in vertex order. */
 static int bp__tutte_adjacency(const bp_allocator *a, bp__tutte *T)
 {
-    uint32_t t, k, i, e, N = T->N, *cnt = (uint32_t *)bp__alloc_array(a, (size_t)N + 1, sizeof(uint32_t));
-    T->adjp = (uint32_t *)bp__calloc_array(a, (size_t)N + 1, sizeof(uint32_t));
-    T->adj = (uint32_t *)bp__alloc_array(a, 6 * (size_t)T->nt, sizeof(uint32_t));
-    if (!cnt || !T->adjp || !T->adj) { bp__free(a, cnt); return 0; }
-    for (t = 0; t < T->nt; t++)
-        for (k = 0; k < 3; k++) { T->adjp[T->tri[3 * t + k] + 1]++; T->adjp[T->tri[3 * t + (k + 1) % 3] + 1]++; }
-    for (i = 0; i < N; i++) T->adjp[i + 1] += T->adjp[i];
-    memcpy(cnt, T->adjp, ((size_t)N + 1) * sizeof(uint32_t));
-    for (t = 0; t < T->nt; t++)
-        for (k = 0; k < 3; k++) {
-            uint32_t va = T->tri[3 * t + k], vb = T->tri[3 * t + (k + 1) % 3];
-            T->adj[cnt[va]++] = vb;
-            T->adj[cnt[vb]++] = va;
-        }
-    bp__free(a, cnt);
+    uint32_t t, i, N = T->N;
+    size_t nc3 = 3 * (size_t)T->nt;
+    bp__tutte_task J;
+    uint32_t *cnt = (uint32_t *)bp__alloc_array(a, (size_t)N + 1, sizeof(uint32_t));
+    T->incp = (uint32_t *)bp__calloc_array(a, (size_t)N + 2, sizeof(uint32_t));
+    T->inc = (uint32_t *)bp__alloc_array(a, nc3 ? nc3 : 1, sizeof(uint32_t));
+    T->adjp = (uint32_t *)bp__alloc_array(a, (size_t)N + 1, sizeof(uint32_t));
+    T->adj = (uint32_t *)bp__alloc_array(a, 2 * nc3 + 1, sizeof(uint32_t));
+    if (!cnt || !T->incp || !T->inc || !T->adjp || !T->adj) { bp__free(a, cnt); return 0; }
+    for (t = 0; t < nc3; t++) T->incp[T->tri[t] + 2]++;
+    for (i = 0; i < N; i++) T->incp[i + 2] += T->incp[i + 1];
+    for (t = 0; t < nc3; t++) T->inc[T->incp[T->tri[t] + 1]++] = t;   /* vertex v: [incp[v], incp[v+1]) */
+    memset(&J, 0, sizeof J);
+    J.T = T;
+    J.cnt = cnt;
+    bp__tutte_run(&J, bp__tutte_adj_task);
     for (T->ne = 0, i = 0; i < N; i++) {
-        uint32_t s0 = T->adjp[i], s1 = T->adjp[i + 1], last = BP__NONE;
-        qsort(T->adj + s0, s1 - s0, sizeof(uint32_t), bp__u32_cmp);
+        memmove(T->adj + T->ne, T->adj + 2 * (size_t)T->incp[i], cnt[i] * sizeof(uint32_t));
         T->adjp[i] = T->ne;
-        for (e = s0; e < s1; e++)
-            if (T->adj[e] != last) T->adj[T->ne++] = last = T->adj[e];
+        T->ne += cnt[i];
     }
     T->adjp[N] = T->ne;
+    bp__free(a, cnt);
     return 1;
 }
 
-/* Phase 3, the weights: 1 (Tutte), or Floater's mean-value weights
-   (tan(alpha/2) + tan(beta/2)) / |p_i - p_j| summed over the two triangles
-   of edge ij; anything not positive and finite becomes 1. */
-static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
+/* Phase 3, vertex chunk c: the weights of each vertex's row, its corners
+   in increasing order (see above). */
+static void bp__tutte_weights_task(void *task, uint32_t c)
 {
-    uint32_t t, k, e;
-    T->w = (double *)bp__calloc_array(a, T->ne, sizeof(double));
-    if (!T->w) return 0;
-    for (t = 0; t < T->nt; t++)
-        for (k = 0; k < 3; k++) {
-            uint32_t vi = T->tri[3 * t + k], vj = T->tri[3 * t + (k + 1) % 3], vk = T->tri[3 * t + (k + 2) % 3];
+    bp__tutte_task *J = (bp__tutte_task *)task;
+    bp__tutte *T = J->T;
+    uint32_t vi, v1 = bp__chunk_at(T->N, J->nc, c + 1), q, e;
+    for (vi = bp__chunk_at(T->N, J->nc, c); vi < v1; vi++) {
+        for (q = T->incp[vi]; q < T->incp[vi + 1]; q++) {
+            uint32_t t = T->inc[q] / 3, k = T->inc[q] % 3;
+            uint32_t vj = T->tri[3 * (size_t)t + (k + 1) % 3], vk = T->tri[3 * (size_t)t + (k + 2) % 3];
             uint32_t ej = bp__adj_find(T->adjp, T->adj, vi, vj), ek = bp__adj_find(T->adjp, T->adj, vi, vk);
-            if (!mvc) {
+            if (!J->mvc) {
                 T->w[ej] = T->w[ek] = 1;
             } else {
                 const double *pi = T->pos + 3 * (size_t)vi, *pj = T->pos + 3 * (size_t)vj, *pk = T->pos + 3 * (size_t)vk;
@@ -8582,8 +8658,24 @@ static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
                 T->w[ek] += th / bp__dist3(pi, pk);
             }
         }
-    for (e = 0; e < T->ne; e++)
-        if (!(T->w[e] > 0) || !(T->w[e] - T->w[e] == 0)) T->w[e] = 1;   /* keep every weight positive */
+        for (e = T->adjp[vi]; e < T->adjp[vi + 1]; e++)
+            if (!(T->w[e] > 0) || !(T->w[e] - T->w[e] == 0)) T->w[e] = 1;   /* keep every weight positive */
+    }
+}
+
+/* Phase 3, the weights: 1 (Tutte), or Floater's mean-value weights
+   (tan(alpha/2) + tan(beta/2)) / |p_i - p_j| summed over the two triangles
+   of edge ij (in triangle order); anything not positive and finite
+   becomes 1. */
+static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
+{
+    bp__tutte_task J;
+    T->w = (double *)bp__calloc_array(a, T->ne ? T->ne : 1, sizeof(double));
+    if (!T->w) return 0;
+    memset(&J, 0, sizeof J);
+    J.T = T;
+    J.mvc = mvc;
+    bp__tutte_run(&J, bp__tutte_weights_task);
     return 1;
 }
 
@@ -8622,35 +8714,32 @@ static int bp__tutte_circle(const bp_allocator *a, bp__tutte *T, bp_chart *ch)
     return 1;
 }
 
-/* Phase 5, the system sum_j w_ij (u_i - u_j) = 0 over the free vertices,
-   column by column, fixed neighbours moved to the right-hand side (both
-   coordinates: rhs[0, nfree) and rhs[nfree, 2 nfree)). */
-static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, int mvc)
+/* Phase 5, vertex chunk c: the number of entries of each free vertex's
+   column (its free neighbours and the diagonal) into cnt, or, once the
+   offsets are in A->colp (J->cnt NULL), the columns themselves. */
+static void bp__tutte_system_task(void *task, uint32_t c)
 {
-    uint32_t j, e, p, nnz = 0, nfree = T->nfree;
+    bp__tutte_task *J = (bp__tutte_task *)task;
+    bp__tutte *T = J->T;
     bp__sparse *A = &T->A;
-    A->n = nfree;
-    A->symmetric = !mvc;
-    A->super1 = !mvc && BP__SUPER_SCALAR;
-    A->colp = (uint32_t *)bp__alloc_array(a, (size_t)nfree + 1, sizeof(uint32_t));
-    A->row = (uint32_t *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(uint32_t));
-    A->val = (double *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(double));
-    T->rhs = (double *)bp__calloc_array(a, 2 * (size_t)nfree, sizeof(double));
-    T->sol = (double *)bp__alloc_array(a, 2 * (size_t)nfree, sizeof(double));
-    T->work = (double *)bp__alloc_array(a, 3 * (size_t)nfree, sizeof(double));
-    if (!A->colp || !A->row || !A->val || !T->rhs || !T->sol || !T->work) return 0;
-    for (j = 0; j < T->N; j++) {
-        uint32_t cj = T->idx[j];
+    uint32_t j, j1 = bp__chunk_at(T->N, J->nc, c + 1), e, p, nfree = T->nfree;
+    for (j = bp__chunk_at(T->N, J->nc, c); j < j1; j++) {
+        uint32_t cj = T->idx[j], nnz;
         double diag = 0;
         int diag_done = 0;
         if (cj == BP__NONE) continue;
-        A->colp[cj] = nnz;
+        if (J->cnt) {
+            for (nnz = 1, e = T->adjp[j]; e < T->adjp[j + 1]; e++) nnz += T->idx[T->adj[e]] != BP__NONE;
+            J->cnt[cj] = nnz;
+            continue;
+        }
+        nnz = A->colp[cj];
         for (e = T->adjp[j]; e < T->adjp[j + 1]; e++) {
             uint32_t vi = T->adj[e];
             diag += T->w[e];
             if (T->idx[vi] == BP__NONE) {         /* fixed neighbour -> rhs */
-                T->rhs[cj] += T->w[e] * ch->uv[2 * (size_t)vi];
-                T->rhs[nfree + cj] += T->w[e] * ch->uv[2 * (size_t)vi + 1];
+                T->rhs[cj] += T->w[e] * J->ch->uv[2 * (size_t)vi];
+                T->rhs[nfree + cj] += T->w[e] * J->ch->uv[2 * (size_t)vi + 1];
             }
         }
         /* rows in increasing free index: adj is sorted by vertex and the
@@ -8665,7 +8754,36 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
         if (!diag_done) { A->row[nnz] = cj; A->val[nnz++] = 0; }
         for (p = A->colp[cj]; p < nnz; p++) if (A->row[p] == cj) A->val[p] = diag;
     }
+}
+
+/* Phase 5, the system sum_j w_ij (u_i - u_j) = 0 over the free vertices,
+   column by column, fixed neighbours moved to the right-hand side (both
+   coordinates: rhs[0, nfree) and rhs[nfree, 2 nfree)): the columns'
+   lengths, their offsets, then the columns (in parallel, see above). */
+static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, int mvc)
+{
+    uint32_t j, nnz = 0, nfree = T->nfree;
+    bp__sparse *A = &T->A;
+    bp__tutte_task J;
+    A->n = nfree;
+    A->symmetric = !mvc;
+    A->super1 = !mvc && BP__SUPER_SCALAR;
+    A->colp = (uint32_t *)bp__alloc_array(a, (size_t)nfree + 1, sizeof(uint32_t));
+    A->row = (uint32_t *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(uint32_t));
+    A->val = (double *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(double));
+    T->rhs = (double *)bp__calloc_array(a, 2 * (size_t)nfree, sizeof(double));
+    T->sol = (double *)bp__alloc_array(a, 2 * (size_t)nfree, sizeof(double));
+    T->work = (double *)bp__alloc_array(a, 3 * (size_t)nfree, sizeof(double));
+    if (!A->colp || !A->row || !A->val || !T->rhs || !T->sol || !T->work) return 0;
+    memset(&J, 0, sizeof J);
+    J.T = T;
+    J.ch = ch;
+    J.cnt = A->colp;
+    bp__tutte_run(&J, bp__tutte_system_task);
+    for (j = 0; j < nfree; j++) { uint32_t k = A->colp[j]; A->colp[j] = nnz; nnz += k; }
     A->colp[nfree] = nnz;
+    J.cnt = NULL;
+    bp__tutte_run(&J, bp__tutte_system_task);
     return 1;
 }
 
@@ -9258,6 +9376,7 @@ static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mes
     bp__tutte T;
     bp_status st = BP_OK;
     memset(&T, 0, sizeof T);
+    if (runner) T.par = *runner;
     if (!bp__tutte_fill(a, &T, ch, m) || !bp__tutte_adjacency(a, &T) || !bp__tutte_weights(a, &T, mvc) ||
         !bp__tutte_circle(a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(a, &T, ch, mvc)))
         st = bp__oom(err, "computing the start map");

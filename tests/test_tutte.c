@@ -23,7 +23,11 @@
    (d) The mean-value system's Krylov solve (phase 6a): on the random
        M-matrices of (a) against dense elimination; on real charts its
        residual recomputed here, the LU's solution, the same bits when the
-       tasks run backwards. */
+       tasks run backwards.
+   (e) Phases 2, 3 and 5 (adjacency, weights, system), gathers per vertex
+       chunk, against the triangle-order scatters they replaced (written
+       here), bit for bit, with the chunks run serially, backwards and odd
+       then even. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -427,6 +431,147 @@ out:
     bp_mesh_free(&m, NULL);
 }
 
+/* (e) Phases 2, 3 and 5 of the start map (adjacency, weights, system) are
+   gathers per vertex chunk; here against the triangle-order scatters they
+   replaced (written out below, as the header had them), bit for bit, with
+   the chunks run serially, backwards and odd then even. */
+static int ref_u32_cmp(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+static uint32_t ref_find(const uint32_t *adjp, const uint32_t *adj, uint32_t i, uint32_t j)
+{
+    uint32_t e;
+    for (e = adjp[i]; e < adjp[i + 1]; e++) if (adj[e] == j) return e;
+    return BP__NONE;
+}
+
+/* the old phases 2, 3, 5 on T (after phase 1 and 4's circle: idx, uv) */
+static void ref_phases(bp__tutte *T, const bp_chart *ch, int mvc, uint32_t **adjp_, uint32_t **adj_, double **w_,
+                       uint32_t **colp_, uint32_t **row_, double **val_, double **rhs_)
+{
+    uint32_t t, k, i, e, N = T->N, ne = 0, *cnt = (uint32_t *)calloc(N + 1, sizeof(uint32_t));
+    uint32_t *adjp = (uint32_t *)calloc(N + 1, sizeof(uint32_t)), *adj = (uint32_t *)malloc(6 * T->nt * sizeof(uint32_t));
+    uint32_t nfree = T->nfree, j, p, nnz = 0, *colp, *row;
+    double *w, *val, *rhs;
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) { adjp[T->tri[3 * t + k] + 1]++; adjp[T->tri[3 * t + (k + 1) % 3] + 1]++; }
+    for (i = 0; i < N; i++) adjp[i + 1] += adjp[i];
+    memcpy(cnt, adjp, (N + 1) * sizeof(uint32_t));
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t va = T->tri[3 * t + k], vb = T->tri[3 * t + (k + 1) % 3];
+            adj[cnt[va]++] = vb;
+            adj[cnt[vb]++] = va;
+        }
+    for (i = 0; i < N; i++) {
+        uint32_t s0 = adjp[i], s1 = adjp[i + 1], last = BP__NONE;
+        qsort(adj + s0, s1 - s0, sizeof(uint32_t), ref_u32_cmp);
+        adjp[i] = ne;
+        for (e = s0; e < s1; e++) if (adj[e] != last) adj[ne++] = last = adj[e];
+    }
+    adjp[N] = ne;
+    w = (double *)calloc(ne + 1, sizeof(double));
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t vi = T->tri[3 * t + k], vj = T->tri[3 * t + (k + 1) % 3], vk = T->tri[3 * t + (k + 2) % 3];
+            uint32_t ej = ref_find(adjp, adj, vi, vj), ek = ref_find(adjp, adj, vi, vk);
+            if (!mvc) w[ej] = w[ek] = 1;
+            else {
+                const double *pi = T->pos + 3 * (size_t)vi, *pj = T->pos + 3 * (size_t)vj, *pk = T->pos + 3 * (size_t)vk;
+                double th = tan(0.5 * bp__angle3(pi, pj, pk));
+                w[ej] += th / bp__dist3(pi, pj);
+                w[ek] += th / bp__dist3(pi, pk);
+            }
+        }
+    for (e = 0; e < ne; e++) if (!(w[e] > 0) || !(w[e] - w[e] == 0)) w[e] = 1;
+    colp = (uint32_t *)malloc((nfree + 1) * sizeof(uint32_t));
+    row = (uint32_t *)malloc((ne + nfree) * sizeof(uint32_t));
+    val = (double *)malloc((ne + nfree) * sizeof(double));
+    rhs = (double *)calloc(2 * nfree + 1, sizeof(double));
+    for (j = 0; j < N; j++) {
+        uint32_t cj = T->idx[j];
+        double diag = 0;
+        int diag_done = 0;
+        if (cj == BP__NONE) continue;
+        colp[cj] = nnz;
+        for (e = adjp[j]; e < adjp[j + 1]; e++) {
+            uint32_t vi = adj[e];
+            diag += w[e];
+            if (T->idx[vi] == BP__NONE) {
+                rhs[cj] += w[e] * ch->uv[2 * (size_t)vi];
+                rhs[nfree + cj] += w[e] * ch->uv[2 * (size_t)vi + 1];
+            }
+        }
+        for (e = adjp[j]; e < adjp[j + 1]; e++) {
+            uint32_t vi = adj[e];
+            if (T->idx[vi] == BP__NONE) continue;
+            if (!diag_done && vi > j) { row[nnz] = cj; val[nnz++] = 0; diag_done = 1; }
+            row[nnz] = T->idx[vi];
+            val[nnz++] = -w[ref_find(adjp, adj, vi, j)];
+        }
+        if (!diag_done) { row[nnz] = cj; val[nnz++] = 0; }
+        for (p = colp[cj]; p < nnz; p++) if (row[p] == cj) val[p] = diag;
+    }
+    colp[nfree] = nnz;
+    free(cnt);
+    *adjp_ = adjp; *adj_ = adj; *w_ = w; *colp_ = colp; *row_ = row; *val_ = val; *rhs_ = rhs;
+}
+
+static void check_phases(const char *path)
+{
+    bp_mesh m;
+    bp_atlas at;
+    bp_error e;
+    bp_options o;
+    bp_allocator a;
+    uint32_t c, best = 0;
+    int mvc, order;
+    memset(&a, 0, sizeof a);
+    memset(&o, 0, sizeof o);
+    if (!BPT_CHECK(bp_read_mesh(path, &m, NULL, &e) == BP_OK, "%s: read: %s", path, e.message)) return;
+    if (!BPT_CHECK(bp_atlas_build(&at, &m, &o, &e) == BP_OK, "%s: charts: %s", path, e.message)) { bp_mesh_free(&m, NULL); return; }
+    for (c = 0; c < at.num_charts; c++) if (at.charts[c].num_triangles > at.charts[best].num_triangles) best = c;
+    if (!BPT_CHECK(bp_chart_init(&at.charts[best], &m, &o, &e) == BP_OK, "%s: start map (allocates uv): %s", path, e.message))
+        goto out;
+    for (mvc = 0; mvc < 2; mvc++)
+        for (order = 0; order < 3; order++) {
+            bp__tutte T;
+            bp_chart *ch = &at.charts[best];
+            uint32_t *adjp, *adj, *colp, *row, N, nf;
+            double *w, *val, *rhs;
+            int same;
+            memset(&T, 0, sizeof T);
+            if (order) {
+                T.par = bp__par_serial();
+                T.par.run = order == 1 ? bpt_backwards_for : bpt_odd_even_for;
+                T.par.threads = 2;
+            }
+            if (!BPT_CHECK(bp__tutte_fill(&a, &T, ch, &m) && bp__tutte_adjacency(&a, &T) && bp__tutte_weights(&a, &T, mvc) &&
+                           bp__tutte_circle(&a, &T, ch) && bp__tutte_system(&a, &T, ch, mvc), "%s: phases 1-5", path)) {
+                bp__tutte_free(&a, &T);
+                continue;
+            }
+            ref_phases(&T, ch, mvc, &adjp, &adj, &w, &colp, &row, &val, &rhs);
+            N = T.N;
+            nf = T.nfree;
+            same = !memcmp(adjp, T.adjp, (N + 1) * sizeof(uint32_t)) && !memcmp(adj, T.adj, adjp[N] * sizeof(uint32_t)) &&
+                   !memcmp(w, T.w, adjp[N] * sizeof(double)) && !memcmp(colp, T.A.colp, (nf + 1) * sizeof(uint32_t)) &&
+                   !memcmp(row, T.A.row, colp[nf] * sizeof(uint32_t)) && !memcmp(val, T.A.val, colp[nf] * sizeof(double)) &&
+                   !memcmp(rhs, T.rhs, 2 * nf * sizeof(double));
+            BPT_CHECK(same && T.N > 2 * BP__TUTTE_CHUNK, "%s (%s, %u vertices, tasks %s): adjacency, weights and system "
+                      "equal the triangle-order scatter's bits", path, mvc ? "mean value" : "Tutte", N,
+                      order == 0 ? "serial" : order == 1 ? "backwards" : "odd then even");
+            free(adjp); free(adj); free(w); free(colp); free(row); free(val); free(rhs);
+            bp__tutte_free(&a, &T);
+        }
+out:
+    bp_atlas_free(&at);
+    bp_mesh_free(&m, NULL);
+}
+
 static void check_mesh(const char *path)
 {
     bp_mesh m;
@@ -475,6 +620,9 @@ int main(void)
     check_krylov("tests/data/camel_b.obj");
     check_krylov("tests/data/camelhead.off");
     check_krylov("../shared/meshes/horse_cut.obj");
+    check_phases("tests/data/face_holes.off");
+    check_phases("tests/data/camelhead.off");
+    check_phases("../shared/meshes/horse_cut.obj");
     check_precondition("tests/data/camel_b.obj");
     check_precondition("tests/data/camelhead.off");
     check_precondition("../shared/meshes/horse_cut.obj");
