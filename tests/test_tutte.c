@@ -27,7 +27,11 @@
    (e) Phases 2, 3 and 5 (adjacency, weights, system), gathers per vertex
        chunk, against the triangle-order scatters they replaced (written
        here), bit for bit, with the chunks run serially, backwards and odd
-       then even. */
+       then even.
+   (f) BiCGSTAB on real charts: its products by A (a gather over A's
+       rows) against the column scatter they replaced, and the whole
+       iteration against the old serial one (both written here), bit for
+       bit, with the tasks run backwards and odd then even. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -371,6 +375,147 @@ static void check_precondition(const char *path)
    recomputed here, is below BP__KRYLOV_TOL; the LU of phase 6 gives the
    same solution to the conditioning's rounding; the same bits when the
    tasks run backwards. */
+/* (f) BiCGSTAB's products by A are gathers over A's rows in row chunks,
+   its vector updates run in chunks, its dot products share passes: here
+   the column scatter it replaced and the whole old serial iteration,
+   written out as the header had them, against the header's, bit for bit,
+   with the tasks run backwards and odd then even. */
+static void ref_spmv2(const bp__sparse *A, const double *x, double *y)
+{
+    uint32_t j, p;
+    memset(y, 0, 2 * (size_t)A->n * sizeof(double));
+    for (j = 0; j < A->n; j++)
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
+            y[2 * (size_t)A->row[p]] += A->val[p] * x[2 * (size_t)j];
+            y[2 * (size_t)A->row[p] + 1] += A->val[p] * x[2 * (size_t)j + 1];
+        }
+}
+
+static void ref_dot2(const double *u, const double *v, size_t n, double *d)
+{
+    size_t i;
+    d[0] = d[1] = 0;
+    for (i = 0; i < n; i++) { d[0] += u[2 * i] * v[2 * i]; d[1] += u[2 * i + 1] * v[2 * i + 1]; }
+}
+
+static int ref_done(const bp__sparse *A, const double *b, const double *x, double *r)
+{
+    double rr[2], bb[2];
+    size_t i, n = A->n;
+    ref_spmv2(A, x, r);
+    for (i = 0; i < 2 * n; i++) r[i] = b[i] - r[i];
+    ref_dot2(r, r, n, rr);
+    ref_dot2(b, b, n, bb);
+    return rr[0] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[0] && rr[1] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[1];
+}
+
+static int ref_bicgstab(const bp__sparse *A, const bp__factor *K, const double *b, double *x)
+{
+    size_t n = A->n, i, m = 2 * n;
+    double *buf = (double *)malloc((12 * n + 1) * sizeof(double)), *z = (double *)malloc((4 * n + 1) * sizeof(double));
+    double *r, *rh, *p, *v, *ph, *t, rho[2] = {1, 1}, al[2] = {1, 1}, om[2] = {1, 1};
+    int it, c, ok = -1, live[2] = {1, 1};
+    bp__par serial = bp__par_serial();
+    r = buf; rh = r + m; p = rh + m; v = p + m; ph = v + m; t = ph + m;
+    for (i = 0; i < m; i++) { x[i] = 0; r[i] = rh[i] = b[i]; p[i] = v[i] = 0; }
+    for (it = 1; it <= BP__KRYLOV_ITERS; it++) {
+        double rn[2], d[2], e[2];
+        ref_dot2(rh, r, n, rn);
+        for (c = 0; c < 2; c++) {
+            double beta = live[c] ? (rn[c] / rho[c]) * (al[c] / om[c]) : 0;
+            if (live[c] && !(beta - beta == 0)) goto done;
+            rho[c] = rn[c];
+            for (i = c; i < m; i += 2) p[i] = live[c] ? r[i] + beta * (p[i] - om[c] * v[i]) : 0;
+        }
+        bp__precondition(K, &serial, p, ph, z);
+        ref_spmv2(A, ph, v);
+        ref_dot2(rh, v, n, d);
+        for (c = 0; c < 2; c++) {
+            al[c] = live[c] ? rho[c] / d[c] : 0;
+            if (!(al[c] - al[c] == 0)) goto done;
+            for (i = c; i < m; i += 2) { x[i] += al[c] * ph[i]; r[i] -= al[c] * v[i]; }
+        }
+        bp__precondition(K, &serial, r, ph, z);
+        ref_spmv2(A, ph, t);
+        ref_dot2(t, r, n, d);
+        ref_dot2(t, t, n, e);
+        for (c = 0; c < 2; c++) {
+            om[c] = live[c] && e[c] > 0 ? d[c] / e[c] : 0;
+            if (live[c] && !(om[c] != 0 && om[c] - om[c] == 0)) live[c] = 0;
+            for (i = c; i < m; i += 2) { x[i] += om[c] * ph[i]; r[i] -= om[c] * t[i]; }
+        }
+        ref_dot2(r, r, n, d);
+        ref_dot2(b, b, n, e);
+        for (c = 0; c < 2; c++)
+            if (live[c] && d[c] <= 0.01 * BP__KRYLOV_TOL * BP__KRYLOV_TOL * e[c]) live[c] = 0;
+        if ((!live[0] && !live[1]) || it % 10 == 0) {
+            if (ref_done(A, b, x, t)) { ok = it; break; }
+            if (!live[0] && !live[1]) break;
+        }
+    }
+done:
+    free(buf);
+    free(z);
+    return ok;
+}
+
+/* T: a mean-value system (phases 1-5 done). */
+static void check_bicgstab(const char *path, bp__tutte *T)
+{
+    bp_allocator a;
+    bp__sparse M, As = T->A;
+    bp__factor K;
+    bp__krylov_task J;
+    bp__par par = bp__par_serial();
+    uint32_t n = T->nfree, i, j, p, bad, order;
+    double *x = (double *)malloc(2 * (size_t)n * sizeof(double)), *y0 = (double *)malloc(2 * (size_t)n * sizeof(double));
+    double *y1 = (double *)malloc(2 * (size_t)n * sizeof(double)), *b = (double *)malloc(2 * (size_t)n * sizeof(double));
+    double *dg = (double *)malloc(n * sizeof(double)), rel;
+    int it0, it1;
+    memset(&a, 0, sizeof a);
+    memset(&J, 0, sizeof J);
+    memset(&K, 0, sizeof K);
+    /* the scaled system exactly as bp__tutte_krylov makes it */
+    As.val = (double *)malloc(T->A.colp[n] * sizeof(double));
+    for (j = 0; j < n; j++) dg[j] = 1;
+    for (j = 0; j < n; j++)
+        for (p = T->A.colp[j]; p < T->A.colp[j + 1]; p++)
+            if (T->A.row[p] == j && T->A.val[p] > 0) dg[j] = T->A.val[p];
+    for (j = 0; j < n; j++)
+        for (p = T->A.colp[j]; p < T->A.colp[j + 1]; p++) As.val[p] = T->A.val[p] / dg[T->A.row[p]];
+    for (i = 0; i < n; i++) { b[2 * i] = T->rhs[i] / dg[i]; b[2 * i + 1] = T->rhs[n + i] / dg[i]; }
+    for (i = 0; i < 2 * n; i++) x[i] = rng_unit() - 0.5;
+    ref_spmv2(&As, x, y0);
+    J.n = n;
+    J.nc = bp__nchunks(n, BP__KRYLOV_CHUNK);
+    par.threads = 2;
+    if (!BPT_CHECK(bp__sparse_rows(&a, &As, (uint32_t **)&J.rp, (uint32_t **)&J.ci, (double **)&J.rv) && J.nc >= 4,
+                   "%s: A by rows (%u row chunks)", path, J.nc)) goto out;
+    for (order = 0; order < 2; order++) {
+        par.run = order ? bpt_odd_even_for : bpt_backwards_for;
+        memset(y1, 0xff, 2 * (size_t)n * sizeof(double));
+        bp__krylov_spmv(&J, &par, x, y1, 0);
+        BPT_CHECK(!memcmp(y0, y1, 2 * (size_t)n * sizeof(double)), "%s: A x by rows (tasks %s) has the column "
+                  "scatter's bits", path, order ? "odd then even" : "backwards");
+    }
+    if (!BPT_CHECK(bp__tutte_symmetric(&a, &As, &M) && bp__factorize(&a, &M, &K, &bad, NULL) == BP_OK && K.sn &&
+                   bp__factor_single(&a, &K) && bp__solve_plan(&a, &K), "%s: the preconditioner", path)) goto out2;
+    it0 = ref_bicgstab(&As, &K, b, y0);
+    for (order = 0; order < 2; order++) {
+        par.run = order ? bpt_odd_even_for : bpt_backwards_for;
+        it1 = bp__tutte_bicgstab(&a, &As, &K, &par, b, y1, &rel);
+        BPT_CHECK(it0 > 0 && it1 == it0 && !memcmp(y0, y1, 2 * (size_t)n * sizeof(double)), "%s: BiCGSTAB (tasks %s, "
+                  "%d iterations) has the old serial iteration's bits (%d iterations)", path,
+                  order ? "odd then even" : "backwards", it1, it0);
+    }
+out2:
+    bp__factor_free(&a, &K);
+    bp__free(&a, M.colp); bp__free(&a, M.row); bp__free(&a, M.val);
+out:
+    bp__free(&a, (void *)J.rp); bp__free(&a, (void *)J.ci); bp__free(&a, (void *)J.rv);
+    free(As.val); free(x); free(y0); free(y1); free(b); free(dg);
+}
+
 static void check_krylov(const char *path)
 {
     bp_mesh m;
@@ -397,6 +542,7 @@ static void check_krylov(const char *path)
                    bp__tutte_circle(&a, &T, &at.charts[best]) && bp__tutte_system(&a, &T, &at.charts[best], 1),
                    "%s: the mean-value system", path)) goto out;
     n = T.nfree;
+    if (n > 2 * BP__KRYLOV_CHUNK) check_bicgstab(path, &T);   /* (several row chunks) */
     ok = bp__tutte_krylov(&a, &T, NULL) == 1;
     BPT_CHECK(ok, "%s (%u unknowns): BiCGSTAB converged in %d iterations, its residual %.2g", path, n, T.krylov_iters,
               T.krylov_rel);
