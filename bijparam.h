@@ -7360,13 +7360,14 @@ static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const do
    double array, which only overlap doubles already read.  The bytes are
    moved with memcpy, which is exact about aliasing.
    A supernodal factor of a scalar matrix (bs 1, A->super1) is turned into
-   the same rows instead (bp__super_to_rows).  Returns 0 out of memory. */
-static int bp__super_to_rows(const bp_allocator *a, bp__factor *F);
-static int bp__factor_single(const bp_allocator *a, bp__factor *F)
+   the same rows instead (bp__super_to_rows, on par's threads; par NULL:
+   serially).  Returns 0 out of memory. */
+static int bp__super_to_rows(const bp_allocator *a, bp__factor *F, const bp__par *par);
+static int bp__factor_single(const bp_allocator *a, bp__factor *F, const bp__par *par)
 {
     size_t p, nnz;
     unsigned char *buf = (unsigned char *)F->Rx;
-    if (F->sn) return bp__super_to_rows(a, F);
+    if (F->sn) return bp__super_to_rows(a, F, par);
     nnz = F->Rp[F->n];
     for (p = 0; p < nnz; p++) {
         double d;
@@ -7386,31 +7387,46 @@ static int bp__factor_single(const bp_allocator *a, bp__factor *F)
        L(i, j) = C(i, j) / C(j, j),    D(j) = C(j, j)^2 (F->D already),
    written supernode by supernode, column by column: j increases, so every
    row comes out sorted.  The ordering and the dissection tree stay (vertex
-   = unknown), and the supernodal blocks are freed. */
-static int bp__super_to_rows(const bp_allocator *a, bp__factor *F)
+   = unknown), and the supernodal blocks are freed.
+
+   On several threads (issue 15: 20 ms serial per factor on a 132K-face
+   chart, twice per run).  The supernodes are cut into BP__ROWS_RANGES
+   consecutive ranges holding about the same number of block entries (the
+   cut depends on the factor alone).  Serially, an entry of row i goes to
+   the slot cur[i]++, cur[i] starting at Rp[i]; so the first entry of row
+   i in range r goes to Rp[i] plus the number of row i's entries in the
+   ranges before r.  Each range counts its entries per row (in parallel),
+   a pass per row turns the counts into those starting slots, and each
+   range then writes its supernodes with its own cursors (in parallel):
+   every entry lands in the serial slot with the serial value.  The counts
+   cost BP__ROWS_RANGES words per vertex while the conversion runs. */
+#define BP__ROWS_RANGES 8u
+static uint32_t bp__nchunks(uint32_t n, uint32_t size);
+static uint32_t bp__chunk_at(uint32_t n, uint32_t nc, uint32_t c);
+
+typedef struct bp__rows_task {
+    bp__factor *F;
+    const bp__super *S;
+    uint32_t cut[BP__ROWS_RANGES + 1];  /* range r: supernodes [cut[r], cut[r+1]) */
+    uint32_t *cnt;                      /* [r * n + i]: count, then cursor  */
+    uint32_t nchunk;                    /* row chunks of the pass per row   */
+    int write;
+} bp__rows_task;
+
+static void bp__rows_range(void *task, uint32_t r)
 {
-    bp__super *S = F->sn;
-    uint32_t n = S->nv, s, jj, ii, *cur;
-    size_t nnz = 0;
-    if (S->bs != 1) return 0;
-    F->perm = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
-    F->iperm = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
-    F->Rp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    cur = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
-    if (!F->perm || !F->iperm || !F->Rp || !cur) { bp__free(a, cur); return 0; }
-    for (s = 0; s < S->ns; s++) {
-        uint32_t nc = S->first[s + 1] - S->first[s], m = S->rp[s + 1] - S->rp[s];
-        for (ii = 1; ii < m; ii++) F->Rp[S->ri[S->rp[s] + ii] + 1] += ii < nc ? ii : nc;
-    }
-    for (jj = 0; jj < n; jj++) { nnz += F->Rp[jj + 1]; F->Rp[jj + 1] = (uint32_t)(nnz <= BP__FACTOR_MAX_NNZ ? nnz : 0); }
-    F->Ri = (uint32_t *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(uint32_t));
-    F->Rxf = (float *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(float));
-    if (nnz > BP__FACTOR_MAX_NNZ || !F->Ri || !F->Rxf) { bp__free(a, cur); return 0; }
-    memcpy(cur, F->Rp, n * sizeof(uint32_t));
-    for (s = 0; s < S->ns; s++) {
+    bp__rows_task *J = (bp__rows_task *)task;
+    const bp__super *S = J->S;
+    bp__factor *F = J->F;
+    uint32_t s, jj, ii, *cur = J->cnt + (size_t)r * S->nv;
+    for (s = J->cut[r]; s < J->cut[r + 1]; s++) {
         uint32_t f = S->first[s], nc = S->first[s + 1] - f, m = S->rp[s + 1] - S->rp[s];
         const uint32_t *rows = S->ri + S->rp[s];
         const double *B = S->x + S->xp[s];
+        if (!J->write) {
+            for (ii = 1; ii < m; ii++) cur[rows[ii]] += ii < nc ? ii : nc;
+            continue;
+        }
         for (jj = 0; jj < nc; jj++)
             for (ii = jj + 1; ii < m; ii++) {
                 uint32_t q = cur[rows[ii]]++;
@@ -7418,9 +7434,59 @@ static int bp__super_to_rows(const bp_allocator *a, bp__factor *F)
                 F->Rxf[q] = (float)(B[(size_t)ii * nc + jj] / B[(size_t)jj * nc + jj]);
             }
     }
+}
+
+/* Row chunk c: the ranges' counts of each row into its starting slots. */
+static void bp__rows_slots(void *task, uint32_t c)
+{
+    bp__rows_task *J = (bp__rows_task *)task;
+    uint32_t n = J->S->nv, i, r, i1 = bp__chunk_at(n, J->nchunk, c + 1);
+    for (i = bp__chunk_at(n, J->nchunk, c); i < i1; i++) {
+        uint32_t at = J->F->Rp[i];
+        for (r = 0; r < BP__ROWS_RANGES; r++) {
+            uint32_t k = J->cnt[(size_t)r * n + i];
+            J->cnt[(size_t)r * n + i] = at;
+            at += k;
+        }
+    }
+}
+
+static int bp__super_to_rows(const bp_allocator *a, bp__factor *F, const bp__par *par)
+{
+    bp__super *S = F->sn;
+    bp__par serial = bp__par_serial();
+    bp__rows_task J;
+    uint32_t n = S->nv, s, r, jj;
+    size_t nnz = 0;
+    if (S->bs != 1) return 0;
+    if (!par) par = &serial;
+    memset(&J, 0, sizeof J);
+    J.F = F;
+    J.S = S;
+    F->perm = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
+    F->iperm = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
+    F->Rp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    J.cnt = (uint32_t *)bp__calloc_array(a, (size_t)BP__ROWS_RANGES * n + 1, sizeof(uint32_t));
+    if (!F->perm || !F->iperm || !F->Rp || !J.cnt) { bp__free(a, J.cnt); return 0; }
+    for (r = 0, s = 0; r <= BP__ROWS_RANGES; r++) {       /* equal shares of the blocks */
+        while (s < S->ns && S->xp[s] < S->xp[S->ns] / BP__ROWS_RANGES * r) s++;
+        J.cut[r] = r == BP__ROWS_RANGES ? S->ns : s;
+    }
+    bp__par_run(par, bp__rows_range, &J, BP__ROWS_RANGES, n);
+    for (jj = 0; jj < n; jj++) {
+        for (r = 0; r < BP__ROWS_RANGES; r++) nnz += J.cnt[(size_t)r * n + jj];
+        F->Rp[jj + 1] = (uint32_t)(nnz <= BP__FACTOR_MAX_NNZ ? nnz : 0);
+    }
+    F->Ri = (uint32_t *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(uint32_t));
+    F->Rxf = (float *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(float));
+    if (nnz > BP__FACTOR_MAX_NNZ || !F->Ri || !F->Rxf) { bp__free(a, J.cnt); return 0; }
+    J.nchunk = bp__nchunks(n, 2048u);
+    bp__par_run(par, bp__rows_slots, &J, J.nchunk, n);
+    J.write = 1;
+    bp__par_run(par, bp__rows_range, &J, BP__ROWS_RANGES, n);
     memcpy(F->perm, S->vperm, n * sizeof(uint32_t));
     memcpy(F->iperm, S->viperm, n * sizeof(uint32_t));
-    bp__free(a, cur);
+    bp__free(a, J.cnt);
     bp__super_free(a, S);
     F->sn = NULL;
     return 1;
@@ -8550,8 +8616,6 @@ static int bp__tutte_fill(const bp_allocator *a, bp__tutte *T, const bp_chart *c
    - a column of the system is written by its own vertex alone, in the
      order of the serial loop, once the columns' offsets are known.
    The phases take their runner from T->par (run NULL: a plain loop). */
-static uint32_t bp__nchunks(uint32_t n, uint32_t size);
-static uint32_t bp__chunk_at(uint32_t n, uint32_t nc, uint32_t c);
 #define BP__TUTTE_CHUNK 2048u             /* vertices per task */
 
 typedef struct bp__tutte_task {
@@ -9082,7 +9146,7 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
     if (!b || !x || !dg || !As.val || !bp__tutte_symmetric(a, &As, &M)) ok = -1;
     else if ((st = bp__factorize(a, &M, &K, &bad, runner)) != BP_OK) ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0;
     else if (!K.sn) ok = 0;                           /* (the scalar rows took over: not SPD) */
-    else if (!bp__factor_single(a, &K) || !bp__solve_plan(a, &K)) ok = -1;
+    else if (!bp__factor_single(a, &K, runner) || !bp__solve_plan(a, &K)) ok = -1;
     else {
         it = bp__tutte_bicgstab(a, &As, &K, runner ? runner : &serial, b, x, &rel);
         if (it == -2) ok = -1;
@@ -11097,7 +11161,7 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
     bp__free(a, t);
     K->super1 = BP__SUPER_SCALAR;
     st = bp__factorize(a, K, F, &bad, &S->par);
-    if (st == BP_OK && (!bp__factor_single(a, F) || !bp__solve_plan(a, F))) st = BP_ERR_OUT_OF_MEMORY;
+    if (st == BP_OK && (!bp__factor_single(a, F, &S->par) || !bp__solve_plan(a, F))) st = BP_ERR_OUT_OF_MEMORY;
     return st;
 }
 
