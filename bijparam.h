@@ -8875,8 +8875,10 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
    single precision costs iterations, not accuracy.  If that does not happen
    within BP__KRYLOV_ITERS iterations, or K cannot be factored, the LU
    below solves as before; either way the exact check of phase 7 follows.
-   Every sum runs serially in a fixed order and bp__precondition's bits do
-   not depend on the schedule, so x is the same on any thread count. */
+   Every sum runs in a fixed order (the dot products serially, the
+   products by A as gathers by rows, see bp__krylov_task) and
+   bp__precondition's bits do not depend on the schedule, so x is the same
+   on any thread count. */
 #ifndef BP__TUTTE_KRYLOV
 #define BP__TUTTE_KRYLOV 1
 #endif
