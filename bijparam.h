@@ -7479,13 +7479,14 @@ static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const do
    double array, which only overlap doubles already read.  The bytes are
    moved with memcpy, which is exact about aliasing.
    A supernodal factor of a scalar matrix (bs 1, A->super1) is turned into
-   the same rows instead (bp__super_to_rows).  Returns 0 out of memory. */
-static int bp__super_to_rows(const bp_allocator *a, bp__factor *F);
-static int bp__factor_single(const bp_allocator *a, bp__factor *F)
+   the same rows instead (bp__super_to_rows, on par's threads; par NULL:
+   serially).  Returns 0 out of memory. */
+static int bp__super_to_rows(const bp_allocator *a, bp__factor *F, const bp__par *par);
+static int bp__factor_single(const bp_allocator *a, bp__factor *F, const bp__par *par)
 {
     size_t p, nnz;
     unsigned char *buf = (unsigned char *)F->Rx;
-    if (F->sn) return bp__super_to_rows(a, F);
+    if (F->sn) return bp__super_to_rows(a, F, par);
     nnz = F->Rp[F->n];
     for (p = 0; p < nnz; p++) {
         double d;
@@ -7505,31 +7506,46 @@ static int bp__factor_single(const bp_allocator *a, bp__factor *F)
        L(i, j) = C(i, j) / C(j, j),    D(j) = C(j, j)^2 (F->D already),
    written supernode by supernode, column by column: j increases, so every
    row comes out sorted.  The ordering and the dissection tree stay (vertex
-   = unknown), and the supernodal blocks are freed. */
-static int bp__super_to_rows(const bp_allocator *a, bp__factor *F)
+   = unknown), and the supernodal blocks are freed.
+
+   On several threads (issue 15: 20 ms serial per factor on a 132K-face
+   chart, twice per run).  The supernodes are cut into BP__ROWS_RANGES
+   consecutive ranges holding about the same number of block entries (the
+   cut depends on the factor alone).  Serially, an entry of row i goes to
+   the slot cur[i]++, cur[i] starting at Rp[i]; so the first entry of row
+   i in range r goes to Rp[i] plus the number of row i's entries in the
+   ranges before r.  Each range counts its entries per row (in parallel),
+   a pass per row turns the counts into those starting slots, and each
+   range then writes its supernodes with its own cursors (in parallel):
+   every entry lands in the serial slot with the serial value.  The counts
+   cost BP__ROWS_RANGES words per vertex while the conversion runs. */
+#define BP__ROWS_RANGES 8u
+static uint32_t bp__nchunks(uint32_t n, uint32_t size);
+static uint32_t bp__chunk_at(uint32_t n, uint32_t nc, uint32_t c);
+
+typedef struct bp__rows_task {
+    bp__factor *F;
+    const bp__super *S;
+    uint32_t cut[BP__ROWS_RANGES + 1];  /* range r: supernodes [cut[r], cut[r+1]) */
+    uint32_t *cnt;                      /* [r * n + i]: count, then cursor  */
+    uint32_t nchunk;                    /* row chunks of the pass per row   */
+    int write;
+} bp__rows_task;
+
+static void bp__rows_range(void *task, uint32_t r)
 {
-    bp__super *S = F->sn;
-    uint32_t n = S->nv, s, jj, ii, *cur;
-    size_t nnz = 0;
-    if (S->bs != 1) return 0;
-    F->perm = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
-    F->iperm = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
-    F->Rp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    cur = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
-    if (!F->perm || !F->iperm || !F->Rp || !cur) { bp__free(a, cur); return 0; }
-    for (s = 0; s < S->ns; s++) {
-        uint32_t nc = S->first[s + 1] - S->first[s], m = S->rp[s + 1] - S->rp[s];
-        for (ii = 1; ii < m; ii++) F->Rp[S->ri[S->rp[s] + ii] + 1] += ii < nc ? ii : nc;
-    }
-    for (jj = 0; jj < n; jj++) { nnz += F->Rp[jj + 1]; F->Rp[jj + 1] = (uint32_t)(nnz <= BP__FACTOR_MAX_NNZ ? nnz : 0); }
-    F->Ri = (uint32_t *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(uint32_t));
-    F->Rxf = (float *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(float));
-    if (nnz > BP__FACTOR_MAX_NNZ || !F->Ri || !F->Rxf) { bp__free(a, cur); return 0; }
-    memcpy(cur, F->Rp, n * sizeof(uint32_t));
-    for (s = 0; s < S->ns; s++) {
+    bp__rows_task *J = (bp__rows_task *)task;
+    const bp__super *S = J->S;
+    bp__factor *F = J->F;
+    uint32_t s, jj, ii, *cur = J->cnt + (size_t)r * S->nv;
+    for (s = J->cut[r]; s < J->cut[r + 1]; s++) {
         uint32_t f = S->first[s], nc = S->first[s + 1] - f, m = S->rp[s + 1] - S->rp[s];
         const uint32_t *rows = S->ri + S->rp[s];
         const double *B = S->x + S->xp[s];
+        if (!J->write) {
+            for (ii = 1; ii < m; ii++) cur[rows[ii]] += ii < nc ? ii : nc;
+            continue;
+        }
         for (jj = 0; jj < nc; jj++)
             for (ii = jj + 1; ii < m; ii++) {
                 uint32_t q = cur[rows[ii]]++;
@@ -7537,9 +7553,59 @@ static int bp__super_to_rows(const bp_allocator *a, bp__factor *F)
                 F->Rxf[q] = (float)(B[(size_t)ii * nc + jj] / B[(size_t)jj * nc + jj]);
             }
     }
+}
+
+/* Row chunk c: the ranges' counts of each row into its starting slots. */
+static void bp__rows_slots(void *task, uint32_t c)
+{
+    bp__rows_task *J = (bp__rows_task *)task;
+    uint32_t n = J->S->nv, i, r, i1 = bp__chunk_at(n, J->nchunk, c + 1);
+    for (i = bp__chunk_at(n, J->nchunk, c); i < i1; i++) {
+        uint32_t at = J->F->Rp[i];
+        for (r = 0; r < BP__ROWS_RANGES; r++) {
+            uint32_t k = J->cnt[(size_t)r * n + i];
+            J->cnt[(size_t)r * n + i] = at;
+            at += k;
+        }
+    }
+}
+
+static int bp__super_to_rows(const bp_allocator *a, bp__factor *F, const bp__par *par)
+{
+    bp__super *S = F->sn;
+    bp__par serial = bp__par_serial();
+    bp__rows_task J;
+    uint32_t n = S->nv, s, r, jj;
+    size_t nnz = 0;
+    if (S->bs != 1) return 0;
+    if (!par) par = &serial;
+    memset(&J, 0, sizeof J);
+    J.F = F;
+    J.S = S;
+    F->perm = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
+    F->iperm = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
+    F->Rp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    J.cnt = (uint32_t *)bp__calloc_array(a, (size_t)BP__ROWS_RANGES * n + 1, sizeof(uint32_t));
+    if (!F->perm || !F->iperm || !F->Rp || !J.cnt) { bp__free(a, J.cnt); return 0; }
+    for (r = 0, s = 0; r <= BP__ROWS_RANGES; r++) {       /* equal shares of the blocks */
+        while (s < S->ns && S->xp[s] < S->xp[S->ns] / BP__ROWS_RANGES * r) s++;
+        J.cut[r] = r == BP__ROWS_RANGES ? S->ns : s;
+    }
+    bp__par_run(par, bp__rows_range, &J, BP__ROWS_RANGES, n);
+    for (jj = 0; jj < n; jj++) {
+        for (r = 0; r < BP__ROWS_RANGES; r++) nnz += J.cnt[(size_t)r * n + jj];
+        F->Rp[jj + 1] = (uint32_t)(nnz <= BP__FACTOR_MAX_NNZ ? nnz : 0);
+    }
+    F->Ri = (uint32_t *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(uint32_t));
+    F->Rxf = (float *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(float));
+    if (nnz > BP__FACTOR_MAX_NNZ || !F->Ri || !F->Rxf) { bp__free(a, J.cnt); return 0; }
+    J.nchunk = bp__nchunks(n, 2048u);
+    bp__par_run(par, bp__rows_slots, &J, J.nchunk, n);
+    J.write = 1;
+    bp__par_run(par, bp__rows_range, &J, BP__ROWS_RANGES, n);
     memcpy(F->perm, S->vperm, n * sizeof(uint32_t));
     memcpy(F->iperm, S->viperm, n * sizeof(uint32_t));
-    bp__free(a, cur);
+    bp__free(a, J.cnt);
     bp__super_free(a, S);
     F->sn = NULL;
     return 1;
@@ -8613,6 +8679,8 @@ typedef struct bp__tutte {
     double   *rhs, *sol, *work;
     int       krylov_iters;       /* phase 6a: iterations, -1 not converged */
     double    krylov_rel;         /* ... and its relative residual          */
+    uint32_t *incp, *inc;         /* corners 3t+k of each vertex, increasing */
+    bp__par   par;                /* who runs the phases' tasks (run NULL: serial) */
 } bp__tutte;
 
 static void bp__tutte_free(const bp_allocator *a, bp__tutte *T)
@@ -8620,6 +8688,7 @@ static void bp__tutte_free(const bp_allocator *a, bp__tutte *T)
     bp__free(a, T->tri); bp__free(a, T->pos); bp__free(a, T->adjp); bp__free(a, T->adj);
     bp__free(a, T->w); bp__free(a, T->idx); bp__free(a, T->rhs); bp__free(a, T->sol); bp__free(a, T->work);
     bp__free(a, T->A.colp); bp__free(a, T->A.row); bp__free(a, T->A.val);
+    bp__free(a, T->incp); bp__free(a, T->inc);
 }
 
 /* Phase 1, the filled chart: real triangles, then one fan per hole to a
@@ -8650,49 +8719,120 @@ static int bp__tutte_fill(const bp_allocator *a, bp__tutte *T, const bp_chart *c
     return 1;
 }
 
+/* The phases on several threads (issue 15).  Phases 2, 3 and 5 were
+   scatters over the triangles (and a qsort per vertex): serial set-up of
+   tens of milliseconds on a 132K-face chart, while the iterations after
+   them run on every thread.  They are gathers per vertex instead, run by
+   vertex chunks (>>threads: chunk boundaries depend on the count alone),
+   and each gives the scatter's bits:
+   - the corners of each vertex, inc[incp[v] .. incp[v+1]), are the corner
+     numbers 3t+k with tri[3t+k] = v in increasing order (a counting sort
+     in triangle order), so a vertex that visits its corners in that order
+     adds into each of its own entries in the scatter's order (triangle t,
+     then corner k), and only it writes them;
+   - a vertex's neighbour list is a set (sorted, without repeats), the same
+     whichever sort builds it;
+   - a column of the system is written by its own vertex alone, in the
+     order of the serial loop, once the columns' offsets are known.
+   The phases take their runner from T->par (run NULL: a plain loop). */
+#define BP__TUTTE_CHUNK 2048u             /* vertices per task */
+
+typedef struct bp__tutte_task {
+    bp__tutte *T;
+    const bp_chart *ch;
+    uint32_t nc, *cnt;                    /* chunks over N; per vertex counts */
+    int mvc;
+} bp__tutte_task;
+
+static void bp__tutte_run(bp__tutte_task *J, bp_task_fn fn)
+{
+    bp__tutte *T = J->T;
+    J->nc = bp__nchunks(T->N, BP__TUTTE_CHUNK);
+    if (T->par.run) bp__par_run(&T->par, fn, J, J->nc, T->N);
+    else bp__serial_for(NULL, fn, J, J->nc);
+}
+
+/* Sort a few vertex numbers (a neighbour list, a dozen on a mesh; a hole
+   centre's can be long, and goes to qsort). */
+static void bp__u32_sort(uint32_t *v, uint32_t n)
+{
+    uint32_t k, m;
+    if (n > 32) { qsort(v, n, sizeof(uint32_t), bp__u32_cmp); return; }
+    for (k = 1; k < n; k++) {
+        uint32_t x = v[k];
+        for (m = k; m > 0 && v[m - 1] > x; m--) v[m] = v[m - 1];
+        v[m] = x;
+    }
+}
+
+/* Phase 2, vertex chunk c: the neighbours of each vertex v (the two other
+   corners of each of its corners), sorted and without repeats, written at
+   the start of v's slot adj[2 incp[v] .. 2 incp[v+1]); their count in
+   cnt[v]. */
+static void bp__tutte_adj_task(void *task, uint32_t c)
+{
+    bp__tutte_task *J = (bp__tutte_task *)task;
+    bp__tutte *T = J->T;
+    uint32_t v, v1 = bp__chunk_at(T->N, J->nc, c + 1), q;
+    for (v = bp__chunk_at(T->N, J->nc, c); v < v1; v++) {
+        uint32_t *row = T->adj + 2 * (size_t)T->incp[v], n = 0, k, last = BP__NONE;
+        for (q = T->incp[v]; q < T->incp[v + 1]; q++) {
+            uint32_t t = T->inc[q] / 3, kk = T->inc[q] % 3;
+            row[n++] = T->tri[3 * (size_t)t + (kk + 1) % 3];
+            row[n++] = T->tri[3 * (size_t)t + (kk + 2) % 3];
+        }
+        bp__u32_sort(row, n);
+        for (k = 0, q = 0; k < n; k++)
+            if (row[k] != last) row[q++] = last = row[k];
+        J->cnt[v] = q;
+    }
+}
+
 /* Phase 2, adjacency: both directions of every triangle edge, sorted and
-   deduplicated per vertex (counting sort into place, then qsort per row). */
+   deduplicated per vertex.  The corners of each vertex first (kept for
+   phase 3), then each vertex's list from them in parallel, then the lists
+   moved together in vertex order. */
 static int bp__tutte_adjacency(const bp_allocator *a, bp__tutte *T)
 {
-    uint32_t t, k, i, e, N = T->N, *cnt = (uint32_t *)bp__alloc_array(a, (size_t)N + 1, sizeof(uint32_t));
-    T->adjp = (uint32_t *)bp__calloc_array(a, (size_t)N + 1, sizeof(uint32_t));
-    T->adj = (uint32_t *)bp__alloc_array(a, 6 * (size_t)T->nt, sizeof(uint32_t));
-    if (!cnt || !T->adjp || !T->adj) { bp__free(a, cnt); return 0; }
-    for (t = 0; t < T->nt; t++)
-        for (k = 0; k < 3; k++) { T->adjp[T->tri[3 * t + k] + 1]++; T->adjp[T->tri[3 * t + (k + 1) % 3] + 1]++; }
-    for (i = 0; i < N; i++) T->adjp[i + 1] += T->adjp[i];
-    memcpy(cnt, T->adjp, ((size_t)N + 1) * sizeof(uint32_t));
-    for (t = 0; t < T->nt; t++)
-        for (k = 0; k < 3; k++) {
-            uint32_t va = T->tri[3 * t + k], vb = T->tri[3 * t + (k + 1) % 3];
-            T->adj[cnt[va]++] = vb;
-            T->adj[cnt[vb]++] = va;
-        }
-    bp__free(a, cnt);
+    uint32_t t, i, N = T->N;
+    size_t nc3 = 3 * (size_t)T->nt;
+    bp__tutte_task J;
+    uint32_t *cnt = (uint32_t *)bp__alloc_array(a, (size_t)N + 1, sizeof(uint32_t));
+    T->incp = (uint32_t *)bp__calloc_array(a, (size_t)N + 2, sizeof(uint32_t));
+    T->inc = (uint32_t *)bp__alloc_array(a, nc3 ? nc3 : 1, sizeof(uint32_t));
+    T->adjp = (uint32_t *)bp__alloc_array(a, (size_t)N + 1, sizeof(uint32_t));
+    T->adj = (uint32_t *)bp__alloc_array(a, 2 * nc3 + 1, sizeof(uint32_t));
+    if (!cnt || !T->incp || !T->inc || !T->adjp || !T->adj) { bp__free(a, cnt); return 0; }
+    for (t = 0; t < nc3; t++) T->incp[T->tri[t] + 2]++;
+    for (i = 0; i < N; i++) T->incp[i + 2] += T->incp[i + 1];
+    for (t = 0; t < nc3; t++) T->inc[T->incp[T->tri[t] + 1]++] = t;   /* vertex v: [incp[v], incp[v+1]) */
+    memset(&J, 0, sizeof J);
+    J.T = T;
+    J.cnt = cnt;
+    bp__tutte_run(&J, bp__tutte_adj_task);
     for (T->ne = 0, i = 0; i < N; i++) {
-        uint32_t s0 = T->adjp[i], s1 = T->adjp[i + 1], last = BP__NONE;
-        qsort(T->adj + s0, s1 - s0, sizeof(uint32_t), bp__u32_cmp);
+        memmove(T->adj + T->ne, T->adj + 2 * (size_t)T->incp[i], cnt[i] * sizeof(uint32_t));
         T->adjp[i] = T->ne;
-        for (e = s0; e < s1; e++)
-            if (T->adj[e] != last) T->adj[T->ne++] = last = T->adj[e];
+        T->ne += cnt[i];
     }
     T->adjp[N] = T->ne;
+    bp__free(a, cnt);
     return 1;
 }
 
-/* Phase 3, the weights: 1 (Tutte), or Floater's mean-value weights
-   (tan(alpha/2) + tan(beta/2)) / |p_i - p_j| summed over the two triangles
-   of edge ij; anything not positive and finite becomes 1. */
-static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
+/* Phase 3, vertex chunk c: the weights of each vertex's row, its corners
+   in increasing order (see above). */
+static void bp__tutte_weights_task(void *task, uint32_t c)
 {
-    uint32_t t, k, e;
-    T->w = (double *)bp__calloc_array(a, T->ne, sizeof(double));
-    if (!T->w) return 0;
-    for (t = 0; t < T->nt; t++)
-        for (k = 0; k < 3; k++) {
-            uint32_t vi = T->tri[3 * t + k], vj = T->tri[3 * t + (k + 1) % 3], vk = T->tri[3 * t + (k + 2) % 3];
+    bp__tutte_task *J = (bp__tutte_task *)task;
+    bp__tutte *T = J->T;
+    uint32_t vi, v1 = bp__chunk_at(T->N, J->nc, c + 1), q, e;
+    for (vi = bp__chunk_at(T->N, J->nc, c); vi < v1; vi++) {
+        for (q = T->incp[vi]; q < T->incp[vi + 1]; q++) {
+            uint32_t t = T->inc[q] / 3, k = T->inc[q] % 3;
+            uint32_t vj = T->tri[3 * (size_t)t + (k + 1) % 3], vk = T->tri[3 * (size_t)t + (k + 2) % 3];
             uint32_t ej = bp__adj_find(T->adjp, T->adj, vi, vj), ek = bp__adj_find(T->adjp, T->adj, vi, vk);
-            if (!mvc) {
+            if (!J->mvc) {
                 T->w[ej] = T->w[ek] = 1;
             } else {
                 const double *pi = T->pos + 3 * (size_t)vi, *pj = T->pos + 3 * (size_t)vj, *pk = T->pos + 3 * (size_t)vk;
@@ -8701,8 +8841,24 @@ static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
                 T->w[ek] += th / bp__dist3(pi, pk);
             }
         }
-    for (e = 0; e < T->ne; e++)
-        if (!(T->w[e] > 0) || !(T->w[e] - T->w[e] == 0)) T->w[e] = 1;   /* keep every weight positive */
+        for (e = T->adjp[vi]; e < T->adjp[vi + 1]; e++)
+            if (!(T->w[e] > 0) || !(T->w[e] - T->w[e] == 0)) T->w[e] = 1;   /* keep every weight positive */
+    }
+}
+
+/* Phase 3, the weights: 1 (Tutte), or Floater's mean-value weights
+   (tan(alpha/2) + tan(beta/2)) / |p_i - p_j| summed over the two triangles
+   of edge ij (in triangle order); anything not positive and finite
+   becomes 1. */
+static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
+{
+    bp__tutte_task J;
+    T->w = (double *)bp__calloc_array(a, T->ne ? T->ne : 1, sizeof(double));
+    if (!T->w) return 0;
+    memset(&J, 0, sizeof J);
+    J.T = T;
+    J.mvc = mvc;
+    bp__tutte_run(&J, bp__tutte_weights_task);
     return 1;
 }
 
@@ -8741,35 +8897,32 @@ static int bp__tutte_circle(const bp_allocator *a, bp__tutte *T, bp_chart *ch)
     return 1;
 }
 
-/* Phase 5, the system sum_j w_ij (u_i - u_j) = 0 over the free vertices,
-   column by column, fixed neighbours moved to the right-hand side (both
-   coordinates: rhs[0, nfree) and rhs[nfree, 2 nfree)). */
-static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, int mvc)
+/* Phase 5, vertex chunk c: the number of entries of each free vertex's
+   column (its free neighbours and the diagonal) into cnt, or, once the
+   offsets are in A->colp (J->cnt NULL), the columns themselves. */
+static void bp__tutte_system_task(void *task, uint32_t c)
 {
-    uint32_t j, e, p, nnz = 0, nfree = T->nfree;
+    bp__tutte_task *J = (bp__tutte_task *)task;
+    bp__tutte *T = J->T;
     bp__sparse *A = &T->A;
-    A->n = nfree;
-    A->symmetric = !mvc;
-    A->super1 = !mvc && BP__SUPER_SCALAR;
-    A->colp = (uint32_t *)bp__alloc_array(a, (size_t)nfree + 1, sizeof(uint32_t));
-    A->row = (uint32_t *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(uint32_t));
-    A->val = (double *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(double));
-    T->rhs = (double *)bp__calloc_array(a, 2 * (size_t)nfree, sizeof(double));
-    T->sol = (double *)bp__alloc_array(a, 2 * (size_t)nfree, sizeof(double));
-    T->work = (double *)bp__alloc_array(a, 3 * (size_t)nfree, sizeof(double));
-    if (!A->colp || !A->row || !A->val || !T->rhs || !T->sol || !T->work) return 0;
-    for (j = 0; j < T->N; j++) {
-        uint32_t cj = T->idx[j];
+    uint32_t j, j1 = bp__chunk_at(T->N, J->nc, c + 1), e, p, nfree = T->nfree;
+    for (j = bp__chunk_at(T->N, J->nc, c); j < j1; j++) {
+        uint32_t cj = T->idx[j], nnz;
         double diag = 0;
         int diag_done = 0;
         if (cj == BP__NONE) continue;
-        A->colp[cj] = nnz;
+        if (J->cnt) {
+            for (nnz = 1, e = T->adjp[j]; e < T->adjp[j + 1]; e++) nnz += T->idx[T->adj[e]] != BP__NONE;
+            J->cnt[cj] = nnz;
+            continue;
+        }
+        nnz = A->colp[cj];
         for (e = T->adjp[j]; e < T->adjp[j + 1]; e++) {
             uint32_t vi = T->adj[e];
             diag += T->w[e];
             if (T->idx[vi] == BP__NONE) {         /* fixed neighbour -> rhs */
-                T->rhs[cj] += T->w[e] * ch->uv[2 * (size_t)vi];
-                T->rhs[nfree + cj] += T->w[e] * ch->uv[2 * (size_t)vi + 1];
+                T->rhs[cj] += T->w[e] * J->ch->uv[2 * (size_t)vi];
+                T->rhs[nfree + cj] += T->w[e] * J->ch->uv[2 * (size_t)vi + 1];
             }
         }
         /* rows in increasing free index: adj is sorted by vertex and the
@@ -8784,7 +8937,36 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
         if (!diag_done) { A->row[nnz] = cj; A->val[nnz++] = 0; }
         for (p = A->colp[cj]; p < nnz; p++) if (A->row[p] == cj) A->val[p] = diag;
     }
+}
+
+/* Phase 5, the system sum_j w_ij (u_i - u_j) = 0 over the free vertices,
+   column by column, fixed neighbours moved to the right-hand side (both
+   coordinates: rhs[0, nfree) and rhs[nfree, 2 nfree)): the columns'
+   lengths, their offsets, then the columns (in parallel, see above). */
+static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, int mvc)
+{
+    uint32_t j, nnz = 0, nfree = T->nfree;
+    bp__sparse *A = &T->A;
+    bp__tutte_task J;
+    A->n = nfree;
+    A->symmetric = !mvc;
+    A->super1 = !mvc && BP__SUPER_SCALAR;
+    A->colp = (uint32_t *)bp__alloc_array(a, (size_t)nfree + 1, sizeof(uint32_t));
+    A->row = (uint32_t *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(uint32_t));
+    A->val = (double *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(double));
+    T->rhs = (double *)bp__calloc_array(a, 2 * (size_t)nfree, sizeof(double));
+    T->sol = (double *)bp__alloc_array(a, 2 * (size_t)nfree, sizeof(double));
+    T->work = (double *)bp__alloc_array(a, 3 * (size_t)nfree, sizeof(double));
+    if (!A->colp || !A->row || !A->val || !T->rhs || !T->sol || !T->work) return 0;
+    memset(&J, 0, sizeof J);
+    J.T = T;
+    J.ch = ch;
+    J.cnt = A->colp;
+    bp__tutte_run(&J, bp__tutte_system_task);
+    for (j = 0; j < nfree; j++) { uint32_t k = A->colp[j]; A->colp[j] = nnz; nnz += k; }
     A->colp[nfree] = nnz;
+    J.cnt = NULL;
+    bp__tutte_run(&J, bp__tutte_system_task);
     return 1;
 }
 
@@ -8812,8 +8994,10 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
    single precision costs iterations, not accuracy.  If that does not happen
    within BP__KRYLOV_ITERS iterations, or K cannot be factored, the LU
    below solves as before; either way the exact check of phase 7 follows.
-   Every sum runs serially in a fixed order and bp__precondition's bits do
-   not depend on the schedule, so x is the same on any thread count. */
+   Every sum runs in a fixed order (the dot products serially, the
+   products by A as gathers by rows, see bp__krylov_task) and
+   bp__precondition's bits do not depend on the schedule, so x is the same
+   on any thread count. */
 #ifndef BP__TUTTE_KRYLOV
 #define BP__TUTTE_KRYLOV 1
 #endif
@@ -8857,18 +9041,6 @@ static int bp__tutte_symmetric(const bp_allocator *a, const bp__sparse *A, bp__s
     return 1;
 }
 
-/* y = A x for two interleaved vectors (x, y: 2n). */
-static void bp__spmv2(const bp__sparse *A, const double *x, double *y)
-{
-    uint32_t j, p;
-    memset(y, 0, 2 * (size_t)A->n * sizeof(double));
-    for (j = 0; j < A->n; j++)
-        for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
-            y[2 * (size_t)A->row[p]] += A->val[p] * x[2 * (size_t)j];
-            y[2 * (size_t)A->row[p] + 1] += A->val[p] * x[2 * (size_t)j + 1];
-        }
-}
-
 /* d[c] = u . v per coordinate c of two interleaved vectors. */
 static void bp__dot2(const double *u, const double *v, size_t n, double *d)
 {
@@ -8877,15 +9049,120 @@ static void bp__dot2(const double *u, const double *v, size_t n, double *d)
     for (i = 0; i < n; i++) { d[0] += u[2 * i] * v[2 * i]; d[1] += u[2 * i + 1] * v[2 * i + 1]; }
 }
 
-/* |b - A x| <= BP__KRYLOV_TOL |b| for both coordinates (r: 2n of work). */
-static int bp__krylov_done(const bp__sparse *A, const double *b, const double *x, double *r, double *rel)
+/* d = u . v and e = u . w in one pass (each sum in bp__dot2's order). */
+static void bp__dot2x2(const double *u, const double *v, const double *w, size_t n, double *d, double *e)
 {
-    double rr[2], bb[2];
-    size_t i, n = A->n;
-    bp__spmv2(A, x, r);
-    for (i = 0; i < 2 * n; i++) r[i] = b[i] - r[i];
-    bp__dot2(r, r, n, rr);
-    bp__dot2(b, b, n, bb);
+    size_t i;
+    d[0] = d[1] = e[0] = e[1] = 0;
+    for (i = 0; i < n; i++) {
+        d[0] += u[2 * i] * v[2 * i]; d[1] += u[2 * i + 1] * v[2 * i + 1];
+        e[0] += u[2 * i] * w[2 * i]; e[1] += u[2 * i + 1] * w[2 * i + 1];
+    }
+}
+
+/* BiCGSTAB on several threads (issue 15).  Between its two preconditioner
+   solves (parallel, >>sparse) an iteration multiplies by A twice, takes
+   five dot products and updates four vectors, all serial before: on a
+   132K-face chart a tenth of the start map's solve.  Now:
+   - y = A x is a gather by rows over a row-compressed copy of A, built
+     once per solve with each row's entries in increasing column.  The
+     scatter over the columns it replaced (y = 0, then for j = 0, 1, ...
+     y_i += A(i, j) x_j over column j) adds into each y_i its terms in
+     increasing j, starting from 0; the gather adds the same terms in the
+     same order from 0, so every y_i has the same bits, and row chunks are
+     independent;
+   - the vector updates are element by element: any split gives the bits;
+   - the dot products are sums over all rows in row order, and a split
+     into partial sums would change their rounding: they stay serial, in
+     bp__dot2's order, but two that read the same vector share a pass
+     (t.r with t.t, and r.r with the next iteration's rh.r), and b.b, which
+     does not change, is taken once.
+   Row chunks depend on n alone (>>threads). */
+typedef struct bp__krylov_task {
+    const uint32_t *rp, *ci;            /* A by rows: columns increasing */
+    const double *rv;
+    const double *src, *b;              /* SPMV: y = A src; RESID: y = b - A src */
+    double *y, *x, *r, *p, *v, *ph, *t;
+    double beta[2], al[2], om[2];
+    int live[2], mode;
+    uint32_t n, nc;
+} bp__krylov_task;
+
+enum { BP__KRY_SPMV, BP__KRY_RESID, BP__KRY_P, BP__KRY_AL, BP__KRY_OM };
+#define BP__KRYLOV_CHUNK 2048u            /* rows per task */
+
+static void bp__krylov_task_run(void *task, uint32_t c)
+{
+    bp__krylov_task *K = (bp__krylov_task *)task;
+    uint32_t i, q, i0 = bp__chunk_at(K->n, K->nc, c), i1 = bp__chunk_at(K->n, K->nc, c + 1);
+    int m;
+    if (K->mode <= BP__KRY_RESID) {
+        for (i = i0; i < i1; i++) {
+            double sx = 0, sy = 0;
+            for (q = K->rp[i]; q < K->rp[i + 1]; q++) {
+                sx += K->rv[q] * K->src[2 * (size_t)K->ci[q]];
+                sy += K->rv[q] * K->src[2 * (size_t)K->ci[q] + 1];
+            }
+            if (K->mode == BP__KRY_RESID) { sx = K->b[2 * (size_t)i] - sx; sy = K->b[2 * (size_t)i + 1] - sy; }
+            K->y[2 * (size_t)i] = sx;
+            K->y[2 * (size_t)i + 1] = sy;
+        }
+        return;
+    }
+    for (i = 2 * i0; i < 2 * i1; i++) {
+        m = (int)(i & 1);
+        if (K->mode == BP__KRY_P) K->p[i] = K->live[m] ? K->r[i] + K->beta[m] * (K->p[i] - K->om[m] * K->v[i]) : 0;
+        else if (K->mode == BP__KRY_AL) { K->x[i] += K->al[m] * K->ph[i]; K->r[i] -= K->al[m] * K->v[i]; }
+        else { K->x[i] += K->om[m] * K->ph[i]; K->r[i] -= K->om[m] * K->t[i]; }
+    }
+}
+
+static void bp__krylov_run(bp__krylov_task *K, const bp__par *par, int mode)
+{
+    K->mode = mode;
+    bp__par_run(par, bp__krylov_task_run, K, K->nc, K->n);
+}
+
+/* y = A src (resid 0) or y = b - A src (resid 1), by the gather. */
+static void bp__krylov_spmv(bp__krylov_task *K, const bp__par *par, const double *src, double *y, int resid)
+{
+    K->src = src;
+    K->y = y;
+    bp__krylov_run(K, par, resid ? BP__KRY_RESID : BP__KRY_SPMV);
+}
+
+/* A's rows (rp, ci, rv), columns increasing: a counting sort of the
+   columns' entries in column order.  0 out of memory. */
+static int bp__sparse_rows(const bp_allocator *a, const bp__sparse *A, uint32_t **rp, uint32_t **ci, double **rv)
+{
+    uint32_t n = A->n, j, p, nnz = A->colp[n], *cur;
+    *rp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    *ci = (uint32_t *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(uint32_t));
+    *rv = (double *)bp__alloc_array(a, nnz ? nnz : 1, sizeof(double));
+    cur = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
+    if (!*rp || !*ci || !*rv || !cur) { bp__free(a, cur); return 0; }
+    for (p = 0; p < nnz; p++) (*rp)[A->row[p] + 1]++;
+    for (j = 0; j < n; j++) (*rp)[j + 1] += (*rp)[j];
+    memcpy(cur, *rp, n * sizeof(uint32_t));
+    for (j = 0; j < n; j++)
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
+            uint32_t q = cur[A->row[p]]++;
+            (*ci)[q] = j;
+            (*rv)[q] = A->val[p];
+        }
+    bp__free(a, cur);
+    return 1;
+}
+
+/* |b - A x| <= BP__KRYLOV_TOL |b| for both coordinates (r: 2n of work;
+   bb = b.b per coordinate). */
+static int bp__krylov_done(bp__krylov_task *K, const bp__par *par, const double *b, const double *bb,
+                           const double *x, double *r, double *rel)
+{
+    double rr[2];
+    K->b = b;
+    bp__krylov_spmv(K, par, x, r, 1);
+    bp__dot2(r, r, K->n, rr);
     *rel = sqrt(rr[0] > rr[1] ? rr[0] / (bb[0] > 0 ? bb[0] : 1) : rr[1] / (bb[1] > 0 ? bb[1] : 1));
     return rr[0] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[0] && rr[1] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[1];
 }
@@ -8898,52 +9175,62 @@ static int bp__tutte_bicgstab(const bp_allocator *a, const bp__sparse *A, const 
 {
     size_t n = A->n, i, m = 2 * n;
     double *buf = (double *)bp__alloc_array(a, 12 * n + 1, sizeof(double));
-    double *r, *rh, *p, *v, *ph, *t, *z, rho[2] = {1, 1}, al[2] = {1, 1}, om[2] = {1, 1};
-    int it, c, ok = -1, live[2] = {1, 1};
-    if (!buf) return -2;
-    r = buf; rh = r + m; p = rh + m; v = p + m; ph = v + m; t = ph + m;
+    double *r, *rh, *p, *v, *ph, *t, *z, rho[2] = {1, 1}, bb[2], rn[2];
+    int it, c, ok = -1;
+    bp__krylov_task J;
+    memset(&J, 0, sizeof J);
+    J.al[0] = J.al[1] = J.om[0] = J.om[1] = 1;
+    J.live[0] = J.live[1] = 1;
+    J.n = (uint32_t)n;
+    J.nc = bp__nchunks(J.n, BP__KRYLOV_CHUNK);
     z = (double *)bp__alloc_array(a, 4 * n + 1, sizeof(double));
-    if (!z) { bp__free(a, buf); return -2; }
+    if (!buf || !z || !bp__sparse_rows(a, A, (uint32_t **)&J.rp, (uint32_t **)&J.ci, (double **)&J.rv)) {
+        bp__free(a, buf); bp__free(a, z);
+        bp__free(a, (void *)J.rp); bp__free(a, (void *)J.ci); bp__free(a, (void *)J.rv);
+        return -2;
+    }
+    r = buf; rh = r + m; p = rh + m; v = p + m; ph = v + m; t = ph + m;
+    J.x = x; J.r = r; J.p = p; J.v = v; J.ph = ph; J.t = t;
     for (i = 0; i < m; i++) { x[i] = 0; r[i] = rh[i] = b[i]; p[i] = v[i] = 0; }
+    bp__dot2(b, b, n, bb);
+    rn[0] = bb[0]; rn[1] = bb[1];                                         /* rh.r: r = rh = b */
     *rel = 1;
     for (it = 1; it <= BP__KRYLOV_ITERS; it++) {
-        double rn[2], d[2], e[2];
-        bp__dot2(rh, r, n, rn);
+        double d[2], e[2];
         for (c = 0; c < 2; c++) {
-            double beta = live[c] ? (rn[c] / rho[c]) * (al[c] / om[c]) : 0;
-            if (live[c] && !(beta - beta == 0)) goto done;               /* breakdown */
+            J.beta[c] = J.live[c] ? (rn[c] / rho[c]) * (J.al[c] / J.om[c]) : 0;
+            if (J.live[c] && !(J.beta[c] - J.beta[c] == 0)) goto done;    /* breakdown */
             rho[c] = rn[c];
-            for (i = c; i < m; i += 2) p[i] = live[c] ? r[i] + beta * (p[i] - om[c] * v[i]) : 0;
         }
+        bp__krylov_run(&J, par, BP__KRY_P);                                 /* p = r + beta (p - om v) */
         bp__precondition(K, par, p, ph, z);                               /* ph = K^-1 p */
-        bp__spmv2(A, ph, v);
+        bp__krylov_spmv(&J, par, ph, v, 0);
         bp__dot2(rh, v, n, d);
         for (c = 0; c < 2; c++) {
-            al[c] = live[c] ? rho[c] / d[c] : 0;
-            if (!(al[c] - al[c] == 0)) goto done;
-            for (i = c; i < m; i += 2) { x[i] += al[c] * ph[i]; r[i] -= al[c] * v[i]; }   /* r = s */
+            J.al[c] = J.live[c] ? rho[c] / d[c] : 0;
+            if (!(J.al[c] - J.al[c] == 0)) goto done;
         }
+        bp__krylov_run(&J, par, BP__KRY_AL);                                /* x += al ph, r = s = r - al v */
         bp__precondition(K, par, r, ph, z);                               /* ph = K^-1 s */
-        bp__spmv2(A, ph, t);
-        bp__dot2(t, r, n, d);
-        bp__dot2(t, t, n, e);
+        bp__krylov_spmv(&J, par, ph, t, 0);
+        bp__dot2x2(t, r, t, n, d, e);
         for (c = 0; c < 2; c++) {
-            om[c] = live[c] && e[c] > 0 ? d[c] / e[c] : 0;
-            if (live[c] && !(om[c] != 0 && om[c] - om[c] == 0)) live[c] = 0;   /* s = 0 or breakdown */
-            for (i = c; i < m; i += 2) { x[i] += om[c] * ph[i]; r[i] -= om[c] * t[i]; }
+            J.om[c] = J.live[c] && e[c] > 0 ? d[c] / e[c] : 0;
+            if (J.live[c] && !(J.om[c] != 0 && J.om[c] - J.om[c] == 0)) J.live[c] = 0;   /* s = 0 or breakdown */
         }
-        bp__dot2(r, r, n, d);
-        bp__dot2(b, b, n, e);
+        bp__krylov_run(&J, par, BP__KRY_OM);                                /* x += om ph, r -= om t */
+        bp__dot2x2(r, r, rh, n, d, rn);                                   /* r.r; the next rh.r (rh.r = r.rh) */
         for (c = 0; c < 2; c++)
-            if (live[c] && d[c] <= 0.01 * BP__KRYLOV_TOL * BP__KRYLOV_TOL * e[c]) live[c] = 0;
-        if ((!live[0] && !live[1]) || it % 10 == 0) {                     /* the true residual */
-            if (bp__krylov_done(A, b, x, t, rel)) { ok = it; break; }
-            if (!live[0] && !live[1]) break;
+            if (J.live[c] && d[c] <= 0.01 * BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[c]) J.live[c] = 0;
+        if ((!J.live[0] && !J.live[1]) || it % 10 == 0) {                 /* the true residual */
+            if (bp__krylov_done(&J, par, b, bb, x, t, rel)) { ok = it; break; }
+            if (!J.live[0] && !J.live[1]) break;
         }
     }
 done:
     bp__free(a, buf);
     bp__free(a, z);
+    bp__free(a, (void *)J.rp); bp__free(a, (void *)J.ci); bp__free(a, (void *)J.rv);
     return ok;
 }
 
@@ -8980,7 +9267,7 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
     if (!b || !x || !dg || !As.val || !bp__tutte_symmetric(a, &As, &M)) ok = -1;
     else if ((st = bp__factorize(a, &M, &K, &bad, runner)) != BP_OK) ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0;
     else if (!K.sn) ok = 0;                           /* (the scalar rows took over: not SPD) */
-    else if (!bp__factor_single(a, &K) || !bp__solve_plan(a, &K)) ok = -1;
+    else if (!bp__factor_single(a, &K, runner) || !bp__solve_plan(a, &K)) ok = -1;
     else {
         it = bp__tutte_bicgstab(a, &As, &K, runner ? runner : &serial, b, x, &rel);
         if (it == -2) ok = -1;
@@ -9377,6 +9664,7 @@ static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mes
     bp__tutte T;
     bp_status st = BP_OK;
     memset(&T, 0, sizeof T);
+    if (runner) T.par = *runner;
     if (!bp__tutte_fill(a, &T, ch, m) || !bp__tutte_adjacency(a, &T) || !bp__tutte_weights(a, &T, mvc) ||
         !bp__tutte_circle(a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(a, &T, ch, mvc)))
         st = bp__oom(err, "computing the start map");
@@ -10994,7 +11282,7 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
     bp__free(a, t);
     K->super1 = BP__SUPER_SCALAR;
     st = bp__factorize(a, K, F, &bad, &S->par);
-    if (st == BP_OK && (!bp__factor_single(a, F) || !bp__solve_plan(a, F))) st = BP_ERR_OUT_OF_MEMORY;
+    if (st == BP_OK && (!bp__factor_single(a, F, &S->par) || !bp__solve_plan(a, F))) st = BP_ERR_OUT_OF_MEMORY;
     return st;
 }
 

@@ -212,7 +212,7 @@ static int laplacian(const bp_allocator *a, bp__solver *S, const bp_chart *ch, c
         }
         qsort(t, reps, sizeof(double), cmpd);
         t0 = cpu();
-        if (!bp__factor_single(a, &F) || !bp__solve_plan(a, &F)) { fprintf(stderr, "single failed\n"); return 1; }
+        if (!bp__factor_single(a, &F, NULL) || !bp__solve_plan(a, &F)) { fprintf(stderr, "single failed\n"); return 1; }
         t_single = cpu() - t0;
         t0 = cpu();
         bp__precondition(&F, &ser, q, r, z);

@@ -464,6 +464,51 @@ static int random_scalar(uint32_t g, uint32_t pairs, bp__sparse *A)
     return ok;
 }
 
+/* bp__super_to_rows on several threads (ranges of supernodes, each with
+   its own cursors) against the rows written here from the supernodal
+   blocks by brute force: every entry (i, j) of C below the diagonal as
+   float(C(i, j) / C(j, j)), sorted by row, then column.  F is converted
+   (and its blocks freed). */
+typedef struct ref_rowent { uint32_t i, j; float v; } ref_rowent;
+
+static int ref_rowent_cmp(const void *pa, const void *pb)
+{
+    const ref_rowent *a = (const ref_rowent *)pa, *b = (const ref_rowent *)pb;
+    if (a->i != b->i) return a->i < b->i ? -1 : 1;
+    return a->j < b->j ? -1 : a->j > b->j;
+}
+
+static void check_rows_parallel(bp__factor *F, bp__par *par, const char *order, const char *what)
+{
+    const bp__super *S = F->sn;
+    uint32_t n = S->nv, s, jj, ii, k, ne = 0, *rp = (uint32_t *)calloc(n + 1, sizeof(uint32_t));
+    bp_allocator al;
+    ref_rowent *e = (ref_rowent *)malloc((S->xp[S->ns] + 1) * sizeof(ref_rowent));
+    int same;
+    memset(&al, 0, sizeof al);
+    for (s = 0; s < S->ns; s++) {
+        uint32_t f = S->first[s], nc = S->first[s + 1] - f, m = S->rp[s + 1] - S->rp[s];
+        const uint32_t *rows = S->ri + S->rp[s];
+        const double *B = S->x + S->xp[s];
+        for (jj = 0; jj < nc; jj++)
+            for (ii = jj + 1; ii < m; ii++) {
+                e[ne].i = rows[ii]; e[ne].j = f + jj;
+                e[ne++].v = (float)(B[(size_t)ii * nc + jj] / B[(size_t)jj * nc + jj]);
+            }
+    }
+    qsort(e, ne, sizeof *e, ref_rowent_cmp);
+    for (k = 0; k < ne; k++) rp[e[k].i + 1]++;
+    for (k = 0; k < n; k++) rp[k + 1] += rp[k];
+    if (BPT_CHECK(bp__factor_single(&al, F, par) && !F->sn, "%s: converted to single rows (tasks %s)", what, order)) {
+        same = !memcmp(rp, F->Rp, (n + 1) * sizeof(uint32_t));
+        for (k = 0; same && k < ne; k++) same = F->Ri[k] == e[k].j && !memcmp(&F->Rxf[k], &e[k].v, sizeof(float));
+        BPT_CHECK(same && n >= 1024, "%s: the rows (tasks %s, %u entries) are the blocks' entries sorted "
+                  "by row and column, bit for bit", what, order, ne);
+    }
+    free(rp);
+    free(e);
+}
+
 /* (e): the scalar supernodal factor (blocks of 1) as (a), (b) and (c),
    and its single-precision rows for the preconditioner. */
 static void test_scalar(void)
@@ -508,7 +553,7 @@ static void test_scalar(void)
         for (i = 0; i < n; i++) { q2[2 * i] = b[i]; q2[2 * i + 1] = b[n - 1 - i]; }
         for (i = 0; i < n; i++) xs[i] = b[n - 1 - i];
         bp__factor_solve(&F, xs, xs, z + n);
-        if (BPT_CHECK(bp__factor_single(&al, &F) && !F.sn && bp__solve_plan(&al, &F), "%s: converted to single rows", what)) {
+        if (BPT_CHECK(bp__factor_single(&al, &F, NULL) && !F.sn && bp__solve_plan(&al, &F), "%s: converted to single rows", what)) {
             bp__precondition(&F, &oe, q2, r2, z);
             for (i = 0; i < n; i++) {
                 if (fabs(r2[2 * i] - x[i]) > err) err = fabs(r2[2 * i] - x[i]);
@@ -520,6 +565,15 @@ static void test_scalar(void)
                       "(max diff %.2g of %.2g)", what, err, big);
         }
         bp__factor_free(&al, &F);
+        if (n >= 1024) {                        /* (the runner serves 1024 rows and more) */
+            bp__par rev = bp__par_serial();
+            rev.run = bpt_backwards_for;
+            rev.threads = oe.threads = 2;
+            if (bp__factorize(&al, &A, &F, &bad, NULL) == BP_OK && F.sn) check_rows_parallel(&F, &rev, "backwards", what);
+            bp__factor_free(&al, &F);
+            if (bp__factorize(&al, &A, &F, &bad, NULL) == BP_OK && F.sn) check_rows_parallel(&F, &oe, "odd then even", what);
+            bp__factor_free(&al, &F);
+        }
         /* (c) not positive definite: the scalar rows (LDL^T) take over */
         A.val[bp__sparse_find(&A, n / 2, n / 2)] = -1e3;
         if (BPT_CHECK(bp__factorize(&al, &A, &F, &bad, NULL) == BP_OK && !F.sn,

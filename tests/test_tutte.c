@@ -23,7 +23,15 @@
    (d) The mean-value system's Krylov solve (phase 6a): on the random
        M-matrices of (a) against dense elimination; on real charts its
        residual recomputed here, the LU's solution, the same bits when the
-       tasks run backwards. */
+       tasks run backwards.
+   (e) Phases 2, 3 and 5 (adjacency, weights, system), gathers per vertex
+       chunk, against the triangle-order scatters they replaced (written
+       here), bit for bit, with the chunks run serially, backwards and odd
+       then even.
+   (f) BiCGSTAB on real charts: its products by A (a gather over A's
+       rows) against the column scatter they replaced, and the whole
+       iteration against the old serial one (both written here), bit for
+       bit, with the tasks run backwards and odd then even. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -367,6 +375,147 @@ static void check_precondition(const char *path)
    recomputed here, is below BP__KRYLOV_TOL; the LU of phase 6 gives the
    same solution to the conditioning's rounding; the same bits when the
    tasks run backwards. */
+/* (f) BiCGSTAB's products by A are gathers over A's rows in row chunks,
+   its vector updates run in chunks, its dot products share passes: here
+   the column scatter it replaced and the whole old serial iteration,
+   written out as the header had them, against the header's, bit for bit,
+   with the tasks run backwards and odd then even. */
+static void ref_spmv2(const bp__sparse *A, const double *x, double *y)
+{
+    uint32_t j, p;
+    memset(y, 0, 2 * (size_t)A->n * sizeof(double));
+    for (j = 0; j < A->n; j++)
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
+            y[2 * (size_t)A->row[p]] += A->val[p] * x[2 * (size_t)j];
+            y[2 * (size_t)A->row[p] + 1] += A->val[p] * x[2 * (size_t)j + 1];
+        }
+}
+
+static void ref_dot2(const double *u, const double *v, size_t n, double *d)
+{
+    size_t i;
+    d[0] = d[1] = 0;
+    for (i = 0; i < n; i++) { d[0] += u[2 * i] * v[2 * i]; d[1] += u[2 * i + 1] * v[2 * i + 1]; }
+}
+
+static int ref_done(const bp__sparse *A, const double *b, const double *x, double *r)
+{
+    double rr[2], bb[2];
+    size_t i, n = A->n;
+    ref_spmv2(A, x, r);
+    for (i = 0; i < 2 * n; i++) r[i] = b[i] - r[i];
+    ref_dot2(r, r, n, rr);
+    ref_dot2(b, b, n, bb);
+    return rr[0] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[0] && rr[1] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[1];
+}
+
+static int ref_bicgstab(const bp__sparse *A, const bp__factor *K, const double *b, double *x)
+{
+    size_t n = A->n, i, m = 2 * n;
+    double *buf = (double *)malloc((12 * n + 1) * sizeof(double)), *z = (double *)malloc((4 * n + 1) * sizeof(double));
+    double *r, *rh, *p, *v, *ph, *t, rho[2] = {1, 1}, al[2] = {1, 1}, om[2] = {1, 1};
+    int it, c, ok = -1, live[2] = {1, 1};
+    bp__par serial = bp__par_serial();
+    r = buf; rh = r + m; p = rh + m; v = p + m; ph = v + m; t = ph + m;
+    for (i = 0; i < m; i++) { x[i] = 0; r[i] = rh[i] = b[i]; p[i] = v[i] = 0; }
+    for (it = 1; it <= BP__KRYLOV_ITERS; it++) {
+        double rn[2], d[2], e[2];
+        ref_dot2(rh, r, n, rn);
+        for (c = 0; c < 2; c++) {
+            double beta = live[c] ? (rn[c] / rho[c]) * (al[c] / om[c]) : 0;
+            if (live[c] && !(beta - beta == 0)) goto done;
+            rho[c] = rn[c];
+            for (i = c; i < m; i += 2) p[i] = live[c] ? r[i] + beta * (p[i] - om[c] * v[i]) : 0;
+        }
+        bp__precondition(K, &serial, p, ph, z);
+        ref_spmv2(A, ph, v);
+        ref_dot2(rh, v, n, d);
+        for (c = 0; c < 2; c++) {
+            al[c] = live[c] ? rho[c] / d[c] : 0;
+            if (!(al[c] - al[c] == 0)) goto done;
+            for (i = c; i < m; i += 2) { x[i] += al[c] * ph[i]; r[i] -= al[c] * v[i]; }
+        }
+        bp__precondition(K, &serial, r, ph, z);
+        ref_spmv2(A, ph, t);
+        ref_dot2(t, r, n, d);
+        ref_dot2(t, t, n, e);
+        for (c = 0; c < 2; c++) {
+            om[c] = live[c] && e[c] > 0 ? d[c] / e[c] : 0;
+            if (live[c] && !(om[c] != 0 && om[c] - om[c] == 0)) live[c] = 0;
+            for (i = c; i < m; i += 2) { x[i] += om[c] * ph[i]; r[i] -= om[c] * t[i]; }
+        }
+        ref_dot2(r, r, n, d);
+        ref_dot2(b, b, n, e);
+        for (c = 0; c < 2; c++)
+            if (live[c] && d[c] <= 0.01 * BP__KRYLOV_TOL * BP__KRYLOV_TOL * e[c]) live[c] = 0;
+        if ((!live[0] && !live[1]) || it % 10 == 0) {
+            if (ref_done(A, b, x, t)) { ok = it; break; }
+            if (!live[0] && !live[1]) break;
+        }
+    }
+done:
+    free(buf);
+    free(z);
+    return ok;
+}
+
+/* T: a mean-value system (phases 1-5 done). */
+static void check_bicgstab(const char *path, bp__tutte *T)
+{
+    bp_allocator a;
+    bp__sparse M, As = T->A;
+    bp__factor K;
+    bp__krylov_task J;
+    bp__par par = bp__par_serial();
+    uint32_t n = T->nfree, i, j, p, bad, order;
+    double *x = (double *)malloc(2 * (size_t)n * sizeof(double)), *y0 = (double *)malloc(2 * (size_t)n * sizeof(double));
+    double *y1 = (double *)malloc(2 * (size_t)n * sizeof(double)), *b = (double *)malloc(2 * (size_t)n * sizeof(double));
+    double *dg = (double *)malloc(n * sizeof(double)), rel;
+    int it0, it1;
+    memset(&a, 0, sizeof a);
+    memset(&J, 0, sizeof J);
+    memset(&K, 0, sizeof K);
+    /* the scaled system exactly as bp__tutte_krylov makes it */
+    As.val = (double *)malloc(T->A.colp[n] * sizeof(double));
+    for (j = 0; j < n; j++) dg[j] = 1;
+    for (j = 0; j < n; j++)
+        for (p = T->A.colp[j]; p < T->A.colp[j + 1]; p++)
+            if (T->A.row[p] == j && T->A.val[p] > 0) dg[j] = T->A.val[p];
+    for (j = 0; j < n; j++)
+        for (p = T->A.colp[j]; p < T->A.colp[j + 1]; p++) As.val[p] = T->A.val[p] / dg[T->A.row[p]];
+    for (i = 0; i < n; i++) { b[2 * i] = T->rhs[i] / dg[i]; b[2 * i + 1] = T->rhs[n + i] / dg[i]; }
+    for (i = 0; i < 2 * n; i++) x[i] = rng_unit() - 0.5;
+    ref_spmv2(&As, x, y0);
+    J.n = n;
+    J.nc = bp__nchunks(n, BP__KRYLOV_CHUNK);
+    par.threads = 2;
+    if (!BPT_CHECK(bp__sparse_rows(&a, &As, (uint32_t **)&J.rp, (uint32_t **)&J.ci, (double **)&J.rv) && J.nc >= 4,
+                   "%s: A by rows (%u row chunks)", path, J.nc)) goto out;
+    for (order = 0; order < 2; order++) {
+        par.run = order ? bpt_odd_even_for : bpt_backwards_for;
+        memset(y1, 0xff, 2 * (size_t)n * sizeof(double));
+        bp__krylov_spmv(&J, &par, x, y1, 0);
+        BPT_CHECK(!memcmp(y0, y1, 2 * (size_t)n * sizeof(double)), "%s: A x by rows (tasks %s) has the column "
+                  "scatter's bits", path, order ? "odd then even" : "backwards");
+    }
+    if (!BPT_CHECK(bp__tutte_symmetric(&a, &As, &M) && bp__factorize(&a, &M, &K, &bad, NULL) == BP_OK && K.sn &&
+                   bp__factor_single(&a, &K) && bp__solve_plan(&a, &K), "%s: the preconditioner", path)) goto out2;
+    it0 = ref_bicgstab(&As, &K, b, y0);
+    for (order = 0; order < 2; order++) {
+        par.run = order ? bpt_odd_even_for : bpt_backwards_for;
+        it1 = bp__tutte_bicgstab(&a, &As, &K, &par, b, y1, &rel);
+        BPT_CHECK(it0 > 0 && it1 == it0 && !memcmp(y0, y1, 2 * (size_t)n * sizeof(double)), "%s: BiCGSTAB (tasks %s, "
+                  "%d iterations) has the old serial iteration's bits (%d iterations)", path,
+                  order ? "odd then even" : "backwards", it1, it0);
+    }
+out2:
+    bp__factor_free(&a, &K);
+    bp__free(&a, M.colp); bp__free(&a, M.row); bp__free(&a, M.val);
+out:
+    bp__free(&a, (void *)J.rp); bp__free(&a, (void *)J.ci); bp__free(&a, (void *)J.rv);
+    free(As.val); free(x); free(y0); free(y1); free(b); free(dg);
+}
+
 static void check_krylov(const char *path)
 {
     bp_mesh m;
@@ -393,6 +542,7 @@ static void check_krylov(const char *path)
                    bp__tutte_circle(&a, &T, &at.charts[best]) && bp__tutte_system(&a, &T, &at.charts[best], 1),
                    "%s: the mean-value system", path)) goto out;
     n = T.nfree;
+    if (n > 2 * BP__KRYLOV_CHUNK) check_bicgstab(path, &T);   /* (several row chunks) */
     ok = bp__tutte_krylov(&a, &T, NULL) == 1;
     BPT_CHECK(ok, "%s (%u unknowns): BiCGSTAB converged in %d iterations, its residual %.2g", path, n, T.krylov_iters,
               T.krylov_rel);
@@ -423,6 +573,147 @@ static void check_krylov(const char *path)
     free(r); free(keep); free(work);
 out:
     bp__tutte_free(&a, &T);
+    bp_atlas_free(&at);
+    bp_mesh_free(&m, NULL);
+}
+
+/* (e) Phases 2, 3 and 5 of the start map (adjacency, weights, system) are
+   gathers per vertex chunk; here against the triangle-order scatters they
+   replaced (written out below, as the header had them), bit for bit, with
+   the chunks run serially, backwards and odd then even. */
+static int ref_u32_cmp(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+static uint32_t ref_find(const uint32_t *adjp, const uint32_t *adj, uint32_t i, uint32_t j)
+{
+    uint32_t e;
+    for (e = adjp[i]; e < adjp[i + 1]; e++) if (adj[e] == j) return e;
+    return BP__NONE;
+}
+
+/* the old phases 2, 3, 5 on T (after phase 1 and 4's circle: idx, uv) */
+static void ref_phases(bp__tutte *T, const bp_chart *ch, int mvc, uint32_t **adjp_, uint32_t **adj_, double **w_,
+                       uint32_t **colp_, uint32_t **row_, double **val_, double **rhs_)
+{
+    uint32_t t, k, i, e, N = T->N, ne = 0, *cnt = (uint32_t *)calloc(N + 1, sizeof(uint32_t));
+    uint32_t *adjp = (uint32_t *)calloc(N + 1, sizeof(uint32_t)), *adj = (uint32_t *)malloc(6 * T->nt * sizeof(uint32_t));
+    uint32_t nfree = T->nfree, j, p, nnz = 0, *colp, *row;
+    double *w, *val, *rhs;
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) { adjp[T->tri[3 * t + k] + 1]++; adjp[T->tri[3 * t + (k + 1) % 3] + 1]++; }
+    for (i = 0; i < N; i++) adjp[i + 1] += adjp[i];
+    memcpy(cnt, adjp, (N + 1) * sizeof(uint32_t));
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t va = T->tri[3 * t + k], vb = T->tri[3 * t + (k + 1) % 3];
+            adj[cnt[va]++] = vb;
+            adj[cnt[vb]++] = va;
+        }
+    for (i = 0; i < N; i++) {
+        uint32_t s0 = adjp[i], s1 = adjp[i + 1], last = BP__NONE;
+        qsort(adj + s0, s1 - s0, sizeof(uint32_t), ref_u32_cmp);
+        adjp[i] = ne;
+        for (e = s0; e < s1; e++) if (adj[e] != last) adj[ne++] = last = adj[e];
+    }
+    adjp[N] = ne;
+    w = (double *)calloc(ne + 1, sizeof(double));
+    for (t = 0; t < T->nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t vi = T->tri[3 * t + k], vj = T->tri[3 * t + (k + 1) % 3], vk = T->tri[3 * t + (k + 2) % 3];
+            uint32_t ej = ref_find(adjp, adj, vi, vj), ek = ref_find(adjp, adj, vi, vk);
+            if (!mvc) w[ej] = w[ek] = 1;
+            else {
+                const double *pi = T->pos + 3 * (size_t)vi, *pj = T->pos + 3 * (size_t)vj, *pk = T->pos + 3 * (size_t)vk;
+                double th = tan(0.5 * bp__angle3(pi, pj, pk));
+                w[ej] += th / bp__dist3(pi, pj);
+                w[ek] += th / bp__dist3(pi, pk);
+            }
+        }
+    for (e = 0; e < ne; e++) if (!(w[e] > 0) || !(w[e] - w[e] == 0)) w[e] = 1;
+    colp = (uint32_t *)malloc((nfree + 1) * sizeof(uint32_t));
+    row = (uint32_t *)malloc((ne + nfree) * sizeof(uint32_t));
+    val = (double *)malloc((ne + nfree) * sizeof(double));
+    rhs = (double *)calloc(2 * nfree + 1, sizeof(double));
+    for (j = 0; j < N; j++) {
+        uint32_t cj = T->idx[j];
+        double diag = 0;
+        int diag_done = 0;
+        if (cj == BP__NONE) continue;
+        colp[cj] = nnz;
+        for (e = adjp[j]; e < adjp[j + 1]; e++) {
+            uint32_t vi = adj[e];
+            diag += w[e];
+            if (T->idx[vi] == BP__NONE) {
+                rhs[cj] += w[e] * ch->uv[2 * (size_t)vi];
+                rhs[nfree + cj] += w[e] * ch->uv[2 * (size_t)vi + 1];
+            }
+        }
+        for (e = adjp[j]; e < adjp[j + 1]; e++) {
+            uint32_t vi = adj[e];
+            if (T->idx[vi] == BP__NONE) continue;
+            if (!diag_done && vi > j) { row[nnz] = cj; val[nnz++] = 0; diag_done = 1; }
+            row[nnz] = T->idx[vi];
+            val[nnz++] = -w[ref_find(adjp, adj, vi, j)];
+        }
+        if (!diag_done) { row[nnz] = cj; val[nnz++] = 0; }
+        for (p = colp[cj]; p < nnz; p++) if (row[p] == cj) val[p] = diag;
+    }
+    colp[nfree] = nnz;
+    free(cnt);
+    *adjp_ = adjp; *adj_ = adj; *w_ = w; *colp_ = colp; *row_ = row; *val_ = val; *rhs_ = rhs;
+}
+
+static void check_phases(const char *path)
+{
+    bp_mesh m;
+    bp_atlas at;
+    bp_error e;
+    bp_options o;
+    bp_allocator a;
+    uint32_t c, best = 0;
+    int mvc, order;
+    memset(&a, 0, sizeof a);
+    memset(&o, 0, sizeof o);
+    if (!BPT_CHECK(bp_read_mesh(path, &m, NULL, &e) == BP_OK, "%s: read: %s", path, e.message)) return;
+    if (!BPT_CHECK(bp_atlas_build(&at, &m, &o, &e) == BP_OK, "%s: charts: %s", path, e.message)) { bp_mesh_free(&m, NULL); return; }
+    for (c = 0; c < at.num_charts; c++) if (at.charts[c].num_triangles > at.charts[best].num_triangles) best = c;
+    if (!BPT_CHECK(bp_chart_init(&at.charts[best], &m, &o, &e) == BP_OK, "%s: start map (allocates uv): %s", path, e.message))
+        goto out;
+    for (mvc = 0; mvc < 2; mvc++)
+        for (order = 0; order < 3; order++) {
+            bp__tutte T;
+            bp_chart *ch = &at.charts[best];
+            uint32_t *adjp, *adj, *colp, *row, N, nf;
+            double *w, *val, *rhs;
+            int same;
+            memset(&T, 0, sizeof T);
+            if (order) {
+                T.par = bp__par_serial();
+                T.par.run = order == 1 ? bpt_backwards_for : bpt_odd_even_for;
+                T.par.threads = 2;
+            }
+            if (!BPT_CHECK(bp__tutte_fill(&a, &T, ch, &m) && bp__tutte_adjacency(&a, &T) && bp__tutte_weights(&a, &T, mvc) &&
+                           bp__tutte_circle(&a, &T, ch) && bp__tutte_system(&a, &T, ch, mvc), "%s: phases 1-5", path)) {
+                bp__tutte_free(&a, &T);
+                continue;
+            }
+            ref_phases(&T, ch, mvc, &adjp, &adj, &w, &colp, &row, &val, &rhs);
+            N = T.N;
+            nf = T.nfree;
+            same = !memcmp(adjp, T.adjp, (N + 1) * sizeof(uint32_t)) && !memcmp(adj, T.adj, adjp[N] * sizeof(uint32_t)) &&
+                   !memcmp(w, T.w, adjp[N] * sizeof(double)) && !memcmp(colp, T.A.colp, (nf + 1) * sizeof(uint32_t)) &&
+                   !memcmp(row, T.A.row, colp[nf] * sizeof(uint32_t)) && !memcmp(val, T.A.val, colp[nf] * sizeof(double)) &&
+                   !memcmp(rhs, T.rhs, 2 * nf * sizeof(double));
+            BPT_CHECK(same && T.N > 2 * BP__TUTTE_CHUNK, "%s (%s, %u vertices, tasks %s): adjacency, weights and system "
+                      "equal the triangle-order scatter's bits", path, mvc ? "mean value" : "Tutte", N,
+                      order == 0 ? "serial" : order == 1 ? "backwards" : "odd then even");
+            free(adjp); free(adj); free(w); free(colp); free(row); free(val); free(rhs);
+            bp__tutte_free(&a, &T);
+        }
+out:
     bp_atlas_free(&at);
     bp_mesh_free(&m, NULL);
 }
@@ -475,6 +766,9 @@ int main(void)
     check_krylov("tests/data/camel_b.obj");
     check_krylov("tests/data/camelhead.off");
     check_krylov("../shared/meshes/horse_cut.obj");
+    check_phases("tests/data/face_holes.off");
+    check_phases("tests/data/camelhead.off");
+    check_phases("../shared/meshes/horse_cut.obj");
     check_precondition("tests/data/camel_b.obj");
     check_precondition("tests/data/camelhead.off");
     check_precondition("../shared/meshes/horse_cut.obj");
