@@ -499,7 +499,7 @@ static void check_bicgstab(const char *path, bp__tutte *T)
                   "scatter's bits", path, order ? "odd then even" : "backwards");
     }
     if (!BPT_CHECK(bp__tutte_symmetric(&a, &As, &M) && bp__factorize(&a, &M, &K, &bad, NULL) == BP_OK && K.sn &&
-                   bp__factor_single(&a, &K) && bp__solve_plan(&a, &K), "%s: the preconditioner", path)) goto out2;
+                   bp__factor_single(&a, &K, NULL) && bp__solve_plan(&a, &K), "%s: the preconditioner", path)) goto out2;
     it0 = ref_bicgstab(&As, &K, b, y0);
     for (order = 0; order < 2; order++) {
         par.run = order ? bpt_odd_even_for : bpt_backwards_for;
