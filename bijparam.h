@@ -3017,11 +3017,52 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
    a file atomically (write a temporary next to it, then rename) needs
    POSIX, and the tool does it (examples/bijparam.c). */
 
+/* The output goes through a buffer of our own (BP__OUT_CAP bytes) and
+   reaches the FILE in large fwrite calls: a face line is a dozen small
+   pieces (the corners' text, "/", the new index), and one fwrite per piece
+   cost more than the rest of the writer together (docs/performance.md
+   6.18).  The bytes and their order are exactly those the pieces make.
+
+   The vt lines (and bp_write_obj's v lines) are most of the formatting
+   work: each holds two (three) doubles printed "%.17g", which the C
+   library does digit by digit in multiple precision.  They are formatted
+   in parallel: the lines are cut into tasks of BP__OUT_LINES_PER_TASK
+   consecutive lines, each task formats its lines with the same snprintf
+   call into its own slice of a scratch area, and the caller appends the
+   slices in task order, a round of BP__OUT_TASKS tasks at a time (so the
+   scratch stays at about a megabyte whatever the mesh).  The file's bytes
+   are therefore those of one loop of fprintf calls, for any number of
+   threads and any order in which the tasks run.  The writers start a pool
+   (bp__par_begin: opt->threads, or opt->parallel_for) only when there are
+   BP__OUT_PAR_MIN lines or more; the allocator is only called by the
+   caller's thread. */
+#ifndef BP__OUT_CAP
+#define BP__OUT_CAP (1u << 16)
+#endif
+#ifndef BP__OUT_LINES_PER_TASK
+#define BP__OUT_LINES_PER_TASK 1024u
+#endif
+#ifndef BP__OUT_TASKS
+#define BP__OUT_TASKS 16u
+#endif
+#ifndef BP__OUT_PAR_MIN
+#define BP__OUT_PAR_MIN 8192u
+#endif
+/* The longest formatted line: "%.17g" prints at most 24 characters (sign,
+   17 digits, point, "e-308"), so "v x y z\n" is at most 77 bytes and
+   "vt u v\r\n" 54. */
+#define BP__OUT_LINE_MAX 96u
+
 typedef struct bp__out {
     FILE *f;
     int   ok, e;            /* e: errno of the first failed write         */
     const bp_options *opt;  /* run_progress (BP_STAGE_WRITE), or NULL     */
     int   cancelled;        /* the callback said stop: ok is 0 too        */
+    const bp_allocator *a;
+    char *buf;              /* bytes not yet handed to fwrite             */
+    size_t len;
+    bp__par par;            /* who formats the v / vt lines               */
+    void *pool;             /* bp__par_begin's pool, stopped at close     */
 } bp__out;
 
 /* Progress while writing: every 4096 faces, the share of the mesh's
@@ -3036,9 +3077,24 @@ static void bp__out_tick(bp__out *o, uint32_t t, uint32_t total)
     }
 }
 
+static void bp__out_flush(bp__out *o)
+{
+    if (o->ok && o->len && fwrite(o->buf, 1, o->len, o->f) != o->len) { o->ok = 0; o->e = errno; }
+    o->len = 0;
+}
+
 static void bp__out_bytes(bp__out *o, const char *p, size_t n)
 {
-    if (o->ok && n && fwrite(p, 1, n, o->f) != n) { o->ok = 0; o->e = errno; }
+    if (!o->ok || !n) return;
+    if (o->len + n > BP__OUT_CAP) {
+        bp__out_flush(o);
+        if (n > BP__OUT_CAP) {
+            if (o->ok && fwrite(p, 1, n, o->f) != n) { o->ok = 0; o->e = errno; }
+            return;
+        }
+    }
+    memcpy(o->buf + o->len, p, n);
+    o->len += n;
 }
 
 static void bp__out_str(bp__out *o, const char *s) { bp__out_bytes(o, s, strlen(s)); }
@@ -3051,29 +3107,84 @@ static void bp__out_uint(bp__out *o, uint64_t v)
     bp__out_bytes(o, buf, n);
 }
 
-static void bp__out_vt(bp__out *o, double u, double v, const char *eol)
+/* Line i of a block into dst (at most BP__OUT_LINE_MAX bytes); its length. */
+typedef size_t (*bp__line_fn)(const void *ctx, uint32_t i, char *dst);
+
+typedef struct bp__lines_task {
+    bp__line_fn fn;
+    const void *ctx;
+    char       *scratch;    /* task k's slice: k * per * BP__OUT_LINE_MAX  */
+    size_t     *len;        /* bytes task k formatted                     */
+    uint32_t    first, end, per;
+} bp__lines_task;
+
+static void bp__lines_run(void *task, uint32_t k)
 {
-    if (o->ok && fprintf(o->f, "vt %.17g %.17g%s", u, v, eol) < 0) { o->ok = 0; o->e = errno; }
+    const bp__lines_task *T = (const bp__lines_task *)task;
+    uint32_t i = T->first + k * T->per, end = T->end - i > T->per ? i + T->per : T->end;
+    char *d = T->scratch + (size_t)k * T->per * BP__OUT_LINE_MAX;
+    size_t n = 0;
+    for (; i < end; i++) n += T->fn(T->ctx, i, d + n);
+    T->len[k] = n;
 }
 
-static bp_status bp__out_open(bp__out *o, const char *path, bp_error *err)
+/* Lines 0 .. count-1 of a block, in order (see the essay above).  Without
+   scratch memory the lines are formatted one by one: the same bytes. */
+static void bp__out_lines(bp__out *o, uint32_t count, bp__line_fn fn, const void *ctx)
 {
+    const uint32_t per = BP__OUT_LINES_PER_TASK, round = per * BP__OUT_TASKS;
+    uint32_t first, k, ntask, nround = count < round ? count : round;
+    size_t len[BP__OUT_TASKS];
+    bp__lines_task T;
+    char *scratch = count ? (char *)bp__alloc_array(o->a, nround, BP__OUT_LINE_MAX) : NULL;
+    if (!scratch) {
+        char line[BP__OUT_LINE_MAX];
+        for (first = 0; first < count && o->ok; first++) bp__out_bytes(o, line, fn(ctx, first, line));
+        return;
+    }
+    T.fn = fn; T.ctx = ctx; T.scratch = scratch; T.len = len; T.per = per;
+    for (first = 0; first < count && o->ok; first = T.end) {
+        T.first = first;
+        T.end = count - first > round ? first + round : count;
+        ntask = (T.end - first + per - 1) / per;
+        if (ntask > 1) o->par.run(o->par.user, bp__lines_run, &T, ntask);
+        else bp__lines_run(&T, 0);
+        for (k = 0; k < ntask; k++) bp__out_bytes(o, scratch + (size_t)k * per * BP__OUT_LINE_MAX, len[k]);
+    }
+    bp__free(o->a, scratch);
+}
+
+static bp_status bp__out_open(bp__out *o, const char *path, const bp_allocator *a, bp_error *err)
+{
+    memset(o, 0, sizeof *o);
+    o->a = a;
+    o->par = bp__par_serial();
+    if (!(o->buf = (char *)bp__alloc(a, BP__OUT_CAP))) return bp__oom(err, "writing the OBJ file");
     errno = 0;
     o->f = fopen(path, "wb");
     o->ok = o->f != NULL;
-    o->e = 0;
-    o->opt = NULL;
-    o->cancelled = 0;
-    if (!o->f)
+    if (!o->f) {
+        bp__free(a, o->buf);
         return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot open '%s' for writing: %s",
                         path, bp__io_reason(errno));
+    }
     return BP_OK;
+}
+
+/* Threads for the v / vt lines when there are enough of them. */
+static void bp__out_threads(bp__out *o, const bp_options *opt, uint64_t lines)
+{
+    if (lines >= BP__OUT_PAR_MIN) o->par = bp__par_begin(o->a, opt, &o->pool);
 }
 
 /* Close; if anything failed (a write here, or `st` from the caller), remove
    the partial file. */
 static bp_status bp__out_close(bp__out *o, const char *path, bp_status st, bp_error *err)
 {
+    bp__par_end(o->a, o->pool);
+    o->pool = NULL;
+    bp__out_flush(o);
+    bp__free(o->a, o->buf);
     errno = 0;
     if (fclose(o->f) != 0 && o->ok) { o->ok = 0; o->e = errno; }
     if (st == BP_OK && o->ok && bp__report(o->opt, BP_STAGE_WRITE, 1, BP_NO_CHART)) o->cancelled = 1;
@@ -3100,13 +3211,30 @@ static uint32_t *bp__vt_base(const bp_atlas *atlas, const bp_allocator *a)
     return base;
 }
 
-static void bp__out_vt_block(bp__out *o, const bp_atlas *atlas, const char *eol)
+/* The new vt lines: line i is vertex i - base[c] of the chart c with
+   base[c] <= i < base[c + 1] (found by bisection). */
+typedef struct bp__vt_lines { const bp_atlas *atlas; const uint32_t *base; const char *eol; } bp__vt_lines;
+
+static size_t bp__vt_line(const void *ctx, uint32_t i, char *dst)
 {
-    uint32_t c, i;
-    for (c = 0; c < atlas->num_charts; c++) {
-        const bp_chart *ch = &atlas->charts[c];
-        for (i = 0; ch->uv && i < ch->num_vertices; i++) bp__out_vt(o, ch->uv[2 * i], ch->uv[2 * i + 1], eol);
+    const bp__vt_lines *L = (const bp__vt_lines *)ctx;
+    uint32_t lo = 0, hi = L->atlas->num_charts;       /* base[lo] <= i < base[hi] */
+    const double *uv;
+    int n;
+    while (hi - lo > 1) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (L->base[mid] <= i) lo = mid; else hi = mid;
     }
+    uv = L->atlas->charts[lo].uv + 2 * (size_t)(i - L->base[lo]);
+    n = snprintf(dst, BP__OUT_LINE_MAX, "vt %.17g %.17g%s", uv[0], uv[1], L->eol);
+    return n <= 0 ? 0 : n < (int)BP__OUT_LINE_MAX ? (size_t)n : BP__OUT_LINE_MAX - 1;
+}
+
+static void bp__out_vt_block(bp__out *o, const bp_atlas *atlas, const uint32_t *base, const char *eol)
+{
+    bp__vt_lines L;
+    L.atlas = atlas; L.base = base; L.eol = eol;
+    bp__out_lines(o, base[atlas->num_charts], bp__vt_line, &L);
 }
 
 /* The new vt (0-based) of corner k of mesh triangle t, BP__NONE in a chart
@@ -3188,11 +3316,21 @@ static void bp__out_fan(bp__out *o, const bp_mesh *mesh, const bp_atlas *atlas, 
     bp__out_str(o, "\n");
 }
 
+/* Line i of the v block: vertex i's position. */
+static size_t bp__v_line(const void *ctx, uint32_t i, char *dst)
+{
+    const double *p = ((const bp_mesh *)ctx)->positions + 3 * (size_t)i;
+    int n = snprintf(dst, BP__OUT_LINE_MAX, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    return n <= 0 ? 0 : n < (int)BP__OUT_LINE_MAX ? (size_t)n : BP__OUT_LINE_MAX - 1;
+}
+
 static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
                                const bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
     bp__out o;
-    uint32_t i, t, *base;
+    char head[128];
+    int n;
+    uint32_t t, *base;
     unsigned char *flip = NULL;
     bp_allocator a;
     bp_status st;
@@ -3202,14 +3340,14 @@ static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
     a = atlas->allocator;
     if (!(base = bp__vt_base(atlas, &a))) return bp__oom(err, "writing the OBJ file");
     if (bp__face_flips(atlas, mesh, &a, &flip) != BP_OK) { bp__free(&a, base); return bp__oom(err, "writing the OBJ file"); }
-    if ((st = bp__out_open(&o, path, err)) != BP_OK) { bp__free(&a, flip); bp__free(&a, base); return st; }
+    if ((st = bp__out_open(&o, path, &a, err)) != BP_OK) { bp__free(&a, flip); bp__free(&a, base); return st; }
     o.opt = opt;
-    if (fprintf(o.f, "# written by bijparam " BP_VERSION_STRING ": %u vertices, %u charts\n",
-                mesh->num_vertices, atlas->num_charts) < 0) { o.ok = 0; o.e = errno; }
-    for (i = 0; i < mesh->num_vertices && o.ok; i++)
-        if (fprintf(o.f, "v %.17g %.17g %.17g\n", mesh->positions[3 * i],
-                    mesh->positions[3 * i + 1], mesh->positions[3 * i + 2]) < 0) { o.ok = 0; o.e = errno; }
-    bp__out_vt_block(&o, atlas, "\n");
+    bp__out_threads(&o, opt, (uint64_t)mesh->num_vertices + base[atlas->num_charts]);
+    n = snprintf(head, sizeof head, "# written by bijparam " BP_VERSION_STRING ": %u vertices, %u charts\n",
+                 mesh->num_vertices, atlas->num_charts);
+    bp__out_bytes(&o, head, n > 0 && n < (int)sizeof head ? (size_t)n : 0);
+    bp__out_lines(&o, mesh->num_vertices, bp__v_line, mesh);
+    bp__out_vt_block(&o, atlas, base, "\n");
     for (t = 0; t < mesh->num_triangles && o.ok; ) {
         uint32_t end = t + 1, j;
         int same, rev;
@@ -3394,7 +3532,7 @@ static bp_status bp__rewrite_obj(bp__rewriter *r)
         is_vt = bp__keyword(ps, "vt");
         is_f = !is_vt && bp__keyword(ps, "f");
         if ((is_vt || is_f) && !r->vt_done) {
-            bp__out_vt_block(r->o, r->atlas, r->eol);
+            bp__out_vt_block(r->o, r->atlas, r->base, r->eol);
             r->vt_done = 1;
         }
         if (is_f) { st = bp__rewrite_face(r, line); continue; }
@@ -3434,8 +3572,9 @@ static bp_status bp__write_obj_from(const char *path, const char *source, const 
         bp__free(&a, base); bp__free(&a, text);
         return bp__oom(err, "writing the OBJ file");
     }
-    if ((st = bp__out_open(&o, path, err)) == BP_OK) {
+    if ((st = bp__out_open(&o, path, &a, err)) == BP_OK) {
         o.opt = opt;
+        bp__out_threads(&o, opt, base[atlas->num_charts]);
         memset(&r, 0, sizeof r);
         r.ps.p = text;
         r.ps.end = text + len;

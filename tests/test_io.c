@@ -16,6 +16,15 @@
    that make the same charts; I/O errors must name the file and the reason. */
 #define _POSIX_C_SOURCE 200809L
 #define BP_IMPLEMENTATION
+#define BP_USE_PTHREADS
+/* The writers' buffers and line tasks made tiny, so that these small files
+   go through every path: many tasks and rounds, full buffers flushed, a
+   piece longer than the buffer written directly (the defaults are tried
+   by the tool's tests and test_threads). */
+#define BP__OUT_CAP 64u
+#define BP__OUT_LINES_PER_TASK 5u
+#define BP__OUT_TASKS 3u
+#define BP__OUT_PAR_MIN 1u
 #include "bijparam.h"
 #include "bptest.h"
 
@@ -1138,8 +1147,130 @@ static void test_write_from_fuzz(void)
     rmdir(dir);
 }
 
+/* ---- the writers on several threads ---------------------------------------
+
+   The v and vt lines are formatted in tasks (bijparam.h, "the output goes
+   through a buffer"): whoever runs the tasks and in whatever order, the
+   file must be the same bytes, and its v / vt lines exactly those of one
+   loop of fprintf "%.17g" over the positions and the charts' uv, written
+   here independently. */
+
+/* The reference lines, "v ..." or "vt ...", one per element, joined. */
+static char *reference_lines(const char *kw, const double *x, uint32_t n, int dim, const char *eol, size_t *len)
+{
+    char *out = (char *)malloc((size_t)n * 96 + 1), *p = out;
+    uint32_t i;
+    if (!out) return NULL;
+    for (i = 0; i < n; i++) {
+        p += sprintf(p, "%s %.17g %.17g", kw, x[dim * (size_t)i], x[dim * (size_t)i + 1]);
+        if (dim == 3) p += sprintf(p, " %.17g", x[3 * (size_t)i + 2]);
+        p += sprintf(p, "%s", eol);
+    }
+    *len = (size_t)(p - out);
+    return out;
+}
+
+/* All vt lines of a chart list, in chart order. */
+static char *reference_vt(const bp_atlas *atlas, const char *eol, size_t *len)
+{
+    size_t total = 0, n, k = 0;
+    uint32_t c;
+    char *all, *part;
+    for (c = 0; c < atlas->num_charts; c++) total += atlas->charts[c].uv ? atlas->charts[c].num_vertices : 0;
+    all = (char *)malloc(total * 96 + 1);
+    for (c = 0; all && c < atlas->num_charts; c++) {
+        if (!atlas->charts[c].uv) continue;
+        part = reference_lines("vt", atlas->charts[c].uv, atlas->charts[c].num_vertices, 2, eol, &n);
+        if (!part) { free(all); return NULL; }
+        memcpy(all + k, part, n);
+        k += n;
+        free(part);
+    }
+    *len = k;
+    return all;
+}
+
+static int contains(const char *hay, size_t n, const char *needle, size_t m)
+{
+    size_t i;
+    for (i = 0; i + m <= n; i++)
+        if (!memcmp(hay + i, needle, m)) return 1;
+    return m == 0;
+}
+
+static void test_write_threads_one(const char *path, const char *dir)
+{
+    static const char *const how[] = { "1 thread", "2 threads", "3 threads", "backwards", "odd-even" };
+    char out[256], what[300];
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    bp_status st;
+    int w, r, same[2] = { 1, 1 }, wrote[2] = { 1, 1 };
+    char *first[2] = { NULL, NULL };
+    size_t first_n[2] = { 0, 0 };
+    memset(&opt, 0, sizeof opt);
+    opt.threads = 1;
+    opt.init_only = 1;
+    if (bp_read_mesh(path, &m, NULL, &err) != BP_OK || bp_parameterize(&atlas, &m, &opt, &err) != BP_OK) {
+        BPT_CHECK(0, "%s: read and mapped (%s)", path, err.message);
+        return;
+    }
+    sprintf(out, "%s/threads.obj", dir);
+    for (r = 0; r < 5; r++) {
+        memset(&opt, 0, sizeof opt);
+        opt.threads = r < 3 ? r + 1 : 1;
+        if (r == 3) opt.parallel_for = bpt_backwards_for;
+        if (r == 4) opt.parallel_for = bpt_odd_even_for;
+        for (w = 0; w < 2; w++) {             /* bp_write_obj, bp_write_obj_from */
+            size_t n;
+            char *text;
+            st = bp_write_obj_opt(out, w ? path : NULL, &m, &atlas, &opt, &err);
+            text = st == BP_OK ? read_bytes(out, &n) : NULL;
+            if (!text) { wrote[w] = 0; continue; }
+            if (!r) { first[w] = text; first_n[w] = n; continue; }
+            if (n != first_n[w] || memcmp(text, first[w], n)) {
+                same[w] = 0;
+                fprintf(stderr, "  %s: %s differs from 1 thread\n", w ? "bp_write_obj_from" : "bp_write_obj", how[r]);
+            }
+            free(text);
+        }
+    }
+    for (w = 0; w < 2; w++) {
+        sprintf(what, "%s, %s", path, w ? "bp_write_obj_from" : "bp_write_obj");
+        BPT_CHECK(wrote[w] && same[w], "%s: the same bytes with 1, 2, 3 threads and the tasks run backwards and odd-even", what);
+    }
+    if (first[0] && first[1]) {
+        size_t nv, nvt;
+        char *v = reference_lines("v", m.positions, m.num_vertices, 3, "\n", &nv);
+        char *vt = reference_vt(&atlas, "\n", &nvt);
+        BPT_CHECK(v && vt && contains(first[0], first_n[0], v, nv) && contains(first[0], first_n[0], vt, nvt),
+                  "%s, bp_write_obj: its v block and its vt block are fprintf's %%.17g of the positions and the uv, in order", path);
+        BPT_CHECK(vt && contains(first[1], first_n[1], vt, nvt),
+                  "%s, bp_write_obj_from: its vt block is fprintf's %%.17g of the charts' uv, in order", path);
+        free(v);
+        free(vt);
+    }
+    free(first[0]);
+    free(first[1]);
+    remove(out);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+}
+
+static void test_write_threads(void)
+{
+    char dir[] = "/tmp/bptest_wt_XXXXXX";
+    if (!mkdtemp(dir)) { BPT_CHECK(0, "mkdtemp"); return; }
+    test_write_threads_one("tests/data/spot.obj", dir);
+    test_write_threads_one("tests/data/camel_b.obj", dir);
+    rmdir(dir);
+}
+
 int main(void)
 {
+    test_write_threads();
     test_obj_ok();
     test_obj_errors();
     test_off();
