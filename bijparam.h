@@ -2009,6 +2009,7 @@ typedef struct bp__mesh_builder {
     bp__vec pos, uv, tri, cuv, line, face;
     uint32_t faces;
     int any_vt, any_plain;
+    int64_t nv0, nvt0;        /* v and vt before the text parsed (a chunk) */
 } bp__mesh_builder;
 
 static void bp__builder_init(bp__mesh_builder *b)
@@ -2175,7 +2176,7 @@ static bp_status bp__obj_texcoord(bp__parser *ps, bp__mesh_builder *b)
    indices, ft = BP__NONE without vt), then its fan into the builder. */
 static bp_status bp__obj_face(bp__parser *ps, bp__mesh_builder *b, bp__vec *fv, bp__vec *ft)
 {
-    int64_t nv = (int64_t)(b->pos.count / 3), nvt = (int64_t)(b->uv.count / 2);
+    int64_t nv = b->nv0 + (int64_t)(b->pos.count / 3), nvt = b->nvt0 + (int64_t)(b->uv.count / 2);
     int has_vt = -1;
     bp_status st;
     fv->count = ft->count = 0;
@@ -2236,24 +2237,297 @@ static bp_status bp__obj_finish_indices(bp__parser *ps, bp__mesh_builder *b)
     return BP_OK;
 }
 
+/* The statements from the cursor to the end of the text. */
+static bp_status bp__obj_lines(bp__parser *ps, bp__mesh_builder *b, bp__vec *fv, bp__vec *ft)
+{
+    bp_status st = BP_OK;
+    while (ps->p < ps->end && st == BP_OK) {
+        bp__skip_space(ps);
+        if (bp__keyword(ps, "v")) st = bp__obj_vertex(ps, b);
+        else if (bp__keyword(ps, "vt")) st = bp__obj_texcoord(ps, b);
+        else if (bp__keyword(ps, "f")) st = bp__obj_face(ps, b, fv, ft);
+        /* Anything else (vn, o, g, s, usemtl, mtllib, l, comments) is skipped. */
+        if (st == BP_OK) bp__next_line(ps);
+    }
+    return st;
+}
+
 static bp_status bp__parse_obj(bp__parser *ps, bp_mesh *mesh)
 {
     bp__mesh_builder b;
     bp__vec fv, ft;               /* corners of the current face (uint32)   */
-    bp_status st = BP_OK;
+    bp_status st;
     bp__builder_init(&b);
     memset(&fv, 0, sizeof fv); memset(&ft, 0, sizeof ft);
     fv.elem = ft.elem = sizeof(uint32_t);
-    while (ps->p < ps->end && st == BP_OK) {
-        bp__skip_space(ps);
-        if (bp__keyword(ps, "v")) st = bp__obj_vertex(ps, &b);
-        else if (bp__keyword(ps, "vt")) st = bp__obj_texcoord(ps, &b);
-        else if (bp__keyword(ps, "f")) st = bp__obj_face(ps, &b, &fv, &ft);
-        /* Anything else (vn, o, g, s, usemtl, mtllib, l, comments) is skipped. */
-        if (st == BP_OK) bp__next_line(ps);
-    }
+    st = bp__obj_lines(ps, &b, &fv, &ft);
     bp__free(ps->a, fv.data);
     bp__free(ps->a, ft.data);
+    if (st == BP_OK) st = bp__obj_finish_indices(ps, &b);
+    if (st == BP_OK) st = bp__builder_finish(ps, &b, mesh);
+    if (st != BP_OK) bp__builder_free(ps->a, &b);
+    return st;
+}
+
+/* ---- OBJ on several threads ----------------------------------------------
+
+   Reading a large OBJ is mostly strtod and the index parsing, line by line,
+   and the lines are independent but for three running counts: a relative
+   index (-1) means the last v or vt read so far, and each face goes to the
+   next triangles.  So bp_read_mesh_opt, for an OBJ file of BP__READ_PAR_MIN
+   bytes or more and more than one thread, reads it in two parallel passes
+   over chunks of about BP__READ_CHUNK bytes cut at line starts:
+
+     1. count, per chunk, its lines, v lines, vt lines, faces and fan
+        triangles (a face's corners are its tokens: an index with its
+        slashes runs up to a space, a line end or '#', as bp__obj_corner
+        reads it); prefix sums give each chunk where it starts: line number,
+        the v and vt before it (for relative indices), the first face and
+        triangle; the arrays are allocated once, at their final sizes;
+     2. parse each chunk with the serial code (bp__obj_lines), starting from
+        those counts, into its own stretch of the arrays.
+
+   Then, in file order, the first chunk that failed gives the error -- the
+   error of the serial parser, since every chunk before it read exactly
+   what it counted, so its line, counts and message are the serial ones --
+   and the checks that need the whole file (bp__obj_finish_indices) run as
+   before.  The mesh is the serial parser's, array for array.  A task never
+   allocates (its allocator fails: the counts are exact, so nothing grows),
+   and a chunk with a face of more than BP__READ_CORNERS corners is left to
+   the caller, who parses it afterwards with room for its longest face.
+   Totals near the 32-bit limits go to the serial parser, which names the
+   line where they are exceeded. */
+#ifndef BP__READ_PAR_MIN
+#define BP__READ_PAR_MIN (1u << 20)
+#endif
+#ifndef BP__READ_CHUNK
+#define BP__READ_CHUNK (1u << 16)
+#endif
+#define BP__READ_CORNERS 64u
+
+typedef struct bp__obj_chunk {
+    const char *begin, *end;
+    int64_t lines, nv, nvt, faces, tris, max_corners;  /* pass 1            */
+    int64_t line0, nv0, nvt0, face0, tri0;             /* before the chunk  */
+    bp_status st;                                      /* pass 2            */
+    int retry, any_vt, any_plain;
+    bp_error err;
+} bp__obj_chunk;
+
+typedef struct bp__obj_par {
+    bp__obj_chunk *ch;
+    double *pos, *uv;
+    uint32_t *tri, *cuv, *line, *face;
+    uint32_t *corners;        /* 2 * BP__READ_CORNERS per chunk (fv, ft)    */
+} bp__obj_par;
+
+static void *bp__no_alloc(void *user, size_t n) { (void)user; (void)n; return NULL; }
+static void bp__no_free(void *user, void *p) { (void)user; (void)p; }
+
+/* Pass 1 on chunk k. */
+static void bp__obj_count_run(void *task, uint32_t k)
+{
+    bp__obj_chunk *c = ((bp__obj_par *)task)->ch + k;
+    bp__parser ps;
+    memset(&ps, 0, sizeof ps);
+    ps.p = c->begin;
+    ps.end = c->end;
+    c->lines = c->nv = c->nvt = c->faces = c->tris = c->max_corners = 0;
+    while (ps.p < ps.end) {
+        bp__skip_space(&ps);
+        if (bp__keyword(&ps, "v")) c->nv++;
+        else if (bp__keyword(&ps, "vt")) c->nvt++;
+        else if (bp__keyword(&ps, "f")) {
+            int64_t n = 0;
+            while (!bp__at_eol(&ps)) {
+                n++;
+                while (ps.p < ps.end && !bp__is_space(*ps.p) && !bp__is_eol(*ps.p) && *ps.p != '#') ps.p++;
+            }
+            c->faces++;
+            if (n > 2) c->tris += n - 2;
+            if (n > c->max_corners) c->max_corners = n;
+        }
+        bp__next_line(&ps);
+        c->lines++;
+    }
+}
+
+/* Pass 2 on chunk k with corner room fv / ft: the serial statements into
+   the chunk's stretch of the arrays. */
+static bp_status bp__obj_chunk_parse(bp__obj_par *P, uint32_t k, bp__vec *fv, bp__vec *ft)
+{
+    bp__obj_chunk *c = P->ch + k;
+    bp_allocator none;
+    bp__parser ps;
+    bp__mesh_builder b;
+    none.alloc = bp__no_alloc;
+    none.free = bp__no_free;
+    none.user = NULL;
+    memset(&ps, 0, sizeof ps);
+    ps.p = ps.begin = c->begin;
+    ps.end = c->end;
+    ps.line = 1 + c->line0;
+    ps.a = &none;
+    ps.err = &c->err;
+    bp__builder_init(&b);
+    b.pos.data = P->pos + 3 * (size_t)c->nv0;   b.pos.cap = 3 * (size_t)c->nv;
+    b.uv.data = P->uv + 2 * (size_t)c->nvt0;    b.uv.cap = 2 * (size_t)c->nvt;
+    b.tri.data = P->tri + 3 * (size_t)c->tri0;  b.tri.cap = 3 * (size_t)c->tris;
+    b.cuv.data = P->cuv + 3 * (size_t)c->tri0;  b.cuv.cap = 3 * (size_t)c->tris;
+    b.line.data = P->line + c->tri0;            b.line.cap = (size_t)c->tris;
+    b.face.data = P->face + c->tri0;            b.face.cap = (size_t)c->tris;
+    b.faces = (uint32_t)c->face0;
+    b.nv0 = c->nv0;
+    b.nvt0 = c->nvt0;
+    c->st = bp__obj_lines(&ps, &b, fv, ft);
+    c->any_vt = b.any_vt;
+    c->any_plain = b.any_plain;
+    return c->st;
+}
+
+static void bp__obj_parse_run(void *task, uint32_t k)
+{
+    bp__obj_par *P = (bp__obj_par *)task;
+    bp__vec fv, ft;
+    if (P->ch[k].max_corners > (int64_t)BP__READ_CORNERS) { P->ch[k].retry = 1; return; }
+    memset(&fv, 0, sizeof fv);
+    memset(&ft, 0, sizeof ft);
+    fv.elem = ft.elem = sizeof(uint32_t);
+    fv.cap = ft.cap = BP__READ_CORNERS;
+    fv.data = P->corners + 2 * (size_t)BP__READ_CORNERS * k;
+    ft.data = P->corners + 2 * (size_t)BP__READ_CORNERS * k + BP__READ_CORNERS;
+    bp__obj_chunk_parse(P, k, &fv, &ft);
+}
+
+/* Chunks of about BP__READ_CHUNK bytes, each starting at a line start (as
+   bp__next_line moves: after "\n", "\r\n" or a lone "\r"); *n of them. */
+static bp__obj_chunk *bp__obj_chunks(const bp__parser *ps, uint32_t *n)
+{
+    size_t len = (size_t)(ps->end - ps->p), want = len / BP__READ_CHUNK + 1, k = 0;
+    bp__obj_chunk *ch = (bp__obj_chunk *)bp__calloc_array(ps->a, want, sizeof *ch);
+    const char *at = ps->p;
+    if (!ch) return NULL;
+    while (at < ps->end && k < want) {
+        bp__parser q = *ps;
+        q.p = (size_t)(ps->end - at) > BP__READ_CHUNK && k + 1 < want ? at + BP__READ_CHUNK : ps->end;
+        if (q.p < ps->end) {
+            while (q.p < q.end && !bp__is_eol(*q.p)) q.p++;
+            if (q.p < q.end && *q.p == '\r') q.p++;
+            if (q.p < q.end && *q.p == '\n') q.p++;
+        }
+        ch[k].begin = at;
+        ch[k].end = q.p;
+        at = q.p;
+        k++;
+    }
+    *n = (uint32_t)k;
+    return ch;
+}
+
+static void bp__obj_par_free(const bp_allocator *a, bp__obj_par *P)
+{
+    bp__free(a, P->ch); bp__free(a, P->corners);
+    bp__free(a, P->pos); bp__free(a, P->uv); bp__free(a, P->tri);
+    bp__free(a, P->cuv); bp__free(a, P->line); bp__free(a, P->face);
+    memset(P, 0, sizeof *P);
+}
+
+/* Pass 1, the prefix sums and the arrays.  0: not worth it or not possible
+   (too large, no memory): the serial parser reads the file instead. */
+static int bp__obj_par_prepare(bp__parser *ps, const bp__par *par, bp__obj_par *P, uint32_t *n)
+{
+    const bp_allocator *a = ps->a;
+    int64_t line = 0, nv = 0, nvt = 0, faces = 0, tris = 0;
+    uint32_t k;
+    memset(P, 0, sizeof *P);
+    if (!(P->ch = bp__obj_chunks(ps, n)) || *n < 2) { bp__obj_par_free(a, P); return 0; }
+    par->run(par->user, bp__obj_count_run, P, *n);
+    for (k = 0; k < *n; k++) {
+        bp__obj_chunk *c = P->ch + k;
+        c->line0 = line; c->nv0 = nv; c->nvt0 = nvt; c->face0 = faces; c->tri0 = tris;
+        line += c->lines; nv += c->nv; nvt += c->nvt; faces += c->faces; tris += c->tris;
+    }
+    if (nv >= 0xfffffffeLL || nvt >= 0xfffffffeLL || faces >= 0xfffffffeLL || tris >= 0xfffffffeLL) {
+        bp__obj_par_free(a, P);
+        return 0;
+    }
+    P->corners = (uint32_t *)bp__alloc_array(a, 2 * (size_t)BP__READ_CORNERS * *n, sizeof(uint32_t));
+    P->pos = (double *)bp__alloc_array(a, 3 * (size_t)nv, sizeof(double));
+    P->uv = (double *)bp__alloc_array(a, 2 * (size_t)nvt, sizeof(double));
+    P->tri = (uint32_t *)bp__alloc_array(a, 3 * (size_t)tris, sizeof(uint32_t));
+    P->cuv = (uint32_t *)bp__alloc_array(a, 3 * (size_t)tris, sizeof(uint32_t));
+    P->line = (uint32_t *)bp__alloc_array(a, (size_t)tris, sizeof(uint32_t));
+    P->face = (uint32_t *)bp__alloc_array(a, (size_t)tris, sizeof(uint32_t));
+    if (!P->corners || !P->pos || !P->uv || !P->tri || !P->cuv || !P->line || !P->face) {
+        bp__obj_par_free(a, P);
+        return 0;
+    }
+    return 1;
+}
+
+/* The chunks' results in file order: a chunk left to the caller is parsed
+   now; the first failure is the file's error. */
+static bp_status bp__obj_par_collect(bp__parser *ps, bp__obj_par *P, uint32_t n, bp__mesh_builder *b)
+{
+    uint32_t k;
+    bp_status st = BP_OK;
+    for (k = 0; k < n && st == BP_OK; k++) {
+        bp__obj_chunk *c = P->ch + k;
+        if (c->retry) {
+            bp__vec fv, ft;
+            memset(&fv, 0, sizeof fv);
+            memset(&ft, 0, sizeof ft);
+            fv.elem = ft.elem = sizeof(uint32_t);
+            fv.cap = ft.cap = (size_t)c->max_corners;
+            fv.data = bp__alloc_array(ps->a, fv.cap, sizeof(uint32_t));
+            ft.data = bp__alloc_array(ps->a, ft.cap, sizeof(uint32_t));
+            if (fv.data && ft.data) bp__obj_chunk_parse(P, k, &fv, &ft);
+            else c->st = bp__oom(&c->err, "reading faces");
+            bp__free(ps->a, fv.data);
+            bp__free(ps->a, ft.data);
+        }
+        if (c->st != BP_OK) {
+            st = c->st;
+            if (ps->err) *ps->err = c->err;
+        }
+        b->any_vt |= c->any_vt;
+        b->any_plain |= c->any_plain;
+    }
+    return st;
+}
+
+/* bp__parse_obj on `par`: 1 in *done when it read the file (st is the
+   result), 0 when the serial parser should. */
+static bp_status bp__parse_obj_par(bp__parser *ps, bp_mesh *mesh, const bp__par *par, int *done)
+{
+    bp__obj_par P;
+    bp__mesh_builder b;
+    const bp__obj_chunk *last;
+    uint32_t n = 0;
+    bp_status st;
+    *done = 0;
+    if (!bp__obj_par_prepare(ps, par, &P, &n)) return BP_OK;
+    *done = 1;
+    if (ps->opt && bp__report(ps->opt, BP_STAGE_READ, 0.75, BP_NO_CHART)) {
+        ps->cancelled = 1;
+        bp__obj_par_free(ps->a, &P);
+        return BP_ERR_CANCELLED;
+    }
+    par->run(par->user, bp__obj_parse_run, &P, n);
+    bp__builder_init(&b);
+    st = bp__obj_par_collect(ps, &P, n, &b);
+    last = P.ch + n - 1;
+    b.pos.data = P.pos;   b.pos.count = b.pos.cap = 3 * (size_t)(last->nv0 + last->nv);
+    b.uv.data = P.uv;     b.uv.count = b.uv.cap = 2 * (size_t)(last->nvt0 + last->nvt);
+    b.tri.data = P.tri;   b.tri.count = b.tri.cap = 3 * (size_t)(last->tri0 + last->tris);
+    b.cuv.data = P.cuv;   b.cuv.count = b.cuv.cap = b.tri.count;
+    b.line.data = P.line; b.line.count = b.line.cap = b.tri.count / 3;
+    b.face.data = P.face; b.face.count = b.face.cap = b.tri.count / 3;
+    b.faces = (uint32_t)(last->face0 + last->faces);
+    P.pos = P.uv = NULL;
+    P.tri = P.cuv = P.line = P.face = NULL;       /* b owns them now */
+    ps->line = 1 + last->line0 + last->lines;
+    bp__obj_par_free(ps->a, &P);
     if (st == BP_OK) st = bp__obj_finish_indices(ps, &b);
     if (st == BP_OK) st = bp__builder_finish(ps, &b, mesh);
     if (st != BP_OK) bp__builder_free(ps->a, &b);
@@ -2378,8 +2652,16 @@ static bp_status bp__parse_text(const char *text, size_t length, bp_mesh *mesh,
     ps.opt = opt && opt->run_progress && length ? opt : NULL;
     ps.begin = text;
     ps.cancelled = 0;
-    st = format == BP__FORMAT_OFF ? bp__parse_off(&ps, mesh)
-       : format == BP__FORMAT_PLY ? bp__parse_ply(&ps, mesh) : bp__parse_obj(&ps, mesh);
+    if (format == BP__FORMAT_OBJ && opt && length >= BP__READ_PAR_MIN) {   /* a large OBJ: on threads */
+        void *pool = NULL;
+        bp__par par = bp__par_begin(&a, opt, &pool);
+        int done = 0;
+        st = par.run != bp__serial_for ? bp__parse_obj_par(&ps, mesh, &par, &done) : BP_OK;
+        bp__par_end(&a, pool);
+        if (!done) st = bp__parse_obj(&ps, mesh);
+    } else
+        st = format == BP__FORMAT_OFF ? bp__parse_off(&ps, mesh)
+           : format == BP__FORMAT_PLY ? bp__parse_ply(&ps, mesh) : bp__parse_obj(&ps, mesh);
     if (ps.cancelled) {                       /* whatever the parse made of it */
         bp_mesh_free(mesh, &a);
         return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled while reading");
@@ -2964,6 +3246,7 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
     bp_options o;
     memset(&o, 0, sizeof o);
     if (alloc) o.allocator = *alloc;
+    o.threads = 1;            /* no options, no threads: as bp_read_obj */
     return bp_read_mesh_opt(path, mesh, &o, err);
 }
 

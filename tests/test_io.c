@@ -25,6 +25,10 @@
 #define BP__OUT_LINES_PER_TASK 5u
 #define BP__OUT_TASKS 3u
 #define BP__OUT_PAR_MIN 1u
+/* The chunked OBJ reader on any text (not only files of a megabyte), in
+   chunks of a line or two. */
+#define BP__READ_PAR_MIN 1u
+#define BP__READ_CHUNK 9u
 #include "bijparam.h"
 #include "bptest.h"
 
@@ -1082,6 +1086,105 @@ static void test_fuzz(void)
               FUZZ_ROUNDS, accepted, bad, the_counter.allocs);
 }
 
+/* ---- the OBJ reader on several threads --------------------------------------
+
+   bp_read_mesh_opt reads a large OBJ in chunks on threads (bijparam.h, "OBJ
+   on several threads"); here every text goes through it (chunks of about
+   9 bytes) with tasks run backwards, odd-even and on pools of 2 and 3
+   threads, and must give what the serial parser (bp_parse_obj) gives: the
+   same arrays, bit for bit, or the same error -- status, element, line and
+   message. */
+static int same_mesh(const bp_mesh *a, const bp_mesh *b)
+{
+    size_t nt = 3 * (size_t)a->num_triangles;
+    if (a->num_vertices != b->num_vertices || a->num_triangles != b->num_triangles || a->num_uvs != b->num_uvs ||
+        a->num_faces != b->num_faces || !a->corner_uv != !b->corner_uv || !a->uvs != !b->uvs ||
+        !a->triangle_line != !b->triangle_line || !a->triangle_face != !b->triangle_face)
+        return 0;
+    return !memcmp(a->positions, b->positions, 3 * sizeof(double) * a->num_vertices) &&
+           !memcmp(a->triangles, b->triangles, sizeof(uint32_t) * nt) &&
+           (!a->corner_uv || !memcmp(a->corner_uv, b->corner_uv, sizeof(uint32_t) * nt)) &&
+           (!a->uvs || !memcmp(a->uvs, b->uvs, 2 * sizeof(double) * a->num_uvs)) &&
+           (!a->triangle_line || !memcmp(a->triangle_line, b->triangle_line, sizeof(uint32_t) * a->num_triangles)) &&
+           (!a->triangle_face || !memcmp(a->triangle_face, b->triangle_face, sizeof(uint32_t) * a->num_triangles));
+}
+
+/* 1 when the chunked reader agrees with the serial one on this text. */
+static int chunked_agrees(const char *text, size_t len, long *errors)
+{
+    static const bp_parallel_for_fn runner[] = { bpt_backwards_for, bpt_odd_even_for, NULL, NULL };
+    bp_mesh ms, mp;
+    bp_error es, ep;
+    bp_status ss, sp;
+    bp_allocator a = counting();
+    int r, ok = 1;
+    ss = bp_parse_obj(text, len, &ms, &a, &es);
+    if (ss != BP_OK) (*errors)++;
+    for (r = 0; r < 4; r++) {
+        bp_options opt;
+        memset(&opt, 0, sizeof opt);
+        opt.allocator = a;
+        opt.parallel_for = runner[r];
+        opt.threads = r == 2 ? 2 : 3;
+        memset(&ep, 0, sizeof ep);
+        sp = bp__parse_text(text, len, &mp, &a, &ep, BP__FORMAT_OBJ, &opt);
+        if (sp != ss || (ss == BP_OK && !same_mesh(&ms, &mp)) ||
+            (ss != BP_OK && (ep.line != es.line || ep.element != es.element || ep.index != es.index ||
+                             strcmp(ep.message, es.message) || !mesh_all_null(&mp))))
+            ok = 0;
+        if (sp == BP_OK) bp_mesh_free(&mp, &a);
+    }
+    if (ss == BP_OK) bp_mesh_free(&ms, &a);
+    return ok;
+}
+
+static void test_read_chunked(void)
+{
+    /* relative indices, vt on some faces, CRLF and a lone CR, no final
+       line ending, a polygon of 70 corners (more than a task has room for:
+       its chunk is read by the caller), errors early and late */
+    static const char *const texts[] = {
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\nf -4 -2 -1\nf 1 2 3 4",
+        "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\rv 0 1 0\r\n# c\r\nf 1 2 3 # x\r\n\r\nf 1 3 4\r\n",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 2 9\nv 5 5 5\nf 1 2 x\n",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nv 1 2\nf 1 2\n",
+        "v 0 0 0\nv 1 0 0\nf -3 1 2\n",
+    };
+    char big[4096];
+    size_t k, n = 0;
+    long i, errors = 0, bad = 0, total = 0;
+    int c;
+    counter_reset();
+    for (k = 0; k < sizeof texts / sizeof *texts; k++, total++)
+        bad += !chunked_agrees(texts[k], strlen(texts[k]), &errors);
+    for (c = 0; c < 70; c++) n += (size_t)sprintf(big + n, "v %d %d 0\n", c, c * c % 7);
+    n += (size_t)sprintf(big + n, "f");
+    for (c = 0; c < 70; c++) n += (size_t)sprintf(big + n, " %d", c + 1);
+    n += (size_t)sprintf(big + n, "\nf 1 2 3\n");
+    bad += !chunked_agrees(big, n, &errors);
+    total++;
+    for (i = 0; i < FUZZ_ROUNDS / 4; i++, total++) {     /* mutations, as test_fuzz */
+        char buf[1024];
+        size_t len = sizeof asset_obj - 1;
+        int edits = 1 + (int)(rng() % 4), e;
+        memcpy(buf, asset_obj, len);
+        for (e = 0; e < edits; e++) {
+            size_t pos = (size_t)(rng() % len);
+            switch (rng() % 4) {
+            case 0: buf[pos] = "0123456789-/ \n\r#fvt"[rng() % 19]; break;
+            case 1: memmove(buf + pos, buf + pos + 1, len - pos - 1); len--; break;
+            case 2: if (len + 1 < sizeof buf) { memmove(buf + pos + 1, buf + pos, len - pos); buf[pos] = "1-/ \n"[rng() % 5]; len++; } break;
+            default: len = pos > 0 ? pos : 1; break;
+            }
+        }
+        bad += !chunked_agrees(buf, len, &errors);
+    }
+    BPT_CHECK(bad == 0 && errors > 0 && errors < total && counter_balanced(),
+              "%ld OBJ texts through the chunked reader (backwards, odd-even, 2 and 3 threads): the serial parser's mesh "
+              "bit for bit or its error (status, line, message), nothing leaked (%ld with errors, %ld differ)",
+              total, errors, bad);
+}
+
 /* Mutations of the asset as the source of bp_write_obj_from, with the mesh
    and atlas of the original: the writer must never crash or leak, must
    leave no file when it fails, and must succeed whenever the mutated text
@@ -1271,6 +1374,7 @@ static void test_write_threads(void)
 int main(void)
 {
     test_write_threads();
+    test_read_chunked();
     test_obj_ok();
     test_obj_errors();
     test_off();
