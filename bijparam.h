@@ -3343,7 +3343,8 @@ typedef struct bp__out {
     int   cancelled;        /* the callback said stop: ok is 0 too        */
     const bp_allocator *a;
     char *buf;              /* bytes not yet handed to fwrite             */
-    size_t len;
+    size_t len, cap;        /* cap: BP__OUT_CAP, or a task's slice        */
+    int   full;             /* f NULL (a task's slice): it is full, ok 0  */
     bp__par par;            /* who formats the v / vt lines               */
     void *pool;             /* bp__par_begin's pool, stopped at close     */
 } bp__out;
@@ -3369,9 +3370,10 @@ static void bp__out_flush(bp__out *o)
 static void bp__out_bytes(bp__out *o, const char *p, size_t n)
 {
     if (!o->ok || !n) return;
-    if (o->len + n > BP__OUT_CAP) {
+    if (o->len + n > o->cap) {
+        if (!o->f) { o->ok = 0; o->full = 1; return; }
         bp__out_flush(o);
-        if (n > BP__OUT_CAP) {
+        if (n > o->cap) {
             if (o->ok && fwrite(p, 1, n, o->f) != n) { o->ok = 0; o->e = errno; }
             return;
         }
@@ -3442,6 +3444,7 @@ static bp_status bp__out_open(bp__out *o, const char *path, const bp_allocator *
     memset(o, 0, sizeof *o);
     o->a = a;
     o->par = bp__par_serial();
+    o->cap = BP__OUT_CAP;
     if (!(o->buf = (char *)bp__alloc(a, BP__OUT_CAP))) return bp__oom(err, "writing the OBJ file");
     errno = 0;
     o->f = fopen(path, "wb");
@@ -3454,10 +3457,11 @@ static bp_status bp__out_open(bp__out *o, const char *path, const bp_allocator *
     return BP_OK;
 }
 
-/* Threads for the v / vt lines when there are enough of them. */
+/* Threads for the lines when there are enough of them and options
+   (bp_write_obj and bp_write_obj_from, without, stay on one thread). */
 static void bp__out_threads(bp__out *o, const bp_options *opt, uint64_t lines)
 {
-    if (lines >= BP__OUT_PAR_MIN) o->par = bp__par_begin(o->a, opt, &o->pool);
+    if (opt && lines >= BP__OUT_PAR_MIN) o->par = bp__par_begin(o->a, opt, &o->pool);
 }
 
 /* Close; if anything failed (a write here, or `st` from the caller), remove
@@ -3803,27 +3807,190 @@ static bp_status bp__rewrite_face(bp__rewriter *r, const char *line)
     return BP_OK;
 }
 
-/* The pass: copy, drop or rewrite each line. */
+/* One line: copied, dropped or rewritten. */
+static bp_status bp__rewrite_line(bp__rewriter *r)
+{
+    bp__parser *ps = &r->ps;
+    const char *line = ps->p;
+    int is_vt, is_f;
+    bp__skip_space(ps);
+    is_vt = bp__keyword(ps, "vt");
+    is_f = !is_vt && bp__keyword(ps, "f");
+    if ((is_vt || is_f) && !r->vt_done) {
+        bp__out_vt_block(r->o, r->atlas, r->base, r->eol);
+        r->vt_done = 1;
+    }
+    if (is_f) return bp__rewrite_face(r, line);
+    if (is_vt) r->nvt++;
+    else if (bp__keyword(ps, "v")) r->nv++;
+    bp__next_line(ps);
+    if (!is_vt) bp__out_bytes(r->o, line, (size_t)(ps->p - line));
+    return BP_OK;
+}
+
+/* ---- the rewrite on several threads --------------------------------------
+
+   After the new vt block (written by the serial pass at the first vt or f
+   line) each line's output depends only on the line itself and on three
+   running counts: the v and vt lines before it (a relative index keeps
+   its text, but bp__obj_corner checks it against them) and the mesh
+   triangles before it (which triangles a face must match).  So the rest
+   of the text is cut into chunks at line starts as the reader cuts it
+   (bp__obj_chunks), counted in parallel (bp__obj_count_run: lines, v, vt,
+   fan triangles), and rewritten in parallel, a round of BP__OUT_TASKS
+   chunks at a time, each into its own slice of 3 BP__READ_CHUNK + 1 KiB
+   bytes; the caller appends the slices in file order.  A task stops
+   before a line that does not fit its slice, or that has more corners
+   than BP__READ_CORNERS, and the caller rewrites the rest of that chunk
+   itself.  A task that meets an error keeps it, and the first in file
+   order is the serial writer's error, since every chunk before it was
+   rewritten from exact counts.  Tasks never allocate and never call the
+   progress callback; the caller reports as it appends. */
+typedef struct bp__rw_chunk {
+    const char *resume;        /* where the caller takes over, or NULL      */
+    int64_t     line, nv, nvt; /* the counts there                          */
+    uint32_t    t;
+    size_t      len;           /* bytes in the slice                        */
+    bp_status   st;
+    bp_error    err;
+} bp__rw_chunk;
+
+typedef struct bp__rw_par {
+    const bp__rewriter *r;     /* the serial writer (tables, counts before) */
+    bp__obj_par    cnt;        /* the chunks and their counts               */
+    bp__rw_chunk  *rc;         /* one per chunk of the round                */
+    char          *scratch;    /* slice j of the round at j * slice         */
+    size_t         slice;
+    bp__src_corner *corners;   /* BP__READ_CORNERS per slice                */
+    uint32_t       first;      /* the round's first chunk                   */
+    int64_t        line0, nv0, nvt0;   /* the counts where the chunks begin */
+    uint32_t       t0;
+} bp__rw_par;
+
+/* Chunk first + j into slice j. */
+static void bp__rw_run(void *task, uint32_t j)
+{
+    bp__rw_par *W = (bp__rw_par *)task;
+    const bp__obj_chunk *c = W->cnt.ch + W->first + j;
+    bp__rw_chunk *rc = W->rc + j;
+    bp__rewriter r = *W->r;
+    bp__out o;
+    bp_allocator none;
+    none.alloc = bp__no_alloc;
+    none.free = bp__no_free;
+    none.user = NULL;
+    memset(&o, 0, sizeof o);
+    o.ok = 1;
+    o.buf = W->scratch + (size_t)j * W->slice;
+    o.cap = W->slice;
+    o.par = bp__par_serial();
+    r.o = &o;
+    r.ps.p = r.ps.begin = c->begin;
+    r.ps.end = c->end;
+    r.ps.line = W->line0 + c->line0;
+    r.ps.a = &none;
+    r.ps.err = &rc->err;
+    r.nv = W->nv0 + c->nv0;
+    r.nvt = W->nvt0 + c->nvt0;
+    r.t = W->t0 + (uint32_t)c->tri0;
+    r.corners.data = W->corners + (size_t)j * BP__READ_CORNERS;
+    r.corners.count = 0;
+    r.corners.cap = BP__READ_CORNERS;
+    rc->resume = NULL;
+    rc->st = BP_OK;
+    while (r.ps.p < r.ps.end) {
+        const char *p = r.ps.p;
+        int64_t line = r.ps.line, nv = r.nv, nvt = r.nvt;
+        uint32_t t = r.t;
+        size_t len = o.len;
+        bp_status st = bp__rewrite_line(&r);
+        if (st == BP_OK && o.ok) continue;
+        if (o.full || st == BP_ERR_OUT_OF_MEMORY) {        /* the caller goes on */
+            rc->resume = p; rc->line = line; rc->nv = nv; rc->nvt = nvt; rc->t = t;
+            o.len = len;
+        } else
+            rc->st = st;
+        break;
+    }
+    rc->len = o.len;
+}
+
+/* The rest of the text from the cursor (the vt block written) on the
+   writer's threads.  Without memory for the chunks it returns at once and
+   the serial pass goes on. */
+static bp_status bp__rewrite_par(bp__rewriter *r)
+{
+    bp__parser *ps = &r->ps;
+    const bp_allocator *a = ps->a;
+    const char *text_end = ps->end;
+    const bp__par *par = &r->o->par;
+    bp__rw_par W;
+    uint32_t n = 0, k, j, m, nround;
+    int64_t line = 0, nv = 0, nvt = 0, tris = 0;
+    bp_status st = BP_OK;
+    memset(&W, 0, sizeof W);
+    if (!(W.cnt.ch = bp__obj_chunks(ps, &n)) || n < 2) { bp__free(a, W.cnt.ch); return BP_OK; }
+    nround = n < BP__OUT_TASKS ? n : BP__OUT_TASKS;
+    W.r = r;
+    W.line0 = ps->line; W.nv0 = r->nv; W.nvt0 = r->nvt; W.t0 = r->t;
+    W.slice = 3 * (size_t)BP__READ_CHUNK + 1024;
+    W.rc = (bp__rw_chunk *)bp__alloc_array(a, nround, sizeof *W.rc);
+    W.scratch = (char *)bp__alloc_array(a, nround, W.slice);
+    W.corners = (bp__src_corner *)bp__alloc_array(a, (size_t)nround * BP__READ_CORNERS, sizeof *W.corners);
+    if (W.rc && W.scratch && W.corners) {
+        par->run(par->user, bp__obj_count_run, &W.cnt, n);
+        for (k = 0; k < n; k++) {                 /* counts before each chunk */
+            bp__obj_chunk *c = W.cnt.ch + k;
+            c->line0 = line; c->nv0 = nv; c->nvt0 = nvt; c->tri0 = tris;
+            line += c->lines; nv += c->nv; nvt += c->nvt; tris += c->tris;
+        }
+        if ((uint64_t)r->t + (uint64_t)tris > r->mesh->num_triangles) n = 0;   /* the serial pass says where */
+    } else n = 0;
+    for (W.first = 0; W.first < n && st == BP_OK && r->o->ok; W.first += m) {
+        m = n - W.first < nround ? n - W.first : nround;
+        par->run(par->user, bp__rw_run, &W, m);
+        for (j = 0; j < m && st == BP_OK && r->o->ok; j++) {
+            const bp__obj_chunk *c = W.cnt.ch + W.first + j;
+            const bp__rw_chunk *rc = W.rc + j;
+            uint32_t t0 = r->t;
+            bp__out_bytes(r->o, W.scratch + (size_t)j * W.slice, rc->len);
+            if (rc->st != BP_OK) {
+                if (ps->err) *ps->err = rc->err;
+                st = rc->st;
+                break;
+            }
+            if (rc->resume) {
+                ps->p = rc->resume; ps->line = rc->line; r->nv = rc->nv; r->nvt = rc->nvt; r->t = rc->t;
+                ps->end = c->end;
+                while (ps->p < ps->end && st == BP_OK && r->o->ok) st = bp__rewrite_line(r);
+                ps->end = text_end;
+            } else {
+                ps->line += c->lines;
+                r->nv += c->nv;
+                r->nvt += c->nvt;
+                r->t += (uint32_t)c->tris;
+            }
+            ps->p = c->end;
+            if ((t0 >> 12) != (r->t >> 12)) bp__out_tick(r->o, (r->t >> 12) << 12, r->mesh->num_triangles);
+        }
+    }
+    bp__free(a, W.cnt.ch);
+    bp__free(a, W.rc);
+    bp__free(a, W.scratch);
+    bp__free(a, W.corners);
+    return st;
+}
+
+/* The pass: copy, drop or rewrite each line; after the new vt block, on
+   the writer's threads when it has them (above). */
 static bp_status bp__rewrite_obj(bp__rewriter *r)
 {
     bp__parser *ps = &r->ps;
     bp_status st = BP_OK;
-    while (ps->p < ps->end && st == BP_OK && r->o->ok) {
-        const char *line = ps->p;
-        int is_vt, is_f;
-        bp__skip_space(ps);
-        is_vt = bp__keyword(ps, "vt");
-        is_f = !is_vt && bp__keyword(ps, "f");
-        if ((is_vt || is_f) && !r->vt_done) {
-            bp__out_vt_block(r->o, r->atlas, r->base, r->eol);
-            r->vt_done = 1;
-        }
-        if (is_f) { st = bp__rewrite_face(r, line); continue; }
-        if (is_vt) r->nvt++;
-        else if (bp__keyword(ps, "v")) r->nv++;
-        bp__next_line(ps);
-        if (!is_vt) bp__out_bytes(r->o, line, (size_t)(ps->p - line));
-    }
+    while (ps->p < ps->end && st == BP_OK && r->o->ok && !r->vt_done) st = bp__rewrite_line(r);
+    if (st == BP_OK && r->o->ok && ps->p < ps->end && r->o->par.run != bp__serial_for)
+        st = bp__rewrite_par(r);
+    while (ps->p < ps->end && st == BP_OK && r->o->ok) st = bp__rewrite_line(r);
     if (st == BP_OK && r->o->ok && r->t != r->mesh->num_triangles)
         st = bp__fail(ps->err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                       "the file's faces make %u triangles, the mesh has %u; was the mesh read from this file?",
@@ -3857,7 +4024,7 @@ static bp_status bp__write_obj_from(const char *path, const char *source, const 
     }
     if ((st = bp__out_open(&o, path, &a, err)) == BP_OK) {
         o.opt = opt;
-        bp__out_threads(&o, opt, base[atlas->num_charts]);
+        bp__out_threads(&o, opt, base[atlas->num_charts] + len / 64);   /* a line: ~64 bytes */
         memset(&r, 0, sizeof r);
         r.ps.p = text;
         r.ps.end = text + len;

@@ -1198,7 +1198,8 @@ static void test_write_from_fuzz(void)
     bp_options opt;
     bp_error err;
     bp_allocator a = counting(), saved;
-    long i, ok = 0, refused = 0, bad = 0;
+    long i, ok = 0, refused = 0, bad = 0, par_bad = 0;
+    size_t n1 = 0, n2 = 0;
     if (!mkdtemp(dir)) { BPT_CHECK(0, "mkdtemp"); return; }
     sprintf(src, "%s/m.obj", dir);
     sprintf(out, "%s/m_uv.obj", dir);
@@ -1238,11 +1239,31 @@ static void test_write_from_fuzz(void)
         if (st == BP_OK) ok++;
         else refused++;
         if ((st != BP_OK && (file_exists(out) || !err.message[0])) || (same && st != BP_OK)) bad++;
+        {   /* the chunked rewrite (tasks backwards or odd-even): the same bytes or the same error */
+            bp_options po;
+            bp_error perr;
+            bp_status pst2;
+            char *t1 = st == BP_OK ? read_bytes(out, &n1) : NULL, *t2;
+            memset(&po, 0, sizeof po);
+            po.allocator = a;
+            po.parallel_for = i % 2 ? bpt_backwards_for : bpt_odd_even_for;
+            remove(out);
+            pst2 = bp_write_obj_opt(out, src, &m, &atlas, &po, &perr);
+            t2 = pst2 == BP_OK ? read_bytes(out, &n2) : NULL;
+            if (pst2 != st || (st == BP_OK && (!t1 || !t2 || n1 != n2 || memcmp(t1, t2, n1))) ||
+                (st != BP_OK && (perr.line != err.line || strcmp(perr.message, err.message) || file_exists(out))))
+                par_bad++;
+            free(t1);
+            free(t2);
+        }
         remove(out);
     }
     BPT_CHECK(bad == 0 && counter_balanced() && ok > 0 && refused > 0,
               "%d mutated sources through bp_write_obj_from: no crash, no leak, no file left on failure, success whenever the text reads to the same faces (%ld written, %ld refused, %ld bad)",
               FUZZ_ROUNDS / 4, ok, refused, bad);
+    BPT_CHECK(par_bad == 0 && counter_balanced(),
+              "the same %d sources through the chunked rewrite (chunks of ~9 bytes, tasks backwards and odd-even): "
+              "the serial writer's bytes or its error (line, message), no leak (%ld differ)", FUZZ_ROUNDS / 4, par_bad);
     atlas.allocator = saved;
     bp_atlas_free(&atlas);
     bp_mesh_free(&m, NULL);
@@ -1368,6 +1389,26 @@ static void test_write_threads(void)
     if (!mkdtemp(dir)) { BPT_CHECK(0, "mkdtemp"); return; }
     test_write_threads_one("tests/data/spot.obj", dir);
     test_write_threads_one("tests/data/camel_b.obj", dir);
+    {   /* a line longer than a task's slice (a comment of 1500 bytes) and a
+           face of 200 corners (more than a task has room for) after the
+           first face: the caller rewrites those chunks itself */
+        char path[256];
+        FILE *f;
+        int i;
+        sprintf(path, "%s/long.obj", dir);
+        f = fopen(path, "wb");
+        if (f) {
+            for (i = 0; i < 200; i++) fprintf(f, "v %.17g %.17g %.17g\n", cos(i * 0.0314159), sin(i * 0.0314159), 0.01 * (i % 3));
+            fprintf(f, "v 3 0 0\nv 4 0 0\nv 3 1 0\nf 201 202 203\n# ");
+            for (i = 0; i < 1500; i++) fputc('x', f);
+            fprintf(f, "\nf");
+            for (i = 0; i < 200; i++) fprintf(f, " %d", i + 1);
+            fprintf(f, "\ng end\n");
+            fclose(f);
+            test_write_threads_one(path, dir);
+            remove(path);
+        }
+    }
     rmdir(dir);
 }
 
