@@ -734,7 +734,9 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh,
                              const bp_allocator *alloc, bp_error *err);
 /* The same with options: the allocator of opt, and opt->run_progress called
    with BP_STAGE_READ (bytes loaded, then bytes parsed); a cancel returns
-   BP_ERR_CANCELLED with *mesh zeroed. */
+   BP_ERR_CANCELLED with *mesh zeroed.  An OBJ of 1 MiB or more is parsed on
+   opt->threads (or opt->parallel_for): the same mesh and the same errors
+   as on one thread (>>io, "OBJ on several threads"). */
 BPDEF bp_status bp_read_mesh_opt(const char *path, bp_mesh *mesh,
                                  const bp_options *opt, bp_error *err);
 /* Writers.  Both write `path` directly and, on any error, remove what
@@ -763,7 +765,8 @@ BPDEF bp_status bp_write_obj_from(const char *path, const char *source, const bp
 /* Either writer with options: source NULL is bp_write_obj, else
    bp_write_obj_from; opt->run_progress is called with BP_STAGE_WRITE (faces
    written) and a cancel removes what was written and returns
-   BP_ERR_CANCELLED. */
+   BP_ERR_CANCELLED.  Large outputs are formatted on opt->threads (or
+   opt->parallel_for): the same bytes and errors as on one thread. */
 BPDEF bp_status bp_write_obj_opt(const char *path, const char *source, const bp_mesh *mesh,
                                  const bp_atlas *atlas, const bp_options *opt, bp_error *err);
 #endif
@@ -8356,12 +8359,6 @@ static int bp__dedge_cmp(const void *pa, const void *pb)
     return x->a < y->a ? -1 : x->a > y->a;
 }
 
-static uint32_t bp__dedge_key(const void *p)
-{
-    const bp__dedge *e = (const bp__dedge *)p;
-    return e->a < e->b ? e->a : e->b;
-}
-
 /* The exact range of bp_orient2d (>>predicates): 0, or a magnitude in
    [2^-485, 2^510).  The two literals are those powers of two exactly. */
 #define BP__EXACT_MIN 1.0010415475915505e-146
@@ -8827,6 +8824,46 @@ static void bp__check_orientation(const uint32_t *tris, uint32_t nt, const doubl
     }
 }
 
+/* The directed edges in bp__dedge_cmp's order: bp__bucket_sort with its
+   key and comparison written out (counting by the smaller end, then each
+   bucket -- about six edges -- by insertion on (larger end, start)).
+   The order is a total order up to identical records, so the result is
+   bp__bucket_sort's, without its calls through pointers and memcpy of a
+   run-time size: a third of bp_check's time, which runs four times on a
+   chart in the tool (docs/performance.md 6.18). */
+static uint32_t bp__dedge_key(const void *p)
+{
+    const bp__dedge *e = (const bp__dedge *)p;
+    return e->a < e->b ? e->a : e->b;
+}
+
+static void bp__dedge_sort(bp__dedge *de, size_t n, uint32_t nv, bp__dedge *tmp, uint32_t *start)
+{
+    size_t k, m, lo = 0;
+    uint32_t v;
+    for (v = 0; v <= nv; v++) start[v] = 0;
+    for (k = 0; k < n; k++) start[bp__dedge_key(&de[k]) + 1]++;
+    for (v = 0; v < nv; v++) start[v + 1] += start[v];
+    for (k = 0; k < n; k++) tmp[start[bp__dedge_key(&de[k])]++] = de[k];
+    for (v = 0; v < nv; v++) {                     /* bucket v is [lo, start[v]) */
+        size_t hi = start[v];
+        if (hi - lo > 32) qsort(tmp + lo, hi - lo, sizeof *tmp, bp__dedge_cmp);
+        else
+            for (k = lo + 1; k < hi; k++) {
+                bp__dedge rec = tmp[k];
+                uint64_t key = (uint64_t)(rec.a > rec.b ? rec.a : rec.b) << 32 | rec.a;
+                for (m = k; m > lo; m--) {
+                    const bp__dedge *p = &tmp[m - 1];
+                    if (((uint64_t)(p->a > p->b ? p->a : p->b) << 32 | p->a) <= key) break;
+                    tmp[m] = *p;
+                }
+                tmp[m] = rec;
+            }
+        lo = hi;
+    }
+    memcpy(de, tmp, n * sizeof *de);
+}
+
 /* The precondition and the boundary: the directed edges sorted so that the
    uses of one undirected edge are adjacent (a->b before b->a), then each
    group classified.  One use: a boundary edge, kept in (*out)[0..*nb).  a->b
@@ -8848,7 +8885,7 @@ static bp_status bp__check_edges(const bp_allocator *a, const uint32_t *tris, ui
             de[3 * (size_t)t + k].a = tris[3 * (size_t)t + k];
             de[3 * (size_t)t + k].b = tris[3 * (size_t)t + (k + 1) % 3];
         }
-    bp__bucket_sort(de, m, sizeof *de, nv, bp__dedge_key, bp__dedge_cmp, tmp, start);
+    bp__dedge_sort(de, m, nv, tmp, start);
     bp__free(a, tmp);
     bp__free(a, start);
     for (e = 0; e < m;) {
