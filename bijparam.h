@@ -2435,15 +2435,17 @@ static void bp__obj_par_free(const bp_allocator *a, bp__obj_par *P)
     memset(P, 0, sizeof *P);
 }
 
-/* Pass 1, the prefix sums and the arrays.  0: not worth it or not possible
-   (too large, no memory): the serial parser reads the file instead. */
+/* Pass 1, the prefix sums and the arrays.  1: ready; 0: not worth it or
+   near the limits (the serial parser reads the file instead); -1: out of
+   memory. */
 static int bp__obj_par_prepare(bp__parser *ps, const bp__par *par, bp__obj_par *P, uint32_t *n)
 {
     const bp_allocator *a = ps->a;
     int64_t line = 0, nv = 0, nvt = 0, faces = 0, tris = 0;
     uint32_t k;
     memset(P, 0, sizeof *P);
-    if (!(P->ch = bp__obj_chunks(ps, n)) || *n < 2) { bp__obj_par_free(a, P); return 0; }
+    if (!(P->ch = bp__obj_chunks(ps, n))) return -1;
+    if (*n < 2) { bp__obj_par_free(a, P); return 0; }
     par->run(par->user, bp__obj_count_run, P, *n);
     for (k = 0; k < *n; k++) {
         bp__obj_chunk *c = P->ch + k;
@@ -2463,7 +2465,7 @@ static int bp__obj_par_prepare(bp__parser *ps, const bp__par *par, bp__obj_par *
     P->face = (uint32_t *)bp__alloc_array(a, (size_t)tris, sizeof(uint32_t));
     if (!P->corners || !P->pos || !P->uv || !P->tri || !P->cuv || !P->line || !P->face) {
         bp__obj_par_free(a, P);
-        return 0;
+        return -1;
     }
     return 1;
 }
@@ -2508,9 +2510,10 @@ static bp_status bp__parse_obj_par(bp__parser *ps, bp_mesh *mesh, const bp__par 
     const bp__obj_chunk *last;
     uint32_t n = 0;
     bp_status st;
-    *done = 0;
-    if (!bp__obj_par_prepare(ps, par, &P, &n)) return BP_OK;
-    *done = 1;
+    int ready = bp__obj_par_prepare(ps, par, &P, &n);
+    *done = ready != 0;
+    if (ready < 0) return bp__oom(ps->err, "reading the OBJ file");
+    if (!ready) return BP_OK;
     if (ps->opt && bp__report(ps->opt, BP_STAGE_READ, 0.75, BP_NO_CHART)) {
         ps->cancelled = 1;
         bp__obj_par_free(ps->a, &P);
@@ -3348,6 +3351,7 @@ typedef struct bp__out {
     char *buf;              /* bytes not yet handed to fwrite             */
     size_t len, cap;        /* cap: BP__OUT_CAP, or a task's slice        */
     int   full;             /* f NULL (a task's slice): it is full, ok 0  */
+    int   oom;              /* scratch memory failed: ok 0 too            */
     bp__par par;            /* who formats the v / vt lines               */
     void *pool;             /* bp__par_begin's pool, stopped at close     */
 } bp__out;
@@ -3416,20 +3420,16 @@ static void bp__lines_run(void *task, uint32_t k)
     T->len[k] = n;
 }
 
-/* Lines 0 .. count-1 of a block, in order (see the essay above).  Without
-   scratch memory the lines are formatted one by one: the same bytes. */
+/* Lines 0 .. count-1 of a block, in order (see the essay above). */
 static void bp__out_lines(bp__out *o, uint32_t count, bp__line_fn fn, const void *ctx)
 {
     const uint32_t per = BP__OUT_LINES_PER_TASK, round = per * BP__OUT_TASKS;
     uint32_t first, k, ntask, nround = count < round ? count : round;
     size_t len[BP__OUT_TASKS];
     bp__lines_task T;
-    char *scratch = count ? (char *)bp__alloc_array(o->a, nround, BP__OUT_LINE_MAX) : NULL;
-    if (!scratch) {
-        char line[BP__OUT_LINE_MAX];
-        for (first = 0; first < count && o->ok; first++) bp__out_bytes(o, line, fn(ctx, first, line));
-        return;
-    }
+    char *scratch;
+    if (!count || !o->ok) return;
+    if (!(scratch = (char *)bp__alloc_array(o->a, nround, BP__OUT_LINE_MAX))) { o->ok = 0; o->oom = 1; return; }
     T.fn = fn; T.ctx = ctx; T.scratch = scratch; T.len = len; T.per = per;
     for (first = 0; first < count && o->ok; first = T.end) {
         T.first = first;
@@ -3478,6 +3478,7 @@ static bp_status bp__out_close(bp__out *o, const char *path, bp_status st, bp_er
     errno = 0;
     if (fclose(o->f) != 0 && o->ok) { o->ok = 0; o->e = errno; }
     if (st == BP_OK && o->ok && bp__report(o->opt, BP_STAGE_WRITE, 1, BP_NO_CHART)) o->cancelled = 1;
+    if (st == BP_OK && o->oom) st = bp__oom(err, "writing the OBJ file");
     if (st == BP_OK && o->cancelled)
         st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0,
                       "cancelled while writing '%s' (the partial file is removed)", path);
@@ -3919,8 +3920,7 @@ static void bp__rw_run(void *task, uint32_t j)
 }
 
 /* The rest of the text from the cursor (the vt block written) on the
-   writer's threads.  Without memory for the chunks it returns at once and
-   the serial pass goes on. */
+   writer's threads (fewer than two chunks: the serial pass goes on). */
 static bp_status bp__rewrite_par(bp__rewriter *r)
 {
     bp__parser *ps = &r->ps;
@@ -3932,7 +3932,8 @@ static bp_status bp__rewrite_par(bp__rewriter *r)
     int64_t line = 0, nv = 0, nvt = 0, tris = 0;
     bp_status st = BP_OK;
     memset(&W, 0, sizeof W);
-    if (!(W.cnt.ch = bp__obj_chunks(ps, &n)) || n < 2) { bp__free(a, W.cnt.ch); return BP_OK; }
+    if (!(W.cnt.ch = bp__obj_chunks(ps, &n))) return bp__oom(ps->err, "writing the OBJ file");
+    if (n < 2) { bp__free(a, W.cnt.ch); return BP_OK; }
     nround = n < BP__OUT_TASKS ? n : BP__OUT_TASKS;
     W.r = r;
     W.line0 = ps->line; W.nv0 = r->nv; W.nvt0 = r->nvt; W.t0 = r->t;
@@ -3948,7 +3949,10 @@ static bp_status bp__rewrite_par(bp__rewriter *r)
             line += c->lines; nv += c->nv; nvt += c->nvt; tris += c->tris;
         }
         if ((uint64_t)r->t + (uint64_t)tris > r->mesh->num_triangles) n = 0;   /* the serial pass says where */
-    } else n = 0;
+    } else {
+        n = 0;
+        st = bp__oom(ps->err, "writing the OBJ file");
+    }
     for (W.first = 0; W.first < n && st == BP_OK && r->o->ok; W.first += m) {
         m = n - W.first < nround ? n - W.first : nround;
         par->run(par->user, bp__rw_run, &W, m);

@@ -1185,6 +1185,81 @@ static void test_read_chunked(void)
               total, errors, bad);
 }
 
+/* The chunked reader and the writers on a runner: failing each of their
+   allocations gives BP_ERR_OUT_OF_MEMORY, nothing left (no mesh, no file,
+   no block). */
+static void test_par_alloc_failures(void)
+{
+    char dir[] = "/tmp/bptest_pa_XXXXXX", src[256], out[256];
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    bp_allocator a = counting(), saved;
+    long n, total, bad = 0, oom = 0;
+    int w;
+    memset(&opt, 0, sizeof opt);
+    opt.parallel_for = bpt_backwards_for;
+    opt.allocator = a;
+    counter_reset();
+    bp__parse_text(asset_obj, sizeof asset_obj - 1, &m, &a, &err, BP__FORMAT_OBJ, &opt);
+    total = the_counter.calls;
+    bp_mesh_free(&m, &a);
+    for (n = 1; n <= total; n++) {
+        bp_status st;
+        counter_reset();
+        the_counter.fail_at = n;
+        st = bp__parse_text(asset_obj, sizeof asset_obj - 1, &m, &a, &err, BP__FORMAT_OBJ, &opt);
+        if (st == BP_OK) bp_mesh_free(&m, &a);
+        else if (st != BP_ERR_OUT_OF_MEMORY || !mesh_all_null(&m)) bad++;
+        else oom++;
+        if (!counter_balanced()) bad++;
+    }
+    BPT_CHECK(total > 0 && bad == 0 && oom == total,
+              "chunked reader: failing each of its %ld allocations gives BP_ERR_OUT_OF_MEMORY, no mesh, no leak (%ld bad)",
+              total, bad);
+    if (!mkdtemp(dir)) { BPT_CHECK(0, "mkdtemp"); return; }
+    sprintf(src, "%s/m.obj", dir);
+    sprintf(out, "%s/m_uv.obj", dir);
+    write_bytes(src, asset_obj, sizeof asset_obj - 1);
+    opt.allocator.alloc = NULL;
+    opt.allocator.free = NULL;
+    opt.threads = 1;
+    if (bp_parse_obj(asset_obj, sizeof asset_obj - 1, &m, NULL, &err) != BP_OK ||
+        bp_parameterize(&atlas, &m, &opt, &err) != BP_OK) {
+        BPT_CHECK(0, "asset: %s", err.message);
+        rmdir(dir);
+        return;
+    }
+    saved = atlas.allocator;
+    atlas.allocator = a;                       /* the writers allocate with the atlas's */
+    for (w = 0; w < 2; w++) {
+        counter_reset();
+        bp_write_obj_opt(out, w ? src : NULL, &m, &atlas, &opt, &err);
+        total = the_counter.calls;
+        remove(out);
+        bad = oom = 0;
+        for (n = 1; n <= total; n++) {
+            bp_status st;
+            counter_reset();
+            the_counter.fail_at = n;
+            st = bp_write_obj_opt(out, w ? src : NULL, &m, &atlas, &opt, &err);
+            if (st != BP_ERR_OUT_OF_MEMORY || file_exists(out)) bad++;
+            else oom++;
+            if (!counter_balanced()) bad++;
+            remove(out);
+        }
+        BPT_CHECK(total > 2 && bad == 0,
+                  "%s on a runner: failing each of its %ld allocations gives BP_ERR_OUT_OF_MEMORY, no file, no leak (%ld bad)",
+                  w ? "bp_write_obj_from" : "bp_write_obj", total, bad);
+    }
+    atlas.allocator = saved;
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+    remove(src);
+    rmdir(dir);
+}
+
 /* Mutations of the asset as the source of bp_write_obj_from, with the mesh
    and atlas of the original: the writer must never crash or leak, must
    leave no file when it fails, and must succeed whenever the mutated text
@@ -1416,6 +1491,7 @@ int main(void)
 {
     test_write_threads();
     test_read_chunked();
+    test_par_alloc_failures();
     test_obj_ok();
     test_obj_errors();
     test_off();
