@@ -217,7 +217,9 @@ clean:
 #                tests/test_threads.c and tests/test_cancel.c (one cancel
 #                flag read by charts solved in parallel), and
 #                tests/test_sparse.c with the pool (the ordering and the
-#                factorization on real pools of 2 and 3 threads)
+#                factorization on real pools of 2 and 3 threads), and
+#                tests/test_io.c (the chunked reader and the writers on
+#                pools of 2 and 3 threads)
 .PHONY: fuzz asan tsan
 FUZZ_SECONDS ?= 300
 FUZZ_CC ?= clang
@@ -271,6 +273,9 @@ tsan:
 	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_cancel.c -o $(BUILD)/tsan/test_cancel $(LDLIBS)
 	$(TSAN_ENV) $(BUILD)/tsan/test_cancel > $(BUILD)/tsan/test_cancel.log || { tail -30 $(BUILD)/tsan/test_cancel.log; exit 1; }
 	@tail -1 $(BUILD)/tsan/test_cancel.log
+	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_io.c -o $(BUILD)/tsan/test_io $(LDLIBS)
+	$(TSAN_ENV) $(BUILD)/tsan/test_io > $(BUILD)/tsan/test_io.log || { tail -30 $(BUILD)/tsan/test_io.log; exit 1; }
+	@tail -1 $(BUILD)/tsan/test_io.log
 	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) -DBP_USE_PTHREADS -pthread tests/test_sparse.c \
 	    -o $(BUILD)/tsan/test_sparse $(LDLIBS)
 	$(TSAN_ENV) $(BUILD)/tsan/test_sparse > $(BUILD)/tsan/test_sparse.log || { tail -30 $(BUILD)/tsan/test_sparse.log; exit 1; }

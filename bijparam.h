@@ -734,7 +734,9 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh,
                              const bp_allocator *alloc, bp_error *err);
 /* The same with options: the allocator of opt, and opt->run_progress called
    with BP_STAGE_READ (bytes loaded, then bytes parsed); a cancel returns
-   BP_ERR_CANCELLED with *mesh zeroed. */
+   BP_ERR_CANCELLED with *mesh zeroed.  An OBJ of 1 MiB or more is parsed on
+   opt->threads (or opt->parallel_for): the same mesh and the same errors
+   as on one thread (>>io, "OBJ on several threads"). */
 BPDEF bp_status bp_read_mesh_opt(const char *path, bp_mesh *mesh,
                                  const bp_options *opt, bp_error *err);
 /* Writers.  Both write `path` directly and, on any error, remove what
@@ -763,7 +765,8 @@ BPDEF bp_status bp_write_obj_from(const char *path, const char *source, const bp
 /* Either writer with options: source NULL is bp_write_obj, else
    bp_write_obj_from; opt->run_progress is called with BP_STAGE_WRITE (faces
    written) and a cancel removes what was written and returns
-   BP_ERR_CANCELLED. */
+   BP_ERR_CANCELLED.  Large outputs are formatted on opt->threads (or
+   opt->parallel_for): the same bytes and errors as on one thread. */
 BPDEF bp_status bp_write_obj_opt(const char *path, const char *source, const bp_mesh *mesh,
                                  const bp_atlas *atlas, const bp_options *opt, bp_error *err);
 #endif
@@ -2009,6 +2012,7 @@ typedef struct bp__mesh_builder {
     bp__vec pos, uv, tri, cuv, line, face;
     uint32_t faces;
     int any_vt, any_plain;
+    int64_t nv0, nvt0;        /* v and vt before the text parsed (a chunk) */
 } bp__mesh_builder;
 
 static void bp__builder_init(bp__mesh_builder *b)
@@ -2175,7 +2179,7 @@ static bp_status bp__obj_texcoord(bp__parser *ps, bp__mesh_builder *b)
    indices, ft = BP__NONE without vt), then its fan into the builder. */
 static bp_status bp__obj_face(bp__parser *ps, bp__mesh_builder *b, bp__vec *fv, bp__vec *ft)
 {
-    int64_t nv = (int64_t)(b->pos.count / 3), nvt = (int64_t)(b->uv.count / 2);
+    int64_t nv = b->nv0 + (int64_t)(b->pos.count / 3), nvt = b->nvt0 + (int64_t)(b->uv.count / 2);
     int has_vt = -1;
     bp_status st;
     fv->count = ft->count = 0;
@@ -2236,24 +2240,300 @@ static bp_status bp__obj_finish_indices(bp__parser *ps, bp__mesh_builder *b)
     return BP_OK;
 }
 
+/* The statements from the cursor to the end of the text. */
+static bp_status bp__obj_lines(bp__parser *ps, bp__mesh_builder *b, bp__vec *fv, bp__vec *ft)
+{
+    bp_status st = BP_OK;
+    while (ps->p < ps->end && st == BP_OK) {
+        bp__skip_space(ps);
+        if (bp__keyword(ps, "v")) st = bp__obj_vertex(ps, b);
+        else if (bp__keyword(ps, "vt")) st = bp__obj_texcoord(ps, b);
+        else if (bp__keyword(ps, "f")) st = bp__obj_face(ps, b, fv, ft);
+        /* Anything else (vn, o, g, s, usemtl, mtllib, l, comments) is skipped. */
+        if (st == BP_OK) bp__next_line(ps);
+    }
+    return st;
+}
+
 static bp_status bp__parse_obj(bp__parser *ps, bp_mesh *mesh)
 {
     bp__mesh_builder b;
     bp__vec fv, ft;               /* corners of the current face (uint32)   */
-    bp_status st = BP_OK;
+    bp_status st;
     bp__builder_init(&b);
     memset(&fv, 0, sizeof fv); memset(&ft, 0, sizeof ft);
     fv.elem = ft.elem = sizeof(uint32_t);
-    while (ps->p < ps->end && st == BP_OK) {
-        bp__skip_space(ps);
-        if (bp__keyword(ps, "v")) st = bp__obj_vertex(ps, &b);
-        else if (bp__keyword(ps, "vt")) st = bp__obj_texcoord(ps, &b);
-        else if (bp__keyword(ps, "f")) st = bp__obj_face(ps, &b, &fv, &ft);
-        /* Anything else (vn, o, g, s, usemtl, mtllib, l, comments) is skipped. */
-        if (st == BP_OK) bp__next_line(ps);
-    }
+    st = bp__obj_lines(ps, &b, &fv, &ft);
     bp__free(ps->a, fv.data);
     bp__free(ps->a, ft.data);
+    if (st == BP_OK) st = bp__obj_finish_indices(ps, &b);
+    if (st == BP_OK) st = bp__builder_finish(ps, &b, mesh);
+    if (st != BP_OK) bp__builder_free(ps->a, &b);
+    return st;
+}
+
+/* ---- OBJ on several threads ----------------------------------------------
+
+   Reading a large OBJ is mostly strtod and the index parsing, line by line,
+   and the lines are independent but for three running counts: a relative
+   index (-1) means the last v or vt read so far, and each face goes to the
+   next triangles.  So bp_read_mesh_opt, for an OBJ file of BP__READ_PAR_MIN
+   bytes or more and more than one thread, reads it in two parallel passes
+   over chunks of about BP__READ_CHUNK bytes cut at line starts:
+
+     1. count, per chunk, its lines, v lines, vt lines, faces and fan
+        triangles (a face's corners are its tokens: an index with its
+        slashes runs up to a space, a line end or '#', as bp__obj_corner
+        reads it); prefix sums give each chunk where it starts: line number,
+        the v and vt before it (for relative indices), the first face and
+        triangle; the arrays are allocated once, at their final sizes;
+     2. parse each chunk with the serial code (bp__obj_lines), starting from
+        those counts, into its own stretch of the arrays.
+
+   Then, in file order, the first chunk that failed gives the error -- the
+   error of the serial parser, since every chunk before it read exactly
+   what it counted, so its line, counts and message are the serial ones --
+   and the checks that need the whole file (bp__obj_finish_indices) run as
+   before.  The mesh is the serial parser's, array for array.  A task never
+   allocates (its allocator fails: the counts are exact, so nothing grows),
+   and a chunk with a face of more than BP__READ_CORNERS corners is left to
+   the caller, who parses it afterwards with room for its longest face.
+   Totals near the 32-bit limits go to the serial parser, which names the
+   line where they are exceeded. */
+#ifndef BP__READ_PAR_MIN
+#define BP__READ_PAR_MIN (1u << 20)
+#endif
+#ifndef BP__READ_CHUNK
+#define BP__READ_CHUNK (1u << 16)
+#endif
+#define BP__READ_CORNERS 64u
+
+typedef struct bp__obj_chunk {
+    const char *begin, *end;
+    int64_t lines, nv, nvt, faces, tris, max_corners;  /* pass 1            */
+    int64_t line0, nv0, nvt0, face0, tri0;             /* before the chunk  */
+    bp_status st;                                      /* pass 2            */
+    int retry, any_vt, any_plain;
+    bp_error err;
+} bp__obj_chunk;
+
+typedef struct bp__obj_par {
+    bp__obj_chunk *ch;
+    double *pos, *uv;
+    uint32_t *tri, *cuv, *line, *face;
+    uint32_t *corners;        /* 2 * BP__READ_CORNERS per chunk (fv, ft)    */
+} bp__obj_par;
+
+static void *bp__no_alloc(void *user, size_t n) { (void)user; (void)n; return NULL; }
+static void bp__no_free(void *user, void *p) { (void)user; (void)p; }
+
+/* Pass 1 on chunk k. */
+static void bp__obj_count_run(void *task, uint32_t k)
+{
+    bp__obj_chunk *c = ((bp__obj_par *)task)->ch + k;
+    bp__parser ps;
+    memset(&ps, 0, sizeof ps);
+    ps.p = c->begin;
+    ps.end = c->end;
+    c->lines = c->nv = c->nvt = c->faces = c->tris = c->max_corners = 0;
+    while (ps.p < ps.end) {
+        bp__skip_space(&ps);
+        if (bp__keyword(&ps, "v")) c->nv++;
+        else if (bp__keyword(&ps, "vt")) c->nvt++;
+        else if (bp__keyword(&ps, "f")) {
+            int64_t n = 0;
+            while (!bp__at_eol(&ps)) {
+                n++;
+                while (ps.p < ps.end && !bp__is_space(*ps.p) && !bp__is_eol(*ps.p) && *ps.p != '#') ps.p++;
+            }
+            c->faces++;
+            if (n > 2) c->tris += n - 2;
+            if (n > c->max_corners) c->max_corners = n;
+        }
+        bp__next_line(&ps);
+        c->lines++;
+    }
+}
+
+/* Pass 2 on chunk k with corner room fv / ft: the serial statements into
+   the chunk's stretch of the arrays. */
+static bp_status bp__obj_chunk_parse(bp__obj_par *P, uint32_t k, bp__vec *fv, bp__vec *ft)
+{
+    bp__obj_chunk *c = P->ch + k;
+    bp_allocator none;
+    bp__parser ps;
+    bp__mesh_builder b;
+    none.alloc = bp__no_alloc;
+    none.free = bp__no_free;
+    none.user = NULL;
+    memset(&ps, 0, sizeof ps);
+    ps.p = ps.begin = c->begin;
+    ps.end = c->end;
+    ps.line = 1 + c->line0;
+    ps.a = &none;
+    ps.err = &c->err;
+    bp__builder_init(&b);
+    b.pos.data = P->pos + 3 * (size_t)c->nv0;   b.pos.cap = 3 * (size_t)c->nv;
+    b.uv.data = P->uv + 2 * (size_t)c->nvt0;    b.uv.cap = 2 * (size_t)c->nvt;
+    b.tri.data = P->tri + 3 * (size_t)c->tri0;  b.tri.cap = 3 * (size_t)c->tris;
+    b.cuv.data = P->cuv + 3 * (size_t)c->tri0;  b.cuv.cap = 3 * (size_t)c->tris;
+    b.line.data = P->line + c->tri0;            b.line.cap = (size_t)c->tris;
+    b.face.data = P->face + c->tri0;            b.face.cap = (size_t)c->tris;
+    b.faces = (uint32_t)c->face0;
+    b.nv0 = c->nv0;
+    b.nvt0 = c->nvt0;
+    c->st = bp__obj_lines(&ps, &b, fv, ft);
+    c->any_vt = b.any_vt;
+    c->any_plain = b.any_plain;
+    return c->st;
+}
+
+static void bp__obj_parse_run(void *task, uint32_t k)
+{
+    bp__obj_par *P = (bp__obj_par *)task;
+    bp__vec fv, ft;
+    if (P->ch[k].max_corners > (int64_t)BP__READ_CORNERS) { P->ch[k].retry = 1; return; }
+    memset(&fv, 0, sizeof fv);
+    memset(&ft, 0, sizeof ft);
+    fv.elem = ft.elem = sizeof(uint32_t);
+    fv.cap = ft.cap = BP__READ_CORNERS;
+    fv.data = P->corners + 2 * (size_t)BP__READ_CORNERS * k;
+    ft.data = P->corners + 2 * (size_t)BP__READ_CORNERS * k + BP__READ_CORNERS;
+    bp__obj_chunk_parse(P, k, &fv, &ft);
+}
+
+/* Chunks of about BP__READ_CHUNK bytes, each starting at a line start (as
+   bp__next_line moves: after "\n", "\r\n" or a lone "\r"); *n of them. */
+static bp__obj_chunk *bp__obj_chunks(const bp__parser *ps, uint32_t *n)
+{
+    size_t len = (size_t)(ps->end - ps->p), want = len / BP__READ_CHUNK + 1, k = 0;
+    bp__obj_chunk *ch = (bp__obj_chunk *)bp__calloc_array(ps->a, want, sizeof *ch);
+    const char *at = ps->p;
+    if (!ch) return NULL;
+    while (at < ps->end && k < want) {
+        bp__parser q = *ps;
+        q.p = (size_t)(ps->end - at) > BP__READ_CHUNK && k + 1 < want ? at + BP__READ_CHUNK : ps->end;
+        if (q.p < ps->end) {
+            while (q.p < q.end && !bp__is_eol(*q.p)) q.p++;
+            if (q.p < q.end && *q.p == '\r') q.p++;
+            if (q.p < q.end && *q.p == '\n') q.p++;
+        }
+        ch[k].begin = at;
+        ch[k].end = q.p;
+        at = q.p;
+        k++;
+    }
+    *n = (uint32_t)k;
+    return ch;
+}
+
+static void bp__obj_par_free(const bp_allocator *a, bp__obj_par *P)
+{
+    bp__free(a, P->ch); bp__free(a, P->corners);
+    bp__free(a, P->pos); bp__free(a, P->uv); bp__free(a, P->tri);
+    bp__free(a, P->cuv); bp__free(a, P->line); bp__free(a, P->face);
+    memset(P, 0, sizeof *P);
+}
+
+/* Pass 1, the prefix sums and the arrays.  1: ready; 0: not worth it or
+   near the limits (the serial parser reads the file instead); -1: out of
+   memory. */
+static int bp__obj_par_prepare(bp__parser *ps, const bp__par *par, bp__obj_par *P, uint32_t *n)
+{
+    const bp_allocator *a = ps->a;
+    int64_t line = 0, nv = 0, nvt = 0, faces = 0, tris = 0;
+    uint32_t k;
+    memset(P, 0, sizeof *P);
+    if (!(P->ch = bp__obj_chunks(ps, n))) return -1;
+    if (*n < 2) { bp__obj_par_free(a, P); return 0; }
+    par->run(par->user, bp__obj_count_run, P, *n);
+    for (k = 0; k < *n; k++) {
+        bp__obj_chunk *c = P->ch + k;
+        c->line0 = line; c->nv0 = nv; c->nvt0 = nvt; c->face0 = faces; c->tri0 = tris;
+        line += c->lines; nv += c->nv; nvt += c->nvt; faces += c->faces; tris += c->tris;
+    }
+    if (nv >= 0xfffffffeLL || nvt >= 0xfffffffeLL || faces >= 0xfffffffeLL || tris >= 0xfffffffeLL) {
+        bp__obj_par_free(a, P);
+        return 0;
+    }
+    P->corners = (uint32_t *)bp__alloc_array(a, 2 * (size_t)BP__READ_CORNERS * *n, sizeof(uint32_t));
+    P->pos = (double *)bp__alloc_array(a, 3 * (size_t)nv, sizeof(double));
+    P->uv = (double *)bp__alloc_array(a, 2 * (size_t)nvt, sizeof(double));
+    P->tri = (uint32_t *)bp__alloc_array(a, 3 * (size_t)tris, sizeof(uint32_t));
+    P->cuv = (uint32_t *)bp__alloc_array(a, 3 * (size_t)tris, sizeof(uint32_t));
+    P->line = (uint32_t *)bp__alloc_array(a, (size_t)tris, sizeof(uint32_t));
+    P->face = (uint32_t *)bp__alloc_array(a, (size_t)tris, sizeof(uint32_t));
+    if (!P->corners || !P->pos || !P->uv || !P->tri || !P->cuv || !P->line || !P->face) {
+        bp__obj_par_free(a, P);
+        return -1;
+    }
+    return 1;
+}
+
+/* The chunks' results in file order: a chunk left to the caller is parsed
+   now; the first failure is the file's error. */
+static bp_status bp__obj_par_collect(bp__parser *ps, bp__obj_par *P, uint32_t n, bp__mesh_builder *b)
+{
+    uint32_t k;
+    bp_status st = BP_OK;
+    for (k = 0; k < n && st == BP_OK; k++) {
+        bp__obj_chunk *c = P->ch + k;
+        if (c->retry) {
+            bp__vec fv, ft;
+            memset(&fv, 0, sizeof fv);
+            memset(&ft, 0, sizeof ft);
+            fv.elem = ft.elem = sizeof(uint32_t);
+            fv.cap = ft.cap = (size_t)c->max_corners;
+            fv.data = bp__alloc_array(ps->a, fv.cap, sizeof(uint32_t));
+            ft.data = bp__alloc_array(ps->a, ft.cap, sizeof(uint32_t));
+            if (fv.data && ft.data) bp__obj_chunk_parse(P, k, &fv, &ft);
+            else c->st = bp__oom(&c->err, "reading faces");
+            bp__free(ps->a, fv.data);
+            bp__free(ps->a, ft.data);
+        }
+        if (c->st != BP_OK) {
+            st = c->st;
+            if (ps->err) *ps->err = c->err;
+        }
+        b->any_vt |= c->any_vt;
+        b->any_plain |= c->any_plain;
+    }
+    return st;
+}
+
+/* bp__parse_obj on `par`: 1 in *done when it read the file (st is the
+   result), 0 when the serial parser should. */
+static bp_status bp__parse_obj_par(bp__parser *ps, bp_mesh *mesh, const bp__par *par, int *done)
+{
+    bp__obj_par P;
+    bp__mesh_builder b;
+    const bp__obj_chunk *last;
+    uint32_t n = 0;
+    bp_status st;
+    int ready = bp__obj_par_prepare(ps, par, &P, &n);
+    *done = ready != 0;
+    if (ready < 0) return bp__oom(ps->err, "reading the OBJ file");
+    if (!ready) return BP_OK;
+    if (ps->opt && bp__report(ps->opt, BP_STAGE_READ, 0.75, BP_NO_CHART)) {
+        ps->cancelled = 1;
+        bp__obj_par_free(ps->a, &P);
+        return BP_ERR_CANCELLED;
+    }
+    par->run(par->user, bp__obj_parse_run, &P, n);
+    bp__builder_init(&b);
+    st = bp__obj_par_collect(ps, &P, n, &b);
+    last = P.ch + n - 1;
+    b.pos.data = P.pos;   b.pos.count = b.pos.cap = 3 * (size_t)(last->nv0 + last->nv);
+    b.uv.data = P.uv;     b.uv.count = b.uv.cap = 2 * (size_t)(last->nvt0 + last->nvt);
+    b.tri.data = P.tri;   b.tri.count = b.tri.cap = 3 * (size_t)(last->tri0 + last->tris);
+    b.cuv.data = P.cuv;   b.cuv.count = b.cuv.cap = b.tri.count;
+    b.line.data = P.line; b.line.count = b.line.cap = b.tri.count / 3;
+    b.face.data = P.face; b.face.count = b.face.cap = b.tri.count / 3;
+    b.faces = (uint32_t)(last->face0 + last->faces);
+    P.pos = P.uv = NULL;
+    P.tri = P.cuv = P.line = P.face = NULL;       /* b owns them now */
+    ps->line = 1 + last->line0 + last->lines;
+    bp__obj_par_free(ps->a, &P);
     if (st == BP_OK) st = bp__obj_finish_indices(ps, &b);
     if (st == BP_OK) st = bp__builder_finish(ps, &b, mesh);
     if (st != BP_OK) bp__builder_free(ps->a, &b);
@@ -2378,8 +2658,16 @@ static bp_status bp__parse_text(const char *text, size_t length, bp_mesh *mesh,
     ps.opt = opt && opt->run_progress && length ? opt : NULL;
     ps.begin = text;
     ps.cancelled = 0;
-    st = format == BP__FORMAT_OFF ? bp__parse_off(&ps, mesh)
-       : format == BP__FORMAT_PLY ? bp__parse_ply(&ps, mesh) : bp__parse_obj(&ps, mesh);
+    if (format == BP__FORMAT_OBJ && opt && length >= BP__READ_PAR_MIN) {   /* a large OBJ: on threads */
+        void *pool = NULL;
+        bp__par par = bp__par_begin(&a, opt, &pool);
+        int done = 0;
+        st = par.run != bp__serial_for ? bp__parse_obj_par(&ps, mesh, &par, &done) : BP_OK;
+        bp__par_end(&a, pool);
+        if (!done) st = bp__parse_obj(&ps, mesh);
+    } else
+        st = format == BP__FORMAT_OFF ? bp__parse_off(&ps, mesh)
+           : format == BP__FORMAT_PLY ? bp__parse_ply(&ps, mesh) : bp__parse_obj(&ps, mesh);
     if (ps.cancelled) {                       /* whatever the parse made of it */
         bp_mesh_free(mesh, &a);
         return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled while reading");
@@ -2964,6 +3252,7 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
     bp_options o;
     memset(&o, 0, sizeof o);
     if (alloc) o.allocator = *alloc;
+    o.threads = 1;            /* no options, no threads: as bp_read_obj */
     return bp_read_mesh_opt(path, mesh, &o, err);
 }
 
@@ -3017,11 +3306,54 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
    a file atomically (write a temporary next to it, then rename) needs
    POSIX, and the tool does it (examples/bijparam.c). */
 
+/* The output goes through a buffer of our own (BP__OUT_CAP bytes) and
+   reaches the FILE in large fwrite calls: a face line is a dozen small
+   pieces (the corners' text, "/", the new index), and one fwrite per piece
+   cost more than the rest of the writer together (docs/performance.md
+   6.18).  The bytes and their order are exactly those the pieces make.
+
+   The vt lines (and bp_write_obj's v lines) are most of the formatting
+   work: each holds two (three) doubles printed "%.17g", which the C
+   library does digit by digit in multiple precision.  They are formatted
+   in parallel: the lines are cut into tasks of BP__OUT_LINES_PER_TASK
+   consecutive lines, each task formats its lines with the same snprintf
+   call into its own slice of a scratch area, and the caller appends the
+   slices in task order, a round of BP__OUT_TASKS tasks at a time (so the
+   scratch stays at about a megabyte whatever the mesh).  The file's bytes
+   are therefore those of one loop of fprintf calls, for any number of
+   threads and any order in which the tasks run.  The writers start a pool
+   (bp__par_begin: opt->threads, or opt->parallel_for) only when there are
+   BP__OUT_PAR_MIN lines or more; the allocator is only called by the
+   caller's thread. */
+#ifndef BP__OUT_CAP
+#define BP__OUT_CAP (1u << 16)
+#endif
+#ifndef BP__OUT_LINES_PER_TASK
+#define BP__OUT_LINES_PER_TASK 1024u
+#endif
+#ifndef BP__OUT_TASKS
+#define BP__OUT_TASKS 16u
+#endif
+#ifndef BP__OUT_PAR_MIN
+#define BP__OUT_PAR_MIN 8192u
+#endif
+/* The longest formatted line: "%.17g" prints at most 24 characters (sign,
+   17 digits, point, "e-308"), so "v x y z\n" is at most 77 bytes and
+   "vt u v\r\n" 54. */
+#define BP__OUT_LINE_MAX 96u
+
 typedef struct bp__out {
     FILE *f;
     int   ok, e;            /* e: errno of the first failed write         */
     const bp_options *opt;  /* run_progress (BP_STAGE_WRITE), or NULL     */
     int   cancelled;        /* the callback said stop: ok is 0 too        */
+    const bp_allocator *a;
+    char *buf;              /* bytes not yet handed to fwrite             */
+    size_t len, cap;        /* cap: BP__OUT_CAP, or a task's slice        */
+    int   full;             /* f NULL (a task's slice): it is full, ok 0  */
+    int   oom;              /* scratch memory failed: ok 0 too            */
+    bp__par par;            /* who formats the v / vt lines               */
+    void *pool;             /* bp__par_begin's pool, stopped at close     */
 } bp__out;
 
 /* Progress while writing: every 4096 faces, the share of the mesh's
@@ -3036,9 +3368,25 @@ static void bp__out_tick(bp__out *o, uint32_t t, uint32_t total)
     }
 }
 
+static void bp__out_flush(bp__out *o)
+{
+    if (o->ok && o->len && fwrite(o->buf, 1, o->len, o->f) != o->len) { o->ok = 0; o->e = errno; }
+    o->len = 0;
+}
+
 static void bp__out_bytes(bp__out *o, const char *p, size_t n)
 {
-    if (o->ok && n && fwrite(p, 1, n, o->f) != n) { o->ok = 0; o->e = errno; }
+    if (!o->ok || !n) return;
+    if (o->len + n > o->cap) {
+        if (!o->f) { o->ok = 0; o->full = 1; return; }
+        bp__out_flush(o);
+        if (n > o->cap) {
+            if (o->ok && fwrite(p, 1, n, o->f) != n) { o->ok = 0; o->e = errno; }
+            return;
+        }
+    }
+    memcpy(o->buf + o->len, p, n);
+    o->len += n;
 }
 
 static void bp__out_str(bp__out *o, const char *s) { bp__out_bytes(o, s, strlen(s)); }
@@ -3051,32 +3399,86 @@ static void bp__out_uint(bp__out *o, uint64_t v)
     bp__out_bytes(o, buf, n);
 }
 
-static void bp__out_vt(bp__out *o, double u, double v, const char *eol)
+/* Line i of a block into dst (at most BP__OUT_LINE_MAX bytes); its length. */
+typedef size_t (*bp__line_fn)(const void *ctx, uint32_t i, char *dst);
+
+typedef struct bp__lines_task {
+    bp__line_fn fn;
+    const void *ctx;
+    char       *scratch;    /* task k's slice: k * per * BP__OUT_LINE_MAX  */
+    size_t     *len;        /* bytes task k formatted                     */
+    uint32_t    first, end, per;
+} bp__lines_task;
+
+static void bp__lines_run(void *task, uint32_t k)
 {
-    if (o->ok && fprintf(o->f, "vt %.17g %.17g%s", u, v, eol) < 0) { o->ok = 0; o->e = errno; }
+    const bp__lines_task *T = (const bp__lines_task *)task;
+    uint32_t i = T->first + k * T->per, end = T->end - i > T->per ? i + T->per : T->end;
+    char *d = T->scratch + (size_t)k * T->per * BP__OUT_LINE_MAX;
+    size_t n = 0;
+    for (; i < end; i++) n += T->fn(T->ctx, i, d + n);
+    T->len[k] = n;
 }
 
-static bp_status bp__out_open(bp__out *o, const char *path, bp_error *err)
+/* Lines 0 .. count-1 of a block, in order (see the essay above). */
+static void bp__out_lines(bp__out *o, uint32_t count, bp__line_fn fn, const void *ctx)
 {
+    const uint32_t per = BP__OUT_LINES_PER_TASK, round = per * BP__OUT_TASKS;
+    uint32_t first, k, ntask, nround = count < round ? count : round;
+    size_t len[BP__OUT_TASKS];
+    bp__lines_task T;
+    char *scratch;
+    if (!count || !o->ok) return;
+    if (!(scratch = (char *)bp__alloc_array(o->a, nround, BP__OUT_LINE_MAX))) { o->ok = 0; o->oom = 1; return; }
+    T.fn = fn; T.ctx = ctx; T.scratch = scratch; T.len = len; T.per = per;
+    for (first = 0; first < count && o->ok; first = T.end) {
+        T.first = first;
+        T.end = count - first > round ? first + round : count;
+        ntask = (T.end - first + per - 1) / per;
+        if (ntask > 1) o->par.run(o->par.user, bp__lines_run, &T, ntask);
+        else bp__lines_run(&T, 0);
+        for (k = 0; k < ntask; k++) bp__out_bytes(o, scratch + (size_t)k * per * BP__OUT_LINE_MAX, len[k]);
+    }
+    bp__free(o->a, scratch);
+}
+
+static bp_status bp__out_open(bp__out *o, const char *path, const bp_allocator *a, bp_error *err)
+{
+    memset(o, 0, sizeof *o);
+    o->a = a;
+    o->par = bp__par_serial();
+    o->cap = BP__OUT_CAP;
+    if (!(o->buf = (char *)bp__alloc(a, BP__OUT_CAP))) return bp__oom(err, "writing the OBJ file");
     errno = 0;
     o->f = fopen(path, "wb");
     o->ok = o->f != NULL;
-    o->e = 0;
-    o->opt = NULL;
-    o->cancelled = 0;
-    if (!o->f)
+    if (!o->f) {
+        bp__free(a, o->buf);
         return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot open '%s' for writing: %s",
                         path, bp__io_reason(errno));
+    }
     return BP_OK;
+}
+
+/* Threads for the lines when there are enough of them and options
+   (bp_write_obj and bp_write_obj_from, without, stay on one thread). */
+static void bp__out_threads(bp__out *o, const bp_options *opt, uint64_t lines)
+{
+    if (opt && lines >= BP__OUT_PAR_MIN) o->par = bp__par_begin(o->a, opt, &o->pool);
 }
 
 /* Close; if anything failed (a write here, or `st` from the caller), remove
    the partial file. */
 static bp_status bp__out_close(bp__out *o, const char *path, bp_status st, bp_error *err)
 {
+    bp__par_end(o->a, o->pool);
+    o->pool = NULL;
+    bp__out_flush(o);
+    bp__free(o->a, o->buf);
     errno = 0;
     if (fclose(o->f) != 0 && o->ok) { o->ok = 0; o->e = errno; }
     if (st == BP_OK && o->ok && bp__report(o->opt, BP_STAGE_WRITE, 1, BP_NO_CHART)) o->cancelled = 1;
+    if (st == BP_OK && o->oom) st = bp__oom(err, "writing the OBJ file");
     if (st == BP_OK && o->cancelled)
         st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0,
                       "cancelled while writing '%s' (the partial file is removed)", path);
@@ -3100,13 +3502,30 @@ static uint32_t *bp__vt_base(const bp_atlas *atlas, const bp_allocator *a)
     return base;
 }
 
-static void bp__out_vt_block(bp__out *o, const bp_atlas *atlas, const char *eol)
+/* The new vt lines: line i is vertex i - base[c] of the chart c with
+   base[c] <= i < base[c + 1] (found by bisection). */
+typedef struct bp__vt_lines { const bp_atlas *atlas; const uint32_t *base; const char *eol; } bp__vt_lines;
+
+static size_t bp__vt_line(const void *ctx, uint32_t i, char *dst)
 {
-    uint32_t c, i;
-    for (c = 0; c < atlas->num_charts; c++) {
-        const bp_chart *ch = &atlas->charts[c];
-        for (i = 0; ch->uv && i < ch->num_vertices; i++) bp__out_vt(o, ch->uv[2 * i], ch->uv[2 * i + 1], eol);
+    const bp__vt_lines *L = (const bp__vt_lines *)ctx;
+    uint32_t lo = 0, hi = L->atlas->num_charts;       /* base[lo] <= i < base[hi] */
+    const double *uv;
+    int n;
+    while (hi - lo > 1) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (L->base[mid] <= i) lo = mid; else hi = mid;
     }
+    uv = L->atlas->charts[lo].uv + 2 * (size_t)(i - L->base[lo]);
+    n = snprintf(dst, BP__OUT_LINE_MAX, "vt %.17g %.17g%s", uv[0], uv[1], L->eol);
+    return n <= 0 ? 0 : n < (int)BP__OUT_LINE_MAX ? (size_t)n : BP__OUT_LINE_MAX - 1;
+}
+
+static void bp__out_vt_block(bp__out *o, const bp_atlas *atlas, const uint32_t *base, const char *eol)
+{
+    bp__vt_lines L;
+    L.atlas = atlas; L.base = base; L.eol = eol;
+    bp__out_lines(o, base[atlas->num_charts], bp__vt_line, &L);
 }
 
 /* The new vt (0-based) of corner k of mesh triangle t, BP__NONE in a chart
@@ -3188,11 +3607,21 @@ static void bp__out_fan(bp__out *o, const bp_mesh *mesh, const bp_atlas *atlas, 
     bp__out_str(o, "\n");
 }
 
+/* Line i of the v block: vertex i's position. */
+static size_t bp__v_line(const void *ctx, uint32_t i, char *dst)
+{
+    const double *p = ((const bp_mesh *)ctx)->positions + 3 * (size_t)i;
+    int n = snprintf(dst, BP__OUT_LINE_MAX, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    return n <= 0 ? 0 : n < (int)BP__OUT_LINE_MAX ? (size_t)n : BP__OUT_LINE_MAX - 1;
+}
+
 static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
                                const bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
     bp__out o;
-    uint32_t i, t, *base;
+    char head[128];
+    int n;
+    uint32_t t, *base;
     unsigned char *flip = NULL;
     bp_allocator a;
     bp_status st;
@@ -3202,14 +3631,14 @@ static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
     a = atlas->allocator;
     if (!(base = bp__vt_base(atlas, &a))) return bp__oom(err, "writing the OBJ file");
     if (bp__face_flips(atlas, mesh, &a, &flip) != BP_OK) { bp__free(&a, base); return bp__oom(err, "writing the OBJ file"); }
-    if ((st = bp__out_open(&o, path, err)) != BP_OK) { bp__free(&a, flip); bp__free(&a, base); return st; }
+    if ((st = bp__out_open(&o, path, &a, err)) != BP_OK) { bp__free(&a, flip); bp__free(&a, base); return st; }
     o.opt = opt;
-    if (fprintf(o.f, "# written by bijparam " BP_VERSION_STRING ": %u vertices, %u charts\n",
-                mesh->num_vertices, atlas->num_charts) < 0) { o.ok = 0; o.e = errno; }
-    for (i = 0; i < mesh->num_vertices && o.ok; i++)
-        if (fprintf(o.f, "v %.17g %.17g %.17g\n", mesh->positions[3 * i],
-                    mesh->positions[3 * i + 1], mesh->positions[3 * i + 2]) < 0) { o.ok = 0; o.e = errno; }
-    bp__out_vt_block(&o, atlas, "\n");
+    bp__out_threads(&o, opt, (uint64_t)mesh->num_vertices + base[atlas->num_charts]);
+    n = snprintf(head, sizeof head, "# written by bijparam " BP_VERSION_STRING ": %u vertices, %u charts\n",
+                 mesh->num_vertices, atlas->num_charts);
+    bp__out_bytes(&o, head, n > 0 && n < (int)sizeof head ? (size_t)n : 0);
+    bp__out_lines(&o, mesh->num_vertices, bp__v_line, mesh);
+    bp__out_vt_block(&o, atlas, base, "\n");
     for (t = 0; t < mesh->num_triangles && o.ok; ) {
         uint32_t end = t + 1, j;
         int same, rev;
@@ -3382,27 +3811,193 @@ static bp_status bp__rewrite_face(bp__rewriter *r, const char *line)
     return BP_OK;
 }
 
-/* The pass: copy, drop or rewrite each line. */
+/* One line: copied, dropped or rewritten. */
+static bp_status bp__rewrite_line(bp__rewriter *r)
+{
+    bp__parser *ps = &r->ps;
+    const char *line = ps->p;
+    int is_vt, is_f;
+    bp__skip_space(ps);
+    is_vt = bp__keyword(ps, "vt");
+    is_f = !is_vt && bp__keyword(ps, "f");
+    if ((is_vt || is_f) && !r->vt_done) {
+        bp__out_vt_block(r->o, r->atlas, r->base, r->eol);
+        r->vt_done = 1;
+    }
+    if (is_f) return bp__rewrite_face(r, line);
+    if (is_vt) r->nvt++;
+    else if (bp__keyword(ps, "v")) r->nv++;
+    bp__next_line(ps);
+    if (!is_vt) bp__out_bytes(r->o, line, (size_t)(ps->p - line));
+    return BP_OK;
+}
+
+/* ---- the rewrite on several threads --------------------------------------
+
+   After the new vt block (written by the serial pass at the first vt or f
+   line) each line's output depends only on the line itself and on three
+   running counts: the v and vt lines before it (a relative index keeps
+   its text, but bp__obj_corner checks it against them) and the mesh
+   triangles before it (which triangles a face must match).  So the rest
+   of the text is cut into chunks at line starts as the reader cuts it
+   (bp__obj_chunks), counted in parallel (bp__obj_count_run: lines, v, vt,
+   fan triangles), and rewritten in parallel, a round of BP__OUT_TASKS
+   chunks at a time, each into its own slice of 3 BP__READ_CHUNK + 1 KiB
+   bytes; the caller appends the slices in file order.  A task stops
+   before a line that does not fit its slice, or that has more corners
+   than BP__READ_CORNERS, and the caller rewrites the rest of that chunk
+   itself.  A task that meets an error keeps it, and the first in file
+   order is the serial writer's error, since every chunk before it was
+   rewritten from exact counts.  Tasks never allocate and never call the
+   progress callback; the caller reports as it appends. */
+typedef struct bp__rw_chunk {
+    const char *resume;        /* where the caller takes over, or NULL      */
+    int64_t     line, nv, nvt; /* the counts there                          */
+    uint32_t    t;
+    size_t      len;           /* bytes in the slice                        */
+    bp_status   st;
+    bp_error    err;
+} bp__rw_chunk;
+
+typedef struct bp__rw_par {
+    const bp__rewriter *r;     /* the serial writer (tables, counts before) */
+    bp__obj_par    cnt;        /* the chunks and their counts               */
+    bp__rw_chunk  *rc;         /* one per chunk of the round                */
+    char          *scratch;    /* slice j of the round at j * slice         */
+    size_t         slice;
+    bp__src_corner *corners;   /* BP__READ_CORNERS per slice                */
+    uint32_t       first;      /* the round's first chunk                   */
+    int64_t        line0, nv0, nvt0;   /* the counts where the chunks begin */
+    uint32_t       t0;
+} bp__rw_par;
+
+/* Chunk first + j into slice j. */
+static void bp__rw_run(void *task, uint32_t j)
+{
+    bp__rw_par *W = (bp__rw_par *)task;
+    const bp__obj_chunk *c = W->cnt.ch + W->first + j;
+    bp__rw_chunk *rc = W->rc + j;
+    bp__rewriter r = *W->r;
+    bp__out o;
+    bp_allocator none;
+    none.alloc = bp__no_alloc;
+    none.free = bp__no_free;
+    none.user = NULL;
+    memset(&o, 0, sizeof o);
+    o.ok = 1;
+    o.buf = W->scratch + (size_t)j * W->slice;
+    o.cap = W->slice;
+    o.par = bp__par_serial();
+    r.o = &o;
+    r.ps.p = r.ps.begin = c->begin;
+    r.ps.end = c->end;
+    r.ps.line = W->line0 + c->line0;
+    r.ps.a = &none;
+    r.ps.err = &rc->err;
+    r.nv = W->nv0 + c->nv0;
+    r.nvt = W->nvt0 + c->nvt0;
+    r.t = W->t0 + (uint32_t)c->tri0;
+    r.corners.data = W->corners + (size_t)j * BP__READ_CORNERS;
+    r.corners.count = 0;
+    r.corners.cap = BP__READ_CORNERS;
+    rc->resume = NULL;
+    rc->st = BP_OK;
+    while (r.ps.p < r.ps.end) {
+        const char *p = r.ps.p;
+        int64_t line = r.ps.line, nv = r.nv, nvt = r.nvt;
+        uint32_t t = r.t;
+        size_t len = o.len;
+        bp_status st = bp__rewrite_line(&r);
+        if (st == BP_OK && o.ok) continue;
+        if (o.full || st == BP_ERR_OUT_OF_MEMORY) {        /* the caller goes on */
+            rc->resume = p; rc->line = line; rc->nv = nv; rc->nvt = nvt; rc->t = t;
+            o.len = len;
+        } else
+            rc->st = st;
+        break;
+    }
+    rc->len = o.len;
+}
+
+/* The rest of the text from the cursor (the vt block written) on the
+   writer's threads (fewer than two chunks: the serial pass goes on). */
+static bp_status bp__rewrite_par(bp__rewriter *r)
+{
+    bp__parser *ps = &r->ps;
+    const bp_allocator *a = ps->a;
+    const char *text_end = ps->end;
+    const bp__par *par = &r->o->par;
+    bp__rw_par W;
+    uint32_t n = 0, k, j, m, nround;
+    int64_t line = 0, nv = 0, nvt = 0, tris = 0;
+    bp_status st = BP_OK;
+    memset(&W, 0, sizeof W);
+    if (!(W.cnt.ch = bp__obj_chunks(ps, &n))) return bp__oom(ps->err, "writing the OBJ file");
+    if (n < 2) { bp__free(a, W.cnt.ch); return BP_OK; }
+    nround = n < BP__OUT_TASKS ? n : BP__OUT_TASKS;
+    W.r = r;
+    W.line0 = ps->line; W.nv0 = r->nv; W.nvt0 = r->nvt; W.t0 = r->t;
+    W.slice = 3 * (size_t)BP__READ_CHUNK + 1024;
+    W.rc = (bp__rw_chunk *)bp__alloc_array(a, nround, sizeof *W.rc);
+    W.scratch = (char *)bp__alloc_array(a, nround, W.slice);
+    W.corners = (bp__src_corner *)bp__alloc_array(a, (size_t)nround * BP__READ_CORNERS, sizeof *W.corners);
+    if (W.rc && W.scratch && W.corners) {
+        par->run(par->user, bp__obj_count_run, &W.cnt, n);
+        for (k = 0; k < n; k++) {                 /* counts before each chunk */
+            bp__obj_chunk *c = W.cnt.ch + k;
+            c->line0 = line; c->nv0 = nv; c->nvt0 = nvt; c->tri0 = tris;
+            line += c->lines; nv += c->nv; nvt += c->nvt; tris += c->tris;
+        }
+        if ((uint64_t)r->t + (uint64_t)tris > r->mesh->num_triangles) n = 0;   /* the serial pass says where */
+    } else {
+        n = 0;
+        st = bp__oom(ps->err, "writing the OBJ file");
+    }
+    for (W.first = 0; W.first < n && st == BP_OK && r->o->ok; W.first += m) {
+        m = n - W.first < nround ? n - W.first : nround;
+        par->run(par->user, bp__rw_run, &W, m);
+        for (j = 0; j < m && st == BP_OK && r->o->ok; j++) {
+            const bp__obj_chunk *c = W.cnt.ch + W.first + j;
+            const bp__rw_chunk *rc = W.rc + j;
+            uint32_t t0 = r->t;
+            bp__out_bytes(r->o, W.scratch + (size_t)j * W.slice, rc->len);
+            if (rc->st != BP_OK) {
+                if (ps->err) *ps->err = rc->err;
+                st = rc->st;
+                break;
+            }
+            if (rc->resume) {
+                ps->p = rc->resume; ps->line = rc->line; r->nv = rc->nv; r->nvt = rc->nvt; r->t = rc->t;
+                ps->end = c->end;
+                while (ps->p < ps->end && st == BP_OK && r->o->ok) st = bp__rewrite_line(r);
+                ps->end = text_end;
+            } else {
+                ps->line += c->lines;
+                r->nv += c->nv;
+                r->nvt += c->nvt;
+                r->t += (uint32_t)c->tris;
+            }
+            ps->p = c->end;
+            if ((t0 >> 12) != (r->t >> 12)) bp__out_tick(r->o, (r->t >> 12) << 12, r->mesh->num_triangles);
+        }
+    }
+    bp__free(a, W.cnt.ch);
+    bp__free(a, W.rc);
+    bp__free(a, W.scratch);
+    bp__free(a, W.corners);
+    return st;
+}
+
+/* The pass: copy, drop or rewrite each line; after the new vt block, on
+   the writer's threads when it has them (above). */
 static bp_status bp__rewrite_obj(bp__rewriter *r)
 {
     bp__parser *ps = &r->ps;
     bp_status st = BP_OK;
-    while (ps->p < ps->end && st == BP_OK && r->o->ok) {
-        const char *line = ps->p;
-        int is_vt, is_f;
-        bp__skip_space(ps);
-        is_vt = bp__keyword(ps, "vt");
-        is_f = !is_vt && bp__keyword(ps, "f");
-        if ((is_vt || is_f) && !r->vt_done) {
-            bp__out_vt_block(r->o, r->atlas, r->eol);
-            r->vt_done = 1;
-        }
-        if (is_f) { st = bp__rewrite_face(r, line); continue; }
-        if (is_vt) r->nvt++;
-        else if (bp__keyword(ps, "v")) r->nv++;
-        bp__next_line(ps);
-        if (!is_vt) bp__out_bytes(r->o, line, (size_t)(ps->p - line));
-    }
+    while (ps->p < ps->end && st == BP_OK && r->o->ok && !r->vt_done) st = bp__rewrite_line(r);
+    if (st == BP_OK && r->o->ok && ps->p < ps->end && r->o->par.run != bp__serial_for)
+        st = bp__rewrite_par(r);
+    while (ps->p < ps->end && st == BP_OK && r->o->ok) st = bp__rewrite_line(r);
     if (st == BP_OK && r->o->ok && r->t != r->mesh->num_triangles)
         st = bp__fail(ps->err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                       "the file's faces make %u triangles, the mesh has %u; was the mesh read from this file?",
@@ -3434,8 +4029,9 @@ static bp_status bp__write_obj_from(const char *path, const char *source, const 
         bp__free(&a, base); bp__free(&a, text);
         return bp__oom(err, "writing the OBJ file");
     }
-    if ((st = bp__out_open(&o, path, err)) == BP_OK) {
+    if ((st = bp__out_open(&o, path, &a, err)) == BP_OK) {
         o.opt = opt;
+        bp__out_threads(&o, opt, base[atlas->num_charts] + len / 64);   /* a line: ~64 bytes */
         memset(&r, 0, sizeof r);
         r.ps.p = text;
         r.ps.end = text + len;
@@ -3692,7 +4288,11 @@ BPDEF void bp_atlas_free(bp_atlas *atlas)
    rescaled extent.  A mesh scaled by a power of two is judged bit for bit
    as the unscaled one; any other factor only rounds the input. */
 
-typedef struct bp__mesh_scale { int e1, e2; double diag2; } bp__mesh_scale;
+typedef struct bp__mesh_scale {
+    int e1, e2;
+    double diag2;
+    double s1, s2;   /* 2^-e1 and 2^-e2 when both are doubles, else 0 (below) */
+} bp__mesh_scale;
 
 /* Global checks (above), and the exponents of the used vertices. */
 static bp_status bp__validate_global(const bp_mesh *m, bp__mesh_scale *sc, bp_error *err)
@@ -3748,14 +4348,24 @@ static bp_status bp__validate_global(const bp_mesh *m, bp__mesh_scale *sc, bp_er
         double d = ldexp(ldexp(hi[k], -sc->e1) - ldexp(lo[k], -sc->e1), -sc->e2);
         sc->diag2 += d * d;
     }
+    sc->s1 = sc->e1 >= -1023 && sc->e1 <= 1074 ? ldexp(1.0, -sc->e1) : 0;
+    sc->s2 = sc->e2 >= -1023 && sc->e2 <= 1074 ? ldexp(1.0, -sc->e2) : 0;
     return BP_OK;
 }
 
-/* b - a in the rescaled units of bp__mesh_scale. */
+/* b - a in the rescaled units of bp__mesh_scale: ldexp(ldexp(b, -e1) -
+   ldexp(a, -e1), -e2).  A product by a power of two 2^s that is itself a
+   double (s in [-1074, 1023]) is x 2^s rounded once, exactly what ldexp
+   gives, so the products give the same bits at a fraction of the cost
+   (ldexp was a fifth of bp_atlas_build's time, docs/performance.md 6.18);
+   ldexp stays for scales beyond that range. */
 static void bp__scaled_diff(const double *a, const double *b, const bp__mesh_scale *sc, double *d)
 {
     int k;
-    for (k = 0; k < 3; k++) d[k] = ldexp(ldexp(b[k], -sc->e1) - ldexp(a[k], -sc->e1), -sc->e2);
+    if (sc->s1 != 0 && sc->s2 != 0)
+        for (k = 0; k < 3; k++) d[k] = (b[k] * sc->s1 - a[k] * sc->s1) * sc->s2;
+    else
+        for (k = 0; k < 3; k++) d[k] = ldexp(ldexp(b[k], -sc->e1) - ldexp(a[k], -sc->e1), -sc->e2);
 }
 
 /* Twice the area of triangle t in the rescaled units. */
@@ -7938,12 +8548,6 @@ static int bp__dedge_cmp(const void *pa, const void *pb)
     return x->a < y->a ? -1 : x->a > y->a;
 }
 
-static uint32_t bp__dedge_key(const void *p)
-{
-    const bp__dedge *e = (const bp__dedge *)p;
-    return e->a < e->b ? e->a : e->b;
-}
-
 /* The exact range of bp_orient2d (>>predicates): 0, or a magnitude in
    [2^-485, 2^510).  The two literals are those powers of two exactly. */
 #define BP__EXACT_MIN 1.0010415475915505e-146
@@ -8409,6 +9013,46 @@ static void bp__check_orientation(const uint32_t *tris, uint32_t nt, const doubl
     }
 }
 
+/* The directed edges in bp__dedge_cmp's order: bp__bucket_sort with its
+   key and comparison written out (counting by the smaller end, then each
+   bucket -- about six edges -- by insertion on (larger end, start)).
+   The order is a total order up to identical records, so the result is
+   bp__bucket_sort's, without its calls through pointers and memcpy of a
+   run-time size: a third of bp_check's time, which runs four times on a
+   chart in the tool (docs/performance.md 6.18). */
+static uint32_t bp__dedge_key(const void *p)
+{
+    const bp__dedge *e = (const bp__dedge *)p;
+    return e->a < e->b ? e->a : e->b;
+}
+
+static void bp__dedge_sort(bp__dedge *de, size_t n, uint32_t nv, bp__dedge *tmp, uint32_t *start)
+{
+    size_t k, m, lo = 0;
+    uint32_t v;
+    for (v = 0; v <= nv; v++) start[v] = 0;
+    for (k = 0; k < n; k++) start[bp__dedge_key(&de[k]) + 1]++;
+    for (v = 0; v < nv; v++) start[v + 1] += start[v];
+    for (k = 0; k < n; k++) tmp[start[bp__dedge_key(&de[k])]++] = de[k];
+    for (v = 0; v < nv; v++) {                     /* bucket v is [lo, start[v]) */
+        size_t hi = start[v];
+        if (hi - lo > 32) qsort(tmp + lo, hi - lo, sizeof *tmp, bp__dedge_cmp);
+        else
+            for (k = lo + 1; k < hi; k++) {
+                bp__dedge rec = tmp[k];
+                uint64_t key = (uint64_t)(rec.a > rec.b ? rec.a : rec.b) << 32 | rec.a;
+                for (m = k; m > lo; m--) {
+                    const bp__dedge *p = &tmp[m - 1];
+                    if (((uint64_t)(p->a > p->b ? p->a : p->b) << 32 | p->a) <= key) break;
+                    tmp[m] = *p;
+                }
+                tmp[m] = rec;
+            }
+        lo = hi;
+    }
+    memcpy(de, tmp, n * sizeof *de);
+}
+
 /* The precondition and the boundary: the directed edges sorted so that the
    uses of one undirected edge are adjacent (a->b before b->a), then each
    group classified.  One use: a boundary edge, kept in (*out)[0..*nb).  a->b
@@ -8430,7 +9074,7 @@ static bp_status bp__check_edges(const bp_allocator *a, const uint32_t *tris, ui
             de[3 * (size_t)t + k].a = tris[3 * (size_t)t + k];
             de[3 * (size_t)t + k].b = tris[3 * (size_t)t + (k + 1) % 3];
         }
-    bp__bucket_sort(de, m, sizeof *de, nv, bp__dedge_key, bp__dedge_cmp, tmp, start);
+    bp__dedge_sort(de, m, nv, tmp, start);
     bp__free(a, tmp);
     bp__free(a, start);
     for (e = 0; e < m;) {

@@ -403,7 +403,7 @@ static void test_bucket_sort(void)
 {
     static const uint32_t nvs[] = { 1, 3, 40, 1000, 100000 };
     size_t c, k;
-    int same_e = 1, same_t = 1, same_d = 1, big = 0;
+    int same_e = 1, same_t = 1, same_d = 1, same_ds = 1, big = 0;
     for (c = 0; c < sizeof nvs / sizeof *nvs; c++) {
         uint32_t nv = nvs[c], n = 3000, i;
         bp__edge_rec *e = (bp__edge_rec *)malloc(n * sizeof *e), *e2 = (bp__edge_rec *)malloc(n * sizeof *e), *te = (bp__edge_rec *)malloc(n * sizeof *e);
@@ -426,6 +426,13 @@ static void test_bucket_sort(void)
         qsort(d2, n, sizeof *d2, bp__dedge_cmp);
         bp__bucket_sort(e, n, sizeof *e, nv, bp__edge_key, bp__edge_cmp, te, start);
         bp__bucket_sort(t, n, sizeof *t, nv, bp__tri_key_key, bp__tri_key_cmp, tt, start);
+        {   /* bp_check's own sort of the directed edges (bp__dedge_sort) */
+            bp__dedge *d3 = (bp__dedge *)malloc(n * sizeof *d);
+            memcpy(d3, d, n * sizeof *d);
+            bp__dedge_sort(d3, n, nv, td, start);
+            for (i = 0; i < n; i++) if (bp__dedge_cmp(&d3[i], &d2[i]) != 0) same_ds = 0;
+            free(d3);
+        }
         bp__bucket_sort(d, n, sizeof *d, nv, bp__dedge_key, bp__dedge_cmp, td, start);
         /* qsort's order is unique where the order is total; directed edges
            may tie (the same a and b twice): compare the keys then */
@@ -438,6 +445,7 @@ static void test_bucket_sort(void)
     BPT_CHECK(same_e, "bucket sort: corner edges in qsort's order (1 to 100000 vertices)");
     BPT_CHECK(same_t, "bucket sort: triangle keys in qsort's order");
     BPT_CHECK(same_d, "bucket sort: directed edges in qsort's order");
+    BPT_CHECK(same_ds, "bp__dedge_sort (bp_check's): directed edges in qsort's order");
 }
 
 int main(void)

@@ -16,6 +16,19 @@
    that make the same charts; I/O errors must name the file and the reason. */
 #define _POSIX_C_SOURCE 200809L
 #define BP_IMPLEMENTATION
+#define BP_USE_PTHREADS
+/* The writers' buffers and line tasks made tiny, so that these small files
+   go through every path: many tasks and rounds, full buffers flushed, a
+   piece longer than the buffer written directly (the defaults are tried
+   by the tool's tests and test_threads). */
+#define BP__OUT_CAP 64u
+#define BP__OUT_LINES_PER_TASK 5u
+#define BP__OUT_TASKS 3u
+#define BP__OUT_PAR_MIN 1u
+/* The chunked OBJ reader on any text (not only files of a megabyte), in
+   chunks of a line or two. */
+#define BP__READ_PAR_MIN 1u
+#define BP__READ_CHUNK 9u
 #include "bijparam.h"
 #include "bptest.h"
 
@@ -1073,6 +1086,180 @@ static void test_fuzz(void)
               FUZZ_ROUNDS, accepted, bad, the_counter.allocs);
 }
 
+/* ---- the OBJ reader on several threads --------------------------------------
+
+   bp_read_mesh_opt reads a large OBJ in chunks on threads (bijparam.h, "OBJ
+   on several threads"); here every text goes through it (chunks of about
+   9 bytes) with tasks run backwards, odd-even and on pools of 2 and 3
+   threads, and must give what the serial parser (bp_parse_obj) gives: the
+   same arrays, bit for bit, or the same error -- status, element, line and
+   message. */
+static int same_mesh(const bp_mesh *a, const bp_mesh *b)
+{
+    size_t nt = 3 * (size_t)a->num_triangles;
+    if (a->num_vertices != b->num_vertices || a->num_triangles != b->num_triangles || a->num_uvs != b->num_uvs ||
+        a->num_faces != b->num_faces || !a->corner_uv != !b->corner_uv || !a->uvs != !b->uvs ||
+        !a->triangle_line != !b->triangle_line || !a->triangle_face != !b->triangle_face)
+        return 0;
+    return !memcmp(a->positions, b->positions, 3 * sizeof(double) * a->num_vertices) &&
+           !memcmp(a->triangles, b->triangles, sizeof(uint32_t) * nt) &&
+           (!a->corner_uv || !memcmp(a->corner_uv, b->corner_uv, sizeof(uint32_t) * nt)) &&
+           (!a->uvs || !memcmp(a->uvs, b->uvs, 2 * sizeof(double) * a->num_uvs)) &&
+           (!a->triangle_line || !memcmp(a->triangle_line, b->triangle_line, sizeof(uint32_t) * a->num_triangles)) &&
+           (!a->triangle_face || !memcmp(a->triangle_face, b->triangle_face, sizeof(uint32_t) * a->num_triangles));
+}
+
+/* 1 when the chunked reader agrees with the serial one on this text. */
+static int chunked_agrees(const char *text, size_t len, long *errors)
+{
+    static const bp_parallel_for_fn runner[] = { bpt_backwards_for, bpt_odd_even_for, NULL, NULL };
+    bp_mesh ms, mp;
+    bp_error es, ep;
+    bp_status ss, sp;
+    bp_allocator a = counting();
+    int r, ok = 1;
+    ss = bp_parse_obj(text, len, &ms, &a, &es);
+    if (ss != BP_OK) (*errors)++;
+    for (r = 0; r < 4; r++) {
+        bp_options opt;
+        memset(&opt, 0, sizeof opt);
+        opt.allocator = a;
+        opt.parallel_for = runner[r];
+        opt.threads = r == 2 ? 2 : 3;
+        memset(&ep, 0, sizeof ep);
+        sp = bp__parse_text(text, len, &mp, &a, &ep, BP__FORMAT_OBJ, &opt);
+        if (sp != ss || (ss == BP_OK && !same_mesh(&ms, &mp)) ||
+            (ss != BP_OK && (ep.line != es.line || ep.element != es.element || ep.index != es.index ||
+                             strcmp(ep.message, es.message) || !mesh_all_null(&mp))))
+            ok = 0;
+        if (sp == BP_OK) bp_mesh_free(&mp, &a);
+    }
+    if (ss == BP_OK) bp_mesh_free(&ms, &a);
+    return ok;
+}
+
+static void test_read_chunked(void)
+{
+    /* relative indices, vt on some faces, CRLF and a lone CR, no final
+       line ending, a polygon of 70 corners (more than a task has room for:
+       its chunk is read by the caller), errors early and late */
+    static const char *const texts[] = {
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\nf -4 -2 -1\nf 1 2 3 4",
+        "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\rv 0 1 0\r\n# c\r\nf 1 2 3 # x\r\n\r\nf 1 3 4\r\n",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 2 9\nv 5 5 5\nf 1 2 x\n",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nv 1 2\nf 1 2\n",
+        "v 0 0 0\nv 1 0 0\nf -3 1 2\n",
+    };
+    char big[4096];
+    size_t k, n = 0;
+    long i, errors = 0, bad = 0, total = 0;
+    int c;
+    counter_reset();
+    for (k = 0; k < sizeof texts / sizeof *texts; k++, total++)
+        bad += !chunked_agrees(texts[k], strlen(texts[k]), &errors);
+    for (c = 0; c < 70; c++) n += (size_t)sprintf(big + n, "v %d %d 0\n", c, c * c % 7);
+    n += (size_t)sprintf(big + n, "f");
+    for (c = 0; c < 70; c++) n += (size_t)sprintf(big + n, " %d", c + 1);
+    n += (size_t)sprintf(big + n, "\nf 1 2 3\n");
+    bad += !chunked_agrees(big, n, &errors);
+    total++;
+    for (i = 0; i < FUZZ_ROUNDS / 4; i++, total++) {     /* mutations, as test_fuzz */
+        char buf[1024];
+        size_t len = sizeof asset_obj - 1;
+        int edits = 1 + (int)(rng() % 4), e;
+        memcpy(buf, asset_obj, len);
+        for (e = 0; e < edits; e++) {
+            size_t pos = (size_t)(rng() % len);
+            switch (rng() % 4) {
+            case 0: buf[pos] = "0123456789-/ \n\r#fvt"[rng() % 19]; break;
+            case 1: memmove(buf + pos, buf + pos + 1, len - pos - 1); len--; break;
+            case 2: if (len + 1 < sizeof buf) { memmove(buf + pos + 1, buf + pos, len - pos); buf[pos] = "1-/ \n"[rng() % 5]; len++; } break;
+            default: len = pos > 0 ? pos : 1; break;
+            }
+        }
+        bad += !chunked_agrees(buf, len, &errors);
+    }
+    BPT_CHECK(bad == 0 && errors > 0 && errors < total && counter_balanced(),
+              "%ld OBJ texts through the chunked reader (backwards, odd-even, 2 and 3 threads): the serial parser's mesh "
+              "bit for bit or its error (status, line, message), nothing leaked (%ld with errors, %ld differ)",
+              total, errors, bad);
+}
+
+/* The chunked reader and the writers on a runner: failing each of their
+   allocations gives BP_ERR_OUT_OF_MEMORY, nothing left (no mesh, no file,
+   no block). */
+static void test_par_alloc_failures(void)
+{
+    char dir[] = "/tmp/bptest_pa_XXXXXX", src[256], out[256];
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    bp_allocator a = counting(), saved;
+    long n, total, bad = 0, oom = 0;
+    int w;
+    memset(&opt, 0, sizeof opt);
+    opt.parallel_for = bpt_backwards_for;
+    opt.allocator = a;
+    counter_reset();
+    bp__parse_text(asset_obj, sizeof asset_obj - 1, &m, &a, &err, BP__FORMAT_OBJ, &opt);
+    total = the_counter.calls;
+    bp_mesh_free(&m, &a);
+    for (n = 1; n <= total; n++) {
+        bp_status st;
+        counter_reset();
+        the_counter.fail_at = n;
+        st = bp__parse_text(asset_obj, sizeof asset_obj - 1, &m, &a, &err, BP__FORMAT_OBJ, &opt);
+        if (st == BP_OK) bp_mesh_free(&m, &a);
+        else if (st != BP_ERR_OUT_OF_MEMORY || !mesh_all_null(&m)) bad++;
+        else oom++;
+        if (!counter_balanced()) bad++;
+    }
+    BPT_CHECK(total > 0 && bad == 0 && oom == total,
+              "chunked reader: failing each of its %ld allocations gives BP_ERR_OUT_OF_MEMORY, no mesh, no leak (%ld bad)",
+              total, bad);
+    if (!mkdtemp(dir)) { BPT_CHECK(0, "mkdtemp"); return; }
+    sprintf(src, "%s/m.obj", dir);
+    sprintf(out, "%s/m_uv.obj", dir);
+    write_bytes(src, asset_obj, sizeof asset_obj - 1);
+    opt.allocator.alloc = NULL;
+    opt.allocator.free = NULL;
+    opt.threads = 1;
+    if (bp_parse_obj(asset_obj, sizeof asset_obj - 1, &m, NULL, &err) != BP_OK ||
+        bp_parameterize(&atlas, &m, &opt, &err) != BP_OK) {
+        BPT_CHECK(0, "asset: %s", err.message);
+        rmdir(dir);
+        return;
+    }
+    saved = atlas.allocator;
+    atlas.allocator = a;                       /* the writers allocate with the atlas's */
+    for (w = 0; w < 2; w++) {
+        counter_reset();
+        bp_write_obj_opt(out, w ? src : NULL, &m, &atlas, &opt, &err);
+        total = the_counter.calls;
+        remove(out);
+        bad = oom = 0;
+        for (n = 1; n <= total; n++) {
+            bp_status st;
+            counter_reset();
+            the_counter.fail_at = n;
+            st = bp_write_obj_opt(out, w ? src : NULL, &m, &atlas, &opt, &err);
+            if (st != BP_ERR_OUT_OF_MEMORY || file_exists(out)) bad++;
+            else oom++;
+            if (!counter_balanced()) bad++;
+            remove(out);
+        }
+        BPT_CHECK(total > 2 && bad == 0,
+                  "%s on a runner: failing each of its %ld allocations gives BP_ERR_OUT_OF_MEMORY, no file, no leak (%ld bad)",
+                  w ? "bp_write_obj_from" : "bp_write_obj", total, bad);
+    }
+    atlas.allocator = saved;
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+    remove(src);
+    rmdir(dir);
+}
+
 /* Mutations of the asset as the source of bp_write_obj_from, with the mesh
    and atlas of the original: the writer must never crash or leak, must
    leave no file when it fails, and must succeed whenever the mutated text
@@ -1086,7 +1273,8 @@ static void test_write_from_fuzz(void)
     bp_options opt;
     bp_error err;
     bp_allocator a = counting(), saved;
-    long i, ok = 0, refused = 0, bad = 0;
+    long i, ok = 0, refused = 0, bad = 0, par_bad = 0;
+    size_t n1 = 0, n2 = 0;
     if (!mkdtemp(dir)) { BPT_CHECK(0, "mkdtemp"); return; }
     sprintf(src, "%s/m.obj", dir);
     sprintf(out, "%s/m_uv.obj", dir);
@@ -1126,11 +1314,31 @@ static void test_write_from_fuzz(void)
         if (st == BP_OK) ok++;
         else refused++;
         if ((st != BP_OK && (file_exists(out) || !err.message[0])) || (same && st != BP_OK)) bad++;
+        {   /* the chunked rewrite (tasks backwards or odd-even): the same bytes or the same error */
+            bp_options po;
+            bp_error perr;
+            bp_status pst2;
+            char *t1 = st == BP_OK ? read_bytes(out, &n1) : NULL, *t2;
+            memset(&po, 0, sizeof po);
+            po.allocator = a;
+            po.parallel_for = i % 2 ? bpt_backwards_for : bpt_odd_even_for;
+            remove(out);
+            pst2 = bp_write_obj_opt(out, src, &m, &atlas, &po, &perr);
+            t2 = pst2 == BP_OK ? read_bytes(out, &n2) : NULL;
+            if (pst2 != st || (st == BP_OK && (!t1 || !t2 || n1 != n2 || memcmp(t1, t2, n1))) ||
+                (st != BP_OK && (perr.line != err.line || strcmp(perr.message, err.message) || file_exists(out))))
+                par_bad++;
+            free(t1);
+            free(t2);
+        }
         remove(out);
     }
     BPT_CHECK(bad == 0 && counter_balanced() && ok > 0 && refused > 0,
               "%d mutated sources through bp_write_obj_from: no crash, no leak, no file left on failure, success whenever the text reads to the same faces (%ld written, %ld refused, %ld bad)",
               FUZZ_ROUNDS / 4, ok, refused, bad);
+    BPT_CHECK(par_bad == 0 && counter_balanced(),
+              "the same %d sources through the chunked rewrite (chunks of ~9 bytes, tasks backwards and odd-even): "
+              "the serial writer's bytes or its error (line, message), no leak (%ld differ)", FUZZ_ROUNDS / 4, par_bad);
     atlas.allocator = saved;
     bp_atlas_free(&atlas);
     bp_mesh_free(&m, NULL);
@@ -1138,8 +1346,152 @@ static void test_write_from_fuzz(void)
     rmdir(dir);
 }
 
+/* ---- the writers on several threads ---------------------------------------
+
+   The v and vt lines are formatted in tasks (bijparam.h, "the output goes
+   through a buffer"): whoever runs the tasks and in whatever order, the
+   file must be the same bytes, and its v / vt lines exactly those of one
+   loop of fprintf "%.17g" over the positions and the charts' uv, written
+   here independently. */
+
+/* The reference lines, "v ..." or "vt ...", one per element, joined. */
+static char *reference_lines(const char *kw, const double *x, uint32_t n, int dim, const char *eol, size_t *len)
+{
+    char *out = (char *)malloc((size_t)n * 96 + 1), *p = out;
+    uint32_t i;
+    if (!out) return NULL;
+    for (i = 0; i < n; i++) {
+        p += sprintf(p, "%s %.17g %.17g", kw, x[dim * (size_t)i], x[dim * (size_t)i + 1]);
+        if (dim == 3) p += sprintf(p, " %.17g", x[3 * (size_t)i + 2]);
+        p += sprintf(p, "%s", eol);
+    }
+    *len = (size_t)(p - out);
+    return out;
+}
+
+/* All vt lines of a chart list, in chart order. */
+static char *reference_vt(const bp_atlas *atlas, const char *eol, size_t *len)
+{
+    size_t total = 0, n, k = 0;
+    uint32_t c;
+    char *all, *part;
+    for (c = 0; c < atlas->num_charts; c++) total += atlas->charts[c].uv ? atlas->charts[c].num_vertices : 0;
+    all = (char *)malloc(total * 96 + 1);
+    for (c = 0; all && c < atlas->num_charts; c++) {
+        if (!atlas->charts[c].uv) continue;
+        part = reference_lines("vt", atlas->charts[c].uv, atlas->charts[c].num_vertices, 2, eol, &n);
+        if (!part) { free(all); return NULL; }
+        memcpy(all + k, part, n);
+        k += n;
+        free(part);
+    }
+    *len = k;
+    return all;
+}
+
+static int contains(const char *hay, size_t n, const char *needle, size_t m)
+{
+    size_t i;
+    for (i = 0; i + m <= n; i++)
+        if (!memcmp(hay + i, needle, m)) return 1;
+    return m == 0;
+}
+
+static void test_write_threads_one(const char *path, const char *dir)
+{
+    static const char *const how[] = { "1 thread", "2 threads", "3 threads", "backwards", "odd-even" };
+    char out[256], what[300];
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    bp_status st;
+    int w, r, same[2] = { 1, 1 }, wrote[2] = { 1, 1 };
+    char *first[2] = { NULL, NULL };
+    size_t first_n[2] = { 0, 0 };
+    memset(&opt, 0, sizeof opt);
+    opt.threads = 1;
+    opt.init_only = 1;
+    if (bp_read_mesh(path, &m, NULL, &err) != BP_OK || bp_parameterize(&atlas, &m, &opt, &err) != BP_OK) {
+        BPT_CHECK(0, "%s: read and mapped (%s)", path, err.message);
+        return;
+    }
+    sprintf(out, "%s/threads.obj", dir);
+    for (r = 0; r < 5; r++) {
+        memset(&opt, 0, sizeof opt);
+        opt.threads = r < 3 ? r + 1 : 1;
+        if (r == 3) opt.parallel_for = bpt_backwards_for;
+        if (r == 4) opt.parallel_for = bpt_odd_even_for;
+        for (w = 0; w < 2; w++) {             /* bp_write_obj, bp_write_obj_from */
+            size_t n;
+            char *text;
+            st = bp_write_obj_opt(out, w ? path : NULL, &m, &atlas, &opt, &err);
+            text = st == BP_OK ? read_bytes(out, &n) : NULL;
+            if (!text) { wrote[w] = 0; continue; }
+            if (!r) { first[w] = text; first_n[w] = n; continue; }
+            if (n != first_n[w] || memcmp(text, first[w], n)) {
+                same[w] = 0;
+                fprintf(stderr, "  %s: %s differs from 1 thread\n", w ? "bp_write_obj_from" : "bp_write_obj", how[r]);
+            }
+            free(text);
+        }
+    }
+    for (w = 0; w < 2; w++) {
+        sprintf(what, "%s, %s", path, w ? "bp_write_obj_from" : "bp_write_obj");
+        BPT_CHECK(wrote[w] && same[w], "%s: the same bytes with 1, 2, 3 threads and the tasks run backwards and odd-even", what);
+    }
+    if (first[0] && first[1]) {
+        size_t nv, nvt;
+        char *v = reference_lines("v", m.positions, m.num_vertices, 3, "\n", &nv);
+        char *vt = reference_vt(&atlas, "\n", &nvt);
+        BPT_CHECK(v && vt && contains(first[0], first_n[0], v, nv) && contains(first[0], first_n[0], vt, nvt),
+                  "%s, bp_write_obj: its v block and its vt block are fprintf's %%.17g of the positions and the uv, in order", path);
+        BPT_CHECK(vt && contains(first[1], first_n[1], vt, nvt),
+                  "%s, bp_write_obj_from: its vt block is fprintf's %%.17g of the charts' uv, in order", path);
+        free(v);
+        free(vt);
+    }
+    free(first[0]);
+    free(first[1]);
+    remove(out);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+}
+
+static void test_write_threads(void)
+{
+    char dir[] = "/tmp/bptest_wt_XXXXXX";
+    if (!mkdtemp(dir)) { BPT_CHECK(0, "mkdtemp"); return; }
+    test_write_threads_one("tests/data/spot.obj", dir);
+    test_write_threads_one("tests/data/camel_b.obj", dir);
+    {   /* a line longer than a task's slice (a comment of 1500 bytes) and a
+           face of 200 corners (more than a task has room for) after the
+           first face: the caller rewrites those chunks itself */
+        char path[256];
+        FILE *f;
+        int i;
+        sprintf(path, "%s/long.obj", dir);
+        f = fopen(path, "wb");
+        if (f) {
+            for (i = 0; i < 200; i++) fprintf(f, "v %.17g %.17g %.17g\n", cos(i * 0.0314159), sin(i * 0.0314159), 0.01 * (i % 3));
+            fprintf(f, "v 3 0 0\nv 4 0 0\nv 3 1 0\nf 201 202 203\n# ");
+            for (i = 0; i < 1500; i++) fputc('x', f);
+            fprintf(f, "\nf");
+            for (i = 0; i < 200; i++) fprintf(f, " %d", i + 1);
+            fprintf(f, "\ng end\n");
+            fclose(f);
+            test_write_threads_one(path, dir);
+            remove(path);
+        }
+    }
+    rmdir(dir);
+}
+
 int main(void)
 {
+    test_write_threads();
+    test_read_chunked();
+    test_par_alloc_failures();
     test_obj_ok();
     test_obj_errors();
     test_off();

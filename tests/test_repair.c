@@ -856,6 +856,52 @@ static void test_write_reoriented(void)
     remove(src); remove(o1); remove(o2);
 }
 
+/* The rescaled differences of the defect test (bp__scaled_diff) are
+   products by powers of two where those are doubles; they must be the
+   bits of the ldexp form ldexp(ldexp(b, -e1) - ldexp(a, -e1), -e2) they
+   replace, on meshes of every magnitude, from subnormal coordinates to
+   2^1020, and of every extent relative to their position. */
+static void test_scaled_diff(void)
+{
+    double pos[12];
+    uint32_t tri[6] = { 0, 1, 2, 0, 2, 3 };
+    bp_mesh m;
+    bp_error err;
+    long bad = 0, meshes = 0, fast = 0;
+    int ex, spread, i, k, j;
+    uint64_t r = 0x9e3779b97f4a7c15ull;
+    memset(&m, 0, sizeof m);
+    m.positions = pos;
+    m.triangles = tri;
+    m.num_vertices = 4;
+    m.num_triangles = 2;
+    for (ex = -1074; ex <= 1020; ex += 7)
+        for (spread = 0; spread <= 60; spread += 20) {
+            bp__mesh_scale sc;
+            for (i = 0; i < 12; i++) {
+                r ^= r << 13; r ^= r >> 7; r ^= r << 17;
+                pos[i] = ldexp(1.0 + (double)(r >> 11) / 9007199254740992.0, ex) *
+                         (1.0 + ldexp((double)(r & 1023) - 512, -spread));
+                if (r & 2048) pos[i] = -pos[i];
+            }
+            if (bp__validate_global(&m, &sc, &err) != BP_OK) continue;
+            meshes++;
+            fast += sc.s1 != 0 && sc.s2 != 0;
+            for (i = 0; i < 4; i++)
+                for (j = 0; j < 4; j++) {
+                    double d[3];
+                    bp__scaled_diff(pos + 3 * i, pos + 3 * j, &sc, d);
+                    for (k = 0; k < 3; k++) {
+                        double want = ldexp(ldexp(pos[3 * j + k], -sc.e1) - ldexp(pos[3 * i + k], -sc.e1), -sc.e2);
+                        if (memcmp(&want, &d[k], sizeof want)) bad++;
+                    }
+                }
+        }
+    BPT_CHECK(bad == 0 && meshes > 1000 && fast > 0 && fast < meshes,
+              "rescaled differences on %ld meshes from 2^-1074 to 2^1020 (%ld by products): the bits of the ldexp form (%ld differ)",
+              meshes, fast, bad);
+}
+
 int main(void)
 {
     bp_mesh clean;
@@ -880,6 +926,7 @@ int main(void)
     test_obj_file();
     test_write_reoriented();
     test_degenerate_scaled();
+    test_scaled_diff();
     test_alloc_failures();
     return bpt_finish();
 }
