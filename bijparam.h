@@ -7112,6 +7112,19 @@ static int bp__super_cmp(const void *x, const void *y)
     return u < v ? -1 : u > v;
 }
 
+/* Sort distinct row numbers: insertion for the short lists most
+   supernodes have (16 rows on average on face), qsort beyond 64. */
+static void bp__super_sort(uint32_t *r, uint32_t n)
+{
+    uint32_t i, j;
+    if (n > 64) { qsort(r, n, sizeof(uint32_t), bp__super_cmp); return; }
+    for (i = 1; i < n; i++) {
+        uint32_t x = r[i];
+        for (j = i; j > 0 && r[j - 1] > x; j--) r[j] = r[j - 1];
+        r[j] = x;
+    }
+}
+
 /* The rows of every supernode: its own vertices, the entries of G in its
    columns below it, and the rows below it of its children (Liu's
    multifrontal pattern; the children end before it).  Returns 0 if a
@@ -7136,7 +7149,7 @@ static int bp__super_rows(const bp__sparse *G, bp__super *S, const uint32_t *par
                 if (u >= l && mark[u] != s) { mark[u] = s; if (w < S->rp[s + 1]) S->ri[w] = u; w++; }
             }
         if (w != S->rp[s + 1]) return 0;
-        qsort(S->ri + S->rp[s] + (l - f), w - S->rp[s] - (l - f), sizeof(uint32_t), bp__super_cmp);
+        bp__super_sort(S->ri + S->rp[s] + (l - f), w - S->rp[s] - (l - f));
         if (last != BP__NONE) { uint32_t t = S->snode[last]; next[s] = head[t]; head[t] = s; }
     }
     return 1;
