@@ -7106,22 +7106,24 @@ static uint32_t bp__super_partition(const uint32_t *parent, const uint32_t *cnt,
     return ns;
 }
 
-static int bp__super_cmp(const void *x, const void *y)
+static int bp__u32_cmp(const void *a, const void *b)
 {
-    uint32_t u = *(const uint32_t *)x, v = *(const uint32_t *)y;
-    return u < v ? -1 : u > v;
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
 }
 
-/* Sort distinct row numbers: insertion for the short lists most
-   supernodes have (16 rows on average on face), qsort beyond 64. */
-static void bp__super_sort(uint32_t *r, uint32_t n)
+/* Sort a few vertex numbers: by insertion for the short lists meshes give
+   (a vertex's neighbours, a dozen; a supernode's rows, 16 on average on
+   face), by qsort beyond 32 (a hole centre's neighbours, a separator's
+   rows). */
+static void bp__u32_sort(uint32_t *v, uint32_t n)
 {
-    uint32_t i, j;
-    if (n > 64) { qsort(r, n, sizeof(uint32_t), bp__super_cmp); return; }
-    for (i = 1; i < n; i++) {
-        uint32_t x = r[i];
-        for (j = i; j > 0 && r[j - 1] > x; j--) r[j] = r[j - 1];
-        r[j] = x;
+    uint32_t k, m;
+    if (n > 32) { qsort(v, n, sizeof(uint32_t), bp__u32_cmp); return; }
+    for (k = 1; k < n; k++) {
+        uint32_t x = v[k];
+        for (m = k; m > 0 && v[m - 1] > x; m--) v[m] = v[m - 1];
+        v[m] = x;
     }
 }
 
@@ -7149,7 +7151,7 @@ static int bp__super_rows(const bp__sparse *G, bp__super *S, const uint32_t *par
                 if (u >= l && mark[u] != s) { mark[u] = s; if (w < S->rp[s + 1]) S->ri[w] = u; w++; }
             }
         if (w != S->rp[s + 1]) return 0;
-        bp__super_sort(S->ri + S->rp[s] + (l - f), w - S->rp[s] - (l - f));
+        bp__u32_sort(S->ri + S->rp[s] + (l - f), w - S->rp[s] - (l - f));
         if (last != BP__NONE) { uint32_t t = S->snode[last]; next[s] = head[t]; head[t] = s; }
     }
     return 1;
@@ -9317,12 +9319,6 @@ static uint32_t bp__adj_find(const uint32_t *adjp, const uint32_t *adj, uint32_t
     return lo;
 }
 
-static int bp__u32_cmp(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : x > y;
-}
-
 /* The working state of one start map, in the order bp__chart_init's phases
    fill it. */
 typedef struct bp__tutte {
@@ -9407,19 +9403,6 @@ static void bp__tutte_run(bp__tutte_task *J, bp_task_fn fn)
     J->nc = bp__nchunks(T->N, BP__TUTTE_CHUNK);
     if (T->par.run) bp__par_run(&T->par, fn, J, J->nc, T->N);
     else bp__serial_for(NULL, fn, J, J->nc);
-}
-
-/* Sort a few vertex numbers (a neighbour list, a dozen on a mesh; a hole
-   centre's can be long, and goes to qsort). */
-static void bp__u32_sort(uint32_t *v, uint32_t n)
-{
-    uint32_t k, m;
-    if (n > 32) { qsort(v, n, sizeof(uint32_t), bp__u32_cmp); return; }
-    for (k = 1; k < n; k++) {
-        uint32_t x = v[k];
-        for (m = k; m > 0 && v[m - 1] > x; m--) v[m] = v[m - 1];
-        v[m] = x;
-    }
 }
 
 /* Phase 2, vertex chunk c: the neighbours of each vertex v (the two other

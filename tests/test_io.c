@@ -1004,6 +1004,25 @@ static uint64_t rng(void)
     return rng_state = x;
 }
 
+/* The asset with 1 to 4 random edits (as test_fuzz's): a character
+   replaced, deleted or inserted, or the text cut; returns its length. */
+static size_t mutated_asset(char *buf, size_t cap)
+{
+    size_t len = sizeof asset_obj - 1;
+    int edits = 1 + (int)(rng() % 4), e;
+    memcpy(buf, asset_obj, len);
+    for (e = 0; e < edits; e++) {
+        size_t pos = (size_t)(rng() % len);
+        switch (rng() % 4) {
+        case 0: buf[pos] = "0123456789-/ \n\r#fvt"[rng() % 19]; break;
+        case 1: memmove(buf + pos, buf + pos + 1, len - pos - 1); len--; break;
+        case 2: if (len + 1 < cap) { memmove(buf + pos + 1, buf + pos, len - pos); buf[pos] = "1-/ \n"[rng() % 5]; len++; } break;
+        default: len = pos > 0 ? pos : 1; break;
+        }
+    }
+    return len;
+}
+
 static const char fuzz_seed[] =
     "# seed\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
     "vn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/1 3/3 4/4\nf -4 -2 -1\nf 1 2 3 4\n"
@@ -1165,18 +1184,7 @@ static void test_read_chunked(void)
     total++;
     for (i = 0; i < FUZZ_ROUNDS / 4; i++, total++) {     /* mutations, as test_fuzz */
         char buf[1024];
-        size_t len = sizeof asset_obj - 1;
-        int edits = 1 + (int)(rng() % 4), e;
-        memcpy(buf, asset_obj, len);
-        for (e = 0; e < edits; e++) {
-            size_t pos = (size_t)(rng() % len);
-            switch (rng() % 4) {
-            case 0: buf[pos] = "0123456789-/ \n\r#fvt"[rng() % 19]; break;
-            case 1: memmove(buf + pos, buf + pos + 1, len - pos - 1); len--; break;
-            case 2: if (len + 1 < sizeof buf) { memmove(buf + pos + 1, buf + pos, len - pos); buf[pos] = "1-/ \n"[rng() % 5]; len++; } break;
-            default: len = pos > 0 ? pos : 1; break;
-            }
-        }
+        size_t len = mutated_asset(buf, sizeof buf);
         bad += !chunked_agrees(buf, len, &errors);
     }
     BPT_CHECK(bad == 0 && errors > 0 && errors < total && counter_balanced(),
@@ -1290,20 +1298,10 @@ static void test_write_from_fuzz(void)
     saved = atlas.allocator;
     atlas.allocator = a;              /* the writer's tables through the counter */
     for (i = 0; i < FUZZ_ROUNDS / 4; i++) {
-        size_t len = sizeof asset_obj - 1;
-        int edits = 1 + (int)(rng() % 4), e, same;
+        size_t len = mutated_asset(buf, sizeof buf);
+        int same;
         bp_mesh mm;
         bp_status st, pst;
-        memcpy(buf, asset_obj, len);
-        for (e = 0; e < edits; e++) {
-            size_t pos = (size_t)(rng() % len);
-            switch (rng() % 4) {
-            case 0: buf[pos] = "0123456789-/ \n\r#fvt"[rng() % 19]; break;
-            case 1: memmove(buf + pos, buf + pos + 1, len - pos - 1); len--; break;
-            case 2: if (len + 1 < sizeof buf) { memmove(buf + pos + 1, buf + pos, len - pos); buf[pos] = "1-/ \n"[rng() % 5]; len++; } break;
-            default: len = pos > 0 ? pos : 1; break;
-            }
-        }
         write_bytes(src, buf, len);
         pst = bp_parse_obj(buf, len, &mm, NULL, &err);
         same = pst == BP_OK && mm.num_triangles == m.num_triangles && mm.num_faces == m.num_faces &&

@@ -75,6 +75,19 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef BP_USE_PTHREADS
+/* A runner on a real pool of r threads (*P NULL if it could not start). */
+static bp__par real_pool(bp_allocator *al, int r, bp__pool **P)
+{
+    bp__par par = bp__par_serial();
+    *P = bp__pool_start(al, r);
+    par.run = bp__pool_for;
+    par.user = *P;
+    par.threads = r;
+    return par;
+}
+#endif
+
 /* A random SPD matrix in 2x2 blocks on a g x g grid of vertices: two
    triangles per cell (the diagonal chosen at random), each adding R R^T
    (R 6x6 random) on its vertices' coordinates; `pairs` random vertex
@@ -303,12 +316,9 @@ static void check_task_orders(const bp__sparse *A, const bp__factor *F, const ch
     {   /* on real threads (built with the pool: ThreadSanitizer's make tsan) */
         int r;
         for (r = 2; r <= 3; r++) {
-            bp__pool *P = bp__pool_start(&al, r);
-            bp__par par = bp__par_serial();
+            bp__pool *P;
+            bp__par par = real_pool(&al, r, &P);
             if (!BPT_CHECK(P != NULL, "%s: a pool of %d threads", what, r)) break;
-            par.run = bp__pool_for;
-            par.user = P;
-            par.threads = r;
             if (BPT_CHECK(bp__factorize(&al, A, &Fr, &bad, &par) == BP_OK && Fr.sn, "%s: factored on %d threads", what, r)) {
                 BPT_CHECK(memcmp(F->sn->x, Fr.sn->x, F->sn->xp[F->sn->ns] * sizeof(double)) == 0 &&
                           memcmp(F->D, Fr.D, A->n * sizeof(double)) == 0, "%s: on %d threads: the same bits", what, r);
@@ -652,12 +662,9 @@ static void check_order(const bp__sparse *M, const char *what)
         }
 #ifdef BP_USE_PTHREADS
         for (r = 2; r <= 3; r++) {      /* on real threads (built with the pool: ThreadSanitizer) */
-            bp__pool *P = bp__pool_start(&al, r);
-            bp__par par = bp__par_serial();
+            bp__pool *P;
+            bp__par par = real_pool(&al, r, &P);
             if (!BPT_CHECK(P != NULL, "%s: a pool of %d threads", what, r)) break;
-            par.run = bp__pool_for;
-            par.user = P;
-            par.threads = r;
             BPT_CHECK(bp__nd_order(&al, M, op, tp, mode, &par) && memcmp(o, op, n * sizeof(uint32_t)) == 0 &&
                       memcmp(t, tp, sizeof t) == 0, "%s, mode %d: on %d threads: the serial loop's order and tree", what,
                       mode, r);
