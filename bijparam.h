@@ -7356,7 +7356,7 @@ static void bp__super_update(const bp__super *S, uint32_t K, uint32_t o, uint32_
      the rows below the triangle, i >= q1, in columns [q0, q1): each row
        independent of the others, so big supernodes (the top separators,
        where a phase has fewer tasks than threads) cut them into ranges
-       for several threads (bp__super_dense_wide).
+       for several threads (the WIDE pass below).
    Rows go four at a time where they can (four independent sums, so the
    loads of row j serve four rows and the additions do not wait on each
    other; one row at a time gives the same bits).  D[] gets the pivots
@@ -7450,14 +7450,42 @@ static void bp__super_panel_tri(double *B, uint32_t c2, uint32_t q0, uint32_t q1
     }
 }
 
-static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv)
+/* The panels in turn; with a runner (par not NULL) and a block of at
+   least BP__DENSE_WIDE multiply-adds, each panel's rows below its
+   triangle go to 2 x threads tasks of whole groups of four rows (the
+   WIDE pass), else on the calling thread. */
+#define BP__SUPER_PIECES 64u              /* pieces per parallel loop, at most */
+#define BP__DENSE_WIDE 2000000.0          /* multiply-adds of a block worth cutting */
+typedef struct bp__dense_task {
+    double *B;
+    const double *inv;
+    uint32_t c2, q0, q1;
+    uint32_t cut[BP__SUPER_PIECES + 1];
+} bp__dense_task;
+
+static void bp__dense_run(void *task, uint32_t t)
+{
+    bp__dense_task *T = (bp__dense_task *)task;
+    bp__super_panel_rows(T->B, T->c2, T->cut[t], T->cut[t + 1], T->q0, T->q1, T->inv);
+}
+
+static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv, const bp__par *par)
 {
     const bp__super *S = F->sn;
-    uint32_t f = S->first[s], c2 = S->bs * (S->first[s + 1] - f), m2 = S->bs * (S->rp[s + 1] - S->rp[s]), q0, q1;
-    for (q0 = 0; q0 < c2; q0 = q1) {
-        q1 = q0 + BP__DENSE_PANEL < c2 ? q0 + BP__DENSE_PANEL : c2;
-        bp__super_panel_tri(B, c2, q0, q1, F->D + (size_t)S->bs * f, inv);
-        bp__super_panel_rows(B, c2, q1, m2, q0, q1, inv);
+    uint32_t f = S->first[s], c2 = S->bs * (S->first[s + 1] - f), m2 = S->bs * (S->rp[s + 1] - S->rp[s]), parts = 1, r;
+    bp__dense_task T;
+    if (par && (double)m2 * c2 * c2 / 2 >= BP__DENSE_WIDE) parts = 2 * (uint32_t)par->threads;
+    if (parts > BP__SUPER_PIECES) parts = BP__SUPER_PIECES;
+    T.B = B; T.inv = inv; T.c2 = c2;
+    for (T.q0 = 0; T.q0 < c2; T.q0 = T.q1) {
+        uint32_t rows;
+        T.q1 = T.q0 + BP__DENSE_PANEL < c2 ? T.q0 + BP__DENSE_PANEL : c2;
+        bp__super_panel_tri(B, c2, T.q0, T.q1, F->D + (size_t)S->bs * f, inv);
+        rows = m2 - T.q1;
+        if (parts == 1 || rows < 8 * parts) { bp__super_panel_rows(B, c2, T.q1, m2, T.q0, T.q1, inv); continue; }
+        for (r = 0; r < parts; r++) T.cut[r] = T.q1 + 4 * (uint32_t)(((uint64_t)rows / 4 * r) / parts);
+        T.cut[parts] = m2;
+        par->run(par->user, bp__dense_run, &T, parts);
     }
 }
 
@@ -7509,7 +7537,7 @@ static void bp__super_finish(bp__factor *F, uint32_t s, uint32_t q0, uint32_t *m
     double *B = S->x + S->xp[s];
     for (i = 0; i < m; i++) map[rows[i]] = i;
     for (q = q0; q < S->up[s + 1]; q++) bp__super_update(S, S->uk[q], S->uo[q], s, B, map, pos, f, l);
-    bp__super_dense(F, s, B, inv);
+    bp__super_dense(F, s, B, inv, NULL);
 }
 
 /* The numeric factorization in the phases of the dissection tree (as
@@ -7527,7 +7555,6 @@ static void bp__super_finish(bp__factor *F, uint32_t s, uint32_t q0, uint32_t *m
    earlier phases or earlier in its own task, and every entry sums its
    terms in increasing K either way, so every value is the same on any
    schedule and any cut into pieces. */
-#define BP__SUPER_PIECES 64u              /* pieces per parallel loop, at most */
 typedef struct bp__super_piece { uint32_t s, v0, v1, k0; } bp__super_piece;
 typedef struct bp__super_task {
     const bp__sparse *A;
@@ -7613,44 +7640,10 @@ static void bp__super_outside(bp__super_task *T, const bp__par *par, uint32_t cn
    the factor.  So each separator in turn gets every thread: for each of
    its supernodes, the updates from within the separator in OUTSIDE-like
    pieces (mode 3: column ranges; each entry still takes its terms in
-   increasing K), then the dense factorization, its panels' rows cut into
-   ranges (bp__super_dense_wide) when the block is big, else on the
-   calling thread with task 0's workspace.  The same entries get the same
+   increasing K), then the dense factorization with the runner (its
+   panels' rows cut into ranges when the block is big; task 0's
+   workspace on the calling thread).  The same entries get the same
    sums as in the one-task INSIDE pass: the same bits. */
-#define BP__DENSE_WIDE 2000000.0          /* multiply-adds of a block worth cutting */
-typedef struct bp__dense_task {
-    double *B;
-    const double *inv;
-    uint32_t c2, q0, q1;
-    uint32_t cut[BP__SUPER_PIECES + 1];
-} bp__dense_task;
-
-static void bp__dense_run(void *task, uint32_t t)
-{
-    bp__dense_task *T = (bp__dense_task *)task;
-    bp__super_panel_rows(T->B, T->c2, T->cut[t], T->cut[t + 1], T->q0, T->q1, T->inv);
-}
-
-static void bp__super_dense_wide(bp__factor *F, uint32_t s, double *B, double *inv, const bp__par *par)
-{
-    const bp__super *S = F->sn;
-    uint32_t f = S->first[s], c2 = S->bs * (S->first[s + 1] - f), m2 = S->bs * (S->rp[s + 1] - S->rp[s]), parts, r;
-    bp__dense_task T;
-    parts = 2 * (uint32_t)par->threads;
-    if (parts > BP__SUPER_PIECES) parts = BP__SUPER_PIECES;
-    T.B = B; T.inv = inv; T.c2 = c2;
-    for (T.q0 = 0; T.q0 < c2; T.q0 = T.q1) {
-        uint32_t rows;
-        T.q1 = T.q0 + BP__DENSE_PANEL < c2 ? T.q0 + BP__DENSE_PANEL : c2;
-        bp__super_panel_tri(B, c2, T.q0, T.q1, F->D + (size_t)S->bs * f, inv);
-        rows = m2 - T.q1;
-        if (rows < 8 * parts) { bp__super_panel_rows(B, c2, T.q1, m2, T.q0, T.q1, inv); continue; }
-        for (r = 0; r <= parts; r++) T.cut[r] = T.q1 + 4 * (uint32_t)(((uint64_t)rows / 4 * r) / parts);
-        T.cut[parts] = m2;
-        par->run(par->user, bp__dense_run, &T, parts);
-    }
-}
-
 static void bp__super_wide(bp__super_task *T, const bp__par *par, uint32_t cnt)
 {
     bp__factor *F = T->F;
@@ -7660,15 +7653,13 @@ static void bp__super_wide(bp__super_task *T, const bp__par *par, uint32_t cnt)
         const bp__ndnode *N = &F->tree[T->nodes[k]];
         if (N->b >= N->hi) continue;
         for (s = S->snode[N->b]; s <= S->snode[N->hi - 1]; s++) {
-            uint32_t c2 = S->bs * (S->first[s + 1] - S->first[s]), m2 = S->bs * (S->rp[s + 1] - S->rp[s]);
             double *B = S->x + S->xp[s];
             for (q = S->up[s]; q < S->up[s + 1] && S->uk[q] < S->snode[N->b]; q++) {}
             if (q < S->up[s + 1]) {
                 T->mode = 3;
                 if ((n = bp__super_cut(T, par, s, S->snode[N->b], 0)) != 0) par->run(par->user, bp__super_run, T, n);
             }
-            if ((double)m2 * c2 * c2 / 2 >= BP__DENSE_WIDE) bp__super_dense_wide(F, s, B, T->inv, par);
-            else bp__super_dense(F, s, B, T->inv);
+            bp__super_dense(F, s, B, T->inv, par);
         }
     }
 }
