@@ -7635,9 +7635,10 @@ static void bp__super_outside(bp__super_task *T, const bp__par *par, uint32_t cn
 }
 
 /* WIDE: a phase with fewer separators than threads (the top of the
-   tree: one separator on two threads) would leave threads idle in the
-   INSIDE pass, and the top separator's dense block is the biggest of
-   the factor.  So each separator in turn gets every thread: for each of
+   tree: one separator on two threads), or with one separator much
+   bigger than the others (bp__super_unbalanced below), would leave
+   threads idle in the INSIDE pass, and the top separators' dense blocks
+   are the biggest of the factor.  So each separator in turn gets every thread: for each of
    its supernodes, the updates from within the separator in OUTSIDE-like
    pieces (mode 3: column ranges; each entry still takes its terms in
    increasing K), then the dense factorization with the runner (its
@@ -7664,6 +7665,37 @@ static void bp__super_wide(bp__super_task *T, const bp__par *par, uint32_t cnt)
     }
 }
 
+/* Whether a phase's INSIDE pass should go WIDE (above) although it has
+   as many separators as threads or more: one task per separator takes as
+   long as the biggest, so when one separator holds most of the phase's
+   dense work (bimba's third phase: separators of 189 and 94 vertices, the
+   first with 85% of the work) the other threads wait.  A separator of C
+   columns whose first supernode has R rows costs about C^2 R / 2
+   multiply-adds; WIDE (every thread on each separator in turn, with the
+   cost of cutting) wins when the biggest share times the threads exceeds
+   BP__WIDE_SHARE.  Which pass runs never changes a bit (above). */
+#define BP__WIDE_SHARE 1.2
+
+static int bp__super_unbalanced(const bp__factor *F, const uint32_t *nodes, uint32_t cnt, int threads)
+{
+    const bp__super *S = F->sn;
+    double tot = 0, big = 0;
+    uint32_t k;
+    if (threads < 2) return 0;
+    if (cnt < (uint32_t)threads) return 1;
+    for (k = 0; k < cnt; k++) {
+        const bp__ndnode *N = &F->tree[nodes[k]];
+        double c, r, w;
+        if (N->b >= N->hi) continue;
+        c = (double)S->bs * (N->hi - N->b);
+        r = (double)S->bs * (S->rp[S->snode[N->b] + 1] - S->rp[S->snode[N->b]]);
+        w = c * c * r / 2;
+        tot += w;
+        if (w > big) big = w;
+    }
+    return tot > 0 && big * threads > BP__WIDE_SHARE * tot;
+}
+
 static int bp__super_numeric(const bp_allocator *a, const bp__sparse *A, bp__factor *F, const bp__par *par)
 {
     bp__super *S = F->sn;
@@ -7682,7 +7714,7 @@ static int bp__super_numeric(const bp_allocator *a, const bp__sparse *A, bp__fac
         uint32_t c = bp__nd_phase(F, phase, T.nodes);
         if (!c) continue;
         if (phase > 0) bp__super_outside(&T, par, c);
-        if (phase > 0 && par->threads > 1 && c < (uint32_t)par->threads) { bp__super_wide(&T, par, c); continue; }
+        if (phase > 0 && bp__super_unbalanced(F, T.nodes, c, par->threads)) { bp__super_wide(&T, par, c); continue; }
         T.mode = phase > 0 ? 2 : 0;
         par->run(par->user, bp__super_run, &T, c);
     }
@@ -12370,6 +12402,7 @@ typedef struct bp__newton {
                                      reused factor, CG steps, reuse attempts
                                      (counts for tests and measurements)     */
     double    *w;                 /* CG: F^-1 r                              */
+    double    *part;              /* CG: the chunks' partial dots (bp__vec_pass) */
     int        oom;
     bp__solver *S;                /* for the chunk tasks                    */
     const double *x;
@@ -12384,7 +12417,8 @@ static void bp__newton_free(const bp_allocator *a, bp__newton *N)
     bp__factor_free(a, &N->F);
     bp__free(a, N->tpos); bp__free(a, N->dpos); bp__free(a, N->ht); bp__free(a, N->bd);
     bp__free(a, N->rhs); bp__free(a, N->z);
-    bp__free(a, N->r); bp__free(a, N->p); bp__free(a, N->q); bp__free(a, N->w); bp__free(a, N->pairs.data);
+    bp__free(a, N->r); bp__free(a, N->p); bp__free(a, N->q); bp__free(a, N->w); bp__free(a, N->part);
+    bp__free(a, N->pairs.data);
     bp__free(a, N->extra.data); bp__free(a, N->near.data);
     memset(N, 0, sizeof *N);
 }
@@ -12489,7 +12523,8 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
     N->p = (double *)bp__alloc_array(a, n, sizeof(double));
     N->q = (double *)bp__alloc_array(a, n, sizeof(double));
     N->w = (double *)bp__alloc_array(a, n, sizeof(double));
-    if (!N->tpos || !N->dpos || !N->ht || !N->bd || !N->rhs || !N->z || !N->r || !N->p || !N->q || !N->w ||
+    N->part = (double *)bp__alloc_array(a, (size_t)bp__vec_nchunks(n) + 1, sizeof(double));
+    if (!N->tpos || !N->dpos || !N->ht || !N->bd || !N->rhs || !N->z || !N->r || !N->p || !N->q || !N->w || !N->part ||
         bp__newton_pattern(N, a, S) != BP_OK) {
         bp__newton_free(a, N);
         return BP_ERR_OUT_OF_MEMORY;
@@ -12852,15 +12887,31 @@ static void bp__newton_pcg(bp__newton *N, uint32_t nv, const double *b, double *
 #define BP__NEWTON_REUSE_DF 0.1       /* ... and at most this share of f */
 #endif
 
-/* y = H x, H's values as assembled (its pattern holds both triangles). */
-static void bp__newton_mul(const bp__sparse *H, const double *x, double *y)
+/* y = H x, H's values as assembled (its pattern holds both triangles, so
+   row j of H is column j: y_j gathers column j, p increasing), in the
+   chunks of bp__vec_pass on the solver's threads: each y_j is one task's
+   sum in a fixed order, the same bits on any number of threads. */
+typedef struct bp__hmul_task { const bp__sparse *H; const double *x; double *y; uint32_t nc; } bp__hmul_task;
+
+static void bp__hmul_run(void *task, uint32_t k)
 {
-    uint32_t j, p;
-    for (j = 0; j < H->n; j++) y[j] = 0;
-    for (j = 0; j < H->n; j++) {
-        double xj = x[j];
-        for (p = H->colp[j]; p < H->colp[j + 1]; p++) y[H->row[p]] += H->val[p] * xj;
+    const bp__hmul_task *T = (const bp__hmul_task *)task;
+    const bp__sparse *H = T->H;
+    uint32_t j, p, j1 = bp__vec_chunk_at(H->n, T->nc, k + 1);
+    for (j = bp__vec_chunk_at(H->n, T->nc, k); j < j1; j++) {
+        double s = 0;
+        for (p = H->colp[j]; p < H->colp[j + 1]; p++) s += H->val[p] * T->x[H->row[p]];
+        T->y[j] = s;
     }
+}
+
+static void bp__newton_mul(const bp__sparse *H, const double *x, double *y, const bp__par *par)
+{
+    bp__hmul_task T;
+    bp__par serial = bp__par_serial();
+    T.H = H; T.x = x; T.y = y; T.nc = bp__vec_nchunks(H->n);
+    if (!par) par = &serial;
+    par->run(par->user, bp__hmul_run, &T, T.nc);
 }
 
 /* CG on H v = b from v = 0, preconditioned by the (older) factor F.
@@ -12868,35 +12919,45 @@ static void bp__newton_mul(const bp__sparse *H, const double *x, double *y)
    as CG goes; it stops when the last step's share of the whole decrease,
    times k, is at most BP__NEWTON_REUSE_Q (Nash & Sofer's truncation test
    for truncated Newton, 1990): returns 1 then, 0 when that takes more
-   than BP__NEWTON_REUSE_CG steps. */
+   than BP__NEWTON_REUSE_CG steps.  The vector work goes through
+   bp__vec_pass (chunks, dots added in chunk order) and the products
+   through bp__newton_mul, both on the solver's threads: the same bits on
+   any number of them (the solves already were). */
 static int bp__newton_reuse_solve(bp__newton *N, const double *b, double *v)
 {
-    uint32_t n = N->H.n, i;
-    double rz = 0, pq, alpha, rzn, beta, m = 0, dm;
+    uint32_t n = N->H.n;
+    double rz = 0, pq, alpha, rzn, beta, m = 0, dm, one = 1, c;
     int k;
     double *r = N->r, *p = N->p, *q = N->q, *w = N->w;
+    const double *wv;
+    bp__par serial = bp__par_serial();
+    const bp__par *par = N->par ? N->par : &serial;
     N->ntry++;
-    for (i = 0; i < n; i++) { v[i] = 0; r[i] = b[i]; }
+    memset(v, 0, n * sizeof(double));
+    memcpy(r, b, n * sizeof(double));
     bp__factor_solve_par(&N->F, r, w, N->z, N->par);
-    for (i = 0; i < n; i++) { p[i] = w[i]; rz += r[i] * w[i]; }
+    bp__vec_pass(par, N->part, n, p, 1, w, 0, NULL, NULL, 1, (const double *const *)&r, (const double *const *)&w, &rz);
     if (!(rz > 0 && rz < HUGE_VAL)) return 0;
     for (k = 1; k <= BP__NEWTON_REUSE_CG; k++) {
         N->ncg++;
-        bp__newton_mul(&N->H, p, q);
-        pq = 0;
-        for (i = 0; i < n; i++) pq += p[i] * q[i];
+        bp__newton_mul(&N->H, p, q, par);
+        bp__vec_pass(par, N->part, n, NULL, 0, NULL, 0, NULL, NULL, 1, (const double *const *)&p,
+                     (const double *const *)&q, &pq);
         if (!(pq > 0 && pq < HUGE_VAL)) return 0;
         alpha = rz / pq;
-        for (i = 0; i < n; i++) { v[i] += alpha * p[i]; r[i] -= alpha * q[i]; }
+        bp__vec_axpy(par, N->part, n, v, v, alpha, p, NULL, NULL, NULL);          /* v += alpha p */
+        bp__vec_axpy(par, N->part, n, r, r, -alpha, q, NULL, NULL, NULL);         /* r -= alpha q */
         dm = 0.5 * alpha * rz;                 /* m(v_k) = m(v_k-1) - dm */
         m -= dm;
         if (k > 1 && k * dm <= BP__NEWTON_REUSE_Q * -m) return 1;
         bp__factor_solve_par(&N->F, r, w, N->z, N->par);
-        rzn = 0;
-        for (i = 0; i < n; i++) rzn += r[i] * w[i];
+        bp__vec_pass(par, N->part, n, NULL, 0, NULL, 0, NULL, NULL, 1, (const double *const *)&r,
+                     (const double *const *)&w, &rzn);
         if (!(rzn > 0)) return 1;              /* exact */
         beta = rzn / rz;
-        for (i = 0; i < n; i++) p[i] = w[i] + beta * p[i];
+        wv = w;
+        c = one;
+        bp__vec_pass(par, N->part, n, p, beta, p, 1, &wv, &c, 0, NULL, NULL, NULL);   /* p = w + beta p */
         rz = rzn;
     }
     return 0;

@@ -53,7 +53,10 @@
          reuse (the last step was the full step and decreased f by 1/2 to 2
          times the model's prediction and by at most a tenth) CG converges
          within 10% of that minimum.  The plain gradient direction scaled to its best length
-         is shown far worse, so the bound can fail;
+         is shown far worse, so the bound can fail.  At every 7th map the
+         same CG on a two-thread runner with its tasks run backwards (the
+         products, the vector passes and the solves in chunks) gives the
+         same bits;
      (i) the model's wider barrier after a boundary clip: the assembled
          matrix with it minus the one without equals, along random w, the
          brute-force sum of the wider barrier's Gauss-Newton terms (second
@@ -538,6 +541,20 @@ static void test_reuse(void)
                 for (i = 0; i < nv2; i++) rhs[i] = -g[i];
                 ok = bp__newton_reuse_solve(&N, rhs, v);
                 tries++;
+                if (k % 7 == 1) {      /* the same CG on a two-thread runner, tasks backwards */
+                    double *v2 = (double *)malloc(nv2 * sizeof(double));
+                    bp__par back = S.par;
+                    int ok2;
+                    back.run = bpt_backwards_for;
+                    back.user = NULL;
+                    back.threads = 2;
+                    N.par = &back;
+                    ok2 = bp__newton_reuse_solve(&N, rhs, v2);
+                    N.par = NULL;
+                    BPT_CHECK(ok2 == ok && memcmp(v, v2, nv2 * sizeof(double)) == 0,
+                              "camel_b map %d: the reused factor's CG on two threads, tasks backwards: the same bits", k);
+                    free(v2);
+                }
                 if (bp__newton_init(&N2, &a, &S) == BP_OK) {  /* the exact step at x: a fresh factorization */
                     bp__newton_direction(&N2, &S, x, g, vs, &gv);
                     gv = 0;

@@ -291,14 +291,22 @@ static void check_big_supernodes(const bp__factor *F, const char *what)
 
 /* (b) the same bits on other task orders: a new analysis of A with the
    numeric phase run backwards, then refactored odd-even, against F; the
-   runners say two threads, so a phase of one separator goes WIDE. */
+   runners say two threads, so a phase of one separator goes WIDE, and so
+   does a phase of two or more whose biggest separator holds most of the
+   work (bp__super_unbalanced; counted in wide_unbalanced, which
+   test_random requires to be reached). */
+static uint32_t wide_unbalanced;
+
 static void check_task_orders(const bp__sparse *A, const bp__factor *F, const char *what)
 {
     bp_allocator al;
     bp__factor Fr;
-    uint32_t bad;
+    uint32_t bad, nodes[BP__ND_NODES], c;
+    int phase;
     bp__par rev = bp__par_serial(), oe = bp__par_serial();
     memset(&al, 0, sizeof al);
+    for (phase = 1; phase <= BP__ND_DEPTH; phase++)
+        if ((c = bp__nd_phase(F, phase, nodes)) >= 2 && bp__super_unbalanced(F, nodes, c, 2)) wide_unbalanced++;
     rev.run = bpt_backwards_for;
     oe.run = bpt_odd_even_for;
     rev.threads = oe.threads = 2;
@@ -428,6 +436,8 @@ static void test_random(void)
         bp__sparse_free(&al, &A);
         free(b); free(x); free(xs); free(z);
     }
+    BPT_CHECK(wide_unbalanced > 0, "grids: %u phases of two or more separators went WIDE (one holds most of the work), "
+              "their bits checked above", wide_unbalanced);
 }
 
 /* (e) A random scalar SPD matrix (A->super1) on the same grids: each
