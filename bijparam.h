@@ -12411,65 +12411,164 @@ static uint32_t bp__sparse_has(const bp__sparse *A, uint32_t i, uint32_t j)
    of the triangles' edges, every vertex's diagonal block and the vertex
    couplings in `extra` (barrier pairs met so far); and where each
    triangle's 3x3 blocks and each vertex's diagonal entries lie in it.
-   G is built first (6 triplets per triangle instead of H's 36), then
-   expanded: columns 2v and 2v+1 of H both hold the rows 2w, 2w+1 of every
-   w in G's column v, so block (w, v) of H starts at
+   Columns 2v and 2v+1 of H both hold the rows 2w, 2w+1 of every w in G's
+   column v, so block (w, v) of H starts at
        colp[2v] + 2 (position of w in G's column v)
    and its entry (2w + a, 2v + b) lies a + b (colp[2v+1] - colp[2v]) after
-   that: tpos keeps one position per block (9 per triangle).  The old
-   pattern and its factor are freed first, so that a rebuild (the barrier
-   growing the pattern) never holds two of them. */
+   that: tpos keeps one position per block (9 per triangle).
+
+   G is built column by column, without a global sort (issue 15: the
+   triplets and their sort were 30 ms of serial time per call on bimba,
+   three calls per chart).  Column v of G is v itself, the two other
+   corners of every triangle around v (the solver's corner lists vc_start,
+   vc_list) and the other ends of v's extra pairs: at most
+   2 (corners of v) + 1 + (extra pairs of v) rows, so column v gets the
+   slots from
+       gp(v) = 2 vc_start[v] + v + xp[v]
+   on (xp: the extra pairs per vertex, counted before).  Each column is
+   listed there, sorted (bp__u32_sort) and its repeats dropped: the same
+   sorted distinct rows the triplets gave.  Two parallel passes over the
+   vertex chunks, with a prefix sum of the column lengths between them:
+     (1) list, sort and count each column (bp__pattern_cols);
+     (2) write H's two columns of each vertex, its diagonal positions dpos
+         and the positions tpos of the blocks in its column -- the corners
+         of v give every block (r, c) of a triangle with c = v's corner
+         exactly once, so the chunks write disjoint entries of tpos
+         (bp__pattern_place).
+   The old pattern and its factor are freed first, so that a rebuild (the
+   barrier growing the pattern) never holds two of them. */
+typedef struct bp__pattern_task {
+    bp__newton *N;
+    const bp__solver *S;
+    const uint32_t *xp, *xl;     /* extra pairs' other ends by vertex (CSR),
+                                    NULL when there are none             */
+    uint32_t *gr, *glen;         /* G's columns: v's rows at gr + gp(v)   */
+} bp__pattern_task;
+
+static size_t bp__pattern_at(const bp__pattern_task *T, uint32_t v)
+{
+    return 2 * (size_t)T->S->vc_start[v] + v + (T->xp ? T->xp[v] : 0);
+}
+
+/* Pass (1) for the vertices of chunk c. */
+static void bp__pattern_cols(void *task, uint32_t c)
+{
+    bp__pattern_task *T = (bp__pattern_task *)task;
+    const bp__solver *S = T->S;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p, m, k;
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
+        uint32_t *col = T->gr + bp__pattern_at(T, v);
+        m = 0;
+        col[m++] = v;
+        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
+            uint32_t t = S->vc_list[p] / 3, cc = S->vc_list[p] % 3;
+            col[m++] = S->tri[3 * (size_t)t + (cc + 1) % 3];
+            col[m++] = S->tri[3 * (size_t)t + (cc + 2) % 3];
+        }
+        if (T->xp)
+            for (p = T->xp[v]; p < T->xp[v + 1]; p++) col[m++] = T->xl[p];
+        bp__u32_sort(col, m);
+        for (k = 1, p = 1; p < m; p++)
+            if (col[p] != col[k - 1]) col[k++] = col[p];
+        T->glen[v] = k;
+    }
+}
+
+/* The position of row r in a sorted column of m rows that holds it: the
+   count of rows below r, without branches for a short column (a binary
+   search's branches were mispredicted at every step, half of pass (2)). */
+static uint32_t bp__pattern_pos(const uint32_t *col, uint32_t m, uint32_t r)
+{
+    uint32_t q, pos = 0;
+    if (m > 64) return bp__lower_bound(col, 0, m, r);
+    for (q = 0; q < m; q++) pos += col[q] < r;
+    return pos;
+}
+
+/* Pass (2) for the vertices of chunk c (H.colp is known); H's values in
+   v's columns are zeroed here too, by the thread that will gather them. */
+static void bp__pattern_place(void *task, uint32_t c)
+{
+    bp__pattern_task *T = (bp__pattern_task *)task;
+    const bp__solver *S = T->S;
+    bp__newton *N = T->N;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p, k, w;
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
+        const uint32_t *col = T->gr + bp__pattern_at(T, v);
+        uint32_t m = T->glen[v], c0 = N->H.colp[2 * v], len = 2 * m;
+        for (k = 0, w = c0; k < 2; k++)
+            for (p = 0; p < m; p++) { N->H.row[w++] = 2 * col[p]; N->H.row[w++] = 2 * col[p] + 1; }
+        memset(N->H.val + c0, 0, 4 * (size_t)m * sizeof(double));
+        w = c0 + 2 * bp__pattern_pos(col, m, v);
+        for (k = 0; k < 4; k++) N->dpos[4 * (size_t)v + k] = w + k % 2 + (k / 2) * len;
+        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
+            uint32_t t = S->vc_list[p] / 3, cc = S->vc_list[p] % 3;
+            for (k = 0; k < 3; k++)         /* block (k, cc) of triangle t */
+                N->tpos[9 * (size_t)t + 3 * k + cc] = c0 + 2 * bp__pattern_pos(col, m, S->tri[3 * (size_t)t + k]);
+        }
+    }
+}
+
+/* The extra pairs by vertex: xp[v] .. xp[v+1] index v's other ends in xl
+   (each pair (u, w) lists w under u and u under w).  Returns 0 out of
+   memory. */
+static int bp__pattern_extra(const bp_allocator *a, const bp__newton *N, uint32_t nv, uint32_t **xp_out, uint32_t **xl_out)
+{
+    const uint32_t *ex = (const uint32_t *)N->extra.data;
+    size_t e, ne = N->extra.count;
+    uint32_t v, *xp, *xl;
+    *xp_out = xp = (uint32_t *)bp__calloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    *xl_out = xl = (uint32_t *)bp__alloc_array(a, 2 * ne, sizeof(uint32_t));
+    if (!xp || !xl) return 0;
+    for (e = 0; e < 2 * ne; e++) xp[ex[e] + 1]++;
+    for (v = 0; v < nv; v++) xp[v + 1] += xp[v];
+    for (e = 0; e < 2 * ne; e++) xl[xp[ex[e]]++] = ex[e ^ 1];
+    for (v = nv; v > 0; v--) xp[v] = xp[v - 1];
+    xp[0] = 0;
+    return 1;
+}
+
 static bp_status bp__newton_pattern(bp__newton *N, const bp_allocator *a, bp__solver *S)
 {
-    uint32_t nv = S->nv, n = 2 * nv, t, v, k, l, p, w = 0;
-    const uint32_t *ex = (const uint32_t *)N->extra.data;
-    size_t nt = 0, e;
-    bp__sparse G;
-    bp__trip *tr;
+    uint32_t nv = S->nv, n = 2 * nv, v, *xp = NULL, *xl = NULL;
+    size_t nslot = 6 * (size_t)S->nt + nv + 2 * N->extra.count, w = 0;
+    bp__pattern_task T;
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
     bp__sparse_free(a, &N->H);
     bp__factor_free(a, &N->F);
     N->factored = 0;
     N->fvalid = 0;
-    memset(&G, 0, sizeof G);
-    tr = (bp__trip *)bp__alloc_array(a, 6 * (size_t)S->nt + nv + 2 * N->extra.count, sizeof(bp__trip));
-    if (!tr) return BP_ERR_OUT_OF_MEMORY;
-    for (t = 0; t < S->nt; t++)
-        for (k = 0; k < 3; k++)
-            for (l = 0; l < 3; l++)
-                if (k != l) { tr[nt].i = S->tri[3 * (size_t)t + k]; tr[nt].j = S->tri[3 * (size_t)t + l]; tr[nt++].v = 0; }
-    for (v = 0; v < nv; v++) { tr[nt].i = tr[nt].j = v; tr[nt++].v = 0; }
-    for (e = 0; e < N->extra.count; e++) {
-        tr[nt].i = ex[2 * e]; tr[nt].j = ex[2 * e + 1]; tr[nt++].v = 0;
-        tr[nt].i = ex[2 * e + 1]; tr[nt].j = ex[2 * e]; tr[nt++].v = 0;
-    }
-    G.symmetric = 1;
-    if (!bp__sparse_from_triplets(a, nv, tr, nt, &G)) { bp__free(a, tr); bp__sparse_free(a, &G); return BP_ERR_OUT_OF_MEMORY; }
-    bp__free(a, tr);
+    memset(&T, 0, sizeof T);
+    T.N = N;
+    T.S = S;
+    T.gr = (uint32_t *)bp__alloc_array(a, nslot ? nslot : 1, sizeof(uint32_t));
+    T.glen = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    if (!T.gr || !T.glen || nslot > 0xfffffff0u) goto done;
+    if (N->extra.count && !bp__pattern_extra(a, N, nv, &xp, &xl)) goto done;
+    T.xp = xp;
+    T.xl = xl;
+    S->par.run(S->par.user, bp__pattern_cols, &T, S->nchunk_v);
     N->H.n = n;
     N->H.symmetric = 1;
     N->H.blocks2 = 1;
     N->H.colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    N->H.row = (uint32_t *)bp__alloc_array(a, 4 * (size_t)G.colp[nv] + 1, sizeof(uint32_t));
-    N->H.val = (double *)bp__calloc_array(a, 4 * (size_t)G.colp[nv] + 1, sizeof(double));
-    if (!N->H.colp || !N->H.row || !N->H.val || G.colp[nv] > 0x3ffffffcu) { bp__sparse_free(a, &G); return BP_ERR_OUT_OF_MEMORY; }
-    for (v = 0; v < nv; v++)
-        for (k = 0; k < 2; k++) {
-            N->H.colp[2 * v + k] = w;
-            for (p = G.colp[v]; p < G.colp[v + 1]; p++) { N->H.row[w++] = 2 * G.row[p]; N->H.row[w++] = 2 * G.row[p] + 1; }
-        }
-    N->H.colp[n] = w;
-    for (t = 0; t < S->nt; t++)
-        for (k = 0; k < 3; k++)
-            for (l = 0; l < 3; l++) {
-                uint32_t r = S->tri[3 * (size_t)t + k], c = S->tri[3 * (size_t)t + l];
-                N->tpos[9 * (size_t)t + 3 * k + l] = N->H.colp[2 * c] + 2 * (bp__sparse_find(&G, r, c) - G.colp[c]);
-            }
-    for (v = 0; v < nv; v++) {
-        uint32_t base = N->H.colp[2 * v] + 2 * (bp__sparse_find(&G, v, v) - G.colp[v]), len = N->H.colp[2 * v + 1] - N->H.colp[2 * v];
-        for (k = 0; k < 4; k++) N->dpos[4 * (size_t)v + k] = base + k % 2 + (k / 2) * len;
+    if (!N->H.colp) goto done;
+    for (v = 0; v < nv; v++) {          /* 4 entries per block, G's block (w, v) */
+        N->H.colp[2 * v] = (uint32_t)w;
+        N->H.colp[2 * v + 1] = (uint32_t)(w + 2 * (size_t)T.glen[v]);
+        w += 4 * (size_t)T.glen[v];
     }
-    bp__sparse_free(a, &G);
-    return BP_OK;
+    if (w > 0xfffffff0u) goto done;
+    N->H.colp[n] = (uint32_t)w;
+    N->H.row = (uint32_t *)bp__alloc_array(a, w + 1, sizeof(uint32_t));
+    N->H.val = (double *)bp__alloc_array(a, w + 1, sizeof(double));
+    if (!N->H.row || !N->H.val) goto done;
+    N->H.val[w] = 0;
+    S->par.run(S->par.user, bp__pattern_place, &T, S->nchunk_v);
+    st = BP_OK;
+done:
+    bp__free(a, T.gr); bp__free(a, T.glen); bp__free(a, xp); bp__free(a, xl);
+    return st;
 }
 
 static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solver *S)
