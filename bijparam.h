@@ -6868,26 +6868,31 @@ static int bp__fact_transpose(const bp_allocator *a, const bp__sparse *A, uint32
     return 1;
 }
 
+/* Liu's step for row k: each neighbour j < k climbs its ancestor links,
+   compressing them to k, until a root, whose parent becomes k. */
+static void bp__etree_row(const bp__sparse *A, const bp__factor *F, uint32_t *parent, uint32_t *anc, uint32_t k)
+{
+    uint32_t old = F->perm[k], p;
+    parent[k] = BP__NONE;
+    anc[k] = BP__NONE;
+    for (p = A->colp[old]; p < A->colp[old + 1]; p++) {
+        uint32_t j = F->iperm[A->row[p]];
+        while (j != BP__NONE && j < k) {
+            uint32_t next = anc[j];
+            anc[j] = k;
+            if (next == BP__NONE) { parent[j] = k; break; }
+            j = next;
+        }
+    }
+}
+
 /* The elimination tree of the permuted matrix: parent[k], the first row
    below k whose pattern contains column k (Liu's algorithm; mark holds
    the path-compressed "ancestor" links). */
 static void bp__fact_etree(const bp__sparse *A, const bp__factor *F, uint32_t *parent, uint32_t *mark)
 {
-    uint32_t n = A->n, k, p;
-    for (k = 0; k < n; k++) {
-        uint32_t old = F->perm[k];
-        parent[k] = BP__NONE;
-        mark[k] = BP__NONE;
-        for (p = A->colp[old]; p < A->colp[old + 1]; p++) {
-            uint32_t j = F->iperm[A->row[p]];
-            while (j != BP__NONE && j < k) {
-                uint32_t next = mark[j];
-                mark[j] = k;
-                if (next == BP__NONE) { parent[j] = k; break; }
-                j = next;
-            }
-        }
-    }
+    uint32_t k;
+    for (k = 0; k < A->n; k++) bp__etree_row(A, F, parent, mark, k);
 }
 
 /* The pattern of L (F->Rp, F->Ri).  The pattern of row k is its row
@@ -7127,36 +7132,6 @@ static void bp__u32_sort(uint32_t *v, uint32_t n)
     }
 }
 
-/* The rows of every supernode: its own vertices, the entries of G in its
-   columns below it, and the rows below it of its children (Liu's
-   multifrontal pattern; the children end before it).  Returns 0 if a
-   count disagrees with the partition's (a bug, caught by the caller). */
-static int bp__super_rows(const bp__sparse *G, bp__super *S, const uint32_t *parent, uint32_t *mark, uint32_t *head,
-                          uint32_t *next)
-{
-    uint32_t s, v, p, c, q;
-    for (v = 0; v < S->nv; v++) mark[v] = BP__NONE;
-    for (s = 0; s < S->ns; s++) head[s] = BP__NONE;
-    for (s = 0; s < S->ns; s++) {
-        uint32_t f = S->first[s], l = S->first[s + 1], w = S->rp[s], last = parent[l - 1];
-        for (v = f; v < l; v++) { S->ri[w++] = v; mark[v] = s; }
-        for (v = f; v < l; v++)
-            for (p = G->colp[S->vperm[v]]; p < G->colp[S->vperm[v] + 1]; p++) {
-                uint32_t u = S->viperm[G->row[p]];
-                if (u >= l && mark[u] != s) { mark[u] = s; if (w < S->rp[s + 1]) S->ri[w] = u; w++; }
-            }
-        for (c = head[s]; c != BP__NONE; c = next[c])
-            for (q = S->rp[c]; q < S->rp[c + 1]; q++) {
-                uint32_t u = S->ri[q];
-                if (u >= l && mark[u] != s) { mark[u] = s; if (w < S->rp[s + 1]) S->ri[w] = u; w++; }
-            }
-        if (w != S->rp[s + 1]) return 0;
-        bp__u32_sort(S->ri + S->rp[s] + (l - f), w - S->rp[s] - (l - f));
-        if (last != BP__NONE) { uint32_t t = S->snode[last]; next[s] = head[t]; head[t] = s; }
-    }
-    return 1;
-}
-
 /* Who updates whom: supernode K's rows below its columns fall in runs,
    one per supernode J they belong to; each run is an update K -> J,
    listed under J in increasing K (the fixed order of every sum). */
@@ -7184,6 +7159,145 @@ static int bp__super_updates(const bp_allocator *a, bp__super *S)
     return 1;
 }
 
+/* The analysis on several threads (issue 15).  Three of its loops cost
+   about 20 ms per call on bimba, serial, three calls per chart: the
+   elimination tree, the column counts by row subtrees and the supernodes'
+   rows.  Each is a loop in increasing k (or s) that reads only what
+   earlier iterations wrote, but the dissection that ordered the matrix
+   bounds how far back: a vertex of the tree node [lo, hi) = [A | B | S]
+   has its neighbours in [lo, hi) and in the separators of its ancestors,
+   which come after hi, never in a sibling's range.  So
+     - row k's etree step (Liu's path-compressed ancestors) and its row
+       subtree (which walks parent[] from k's neighbours j < k up to k)
+       touch only parent[], the ancestor links, the stamps and the counts
+       of vertices in [lo, k), lo the start of the smallest recorded node
+       holding k;
+     - supernode s's rows are merged from its own columns and its
+       children's rows, and its children lie in the same node (a child's
+       last vertex has its etree parent in s).
+   The loops therefore run in the phases of the numeric factorization
+   (bp__nd_phase): the whole subtrees of phase 0 in parallel, then the
+   separators [b, hi) bottom-up, each node's rows or supernodes in their
+   own increasing order.  Every value written is the one the serial loop
+   writes (the etree and the counts are functions of the pattern; each
+   row's steps are the serial steps restricted to the node's range).
+   The stamps of the supernodes' rows are the one exception: a separator
+   vertex u above a node is a row of supernodes in several nodes at once,
+   so each task stamps in its own array (mark + slot n).  When the tree's
+   phases do not cover [0, n) exactly (no tree: a small matrix), the
+   loops run whole, serially. */
+typedef struct bp__sym_task {
+    const bp__sparse *G;
+    const bp__factor *F;          /* tree, and the vertex order (perm, iperm) */
+    bp__super *S;
+    uint32_t *parent, *anc, *mark, *cnt, *head, *next;
+    uint32_t nodes[BP__ND_NODES], n;
+    int phase, whole;             /* whole: the one task is [0, n)   */
+    int bad[BP__ND_NODES];        /* a supernode's row count disagreed  */
+} bp__sym_task;
+
+/* Row k's subtree counted into the column counts: cnt[j]++ for every j on
+   the paths from k's neighbours j < k up to k (bp__row_subtree without
+   the list). */
+static void bp__row_count(const bp__sparse *A, const bp__factor *F, const uint32_t *parent, uint32_t *mark, uint32_t k,
+                          uint32_t *cnt)
+{
+    uint32_t old = F->perm[k], p, j;
+    mark[k] = k;
+    for (p = A->colp[old]; p < A->colp[old + 1]; p++)
+        for (j = F->iperm[A->row[p]]; j < k && mark[j] != k; j = parent[j]) {
+            mark[j] = k;
+            cnt[j]++;
+        }
+}
+
+/* The range of task t of a phase: a whole subtree in phase 0, the
+   separator [b, hi) after. */
+static void bp__sym_range(const bp__sym_task *T, uint32_t t, uint32_t *k0, uint32_t *k1)
+{
+    const bp__ndnode *N = &T->F->tree[T->nodes[t]];
+    if (T->whole) { *k0 = 0; *k1 = T->n; return; }
+    *k0 = T->phase == 0 ? N->lo : N->b;
+    *k1 = N->hi;
+}
+
+/* Task t: the etree and the column counts of its rows, row by row (row
+   k's subtree needs parent[] only below k, set by rows up to k). */
+static void bp__sym_counts_task(void *task, uint32_t t)
+{
+    bp__sym_task *T = (bp__sym_task *)task;
+    uint32_t k, k0, k1;
+    bp__sym_range(T, t, &k0, &k1);
+    for (k = k0; k < k1; k++) {
+        bp__etree_row(T->G, T->F, T->parent, T->anc, k);
+        T->mark[k] = BP__NONE;
+        bp__row_count(T->G, T->F, T->parent, T->mark, k, T->cnt);
+    }
+}
+
+/* The rows of supernode s: its own vertices, the entries of G in its
+   columns below it, and the rows below it of its children (Liu's
+   multifrontal pattern; the children, listed from head[s] through next[],
+   end before it), stamped s in mark.  Returns 0 if the count disagrees
+   with the partition's (a bug, caught by the caller). */
+static int bp__super_rows_one(const bp__sparse *G, bp__super *S, uint32_t *mark, const uint32_t *head,
+                              const uint32_t *next, uint32_t s)
+{
+    uint32_t f = S->first[s], l = S->first[s + 1], w = S->rp[s], v, p, c, q;
+    for (v = f; v < l; v++) { S->ri[w++] = v; mark[v] = s; }
+    for (v = f; v < l; v++)
+        for (p = G->colp[S->vperm[v]]; p < G->colp[S->vperm[v] + 1]; p++) {
+            uint32_t u = S->viperm[G->row[p]];
+            if (u >= l && mark[u] != s) { mark[u] = s; if (w < S->rp[s + 1]) S->ri[w] = u; w++; }
+        }
+    for (c = head[s]; c != BP__NONE; c = next[c])
+        for (q = S->rp[c]; q < S->rp[c + 1]; q++) {
+            uint32_t u = S->ri[q];
+            if (u >= l && mark[u] != s) { mark[u] = s; if (w < S->rp[s + 1]) S->ri[w] = u; w++; }
+        }
+    if (w != S->rp[s + 1]) return 0;
+    bp__u32_sort(S->ri + S->rp[s] + (l - f), w - S->rp[s] - (l - f));
+    return 1;
+}
+
+/* Task t: the rows of the supernodes of its range, stamped in its own
+   array (slot t). */
+static void bp__sym_rows_task(void *task, uint32_t t)
+{
+    bp__sym_task *T = (bp__sym_task *)task;
+    bp__super *S = T->S;
+    uint32_t k0, k1, s;
+    bp__sym_range(T, t, &k0, &k1);
+    if (k0 >= k1) return;
+    for (s = S->snode[k0]; s <= S->snode[k1 - 1]; s++)
+        if (!bp__super_rows_one(T->G, S, T->mark + (size_t)t * S->nv, T->head, T->next, s)) T->bad[t] = 1;
+}
+
+/* Run fn over the phases bottom-up (or once, whole). */
+static void bp__sym_phases(bp__sym_task *T, const bp__par *par, bp_task_fn fn)
+{
+    int p;
+    if (T->whole) { fn(T, 0); return; }
+    for (p = 0; p <= BP__ND_DEPTH; p++) {
+        uint32_t c = bp__nd_phase(T->F, p, T->nodes);
+        T->phase = p;
+        if (c) bp__par_run(par, fn, T, c, T->n);
+    }
+}
+
+/* Whether the phases cover [0, n) exactly (each vertex in one range). */
+static int bp__sym_covers(const bp__factor *F, uint32_t n)
+{
+    uint32_t nodes[BP__ND_NODES], c, i, sum = 0;
+    int p;
+    for (p = 0; p <= BP__ND_DEPTH; p++)
+        for (c = bp__nd_phase(F, p, nodes), i = 0; i < c; i++) {
+            const bp__ndnode *N = &F->tree[nodes[i]];
+            sum += N->hi - (p == 0 ? N->lo : N->b);
+        }
+    return n > 0 && F->tree[0].used && F->tree[0].lo == 0 && F->tree[0].hi == n && sum == n;
+}
+
 /* The analysis on the vertex graph: ordering (nested dissection, its tree
    in F->tree in vertex ranges; on par's threads), elimination tree, column counts (by row
    subtrees), supernodes, their rows, the update lists and the blocks'
@@ -7191,7 +7305,10 @@ static int bp__super_updates(const bp_allocator *a, bp__super *S)
 static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, bp__factor *F, const bp__par *par)
 {
     bp__super *S = F->sn;
-    uint32_t nv = G->n, k, s, i, *parent, *mark, *cnt, *reach, *msz;
+    uint32_t nv = G->n, k, s, *parent, *mark, *cnt, *reach, *msz, *marks = NULL;
+    size_t j;
+    bp__sym_task T;
+    bp__par serial;
     double nnzl = 0;
     uint8_t *bound;
     bp__factor Fv;
@@ -7213,12 +7330,19 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     memset(&Fv, 0, sizeof Fv);
     Fv.perm = S->vperm;
     Fv.iperm = S->viperm;
-    bp__fact_etree(G, &Fv, parent, mark);
-    for (k = 0; k < nv; k++) mark[k] = BP__NONE;
-    for (k = 0; k < nv; k++) {
-        uint32_t m = bp__row_subtree(G, &Fv, parent, mark, k, reach);
-        for (i = 0; i < m; i++) cnt[reach[i]]++;
+    memcpy(Fv.tree, F->tree, sizeof Fv.tree);
+    serial = bp__par_serial();
+    if (!par) par = &serial;
+    memset(&T, 0, sizeof T);
+    T.G = G; T.F = &Fv; T.S = S; T.n = nv;
+    T.parent = parent; T.anc = reach; T.mark = mark; T.cnt = cnt;
+    T.whole = !bp__sym_covers(&Fv, nv);
+    S->ntask = 1;
+    for (k = 0; k <= BP__ND_DEPTH; k++) {
+        uint32_t c = bp__nd_phase(F, (int)k, T.nodes);
+        if (c > S->ntask) S->ntask = c;
     }
+    bp__sym_phases(&T, par, bp__sym_counts_task);         /* etree, column counts */
     for (k = 0; k < BP__ND_NODES; k++)
         if (F->tree[k].used) { bound[F->tree[k].lo] = bound[F->tree[k].a] = bound[F->tree[k].b] = bound[F->tree[k].hi] = 1; }
     S->ns = bp__super_partition(parent, cnt, bound, nv, S->first, msz);
@@ -7241,16 +7365,25 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     }
     S->ri = (uint32_t *)bp__alloc_array(a, S->rp[S->ns] ? S->rp[S->ns] : 1, sizeof(uint32_t));
     if (!S->ri) goto done;
-    /* (cnt and reach serve as the children lists) */
-    if (!bp__super_rows(G, S, parent, mark, cnt, reach)) { st = BP_ERR_NUMERICAL; goto done; }
-    if (!bp__super_updates(a, S)) goto done;
-    S->ntask = 1;
-    for (k = 0; k <= BP__ND_DEPTH; k++) {
-        uint32_t nodes[BP__ND_NODES], c = bp__nd_phase(F, (int)k, nodes);
-        if (c > S->ntask) S->ntask = c;
+    /* the children lists (in cnt and reach), then the rows by phases, each
+       task stamping in its own array */
+    T.head = cnt; T.next = reach;
+    for (s = 0; s < S->ns; s++) T.head[s] = BP__NONE;
+    for (s = 0; s < S->ns; s++) {
+        uint32_t last = parent[S->first[s + 1] - 1];
+        if (last != BP__NONE) { uint32_t t = S->snode[last]; T.next[s] = T.head[t]; T.head[t] = s; }
     }
+    marks = T.whole ? mark : (uint32_t *)bp__alloc_array(a, (size_t)S->ntask * nv, sizeof(uint32_t));
+    if (!marks) goto done;
+    for (j = 0; j < (T.whole ? 1 : (size_t)S->ntask) * nv; j++) marks[j] = BP__NONE;
+    T.mark = marks;
+    bp__sym_phases(&T, par, bp__sym_rows_task);
+    for (k = 0; k < BP__ND_NODES; k++)
+        if (T.bad[k]) { st = BP_ERR_NUMERICAL; goto done; }
+    if (!bp__super_updates(a, S)) goto done;
     st = BP_OK;
 done:
+    if (marks != mark) bp__free(a, marks);
     bp__free(a, parent); bp__free(a, mark); bp__free(a, cnt); bp__free(a, reach); bp__free(a, msz); bp__free(a, bound);
     return st;
 }
