@@ -7183,7 +7183,9 @@ static int bp__super_updates(const bp_allocator *a, bp__super *S)
    row's steps are the serial steps restricted to the node's range).
    The stamps of the supernodes' rows are the one exception: a separator
    vertex u above a node is a row of supernodes in several nodes at once,
-   so each task stamps in its own array (mark + slot n).  When the tree's
+   so each task stamps in its own array (mark + t n), unless the runner
+   is serial (threads 1): the stamps are supernode numbers, so one array
+   serves tasks that run one after another.  When the tree's
    phases do not cover [0, n) exactly (no tree: a small matrix), the
    loops run whole, serially. */
 typedef struct bp__sym_task {
@@ -7192,6 +7194,7 @@ typedef struct bp__sym_task {
     bp__super *S;
     uint32_t *parent, *anc, *mark, *cnt, *head, *next;
     uint32_t nodes[BP__ND_NODES], n;
+    size_t slot;                  /* task t stamps rows at mark + t slot */
     int phase, whole;             /* whole: the one task is [0, n)   */
     int bad[BP__ND_NODES];        /* a supernode's row count disagreed  */
 } bp__sym_task;
@@ -7270,7 +7273,7 @@ static void bp__sym_rows_task(void *task, uint32_t t)
     bp__sym_range(T, t, &k0, &k1);
     if (k0 >= k1) return;
     for (s = S->snode[k0]; s <= S->snode[k1 - 1]; s++)
-        if (!bp__super_rows_one(T->G, S, T->mark + (size_t)t * S->nv, T->head, T->next, s)) T->bad[t] = 1;
+        if (!bp__super_rows_one(T->G, S, T->mark + (size_t)t * T->slot, T->head, T->next, s)) T->bad[t] = 1;
 }
 
 /* Run fn over the phases bottom-up (or once, whole). */
@@ -7373,9 +7376,10 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
         uint32_t last = parent[S->first[s + 1] - 1];
         if (last != BP__NONE) { uint32_t t = S->snode[last]; T.next[s] = T.head[t]; T.head[t] = s; }
     }
-    marks = T.whole ? mark : (uint32_t *)bp__alloc_array(a, (size_t)S->ntask * nv, sizeof(uint32_t));
+    T.slot = T.whole || par->threads == 1 ? 0 : nv;
+    marks = T.slot ? (uint32_t *)bp__alloc_array(a, (size_t)S->ntask * nv, sizeof(uint32_t)) : mark;
     if (!marks) goto done;
-    for (j = 0; j < (T.whole ? 1 : (size_t)S->ntask) * nv; j++) marks[j] = BP__NONE;
+    for (j = 0; j < (T.slot ? (size_t)S->ntask : 1) * nv; j++) marks[j] = BP__NONE;
     T.mark = marks;
     bp__sym_phases(&T, par, bp__sym_rows_task);
     for (k = 0; k < BP__ND_NODES; k++)

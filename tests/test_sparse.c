@@ -69,9 +69,9 @@
          and (h)'s checks of the order.
      (j) the symbolic analysis in the dissection's phases, on camelhead's
          and fertility's vertex graphs: the supernodes' rows against a
-         brute-force symbolic factorization, and every array of the
-         analysis the serial one's with the tasks run backwards, odd-even
-         and on a real pool. */
+         brute-force symbolic factorization, the update lists against a
+         brute-force scan, and every array of the analysis the serial
+         one's with the tasks run backwards, odd-even and on a real pool. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -906,6 +906,27 @@ static void check_against_brute(const bp__sparse *G, const bp__super *S, const c
     }
     BPT_CHECK(bad == 0 && S->ns > 0, "%s: the supernodes' rows are the brute-force pattern of L (%u wrong of %u supernodes)", what,
               bad, S->ns);
+    {   /* the update lists: under each J, every K with rows in J once, by
+           increasing K, at K's first row in J; as many as the (K, J) pairs */
+        uint32_t J, e, pairs = 0, wrong = 0;
+        for (s = 0; s < S->ns; s++) {
+            uint32_t last = BP__NONE, q;
+            for (q = S->rp[s] + S->first[s + 1] - S->first[s]; q < S->rp[s + 1]; q++) {
+                uint32_t t;
+                for (t = 0; S->first[t + 1] <= S->ri[q]; t++) {}     /* the supernode of the row, by a scan */
+                if (t != last) { pairs++; last = t; }
+            }
+        }
+        for (J = 0; J < S->ns; J++)
+            for (e = S->up[J]; e < S->up[J + 1]; e++) {
+                uint32_t K = S->uk[e], q = S->rp[K] + S->uo[e], c0 = S->rp[K] + S->first[K + 1] - S->first[K];
+                uint32_t r = S->ri[q];
+                wrong += (e > S->up[J] && S->uk[e - 1] >= K) || K >= J || q < c0 || q >= S->rp[K + 1] || r < S->first[J] ||
+                         r >= S->first[J + 1] || (q > c0 && S->ri[q - 1] >= S->first[J]);
+            }
+        BPT_CHECK(wrong == 0 && S->up[S->ns] == pairs, "%s: the update lists are every (K, J) pair once, by K (%u wrong, %u of %u)",
+                  what, wrong, S->up[S->ns], pairs);
+    }
     for (j = 0; j < n; j++) free(col[j]);
     free(col); free(len);
 }
