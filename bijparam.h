@@ -6868,26 +6868,31 @@ static int bp__fact_transpose(const bp_allocator *a, const bp__sparse *A, uint32
     return 1;
 }
 
+/* Liu's step for row k: each neighbour j < k climbs its ancestor links,
+   compressing them to k, until a root, whose parent becomes k. */
+static void bp__etree_row(const bp__sparse *A, const bp__factor *F, uint32_t *parent, uint32_t *anc, uint32_t k)
+{
+    uint32_t old = F->perm[k], p;
+    parent[k] = BP__NONE;
+    anc[k] = BP__NONE;
+    for (p = A->colp[old]; p < A->colp[old + 1]; p++) {
+        uint32_t j = F->iperm[A->row[p]];
+        while (j != BP__NONE && j < k) {
+            uint32_t next = anc[j];
+            anc[j] = k;
+            if (next == BP__NONE) { parent[j] = k; break; }
+            j = next;
+        }
+    }
+}
+
 /* The elimination tree of the permuted matrix: parent[k], the first row
    below k whose pattern contains column k (Liu's algorithm; mark holds
    the path-compressed "ancestor" links). */
 static void bp__fact_etree(const bp__sparse *A, const bp__factor *F, uint32_t *parent, uint32_t *mark)
 {
-    uint32_t n = A->n, k, p;
-    for (k = 0; k < n; k++) {
-        uint32_t old = F->perm[k];
-        parent[k] = BP__NONE;
-        mark[k] = BP__NONE;
-        for (p = A->colp[old]; p < A->colp[old + 1]; p++) {
-            uint32_t j = F->iperm[A->row[p]];
-            while (j != BP__NONE && j < k) {
-                uint32_t next = mark[j];
-                mark[j] = k;
-                if (next == BP__NONE) { parent[j] = k; break; }
-                j = next;
-            }
-        }
-    }
+    uint32_t k;
+    for (k = 0; k < A->n; k++) bp__etree_row(A, F, parent, mark, k);
 }
 
 /* The pattern of L (F->Rp, F->Ri).  The pattern of row k is its row
@@ -7127,36 +7132,6 @@ static void bp__u32_sort(uint32_t *v, uint32_t n)
     }
 }
 
-/* The rows of every supernode: its own vertices, the entries of G in its
-   columns below it, and the rows below it of its children (Liu's
-   multifrontal pattern; the children end before it).  Returns 0 if a
-   count disagrees with the partition's (a bug, caught by the caller). */
-static int bp__super_rows(const bp__sparse *G, bp__super *S, const uint32_t *parent, uint32_t *mark, uint32_t *head,
-                          uint32_t *next)
-{
-    uint32_t s, v, p, c, q;
-    for (v = 0; v < S->nv; v++) mark[v] = BP__NONE;
-    for (s = 0; s < S->ns; s++) head[s] = BP__NONE;
-    for (s = 0; s < S->ns; s++) {
-        uint32_t f = S->first[s], l = S->first[s + 1], w = S->rp[s], last = parent[l - 1];
-        for (v = f; v < l; v++) { S->ri[w++] = v; mark[v] = s; }
-        for (v = f; v < l; v++)
-            for (p = G->colp[S->vperm[v]]; p < G->colp[S->vperm[v] + 1]; p++) {
-                uint32_t u = S->viperm[G->row[p]];
-                if (u >= l && mark[u] != s) { mark[u] = s; if (w < S->rp[s + 1]) S->ri[w] = u; w++; }
-            }
-        for (c = head[s]; c != BP__NONE; c = next[c])
-            for (q = S->rp[c]; q < S->rp[c + 1]; q++) {
-                uint32_t u = S->ri[q];
-                if (u >= l && mark[u] != s) { mark[u] = s; if (w < S->rp[s + 1]) S->ri[w] = u; w++; }
-            }
-        if (w != S->rp[s + 1]) return 0;
-        bp__u32_sort(S->ri + S->rp[s] + (l - f), w - S->rp[s] - (l - f));
-        if (last != BP__NONE) { uint32_t t = S->snode[last]; next[s] = head[t]; head[t] = s; }
-    }
-    return 1;
-}
-
 /* Who updates whom: supernode K's rows below its columns fall in runs,
    one per supernode J they belong to; each run is an update K -> J,
    listed under J in increasing K (the fixed order of every sum). */
@@ -7184,6 +7159,148 @@ static int bp__super_updates(const bp_allocator *a, bp__super *S)
     return 1;
 }
 
+/* The analysis on several threads (issue 15).  Three of its loops cost
+   about 20 ms per call on bimba, serial, three calls per chart: the
+   elimination tree, the column counts by row subtrees and the supernodes'
+   rows.  Each is a loop in increasing k (or s) that reads only what
+   earlier iterations wrote, but the dissection that ordered the matrix
+   bounds how far back: a vertex of the tree node [lo, hi) = [A | B | S]
+   has its neighbours in [lo, hi) and in the separators of its ancestors,
+   which come after hi, never in a sibling's range.  So
+     - row k's etree step (Liu's path-compressed ancestors) and its row
+       subtree (which walks parent[] from k's neighbours j < k up to k)
+       touch only parent[], the ancestor links, the stamps and the counts
+       of vertices in [lo, k), lo the start of the smallest recorded node
+       holding k;
+     - supernode s's rows are merged from its own columns and its
+       children's rows, and its children lie in the same node (a child's
+       last vertex has its etree parent in s).
+   The loops therefore run in the phases of the numeric factorization
+   (bp__nd_phase): the whole subtrees of phase 0 in parallel, then the
+   separators [b, hi) bottom-up, each node's rows or supernodes in their
+   own increasing order.  Every value written is the one the serial loop
+   writes (the etree and the counts are functions of the pattern; each
+   row's steps are the serial steps restricted to the node's range).
+   The stamps of the supernodes' rows are the one exception: a separator
+   vertex u above a node is a row of supernodes in several nodes at once,
+   so each task stamps in its own array (mark + t n), unless the runner
+   is serial (threads 1): the stamps are supernode numbers, so one array
+   serves tasks that run one after another.  When the tree's
+   phases do not cover [0, n) exactly (no tree: a small matrix), the
+   loops run whole, serially. */
+typedef struct bp__sym_task {
+    const bp__sparse *G;
+    const bp__factor *F;          /* tree, and the vertex order (perm, iperm) */
+    bp__super *S;
+    uint32_t *parent, *anc, *mark, *cnt, *head, *next;
+    uint32_t nodes[BP__ND_NODES], n;
+    size_t slot;                  /* task t stamps rows at mark + t slot */
+    int phase, whole;             /* whole: the one task is [0, n)   */
+    int bad[BP__ND_NODES];        /* a supernode's row count disagreed  */
+} bp__sym_task;
+
+/* Row k's subtree counted into the column counts: cnt[j]++ for every j on
+   the paths from k's neighbours j < k up to k (bp__row_subtree without
+   the list). */
+static void bp__row_count(const bp__sparse *A, const bp__factor *F, const uint32_t *parent, uint32_t *mark, uint32_t k,
+                          uint32_t *cnt)
+{
+    uint32_t old = F->perm[k], p, j;
+    mark[k] = k;
+    for (p = A->colp[old]; p < A->colp[old + 1]; p++)
+        for (j = F->iperm[A->row[p]]; j < k && mark[j] != k; j = parent[j]) {
+            mark[j] = k;
+            cnt[j]++;
+        }
+}
+
+/* The range of task t of a phase: a whole subtree in phase 0, the
+   separator [b, hi) after. */
+static void bp__sym_range(const bp__sym_task *T, uint32_t t, uint32_t *k0, uint32_t *k1)
+{
+    const bp__ndnode *N = &T->F->tree[T->nodes[t]];
+    if (T->whole) { *k0 = 0; *k1 = T->n; return; }
+    *k0 = T->phase == 0 ? N->lo : N->b;
+    *k1 = N->hi;
+}
+
+/* Task t: the etree and the column counts of its rows, row by row (row
+   k's subtree needs parent[] only below k, set by rows up to k). */
+static void bp__sym_counts_task(void *task, uint32_t t)
+{
+    bp__sym_task *T = (bp__sym_task *)task;
+    uint32_t k, k0, k1;
+    bp__sym_range(T, t, &k0, &k1);
+    for (k = k0; k < k1; k++) {
+        bp__etree_row(T->G, T->F, T->parent, T->anc, k);
+        T->mark[k] = BP__NONE;
+        bp__row_count(T->G, T->F, T->parent, T->mark, k, T->cnt);
+    }
+}
+
+/* The rows of supernode s: its own vertices, the entries of G in its
+   columns below it, and the rows below it of its children (Liu's
+   multifrontal pattern; the children, listed from head[s] through next[],
+   end before it), stamped s in mark.  Returns 0 if the count disagrees
+   with the partition's (a bug, caught by the caller). */
+static int bp__super_rows_one(const bp__sparse *G, bp__super *S, uint32_t *mark, const uint32_t *head,
+                              const uint32_t *next, uint32_t s)
+{
+    uint32_t f = S->first[s], l = S->first[s + 1], w = S->rp[s], v, p, c, q;
+    for (v = f; v < l; v++) { S->ri[w++] = v; mark[v] = s; }
+    for (v = f; v < l; v++)
+        for (p = G->colp[S->vperm[v]]; p < G->colp[S->vperm[v] + 1]; p++) {
+            uint32_t u = S->viperm[G->row[p]];
+            if (u >= l && mark[u] != s) { mark[u] = s; if (w < S->rp[s + 1]) S->ri[w] = u; w++; }
+        }
+    for (c = head[s]; c != BP__NONE; c = next[c])
+        for (q = S->rp[c]; q < S->rp[c + 1]; q++) {
+            uint32_t u = S->ri[q];
+            if (u >= l && mark[u] != s) { mark[u] = s; if (w < S->rp[s + 1]) S->ri[w] = u; w++; }
+        }
+    if (w != S->rp[s + 1]) return 0;
+    bp__u32_sort(S->ri + S->rp[s] + (l - f), w - S->rp[s] - (l - f));
+    return 1;
+}
+
+/* Task t: the rows of the supernodes of its range, stamped in its own
+   array (slot t). */
+static void bp__sym_rows_task(void *task, uint32_t t)
+{
+    bp__sym_task *T = (bp__sym_task *)task;
+    bp__super *S = T->S;
+    uint32_t k0, k1, s;
+    bp__sym_range(T, t, &k0, &k1);
+    if (k0 >= k1) return;
+    for (s = S->snode[k0]; s <= S->snode[k1 - 1]; s++)
+        if (!bp__super_rows_one(T->G, S, T->mark + (size_t)t * T->slot, T->head, T->next, s)) T->bad[t] = 1;
+}
+
+/* Run fn over the phases bottom-up (or once, whole). */
+static void bp__sym_phases(bp__sym_task *T, const bp__par *par, bp_task_fn fn)
+{
+    int p;
+    if (T->whole) { fn(T, 0); return; }
+    for (p = 0; p <= BP__ND_DEPTH; p++) {
+        uint32_t c = bp__nd_phase(T->F, p, T->nodes);
+        T->phase = p;
+        if (c) bp__par_run(par, fn, T, c, T->n);
+    }
+}
+
+/* Whether the phases cover [0, n) exactly (each vertex in one range). */
+static int bp__sym_covers(const bp__factor *F, uint32_t n)
+{
+    uint32_t nodes[BP__ND_NODES], c, i, sum = 0;
+    int p;
+    for (p = 0; p <= BP__ND_DEPTH; p++)
+        for (c = bp__nd_phase(F, p, nodes), i = 0; i < c; i++) {
+            const bp__ndnode *N = &F->tree[nodes[i]];
+            sum += N->hi - (p == 0 ? N->lo : N->b);
+        }
+    return n > 0 && F->tree[0].used && F->tree[0].lo == 0 && F->tree[0].hi == n && sum == n;
+}
+
 /* The analysis on the vertex graph: ordering (nested dissection, its tree
    in F->tree in vertex ranges; on par's threads), elimination tree, column counts (by row
    subtrees), supernodes, their rows, the update lists and the blocks'
@@ -7191,7 +7308,10 @@ static int bp__super_updates(const bp_allocator *a, bp__super *S)
 static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, bp__factor *F, const bp__par *par)
 {
     bp__super *S = F->sn;
-    uint32_t nv = G->n, k, s, i, *parent, *mark, *cnt, *reach, *msz;
+    uint32_t nv = G->n, k, s, *parent, *mark, *cnt, *reach, *msz, *marks = NULL;
+    size_t j;
+    bp__sym_task T;
+    bp__par serial;
     double nnzl = 0;
     uint8_t *bound;
     bp__factor Fv;
@@ -7213,12 +7333,19 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     memset(&Fv, 0, sizeof Fv);
     Fv.perm = S->vperm;
     Fv.iperm = S->viperm;
-    bp__fact_etree(G, &Fv, parent, mark);
-    for (k = 0; k < nv; k++) mark[k] = BP__NONE;
-    for (k = 0; k < nv; k++) {
-        uint32_t m = bp__row_subtree(G, &Fv, parent, mark, k, reach);
-        for (i = 0; i < m; i++) cnt[reach[i]]++;
+    memcpy(Fv.tree, F->tree, sizeof Fv.tree);
+    serial = bp__par_serial();
+    if (!par) par = &serial;
+    memset(&T, 0, sizeof T);
+    T.G = G; T.F = &Fv; T.S = S; T.n = nv;
+    T.parent = parent; T.anc = reach; T.mark = mark; T.cnt = cnt;
+    T.whole = !bp__sym_covers(&Fv, nv);
+    S->ntask = 1;
+    for (k = 0; k <= BP__ND_DEPTH; k++) {
+        uint32_t c = bp__nd_phase(F, (int)k, T.nodes);
+        if (c > S->ntask) S->ntask = c;
     }
+    bp__sym_phases(&T, par, bp__sym_counts_task);         /* etree, column counts */
     for (k = 0; k < BP__ND_NODES; k++)
         if (F->tree[k].used) { bound[F->tree[k].lo] = bound[F->tree[k].a] = bound[F->tree[k].b] = bound[F->tree[k].hi] = 1; }
     S->ns = bp__super_partition(parent, cnt, bound, nv, S->first, msz);
@@ -7241,16 +7368,26 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     }
     S->ri = (uint32_t *)bp__alloc_array(a, S->rp[S->ns] ? S->rp[S->ns] : 1, sizeof(uint32_t));
     if (!S->ri) goto done;
-    /* (cnt and reach serve as the children lists) */
-    if (!bp__super_rows(G, S, parent, mark, cnt, reach)) { st = BP_ERR_NUMERICAL; goto done; }
-    if (!bp__super_updates(a, S)) goto done;
-    S->ntask = 1;
-    for (k = 0; k <= BP__ND_DEPTH; k++) {
-        uint32_t nodes[BP__ND_NODES], c = bp__nd_phase(F, (int)k, nodes);
-        if (c > S->ntask) S->ntask = c;
+    /* the children lists (in cnt and reach), then the rows by phases, each
+       task stamping in its own array */
+    T.head = cnt; T.next = reach;
+    for (s = 0; s < S->ns; s++) T.head[s] = BP__NONE;
+    for (s = 0; s < S->ns; s++) {
+        uint32_t last = parent[S->first[s + 1] - 1];
+        if (last != BP__NONE) { uint32_t t = S->snode[last]; T.next[s] = T.head[t]; T.head[t] = s; }
     }
+    T.slot = T.whole || par->threads == 1 ? 0 : nv;
+    marks = T.slot ? (uint32_t *)bp__alloc_array(a, (size_t)S->ntask * nv, sizeof(uint32_t)) : mark;
+    if (!marks) goto done;
+    for (j = 0; j < (T.slot ? (size_t)S->ntask : 1) * nv; j++) marks[j] = BP__NONE;
+    T.mark = marks;
+    bp__sym_phases(&T, par, bp__sym_rows_task);
+    for (k = 0; k < BP__ND_NODES; k++)
+        if (T.bad[k]) { st = BP_ERR_NUMERICAL; goto done; }
+    if (!bp__super_updates(a, S)) goto done;
     st = BP_OK;
 done:
+    if (marks != mark) bp__free(a, marks);
     bp__free(a, parent); bp__free(a, mark); bp__free(a, cnt); bp__free(a, reach); bp__free(a, msz); bp__free(a, bound);
     return st;
 }
@@ -12445,65 +12582,164 @@ static uint32_t bp__sparse_has(const bp__sparse *A, uint32_t i, uint32_t j)
    of the triangles' edges, every vertex's diagonal block and the vertex
    couplings in `extra` (barrier pairs met so far); and where each
    triangle's 3x3 blocks and each vertex's diagonal entries lie in it.
-   G is built first (6 triplets per triangle instead of H's 36), then
-   expanded: columns 2v and 2v+1 of H both hold the rows 2w, 2w+1 of every
-   w in G's column v, so block (w, v) of H starts at
+   Columns 2v and 2v+1 of H both hold the rows 2w, 2w+1 of every w in G's
+   column v, so block (w, v) of H starts at
        colp[2v] + 2 (position of w in G's column v)
    and its entry (2w + a, 2v + b) lies a + b (colp[2v+1] - colp[2v]) after
-   that: tpos keeps one position per block (9 per triangle).  The old
-   pattern and its factor are freed first, so that a rebuild (the barrier
-   growing the pattern) never holds two of them. */
+   that: tpos keeps one position per block (9 per triangle).
+
+   G is built column by column, without a global sort (issue 15: the
+   triplets and their sort were 30 ms of serial time per call on bimba,
+   three calls per chart).  Column v of G is v itself, the two other
+   corners of every triangle around v (the solver's corner lists vc_start,
+   vc_list) and the other ends of v's extra pairs: at most
+   2 (corners of v) + 1 + (extra pairs of v) rows, so column v gets the
+   slots from
+       gp(v) = 2 vc_start[v] + v + xp[v]
+   on (xp: the extra pairs per vertex, counted before).  Each column is
+   listed there, sorted (bp__u32_sort) and its repeats dropped: the same
+   sorted distinct rows the triplets gave.  Two parallel passes over the
+   vertex chunks, with a prefix sum of the column lengths between them:
+     (1) list, sort and count each column (bp__pattern_cols);
+     (2) write H's two columns of each vertex, its diagonal positions dpos
+         and the positions tpos of the blocks in its column -- the corners
+         of v give every block (r, c) of a triangle with c = v's corner
+         exactly once, so the chunks write disjoint entries of tpos
+         (bp__pattern_place).
+   The old pattern and its factor are freed first, so that a rebuild (the
+   barrier growing the pattern) never holds two of them. */
+typedef struct bp__pattern_task {
+    bp__newton *N;
+    const bp__solver *S;
+    const uint32_t *xp, *xl;     /* extra pairs' other ends by vertex (CSR),
+                                    NULL when there are none             */
+    uint32_t *gr, *glen;         /* G's columns: v's rows at gr + gp(v)   */
+} bp__pattern_task;
+
+static size_t bp__pattern_at(const bp__pattern_task *T, uint32_t v)
+{
+    return 2 * (size_t)T->S->vc_start[v] + v + (T->xp ? T->xp[v] : 0);
+}
+
+/* Pass (1) for the vertices of chunk c. */
+static void bp__pattern_cols(void *task, uint32_t c)
+{
+    bp__pattern_task *T = (bp__pattern_task *)task;
+    const bp__solver *S = T->S;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p, m, k;
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
+        uint32_t *col = T->gr + bp__pattern_at(T, v);
+        m = 0;
+        col[m++] = v;
+        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
+            uint32_t t = S->vc_list[p] / 3, cc = S->vc_list[p] % 3;
+            col[m++] = S->tri[3 * (size_t)t + (cc + 1) % 3];
+            col[m++] = S->tri[3 * (size_t)t + (cc + 2) % 3];
+        }
+        if (T->xp)
+            for (p = T->xp[v]; p < T->xp[v + 1]; p++) col[m++] = T->xl[p];
+        bp__u32_sort(col, m);
+        for (k = 1, p = 1; p < m; p++)
+            if (col[p] != col[k - 1]) col[k++] = col[p];
+        T->glen[v] = k;
+    }
+}
+
+/* The position of row r in a sorted column of m rows that holds it: the
+   count of rows below r, without branches for a short column (a binary
+   search's branches were mispredicted at every step, half of pass (2)). */
+static uint32_t bp__pattern_pos(const uint32_t *col, uint32_t m, uint32_t r)
+{
+    uint32_t q, pos = 0;
+    if (m > 64) return bp__lower_bound(col, 0, m, r);
+    for (q = 0; q < m; q++) pos += col[q] < r;
+    return pos;
+}
+
+/* Pass (2) for the vertices of chunk c (H.colp is known); H's values in
+   v's columns are zeroed here too, by the thread that will gather them. */
+static void bp__pattern_place(void *task, uint32_t c)
+{
+    bp__pattern_task *T = (bp__pattern_task *)task;
+    const bp__solver *S = T->S;
+    bp__newton *N = T->N;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p, k, w;
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
+        const uint32_t *col = T->gr + bp__pattern_at(T, v);
+        uint32_t m = T->glen[v], c0 = N->H.colp[2 * v], len = 2 * m;
+        for (k = 0, w = c0; k < 2; k++)
+            for (p = 0; p < m; p++) { N->H.row[w++] = 2 * col[p]; N->H.row[w++] = 2 * col[p] + 1; }
+        memset(N->H.val + c0, 0, 4 * (size_t)m * sizeof(double));
+        w = c0 + 2 * bp__pattern_pos(col, m, v);
+        for (k = 0; k < 4; k++) N->dpos[4 * (size_t)v + k] = w + k % 2 + (k / 2) * len;
+        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
+            uint32_t t = S->vc_list[p] / 3, cc = S->vc_list[p] % 3;
+            for (k = 0; k < 3; k++)         /* block (k, cc) of triangle t */
+                N->tpos[9 * (size_t)t + 3 * k + cc] = c0 + 2 * bp__pattern_pos(col, m, S->tri[3 * (size_t)t + k]);
+        }
+    }
+}
+
+/* The extra pairs by vertex: xp[v] .. xp[v+1] index v's other ends in xl
+   (each pair (u, w) lists w under u and u under w).  Returns 0 out of
+   memory. */
+static int bp__pattern_extra(const bp_allocator *a, const bp__newton *N, uint32_t nv, uint32_t **xp_out, uint32_t **xl_out)
+{
+    const uint32_t *ex = (const uint32_t *)N->extra.data;
+    size_t e, ne = N->extra.count;
+    uint32_t v, *xp, *xl;
+    *xp_out = xp = (uint32_t *)bp__calloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    *xl_out = xl = (uint32_t *)bp__alloc_array(a, 2 * ne, sizeof(uint32_t));
+    if (!xp || !xl) return 0;
+    for (e = 0; e < 2 * ne; e++) xp[ex[e] + 1]++;
+    for (v = 0; v < nv; v++) xp[v + 1] += xp[v];
+    for (e = 0; e < 2 * ne; e++) xl[xp[ex[e]]++] = ex[e ^ 1];
+    for (v = nv; v > 0; v--) xp[v] = xp[v - 1];
+    xp[0] = 0;
+    return 1;
+}
+
 static bp_status bp__newton_pattern(bp__newton *N, const bp_allocator *a, bp__solver *S)
 {
-    uint32_t nv = S->nv, n = 2 * nv, t, v, k, l, p, w = 0;
-    const uint32_t *ex = (const uint32_t *)N->extra.data;
-    size_t nt = 0, e;
-    bp__sparse G;
-    bp__trip *tr;
+    uint32_t nv = S->nv, n = 2 * nv, v, *xp = NULL, *xl = NULL;
+    size_t nslot = 6 * (size_t)S->nt + nv + 2 * N->extra.count, w = 0;
+    bp__pattern_task T;
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
     bp__sparse_free(a, &N->H);
     bp__factor_free(a, &N->F);
     N->factored = 0;
     N->fvalid = 0;
-    memset(&G, 0, sizeof G);
-    tr = (bp__trip *)bp__alloc_array(a, 6 * (size_t)S->nt + nv + 2 * N->extra.count, sizeof(bp__trip));
-    if (!tr) return BP_ERR_OUT_OF_MEMORY;
-    for (t = 0; t < S->nt; t++)
-        for (k = 0; k < 3; k++)
-            for (l = 0; l < 3; l++)
-                if (k != l) { tr[nt].i = S->tri[3 * (size_t)t + k]; tr[nt].j = S->tri[3 * (size_t)t + l]; tr[nt++].v = 0; }
-    for (v = 0; v < nv; v++) { tr[nt].i = tr[nt].j = v; tr[nt++].v = 0; }
-    for (e = 0; e < N->extra.count; e++) {
-        tr[nt].i = ex[2 * e]; tr[nt].j = ex[2 * e + 1]; tr[nt++].v = 0;
-        tr[nt].i = ex[2 * e + 1]; tr[nt].j = ex[2 * e]; tr[nt++].v = 0;
-    }
-    G.symmetric = 1;
-    if (!bp__sparse_from_triplets(a, nv, tr, nt, &G)) { bp__free(a, tr); bp__sparse_free(a, &G); return BP_ERR_OUT_OF_MEMORY; }
-    bp__free(a, tr);
+    memset(&T, 0, sizeof T);
+    T.N = N;
+    T.S = S;
+    T.gr = (uint32_t *)bp__alloc_array(a, nslot ? nslot : 1, sizeof(uint32_t));
+    T.glen = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    if (!T.gr || !T.glen || nslot > 0xfffffff0u) goto done;
+    if (N->extra.count && !bp__pattern_extra(a, N, nv, &xp, &xl)) goto done;
+    T.xp = xp;
+    T.xl = xl;
+    S->par.run(S->par.user, bp__pattern_cols, &T, S->nchunk_v);
     N->H.n = n;
     N->H.symmetric = 1;
     N->H.blocks2 = 1;
     N->H.colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    N->H.row = (uint32_t *)bp__alloc_array(a, 4 * (size_t)G.colp[nv] + 1, sizeof(uint32_t));
-    N->H.val = (double *)bp__calloc_array(a, 4 * (size_t)G.colp[nv] + 1, sizeof(double));
-    if (!N->H.colp || !N->H.row || !N->H.val || G.colp[nv] > 0x3ffffffcu) { bp__sparse_free(a, &G); return BP_ERR_OUT_OF_MEMORY; }
-    for (v = 0; v < nv; v++)
-        for (k = 0; k < 2; k++) {
-            N->H.colp[2 * v + k] = w;
-            for (p = G.colp[v]; p < G.colp[v + 1]; p++) { N->H.row[w++] = 2 * G.row[p]; N->H.row[w++] = 2 * G.row[p] + 1; }
-        }
-    N->H.colp[n] = w;
-    for (t = 0; t < S->nt; t++)
-        for (k = 0; k < 3; k++)
-            for (l = 0; l < 3; l++) {
-                uint32_t r = S->tri[3 * (size_t)t + k], c = S->tri[3 * (size_t)t + l];
-                N->tpos[9 * (size_t)t + 3 * k + l] = N->H.colp[2 * c] + 2 * (bp__sparse_find(&G, r, c) - G.colp[c]);
-            }
-    for (v = 0; v < nv; v++) {
-        uint32_t base = N->H.colp[2 * v] + 2 * (bp__sparse_find(&G, v, v) - G.colp[v]), len = N->H.colp[2 * v + 1] - N->H.colp[2 * v];
-        for (k = 0; k < 4; k++) N->dpos[4 * (size_t)v + k] = base + k % 2 + (k / 2) * len;
+    if (!N->H.colp) goto done;
+    for (v = 0; v < nv; v++) {          /* 4 entries per block, G's block (w, v) */
+        N->H.colp[2 * v] = (uint32_t)w;
+        N->H.colp[2 * v + 1] = (uint32_t)(w + 2 * (size_t)T.glen[v]);
+        w += 4 * (size_t)T.glen[v];
     }
-    bp__sparse_free(a, &G);
-    return BP_OK;
+    if (w > 0xfffffff0u) goto done;
+    N->H.colp[n] = (uint32_t)w;
+    N->H.row = (uint32_t *)bp__alloc_array(a, w + 1, sizeof(uint32_t));
+    N->H.val = (double *)bp__alloc_array(a, w + 1, sizeof(double));
+    if (!N->H.row || !N->H.val) goto done;
+    N->H.val[w] = 0;
+    S->par.run(S->par.user, bp__pattern_place, &T, S->nchunk_v);
+    st = BP_OK;
+done:
+    bp__free(a, T.gr); bp__free(a, T.glen); bp__free(a, xp); bp__free(a, xl);
+    return st;
 }
 
 static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solver *S)

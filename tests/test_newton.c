@@ -61,7 +61,10 @@
          matrix with it minus the one without equals, along random w, the
          brute-force sum of the wider barrier's Gauss-Newton terms (second
          derivatives by finite differences), so it is positive
-         semidefinite, and it is not 0. */
+         semidefinite, and it is not 0;
+     (j) Newton's pattern (bp__newton_pattern) against a brute-force
+         construction: H's columns, tpos and dpos on camelhead, serially,
+         with extra pairs in reversed chunk order, and on a real pool. */
 /* every loop through the job system, even on these small charts (as in
    test_threads.c), so that (e)'s reversed task order is a real test */
 #define BP__PAR_MIN_TRIANGLES 1u
@@ -768,11 +771,132 @@ static void test_wide_barrier(void)
     bp_mesh_free(&mesh, NULL);
 }
 
+/* (j) Newton's pattern (bp__newton_pattern, built column by column in
+   parallel chunks) against a brute-force construction written here: every
+   (row, column) vertex pair of every triangle (the diagonal included),
+   every vertex's diagonal and both orders of every extra pair, sorted by
+   column then row by qsort and made distinct.  H's columns 2v and 2v+1
+   must hold exactly the rows 2w, 2w+1 of those w in order, tpos must point
+   at each triangle block's entry (2 tri[k], 2 tri[l]) and dpos at each
+   vertex's diagonal entries, and H's values must be 0.  On camelhead
+   (six vertex chunks), serially, then with extra pairs (random, some
+   repeated, some already edges) with the chunks run backwards on a
+   two-thread runner, and on a real pool of two threads. */
+static int pair_cmp(const void *a, const void *b)
+{
+    const uint32_t *x = (const uint32_t *)a, *y = (const uint32_t *)b;
+    return x[1] != y[1] ? (x[1] < y[1] ? -1 : 1) : (x[0] < y[0] ? -1 : x[0] > y[0]);
+}
+
+static void check_pattern(const bp__newton *N, const bp__solver *S, const char *what)
+{
+    const uint32_t *ex = (const uint32_t *)N->extra.data;
+    size_t np = 9 * (size_t)S->nt + S->nv + 2 * N->extra.count, k, q = 0;
+    uint32_t *pr = (uint32_t *)malloc(2 * np * sizeof(uint32_t)), v, t, a, b, bad = 0, badt = 0, badd = 0, badv = 0;
+    const bp__sparse *H = &N->H;
+    for (t = 0; t < S->nt; t++)
+        for (a = 0; a < 3; a++)
+            for (b = 0; b < 3; b++) { pr[2 * q] = S->tri[3 * t + a]; pr[2 * q + 1] = S->tri[3 * t + b]; q++; }
+    for (v = 0; v < S->nv; v++) { pr[2 * q] = pr[2 * q + 1] = v; q++; }
+    for (k = 0; k < N->extra.count; k++) {
+        pr[2 * q] = ex[2 * k]; pr[2 * q + 1] = ex[2 * k + 1]; q++;
+        pr[2 * q] = ex[2 * k + 1]; pr[2 * q + 1] = ex[2 * k]; q++;
+    }
+    qsort(pr, q, 2 * sizeof(uint32_t), pair_cmp);
+    BPT_CHECK(H->n == 2 * S->nv, "%s: H is 2nv x 2nv (%u)", what, H->n);
+    for (k = 0, v = 0; v < S->nv && !bad; v++) {   /* column v's distinct rows */
+        uint32_t m = 0, c, i, *rows = pr + 2 * k;      /* (the pairs' rows, read in place) */
+        size_t k0 = k;
+        for (; k < q && pr[2 * k + 1] == v; k++)
+            if (k == k0 || pr[2 * k] != pr[2 * k - 2]) rows[2 * m++] = pr[2 * k];
+        if (H->colp[2 * v + 1] - H->colp[2 * v] != 2 * m || H->colp[2 * v + 2] - H->colp[2 * v + 1] != 2 * m) { bad++; break; }
+        for (c = 0; c < 2; c++)
+            for (i = 0; i < m; i++) {
+                uint32_t p = H->colp[2 * v + c] + 2 * i;
+                if (H->row[p] != 2 * rows[2 * i] || H->row[p + 1] != 2 * rows[2 * i] + 1) bad++;
+            }
+    }
+    BPT_CHECK(bad == 0, "%s: H's columns are the brute-force vertex pairs, sorted (%u wrong, at vertex %u)", what, bad, v);
+    for (t = 0; t < S->nt; t++)
+        for (a = 0; a < 3; a++)
+            for (b = 0; b < 3; b++) {
+                uint32_t P = N->tpos[9 * t + 3 * a + b], col = 2 * S->tri[3 * t + b];
+                if (P < H->colp[col] || P >= H->colp[col + 1] || H->row[P] != 2 * S->tri[3 * t + a]) badt++;
+            }
+    BPT_CHECK(badt == 0, "%s: tpos points at every triangle block's entry (%u wrong)", what, badt);
+    for (v = 0; v < S->nv; v++)
+        for (a = 0; a < 4; a++) {
+            uint32_t P = N->dpos[4 * v + a], col = 2 * v + a / 2;
+            if (P < H->colp[col] || P >= H->colp[col + 1] || H->row[P] != 2 * v + a % 2) badd++;
+        }
+    BPT_CHECK(badd == 0, "%s: dpos points at every vertex's diagonal entries (%u wrong)", what, badd);
+    for (k = 0; k < H->colp[H->n]; k++) badv += H->val[k] != 0;
+    BPT_CHECK(badv == 0, "%s: H's values are 0 (%u are not)", what, badv);
+    free(pr);
+}
+
+static void test_pattern(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options opt;
+    bp_allocator a;
+    bp__solver S;
+    bp__newton N;
+    uint32_t k;
+    memset(&opt, 0, sizeof opt);
+    memset(&a, 0, sizeof a);
+    if (!BPT_CHECK(bp_read_mesh("tests/data/camelhead.off", &mesh, NULL, &err) == BP_OK, "read camelhead: %s", err.message))
+        return;
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1 &&
+                   bp_chart_init(&atlas.charts[0], &mesh, &opt, &err) == BP_OK, "camelhead: one chart, start map")) {
+        bp_mesh_free(&mesh, NULL);
+        return;
+    }
+    if (BPT_CHECK(bp__solver_chart(&S, &a, &atlas.charts[0], &mesh, &opt, NULL, &err) == BP_OK, "solver for camelhead")) {
+        BPT_CHECK(S.nchunk_v > 2, "camelhead: several vertex chunks (%u)", S.nchunk_v);
+        if (BPT_CHECK(bp__newton_init(&N, &a, &S) == BP_OK, "Newton set-up on camelhead")) {
+            check_pattern(&N, &S, "camelhead, serial");
+            for (k = 0; k < 300; k++) {      /* pairs anywhere, some twice, some edges */
+                uint32_t uw[2];
+                uw[0] = (uint32_t)(bpt_rng_unit() * S.nv) % S.nv;
+                uw[1] = k % 5 ? (uint32_t)(bpt_rng_unit() * S.nv) % S.nv : S.tri[3 * k + 1];
+                if (k % 5 == 0) uw[0] = S.tri[3 * k];
+                if (uw[0] == uw[1]) continue;
+                bp__vec_push(&a, &N.extra, uw);
+                if (k % 7 == 0) bp__vec_push(&a, &N.extra, uw);
+            }
+            S.par.run = bpt_backwards_for;
+            S.par.threads = 2;
+            BPT_CHECK(bp__newton_pattern(&N, &a, &S) == BP_OK, "camelhead: the pattern with extra pairs");
+            check_pattern(&N, &S, "camelhead, extra pairs, chunks backwards");
+#ifdef BP_USE_PTHREADS
+            {
+                bp__pool *P = bp__pool_start(&a, 2);
+                if (BPT_CHECK(P != NULL, "a pool of 2 threads")) {
+                    S.par.run = bp__pool_for;
+                    S.par.user = P;
+                    BPT_CHECK(bp__newton_pattern(&N, &a, &S) == BP_OK, "camelhead: the pattern on 2 threads");
+                    check_pattern(&N, &S, "camelhead, extra pairs, a pool of 2 threads");
+                    bp__pool_stop(&a, P);
+                }
+            }
+#endif
+            bp__newton_free(&a, &N);
+        }
+        bp__solver_free(&S);
+    }
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+}
+
 int main(void)
 {
     bpt_rng_state = 0x9E3779B97F4A7C15ull;
     test_triangle_hessians();
     test_assembled();
+    test_pattern();
     test_optimize("tests/data/bishop_part_f1000.obj");
     test_optimize("tests/data/camel_b.obj");
     test_pinned_direction();

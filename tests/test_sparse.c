@@ -66,7 +66,12 @@
          by brute force, is at most 2% above the unrefined one's (mode 2)
          and on the three meshes at least 5% below it (measured 10-19%),
          and the top separator is no bigger; both modes also pass (a)'s
-         and (h)'s checks of the order. */
+         and (h)'s checks of the order.
+     (j) the symbolic analysis in the dissection's phases, on camelhead's
+         and fertility's vertex graphs: the supernodes' rows against a
+         brute-force symbolic factorization, the update lists against a
+         brute-force scan, and every array of the analysis the serial
+         one's with the tasks run backwards, odd-even and on a real pool. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -836,6 +841,155 @@ static void test_order(void)
     }
 }
 
+/* (j) The symbolic analysis on several threads (bp__super_analyse: the
+   etree and column counts, then the supernodes' rows, in the dissection's
+   phases).  On the vertex graphs of camelhead and fertility: with the
+   serial runner, every supernode's rows are its own vertices followed by
+   the pattern below its last column, and every one of its columns has
+   the pattern of the next plus that next column, as a brute-force
+   symbolic factorization written here computes them (column j's pattern
+   = G's entries below j in column j and the patterns of j's children
+   without j, the parent the smallest row); then with the phases' tasks
+   run backwards, odd-even and on a real pool of two threads, every array
+   of the analysis (order, supernodes, rows, updates, offsets) is the
+   serial one's. */
+static int analyse(const bp__sparse *G, bp__factor *F, const bp__par *par)
+{
+    bp_allocator al;
+    memset(&al, 0, sizeof al);
+    memset(F, 0, sizeof *F);
+    F->n = 2 * G->n;
+    F->sn = (bp__super *)calloc(1, sizeof(bp__super));
+    F->sn->bs = 2;
+    return bp__super_analyse(&al, G, F, par) == BP_OK;
+}
+
+static int same_analysis(const bp__super *A, const bp__super *B)
+{
+    uint32_t n = A->nv, ns = A->ns;
+    return A->nv == B->nv && ns == B->ns && A->ntask == B->ntask && A->maxcols == B->maxcols && A->maxrows == B->maxrows &&
+           !memcmp(A->vperm, B->vperm, n * sizeof(uint32_t)) && !memcmp(A->snode, B->snode, n * sizeof(uint32_t)) &&
+           !memcmp(A->first, B->first, (ns + 1) * sizeof(uint32_t)) && !memcmp(A->rp, B->rp, (ns + 1) * sizeof(uint32_t)) &&
+           !memcmp(A->ri, B->ri, A->rp[ns] * sizeof(uint32_t)) && !memcmp(A->xp, B->xp, (ns + 1) * sizeof(size_t)) &&
+           !memcmp(A->up, B->up, (ns + 1) * sizeof(uint32_t)) && !memcmp(A->uk, B->uk, A->up[ns] * sizeof(uint32_t)) &&
+           !memcmp(A->uo, B->uo, A->up[ns] * sizeof(uint32_t));
+}
+
+/* Brute force: col[j] (sorted, malloc'd) the pattern of L below j in
+   column j, for the order vperm of G. */
+static uint32_t **brute_columns(const bp__sparse *G, const uint32_t *vperm, uint32_t *len)
+{
+    uint32_t n = G->n, j, p, c, i, *iperm = (uint32_t *)malloc(n * sizeof(uint32_t)), *mark = (uint32_t *)malloc(n * sizeof(uint32_t));
+    uint32_t *head = (uint32_t *)malloc(n * sizeof(uint32_t)), *next = (uint32_t *)malloc(n * sizeof(uint32_t));
+    uint32_t **col = (uint32_t **)calloc(n, sizeof(uint32_t *)), *buf = (uint32_t *)malloc(n * sizeof(uint32_t));
+    for (j = 0; j < n; j++) { iperm[vperm[j]] = j; mark[j] = head[j] = BP__NONE; }
+    for (j = 0; j < n; j++) {
+        uint32_t m = 0;
+        for (p = G->colp[vperm[j]]; p < G->colp[vperm[j] + 1]; p++) {
+            uint32_t r = iperm[G->row[p]];
+            if (r > j && mark[r] != j) { mark[r] = j; buf[m++] = r; }
+        }
+        for (c = head[j]; c != BP__NONE; c = next[c])
+            for (i = 0; i < len[c]; i++)
+                if (col[c][i] > j && mark[col[c][i]] != j) { mark[col[c][i]] = j; buf[m++] = col[c][i]; }
+        qsort(buf, m, sizeof(uint32_t), bp__u32_cmp);
+        col[j] = (uint32_t *)malloc((m ? m : 1) * sizeof(uint32_t));
+        memcpy(col[j], buf, m * sizeof(uint32_t));
+        len[j] = m;
+        if (m) { next[j] = head[buf[0]]; head[buf[0]] = j; }
+    }
+    free(iperm); free(mark); free(head); free(next); free(buf);
+    return col;
+}
+
+static void check_against_brute(const bp__sparse *G, const bp__super *S, const char *what)
+{
+    uint32_t n = G->n, *len = (uint32_t *)malloc(n * sizeof(uint32_t)), **col = brute_columns(G, S->vperm, len), s, j, i, bad = 0;
+    for (s = 0; s < S->ns; s++) {
+        uint32_t f = S->first[s], l = S->first[s + 1], m = S->rp[s + 1] - S->rp[s];
+        const uint32_t *ri = S->ri + S->rp[s];
+        if (m != (l - f) + len[l - 1]) { bad++; continue; }
+        for (i = 0; i < l - f; i++) bad += ri[i] != f + i;
+        for (i = 0; i < len[l - 1]; i++) bad += ri[l - f + i] != col[l - 1][i];
+        for (j = f; j + 1 < l; j++)             /* column j: j+1 and the next column's pattern */
+            bad += len[j] != len[j + 1] + 1 || col[j][0] != j + 1 || memcmp(col[j] + 1, col[j + 1], len[j + 1] * sizeof(uint32_t)) != 0;
+    }
+    BPT_CHECK(bad == 0 && S->ns > 0, "%s: the supernodes' rows are the brute-force pattern of L (%u wrong of %u supernodes)", what,
+              bad, S->ns);
+    {   /* the update lists: under each J, every K with rows in J once, by
+           increasing K, at K's first row in J; as many as the (K, J) pairs */
+        uint32_t J, e, pairs = 0, wrong = 0;
+        for (s = 0; s < S->ns; s++) {
+            uint32_t last = BP__NONE, q;
+            for (q = S->rp[s] + S->first[s + 1] - S->first[s]; q < S->rp[s + 1]; q++) {
+                uint32_t t;
+                for (t = 0; S->first[t + 1] <= S->ri[q]; t++) {}     /* the supernode of the row, by a scan */
+                if (t != last) { pairs++; last = t; }
+            }
+        }
+        for (J = 0; J < S->ns; J++)
+            for (e = S->up[J]; e < S->up[J + 1]; e++) {
+                uint32_t K = S->uk[e], q = S->rp[K] + S->uo[e], c0 = S->rp[K] + S->first[K + 1] - S->first[K];
+                uint32_t r = S->ri[q];
+                wrong += (e > S->up[J] && S->uk[e - 1] >= K) || K >= J || q < c0 || q >= S->rp[K + 1] || r < S->first[J] ||
+                         r >= S->first[J + 1] || (q > c0 && S->ri[q - 1] >= S->first[J]);
+            }
+        BPT_CHECK(wrong == 0 && S->up[S->ns] == pairs, "%s: the update lists are every (K, J) pair once, by K (%u wrong, %u of %u)",
+                  what, wrong, S->up[S->ns], pairs);
+    }
+    for (j = 0; j < n; j++) free(col[j]);
+    free(col); free(len);
+}
+
+static void check_same_analysis(const bp__sparse *G, const bp__super *S0, const bp__par *par, const char *mesh, const char *how)
+{
+    bp_allocator al;
+    bp__factor F1;
+    memset(&al, 0, sizeof al);
+    if (BPT_CHECK(analyse(G, &F1, par), "%s: analysed, %s", mesh, how)) {
+        BPT_CHECK(same_analysis(S0, F1.sn), "%s: %s: every array of the analysis is the serial one's", mesh, how);
+        bp__factor_free(&al, &F1);
+    }
+}
+
+static void test_analysis(void)
+{
+    static const char *MESH[] = { "tests/data/camelhead.off", "tests/data/fertility.off" };
+    bp_allocator al;
+    int k, r;
+    memset(&al, 0, sizeof al);
+    for (k = 0; k < 2; k++) {
+        bp__sparse G;
+        bp__factor F0;
+        if (!BPT_CHECK(mesh_graph(MESH[k], &G), "analysis: %s's vertex graph", MESH[k])) continue;
+        if (BPT_CHECK(analyse(&G, &F0, NULL), "%s: analysed serially", MESH[k])) {
+            BPT_CHECK(F0.sn->ntask > 1, "%s: the analysis has parallel phases (%u tasks)", MESH[k], F0.sn->ntask);
+            check_against_brute(&G, F0.sn, MESH[k]);
+            for (r = 0; r < 3; r++) {
+                static const char *HOW[] = { "tasks backwards", "tasks odd-even", "a pool of two threads" };
+                bp__par par = bp__par_serial();
+                par.threads = 2;
+                par.run = r ? bpt_odd_even_for : bpt_backwards_for;
+#ifdef BP_USE_PTHREADS
+                {
+                    bp__pool *P = NULL;
+                    if (r == 2) {
+                        par = real_pool(&al, 2, &P);
+                        if (!BPT_CHECK(P != NULL, "a pool of two threads")) break;
+                    }
+                    check_same_analysis(&G, F0.sn, &par, MESH[k], HOW[r]);
+                    if (P) bp__pool_stop(&al, P);
+                }
+#else
+                if (r < 2) check_same_analysis(&G, F0.sn, &par, MESH[k], HOW[r]);
+#endif
+            }
+            bp__factor_free(&al, &F0);
+        }
+        bp__sparse_free(&al, &G);
+    }
+}
+
 /* (c) flagged blocks2 but not in whole blocks: a tridiagonal matrix of odd
    and even size. */
 static void test_fallback(void)
@@ -949,5 +1103,6 @@ int main(void)
     test_fallback();
     test_order();
     test_newton_matrix();
+    test_analysis();
     return bpt_finish();
 }
