@@ -7304,8 +7304,10 @@ static int bp__sym_covers(const bp__factor *F, uint32_t n)
 /* The analysis on the vertex graph: ordering (nested dissection, its tree
    in F->tree in vertex ranges; on par's threads), elimination tree, column counts (by row
    subtrees), supernodes, their rows, the update lists and the blocks'
-   offsets. */
-static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, bp__factor *F, const bp__par *par)
+   offsets.  With order given (and its tree), that order instead of a
+   new one: it must be a valid dissection of G (bp__nd_keeps). */
+static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, bp__factor *F, const bp__par *par,
+                                   const uint32_t *order, const bp__ndnode *tree)
 {
     bp__super *S = F->sn;
     uint32_t nv = G->n, k, s, *parent, *mark, *cnt, *reach, *msz, *marks = NULL;
@@ -7328,7 +7330,11 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     msz = (uint32_t *)bp__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
     bound = (uint8_t *)bp__calloc_array(a, (size_t)nv + 1, 1);
     if (!S->vperm || !S->viperm || !S->snode || !S->first || !parent || !mark || !cnt || !reach || !msz || !bound) goto done;
-    if (!bp__nd_order(a, G, S->vperm, F->tree, BP__SUPER_ORDER, par)) goto done;
+    if (order) {                                   /* a kept order (bp__factorize_kept) */
+        memcpy(S->vperm, order, nv * sizeof(uint32_t));
+        memcpy(F->tree, tree, sizeof F->tree);
+    } else if (!bp__nd_order(a, G, S->vperm, F->tree, BP__SUPER_ORDER, par))
+        goto done;
     for (k = 0; k < nv; k++) S->viperm[S->vperm[k]] = k;
     memset(&Fv, 0, sizeof Fv);
     Fv.perm = S->vperm;
@@ -8052,9 +8058,11 @@ static void bp__super_solve(const bp__factor *F, const double *b, double *x, dou
    own): the analysis and the numeric factorization above.  Returns as
    bp__factorize, and BP_ERR_NUMERICAL also for a pivot that is not
    positive (this is Cholesky: A must be positive definite); *fallback = 1
-   when A is not in whole blocks after all (nothing done). */
+   when A is not in whole blocks after all (nothing done).  order, tree:
+   a kept vertex order, or NULL (bp__super_analyse). */
 static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
-                                     const bp__par *par, uint32_t bs, int *fallback)
+                                     const bp__par *par, uint32_t bs, int *fallback, const uint32_t *order,
+                                     const bp__ndnode *tree)
 {
     bp__sparse G;
     bp__par serial = bp__par_serial();
@@ -8072,7 +8080,7 @@ static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A,
     F->sn = (bp__super *)bp__calloc_array(a, 1, sizeof(bp__super));
     F->D = (double *)bp__alloc_array(a, A->n ? A->n : 1, sizeof(double));
     if (F->sn && F->D) F->sn->bs = bs;
-    if (F->sn && F->D && (st = bp__super_analyse(a, &G, F, par)) == BP_OK) {
+    if (F->sn && F->D && (st = bp__super_analyse(a, &G, F, par, order, tree)) == BP_OK) {
         st = BP_ERR_OUT_OF_MEMORY;
         /* the scatter map for the refactorizations (bp__super_start; its
            rows 2 r + 1 < BP__NONE, else the binary searches stay) */
@@ -8151,7 +8159,7 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
     bp_status st = BP_ERR_OUT_OF_MEMORY;
     if (A->blocks2 || A->super1) {
         int fallback;
-        st = bp__super_factorize(a, A, F, bad_row, par, A->blocks2 ? 2 : 1, &fallback);
+        st = bp__super_factorize(a, A, F, bad_row, par, A->blocks2 ? 2 : 1, &fallback, NULL, NULL);
         if (!fallback && (st != BP_ERR_NUMERICAL || A->blocks2)) return st;
         st = BP_ERR_OUT_OF_MEMORY;
     }
@@ -12538,8 +12546,12 @@ typedef struct bp__newton {
     long       nfact, nreuse, ncg, ntry; /* factorizations, directions from a
                                      reused factor, CG steps, reuse attempts
                                      (counts for tests and measurements)     */
+    long       nkept;             /* analyses with a kept order (the same)   */
     double    *w;                 /* CG: F^-1 r                              */
     double    *part;              /* CG: the chunks' partial dots (bp__vec_pass) */
+    uint32_t  *kperm, *kiperm;    /* the vertex order of the factor before the
+                                     pattern grew, and its inverse (or NULL) */
+    bp__ndnode ktree[BP__ND_NODES]; /* ... and its dissection tree          */
     int        oom;
     bp__solver *S;                /* for the chunk tasks                    */
     const double *x;
@@ -12555,6 +12567,7 @@ static void bp__newton_free(const bp_allocator *a, bp__newton *N)
     bp__free(a, N->tpos); bp__free(a, N->dpos); bp__free(a, N->ht); bp__free(a, N->bd);
     bp__free(a, N->rhs); bp__free(a, N->z);
     bp__free(a, N->r); bp__free(a, N->p); bp__free(a, N->q); bp__free(a, N->w); bp__free(a, N->part);
+    bp__free(a, N->kperm); bp__free(a, N->kiperm);
     bp__free(a, N->pairs.data);
     bp__free(a, N->extra.data); bp__free(a, N->near.data);
     memset(N, 0, sizeof *N);
@@ -12680,6 +12693,45 @@ static void bp__pattern_place(void *task, uint32_t c)
     }
 }
 
+/* A kept order.  When the barrier's pairs grow H's pattern (a few
+   couplings between boundary vertices), the nested dissection of the old
+   pattern is usually still one of the new: an ordering is a third of a
+   symbolic analysis and more (bimba: 0.12 of 0.17 s on one thread), so
+   the old factor's vertex order and tree are kept (taken from the factor
+   before it is freed) and reused when bp__nd_keeps says that no new pair
+   joins the two halves of a split, the property that makes the subtrees
+   independent (and lets them run on several threads).  Otherwise a new
+   order, as before.  Either way the same order on any number of threads. */
+static void bp__newton_keep_order(bp__newton *N, const bp_allocator *a)
+{
+    bp__free(a, N->kperm);
+    bp__free(a, N->kiperm);
+    N->kperm = N->kiperm = NULL;
+    if (!N->F.sn || !N->F.sn->vperm || !N->F.sn->viperm || !N->F.tree[0].used) return;
+    N->kperm = N->F.sn->vperm;                 /* taken: bp__factor_free skips NULL */
+    N->kiperm = N->F.sn->viperm;
+    N->F.sn->vperm = N->F.sn->viperm = NULL;
+    memcpy(N->ktree, N->F.tree, sizeof N->ktree);
+}
+
+/* Whether the dissection tree (in the positions iperm gives) still
+   separates the graph after adding the count vertex pairs: each pair,
+   followed down from the root, must end with one vertex in a node's
+   separator [b, hi) or both in an unsplit node, never one in each half. */
+static int bp__nd_keeps(const bp__ndnode *tree, const uint32_t *iperm, const uint32_t *pairs, size_t count)
+{
+    size_t e;
+    for (e = 0; e < count; e++) {
+        uint32_t pu = iperm[pairs[2 * e]], pw = iperm[pairs[2 * e + 1]], k = 0;
+        if (pu < tree[0].lo || pu >= tree[0].hi || pw < tree[0].lo || pw >= tree[0].hi) return 0;
+        while (k < BP__ND_NODES && tree[k].used && tree[k].split && pu < tree[k].b && pw < tree[k].b) {
+            if ((pu < tree[k].a) != (pw < tree[k].a)) return 0;
+            k = 2 * k + (pu < tree[k].a ? 1 : 2);
+        }
+    }
+    return 1;
+}
+
 /* The extra pairs by vertex: xp[v] .. xp[v+1] index v's other ends in xl
    (each pair (u, w) lists w under u and u under w).  Returns 0 out of
    memory. */
@@ -12706,6 +12758,7 @@ static bp_status bp__newton_pattern(bp__newton *N, const bp_allocator *a, bp__so
     bp__pattern_task T;
     bp_status st = BP_ERR_OUT_OF_MEMORY;
     bp__sparse_free(a, &N->H);
+    bp__newton_keep_order(N, a);
     bp__factor_free(a, &N->F);
     N->factored = 0;
     N->fvalid = 0;
@@ -13199,6 +13252,26 @@ static int bp__newton_reuse_solve(bp__newton *N, const double *b, double *v)
     return 0;
 }
 
+/* The first factorization of H's pattern: with the order kept from
+   before the pattern grew when it still dissects the new pattern (above),
+   else a new one.  The kept order is then dropped: the new factor holds
+   it. */
+static bp_status bp__newton_factorize(bp__newton *N, bp__solver *S, uint32_t *bad)
+{
+    bp_status st;
+    int fallback = 0;
+    if (N->kperm && bp__nd_keeps(N->ktree, N->kiperm, (const uint32_t *)N->extra.data, N->extra.count)) {
+        st = bp__super_factorize(S->a, &N->H, &N->F, bad, &S->par, 2, &fallback, N->kperm, N->ktree);
+        if (!fallback) N->nkept++;
+    } else
+        fallback = 1;
+    if (fallback) st = bp__factorize(S->a, &N->H, &N->F, bad, &S->par);
+    bp__free(S->a, N->kperm);
+    bp__free(S->a, N->kiperm);
+    N->kperm = N->kiperm = NULL;
+    return st;
+}
+
 /* v = -(H + delta I)^-1 g at x, *gv = g.v: by the factor of an earlier H
    and CG when that converges (above), else by factoring H.  Returns 1; 0
    when H could not be factored or v is not a descent direction (the
@@ -13219,7 +13292,7 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
         N->nreuse++;
     } else {
         if (!N->factored) {
-            bp_status st = bp__factorize(S->a, &N->H, &N->F, &bad, &S->par);
+            bp_status st = bp__newton_factorize(N, S, &bad);
             if (st == BP_ERR_OUT_OF_MEMORY) return -1;
             if (st != BP_OK) return 0;
             N->factored = 1;

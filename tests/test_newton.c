@@ -64,7 +64,15 @@
          semidefinite, and it is not 0;
      (j) Newton's pattern (bp__newton_pattern) against a brute-force
          construction: H's columns, tpos and dpos on camelhead, serially,
-         with extra pairs in reversed chunk order, and on a real pool. */
+         with extra pairs in reversed chunk order, and on a real pool;
+     (k) a kept order (bp__nd_keeps, bp__newton_factorize): on camelhead's
+         H, bp__nd_keeps agrees with a brute force over every split node
+         on 3000 random vertex pairs (both verdicts occur); after valid
+         pairs grow the pattern, the next factorization keeps the old
+         vertex order and tree (counted), solves H x = b to a residual of
+         1e-7, and has the same bits with its tasks run backwards on two
+         threads; after an invalid pair it takes a new order, which
+         separates every extra pair. */
 /* every loop through the job system, even on these small charts (as in
    test_threads.c), so that (e)'s reversed task order is a real test */
 #define BP__PAR_MIN_TRIANGLES 1u
@@ -891,12 +899,128 @@ static void test_pattern(void)
     bp_mesh_free(&mesh, NULL);
 }
 
+/* (k) whether a pair of vertices keeps the tree a dissection, by brute
+   force: no split node has one of them in each half. */
+static int keeps_brute(const bp__ndnode *t, const uint32_t *iperm, uint32_t u, uint32_t w)
+{
+    uint32_t k, pu = iperm[u], pw = iperm[w];
+    for (k = 0; k < BP__ND_NODES; k++) {
+        const bp__ndnode *N = &t[k];
+        if (!N->used || !N->split) continue;
+        if ((pu >= N->lo && pu < N->a && pw >= N->a && pw < N->b) || (pw >= N->lo && pw < N->a && pu >= N->a && pu < N->b))
+            return 0;
+    }
+    return 1;
+}
+
+static double residual_H(const bp__sparse *H, const double *x, const double *b)
+{
+    uint32_t j, p;
+    double *r = (double *)calloc(H->n, sizeof(double)), rr = 0, bb = 0;
+    for (j = 0; j < H->n; j++)
+        for (p = H->colp[j]; p < H->colp[j + 1]; p++) r[H->row[p]] += H->val[p] * x[j];
+    for (j = 0; j < H->n; j++) { rr += (r[j] - b[j]) * (r[j] - b[j]); bb += b[j] * b[j]; }
+    free(r);
+    return sqrt(rr / bb);
+}
+
+static void test_kept_order(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options opt;
+    bp_allocator a;
+    bp__solver S;
+    bp__newton N;
+    uint32_t k, bad, nv, n, mism = 0, valid = 0, invalid = 0, pushed = 0, sep = 0, badpair[2] = { 0, 0 };
+    uint32_t *perm = NULL;
+    bp_status st;
+    bp__ndnode tree[BP__ND_NODES];
+    memset(&opt, 0, sizeof opt);
+    memset(&a, 0, sizeof a);
+    if (!BPT_CHECK(bp_read_mesh("tests/data/camelhead.off", &mesh, NULL, &err) == BP_OK, "read camelhead: %s", err.message))
+        return;
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1 &&
+                   bp_chart_init(&atlas.charts[0], &mesh, &opt, &err) == BP_OK, "camelhead: one chart, start map") ||
+        !BPT_CHECK(bp__solver_chart(&S, &a, &atlas.charts[0], &mesh, &opt, NULL, &err) == BP_OK, "solver for camelhead")) {
+        bp_mesh_free(&mesh, NULL);
+        return;
+    }
+    if (BPT_CHECK(bp__newton_init(&N, &a, &S) == BP_OK, "Newton set-up on camelhead")) {
+        double *b, *x, *z;
+        bp__factor F2;
+        nv = S.nv;
+        n = 2 * nv;
+        b = (double *)malloc(n * sizeof(double)); x = (double *)malloc(n * sizeof(double));
+        z = (double *)malloc(n * sizeof(double));
+        perm = (uint32_t *)malloc(nv * sizeof(uint32_t));
+        bp__newton_assemble(&N, &S, atlas.charts[0].uv);
+        BPT_CHECK(bp__newton_factorize(&N, &S, &bad) == BP_OK && N.F.sn && N.nkept == 0, "camelhead: H factored, a new order");
+        memcpy(perm, N.F.sn->vperm, nv * sizeof(uint32_t));
+        memcpy(tree, N.F.tree, sizeof tree);
+        for (k = 0; k < 3000; k++) {
+            uint32_t uw[2];
+            int kb, kl;
+            uw[0] = (uint32_t)(bpt_rng_unit() * nv) % nv;
+            uw[1] = (uint32_t)(bpt_rng_unit() * nv) % nv;
+            if (uw[0] == uw[1]) continue;
+            kb = keeps_brute(tree, N.F.sn->viperm, uw[0], uw[1]);
+            kl = bp__nd_keeps(tree, N.F.sn->viperm, uw, 1);
+            mism += kb != kl;
+            if (kb) valid++; else { invalid++; badpair[0] = uw[0]; badpair[1] = uw[1]; }
+            if (kb && pushed < 20) { bp__vec_push(&a, &N.extra, uw); pushed++; }
+        }
+        BPT_CHECK(mism == 0 && valid > 0 && invalid > 0, "camelhead: bp__nd_keeps agrees with the brute force on %u valid "
+                  "and %u invalid pairs (%u differ)", valid, invalid, mism);
+        BPT_CHECK(bp__newton_pattern(&N, &a, &S) == BP_OK && N.kperm != NULL, "camelhead: %u valid pairs grow the pattern, "
+                  "the old order kept", pushed);
+        bp__newton_assemble(&N, &S, atlas.charts[0].uv);
+        st = bp__newton_factorize(&N, &S, &bad);
+        if (BPT_CHECK(st == BP_OK && N.nkept == 1 && N.kperm == NULL, "camelhead: factored with the kept order (counted %ld)",
+                      N.nkept)) {
+            int fb = 0;
+            bp__par back = bp__par_serial();
+            BPT_CHECK(memcmp(perm, N.F.sn->vperm, nv * sizeof(uint32_t)) == 0 && memcmp(tree, N.F.tree, sizeof tree) == 0,
+                      "camelhead: the new factor's order and tree are the old ones");
+            for (k = 0; k < n; k++) b[k] = bpt_rng_range(-1, 1);
+            bp__factor_solve(&N.F, b, x, z);
+            BPT_CHECK(residual_H(&N.H, x, b) < 1e-7, "camelhead, kept order: |H x - b| / |b| = %.2g", residual_H(&N.H, x, b));
+            back.run = bpt_backwards_for;
+            back.threads = 2;
+            if (BPT_CHECK(bp__super_factorize(&a, &N.H, &F2, &bad, &back, 2, &fb, perm, tree) == BP_OK && F2.sn,
+                          "camelhead: the kept order factored with tasks backwards on two threads")) {
+                BPT_CHECK(memcmp(F2.sn->x, N.F.sn->x, N.F.sn->xp[N.F.sn->ns] * sizeof(double)) == 0,
+                          "camelhead, kept order: the same bits with the tasks backwards");
+                bp__factor_free(&a, &F2);
+            }
+        }
+        bp__vec_push(&a, &N.extra, badpair);           /* an invalid pair: a new order */
+        BPT_CHECK(bp__newton_pattern(&N, &a, &S) == BP_OK, "camelhead: an invalid pair grows the pattern");
+        bp__newton_assemble(&N, &S, atlas.charts[0].uv);
+        st = bp__newton_factorize(&N, &S, &bad);
+        if (BPT_CHECK(st == BP_OK && N.nkept == 1, "camelhead: after an invalid pair, factored with a new order (kept %ld "
+                      "times in all)", N.nkept)) {
+            const uint32_t *ex = (const uint32_t *)N.extra.data;
+            for (k = 0; k < N.extra.count; k++) sep += !keeps_brute(N.F.tree, N.F.sn->viperm, ex[2 * k], ex[2 * k + 1]);
+            BPT_CHECK(sep == 0, "camelhead: the new order separates all %u extra pairs (%u cross a split)",
+                      (uint32_t)N.extra.count, sep);
+        }
+        free(b); free(x); free(z); free(perm);
+        bp__newton_free(&a, &N);
+    }
+    bp__solver_free(&S);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+}
+
 int main(void)
 {
     bpt_rng_state = 0x9E3779B97F4A7C15ull;
     test_triangle_hessians();
     test_assembled();
     test_pattern();
+    test_kept_order();
     test_optimize("tests/data/bishop_part_f1000.obj");
     test_optimize("tests/data/camel_b.obj");
     test_pinned_direction();

@@ -861,7 +861,7 @@ static int analyse(const bp__sparse *G, bp__factor *F, const bp__par *par)
     F->n = 2 * G->n;
     F->sn = (bp__super *)calloc(1, sizeof(bp__super));
     F->sn->bs = 2;
-    return bp__super_analyse(&al, G, F, par) == BP_OK;
+    return bp__super_analyse(&al, G, F, par, NULL, NULL) == BP_OK;
 }
 
 static int same_analysis(const bp__super *A, const bp__super *B)
