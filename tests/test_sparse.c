@@ -346,11 +346,21 @@ static void check_task_orders(const bp__sparse *A, const bp__factor *F, const ch
 /* (g) the supernodal solve in the dissection's parallel phases: its
    tasks run backwards and odd-even give the same bits as the serial
    order, and (n <= 400) its solution is the dense one, computed here by
-   Gaussian elimination with partial pivoting on A itself. */
+   Gaussian elimination with partial pivoting on A itself.  Solves whose
+   forward pass buffers phase 0's terms for the separators
+   (bp__ssolve_buffers) are counted in solves_buffered, which test_random
+   requires to be reached. */
+static uint32_t solves_buffered;
+
 static void check_solve(const bp__sparse *A, const bp__factor *F, const double *b, const double *x, const char *what)
 {
     uint32_t n = A->n, i, j, k, p;
     double *y = (double *)malloc(n * sizeof(double)), *z = (double *)malloc(n * sizeof(double));
+    bp__ssolve_task T;
+    memset(&T, 0, sizeof T);
+    T.F = F;
+    bp__ssolve_buffers(&T, F, y);
+    solves_buffered += T.buf != NULL;
     bp__par rev = bp__par_serial(), oe = bp__par_serial();
     rev.run = bpt_backwards_for;
     oe.run = bpt_odd_even_for;
@@ -443,6 +453,8 @@ static void test_random(void)
     }
     BPT_CHECK(wide_unbalanced > 0, "grids: %u phases of two or more separators went WIDE (one holds most of the work), "
               "their bits checked above", wide_unbalanced);
+    BPT_CHECK(solves_buffered > 0, "grids: %u factors solved with phase 0's separator terms buffered, checked above",
+              solves_buffered);
 }
 
 /* (e) A random scalar SPD matrix (A->super1) on the same grids: each
