@@ -7959,21 +7959,30 @@ static void bp__super_gather(const bp__super *S, uint32_t q0, uint32_t q1, uint3
     }
 }
 
-/* Supernode s, forward: its diagonal block, z_s = L_ss^-1 z_s, then its
-   terms scattered to the rows below it that are less than vhi (the end
-   of its task's range; the rows from vhi on gather them later). */
-static void bp__super_fscatter(const bp__super *S, uint32_t s, uint32_t vhi, double *z)
+/* Supernode s, forward, its diagonal block: z_s = L_ss^-1 z_s. */
+static void bp__super_fdiag(const bp__super *S, uint32_t s, double *z)
 {
-    uint32_t bs = S->bs, c2 = bs * (S->first[s + 1] - S->first[s]), m2 = bs * (S->rp[s + 1] - S->rp[s]), i, j;
-    const uint32_t *rows = S->ri + S->rp[s];
+    uint32_t c2 = S->bs * (S->first[s + 1] - S->first[s]), i, j;
     const double *B = S->x + S->xp[s];
-    double *zs = z + bs * (size_t)S->first[s];
+    double *zs = z + S->bs * (size_t)S->first[s];
     for (i = 0; i < c2; i++) {
         const double *r = B + (size_t)i * c2;
         double t = zs[i];
         for (j = 0; j < i; j++) t -= r[j] * zs[j];
         zs[i] = t / r[i];
     }
+}
+
+/* Supernode s, forward: its diagonal block, then its terms scattered to
+   the rows below it that are less than vhi (the end of its task's range;
+   the rows from vhi on gather them later). */
+static void bp__super_fscatter(const bp__super *S, uint32_t s, uint32_t vhi, double *z)
+{
+    uint32_t bs = S->bs, c2 = bs * (S->first[s + 1] - S->first[s]), m2 = bs * (S->rp[s + 1] - S->rp[s]), i, j;
+    const uint32_t *rows = S->ri + S->rp[s];
+    const double *B = S->x + S->xp[s];
+    double *zs = z + bs * (size_t)S->first[s];
+    bp__super_fdiag(S, s, z);
     for (i = c2; i < m2 && rows[i / bs] < vhi; i++) {
         const double *r = B + (size_t)i * c2;
         double t = 0;
@@ -8024,12 +8033,7 @@ static void bp__super_fscatter_buf(const bp__ssolve_task *T, uint32_t s, uint32_
     const uint32_t *rows = S->ri + S->rp[s];
     const double *B = S->x + S->xp[s];
     double *z = T->z, *zs = z + bs * (size_t)S->first[s];
-    for (i = 0; i < c2; i++) {
-        const double *r = B + (size_t)i * c2;
-        double t = zs[i];
-        for (j = 0; j < i; j++) t -= r[j] * zs[j];
-        zs[i] = t / r[i];
-    }
+    bp__super_fdiag(S, s, z);
     for (i = c2; i < m2; i++) {
         const double *r = B + (size_t)i * c2;
         uint32_t u = rows[i / bs];
