@@ -13360,10 +13360,11 @@ static void bp__newton_mul(const bp__sparse *H, const double *x, double *y, cons
 static int bp__newton_reuse_solve(bp__newton *N, const double *b, double *v)
 {
     uint32_t n = N->H.n;
-    double rz = 0, pq, alpha, rzn, beta, m = 0, dm, one = 1, c;
+    double rz = 0, pq, alpha, rzn, beta, m = 0, dm;
+    const double one = 1;
     int k;
     double *r = N->r, *p = N->p, *q = N->q, *w = N->w;
-    const double *wv;
+    const double *wv = w;
     bp__par serial = bp__par_serial();
     const bp__par *par = N->par ? N->par : &serial;
     N->ntry++;
@@ -13389,9 +13390,7 @@ static int bp__newton_reuse_solve(bp__newton *N, const double *b, double *v)
                      (const double *const *)&w, &rzn);
         if (!(rzn > 0)) return 1;              /* exact */
         beta = rzn / rz;
-        wv = w;
-        c = one;
-        bp__vec_pass(par, N->part, n, p, beta, p, 1, &wv, &c, 0, NULL, NULL, NULL);   /* p = w + beta p */
+        bp__vec_pass(par, N->part, n, p, beta, p, 1, &wv, &one, 0, NULL, NULL, NULL);   /* p = w + beta p */
         rz = rzn;
     }
     return 0;

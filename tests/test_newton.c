@@ -843,26 +843,37 @@ static void check_pattern(const bp__newton *N, const bp__solver *S, const char *
     free(pr);
 }
 
+/* (j), (k): camelhead (an OFF file, so not through bpt_one_chart's OBJ
+   reader) as one chart with its start map and a solver of default
+   options; on failure what was made is freed and 0 returned. */
+static int camelhead_solver(bp_mesh *mesh, bp_atlas *atlas, bp__solver *S, bp_allocator *a)
+{
+    bp_options opt;
+    bp_error err;
+    int built;
+    memset(&opt, 0, sizeof opt);
+    memset(a, 0, sizeof *a);
+    if (!BPT_CHECK(bp_read_mesh("tests/data/camelhead.off", mesh, NULL, &err) == BP_OK, "read camelhead: %s", err.message))
+        return 0;
+    built = bp_atlas_build(atlas, mesh, &opt, &err) == BP_OK;
+    if (BPT_CHECK(built && atlas->num_charts == 1 && bp_chart_init(&atlas->charts[0], mesh, &opt, &err) == BP_OK,
+                  "camelhead: one chart, start map") &&
+        BPT_CHECK(bp__solver_chart(S, a, &atlas->charts[0], mesh, &opt, NULL, &err) == BP_OK, "solver for camelhead"))
+        return 1;
+    if (built) bp_atlas_free(atlas);
+    bp_mesh_free(mesh, NULL);
+    return 0;
+}
+
 static void test_pattern(void)
 {
     bp_mesh mesh;
     bp_atlas atlas;
-    bp_error err;
-    bp_options opt;
     bp_allocator a;
     bp__solver S;
     bp__newton N;
     uint32_t k;
-    memset(&opt, 0, sizeof opt);
-    memset(&a, 0, sizeof a);
-    if (!BPT_CHECK(bp_read_mesh("tests/data/camelhead.off", &mesh, NULL, &err) == BP_OK, "read camelhead: %s", err.message))
-        return;
-    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1 &&
-                   bp_chart_init(&atlas.charts[0], &mesh, &opt, &err) == BP_OK, "camelhead: one chart, start map")) {
-        bp_mesh_free(&mesh, NULL);
-        return;
-    }
-    if (BPT_CHECK(bp__solver_chart(&S, &a, &atlas.charts[0], &mesh, &opt, NULL, &err) == BP_OK, "solver for camelhead")) {
+    if (camelhead_solver(&mesh, &atlas, &S, &a)) {
         BPT_CHECK(S.nchunk_v > 2, "camelhead: several vertex chunks (%u)", S.nchunk_v);
         if (BPT_CHECK(bp__newton_init(&N, &a, &S) == BP_OK, "Newton set-up on camelhead")) {
             check_pattern(&N, &S, "camelhead, serial");
@@ -894,9 +905,9 @@ static void test_pattern(void)
             bp__newton_free(&a, &N);
         }
         bp__solver_free(&S);
+        bp_atlas_free(&atlas);
+        bp_mesh_free(&mesh, NULL);
     }
-    bp_atlas_free(&atlas);
-    bp_mesh_free(&mesh, NULL);
 }
 
 /* (k) whether a pair of vertices keeps the tree a dissection, by brute
@@ -928,8 +939,6 @@ static void test_kept_order(void)
 {
     bp_mesh mesh;
     bp_atlas atlas;
-    bp_error err;
-    bp_options opt;
     bp_allocator a;
     bp__solver S;
     bp__newton N;
@@ -937,16 +946,7 @@ static void test_kept_order(void)
     uint32_t *perm = NULL;
     bp_status st;
     bp__ndnode tree[BP__ND_NODES];
-    memset(&opt, 0, sizeof opt);
-    memset(&a, 0, sizeof a);
-    if (!BPT_CHECK(bp_read_mesh("tests/data/camelhead.off", &mesh, NULL, &err) == BP_OK, "read camelhead: %s", err.message))
-        return;
-    if (!BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1 &&
-                   bp_chart_init(&atlas.charts[0], &mesh, &opt, &err) == BP_OK, "camelhead: one chart, start map") ||
-        !BPT_CHECK(bp__solver_chart(&S, &a, &atlas.charts[0], &mesh, &opt, NULL, &err) == BP_OK, "solver for camelhead")) {
-        bp_mesh_free(&mesh, NULL);
-        return;
-    }
+    if (!camelhead_solver(&mesh, &atlas, &S, &a)) return;
     if (BPT_CHECK(bp__newton_init(&N, &a, &S) == BP_OK, "Newton set-up on camelhead")) {
         double *b, *x, *z;
         bp__factor F2;
