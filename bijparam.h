@@ -7053,10 +7053,13 @@ static int bp__super_graph(const bp_allocator *a, const bp__sparse *A, bp__spars
    CHOLMOD's, in vertices = 2 columns): a supernode of nc vertices whose
    lower trapezoid would hold a fraction z of explicit zeros is accepted
    when nc <= 2, or nc <= 8 and z < 0.8, or nc <= 24 and z < 0.1, or
-   z < 0.05.  Off unless BP__SUPER_RELAX is 1: on face and bimba it made
-   the supernodes 7.3 vertices long instead of 1.6 but the factorization
-   no faster (the 2x2 blocks are dense enough for the kernels), and L 14%
-   larger (docs/performance.md sec 6.1). */
+   z < 0.05.  On by default since session 10 (BP__SUPER_RELAX 0 turns it
+   off): on face it makes the supernodes 6.5 vertices long instead of 1.55
+   (3,993 instead of 16,676) for 12% more stored values, and the kernels
+   of sec 6.16 (panels, the update by 4 x 2 blocks) then pay less per
+   supernode: a whole one-thread run 7% faster (docs/performance.md sec
+   6.23).  When it was first measured (sec 6.1), with the older kernels,
+   it gained nothing. */
 #ifndef BP__SUPER_ORDER
 #define BP__SUPER_ORDER 1           /* bp__nd_order's mode for the supernodal factor */
 #endif
@@ -7067,7 +7070,7 @@ static int bp__super_graph(const bp_allocator *a, const bp__sparse *A, bp__spars
 #define BP__SUPER_SCALAR 1          /* the scalar SPD systems (A->super1) go supernodal */
 #endif
 #ifndef BP__SUPER_RELAX
-#define BP__SUPER_RELAX 0           /* measured: no faster, 14% more values */
+#define BP__SUPER_RELAX 1           /* relaxed supernodes (sec 6.23) */
 #endif
 static int bp__super_relax(uint32_t nc, double nz, double size)
 {
@@ -12949,7 +12952,9 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
     N->near.elem = sizeof(bp__bnear);
     N->tpos = (uint32_t *)bp__alloc_array(a, 9 * (size_t)S->nt, sizeof(uint32_t));
     N->dpos = (uint32_t *)bp__alloc_array(a, 4 * (size_t)S->nv, sizeof(uint32_t));
-    N->ht = (double *)bp__calloc_array(a, 36 * (size_t)S->nt, sizeof(double));
+    N->ht = (double *)bp__alloc_array(a, 36 * (size_t)S->nt, sizeof(double));   /* written whole by
+                                                 bp__newton_tri_task before any read: not zeroed, so its pages are
+                                                 first touched on the threads */
     N->bd = (double *)bp__alloc_array(a, 3 * (size_t)S->nv, sizeof(double));
     N->rhs = (double *)bp__alloc_array(a, n, sizeof(double));
     N->z = (double *)bp__alloc_array(a, n, sizeof(double));
