@@ -510,6 +510,12 @@ typedef struct bp_chart {
     uint32_t  num_pins;       /* chart vertices pinned (opt.pins)            */
     int       in_place;       /* nonzero: packing left the chart where its
                                  start map put it (pins, or input uvs)      */
+    uint32_t *start_order;    /* the library's own, NULL or set by
+                                 bp_chart_init: the start map's nested-
+                                 dissection order of the chart's vertices,
+                                 which bp_chart_optimize takes for its first
+                                 factorization (>>tutte, phase 5b); freed
+                                 with the chart or by bp_chart_optimize    */
 } bp_chart;
 
 /* Repairs (bp_atlas.repairs).  Outside opt.strict, bp_atlas_build mends
@@ -4244,7 +4250,7 @@ static void bp__chart_free(const bp_allocator *a, bp_chart *c)
 {
     bp__free(a, c->vertex); bp__free(a, c->vertex_uv); bp__free(a, c->triangles);
     bp__free(a, c->face); bp__free(a, c->loop_start); bp__free(a, c->loop_vertices);
-    bp__free(a, c->uv); bp__free(a, c->rest_side);
+    bp__free(a, c->uv); bp__free(a, c->rest_side); bp__free(a, c->start_order);
     memset(c, 0, sizeof *c);
 }
 
@@ -6662,6 +6668,32 @@ done:
     return ok;
 }
 
+/* A dissection restricted to some of its vertices: keep[v] is v's number
+   among the kept ones, BP__NONE for a vertex dropped.  Dropping vertices
+   keeps every split a split (a path between the two halves in the smaller
+   graph is one in the larger, so it meets the separator), so the order of
+   the kept vertices (out: new -> kept number) with the tree's ranges
+   counted in kept vertices (rtree) is a nested dissection of any subgraph
+   on them.  pre: n + 1 words of scratch. */
+static void bp__nd_restrict(const uint32_t *order, const bp__ndnode *tree, uint32_t n, const uint32_t *keep,
+                            uint32_t *out, bp__ndnode *rtree, uint32_t *pre)
+{
+    uint32_t k, m = 0;
+    for (k = 0; k < n; k++) {
+        pre[k] = m;
+        if (keep[order[k]] != BP__NONE) out[m++] = keep[order[k]];
+    }
+    pre[n] = m;
+    memset(rtree, 0, BP__ND_NODES * sizeof *rtree);
+    for (k = 0; k < BP__ND_NODES; k++) {
+        if (!tree[k].used) continue;
+        rtree[k].used = 1;
+        rtree[k].split = tree[k].split;
+        rtree[k].lo = pre[tree[k].lo]; rtree[k].a = pre[tree[k].a];
+        rtree[k].b = pre[tree[k].b]; rtree[k].hi = pre[tree[k].hi];
+    }
+}
+
 /* The nodes of the recorded top of the nested-dissection tree, in the order
    the triangular solves and the factorization may take them: phase 0 holds
    the subtrees that are handled whole (leaves of the recorded tree and the
@@ -7333,7 +7365,7 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     msz = (uint32_t *)bp__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
     bound = (uint8_t *)bp__calloc_array(a, (size_t)nv + 1, 1);
     if (!S->vperm || !S->viperm || !S->snode || !S->first || !parent || !mark || !cnt || !reach || !msz || !bound) goto done;
-    if (order) {                                   /* a kept order (bp__factorize_kept) */
+    if (order) {                                   /* a given order (bp__factorize_order) */
         memcpy(S->vperm, order, nv * sizeof(uint32_t));
         memcpy(F->tree, tree, sizeof F->tree);
     } else if (!bp__nd_order(a, G, S->vperm, F->tree, BP__SUPER_ORDER, par))
@@ -8298,8 +8330,8 @@ static int bp__fact_numeric(const bp_allocator *a, const bp__sparse *A, bp__fact
    pivot is zero or not finite.  The ordering's subtrees and the numeric
    rows run in parallel when par is given; the order and every row are
    computed by the same operations either way. */
-static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
-                               const bp__par *par)
+static bp_status bp__factorize_order(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
+                                     const bp__par *par, const uint32_t *order, const bp__ndnode *tree)
 {
     uint32_t n = A->n, k;
     uint32_t *parent = NULL, *mark = NULL, *tpos = NULL;
@@ -8307,7 +8339,7 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
     bp_status st = BP_ERR_OUT_OF_MEMORY;
     if (A->blocks2 || A->super1) {
         int fallback;
-        st = bp__super_factorize(a, A, F, bad_row, par, A->blocks2 ? 2 : 1, &fallback, NULL, NULL);
+        st = bp__super_factorize(a, A, F, bad_row, par, A->blocks2 ? 2 : 1, &fallback, order, tree);
         if (!fallback && (st != BP_ERR_NUMERICAL || A->blocks2)) return st;
         st = BP_ERR_OUT_OF_MEMORY;
     }
@@ -8341,6 +8373,15 @@ done:
     bp__free(a, parent); bp__free(a, mark); bp__free(a, tpos);
     if (st != BP_OK) bp__factor_free(a, F);
     return st;
+}
+
+/* The same with the ordering computed here (order NULL).  A given order
+   (order: new -> old, with its dissection tree) serves the supernodal
+   factors only; the scalar rows, and their fallback, order for themselves. */
+static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
+                               const bp__par *par)
+{
+    return bp__factorize_order(a, A, F, bad_row, par, NULL, NULL);
 }
 
 /* The message for BP_ERR_TOO_LARGE from bp__factorize: the chart, the
@@ -9650,6 +9691,8 @@ typedef struct bp__tutte {
     double    krylov_rel;         /* ... and its relative residual          */
     uint32_t *incp, *inc;         /* corners 3t+k of each vertex, increasing */
     bp__par   par;                /* who runs the phases' tasks (run NULL: serial) */
+    uint32_t *nd;                 /* phase 5b: the filled chart's order, N words */
+    bp__ndnode ndtree[BP__ND_NODES];
 } bp__tutte;
 
 static void bp__tutte_free(const bp_allocator *a, bp__tutte *T)
@@ -9657,7 +9700,7 @@ static void bp__tutte_free(const bp_allocator *a, bp__tutte *T)
     bp__free(a, T->tri); bp__free(a, T->pos); bp__free(a, T->adjp); bp__free(a, T->adj);
     bp__free(a, T->w); bp__free(a, T->idx); bp__free(a, T->rhs); bp__free(a, T->sol); bp__free(a, T->work);
     bp__free(a, T->A.colp); bp__free(a, T->A.row); bp__free(a, T->A.val);
-    bp__free(a, T->incp); bp__free(a, T->inc);
+    bp__free(a, T->incp); bp__free(a, T->inc); bp__free(a, T->nd);
 }
 
 /* Phase 1, the filled chart: real triangles, then one fan per hole to a
@@ -10190,6 +10233,95 @@ done:
     return ok;
 }
 
+/* Phase 5b, one ordering for two factorizations.  The start map's system
+   and Newton's (>>newton) are both factored after a nested dissection of
+   the chart's vertex graph, and that ordering is a third of either's
+   analysis (face: about 60 ms of the one-thread run each, docs/
+   performance.md sec 6.23).  So the dissection is computed once, here, on
+   the filled chart's graph (all N vertices: hole centres and the fixed
+   outer loop too), and restricted (bp__nd_restrict) twice: to the free
+   vertices, for this system, whose graph is the filled graph's induced
+   subgraph on them; and to the chart's own vertices, for Newton's first
+   factorization, whose pattern is the chart's edges (a subgraph of the
+   filled graph's on them) plus the barrier's pairs, which bp__nd_keeps
+   checks there before the order is used (else Newton orders anew).  The
+   order is computed on the runner's threads with the same result on any
+   number (>>sparse). */
+static int bp__tutte_order(const bp_allocator *a, bp__tutte *T, const bp__par *runner)
+{
+    bp__sparse G;
+    uint32_t v, e, w = 0;
+    int ok;
+    memset(&G, 0, sizeof G);
+    G.n = T->N;
+    G.symmetric = 1;
+    G.colp = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
+    G.row = (uint32_t *)bp__alloc_array(a, (size_t)T->ne + T->N + 1, sizeof(uint32_t));
+    T->nd = (uint32_t *)bp__alloc_array(a, T->N ? T->N : 1, sizeof(uint32_t));
+    if (G.colp && G.row && T->nd) {
+        for (v = 0; v < T->N; v++) {               /* the sorted neighbours with v itself, as in H's graph */
+            G.colp[v] = w;
+            for (e = T->adjp[v]; e < T->adjp[v + 1] && T->adj[e] < v; e++) G.row[w++] = T->adj[e];
+            G.row[w++] = v;
+            for (; e < T->adjp[v + 1]; e++) G.row[w++] = T->adj[e];
+        }
+        G.colp[T->N] = w;
+    }
+    ok = G.colp && G.row && T->nd && bp__nd_order(a, &G, T->nd, T->ndtree, BP__SUPER_ORDER, runner);
+    bp__free(a, G.colp);
+    bp__free(a, G.row);
+    return ok;
+}
+
+/* A's factor (the free vertices' system, or its symmetric part) in the
+   order of phase 5b restricted to the free vertices (without phase 5b,
+   T->nd NULL, in its own order). */
+static bp_status bp__tutte_factorize(const bp_allocator *a, const bp__tutte *T, const bp__sparse *A, bp__factor *F,
+                                     uint32_t *bad, const bp__par *runner)
+{
+    uint32_t *order = (uint32_t *)bp__alloc_array(a, T->nfree ? T->nfree : 1, sizeof(uint32_t));
+    uint32_t *pre = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
+    bp__ndnode tree[BP__ND_NODES];
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    if (!T->nd) st = bp__factorize(a, A, F, bad, runner);
+    else if (order && pre) {
+        bp__nd_restrict(T->nd, T->ndtree, T->N, T->idx, order, tree, pre);
+        st = bp__factorize_order(a, A, F, bad, runner, order, tree);
+    }
+    bp__free(a, order);
+    bp__free(a, pre);
+    return st;
+}
+
+/* The order restricted to the chart's vertices, into ch->start_order: nv
+   words of the order, then six per tree node (lo, a, b, hi, used, split),
+   for bp__opt_newton_order.  Returns 0 out of memory. */
+static int bp__tutte_keep_order(const bp_allocator *a, const bp__tutte *T, bp_chart *ch)
+{
+    uint32_t *keep = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
+    uint32_t *pre = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
+    uint32_t *out = (uint32_t *)bp__alloc_array(a, (size_t)T->nv + 6 * BP__ND_NODES, sizeof(uint32_t));
+    bp__ndnode tree[BP__ND_NODES];
+    uint32_t v, k;
+    bp__free(a, ch->start_order);
+    ch->start_order = NULL;
+    if (keep && pre && out) {
+        for (v = 0; v < T->N; v++) keep[v] = v < T->nv ? v : BP__NONE;
+        bp__nd_restrict(T->nd, T->ndtree, T->N, keep, out, tree, pre);
+        for (k = 0; k < BP__ND_NODES; k++) {
+            uint32_t *w = out + T->nv + 6 * k;
+            w[0] = tree[k].lo; w[1] = tree[k].a; w[2] = tree[k].b; w[3] = tree[k].hi;
+            w[4] = (uint32_t)tree[k].used; w[5] = (uint32_t)tree[k].split;
+        }
+        ch->start_order = out;
+    }
+    bp__free(a, keep);
+    bp__free(a, pre);
+    if (ch->start_order) return 1;
+    bp__free(a, out);
+    return 0;
+}
+
 /* Phase 6a as a whole: M, its factor, the iteration; the solution in
    T->sol (x then y).  Returns 1 when it converged, 0 when it did not (the
    LU serves), -1 out of memory (reported as such: a failed allocation is
@@ -10221,7 +10353,7 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
         for (i = 0; i < nfree; i++) { b[2 * (size_t)i] = T->rhs[i] / dg[i]; b[2 * (size_t)i + 1] = T->rhs[nfree + i] / dg[i]; }
     }
     if (!b || !x || !dg || !As.val || !bp__tutte_symmetric(a, &As, &M)) ok = -1;
-    else if ((st = bp__factorize(a, &M, &K, &bad, runner)) != BP_OK) ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0;
+    else if ((st = bp__tutte_factorize(a, T, &M, &K, &bad, runner)) != BP_OK) ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0;
     else if (!K.sn) ok = 0;                           /* (the scalar rows took over: not SPD) */
     else if (!bp__factor_single(a, &K, runner) || !bp__solve_plan(a, &K)) ok = -1;
     else {
@@ -10256,7 +10388,7 @@ static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *
     memset(&F, 0, sizeof F);
     if (!T->A.symmetric && (k = bp__tutte_krylov(a, T, runner)) != 0) st = k > 0 ? BP_OK : BP_ERR_OUT_OF_MEMORY;
     else {
-        st = bp__factorize(a, &T->A, &F, &bad, runner);
+        st = bp__tutte_factorize(a, T, &T->A, &F, &bad, runner);
         if (st == BP_OK) {
             bp__solve_refined(&T->A, &F, T->rhs, T->sol, T->work);
             bp__solve_refined(&T->A, &F, T->rhs + nfree, T->sol + nfree, T->work);
@@ -10622,10 +10754,12 @@ static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mes
     memset(&T, 0, sizeof T);
     if (runner) T.par = *runner;
     if (!bp__tutte_fill(a, &T, ch, m) || !bp__tutte_adjacency(a, &T) || !bp__tutte_weights(a, &T, mvc) ||
-        !bp__tutte_circle(a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(a, &T, ch, mvc)))
+        !bp__tutte_circle(a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(a, &T, ch, mvc)) ||
+        !bp__tutte_order(a, &T, runner))
         st = bp__oom(err, "computing the start map");
     if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(a, &T, ch, runner, err);
     if (st == BP_OK) st = bp__tutte_verify(a, ch, m, err);
+    if (st == BP_OK && !bp__tutte_keep_order(a, &T, ch)) st = bp__oom(err, "computing the start map");
     bp__tutte_free(a, &T);
     return st;
 }
@@ -12849,9 +12983,12 @@ static void bp__pattern_place(void *task, uint32_t c)
    before it is freed) and reused when bp__nd_keeps says that no new pair
    joins the two halves of a split, the property that makes the subtrees
    independent (and lets them run on several threads).  Otherwise a new
-   order, as before.  Either way the same order on any number of threads. */
+   order, as before.  Either way the same order on any number of threads.
+   Before the first factorization the order to keep is the start map's
+   (bp__opt_newton_order), also when the pattern grows first. */
 static void bp__newton_keep_order(bp__newton *N, const bp_allocator *a)
 {
+    if (!N->F.sn && N->kperm) return;            /* no factor yet: the start map's order stays */
     bp__free(a, N->kperm);
     bp__free(a, N->kiperm);
     N->kperm = N->kiperm = NULL;
@@ -13644,9 +13781,43 @@ static int bp__opt_choose_newton(const bp__solver *S, const double *x)
     return sum / S->nt < BP__AUTO_NEWTON_E0;       /* also false for a NaN or infinite start */
 }
 
+/* Newton's first order: the start map's (>>tutte, phase 5b), taken from
+   the chart, which keeps it no longer (a new start map makes a new one).
+   The chart's own edges must respect it (they do, unless the caller
+   changed chart.start_order: then it is dropped), and bp__newton_factorize
+   uses it as it does a kept order, when the barrier's pairs respect it
+   too (bp__nd_keeps).  Returns 0 out of memory. */
+static int bp__opt_newton_order(bp__opt *P, bp_chart *ch)
+{
+    uint32_t nv = P->S.nv, k, j, *o = ch->start_order, *iv;
+    ch->start_order = NULL;
+    if (!o || !P->newton || P->N.kperm || nv != ch->num_vertices) { bp__free(&P->a, o); return 1; }
+    if (!(iv = (uint32_t *)bp__alloc_array(&P->a, nv ? nv : 1, sizeof(uint32_t)))) { bp__free(&P->a, o); return 0; }
+    for (k = 0; k < nv; k++) iv[k] = BP__NONE;
+    for (k = 0; k < nv && o[k] < nv && iv[o[k]] == BP__NONE; k++) iv[o[k]] = k;
+    for (j = 0; j < BP__ND_NODES; j++) {
+        const uint32_t *w = o + nv + 6 * j;
+        bp__ndnode *N = &P->N.ktree[j];
+        memset(N, 0, sizeof *N);
+        N->lo = w[0]; N->a = w[1]; N->b = w[2]; N->hi = w[3]; N->used = w[4] != 0; N->split = w[5] != 0;
+        if (N->used && !(N->lo <= N->a && N->a <= N->b && N->b <= N->hi && N->hi <= nv)) k = 0;
+    }
+    if (k != nv || !P->N.ktree[0].used || P->N.ktree[0].lo != 0 || P->N.ktree[0].hi != nv) k = 0;
+    for (j = 0; k == nv && j < 3 * P->S.nt; j++) {            /* every edge of the chart */
+        uint32_t uw[2];
+        uw[0] = P->S.tri[j];
+        uw[1] = P->S.tri[j % 3 == 2 ? j - 2 : j + 1];
+        if (!bp__nd_keeps(P->N.ktree, iv, uw, 1)) k = 0;
+    }
+    if (k != nv) { bp__free(&P->a, o); bp__free(&P->a, iv); return 1; }
+    P->N.kperm = o;                               /* nv words and more: freed as one */
+    P->N.kiperm = iv;
+    return 1;
+}
+
 /* Phase 2: options, the pins held, solver, the direction (the default's
-   choice, above), Newton's pattern or the preconditioner, vectors; x = the
-   start map. */
+   choice, above), Newton's pattern and first order or the preconditioner,
+   vectors; x = the start map. */
 static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, const bp_mesh *m, bp_error *err)
 {
     double *rest_wxy;
@@ -13672,6 +13843,10 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
         }
         P->N.hold = P->pidx;
         if (P->pen) { P->N.pull = P->pen->pidx; P->N.pull_w = P->pen->w; }
+    }
+    if (!bp__opt_newton_order(P, ch)) {
+        bp__free(&P->a, rest_wxy);
+        return bp__oom(err, "setting up Newton's method");
     }
     /* the preconditioner first: its factorization is the memory peak, and
        the flattened rest triangles are not needed after it */

@@ -1014,6 +1014,165 @@ static void test_kept_order(void)
     bp_mesh_free(&mesh, NULL);
 }
 
+/* (l) One ordering for the start map and Newton (>>tutte, phase 5b).
+   bp__nd_restrict on camelhead's vertex graph and a random subset of its
+   vertices: the kept vertices in a permutation, and every edge between
+   two of them on one side of each split (keeps_brute), each kept vertex
+   in the same part of every node as before.  Then face_holes (six holes:
+   the filled chart's hole centres are dropped) and bishop: bp_chart_init
+   leaves an order of the chart's vertices that separates every chart
+   edge; bp_chart_optimize takes it (NULL after).  On bishop, where the
+   start map's barrier pairs respect it (face_holes' do not, and Newton
+   orders anew there), it is the order Newton finds itself (the same
+   graph: the same bits as a run without it), another valid order put
+   there (the identity, an unsplit root) is used (the bits differ), one
+   and two threads give the same bits, and a spoiled order (out of range,
+   or two vertices swapped across the root's split) is dropped: the same
+   bits as with none.  And before the first factorization a growing
+   pattern keeps the start map's order (bp__newton_keep_order). */
+static int part_of(const bp__ndnode *N, uint32_t p)
+{
+    return p < N->lo || p >= N->hi ? -1 : p < N->a ? 0 : p < N->b ? 1 : 2;
+}
+
+static void test_restrict(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_allocator a;
+    bp__solver S;
+    bp__newton N;
+    bp__sparse G;
+    bp__ndnode tree[BP__ND_NODES], rtree[BP__ND_NODES];
+    uint32_t nv, m = 0, v, p, k, bad = 0, edges = 0, moved = 0, *order, *keep, *out, *pre, *iv, *riv;
+    if (!camelhead_solver(&mesh, &atlas, &S, &a)) return;
+    nv = S.nv;
+    if (BPT_CHECK(bp__newton_init(&N, &a, &S) == BP_OK && bp__super_graph(&a, &N.H, &G) == 1, "camelhead: H's vertex graph")) {
+        order = (uint32_t *)malloc(nv * sizeof(uint32_t)); keep = (uint32_t *)calloc(nv + 1, sizeof(uint32_t));
+        out = (uint32_t *)malloc(nv * sizeof(uint32_t)); pre = (uint32_t *)malloc((nv + 1) * sizeof(uint32_t));
+        iv = (uint32_t *)malloc(nv * sizeof(uint32_t)); riv = (uint32_t *)malloc(nv * sizeof(uint32_t));
+        BPT_CHECK(bp__nd_order(&a, &G, order, tree, BP__SUPER_ORDER, NULL), "camelhead: ordered");
+        for (v = 0; v < nv; v++) keep[v] = bpt_rng_unit() < 0.7 ? m++ : BP__NONE;
+        bp__nd_restrict(order, tree, nv, keep, out, rtree, pre);
+        for (v = 0; v < m; v++) riv[v] = BP__NONE;
+        for (k = 0; k < m; k++) { bad += out[k] >= m || riv[out[k]] != BP__NONE; if (out[k] < m) riv[out[k]] = k; }
+        BPT_CHECK(bad == 0 && rtree[0].lo == 0 && rtree[0].hi == m, "camelhead: %u of %u vertices kept, a permutation of "
+                  "them (%u wrong), the root over all", m, nv, bad);
+        for (k = 0; k < nv; k++) iv[order[k]] = k;
+        for (v = 0; v < nv; v++) {
+            if (keep[v] == BP__NONE) continue;
+            for (k = 0; k < BP__ND_NODES; k++)
+                if (tree[k].used) moved += part_of(&tree[k], iv[v]) != part_of(&rtree[k], riv[keep[v]]);
+            for (p = G.colp[v]; p < G.colp[v + 1]; p++) {
+                uint32_t w = G.row[p];
+                if (w <= v || keep[w] == BP__NONE) continue;
+                edges++;
+                bad += !keeps_brute(rtree, riv, keep[v], keep[w]);
+            }
+        }
+        BPT_CHECK(bad == 0 && moved == 0 && edges > 0, "camelhead, restricted: every node's parts hold the same kept "
+                  "vertices (%u moved), %u edges between kept vertices all separated (%u cross a split)", moved, edges, bad);
+        {   /* a pattern grown before any factor keeps the start map's order */
+            uint32_t *kp = (uint32_t *)bp__alloc_array(&a, nv, sizeof(uint32_t)), uw[2];
+            uint32_t *ki = (uint32_t *)bp__alloc_array(&a, nv, sizeof(uint32_t));
+            memcpy(kp, order, nv * sizeof(uint32_t));
+            for (k = 0; k < nv; k++) ki[order[k]] = k;
+            N.kperm = kp; N.kiperm = ki;
+            memcpy(N.ktree, tree, sizeof tree);
+            uw[0] = S.tri[0]; uw[1] = S.tri[3 * (S.nt / 2)];
+            bp__vec_push(&a, &N.extra, uw);
+            BPT_CHECK(bp__newton_pattern(&N, &a, &S) == BP_OK && N.kperm == kp && N.kiperm == ki,
+                      "camelhead: the pattern grown before the first factorization, the given order kept");
+        }
+        free(order); free(keep); free(out); free(pre); free(iv); free(riv);
+        bp__free(&a, G.colp); bp__free(&a, G.row);
+    }
+    bp__newton_free(&a, &N);
+    bp__solver_free(&S);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+}
+
+/* The one chart of path solved by Newton from its start map with threads
+   t; spoil: 0 keep the start map's order, 1 drop it, 2 spoil it.  Returns
+   the uvs (malloc'd), *nv their vertices. */
+static double *solve_start_order(const char *path, int threads, int spoil, const char *what, uint32_t *nvp)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    double *uv = NULL;
+    memset(&opt, 0, sizeof opt);
+    opt.threads = threads;
+    opt.direction = BP_DIRECTION_NEWTON;         /* (the default takes L-BFGS below 20K faces) */
+    if (!BPT_CHECK(bp_read_mesh(path, &mesh, NULL, &err) == BP_OK, "read %s: %s", path, err.message))
+        return NULL;
+    if (BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1 &&
+                  bp_chart_init(&atlas.charts[0], &mesh, &opt, &err) == BP_OK, "%s: one chart, start map", what)) {
+        bp_chart *ch = &atlas.charts[0];
+        uint32_t nv = ch->num_vertices, k, t, bad = 0, *iv = (uint32_t *)malloc(nv * sizeof(uint32_t));
+        bp__ndnode tr[BP__ND_NODES];
+        if (BPT_CHECK(ch->start_order != NULL, "%s: the start map left its order", what)) {
+            for (k = 0; k < nv; k++) iv[k] = BP__NONE;
+            for (k = 0; k < nv; k++) { bad += ch->start_order[k] >= nv || iv[ch->start_order[k]] != BP__NONE; if (ch->start_order[k] < nv) iv[ch->start_order[k]] = k; }
+            for (k = 0; k < BP__ND_NODES; k++) {
+                const uint32_t *w = ch->start_order + nv + 6 * k;
+                tr[k].lo = w[0]; tr[k].a = w[1]; tr[k].b = w[2]; tr[k].hi = w[3]; tr[k].used = (int)w[4]; tr[k].split = (int)w[5];
+            }
+            for (t = 0; bad == 0 && t < 3 * ch->num_triangles; t++)
+                bad += !keeps_brute(tr, iv, ch->triangles[t], ch->triangles[t % 3 == 2 ? t - 2 : t + 1]);
+            BPT_CHECK(bad == 0 && tr[0].used && tr[0].lo == 0 && tr[0].hi == nv && tr[0].split,
+                      "%s: a permutation of the %u chart vertices that separates every chart edge (%u wrong)", what, nv, bad);
+            if (spoil == 1) { free(ch->start_order); ch->start_order = NULL; }
+            if (spoil == 2) ch->start_order[0] = nv;
+            if (spoil == 4) {                      /* a permutation that puts edges across the root's split */
+                uint32_t *o = ch->start_order, x = o[tr[0].lo];
+                o[tr[0].lo] = o[tr[0].a];
+                o[tr[0].a] = x;
+            }
+            if (spoil == 3) {                      /* another valid order: identity, the root unsplit */
+                memset(ch->start_order + nv, 0, 6 * BP__ND_NODES * sizeof(uint32_t));
+                for (k = 0; k < nv; k++) ch->start_order[k] = k;
+                ch->start_order[nv + 1] = ch->start_order[nv + 2] = ch->start_order[nv + 3] = nv;
+                ch->start_order[nv + 4] = 1;
+            }
+        }
+        free(iv);
+        if (BPT_CHECK(bp_chart_optimize(ch, 0, &mesh, &opt, &err) == BP_OK && ch->start_order == NULL,
+                      "%s: optimized, the order taken", what)) {
+            uv = (double *)malloc(2 * nv * sizeof(double));
+            memcpy(uv, ch->uv, 2 * nv * sizeof(double));
+            *nvp = nv;
+        }
+        bp_atlas_free(&atlas);
+    }
+    bp_mesh_free(&mesh, NULL);
+    return uv;
+}
+
+static void test_start_order(void)
+{
+    const char *B = "tests/data/bishop_part_f1000.obj";
+    uint32_t nv = 0;
+    double *uh = solve_start_order("tests/data/face_holes.off", 2, 0, "face_holes (6 holes)", &nv);
+    double *u1 = solve_start_order(B, 1, 0, "bishop, 1 thread", &nv), *u2 = solve_start_order(B, 2, 0, "bishop, 2 threads", &nv);
+    double *un = solve_start_order(B, 1, 1, "bishop, order dropped", &nv), *us = solve_start_order(B, 1, 2, "bishop, order spoiled", &nv);
+    double *ui = solve_start_order(B, 1, 3, "bishop, the identity order", &nv);
+    double *ux = solve_start_order(B, 1, 4, "bishop, two vertices swapped across the root's split", &nv);
+    size_t n = 2 * (size_t)nv;
+    if (u1 && u2) BPT_CHECK(memcmp(u1, u2, n * sizeof(double)) == 0, "bishop: the same bits on 1 and 2 threads");
+    if (un && us) BPT_CHECK(memcmp(un, us, n * sizeof(double)) == 0, "bishop: a spoiled order is dropped (the same bits "
+                            "as none)");
+    if (u1 && un) BPT_CHECK(memcmp(u1, un, n * sizeof(double)) == 0, "bishop: the start map's order is the one Newton "
+                            "finds itself (one loop, no pair at the start: the same graph)");
+    if (ui && un) BPT_CHECK(memcmp(ui, un, n * sizeof(double)) != 0, "bishop: another valid order in chart.start_order is "
+                            "used (the bits differ)");
+    if (ux && un) BPT_CHECK(memcmp(ux, un, n * sizeof(double)) == 0, "bishop: an order whose split the chart's edges cross "
+                            "is dropped (the same bits as none)");
+    free(uh); free(u1); free(u2); free(un); free(us); free(ui); free(ux);
+}
+
 int main(void)
 {
     bpt_rng_state = 0x9E3779B97F4A7C15ull;
@@ -1021,6 +1180,8 @@ int main(void)
     test_assembled();
     test_pattern();
     test_kept_order();
+    test_restrict();
+    test_start_order();
     test_optimize("tests/data/bishop_part_f1000.obj");
     test_optimize("tests/data/camel_b.obj");
     test_pinned_direction();
