@@ -10745,7 +10745,8 @@ static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_me
 }
 
 /* The seven phases above: the Tutte (mvc = 0) or mean-value (mvc = 1) map
-   of the filled chart into ch->uv, exactly checked. */
+   of the filled chart into ch->uv, exactly checked; and the ordering of
+   phase 5b kept for Newton (ch->start_order). */
 static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *runner, int mvc,
                                bp_error *err)
 {
