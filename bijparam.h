@@ -12334,7 +12334,8 @@ static void bp__sparse_free(const bp_allocator *a, bp__sparse *A)
    opposite edge (j, k), 1/2 cot(theta_i) couples j and k (the linear FEM
    stiffness matrix, positive semi-definite for any triangle shapes). */
 static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const double *rest_wxy,
-                               const uint32_t *pidx, bp__sparse *K, bp__factor *F)
+                               const uint32_t *pidx, bp__sparse *K, bp__factor *F, const uint32_t *order,
+                               const bp__ndnode *tree)
 {
     bp__trip *t = (bp__trip *)bp__alloc_array(a, 12 * (size_t)S->nt + S->nv, sizeof(bp__trip));
     size_t n = 0;
@@ -12372,7 +12373,7 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
     if (!bp__sparse_from_triplets(a, S->nv, t, n, K)) { bp__free(a, t); return BP_ERR_OUT_OF_MEMORY; }
     bp__free(a, t);
     K->super1 = BP__SUPER_SCALAR;
-    st = bp__factorize(a, K, F, &bad, &S->par);
+    st = bp__factorize_order(a, K, F, &bad, &S->par, order, tree);     /* order: the start map's, or NULL */
     if (st == BP_OK && (!bp__factor_single(a, F, &S->par) || !bp__solve_plan(a, F))) st = BP_ERR_OUT_OF_MEMORY;
     return st;
 }
@@ -13782,17 +13783,19 @@ static int bp__opt_choose_newton(const bp__solver *S, const double *x)
     return sum / S->nt < BP__AUTO_NEWTON_E0;       /* also false for a NaN or infinite start */
 }
 
-/* Newton's first order: the start map's (>>tutte, phase 5b), taken from
-   the chart, which keeps it no longer (a new start map makes a new one).
-   The chart's own edges must respect it (they do, unless the caller
-   changed chart.start_order: then it is dropped), and bp__newton_factorize
-   uses it as it does a kept order, when the barrier's pairs respect it
-   too (bp__nd_keeps).  Returns 0 out of memory. */
-static int bp__opt_newton_order(bp__opt *P, bp_chart *ch)
+/* The start map's order (>>tutte, phase 5b), taken from the chart, which
+   keeps it no longer (a new start map makes a new one), into P->N's kept
+   order: the chart's own edges must respect it (they do, unless the
+   caller changed chart.start_order: then it is dropped).  Newton's first
+   factorization uses it as it does a kept order, when the barrier's pairs
+   respect it too (bp__nd_keeps); the L-BFGS preconditioner, the chart's
+   Laplacian (its graph the chart's edges, fewer where pins are), always,
+   after which it is freed (bp__opt_setup).  Returns 0 out of memory. */
+static int bp__opt_start_order(bp__opt *P, bp_chart *ch)
 {
     uint32_t nv = P->S.nv, k, j, *o = ch->start_order, *iv;
     ch->start_order = NULL;
-    if (!o || !P->newton || P->N.kperm || nv != ch->num_vertices) { bp__free(&P->a, o); return 1; }
+    if (!o || !(P->newton || P->precond) || P->N.kperm || nv != ch->num_vertices) { bp__free(&P->a, o); return 1; }
     if (!(iv = (uint32_t *)bp__alloc_array(&P->a, nv ? nv : 1, sizeof(uint32_t)))) { bp__free(&P->a, o); return 0; }
     for (k = 0; k < nv; k++) iv[k] = BP__NONE;
     for (k = 0; k < nv && o[k] < nv && iv[o[k]] == BP__NONE; k++) iv[o[k]] = k;
@@ -13845,13 +13848,13 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
         P->N.hold = P->pidx;
         if (P->pen) { P->N.pull = P->pen->pidx; P->N.pull_w = P->pen->w; }
     }
-    if (!bp__opt_newton_order(P, ch)) {
+    if (!bp__opt_start_order(P, ch)) {
         bp__free(&P->a, rest_wxy);
-        return bp__oom(err, "setting up Newton's method");
+        return bp__oom(err, "setting up the solver");
     }
     /* the preconditioner first: its factorization is the memory peak, and
        the flattened rest triangles are not needed after it */
-    if (P->precond && (st = bp__laplacian(&P->a, &P->S, rest_wxy, P->pidx, &P->K, &P->KF)) != BP_OK) {
+    if (P->precond && (st = bp__laplacian(&P->a, &P->S, rest_wxy, P->pidx, &P->K, &P->KF, P->N.kperm, P->N.ktree)) != BP_OK) {
         bp__free(&P->a, rest_wxy);
         if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "factoring the preconditioner");
         if (st == BP_ERR_TOO_LARGE)
@@ -13860,6 +13863,11 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
                         "chart %u: the Laplacian preconditioner could not be factored", chart_index);
     }
     bp__free(&P->a, rest_wxy);
+    if (!P->newton) {                          /* the start order served the preconditioner */
+        bp__free(&P->a, P->N.kperm);
+        bp__free(&P->a, P->N.kiperm);
+        P->N.kperm = P->N.kiperm = NULL;
+    }
     nv2 = P->nv2 = 2 * P->S.nv;
     P->x = (double *)bp__alloc_array(&P->a, nv2, sizeof(double));
     P->g = (double *)bp__alloc_array(&P->a, nv2, sizeof(double));
@@ -15451,7 +15459,7 @@ static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_
             bp__factor_free(&P.a, &P.KF);
             memset(&P.K, 0, sizeof P.K);
             memset(&P.KF, 0, sizeof P.KF);
-            if ((st = bp__laplacian(&P.a, &P.S, wxy, NULL, &P.K, &P.KF)) != BP_OK) {
+            if ((st = bp__laplacian(&P.a, &P.S, wxy, NULL, &P.K, &P.KF, NULL, NULL)) != BP_OK) {
                 if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "factoring the preconditioner");
                 else {
                     char name[48];

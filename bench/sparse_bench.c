@@ -176,7 +176,7 @@ static int laplacian(const bp_allocator *a, bp__solver *S, const bp_chart *ch, c
     if (bp__solver_chart(S, a, ch, mesh, opt, rw, &err) != BP_OK) { fprintf(stderr, "%s\n", err.message); return 1; }
     memset(&K, 0, sizeof K);
     memset(&F, 0, sizeof F);
-    if (bp__laplacian(a, S, rw, NULL, &K, &F) != BP_OK) { fprintf(stderr, "laplacian failed\n"); return 1; }
+    if (bp__laplacian(a, S, rw, NULL, &K, &F, NULL, NULL) != BP_OK) { fprintf(stderr, "laplacian failed\n"); return 1; }
     bp__factor_free(a, &F);
     n = K.n;
     q = (double *)malloc(2 * sizeof(double) * n);

@@ -1093,10 +1093,13 @@ static void test_restrict(void)
     bp_mesh_free(&mesh, NULL);
 }
 
-/* The one chart of path solved by Newton from its start map with threads
-   t; spoil: 0 keep the start map's order, 1 drop it, 2 spoil it.  Returns
-   the uvs (malloc'd), *nv their vertices. */
-static double *solve_start_order(const char *path, int threads, int spoil, const char *what, uint32_t *nvp)
+/* The one chart of path solved by Newton (or direction dir) from its
+   start map with threads t; spoil: 0 keep the start map's order, 1 drop
+   it, 2 spoil it (out of range), 3 put the identity there (an unsplit
+   root), 4 swap two vertices across the root's split.  Returns the uvs
+   (malloc'd), *nv their vertices. */
+static double *solve_start_order_dir(const char *path, int threads, int spoil, const char *what, uint32_t *nvp,
+                                     bp_direction dir)
 {
     bp_mesh mesh;
     bp_atlas atlas;
@@ -1105,7 +1108,7 @@ static double *solve_start_order(const char *path, int threads, int spoil, const
     double *uv = NULL;
     memset(&opt, 0, sizeof opt);
     opt.threads = threads;
-    opt.direction = BP_DIRECTION_NEWTON;         /* (the default takes L-BFGS below 20K faces) */
+    opt.direction = dir;                         /* (the default takes L-BFGS below 20K faces) */
     if (!BPT_CHECK(bp_read_mesh(path, &mesh, NULL, &err) == BP_OK, "read %s: %s", path, err.message))
         return NULL;
     if (BPT_CHECK(bp_atlas_build(&atlas, &mesh, &opt, &err) == BP_OK && atlas.num_charts == 1 &&
@@ -1151,6 +1154,11 @@ static double *solve_start_order(const char *path, int threads, int spoil, const
     return uv;
 }
 
+static double *solve_start_order(const char *path, int threads, int spoil, const char *what, uint32_t *nvp)
+{
+    return solve_start_order_dir(path, threads, spoil, what, nvp, BP_DIRECTION_NEWTON);
+}
+
 static void test_start_order(void)
 {
     const char *B = "tests/data/bishop_part_f1000.obj";
@@ -1171,6 +1179,18 @@ static void test_start_order(void)
     if (ux && un) BPT_CHECK(memcmp(ux, un, n * sizeof(double)) == 0, "bishop: an order whose split the chart's edges cross "
                             "is dropped (the same bits as none)");
     free(uh); free(u1); free(u2); free(un); free(us); free(ui); free(ux);
+    /* the preconditioned L-BFGS: the Laplacian factored in the start order */
+    u1 = solve_start_order_dir(B, 2, 0, "bishop, L-BFGS", &nv, BP_DIRECTION_PRECONDITIONED);
+    un = solve_start_order_dir(B, 1, 1, "bishop, L-BFGS, order dropped", &nv, BP_DIRECTION_PRECONDITIONED);
+    us = solve_start_order_dir(B, 1, 4, "bishop, L-BFGS, order crossed", &nv, BP_DIRECTION_PRECONDITIONED);
+    ui = solve_start_order_dir(B, 1, 3, "bishop, L-BFGS, the identity order", &nv, BP_DIRECTION_PRECONDITIONED);
+    if (ui && un) BPT_CHECK(memcmp(ui, un, n * sizeof(double)) != 0, "bishop, L-BFGS: another valid order in "
+                            "chart.start_order factors the preconditioner (the bits differ)");
+    if (us && un) BPT_CHECK(memcmp(us, un, n * sizeof(double)) == 0, "bishop, L-BFGS: a crossed order is dropped (the "
+                            "same bits as none)");
+    if (u1 && un) BPT_CHECK(memcmp(u1, un, n * sizeof(double)) == 0, "bishop, L-BFGS: the start map's order is the one "
+                            "the Laplacian finds itself, on 2 threads as on 1");
+    free(u1); free(un); free(us); free(ui);
 }
 
 int main(void)

@@ -604,7 +604,7 @@ static void test_lbfgs_direction(void)
     }
     rw = (double *)malloc(3 * sizeof(double) * at.charts[0].num_triangles);
     bp__solver_chart(&S, &a, &at.charts[0], &m, &o, rw, &e);
-    BPT_CHECK(bp__laplacian(&a, &S, rw, NULL, &K, &KF) == BP_OK, "camel_b: Laplacian factored");
+    BPT_CHECK(bp__laplacian(&a, &S, rw, NULL, &K, &KF, NULL, NULL) == BP_OK, "camel_b: Laplacian factored");
     n = 2 * S.nv;
     x = (double *)malloc(n * sizeof(double)); xn = (double *)malloc(n * sizeof(double));
     g = (double *)malloc(n * sizeof(double)); gn = (double *)malloc(n * sizeof(double));

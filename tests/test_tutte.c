@@ -325,7 +325,7 @@ static void check_precondition(const char *path)
         S.par.run = orders[k];
         S.par.user = NULL;
         memset(&K[k], 0, sizeof K[k]);
-        BPT_CHECK(bp__laplacian(&a, &S, rw, NULL, &K[k], &F[k]) == BP_OK, "%s: Laplacian factored (order %d)", path, k);
+        BPT_CHECK(bp__laplacian(&a, &S, rw, NULL, &K[k], &F[k], NULL, NULL) == BP_OK, "%s: Laplacian factored (order %d)", path, k);
         r[k] = (double *)malloc(2 * sizeof(double) * n);
         bp__precondition(&F[k], &S.par, q, r[k], z);
         if (k > 0) {
