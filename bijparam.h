@@ -4932,11 +4932,15 @@ static void bp__edge_recs_sort(bp__edge_rec *r, uint32_t n)
 
 /* Chunk c of the mesh vertices: each one's bucket of edge records sorted
    and, in repair, the mates across its manifold edges (the groups of
-   exactly two live triangles; mate[] starts as BP__NONE). */
+   exactly two live triangles; mate[] starts as BP__NONE); first[c] says
+   whether two mates run the same way along their edge (the orientation
+   repair has work only then). */
 static void bp__edge_task(void *task, uint32_t c)
 {
     bp__build *b = (bp__build *)task;
+    const uint32_t *tri = b->m->triangles;
     uint32_t v, v1;
+    b->first[c] = BP__NONE;
     for (v = bp__build_range(b, b->m->num_vertices, c, &v1); v < v1; v++) {
         size_t e, g, end = b->estart[v + 1];
         bp__edge_recs_sort(b->edges + b->estart[v], (uint32_t)(end - b->estart[v]));
@@ -4944,7 +4948,10 @@ static void bp__edge_task(void *task, uint32_t c)
         for (e = b->estart[v]; e < end; e = g) {
             uint32_t live[3];
             g = bp__edge_group_end(b, e, end);
-            if (bp__live_edges(b, e, g, live) == 2) { b->mate[live[0]] = live[1]; b->mate[live[1]] = live[0]; }
+            if (bp__live_edges(b, e, g, live) != 2) continue;
+            b->mate[live[0]] = live[1];
+            b->mate[live[1]] = live[0];
+            if (tri[live[0]] == tri[live[1]]) b->first[c] = v;
         }
     }
 }
@@ -5099,13 +5106,17 @@ static uint32_t bp__orient_component(bp__build *b, const bp_mesh *m, uint32_t t0
 }
 
 /* Orientation repair (above): flip[] for every triangle, then the glued
-   mesh b->fm and the corner edges renumbered to it.  Returns 0 when out of
-   memory. */
+   mesh b->fm and the corner edges renumbered to it.  When no two mates run
+   the same way (the edge tasks' flags: a consistently wound mesh), every
+   walk keeps flip[] = 0 and cuts nothing, so there is nothing to walk.
+   Returns 0 when out of memory. */
 static int bp__orient(const bp_allocator *a, bp__build *b, const bp_mesh *m)
 {
     uint32_t t, nt = m->num_triangles, nflip = 0;
     size_t i, nc = 3 * (size_t)nt;
-    unsigned char *seen = (unsigned char *)bp__calloc_array(a, nt, 1);
+    unsigned char *seen;
+    if (bp__build_first(b) == BP__NONE) return 1;
+    seen = (unsigned char *)bp__calloc_array(a, nt, 1);
     if (!seen) return 0;
     for (t = 0; t < nt; t++)
         if (!seen[t] && !b->bad[t] && !b->drop[t]) bp__orient_component(b, m, t, seen);

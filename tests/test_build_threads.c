@@ -286,12 +286,25 @@ static void damage_free(damage *d)
 /* Where to damage: damage_at[], or for duplicates the first triangle
    whose smallest vertex is the last of its vertex chunk, in the first four
    chunks where there is one (the chunks of the library's buckets: the
-   edge of a chunk is where a task could stop short). */
+   edge of a chunk is where a task could stop short), or for flips the
+   first at or after damage_at[] whose vertices are all beyond the first
+   vertex chunk (no flag of chunk 0 may stand for them). */
 static void damage_where(const bp_mesh *m, int kind, uint32_t *at)
 {
     uint32_t nv = m->num_vertices, size = nv / BP__BUILD_TASKS + 1, j, t, c;
     uint32_t nch = bp__nchunks(nv, size > BP__TRI_CHUNK ? size : BP__TRI_CHUNK);
     for (j = 0; j < NDEF; j++) at[j] = damage_at[j];
+    if (kind == 2) {                                 /* flips: off the first vertex chunk */
+        for (j = 0; j < NDEF; j++) {
+            uint32_t v[3];
+            for (t = at[j]; t < m->num_triangles; t++) {
+                sorted3(m->triangles + 3 * (size_t)t, v);
+                if (v[0] >= bp__chunk_at(nv, nch, 1)) break;
+            }
+            at[j] = t;
+        }
+        return;
+    }
     if (kind != 0) return;
     for (j = 0, c = 1; j < NDEF && c <= nch; c++) {  /* chunks whose last vertex is some triangle's smallest */
         uint32_t last = bp__chunk_at(nv, nch, c) - 1, v[3];
