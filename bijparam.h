@@ -4457,6 +4457,7 @@ typedef struct bp__build {
     bp__mesh_scale scale;
     /* the tasks (below, "the build on several threads") */
     const bp_mesh *m;             /* the user's mesh                         */
+    bp_atlas *atlas;              /* the atlas being built (bp__fill_task)   */
     bp__par par;
     uint32_t *estart;             /* nv + 2: the edge records whose smaller
                                      vertex is v are edges[estart[v],
@@ -5267,14 +5268,47 @@ static void bp__area_task(void *task, uint32_t c)
                                         pos + 3 * (size_t)tri[3 * (size_t)t + 2]);
 }
 
+/* Chunk c of the triangles: a chart's arrays, where the serial pass put
+   them (the triangle's place in its chart in b->queue, free after the
+   orientation repair; each class root's chart vertex in vert_of_root).
+   A chart vertex's mesh vertex and uv are written from its class root
+   alone: every corner of the class has them, and one writer is enough. */
+static void bp__fill_task(void *task, uint32_t c)
+{
+    bp__build *b = (bp__build *)task;
+    bp_atlas *atlas = b->atlas;
+    const bp_mesh *m = &b->fm;
+    uint32_t t, t1, k;
+    for (t = bp__build_range(b, m->num_triangles, c, &t1); t < t1; t++) {
+        bp_chart *ch;
+        uint32_t ct = b->queue[t];
+        if (b->drop[t]) continue;
+        ch = &atlas->charts[atlas->corner_chart[3 * (size_t)t]];
+        ch->face[ct] = t;
+        for (k = 0; k < 3; k++) {
+            size_t i = 3 * (size_t)t + k;
+            uint32_t r = b->corner_uf[i], cv = b->vert_of_root[r];
+            atlas->corner_vertex[i] = cv;
+            ch->triangles[3 * (size_t)ct + k] = cv;
+            if (r != i) continue;
+            ch->vertex[cv] = m->triangles[i];
+            ch->vertex_uv[cv] = m->corner_uv ? m->corner_uv[i] : BP__NONE;
+        }
+    }
+}
+
 /* Number the charts by their smallest triangle and the chart vertices by
    first appearance in the chart's triangles (deterministic), and fill each
-   chart's arrays. */
+   chart's arrays.  A corner class's root is its smallest corner, so its
+   first appearance: the serial passes number the charts, give each
+   triangle its place in its chart and each root its chart vertex, reading
+   the arrays in order; the tasks fill the charts; the areas are added in
+   each chart's triangle order. */
 static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *atlas, const bp_mesh *m,
                                  bp_error *err)
 {
     uint32_t t, k, c, nt = m->num_triangles, nchart = 0;
-    size_t i, nc = 3 * (size_t)nt;
+    size_t nc = 3 * (size_t)nt;
     bp__build_chunks(b, nt);
     bp__par_run(&b->par, bp__area_task, b, b->nchunk, nt);
     bp__uf_flatten(b->tri_uf, nt);
@@ -5291,18 +5325,16 @@ static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *
     atlas->corner_chart = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     atlas->corner_vertex = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     if (!atlas->charts || !atlas->corner_chart || !atlas->corner_vertex) return bp__oom(err, "building charts");
-    for (i = 0; i < nc; i++) b->vert_of_root[i] = BP__NONE;
     for (t = 0; t < nt; t++) {
         bp_chart *ch;
         if (b->drop[t]) continue;
         c = b->chart_of_root[b->tri_uf[t]];
         ch = &atlas->charts[c];
-        ch->num_triangles++;
+        b->queue[t] = ch->num_triangles++;
         for (k = 0; k < 3; k++) {
-            uint32_t r = b->corner_uf[3 * t + k];
-            if (b->vert_of_root[r] == BP__NONE) b->vert_of_root[r] = ch->num_vertices++;
-            atlas->corner_chart[3 * t + k] = c;
-            atlas->corner_vertex[3 * t + k] = b->vert_of_root[r];
+            size_t i = 3 * (size_t)t + k;
+            if (b->corner_uf[i] == i) b->vert_of_root[i] = ch->num_vertices++;
+            atlas->corner_chart[i] = c;
         }
     }
     for (c = 0; c < nchart; c++) {
@@ -5312,23 +5344,11 @@ static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *
         ch->triangles = (uint32_t *)bp__alloc_array(a, 3 * (size_t)ch->num_triangles, sizeof(uint32_t));
         ch->face = (uint32_t *)bp__alloc_array(a, ch->num_triangles, sizeof(uint32_t));
         if (!ch->vertex || !ch->vertex_uv || !ch->triangles || !ch->face) return bp__oom(err, "building charts");
-        ch->num_triangles = 0;
     }
-    for (t = 0; t < nt; t++) {
-        bp_chart *ch;
-        uint32_t ct;
-        if (b->drop[t]) continue;
-        ch = &atlas->charts[atlas->corner_chart[3 * t]];
-        ct = ch->num_triangles++;
-        ch->face[ct] = t;
-        for (k = 0; k < 3; k++) {
-            uint32_t cv = atlas->corner_vertex[3 * t + k];
-            ch->triangles[3 * ct + k] = cv;
-            ch->vertex[cv] = m->triangles[3 * t + k];
-            ch->vertex_uv[cv] = m->corner_uv ? m->corner_uv[3 * t + k] : BP__NONE;
-        }
-        if (!b->degen[t]) ch->area3d += b->area[t];
-    }
+    b->atlas = atlas;
+    bp__par_run(&b->par, bp__fill_task, b, b->nchunk, nt);
+    for (t = 0; t < nt; t++)
+        if (!b->drop[t] && !b->degen[t]) atlas->charts[atlas->corner_chart[3 * (size_t)t]].area3d += b->area[t];
     bp__corners_to_mesh(b, atlas, m);
     return BP_OK;
 }

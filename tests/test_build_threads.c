@@ -136,8 +136,9 @@ static int runners_differ(const bp_mesh *m, int strict, bp_atlas *ref, bp_error 
    across an edge they run along in opposite directions with the same uvs
    at both ends (a plain union-find over triangles and over corners), the
    charts numbered by their smallest triangle, the chart vertices by first
-   appearance of their corner class.  Returns 1 when the atlas's
-   corner_chart, corner_vertex and vertex counts are those. */
+   appearance of their corner class, the areas added in triangle order.
+   Returns 1 when the atlas's corner_chart, corner_vertex, vertex counts,
+   pinch splits and areas (bits) are those. */
 typedef struct cedge { uint32_t lo, hi, ce; } cedge;
 
 static int cedge_cmp(const void *pa, const void *pb)
@@ -200,6 +201,7 @@ static int reference_charts(const bp_mesh *m, const bp_atlas *at)
     uint32_t *tp = (uint32_t *)malloc(nt * sizeof *tp), *cp = (uint32_t *)malloc(nc * sizeof *cp);
     uint32_t *chart = (uint32_t *)malloc(nt * sizeof *chart), *vert = (uint32_t *)malloc(nc * sizeof *vert);
     uint32_t *count = (uint32_t *)calloc(nt, sizeof *count);
+    double *area = (double *)calloc(nt, sizeof *area);
     for (t = 0; t < nt; t++) tp[t] = t;
     for (i = 0; i < nc; i++) {
         uint32_t a = m->triangles[i], b = m->triangles[i - i % 3 + (i % 3 + 1) % 3];
@@ -228,8 +230,17 @@ static int reference_charts(const bp_mesh *m, const bp_atlas *at)
         }
     }
     ok &= nchart == at->num_charts && split_count(at) == 0;
+    for (t = 0; ok && t < nt; t++) {          /* the areas, added in each chart's triangle order */
+        const double *p0 = m->positions + 3 * (size_t)m->triangles[3 * t], *p1 = m->positions + 3 * (size_t)m->triangles[3 * t + 1];
+        const double *p2 = m->positions + 3 * (size_t)m->triangles[3 * t + 2];
+        double u[3], v[3], n[3];
+        for (k = 0; k < 3; k++) { u[k] = p1[k] - p0[k]; v[k] = p2[k] - p0[k]; }
+        n[0] = u[1] * v[2] - u[2] * v[1]; n[1] = u[2] * v[0] - u[0] * v[2]; n[2] = u[0] * v[1] - u[1] * v[0];
+        area[chart[root(tp, t)]] += 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    }
+    for (i = 0; ok && i < nchart; i++) ok &= area[i] == at->charts[i].area3d;
     for (i = 0; ok && i < nchart; i++) ok &= at->charts[i].num_vertices == count[i] || at->charts[i].cut_edges > 0;
-    free(e); free(tp); free(cp); free(chart); free(vert); free(count);
+    free(e); free(tp); free(cp); free(chart); free(vert); free(count); free(area);
     return ok;
 }
 
@@ -254,8 +265,8 @@ static void check_real(const char *path, const char *what, int seams7)
     BPT_CHECK(st == BP_OK && !bad, "%s (%u triangles, %u charts): every runner builds the serial atlas%s", what,
               m.num_triangles, ref.num_charts, why);
     if (st == BP_OK)
-        BPT_CHECK(reference_charts(&m, &ref), "%s: the charts, corner maps and vertex counts of a plain union-find "
-                  "over qsorted edges", what);
+        BPT_CHECK(reference_charts(&m, &ref), "%s: the charts, corner maps, vertex counts, splits and areas of a plain "
+                  "union-find over qsorted edges", what);
     bp_atlas_free(&ref);
     if (seams7) { m.corner_uv = NULL; m.num_uvs = 0; free(uv); }
     bp_mesh_free(&m, NULL);
