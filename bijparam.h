@@ -4435,7 +4435,8 @@ static bp_status bp__validate_mesh(const bp_mesh *m, bp_error *err)
 typedef struct bp__build {
     bp__edge_rec *edges;
     bp__tri_key  *keys;
-    uint32_t *tri_uf, *corner_uf, *glued, *chart_of_root, *vert_of_root;
+    uint32_t *tri_uf, *corner_uf, *glued, *chart_of_root;
+    uint32_t *vert_of_root;       /* = mate, once the gluing is done         */
     uint32_t *next, *loop_id;
     bp__vkey *vkeys;
     unsigned char *bad;           /* triangle kept out of the gluing: strict
@@ -4476,7 +4477,7 @@ static void bp__build_free(const bp_allocator *a, bp__build *b)
 {
     bp__free(a, b->edges); bp__free(a, b->keys); bp__free(a, b->tri_uf);
     bp__free(a, b->corner_uf); bp__free(a, b->glued); bp__free(a, b->chart_of_root);
-    bp__free(a, b->vert_of_root); bp__free(a, b->next); bp__free(a, b->loop_id);
+    bp__free(a, b->next); bp__free(a, b->loop_id);
     bp__free(a, b->vkeys); bp__free(a, b->bad);
     bp__free(a, b->degen); bp__free(a, b->drop); bp__free(a, b->flip); bp__free(a, b->twin);
     bp__free(a, b->mate); bp__free(a, b->queue); bp__free(a, b->fixed_tri); bp__free(a, b->fixed_uv);
@@ -4733,7 +4734,6 @@ static bp_status bp__build_alloc(const bp_allocator *a, bp__build *b, const bp_m
     b->corner_uf = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->glued = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->chart_of_root = (uint32_t *)bp__alloc_array(a, nt, sizeof(uint32_t));
-    b->vert_of_root = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->next = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->loop_id = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->bad = (unsigned char *)bp__calloc_array(a, nt, 1);
@@ -4747,7 +4747,7 @@ static bp_status bp__build_alloc(const bp_allocator *a, bp__build *b, const bp_m
     b->area = (double *)bp__alloc_array(a, nt, sizeof(double));
     b->fm = *m;
     if (!b->edges || !b->keys || !b->tri_uf || !b->corner_uf || !b->glued || !b->chart_of_root ||
-        !b->vert_of_root || !b->next || !b->loop_id || !b->bad || !b->degen || !b->drop || !b->flip ||
+        !b->next || !b->loop_id || !b->bad || !b->degen || !b->drop || !b->flip ||
         !b->twin || !b->mate || !b->queue || !b->estart || !b->area)
         return bp__oom(err, "building charts");
     return BP_OK;
@@ -5313,6 +5313,7 @@ static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *
     bp__par_run(&b->par, bp__area_task, b, b->nchunk, nt);
     bp__uf_flatten(b->tri_uf, nt);
     bp__uf_flatten(b->corner_uf, nc);
+    b->vert_of_root = b->mate;            /* mate[] is done with after the gluing */
     for (t = 0; t < nt; t++) b->chart_of_root[t] = BP__NONE;
     for (t = 0; t < nt; t++) {
         uint32_t r = b->tri_uf[t];
