@@ -594,7 +594,10 @@ BPDEF const char *bp_repair_name(bp_repair_kind k);
 
 /* Split a mesh into validated charts with boundary loops (no map yet).
    BP_ERR_CHARTS_FAILED keeps the atlas with the failed charts reported in
-   chart.error; any other error zeroes it (CONVENTIONS: the failure rule). */
+   chart.error; any other error zeroes it (CONVENTIONS: the failure rule).
+   A mesh of 8192 triangles or more is checked and glued on opt->threads
+   (or opt->parallel_for); the atlas, the repairs and the first error are
+   those of one thread. */
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *mesh,
                                const bp_options *opt, bp_error *err);
 /* The start map of one chart (Tutte or Floater, holes filled, sec 3.6; or
@@ -4610,7 +4613,10 @@ static bp_status bp__charts_status(const bp_atlas *atlas, bp_error *err)
      glue       the unions, serial in the order of the edges (a union-find
                 with the smallest index as root gives the same classes in
                 any order, but the loop is short once the decisions are
-                made), then each triangle's and corner's root in chunks.
+                made);
+     charts     the numbering, serial passes over the arrays in order, then
+                the charts' arrays filled and the triangles' areas taken in
+                chunks of triangles (the areas added in order after them).
    The chunks' bounds depend on the counts alone and each task writes its
    own items or its own slot, so the atlas, the repairs and the first error
    are those of one thread, whatever runs the tasks. */
@@ -4711,7 +4717,10 @@ static bp_status bp__defects_par(bp__build *b, bp_error *err)
      validate   the global checks, then the local defects (strict: errors;
                 repair: marked, below)
      duplicates two triangles on the same three vertices (repair: dropped)
+     edges      the corner edges sorted by vertex pair (repair: the mates
+                across manifold edges)
      orient     (repair) re-orient each component, cut non-orientable ones
+                (nothing to do when no two mates run the same way)
      glue       mesh edges, manifoldness, orientation; triangles and
                 corners merged into charts and chart vertices (repair:
                 non-manifold and cut edges are seams)
@@ -4722,7 +4731,8 @@ static bp_status bp__defects_par(bp__build *b, bp_error *err)
      cut        (unless opt.cut is BP_CUT_NONE) a closed or genus > 0
                 chart cut into a disk along mesh edges (>>cut)
    Any phase can fail the whole call (strict: at the first defect); the
-   topology phase fails single charts unless opt.strict is set. */
+   topology phase fails single charts unless opt.strict is set.  Which
+   parts of the phases run in tasks: "the build on several threads" above. */
 
 static bp_status bp__build_alloc(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
 {
