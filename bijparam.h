@@ -600,7 +600,10 @@ BPDEF const char *bp_repair_name(bp_repair_kind k);
 
 /* Split a mesh into validated charts with boundary loops (no map yet).
    BP_ERR_CHARTS_FAILED keeps the atlas with the failed charts reported in
-   chart.error; any other error zeroes it (CONVENTIONS: the failure rule). */
+   chart.error; any other error zeroes it (CONVENTIONS: the failure rule).
+   A mesh of 8192 triangles or more is checked and glued on opt->threads
+   (or opt->parallel_for); the atlas, the repairs and the first error are
+   those of one thread. */
 BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *mesh,
                                const bp_options *opt, bp_error *err);
 /* The start map of one chart (Tutte or Floater, holes filled, sec 3.6; or
@@ -1296,6 +1299,32 @@ static void bp__serial_for(void *user, bp_task_fn fn, void *task, uint32_t count
 #ifndef BP__PAR_MIN_ITEMS
 #define BP__PAR_MIN_ITEMS     1024u
 #endif
+
+/* Work is split in chunks of items (see above): at most BP__*_CHUNK
+   items each, all of nearly the same size (chunk c of nc holds items
+   n c / nc up to n (c + 1) / nc), and, when there is more than one, a
+   multiple of four of them.  Both depend on n alone.  Fixed-size chunks
+   left a short one at the end: camelhead's 22704 triangles made 11 full
+   chunks and one of 176, so of two threads, one had 12288 triangles to
+   evaluate and the other 10416, and the first finished 9% after the
+   second, in every energy evaluation.  Equal chunks in a multiple of four
+   give 2 and 4 threads equal blocks. */
+#define BP__TRI_CHUNK  2048u
+#define BP__VERT_CHUNK 2048u
+#define BP__EDGE_CHUNK 128u
+
+static uint32_t bp__nchunks(uint32_t n, uint32_t size)
+{
+    uint32_t nc = n / size + (n % size != 0);
+    if (nc > 1) nc = (nc + 3u) & ~3u;
+    return nc < n ? nc : n;
+}
+
+/* The first item of chunk c of nc over n items (c = nc: n). */
+static uint32_t bp__chunk_at(uint32_t n, uint32_t nc, uint32_t c)
+{
+    return (uint32_t)((uint64_t)n * c / nc);
+}
 
 static void bp__par_run(const bp__par *par, bp_task_fn fn, void *task, uint32_t count, uint32_t items)
 {
@@ -4125,49 +4154,6 @@ static void bp__uf_union(uint32_t *parent, uint32_t x, uint32_t y)
     if (x < y) parent[y] = x; else parent[x] = y;  /* smallest index is the root */
 }
 
-/* Sort n records of `size` bytes (at most 32) into the order of cmp, a
-   total order whose first criterion is key(record) in [0, nkeys), in
-   linear time on a mesh: a counting sort by the key, then each key's few
-   records by insertion (qsort for a bucket of more than 32, a vertex of
-   very high valence).  The order is qsort's with the same cmp.  tmp holds n
-   records, start nkeys + 1 counters. */
-static void bp__bucket_sort(void *base, size_t n, size_t size, uint32_t nkeys, uint32_t (*key)(const void *),
-                            int (*cmp)(const void *, const void *), void *tmp, uint32_t *start)
-{
-    unsigned char *r = (unsigned char *)base, *t = (unsigned char *)tmp, rec[32];
-    size_t k, m, lo = 0;
-    uint32_t v;
-    for (v = 0; v <= nkeys; v++) start[v] = 0;
-    for (k = 0; k < n; k++) start[key(r + k * size) + 1]++;
-    for (v = 0; v < nkeys; v++) start[v + 1] += start[v];
-    for (k = 0; k < n; k++) memcpy(t + (size_t)start[key(r + k * size)]++ * size, r + k * size, size);
-    for (v = 0; v < nkeys; v++) {                  /* bucket v is [lo, start[v]) */
-        size_t hi = start[v];
-        if (hi - lo > 32) qsort(t + lo * size, hi - lo, size, cmp);
-        else
-            for (k = lo + 1; k < hi; k++) {
-                memcpy(rec, t + k * size, size);
-                for (m = k; m > lo && cmp(t + (m - 1) * size, rec) > 0; m--) memcpy(t + m * size, t + (m - 1) * size, size);
-                memcpy(t + m * size, rec, size);
-            }
-        lo = hi;
-    }
-    memcpy(base, tmp, n * size);
-}
-
-/* The same with its own scratch; 0 if that could not be allocated. */
-static int bp__sort_by_key(const bp_allocator *a, void *base, size_t n, size_t size, uint32_t nkeys,
-                           uint32_t (*key)(const void *), int (*cmp)(const void *, const void *))
-{
-    void *tmp = bp__alloc_array(a, n, size);
-    uint32_t *start = (uint32_t *)bp__alloc_array(a, (size_t)nkeys + 1, sizeof(uint32_t));
-    int ok = tmp && start;
-    if (ok) bp__bucket_sort(base, n, size, nkeys, key, cmp, tmp, start);
-    bp__free(a, tmp);
-    bp__free(a, start);
-    return ok;
-}
-
 typedef struct bp__edge_rec {
     uint32_t lo, hi;   /* mesh vertices, lo < hi                           */
     uint32_t ce;       /* corner edge 3*t+i: from corner i to corner i+1    */
@@ -4181,8 +4167,6 @@ static int bp__edge_cmp(const void *pa, const void *pb)
     return a->ce < b->ce ? -1 : a->ce > b->ce;
 }
 
-static uint32_t bp__edge_key(const void *p) { return ((const bp__edge_rec *)p)->lo; }
-
 typedef struct bp__tri_key { uint32_t v[3], t; } bp__tri_key;
 
 static int bp__tri_key_cmp(const void *pa, const void *pb)
@@ -4193,8 +4177,6 @@ static int bp__tri_key_cmp(const void *pa, const void *pb)
         if (a->v[i] != b->v[i]) return a->v[i] < b->v[i] ? -1 : 1;
     return a->t < b->t ? -1 : a->t > b->t;
 }
-
-static uint32_t bp__tri_key_key(const void *p) { return ((const bp__tri_key *)p)->v[0]; }
 
 typedef struct bp__vkey { uint32_t chart, v, uv; } bp__vkey;
 
@@ -4300,12 +4282,42 @@ typedef struct bp__mesh_scale {
     double s1, s2;   /* 2^-e1 and 2^-e2 when both are doubles, else 0 (below) */
 } bp__mesh_scale;
 
-/* Global checks (above), and the exponents of the used vertices. */
-static bp_status bp__validate_global(const bp_mesh *m, bp__mesh_scale *sc, bp_error *err)
+/* The checks of one triangle t: its vertex and uv indices, then its
+   vertices' coordinates, whose box lo / hi it widens.  The first failure
+   is the error (the order of the serial loop below). */
+static bp_status bp__validate_tri(const bp_mesh *m, uint32_t t, double *lo, double *hi, bp_error *err)
 {
-    uint32_t t, k;
-    double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX }, big = 0, ext = 0;
+    const uint32_t *tri = m->triangles + 3 * (size_t)t;
+    uint32_t k;
     char nm[48];
+    for (k = 0; k < 3; k++) {
+        if (tri[k] >= m->num_vertices)
+            return bp__fail(err, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
+                            "%s: vertex %u is out of range (the mesh has %u vertices, numbered from 1)",
+                            bp__tri_name(m, t, nm), tri[k] + 1, m->num_vertices);
+        if (m->corner_uv && m->corner_uv[3 * (size_t)t + k] >= m->num_uvs)
+            return bp__fail(err, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
+                            "%s: uv %u is out of range (the mesh has %u uvs, numbered from 1)",
+                            bp__tri_name(m, t, nm), m->corner_uv[3 * (size_t)t + k] + 1, m->num_uvs);
+    }
+    for (k = 0; k < 3; k++) {
+        const double *p = bp__pos(m, tri[k]);
+        int j;
+        for (j = 0; j < 3; j++) {
+            if (!(p[j] - p[j] == 0))
+                return bp__fail(err, BP_ERR_NONFINITE, BP_ELEMENT_VERTEX, tri[k], -1, bp__tri_line(m, t),
+                                "vertex %u (used by %s) has a coordinate that is NaN or infinite",
+                                tri[k] + 1, bp__tri_name(m, t, nm));
+            if (p[j] < lo[j]) lo[j] = p[j];
+            if (p[j] > hi[j]) hi[j] = p[j];
+        }
+    }
+    return BP_OK;
+}
+
+/* The checks of the whole mesh before its triangles. */
+static bp_status bp__validate_sizes(const bp_mesh *m, bp_error *err)
+{
     if (!m || !m->positions || !m->triangles)
         return bp__fail(err, m && m->num_triangles == 0 ? BP_ERR_EMPTY : BP_ERR_INVALID_ARGUMENT,
                         BP_ELEMENT_NONE, -1, -1, 0, "the mesh has no vertex or triangle array");
@@ -4314,31 +4326,14 @@ static bp_status bp__validate_global(const bp_mesh *m, bp__mesh_scale *sc, bp_er
     if (m->num_triangles > 0x55555554u)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                         "too many triangles (%u): at most 1431655764", m->num_triangles);
-    for (t = 0; t < m->num_triangles; t++) {
-        const uint32_t *tri = m->triangles + 3 * (size_t)t;
-        for (k = 0; k < 3; k++) {
-            if (tri[k] >= m->num_vertices)
-                return bp__fail(err, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
-                                "%s: vertex %u is out of range (the mesh has %u vertices, numbered from 1)",
-                                bp__tri_name(m, t, nm), tri[k] + 1, m->num_vertices);
-            if (m->corner_uv && m->corner_uv[3 * (size_t)t + k] >= m->num_uvs)
-                return bp__fail(err, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, t, -1, bp__tri_line(m, t),
-                                "%s: uv %u is out of range (the mesh has %u uvs, numbered from 1)",
-                                bp__tri_name(m, t, nm), m->corner_uv[3 * (size_t)t + k] + 1, m->num_uvs);
-        }
-        for (k = 0; k < 3; k++) {
-            const double *p = bp__pos(m, tri[k]);
-            int j;
-            for (j = 0; j < 3; j++) {
-                if (!(p[j] - p[j] == 0))
-                    return bp__fail(err, BP_ERR_NONFINITE, BP_ELEMENT_VERTEX, tri[k], -1, bp__tri_line(m, t),
-                                    "vertex %u (used by %s) has a coordinate that is NaN or infinite",
-                                    tri[k] + 1, bp__tri_name(m, t, nm));
-                if (p[j] < lo[j]) lo[j] = p[j];
-                if (p[j] > hi[j]) hi[j] = p[j];
-            }
-        }
-    }
+    return BP_OK;
+}
+
+/* The exponents and the squared diagonal from the box of the used vertices. */
+static void bp__scale_of_box(const double *lo, const double *hi, bp__mesh_scale *sc)
+{
+    double big = 0, ext = 0;
+    int k;
     for (k = 0; k < 3; k++) {
         if (fabs(lo[k]) > big) big = fabs(lo[k]);
         if (fabs(hi[k]) > big) big = fabs(hi[k]);
@@ -4356,6 +4351,18 @@ static bp_status bp__validate_global(const bp_mesh *m, bp__mesh_scale *sc, bp_er
     }
     sc->s1 = sc->e1 >= -1023 && sc->e1 <= 1074 ? ldexp(1.0, -sc->e1) : 0;
     sc->s2 = sc->e2 >= -1023 && sc->e2 <= 1074 ? ldexp(1.0, -sc->e2) : 0;
+}
+
+/* Global checks (above), and the exponents of the used vertices. */
+static bp_status bp__validate_global(const bp_mesh *m, bp__mesh_scale *sc, bp_error *err)
+{
+    uint32_t t;
+    double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
+    bp_status st = bp__validate_sizes(m, err);
+    if (st != BP_OK) return st;
+    for (t = 0; t < m->num_triangles; t++)
+        if ((st = bp__validate_tri(m, t, lo, hi, err)) != BP_OK) return st;
+    bp__scale_of_box(lo, hi, sc);
     return BP_OK;
 }
 
@@ -4431,11 +4438,14 @@ static bp_status bp__validate_mesh(const bp_mesh *m, bp_error *err)
     return st != BP_OK ? st : bp__find_defects(m, &sc, NULL, err);
 }
 
+#define BP__BUILD_TASKS 64u       /* at most, per pass (below)              */
+
 /* Working arrays of bp_atlas_build, freed together. */
 typedef struct bp__build {
     bp__edge_rec *edges;
     bp__tri_key  *keys;
-    uint32_t *tri_uf, *corner_uf, *glued, *chart_of_root, *vert_of_root;
+    uint32_t *tri_uf, *corner_uf, *glued, *chart_of_root;
+    uint32_t *vert_of_root;       /* = mate, once the gluing is done         */
     uint32_t *next, *loop_id;
     bp__vkey *vkeys;
     unsigned char *bad;           /* triangle kept out of the gluing: strict
@@ -4455,6 +4465,17 @@ typedef struct bp__build {
                                      with their corners 1 and 2 swapped      */
     bp_repair_report *rep;
     bp__mesh_scale scale;
+    /* the tasks (below, "the build on several threads") */
+    const bp_mesh *m;             /* the user's mesh                         */
+    bp_atlas *atlas;              /* the atlas being built (bp__fill_task)   */
+    bp__par par;
+    uint32_t *estart;             /* nv + 2: the edge records whose smaller
+                                     vertex is v are edges[estart[v],
+                                     estart[v + 1])                          */
+    double *area;                 /* nt: half of each triangle's 3D area     */
+    uint32_t nchunk;              /* chunks of the current pass              */
+    uint32_t first[BP__BUILD_TASKS];     /* per chunk: its first failing item */
+    double box[6 * BP__BUILD_TASKS];     /* per chunk: its box, lo then hi    */
 } bp__build;
 
 #define BP__CUT (BP__NONE - 1u)
@@ -4465,10 +4486,11 @@ static void bp__build_free(const bp_allocator *a, bp__build *b)
 {
     bp__free(a, b->edges); bp__free(a, b->keys); bp__free(a, b->tri_uf);
     bp__free(a, b->corner_uf); bp__free(a, b->glued); bp__free(a, b->chart_of_root);
-    bp__free(a, b->vert_of_root); bp__free(a, b->next); bp__free(a, b->loop_id);
+    bp__free(a, b->next); bp__free(a, b->loop_id);
     bp__free(a, b->vkeys); bp__free(a, b->bad);
     bp__free(a, b->degen); bp__free(a, b->drop); bp__free(a, b->flip); bp__free(a, b->twin);
     bp__free(a, b->mate); bp__free(a, b->queue); bp__free(a, b->fixed_tri); bp__free(a, b->fixed_uv);
+    bp__free(a, b->estart); bp__free(a, b->area);
 }
 
 /* Boundary loops of one chart from its triangles: next[v] is the end of the
@@ -4572,11 +4594,139 @@ static bp_status bp__charts_status(const bp_atlas *atlas, bp_error *err)
     return bp__ok(err);
 }
 
+/* --- the build on several threads -----------------------------------------
+
+   bp_atlas_build starts a pool from the options (opt->threads, or
+   opt->parallel_for) for a mesh of BP__PAR_MIN_TRIANGLES triangles or
+   more, as bp_chart_init does for a chart.  What runs on it is the work
+   that is independent per triangle or per mesh vertex; what depends on an
+   order stays serial, and the tasks prepare it:
+     validate   chunks of triangles: each chunk's box and its first failing
+                triangle; the boxes are merged in chunk order with the
+                serial loop's comparisons (so even the sign of a zero is
+                the serial one), and the first failing chunk's triangle is
+                checked again on the caller for the message;
+     defects    the same chunks: degen[] and bad[] (repair), or each
+                chunk's first defect (strict), and the arrays the later
+                phases start from (mate, glued, the union-finds);
+     sorts      for the duplicates and the edges, a counting sort by the
+                smallest vertex on the caller (a pass to count, one to
+                place: each bucket in triangle order), then each bucket
+                sorted by the rest of its key, and its groups of equal keys
+                read, in chunks of mesh vertices: duplicate copies marked,
+                the mates of the manifold edges set, and what gluing does
+                with each edge decided;
+     glue       the unions, serial in the order of the edges (a union-find
+                with the smallest index as root gives the same classes in
+                any order, but the loop is short once the decisions are
+                made);
+     charts     the numbering, serial passes over the arrays in order, then
+                the charts' arrays filled and the triangles' areas taken in
+                chunks of triangles (the areas added in order after them).
+   The chunks' bounds depend on the counts alone and each task writes its
+   own items or its own slot, so the atlas, the repairs and the first error
+   are those of one thread, whatever runs the tasks. */
+
+/* The chunks of a pass over n items: BP__TRI_CHUNK each, or more so that
+   there are at most BP__BUILD_TASKS (their slots live in bp__build, so no
+   pass allocates, and a failed allocation is always out of memory). */
+static void bp__build_chunks(bp__build *b, uint32_t n)
+{
+    uint32_t size = n / BP__BUILD_TASKS + 1;
+    b->nchunk = bp__nchunks(n, size > BP__TRI_CHUNK ? size : BP__TRI_CHUNK);
+}
+
+/* Items [i0, i1) of chunk c of the current pass over n items. */
+static uint32_t bp__build_range(const bp__build *b, uint32_t n, uint32_t c, uint32_t *i1)
+{
+    *i1 = bp__chunk_at(n, b->nchunk, c + 1);
+    return bp__chunk_at(n, b->nchunk, c);
+}
+
+/* The first chunk's failing item in chunk order, or BP__NONE. */
+static uint32_t bp__build_first(const bp__build *b)
+{
+    uint32_t c;
+    for (c = 0; c < b->nchunk; c++)
+        if (b->first[c] != BP__NONE) return b->first[c];
+    return BP__NONE;
+}
+
+static void bp__validate_task(void *task, uint32_t c)
+{
+    bp__build *b = (bp__build *)task;
+    double *lo = b->box + 6 * (size_t)c, *hi = lo + 3;
+    uint32_t t, t1, k;
+    for (k = 0; k < 3; k++) { lo[k] = DBL_MAX; hi[k] = -DBL_MAX; }
+    b->first[c] = BP__NONE;
+    for (t = bp__build_range(b, b->m->num_triangles, c, &t1); t < t1; t++)
+        if (bp__validate_tri(b->m, t, lo, hi, NULL) != BP_OK) { b->first[c] = t; return; }
+}
+
+/* bp__validate_global in chunks (above). */
+static bp_status bp__validate_par(bp__build *b, bp_error *err)
+{
+    double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
+    uint32_t c, k, t;
+    bp__build_chunks(b, b->m->num_triangles);
+    bp__par_run(&b->par, bp__validate_task, b, b->nchunk, b->m->num_triangles);
+    if ((t = bp__build_first(b)) != BP__NONE) return bp__validate_tri(b->m, t, lo, hi, err);
+    for (c = 0; c < b->nchunk; c++)
+        for (k = 0; k < 3; k++) {
+            const double *bx = b->box + 6 * (size_t)c;
+            if (bx[k] < lo[k]) lo[k] = bx[k];
+            if (bx[3 + k] > hi[k]) hi[k] = bx[3 + k];
+        }
+    bp__scale_of_box(lo, hi, &b->scale);
+    return BP_OK;
+}
+
+/* Before the arrays exist (strict): each chunk's first local defect.
+   After: in repair, every triangle's defect (bad: a repeated vertex, kept
+   out of the gluing), and in both the start of the later phases' arrays. */
+static void bp__defect_task(void *task, uint32_t c)
+{
+    bp__build *b = (bp__build *)task;
+    uint32_t t, t1, nt = b->m->num_triangles;
+    b->first[c] = BP__NONE;
+    for (t = bp__build_range(b, nt, c, &t1); t < t1; t++) {
+        int d = 0;
+        if (!b->degen || b->repair) d = bp__tri_defect(b->m, t, &b->scale);
+        if (!b->degen) {
+            if (d) { b->first[c] = t; return; }
+            continue;
+        }
+        if (b->repair) {
+            b->degen[t] = (unsigned char)d;
+            b->bad[t] = d == 1;
+        }
+        b->tri_uf[t] = t;
+        b->corner_uf[3 * (size_t)t] = 3 * t;
+        b->corner_uf[3 * (size_t)t + 1] = 3 * t + 1;
+        b->corner_uf[3 * (size_t)t + 2] = 3 * t + 2;
+        b->glued[3 * (size_t)t] = b->glued[3 * (size_t)t + 1] = b->glued[3 * (size_t)t + 2] = BP__NONE;
+        b->mate[3 * (size_t)t] = b->mate[3 * (size_t)t + 1] = b->mate[3 * (size_t)t + 2] = BP__NONE;
+    }
+}
+
+/* Strict (degen not yet allocated): the first defect is the error. */
+static bp_status bp__defects_par(bp__build *b, bp_error *err)
+{
+    uint32_t t, nt = b->m->num_triangles;
+    bp__build_chunks(b, nt);
+    bp__par_run(&b->par, bp__defect_task, b, b->nchunk, nt);
+    if (!b->degen && (t = bp__build_first(b)) != BP__NONE) return bp__tri_defect_error(b->m, t, &b->scale, err);
+    return BP_OK;
+}
+
 /* bp_atlas_build runs in named phases, each over the whole mesh:
      validate   the global checks, then the local defects (strict: errors;
                 repair: marked, below)
      duplicates two triangles on the same three vertices (repair: dropped)
+     edges      the corner edges sorted by vertex pair (repair: the mates
+                across manifold edges)
      orient     (repair) re-orient each component, cut non-orientable ones
+                (nothing to do when no two mates run the same way)
      glue       mesh edges, manifoldness, orientation; triangles and
                 corners merged into charts and chart vertices (repair:
                 non-manifold and cut edges are seams)
@@ -4587,7 +4737,8 @@ static bp_status bp__charts_status(const bp_atlas *atlas, bp_error *err)
      cut        (unless opt.cut is BP_CUT_NONE) a closed or genus > 0
                 chart cut into a disk along mesh edges (>>cut)
    Any phase can fail the whole call (strict: at the first defect); the
-   topology phase fails single charts unless opt.strict is set. */
+   topology phase fails single charts unless opt.strict is set.  Which
+   parts of the phases run in tasks: "the build on several threads" above. */
 
 static bp_status bp__build_alloc(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
 {
@@ -4599,7 +4750,6 @@ static bp_status bp__build_alloc(const bp_allocator *a, bp__build *b, const bp_m
     b->corner_uf = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->glued = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->chart_of_root = (uint32_t *)bp__alloc_array(a, nt, sizeof(uint32_t));
-    b->vert_of_root = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->next = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->loop_id = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->bad = (unsigned char *)bp__calloc_array(a, nt, 1);
@@ -4609,42 +4759,100 @@ static bp_status bp__build_alloc(const bp_allocator *a, bp__build *b, const bp_m
     b->twin = (uint32_t *)bp__alloc_array(a, nt, sizeof(uint32_t));
     b->mate = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     b->queue = (uint32_t *)bp__alloc_array(a, nt, sizeof(uint32_t));
+    b->estart = (uint32_t *)bp__alloc_array(a, (size_t)m->num_vertices + 2, sizeof(uint32_t));
+    b->area = (double *)bp__alloc_array(a, nt, sizeof(double));
     b->fm = *m;
     if (!b->edges || !b->keys || !b->tri_uf || !b->corner_uf || !b->glued || !b->chart_of_root ||
-        !b->vert_of_root || !b->next || !b->loop_id || !b->bad || !b->degen || !b->drop || !b->flip ||
-        !b->twin || !b->mate || !b->queue)
+        !b->next || !b->loop_id || !b->bad || !b->degen || !b->drop || !b->flip ||
+        !b->twin || !b->mate || !b->queue || !b->estart || !b->area)
         return bp__oom(err, "building charts");
     return BP_OK;
 }
 
-/* Duplicate triangles: equal sorted vertex triples. */
-static bp_status bp__find_duplicates(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
+/* A counting sort's buckets: with start[0 .. nkeys + 1] zeroed and
+   start[key + 2] counting the records of each key, the sums make placing a
+   record at start[key + 1]++ leave bucket v in [start[v], start[v + 1]). */
+static void bp__bucket_offsets(uint32_t *start, uint32_t nkeys)
 {
-    uint32_t t, nt = m->num_triangles;
-    char n0[48], n1[48];
-    for (t = 0; t < nt; t++) {
-        uint32_t *v = b->keys[t].v, x;
-        memcpy(v, m->triangles + 3 * (size_t)t, 3 * sizeof(uint32_t));
-        if (v[0] > v[1]) { x = v[0]; v[0] = v[1]; v[1] = x; }
-        if (v[1] > v[2]) { x = v[1]; v[1] = v[2]; v[2] = x; }
-        if (v[0] > v[1]) { x = v[0]; v[0] = v[1]; v[1] = x; }
-        b->keys[t].t = t;
+    uint32_t v;
+    for (v = 2; v <= nkeys + 1; v++) start[v] += start[v - 1];
+}
+
+/* The three vertices of triangle t in increasing order. */
+static void bp__tri_sorted(const bp_mesh *m, uint32_t t, uint32_t *v)
+{
+    uint32_t x;
+    memcpy(v, m->triangles + 3 * (size_t)t, 3 * sizeof(uint32_t));
+    if (v[0] > v[1]) { x = v[0]; v[0] = v[1]; v[1] = x; }
+    if (v[1] > v[2]) { x = v[1]; v[1] = v[2]; v[2] = x; }
+    if (v[0] > v[1]) { x = v[0]; v[0] = v[1]; v[1] = x; }
+}
+
+/* One bucket of triangle keys (the same smallest vertex, in triangle
+   order) into bp__tri_key_cmp's order: by the other two vertices, stable,
+   so ties stay in triangle order (qsort on the whole key for a vertex of
+   more than 32 triangles: the same order, a total one). */
+static void bp__tri_keys_sort(bp__tri_key *k, uint32_t n)
+{
+    uint32_t i, j;
+    if (n > 32) { qsort(k, n, sizeof *k, bp__tri_key_cmp); return; }
+    for (i = 1; i < n; i++) {
+        bp__tri_key x = k[i];
+        for (j = i; j > 0 && (k[j - 1].v[1] > x.v[1] || (k[j - 1].v[1] == x.v[1] && k[j - 1].v[2] > x.v[2])); j--)
+            k[j] = k[j - 1];
+        k[j] = x;
     }
-    if (!bp__sort_by_key(a, b->keys, nt, sizeof *b->keys, m->num_vertices, bp__tri_key_key, bp__tri_key_cmp))
-        return bp__oom(err, "building charts");
-    for (t = 1; t < nt; t++)
-        if (!memcmp(b->keys[t].v, b->keys[t - 1].v, 3 * sizeof(uint32_t))) {
-            uint32_t t0 = b->keys[t - 1].t, t1 = b->keys[t].t;
-            if (b->repair) {             /* keep the first of the group, drop the copy */
-                b->drop[t1] = 1;
+}
+
+/* Chunk c of the mesh vertices: each one's bucket of triangle keys sorted,
+   and its equal keys read (repair: the later copies dropped; strict: the
+   chunk's first copy, by its position in keys[]). */
+static void bp__dup_task(void *task, uint32_t c)
+{
+    bp__build *b = (bp__build *)task;
+    uint32_t v, v1, i;
+    b->first[c] = BP__NONE;
+    for (v = bp__build_range(b, b->m->num_vertices, c, &v1); v < v1; v++) {
+        uint32_t lo = b->estart[v], hi = b->estart[v + 1];
+        bp__tri_keys_sort(b->keys + lo, hi - lo);
+        for (i = lo + 1; i < hi; i++)
+            if (b->keys[i].v[1] == b->keys[i - 1].v[1] && b->keys[i].v[2] == b->keys[i - 1].v[2]) {
+                uint32_t t0 = b->keys[i - 1].t, t1 = b->keys[i].t;
+                if (!b->repair) { b->first[c] = i; return; }
+                b->drop[t1] = 1;                /* keep the first of the group, drop the copy */
                 b->twin[t1] = b->drop[t0] ? b->twin[t0] : t0;
-                continue;
             }
-            const uint32_t *v = m->triangles + 3 * (size_t)t1;
-            return bp__fail(err, BP_ERR_DUPLICATE_FACE, BP_ELEMENT_TRIANGLE, t1, t0, bp__tri_line(m, t1),
-                            "%s and %s use the same vertices %u %u %u", bp__tri_name(m, t0, n0),
-                            bp__tri_name(m, t1, n1), v[0] + 1, v[1] + 1, v[2] + 1);
-        }
+    }
+}
+
+/* Duplicate triangles: equal sorted vertex triples, found in the order of
+   the keys (the smallest vertex, the other two, the triangle). */
+static bp_status bp__find_duplicates(bp__build *b, const bp_mesh *m, bp_error *err)
+{
+    uint32_t t, i, nt = m->num_triangles, nv = m->num_vertices, v[3];
+    char n0[48], n1[48];
+    memset(b->estart, 0, ((size_t)nv + 2) * sizeof(uint32_t));
+    for (t = 0; t < nt; t++) {
+        bp__tri_sorted(m, t, v);
+        b->estart[v[0] + 2]++;
+    }
+    bp__bucket_offsets(b->estart, nv);
+    for (t = 0; t < nt; t++) {
+        bp__tri_key *k;
+        bp__tri_sorted(m, t, v);
+        k = &b->keys[b->estart[v[0] + 1]++];
+        memcpy(k->v, v, sizeof v);
+        k->t = t;
+    }
+    bp__build_chunks(b, nv);
+    bp__par_run(&b->par, bp__dup_task, b, b->nchunk, nv);
+    if ((i = bp__build_first(b)) != BP__NONE) {
+        uint32_t t0 = b->keys[i - 1].t, t1 = b->keys[i].t;
+        const uint32_t *w = m->triangles + 3 * (size_t)t1;
+        return bp__fail(err, BP_ERR_DUPLICATE_FACE, BP_ELEMENT_TRIANGLE, t1, t0, bp__tri_line(m, t1),
+                        "%s and %s use the same vertices %u %u %u", bp__tri_name(m, t0, n0),
+                        bp__tri_name(m, t1, n1), w[0] + 1, w[1] + 1, w[2] + 1);
+    }
     for (t = 0; t < nt; t++)
         if (b->drop[t]) bp__repair_note(b->rep, BP_REPAIR_DUPLICATE, t, b->twin[t]);
     return BP_OK;
@@ -4658,11 +4866,11 @@ static uint32_t bp__mesh_ce(const bp__build *b, uint32_t ce)
 }
 
 /* The corner edges of one mesh edge are b->edges[e, g) (sorted by vertex
-   pair): g for a group starting at e. */
-static size_t bp__edge_group_end(const bp__build *b, size_t e, size_t nc)
+   pair): g for a group starting at e, within its bucket [e, end). */
+static size_t bp__edge_group_end(const bp__build *b, size_t e, size_t end)
 {
     size_t g;
-    for (g = e + 1; g < nc && b->edges[g].lo == b->edges[e].lo && b->edges[g].hi == b->edges[e].hi; g++) {}
+    for (g = e + 1; g < end && b->edges[g].hi == b->edges[e].hi; g++) {}
     return g;
 }
 
@@ -4678,63 +4886,114 @@ static uint32_t bp__live_edges(const bp__build *b, size_t e, size_t g, uint32_t 
     return n;
 }
 
-/* Glue one mesh edge, the corner edges edges[e, g) of the same vertex pair
-   (of the glued mesh m = b->fm).  Repeated-vertex triangles (bad) and
-   dropped copies take no part.  Strict: an edge of more than two triangles
-   or two neighbours running the same way fail the call; repair: such an
-   edge, or one cut to make a component orientable, is a seam. */
-static bp_status bp__glue_edge(bp__build *b, const bp_mesh *m, size_t e, size_t g, bp_error *err)
+/* What gluing does with one mesh edge, the corner edges edges[e, g) of the
+   same vertex pair (of the glued mesh m = b->fm).  Repeated-vertex
+   triangles (bad) and dropped copies take no part.  Strict: an edge of
+   more than two triangles or two neighbours running the same way fail the
+   call (BP__GLUE_FAIL); repair: such an edge, or one cut to make a
+   component orientable, is a seam (BP__GLUE_NOTE: a non-manifold edge to
+   report).  Two triangles that agree on the edge and its uvs are glued:
+   the first corner edge is returned and glued[] pairs the two (a task's
+   own entries: a corner edge is in one group).  BP__NONE: nothing. */
+#define BP__GLUE_NOTE (BP__NONE - 2u)
+#define BP__GLUE_FAIL (BP__NONE - 3u)
+
+static uint32_t bp__glue_decide(bp__build *b, const bp_mesh *m, size_t e, size_t g)
+{
+    uint32_t good[3], ng = bp__live_edges(b, e, g, good);
+    uint32_t c0, c1, a0, b0, a1, b1;
+    if (ng > 2) return b->repair ? BP__GLUE_NOTE : BP__GLUE_FAIL;
+    if (ng < 2 || (b->repair && b->mate[bp__mesh_ce(b, good[0])] == BP__CUT)) return BP__NONE;
+    c0 = good[0];
+    c1 = good[1];
+    a0 = c0; b0 = c0 - c0 % 3 + (c0 % 3 + 1) % 3;   /* corners of the edge in its two triangles */
+    a1 = c1; b1 = c1 - c1 % 3 + (c1 % 3 + 1) % 3;
+    if (m->triangles[a0] == m->triangles[a1]) return BP__GLUE_FAIL;
+    /* opposite directions: a0 pairs with b1 (same mesh vertex), b0 with a1 */
+    if (m->corner_uv && (m->corner_uv[a0] != m->corner_uv[b1] || m->corner_uv[b0] != m->corner_uv[a1]))
+        return BP__NONE;
+    b->glued[c0] = c1;
+    b->glued[c1] = c0;
+    return c0;
+}
+
+/* The error of an edge that bp__glue_decide failed. */
+static bp_status bp__glue_error(const bp__build *b, const bp_mesh *m, size_t e, size_t g, bp_error *err)
 {
     uint32_t good[3], ng = bp__live_edges(b, e, g, good), lo = b->edges[e].lo, hi = b->edges[e].hi;
+    uint32_t t0 = good[0] / 3, t1 = good[1] / 3;
     char n0[48], n1[48], n2[48];
-    if (ng > 2 && b->repair) {
-        bp__repair_note(b->rep, BP_REPAIR_NONMANIFOLD_EDGE, lo, hi);
-        return BP_OK;
-    }
-    if (ng == 2 && b->repair && b->mate[bp__mesh_ce(b, good[0])] == BP__CUT) return BP_OK;
     if (ng > 2)
         return bp__fail(err, BP_ERR_NONMANIFOLD, BP_ELEMENT_EDGE, lo, hi, bp__tri_line(m, good[2] / 3),
                         "edge %u-%u is shared by %u triangles (%s, %s, %s%s): a surface edge may have at most two",
                         lo + 1, hi + 1, ng, bp__tri_name(m, good[0] / 3, n0), bp__tri_name(m, good[1] / 3, n1),
                         bp__tri_name(m, good[2] / 3, n2), ng > 3 ? ", ..." : "");
-    if (ng == 2) {
-        uint32_t c0 = good[0], c1 = good[1];
-        uint32_t t0 = c0 / 3, k0 = c0 % 3, t1 = c1 / 3, k1 = c1 % 3;
-        uint32_t a0 = 3 * t0 + k0, b0 = 3 * t0 + (k0 + 1) % 3;   /* corners of the edge in t0 */
-        uint32_t a1 = 3 * t1 + k1, b1 = 3 * t1 + (k1 + 1) % 3;   /* corners of the edge in t1 */
-        if (m->triangles[a0] == m->triangles[a1])
-            return bp__fail(err, BP_ERR_ORIENTATION, BP_ELEMENT_EDGE, lo, hi, bp__tri_line(m, t1),
-                            "%s and %s both run along edge %u-%u in the same direction: their orientations disagree",
-                            bp__tri_name(m, t0, n0), bp__tri_name(m, t1, n1), lo + 1, hi + 1);
-        /* opposite directions: a0 pairs with b1 (same mesh vertex), b0 with a1 */
-        if (!m->corner_uv || (m->corner_uv[a0] == m->corner_uv[b1] && m->corner_uv[b0] == m->corner_uv[a1])) {
-            bp__uf_union(b->tri_uf, t0, t1);
-            bp__uf_union(b->corner_uf, a0, b1);
-            bp__uf_union(b->corner_uf, b0, a1);
-            b->glued[c0] = c1;
-            b->glued[c1] = c0;
-        }
-    }
-    return BP_OK;
+    return bp__fail(err, BP_ERR_ORIENTATION, BP_ELEMENT_EDGE, lo, hi, bp__tri_line(m, t1),
+                    "%s and %s both run along edge %u-%u in the same direction: their orientations disagree",
+                    bp__tri_name(m, t0, n0), bp__tri_name(m, t1, n1), lo + 1, hi + 1);
 }
 
-/* Edges: sort the corner edges by their unordered vertex pair; each group
-   is one mesh edge. */
-static bp_status bp__sort_edges(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
+/* One bucket of edge records (the same smaller vertex, in corner edge
+   order) into bp__edge_cmp's order: by the larger vertex, stable (qsort on
+   the whole key for a vertex of more than 32 corner edges). */
+static void bp__edge_recs_sort(bp__edge_rec *r, uint32_t n)
 {
-    uint32_t t, k, nt = m->num_triangles;
-    size_t nc = 3 * (size_t)nt;
+    uint32_t i, j;
+    if (n > 32) { qsort(r, n, sizeof *r, bp__edge_cmp); return; }
+    for (i = 1; i < n; i++) {
+        bp__edge_rec x = r[i];
+        for (j = i; j > 0 && r[j - 1].hi > x.hi; j--) r[j] = r[j - 1];
+        r[j] = x;
+    }
+}
+
+/* Chunk c of the mesh vertices: each one's bucket of edge records sorted
+   and, in repair, the mates across its manifold edges (the groups of
+   exactly two live triangles; mate[] starts as BP__NONE); first[c] says
+   whether two mates run the same way along their edge (the orientation
+   repair has work only then). */
+static void bp__edge_task(void *task, uint32_t c)
+{
+    bp__build *b = (bp__build *)task;
+    const uint32_t *tri = b->m->triangles;
+    uint32_t v, v1;
+    b->first[c] = BP__NONE;
+    for (v = bp__build_range(b, b->m->num_vertices, c, &v1); v < v1; v++) {
+        size_t e, g, end = b->estart[v + 1];
+        bp__edge_recs_sort(b->edges + b->estart[v], (uint32_t)(end - b->estart[v]));
+        if (!b->repair) continue;
+        for (e = b->estart[v]; e < end; e = g) {
+            uint32_t live[3];
+            g = bp__edge_group_end(b, e, end);
+            if (bp__live_edges(b, e, g, live) != 2) continue;
+            b->mate[live[0]] = live[1];
+            b->mate[live[1]] = live[0];
+            if (tri[live[0]] == tri[live[1]]) b->first[c] = v;
+        }
+    }
+}
+
+/* Edges: the corner edges sorted by their unordered vertex pair (and
+   then by corner edge); each group is one mesh edge. */
+static void bp__sort_edges(bp__build *b, const bp_mesh *m)
+{
+    uint32_t t, k, nt = m->num_triangles, nv = m->num_vertices;
+    memset(b->estart, 0, ((size_t)nv + 2) * sizeof(uint32_t));
+    for (t = 0; t < 3 * nt; t++) {
+        uint32_t va = m->triangles[t], vb = m->triangles[t - t % 3 + (t % 3 + 1) % 3];
+        b->estart[(va < vb ? va : vb) + 2]++;
+    }
+    bp__bucket_offsets(b->estart, nv);
     for (t = 0; t < nt; t++)
         for (k = 0; k < 3; k++) {
             uint32_t va = m->triangles[3 * (size_t)t + k], vb = m->triangles[3 * (size_t)t + (k + 1) % 3];
-            bp__edge_rec *r = &b->edges[3 * (size_t)t + k];
+            bp__edge_rec *r = &b->edges[b->estart[(va < vb ? va : vb) + 1]++];
             r->lo = va < vb ? va : vb;
             r->hi = va < vb ? vb : va;
             r->ce = 3 * t + k;
         }
-    if (!bp__sort_by_key(a, b->edges, nc, sizeof *b->edges, m->num_vertices, bp__edge_key, bp__edge_cmp))
-        return bp__oom(err, "building charts");
-    return BP_OK;
+    bp__build_chunks(b, nv);
+    bp__par_run(&b->par, bp__edge_task, b, b->nchunk, nv);
 }
 
 /* --- repair ----------------------------------------------------------------
@@ -4831,20 +5090,6 @@ static void bp__repair_messages(bp_repair_report *r, const bp_mesh *m)
     }
 }
 
-/* mate[] across the manifold edges: the groups of exactly two live
-   triangles. */
-static void bp__find_mates(bp__build *b, const bp_mesh *m)
-{
-    size_t e, g, i, nc = 3 * (size_t)m->num_triangles;
-    for (i = 0; i < nc; i++) b->mate[i] = BP__NONE;
-    for (e = 0; e < nc; e = g) {
-        uint32_t live[3], nl;
-        g = bp__edge_group_end(b, e, nc);
-        nl = bp__live_edges(b, e, g, live);
-        if (nl == 2) { b->mate[live[0]] = live[1]; b->mate[live[1]] = live[0]; }
-    }
-}
-
 /* The breadth-first walk over one component from triangle t0: flip[] as
    reached (0 for t0), conflicting edges cut; then the majority rule.
    Returns the size of the component. */
@@ -4878,15 +5123,18 @@ static uint32_t bp__orient_component(bp__build *b, const bp_mesh *m, uint32_t t0
 }
 
 /* Orientation repair (above): flip[] for every triangle, then the glued
-   mesh b->fm and the corner edges renumbered to it.  Returns 0 when out of
-   memory. */
+   mesh b->fm and the corner edges renumbered to it.  When no two mates run
+   the same way (the edge tasks' flags: a consistently wound mesh), every
+   walk keeps flip[] = 0 and cuts nothing, so there is nothing to walk.
+   Returns 0 when out of memory. */
 static int bp__orient(const bp_allocator *a, bp__build *b, const bp_mesh *m)
 {
     uint32_t t, nt = m->num_triangles, nflip = 0;
     size_t i, nc = 3 * (size_t)nt;
-    unsigned char *seen = (unsigned char *)bp__calloc_array(a, nt, 1);
+    unsigned char *seen;
+    if (bp__build_first(b) == BP__NONE) return 1;
+    seen = (unsigned char *)bp__calloc_array(a, nt, 1);
     if (!seen) return 0;
-    bp__find_mates(b, m);
     for (t = 0; t < nt; t++)
         if (!seen[t] && !b->bad[t] && !b->drop[t]) bp__orient_component(b, m, t, seen);
     bp__free(a, seen);
@@ -4910,26 +5158,46 @@ static int bp__orient(const bp_allocator *a, bp__build *b, const bp_mesh *m)
     return 1;
 }
 
-/* The local defects of every triangle (repair): degen[] says which, bad[]
-   marks those that repeat a vertex (not glued: a chart of their own). */
-static void bp__repair_defects(bp__build *b, const bp_mesh *m)
+/* Chunk c of the mesh vertices: what gluing does with each edge of their
+   buckets, at the edge's first record of b->next (the others BP__NONE);
+   b->next is free until the topology phase. */
+static void bp__glue_task(void *task, uint32_t c)
 {
-    uint32_t t;
-    bp__find_defects(m, &b->scale, b->degen, NULL);
-    for (t = 0; t < m->num_triangles; t++) b->bad[t] = b->degen[t] == 1;
+    bp__build *b = (bp__build *)task;
+    uint32_t v, v1;
+    for (v = bp__build_range(b, b->m->num_vertices, c, &v1); v < v1; v++) {
+        size_t e, g, i, end = b->estart[v + 1];
+        for (e = b->estart[v]; e < end; e = g) {
+            g = bp__edge_group_end(b, e, end);
+            b->next[e] = bp__glue_decide(b, &b->fm, e, g);
+            for (i = e + 1; i < g; i++) b->next[i] = BP__NONE;
+        }
+    }
 }
 
-/* Glue every mesh edge (of the glued mesh m = b->fm). */
-static bp_status bp__glue(bp__build *b, const bp_mesh *m, bp_error *err)
+/* Glue every mesh edge (of the glued mesh b->fm): the decisions in tasks,
+   then, in the order of the edges, the repairs noted, the first failure
+   reported and the unions made. */
+static bp_status bp__glue(bp__build *b, bp_error *err)
 {
-    uint32_t t, nt = m->num_triangles;
-    size_t e, g, i, nc = 3 * (size_t)nt;
-    bp_status st;
-    for (t = 0; t < nt; t++) b->tri_uf[t] = t;
-    for (i = 0; i < nc; i++) { b->corner_uf[i] = (uint32_t)i; b->glued[i] = BP__NONE; }
-    for (e = 0; e < nc; e = g) {
-        g = bp__edge_group_end(b, e, nc);
-        if ((st = bp__glue_edge(b, m, e, g, err)) != BP_OK) return st;
+    size_t e, nc = 3 * (size_t)b->m->num_triangles;
+    const bp_mesh *m = &b->fm;
+    bp__build_chunks(b, m->num_vertices);
+    bp__par_run(&b->par, bp__glue_task, b, b->nchunk, m->num_vertices);
+    for (e = 0; e < nc; e++) {
+        uint32_t c0 = b->next[e], c1, a0, b0, a1, b1;
+        if (c0 == BP__NONE) continue;
+        if (c0 == BP__GLUE_NOTE) {
+            bp__repair_note(b->rep, BP_REPAIR_NONMANIFOLD_EDGE, b->edges[e].lo, b->edges[e].hi);
+            continue;
+        }
+        if (c0 == BP__GLUE_FAIL) return bp__glue_error(b, m, e, bp__edge_group_end(b, e, b->estart[b->edges[e].lo + 1]), err);
+        c1 = b->glued[c0];
+        a0 = c0; b0 = c0 - c0 % 3 + (c0 % 3 + 1) % 3;
+        a1 = c1; b1 = c1 - c1 % 3 + (c1 % 3 + 1) % 3;
+        bp__uf_union(b->tri_uf, c0 / 3, c1 / 3);
+        bp__uf_union(b->corner_uf, a0, b1);
+        bp__uf_union(b->corner_uf, b0, a1);
     }
     return BP_OK;
 }
@@ -4994,17 +5262,77 @@ static bp_status bp__regularize(const bp_allocator *a, bp__build *b, bp_chart *c
     return BP_OK;
 }
 
+/* The union-finds' parents point to smaller indices (the root of a class
+   is its smallest element, and path halving only moves a parent down), so
+   one sweep upwards points every element at its root, without a find. */
+static void bp__uf_flatten(uint32_t *parent, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n; i++) parent[i] = parent[parent[i]];
+}
+
+/* Chunk c of the triangles: half the 3D area of each (of the glued mesh:
+   a chart adds them in its triangles' order). */
+static void bp__area_task(void *task, uint32_t c)
+{
+    bp__build *b = (bp__build *)task;
+    const uint32_t *tri = b->fm.triangles;
+    const double *pos = b->fm.positions;
+    uint32_t t, t1;
+    for (t = bp__build_range(b, b->fm.num_triangles, c, &t1); t < t1; t++)
+        b->area[t] = 0.5 * bp__area2_3d(pos + 3 * (size_t)tri[3 * (size_t)t], pos + 3 * (size_t)tri[3 * (size_t)t + 1],
+                                        pos + 3 * (size_t)tri[3 * (size_t)t + 2]);
+}
+
+/* Chunk c of the triangles: a chart's arrays, where the serial pass put
+   them (the triangle's place in its chart in b->queue, free after the
+   orientation repair; each class root's chart vertex in vert_of_root).
+   A chart vertex's mesh vertex and uv are written from its class root
+   alone: every corner of the class has them, and one writer is enough. */
+static void bp__fill_task(void *task, uint32_t c)
+{
+    bp__build *b = (bp__build *)task;
+    bp_atlas *atlas = b->atlas;
+    const bp_mesh *m = &b->fm;
+    uint32_t t, t1, k;
+    for (t = bp__build_range(b, m->num_triangles, c, &t1); t < t1; t++) {
+        bp_chart *ch;
+        uint32_t ct = b->queue[t];
+        if (b->drop[t]) continue;
+        ch = &atlas->charts[atlas->corner_chart[3 * (size_t)t]];
+        ch->face[ct] = t;
+        for (k = 0; k < 3; k++) {
+            size_t i = 3 * (size_t)t + k;
+            uint32_t r = b->corner_uf[i], cv = b->vert_of_root[r];
+            atlas->corner_vertex[i] = cv;
+            ch->triangles[3 * (size_t)ct + k] = cv;
+            if (r != i) continue;
+            ch->vertex[cv] = m->triangles[i];
+            ch->vertex_uv[cv] = m->corner_uv ? m->corner_uv[i] : BP__NONE;
+        }
+    }
+}
+
 /* Number the charts by their smallest triangle and the chart vertices by
    first appearance in the chart's triangles (deterministic), and fill each
-   chart's arrays. */
+   chart's arrays.  A corner class's root is its smallest corner, so its
+   first appearance: the serial passes number the charts, give each
+   triangle its place in its chart and each root its chart vertex, reading
+   the arrays in order; the tasks fill the charts; the areas are added in
+   each chart's triangle order. */
 static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *atlas, const bp_mesh *m,
                                  bp_error *err)
 {
     uint32_t t, k, c, nt = m->num_triangles, nchart = 0;
-    size_t i, nc = 3 * (size_t)nt;
+    size_t nc = 3 * (size_t)nt;
+    bp__build_chunks(b, nt);
+    bp__par_run(&b->par, bp__area_task, b, b->nchunk, nt);
+    bp__uf_flatten(b->tri_uf, nt);
+    bp__uf_flatten(b->corner_uf, nc);
+    b->vert_of_root = b->mate;            /* mate[] is done with after the gluing */
     for (t = 0; t < nt; t++) b->chart_of_root[t] = BP__NONE;
     for (t = 0; t < nt; t++) {
-        uint32_t r = bp__uf_find(b->tri_uf, t);
+        uint32_t r = b->tri_uf[t];
         if (b->drop[t]) continue;
         if (b->chart_of_root[r] == BP__NONE) b->chart_of_root[r] = nchart++;
     }
@@ -5014,18 +5342,16 @@ static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *
     atlas->corner_chart = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     atlas->corner_vertex = (uint32_t *)bp__alloc_array(a, nc, sizeof(uint32_t));
     if (!atlas->charts || !atlas->corner_chart || !atlas->corner_vertex) return bp__oom(err, "building charts");
-    for (i = 0; i < nc; i++) b->vert_of_root[i] = BP__NONE;
     for (t = 0; t < nt; t++) {
         bp_chart *ch;
         if (b->drop[t]) continue;
-        c = b->chart_of_root[bp__uf_find(b->tri_uf, t)];
+        c = b->chart_of_root[b->tri_uf[t]];
         ch = &atlas->charts[c];
-        ch->num_triangles++;
+        b->queue[t] = ch->num_triangles++;
         for (k = 0; k < 3; k++) {
-            uint32_t r = bp__uf_find(b->corner_uf, 3 * t + k);
-            if (b->vert_of_root[r] == BP__NONE) b->vert_of_root[r] = ch->num_vertices++;
-            atlas->corner_chart[3 * t + k] = c;
-            atlas->corner_vertex[3 * t + k] = b->vert_of_root[r];
+            size_t i = 3 * (size_t)t + k;
+            if (b->corner_uf[i] == i) b->vert_of_root[i] = ch->num_vertices++;
+            atlas->corner_chart[i] = c;
         }
     }
     for (c = 0; c < nchart; c++) {
@@ -5035,51 +5361,60 @@ static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *
         ch->triangles = (uint32_t *)bp__alloc_array(a, 3 * (size_t)ch->num_triangles, sizeof(uint32_t));
         ch->face = (uint32_t *)bp__alloc_array(a, ch->num_triangles, sizeof(uint32_t));
         if (!ch->vertex || !ch->vertex_uv || !ch->triangles || !ch->face) return bp__oom(err, "building charts");
-        ch->num_triangles = 0;
     }
-    for (t = 0; t < nt; t++) {
-        bp_chart *ch;
-        uint32_t ct;
-        if (b->drop[t]) continue;
-        ch = &atlas->charts[atlas->corner_chart[3 * t]];
-        ct = ch->num_triangles++;
-        ch->face[ct] = t;
-        for (k = 0; k < 3; k++) {
-            uint32_t cv = atlas->corner_vertex[3 * t + k];
-            ch->triangles[3 * ct + k] = cv;
-            ch->vertex[cv] = m->triangles[3 * t + k];
-            ch->vertex_uv[cv] = m->corner_uv ? m->corner_uv[3 * t + k] : BP__NONE;
-        }
-        if (!b->degen[t])
-            ch->area3d += 0.5 * bp__area2_3d(bp__pos(m, m->triangles[3 * t]), bp__pos(m, m->triangles[3 * t + 1]),
-                                             bp__pos(m, m->triangles[3 * t + 2]));
-    }
+    b->atlas = atlas;
+    bp__par_run(&b->par, bp__fill_task, b, b->nchunk, nt);
+    for (t = 0; t < nt; t++)
+        if (!b->drop[t] && !b->degen[t]) atlas->charts[atlas->corner_chart[3 * (size_t)t]].area3d += b->area[t];
     bp__corners_to_mesh(b, atlas, m);
     return BP_OK;
 }
 
+/* The pinches among one mesh vertex's chart vertices k[0, n), in chart
+   order: within each chart, the vertices whose uv an earlier one has
+   (qsort for a chart of more than 32 of them at one mesh vertex). */
+static void bp__pinches_at(bp_atlas *atlas, bp__vkey *k, uint32_t n)
+{
+    uint32_t i, j, e;
+    for (i = 0; i < n; i = e) {
+        uint32_t c = k[i].chart, dup = 0;
+        for (e = i + 1; e < n && k[e].chart == c; e++) {}
+        if (e - i > 32) {
+            qsort(k + i, e - i, sizeof *k, bp__vkey_cmp);
+            for (j = i + 1; j < e; j++) dup += k[j].uv == k[j - 1].uv;
+        } else
+            for (j = i + 1; j < e; j++) {
+                uint32_t l;
+                for (l = i; l < j && k[l].uv != k[j].uv; l++) {}
+                dup += l < j;
+            }
+        atlas->charts[c].split_vertices += dup;
+        atlas->num_split += dup;
+    }
+}
+
 /* Pinch repairs: the chart vertices beyond one per distinct (chart, mesh
-   vertex, uv) key. */
+   vertex, uv) key, counted per mesh vertex after a counting sort by it
+   (b->estart is free after the gluing). */
 static bp_status bp__count_pinches(const bp_allocator *a, bp__build *b, bp_atlas *atlas, bp_error *err)
 {
-    size_t nv_total = 0, j, w = 0;
-    uint32_t c, i;
+    size_t nv_total = 0;
+    uint32_t c, i, v, nv = b->m->num_vertices;
     for (c = 0; c < atlas->num_charts; c++) nv_total += atlas->charts[c].num_vertices;
     b->vkeys = (bp__vkey *)bp__alloc_array(a, nv_total, sizeof *b->vkeys);
     if (!b->vkeys) return bp__oom(err, "building charts");
+    memset(b->estart, 0, ((size_t)nv + 2) * sizeof(uint32_t));
+    for (c = 0; c < atlas->num_charts; c++)
+        for (i = 0; i < atlas->charts[c].num_vertices; i++) b->estart[atlas->charts[c].vertex[i] + 2]++;
+    bp__bucket_offsets(b->estart, nv);
     for (c = 0; c < atlas->num_charts; c++)
         for (i = 0; i < atlas->charts[c].num_vertices; i++) {
-            b->vkeys[w].chart = c;
-            b->vkeys[w].v = atlas->charts[c].vertex[i];
-            b->vkeys[w].uv = atlas->charts[c].vertex_uv[i];
-            w++;
+            bp__vkey *k = &b->vkeys[b->estart[atlas->charts[c].vertex[i] + 1]++];
+            k->chart = c;
+            k->v = atlas->charts[c].vertex[i];
+            k->uv = atlas->charts[c].vertex_uv[i];
         }
-    qsort(b->vkeys, nv_total, sizeof *b->vkeys, bp__vkey_cmp);
-    for (j = 1; j < nv_total; j++)
-        if (!bp__vkey_cmp(&b->vkeys[j], &b->vkeys[j - 1])) {
-            atlas->charts[b->vkeys[j].chart].split_vertices++;
-            atlas->num_split++;
-        }
+    for (v = 0; v < nv; v++) bp__pinches_at(atlas, b->vkeys + b->estart[v], b->estart[v + 1] - b->estart[v]);
     return BP_OK;
 }
 
@@ -5134,6 +5469,7 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
     bp__build b;
     bp_status st;
     uint32_t c;
+    void *pool = NULL;
     int strict = opt_ && opt_->strict;
     if (ost_ != BP_OK) return ost_;
     opt = opt_;
@@ -5145,16 +5481,19 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
     atlas->allocator = a;
     memset(&b, 0, sizeof b);
     bp__repair_init(&atlas->repairs);
-    if ((st = bp__validate_global(m, &b.scale, err)) != BP_OK) return st;
-    if (strict && (st = bp__find_defects(m, &b.scale, NULL, err)) != BP_OK) return st;
+    if ((st = bp__validate_sizes(m, err)) != BP_OK) return st;
+    b.m = m;
+    b.par = m->num_triangles >= BP__PAR_MIN_TRIANGLES ? bp__par_begin(&a, opt, &pool) : bp__par_serial();
+    st = bp__validate_par(&b, err);
+    if (st == BP_OK && strict) st = bp__defects_par(&b, err);
     b.repair = !strict;
     b.rep = &atlas->repairs;
-    st = bp__build_alloc(&a, &b, m, err);
-    if (st == BP_OK && b.repair) bp__repair_defects(&b, m);
-    if (st == BP_OK) st = bp__find_duplicates(&a, &b, m, err);
-    if (st == BP_OK) st = bp__sort_edges(&a, &b, m, err);
+    if (st == BP_OK) st = bp__build_alloc(&a, &b, m, err);
+    if (st == BP_OK) st = bp__defects_par(&b, err);
+    if (st == BP_OK) st = bp__find_duplicates(&b, m, err);
+    if (st == BP_OK) bp__sort_edges(&b, m);
     if (st == BP_OK && b.repair && !bp__orient(&a, &b, m)) st = bp__oom(err, "building charts");
-    if (st == BP_OK) st = bp__glue(&b, &b.fm, err);
+    if (st == BP_OK) st = bp__glue(&b, err);
     if (st == BP_OK) st = bp__make_charts(&a, &b, atlas, &b.fm, err);
     for (c = 0; st == BP_OK && c < atlas->num_charts; c++) st = bp__regularize(&a, &b, &atlas->charts[c], m, err);
     if (st == BP_OK) st = bp__count_pinches(&a, &b, atlas, err);
@@ -5177,6 +5516,7 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
         bp__repair_messages(&atlas->repairs, m);
     }
     bp__build_free(&a, &b);
+    bp__par_end(&a, pool);
     if (st == BP_OK) st = bp__charts_status(atlas, err);
     if ((st == BP_OK || st == BP_ERR_CHARTS_FAILED) && bp__report(opt, BP_STAGE_CHARTS, 1, BP_NO_CHART))
         st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled after building the charts");
@@ -11345,32 +11685,6 @@ static void bp__hash_query(const bp__hash *H, uint32_t g, double x0, double y0, 
 /* The swept hash of the step bound is built by BP__HASH_TASKS tasks (see
    bp__step_hash). */
 #define BP__HASH_TASKS 4u
-
-/* Work is split in chunks of items (see >>threads): at most BP__*_CHUNK
-   items each, all of nearly the same size (chunk c of nc holds items
-   n c / nc up to n (c + 1) / nc), and, when there is more than one, a
-   multiple of four of them.  Both depend on n alone.  Fixed-size chunks
-   left a short one at the end: camelhead's 22704 triangles made 11 full
-   chunks and one of 176, so of two threads, one had 12288 triangles to
-   evaluate and the other 10416, and the first finished 9% after the
-   second, in every energy evaluation.  Equal chunks in a multiple of four
-   give 2 and 4 threads equal blocks. */
-#define BP__TRI_CHUNK  2048u
-#define BP__VERT_CHUNK 2048u
-#define BP__EDGE_CHUNK 128u
-
-static uint32_t bp__nchunks(uint32_t n, uint32_t size)
-{
-    uint32_t nc = n / size + (n % size != 0);
-    if (nc > 1) nc = (nc + 3u) & ~3u;
-    return nc < n ? nc : n;
-}
-
-/* The first item of chunk c of nc over n items (c = nc: n). */
-static uint32_t bp__chunk_at(uint32_t n, uint32_t nc, uint32_t c)
-{
-    return (uint32_t)((uint64_t)n * c / nc);
-}
 
 /* A gradient contribution of the barrier, applied after the parallel part
    in chunk order. */
