@@ -399,11 +399,29 @@ static void test_swept_hash(const char *path)
     bp_mesh_free(&mesh, NULL);
 }
 
+/* Directed edges by (smaller end, larger end, start): the order bp_check
+   once sorted them in (its own sort is tested in test_check). */
+static uint32_t dedge_key(const void *p)
+{
+    const bp__dedge *e = (const bp__dedge *)p;
+    return e->a < e->b ? e->a : e->b;
+}
+
+static int dedge_cmp(const void *pa, const void *pb)
+{
+    const bp__dedge *x = (const bp__dedge *)pa, *y = (const bp__dedge *)pb;
+    uint32_t x0 = x->a < x->b ? x->a : x->b, y0 = y->a < y->b ? y->a : y->b;
+    uint32_t x1 = x->a < x->b ? x->b : x->a, y1 = y->a < y->b ? y->b : y->a;
+    if (x0 != y0) return x0 < y0 ? -1 : 1;
+    if (x1 != y1) return x1 < y1 ? -1 : 1;
+    return x->a < y->a ? -1 : x->a > y->a;
+}
+
 static void test_bucket_sort(void)
 {
     static const uint32_t nvs[] = { 1, 3, 40, 1000, 100000 };
     size_t c, k;
-    int same_e = 1, same_t = 1, same_d = 1, same_ds = 1, big = 0;
+    int same_e = 1, same_t = 1, same_d = 1, big = 0;
     for (c = 0; c < sizeof nvs / sizeof *nvs; c++) {
         uint32_t nv = nvs[c], n = 3000, i;
         bp__edge_rec *e = (bp__edge_rec *)malloc(n * sizeof *e), *e2 = (bp__edge_rec *)malloc(n * sizeof *e), *te = (bp__edge_rec *)malloc(n * sizeof *e);
@@ -423,29 +441,21 @@ static void test_bucket_sort(void)
         memcpy(e2, e, n * sizeof *e); memcpy(t2, t, n * sizeof *t); memcpy(d2, d, n * sizeof *d);
         qsort(e2, n, sizeof *e2, bp__edge_cmp);
         qsort(t2, n, sizeof *t2, bp__tri_key_cmp);
-        qsort(d2, n, sizeof *d2, bp__dedge_cmp);
+        qsort(d2, n, sizeof *d2, dedge_cmp);
         bp__bucket_sort(e, n, sizeof *e, nv, bp__edge_key, bp__edge_cmp, te, start);
         bp__bucket_sort(t, n, sizeof *t, nv, bp__tri_key_key, bp__tri_key_cmp, tt, start);
-        {   /* bp_check's own sort of the directed edges (bp__dedge_sort) */
-            bp__dedge *d3 = (bp__dedge *)malloc(n * sizeof *d);
-            memcpy(d3, d, n * sizeof *d);
-            bp__dedge_sort(d3, n, nv, td, start);
-            for (i = 0; i < n; i++) if (bp__dedge_cmp(&d3[i], &d2[i]) != 0) same_ds = 0;
-            free(d3);
-        }
-        bp__bucket_sort(d, n, sizeof *d, nv, bp__dedge_key, bp__dedge_cmp, td, start);
+        bp__bucket_sort(d, n, sizeof *d, nv, dedge_key, dedge_cmp, td, start);
         /* qsort's order is unique where the order is total; directed edges
            may tie (the same a and b twice): compare the keys then */
         if (memcmp(e, e2, n * sizeof *e)) same_e = 0;
         if (memcmp(t, t2, n * sizeof *t)) same_t = 0;
-        for (i = 0; i < n; i++) if (bp__dedge_cmp(&d[i], &d2[i]) != 0) same_d = 0;
+        for (i = 0; i < n; i++) if (dedge_cmp(&d[i], &d2[i]) != 0) same_d = 0;
         free(e); free(e2); free(te); free(t); free(t2); free(tt); free(d); free(d2); free(td); free(start); free(cnt);
     }
     BPT_CHECK(big, "bucket sort: some bucket holds more than 32 records (the qsort branch ran)");
     BPT_CHECK(same_e, "bucket sort: corner edges in qsort's order (1 to 100000 vertices)");
     BPT_CHECK(same_t, "bucket sort: triangle keys in qsort's order");
     BPT_CHECK(same_d, "bucket sort: directed edges in qsort's order");
-    BPT_CHECK(same_ds, "bp__dedge_sort (bp_check's): directed edges in qsort's order");
 }
 
 int main(void)
