@@ -9340,11 +9340,13 @@ done:
       unions per triangle: the third edge joins vertices already joined.
    (b), (c) and (d) read the boundary edges only and stay serial. */
 
+#ifndef BP__CHECK_CHUNK
 #define BP__CHECK_CHUNK      2048u     /* triangles per chunk (BP__TRI_CHUNK) */
+#endif
 #define BP__CHECK_RANGES     16u       /* at most this many key ranges        */
 #ifndef BP__CHECK_RANGE_SHIFT
 #define BP__CHECK_RANGE_SHIFT 10u      /* and at least 2^this vertices each   */
-#endif
+#endif                                 /* (tests/test_check.c sets both small) */
 
 /* What one triangle chunk found (1.). */
 typedef struct bp__check_part {
