@@ -9334,7 +9334,8 @@ done:
       one global sort however the ranges are cut or run; the ranges'
       boundary edges are appended in range order, their counts added and
       the first range's bad group kept.  A map of fewer than 2^10
-      vertices is one range, read straight from the triangles.
+      vertices, or checked on one thread, is one range, read straight
+      from the triangles (the scatter would cost a tenth of the check).
    3. The connected pieces (for (c) and (d)): a union-find over the
       vertices, one task beside the ranges, when (c) may be reached.  Two
       unions per triangle: the third edge joins vertices already joined.
@@ -9396,6 +9397,7 @@ static int bp__check_exact(double maxabs, double minabs)
    every coordinate, as uv might alias them. */
 static void bp__check_triangles(const uint32_t *tris, const double *uv, uint32_t t0, uint32_t t1, bp__check_part *P)
 {
+    const double errbound = (3.0 + 16.0 * DBL_EPSILON / 2) * (DBL_EPSILON / 2);
     double maxabs = 0, minabs = HUGE_VAL;
     uint32_t t, k;
     for (t = t0; t < t1; t++) {
@@ -9414,7 +9416,11 @@ static void bp__check_triangles(const uint32_t *tris, const double *uv, uint32_t
             P->nonfinite++;
             continue;
         }
-        o = bp_orient2d(p[0], p[1], p[2]);
+        {   /* bp_orient2d, its filter written out (a call per triangle costs) */
+            double dl = (p[0][0] - p[2][0]) * (p[1][1] - p[2][1]), dr = (p[0][1] - p[2][1]) * (p[1][0] - p[2][0]);
+            double det = dl - dr;
+            o = fabs(det) > errbound * (fabs(dl) + fabs(dr)) ? (det > 0) - (det < 0) : bp__orient2d_exact(p[0], p[1], p[2]);
+        }
         if (o <= 0) {
             if (o < 0) P->flipped++; else P->degenerate++;
             if (P->first_bad == BP__NONE) { P->first_bad = t; P->first_flipped = o < 0; }
@@ -9561,7 +9567,7 @@ static void bp__check_bucket(bp__check_task *T, uint32_t r, int place)
 static void bp__check_range_task(bp__check_task *T, uint32_t r)
 {
     bp__check_range *R = &T->range[r];
-    uint32_t v0 = r << T->shift, v1 = T->nv - v0 > (1u << T->shift) ? v0 + (1u << T->shift) : T->nv, v, pos, lo;
+    uint32_t v0 = r ? r << T->shift : 0, v1 = r + 1 < T->nrange ? (r + 1) << T->shift : T->nv, v, pos, lo;
     memset(R, 0, sizeof *R);
     for (v = v0; v < v1; v++) T->start[v] = 0;
     bp__check_bucket(T, r, 0);
@@ -9622,12 +9628,15 @@ static bp_status bp__check_scale(const bp_allocator *a, const double *uv, uint32
 }
 
 /* The task's arrays for nt triangles over nv vertices: the chunks, and the
-   ranges (2^shift vertices each, at most BP__CHECK_RANGES of them). */
-static int bp__check_alloc(const bp_allocator *a, bp__check_task *T)
+   ranges (2^shift vertices each, at most BP__CHECK_RANGES of them; one
+   when the tasks run serially: the sorted edges are the same, and one
+   range saves its scatter). */
+static int bp__check_alloc(const bp_allocator *a, bp__check_task *T, const bp__par *par)
 {
     T->nchunk = T->nt ? bp__nchunks(T->nt, BP__CHECK_CHUNK) : 0;
     for (T->shift = BP__CHECK_RANGE_SHIFT; T->shift < 31 && ((T->nv - 1) >> T->shift) >= BP__CHECK_RANGES;) T->shift++;
     T->nrange = T->nv ? ((T->nv - 1) >> T->shift) + 1 : 1;
+    if (par->run == bp__serial_for || T->nt < BP__PAR_MIN_ITEMS) T->nrange = 1;
     T->part = (bp__check_part *)bp__alloc_array(a, T->nchunk + 1, sizeof *T->part);
     T->rcnt = (uint32_t *)bp__alloc_array(a, (size_t)T->nchunk * T->nrange + 1, sizeof(uint32_t));
     T->roff = (uint32_t *)bp__alloc_array(a, (size_t)T->nrange + 1, sizeof(uint32_t));
@@ -9821,7 +9830,7 @@ static bp_status bp__check_par(const uint32_t *tris, uint32_t nt, const double *
     T.uv = uv;
     T.nt = nt;
     T.nv = nv;
-    if (!bp__check_alloc(&a, &T)) { bp__check_free(&a, &T); return bp__oom(err, "checking a map"); }
+    if (!bp__check_alloc(&a, &T, par)) { bp__check_free(&a, &T); return bp__oom(err, "checking a map"); }
     bp__par_run(par, bp__check_chunk_task, &T, T.nchunk, nt);
     if ((st = bp__check_chunks(&T, rep, &maxabs, &minabs, err)) != BP_OK ||
         (st = bp__check_scale(&a, uv, nv, maxabs, minabs, &scaled, err)) != BP_OK) {
