@@ -621,7 +621,8 @@ BPDEF bp_status bp_chart_optimize(bp_chart *chart, uint32_t chart_index,
 /* Place the charts side by side without overlap (and into [0,1]^2 if asked).
    With opt->atlas_resolution the charts are scaled to one texel density,
    rotated and packed by their rasterized outlines with opt->padding texels
-   between them (>>pack); every moved chart is re-checked exactly.
+   between them (>>pack); every moved chart is re-checked exactly (on
+   opt->threads when the charts have 8192 triangles or more).
    Charts with pins, and charts started from their input uvs (without
    normalize or atlas_resolution), stay where they are: see chart.in_place
    and >>pins; pins with normalize or atlas_resolution are refused. */
@@ -671,6 +672,9 @@ BPDEF void      bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_er
    edges are found from the triangles themselves.  Every finite coordinate is
    handled exactly (a map outside the predicates' range is scaled by a power
    of two), except maps whose nonzero magnitudes span more than 2^994.
+   bp_check runs on the caller's thread; the library's own checks (of a
+   start map, an optimizer's start, a packed chart) run the same tasks on
+   opt->threads, with the same result (>>check).
 
    Returns BP_OK only for a valid map.  A verdict of "not valid" fills the
    report and names the first bad element in err (0-based indices into your
