@@ -624,7 +624,8 @@ BPDEF bp_status bp_chart_optimize(bp_chart *chart, uint32_t chart_index,
 /* Place the charts side by side without overlap (and into [0,1]^2 if asked).
    With opt->atlas_resolution the charts are scaled to one texel density,
    rotated and packed by their rasterized outlines with opt->padding texels
-   between them (>>pack); every moved chart is re-checked exactly.
+   between them (>>pack); every moved chart is re-checked exactly (on
+   opt->threads when the charts have 8192 triangles or more).
    Charts with pins, and charts started from their input uvs (without
    normalize or atlas_resolution), stay where they are: see chart.in_place
    and >>pins; pins with normalize or atlas_resolution are refused. */
@@ -674,6 +675,9 @@ BPDEF void      bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_er
    edges are found from the triangles themselves.  Every finite coordinate is
    handled exactly (a map outside the predicates' range is scaled by a power
    of two), except maps whose nonzero magnitudes span more than 2^994.
+   bp_check runs on the caller's thread; the library's own checks (of a
+   start map, an optimizer's start, a packed chart) run the same tasks on
+   opt->threads, with the same result (>>check).
 
    Returns BP_OK only for a valid map.  A verdict of "not valid" fills the
    report and names the first bad element in err (0-based indices into your
@@ -9250,16 +9254,6 @@ static void bp__precondition(const bp__factor *F, const bp__par *par, const doub
 
 typedef struct bp__dedge { uint32_t a, b; } bp__dedge;
 
-static int bp__dedge_cmp(const void *pa, const void *pb)
-{
-    const bp__dedge *x = (const bp__dedge *)pa, *y = (const bp__dedge *)pb;
-    uint32_t x0 = x->a < x->b ? x->a : x->b, y0 = y->a < y->b ? y->a : y->b;
-    uint32_t x1 = x->a < x->b ? x->b : x->a, y1 = y->a < y->b ? y->b : y->a;
-    if (x0 != y0) return x0 < y0 ? -1 : 1;
-    if (x1 != y1) return x1 < y1 ? -1 : 1;
-    return x->a < y->a ? -1 : x->a > y->a;
-}
-
 /* The exact range of bp_orient2d (>>predicates): 0, or a magnitude in
    [2^-485, 2^510).  The two literals are those powers of two exactly. */
 #define BP__EXACT_MIN 1.0010415475915505e-146
@@ -9619,60 +9613,337 @@ static void bp__loops_nested(const double *uv, const bp__loops *Lp, bp_check_rep
 
 /* Conditions (c) and (d), once (a) and (b) hold.  Two nested pieces, or a
    hole loop running counter-clockwise around a doubly covered region, pass
-   (a) and (b) and fail these. */
-static bp_status bp__loop_topology(const bp_allocator *a, const uint32_t *tris, uint32_t nt, const double *uv,
-                                   uint32_t nv, const bp__dedge *de, uint32_t nb, bp_check_report *rep,
-                                   bp__check_first *first)
+   (a) and (b) and fail these.  piece: the union-find of the connected
+   pieces over the nv vertices (bp__check_pieces), read and compressed. */
+static bp_status bp__loop_topology(const bp_allocator *a, const double *uv, uint32_t nv, uint32_t *piece,
+                                   const bp__dedge *de, uint32_t nb, bp_check_report *rep, bp__check_first *first)
 {
-    uint32_t *out, *loop_of, i, t, k;
+    uint32_t *out, *loop_of, i;
     bp__loops Lp;
     bp_status st = BP_ERR_OUT_OF_MEMORY;
     memset(&Lp, 0, sizeof Lp);
     out = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
     loop_of = (uint32_t *)bp__alloc_array(a, nb, sizeof(uint32_t));
-    Lp.piece = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
+    Lp.piece = piece;
     Lp.le = (bp__dedge *)bp__alloc_array(a, nb, sizeof(bp__dedge));
     Lp.lstart = (uint32_t *)bp__alloc_array(a, (size_t)nb + 1, sizeof(uint32_t));
     Lp.sign = (int *)bp__alloc_array(a, nb, sizeof(int));
     Lp.box = (double *)bp__alloc_array(a, 4 * (size_t)nb, sizeof(double));
-    if (!out || !loop_of || !Lp.piece || !Lp.le || !Lp.lstart || !Lp.sign || !Lp.box) goto done;
+    if (!out || !loop_of || !Lp.le || !Lp.lstart || !Lp.sign || !Lp.box) goto done;
     st = BP_OK;
-    for (i = 0; i < nv; i++) { out[i] = BP__NONE; Lp.piece[i] = i; }
+    for (i = 0; i < nv; i++) out[i] = BP__NONE;
     if (!bp__loops_trace(de, nb, out, loop_of, &Lp, rep, first)) goto done;
-    for (t = 0; t < nt; t++)
-        for (k = 0; k < 3; k++) bp__uf_union(Lp.piece, tris[3 * (size_t)t + k], tris[3 * (size_t)t + (k + 1) % 3]);
     bp__loops_per_piece(uv, &Lp, nv, out, rep, first);     /* out[] reused as counters */
     if (!rep->loop_orientation) bp__loops_nested(uv, &Lp, rep, first);
 done:
-    bp__free(a, out); bp__free(a, loop_of); bp__free(a, Lp.piece); bp__free(a, Lp.le); bp__free(a, Lp.lstart);
+    bp__free(a, out); bp__free(a, loop_of); bp__free(a, Lp.le); bp__free(a, Lp.lstart);
     bp__free(a, Lp.sign); bp__free(a, Lp.box);
     return st;
 }
 
-/* --- bp_check in phases ---------------------------------------------------- */
+/* --- bp_check in tasks -----------------------------------------------------
 
-/* Every coordinate the triangles use: finite (else the triangle is counted
-   in rep->nonfinite), and the largest and smallest nonzero magnitude of the
-   finite ones. */
-static void bp__check_finite(const uint32_t *tris, uint32_t nt, const double *uv, bp_check_report *rep,
-                             double *maxabs, double *minabs)
+   bp_check runs about four times on a chart in the tool (the start map's
+   verification, the optimizer's first check, the packer's check before and
+   after it moves the chart), 2 ms each on a 50K-triangle chart and 6 ms on
+   an 89K one: serial time on a two-thread run.  Its work over the
+   triangles is therefore cut into tasks like every heavy loop (>>threads),
+   on the caller's runner when the library has one (bp__check_par), and the
+   result -- counts, first bad element, message -- is the serial one for
+   any number of threads and any task order:
+
+   1. Triangle chunks (2048 triangles, BP__TRI_CHUNK's size; the chunks
+      depend on the count alone).  Each checks its triangles' indices,
+      then in one pass their finiteness, the largest and smallest
+      magnitude and the exact orientation (a), and counts its directed
+      edges per key range (2. below).  A chunk keeps
+      its counts and its first bad triangle of each kind; the caller adds
+      the counts and takes the element of the first chunk that has one,
+      which is the serial loop's first.  The magnitudes combine by max and
+      min, exact in any order.  A map outside the exact range is scaled,
+      and (a) runs again on the scaled copy by the same chunks; a map in
+      it has every chunk's magnitudes in it, so (a) stands as decided.
+   2. The directed edges in the order (smaller end v, larger end w,
+      start), so that the uses of an undirected edge are adjacent, in
+      two levels.  The chunks scatter their edges into key
+      ranges (2^s consecutive values of v, at most BP__CHECK_RANGES ranges,
+      s from the vertex count alone); each range puts its edges into
+      buckets by v (a counting sort), each bucket (about six edges) as
+      64-bit keys 2 w + (start == w != v), whose order is that order
+      inside a bucket, sorted by insertion (plain integer compares: five
+      times faster than comparing records on a mesh whose vertices are not
+      numbered along its surface), and classifies the groups of equal w
+      (bp__check_group).  That order is total up to identical edges, so
+      the list, its boundary edges and its first bad group are those of
+      one global sort however the ranges are cut or run; the ranges'
+      boundary edges are appended in range order, their counts added and
+      the first range's bad group kept.  A map of fewer than 2^10
+      vertices, or checked on one thread, is one range, read straight
+      from the triangles (the scatter would cost a tenth of the check).
+   3. The connected pieces (for (c) and (d)): a union-find over the
+      vertices, one task beside the ranges, when (c) may be reached.  Two
+      unions per triangle: the third edge joins vertices already joined.
+   (b), (c) and (d) read the boundary edges only and stay serial. */
+
+#ifndef BP__CHECK_CHUNK
+#define BP__CHECK_CHUNK      2048u     /* triangles per chunk (BP__TRI_CHUNK) */
+#endif
+#define BP__CHECK_RANGES     16u       /* at most this many key ranges        */
+#ifndef BP__CHECK_RANGE_SHIFT
+#define BP__CHECK_RANGE_SHIFT 10u      /* and at least 2^this vertices each   */
+#endif                                 /* (tests/test_check.c sets both small) */
+
+/* What one triangle chunk found (1.). */
+typedef struct bp__check_part {
+    uint32_t bad_index;            /* first triangle with a vertex >= nv, or BP__NONE */
+    uint32_t nonfinite, first_nonfinite;
+    uint32_t flipped, degenerate;
+    uint32_t first_bad, first_flipped; /* (a): first flipped or degenerate triangle
+                                      (BP__NONE: none), 1 if it is flipped */
+    double   maxabs, minabs;       /* finite magnitudes (minabs: nonzero)   */
+} bp__check_part;
+
+/* What one key range found (2.): its boundary edges and bad groups. */
+typedef struct bp__check_range {
+    uint32_t nb, nonmanifold, misoriented;
+    int      kind;                 /* its first bad group: BP__BAD_*, or 0  */
+    uint32_t v0, v1, count;
+} bp__check_range;
+
+typedef struct bp__check_task {
+    const uint32_t  *tris;
+    const double    *uv;           /* what (a) reads: the map or its scaled copy */
+    uint32_t         nt, nv, nchunk, nrange, shift;
+    bp__check_part  *part;         /* nchunk                                 */
+    uint32_t        *rcnt;         /* nchunk x nrange: chunk c's edges in range r,
+                                      then the slot of its first one         */
+    uint32_t        *roff;         /* nrange + 1: where range r's edges start */
+    bp__dedge       *rec;          /* 3 nt: the edges by range, then each
+                                      range's boundary edges at its start    */
+    uint64_t        *key;          /* 3 nt: the ranges' buckets              */
+    uint32_t        *start;        /* nv: the end of each bucket             */
+    uint32_t        *piece;        /* nv: the pieces' union-find, or NULL    */
+    bp__check_range *range;        /* nrange                                 */
+} bp__check_task;
+
+/* Are all finite magnitudes in [minabs, maxabs] in the exact range? */
+static int bp__check_exact(double maxabs, double minabs)
 {
+    return maxabs < BP__EXACT_MAX && (minabs >= BP__EXACT_MIN || minabs == HUGE_VAL);
+}
+
+/* Triangles [t0, t1) in one pass: finiteness (rep->nonfinite's count), the
+   largest and smallest nonzero finite magnitude, and (a), the exact
+   orientation of each triangle with finite corners -- decided only if the
+   magnitudes turn out to be in the exact range; else the caller scales the
+   map and runs (a) again (bp__check_orientation).  The magnitudes are
+   kept in locals: through P they would be stored and loaded again for
+   every coordinate, as uv might alias them. */
+static void bp__check_triangles(const uint32_t *tris, const double *uv, uint32_t t0, uint32_t t1, bp__check_part *P)
+{
+    const double errbound = (3.0 + 16.0 * DBL_EPSILON / 2) * (DBL_EPSILON / 2);
+    double maxabs = 0, minabs = HUGE_VAL;
     uint32_t t, k;
-    *maxabs = 0;
-    *minabs = HUGE_VAL;
-    for (t = 0; t < nt; t++) {
-        int fin = 1;
+    for (t = t0; t < t1; t++) {
+        const uint32_t *tr = tris + 3 * (size_t)t;
+        const double *p[3];
+        int o, fin = 1;
+        for (k = 0; k < 3; k++) p[k] = uv + 2 * (size_t)tr[k];
         for (k = 0; k < 6; k++) {
-            double c = uv[2 * (size_t)tris[3 * (size_t)t + k / 2] + k % 2], m = fabs(c);
+            double c = p[k / 2][k % 2], m = fabs(c);
             if (!(c - c == 0)) { fin = 0; continue; }
-            if (m > *maxabs) *maxabs = m;
-            if (m > 0 && m < *minabs) *minabs = m;
+            maxabs = m > maxabs ? m : maxabs;
+            minabs = m > 0 && m < minabs ? m : minabs;
         }
         if (!fin) {
-            if (!rep->nonfinite) rep->first_bad_triangle = t;
-            rep->nonfinite++;
+            if (!P->nonfinite) P->first_nonfinite = t;
+            P->nonfinite++;
+            continue;
+        }
+        {   /* bp_orient2d, its filter written out (a call per triangle costs) */
+            double dl = (p[0][0] - p[2][0]) * (p[1][1] - p[2][1]), dr = (p[0][1] - p[2][1]) * (p[1][0] - p[2][0]);
+            double det = dl - dr;
+            o = fabs(det) > errbound * (fabs(dl) + fabs(dr)) ? (det > 0) - (det < 0) : bp__orient2d_exact(p[0], p[1], p[2]);
+        }
+        if (o <= 0) {
+            if (o < 0) P->flipped++; else P->degenerate++;
+            if (P->first_bad == BP__NONE) { P->first_bad = t; P->first_flipped = o < 0; }
         }
     }
+    P->maxabs = maxabs;
+    P->minabs = minabs;
+}
+
+/* (a) alone on triangles [t0, t1) with finite corners. */
+static void bp__check_orientation(const uint32_t *tris, const double *uv, uint32_t t0, uint32_t t1,
+                                  bp__check_part *P)
+{
+    uint32_t t, k;
+    P->flipped = P->degenerate = 0;
+    P->first_bad = BP__NONE;
+    for (t = t0; t < t1; t++) {
+        const uint32_t *tr = tris + 3 * (size_t)t;
+        int o, fin = 1;
+        for (k = 0; k < 3; k++) {
+            const double *p = uv + 2 * (size_t)tr[k];
+            if (!(p[0] - p[0] == 0) || !(p[1] - p[1] == 0)) fin = 0;
+        }
+        if (!fin) continue;
+        o = bp_orient2d(uv + 2 * (size_t)tr[0], uv + 2 * (size_t)tr[1], uv + 2 * (size_t)tr[2]);
+        if (o <= 0) {
+            if (o < 0) P->flipped++; else P->degenerate++;
+            if (P->first_bad == BP__NONE) { P->first_bad = t; P->first_flipped = o < 0; }
+        }
+    }
+}
+
+/* Task of 1.: chunk c's indices, finiteness, (a) and edges per range. */
+static void bp__check_chunk_task(void *task, uint32_t c)
+{
+    bp__check_task *T = (bp__check_task *)task;
+    bp__check_part *P = &T->part[c];
+    uint32_t t0 = bp__chunk_at(T->nt, T->nchunk, c), t1 = bp__chunk_at(T->nt, T->nchunk, c + 1), t, k;
+    uint32_t *cnt = T->rcnt + (size_t)c * T->nrange;
+    memset(P, 0, sizeof *P);
+    P->bad_index = P->first_nonfinite = P->first_bad = BP__NONE;
+    for (t = t0; t < t1; t++) {
+        const uint32_t *tr = T->tris + 3 * (size_t)t;
+        if (tr[0] >= T->nv || tr[1] >= T->nv || tr[2] >= T->nv) { P->bad_index = t; return; }
+    }
+    bp__check_triangles(T->tris, T->uv, t0, t1, P);
+    for (k = 0; k < T->nrange; k++) cnt[k] = 0;
+    if (T->nrange > 1)
+        for (t = 3 * t0; t < 3 * t1; t++) {
+            uint32_t a = T->tris[t], b = T->tris[t % 3 == 2 ? t - 2 : t + 1];
+            cnt[(a < b ? a : b) >> T->shift]++;
+        }
+}
+
+/* (a) again on the scaled copy (a map outside the exact range). */
+static void bp__check_orient_task(void *task, uint32_t c)
+{
+    bp__check_task *T = (bp__check_task *)task;
+    bp__check_orientation(T->tris, T->uv, bp__chunk_at(T->nt, T->nchunk, c), bp__chunk_at(T->nt, T->nchunk, c + 1),
+                          &T->part[c]);
+}
+
+/* Task of 2., first level: chunk c's edges into their ranges' slots. */
+static void bp__check_scatter_task(void *task, uint32_t c)
+{
+    bp__check_task *T = (bp__check_task *)task;
+    uint32_t t0 = bp__chunk_at(T->nt, T->nchunk, c), t1 = bp__chunk_at(T->nt, T->nchunk, c + 1), t;
+    uint32_t *slot = T->rcnt + (size_t)c * T->nrange;
+    for (t = 3 * t0; t < 3 * t1; t++) {
+        bp__dedge e;
+        e.a = T->tris[t];
+        e.b = T->tris[t % 3 == 2 ? t - 2 : t + 1];
+        T->rec[slot[(e.a < e.b ? e.a : e.b) >> T->shift]++] = e;
+    }
+}
+
+static int bp__key_cmp(const void *pa, const void *pb)
+{
+    uint64_t x = *(const uint64_t *)pa, y = *(const uint64_t *)pb;
+    return (x > y) - (x < y);
+}
+
+/* Bucket v's keys k[0..n) (2 w + (start == w != v)) sorted, then its
+   groups of equal w classified into range R: a boundary edge to out[R->nb],
+   a bad group counted (and kept if it is the range's first). */
+static void bp__check_group(uint32_t v, uint64_t *k, size_t n, bp__check_range *R, bp__dedge *out)
+{
+    size_t i, j, g;
+    if (n > 32) qsort(k, n, sizeof *k, bp__key_cmp);
+    else
+        for (i = 1; i < n; i++) {
+            uint64_t x = k[i];
+            for (j = i; j > 0 && k[j - 1] > x; j--) k[j] = k[j - 1];
+            k[j] = x;
+        }
+    for (i = 0; i < n; i = g) {
+        uint32_t w = (uint32_t)(k[i] >> 1), a = k[i] & 1 ? w : v, b = k[i] & 1 ? v : w;
+        for (g = i + 1; g < n && k[g] >> 1 == w; g++) {}
+        if (g - i == 1) {
+            out[R->nb].a = a;
+            out[R->nb++].b = b;
+        } else if (g - i > 2 || (k[i] == k[i + 1] && v != w)) {
+            int nonman = g - i > 2;
+            if (!R->kind) {
+                R->kind = nonman ? BP__BAD_NONMANIFOLD : BP__BAD_MISORIENTED;
+                R->v0 = a;
+                R->v1 = b;
+                R->count = (uint32_t)(g - i);
+            }
+            if (nonman) R->nonmanifold++; else R->misoriented++;
+        }
+    }
+}
+
+/* The edge a->b into its bucket (counted first, then placed). */
+#define BP__CHECK_EDGE(a, b, place)                                                         \
+    do {                                                                                    \
+        uint32_t v_ = (a) < (b) ? (a) : (b), w_ = (a) < (b) ? (b) : (a);                    \
+        if (place) T->key[T->start[v_]++] = (uint64_t)w_ << 1 | ((a) > (b));                \
+        else T->start[v_]++;                                                                \
+    } while (0)
+
+/* Range r's edges into buckets by v: counted (place 0) or placed (1).
+   With one range they are read from the triangles themselves. */
+static void bp__check_bucket(bp__check_task *T, uint32_t r, int place)
+{
+    size_t i;
+    if (T->nrange == 1)
+        for (i = 0; i < 3 * (size_t)T->nt; i++) {
+            uint32_t a = T->tris[i], b = T->tris[i % 3 == 2 ? i - 2 : i + 1];
+            BP__CHECK_EDGE(a, b, place);
+        }
+    else
+        for (i = T->roff[r]; i < T->roff[r + 1]; i++) {
+            uint32_t a = T->rec[i].a, b = T->rec[i].b;
+            BP__CHECK_EDGE(a, b, place);
+        }
+}
+#undef BP__CHECK_EDGE
+
+/* Task of 2., second level: range r's buckets, sorted and classified; its
+   boundary edges go to rec from roff[r] on (its own edges are read by
+   then). */
+static void bp__check_range_task(bp__check_task *T, uint32_t r)
+{
+    bp__check_range *R = &T->range[r];
+    uint32_t v0 = r ? r << T->shift : 0, v1 = r + 1 < T->nrange ? (r + 1) << T->shift : T->nv, v, pos, lo;
+    memset(R, 0, sizeof *R);
+    for (v = v0; v < v1; v++) T->start[v] = 0;
+    bp__check_bucket(T, r, 0);
+    for (pos = T->roff[r], v = v0; v < v1; v++) {
+        uint32_t c = T->start[v];
+        T->start[v] = pos;
+        pos += c;
+    }
+    bp__check_bucket(T, r, 1);
+    for (lo = T->roff[r], v = v0; v < v1; v++) {
+        bp__check_group(v, T->key + lo, T->start[v] - lo, R, T->rec + T->roff[r]);
+        lo = T->start[v];
+    }
+}
+
+/* 3.: the union-find of the connected pieces. */
+static void bp__check_pieces(const uint32_t *tris, uint32_t nt, uint32_t nv, uint32_t *piece)
+{
+    uint32_t i;
+    for (i = 0; i < nv; i++) piece[i] = i;
+    for (i = 0; i < nt; i++) {
+        bp__uf_union(piece, tris[3 * (size_t)i], tris[3 * (size_t)i + 1]);
+        bp__uf_union(piece, tris[3 * (size_t)i + 1], tris[3 * (size_t)i + 2]);
+    }
+}
+
+/* Task i of 2. and 3.: the pieces (i = 0, when wanted), range i - 1. */
+static void bp__check_edges_task(void *task, uint32_t i)
+{
+    bp__check_task *T = (bp__check_task *)task;
+    if (i > 0) bp__check_range_task(T, i - 1);
+    else if (T->piece) bp__check_pieces(T->tris, T->nt, T->nv, T->piece);
 }
 
 /* A copy of uv scaled by 2^s when the finite magnitudes [minabs, maxabs]
@@ -9684,7 +9955,7 @@ static bp_status bp__check_scale(const bp_allocator *a, const double *uv, uint32
     int emax, emin, s = 0;
     size_t i;
     *scaled = NULL;
-    if (maxabs < BP__EXACT_MAX && (minabs >= BP__EXACT_MIN || minabs == HUGE_VAL)) return BP_OK;
+    if (bp__check_exact(maxabs, minabs)) return BP_OK;
     emax = ilogb(maxabs);                    /* 2^emax <= maxabs < 2^(emax+1) */
     emin = ilogb(minabs);
     if (emax - emin > 994)
@@ -9700,117 +9971,111 @@ static bp_status bp__check_scale(const bp_allocator *a, const double *uv, uint32
     return BP_OK;
 }
 
-/* (a): the exact orientation of every triangle with finite corners (the
-   sign of the first bad one into first->count: 0 degenerate, 1 flipped). */
-static void bp__check_orientation(const uint32_t *tris, uint32_t nt, const double *uv, bp_check_report *rep,
-                                  bp__check_first *first)
+/* The task's arrays for nt triangles over nv vertices: the chunks, and the
+   ranges (2^shift vertices each, at most BP__CHECK_RANGES of them; one
+   when the tasks run serially: the sorted edges are the same, and one
+   range saves its scatter). */
+static int bp__check_alloc(const bp_allocator *a, bp__check_task *T, const bp__par *par)
 {
-    uint32_t t, k;
-    for (t = 0; t < nt; t++) {
-        const uint32_t *tr = tris + 3 * (size_t)t;
-        int o, fin = 1;
-        for (k = 0; k < 3; k++) {
-            const double *p = uv + 2 * (size_t)tr[k];
-            if (!(p[0] - p[0] == 0) || !(p[1] - p[1] == 0)) fin = 0;
-        }
-        if (!fin) continue;
-        o = bp_orient2d(uv + 2 * (size_t)tr[0], uv + 2 * (size_t)tr[1], uv + 2 * (size_t)tr[2]);
-        if (o <= 0) {
-            if (o < 0) rep->flipped++; else rep->degenerate++;
-            if (!rep->nonfinite && (rep->first_bad_triangle < 0 || rep->first_bad_triangle > t)) {
-                rep->first_bad_triangle = t;
-                first->count = o < 0;
-            }
-        }
-    }
+    T->nchunk = T->nt ? bp__nchunks(T->nt, BP__CHECK_CHUNK) : 0;
+    for (T->shift = BP__CHECK_RANGE_SHIFT; T->shift < 31 && ((T->nv - 1) >> T->shift) >= BP__CHECK_RANGES;) T->shift++;
+    T->nrange = T->nv ? ((T->nv - 1) >> T->shift) + 1 : 1;
+    if (par->run == bp__serial_for || T->nt < BP__PAR_MIN_ITEMS) T->nrange = 1;
+    T->part = (bp__check_part *)bp__alloc_array(a, T->nchunk + 1, sizeof *T->part);
+    T->rcnt = (uint32_t *)bp__alloc_array(a, (size_t)T->nchunk * T->nrange + 1, sizeof(uint32_t));
+    T->roff = (uint32_t *)bp__alloc_array(a, (size_t)T->nrange + 1, sizeof(uint32_t));
+    T->range = (bp__check_range *)bp__alloc_array(a, T->nrange, sizeof *T->range);
+    return T->part && T->rcnt && T->roff && T->range;
 }
 
-/* The directed edges in bp__dedge_cmp's order: bp__bucket_sort with its
-   key and comparison written out (counting by the smaller end, then each
-   bucket -- about six edges -- by insertion on (larger end, start)).
-   The order is a total order up to identical records, so the result is
-   bp__bucket_sort's, without its calls through pointers and memcpy of a
-   run-time size: a third of bp_check's time, which runs four times on a
-   chart in the tool (docs/performance.md 6.18). */
-static uint32_t bp__dedge_key(const void *p)
+static void bp__check_free(const bp_allocator *a, bp__check_task *T)
 {
-    const bp__dedge *e = (const bp__dedge *)p;
-    return e->a < e->b ? e->a : e->b;
+    bp__free(a, T->part); bp__free(a, T->rcnt); bp__free(a, T->roff); bp__free(a, T->range);
+    bp__free(a, T->rec); bp__free(a, T->key); bp__free(a, T->start); bp__free(a, T->piece);
 }
 
-static void bp__dedge_sort(bp__dedge *de, size_t n, uint32_t nv, bp__dedge *tmp, uint32_t *start)
+/* 1. combined in chunk order into rep and first (the serial loops' first
+   elements); BP_ERR_INDEX for a vertex index out of range.  *maxabs and
+   *minabs: the magnitudes of the whole map. */
+static bp_status bp__check_chunks(const bp__check_task *T, bp_check_report *rep, double *maxabs,
+                                  double *minabs, bp_error *err)
 {
-    size_t k, m, lo = 0;
-    uint32_t v;
-    for (v = 0; v <= nv; v++) start[v] = 0;
-    for (k = 0; k < n; k++) start[bp__dedge_key(&de[k]) + 1]++;
-    for (v = 0; v < nv; v++) start[v + 1] += start[v];
-    for (k = 0; k < n; k++) tmp[start[bp__dedge_key(&de[k])]++] = de[k];
-    for (v = 0; v < nv; v++) {                     /* bucket v is [lo, start[v]) */
-        size_t hi = start[v];
-        if (hi - lo > 32) qsort(tmp + lo, hi - lo, sizeof *tmp, bp__dedge_cmp);
-        else
-            for (k = lo + 1; k < hi; k++) {
-                bp__dedge rec = tmp[k];
-                uint64_t key = (uint64_t)(rec.a > rec.b ? rec.a : rec.b) << 32 | rec.a;
-                for (m = k; m > lo; m--) {
-                    const bp__dedge *p = &tmp[m - 1];
-                    if (((uint64_t)(p->a > p->b ? p->a : p->b) << 32 | p->a) <= key) break;
-                    tmp[m] = *p;
-                }
-                tmp[m] = rec;
-            }
-        lo = hi;
-    }
-    memcpy(de, tmp, n * sizeof *de);
-}
-
-/* The precondition and the boundary: the directed edges sorted so that the
-   uses of one undirected edge are adjacent (a->b before b->a), then each
-   group classified.  One use: a boundary edge, kept in (*out)[0..*nb).  a->b
-   and b->a: interior.  Two uses in one direction: misoriented.  More than
-   two: nonmanifold. */
-static bp_status bp__check_edges(const bp_allocator *a, const uint32_t *tris, uint32_t nt, uint32_t nv,
-                                 bp_check_report *rep, bp__check_first *first, bp__dedge **out, uint32_t *nb)
-{
-    bp__dedge *de = (bp__dedge *)bp__alloc_array(a, 3 * (size_t)nt, sizeof *de);
-    bp__dedge *tmp = (bp__dedge *)bp__alloc_array(a, 3 * (size_t)nt, sizeof *tmp);
-    uint32_t *start = (uint32_t *)bp__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
-    uint32_t t, k, n = 0;
-    size_t e, m = 3 * (size_t)nt;
-    *out = NULL;
-    *nb = 0;
-    if (!de || !tmp || !start) { bp__free(a, de); bp__free(a, tmp); bp__free(a, start); return BP_ERR_OUT_OF_MEMORY; }
-    for (t = 0; t < nt; t++)
-        for (k = 0; k < 3; k++) {
-            de[3 * (size_t)t + k].a = tris[3 * (size_t)t + k];
-            de[3 * (size_t)t + k].b = tris[3 * (size_t)t + (k + 1) % 3];
+    uint32_t c, k;
+    *maxabs = 0;
+    *minabs = HUGE_VAL;
+    for (c = 0; c < T->nchunk; c++) {
+        const bp__check_part *P = &T->part[c];
+        if (P->bad_index != BP__NONE) {
+            const uint32_t *tr = T->tris + 3 * (size_t)P->bad_index;
+            for (k = 0; k < 2 && tr[k] < T->nv; k++) {}
+            return bp__fail(err, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, P->bad_index, -1, 0,
+                            "bp_check: triangle index %u uses vertex %u, but there are %u vertices", P->bad_index,
+                            tr[k], T->nv);
         }
-    bp__dedge_sort(de, m, nv, tmp, start);
-    bp__free(a, tmp);
-    bp__free(a, start);
-    for (e = 0; e < m;) {
-        size_t g = e + 1;
-        while (g < m && ((de[g].a == de[e].a && de[g].b == de[e].b) || (de[g].a == de[e].b && de[g].b == de[e].a))) g++;
-        if (g - e == 1) {
-            de[n++] = de[e];
-        } else if (g - e > 2 || (de[e].a == de[e + 1].a && de[e].a != de[e].b)) {
-            int nonman = g - e > 2;
-            if (!rep->nonmanifold_edges && !rep->misoriented_edges) {
-                first->kind = nonman ? BP__BAD_NONMANIFOLD : BP__BAD_MISORIENTED;
-                first->v0 = de[e].a;
-                first->v1 = de[e].b;
-                first->count = (uint32_t)(g - e);
-                rep->first_nonmanifold_edge[0] = de[e].a;
-                rep->first_nonmanifold_edge[1] = de[e].b;
-            }
-            if (nonman) rep->nonmanifold_edges++; else rep->misoriented_edges++;
-        }
-        e = g;
+        if (P->nonfinite && !rep->nonfinite) rep->first_bad_triangle = P->first_nonfinite;
+        rep->nonfinite += P->nonfinite;
+        if (P->maxabs > *maxabs) *maxabs = P->maxabs;
+        if (P->minabs < *minabs) *minabs = P->minabs;
     }
-    *out = de;
-    *nb = n;
     return BP_OK;
+}
+
+/* (a)'s counts and first bad triangle, in chunk order. */
+static void bp__check_oriented(const bp__check_task *T, bp_check_report *rep, bp__check_first *first)
+{
+    uint32_t c;
+    for (c = 0; c < T->nchunk; c++) {
+        const bp__check_part *P = &T->part[c];
+        rep->flipped += P->flipped;
+        rep->degenerate += P->degenerate;
+        if (!rep->nonfinite && rep->first_bad_triangle < 0 && P->first_bad != BP__NONE) {
+            rep->first_bad_triangle = P->first_bad;
+            first->count = P->first_flipped;
+        }
+    }
+}
+
+/* 2.: the ranges' slots (range-major, chunk order), the ranges and the
+   pieces on the runner, then their boundary edges appended in range order
+   into T->rec[0..*nb) and their bad groups added (the first range's first
+   kept).  Returns 0 when out of memory. */
+static int bp__check_edges(const bp_allocator *a, bp__check_task *T, const bp__par *par, int pieces,
+                           bp_check_report *rep, bp__check_first *first, uint32_t *nb)
+{
+    uint32_t c, r, pos = 0;
+    size_t m = 3 * (size_t)T->nt;
+    T->rec = (bp__dedge *)bp__alloc_array(a, m + 1, sizeof *T->rec);
+    T->key = (uint64_t *)bp__alloc_array(a, m + 1, sizeof *T->key);
+    T->start = (uint32_t *)bp__alloc_array(a, (size_t)T->nv + 1, sizeof(uint32_t));
+    if (pieces) T->piece = (uint32_t *)bp__alloc_array(a, (size_t)T->nv + 1, sizeof(uint32_t));
+    if (!T->rec || !T->key || !T->start || (pieces && !T->piece)) return 0;
+    for (r = 0; r < T->nrange; r++) {
+        T->roff[r] = pos;
+        for (c = 0; T->nrange > 1 && c < T->nchunk; c++) {
+            uint32_t *x = T->rcnt + (size_t)c * T->nrange + r, n = *x;
+            *x = pos;
+            pos += n;
+        }
+    }
+    T->roff[T->nrange] = (uint32_t)m;
+    if (T->nrange > 1) bp__par_run(par, bp__check_scatter_task, T, T->nchunk, T->nt);
+    bp__par_run(par, bp__check_edges_task, T, T->nrange + 1, T->nt);
+    for (*nb = 0, r = 0; r < T->nrange; r++) {
+        const bp__check_range *R = &T->range[r];
+        memmove(T->rec + *nb, T->rec + T->roff[r], R->nb * sizeof *T->rec);
+        *nb += R->nb;
+        if (R->kind && !rep->nonmanifold_edges && !rep->misoriented_edges) {
+            first->kind = R->kind;
+            first->v0 = R->v0;
+            first->v1 = R->v1;
+            first->count = R->count;
+            rep->first_nonmanifold_edge[0] = R->v0;
+            rep->first_nonmanifold_edge[1] = R->v1;
+        }
+        rep->nonmanifold_edges += R->nonmanifold;
+        rep->misoriented_edges += R->misoriented;
+    }
+    return 1;
 }
 
 /* Up to three triangles that use the edge {u, v}, into tl (returns how many). */
@@ -9881,20 +10146,22 @@ static bp_status bp__check_verdict(const uint32_t *tris, uint32_t nt, const bp_c
     }
 }
 
-/* bp_check in order: indices; finiteness and the magnitude range; a copy
-   scaled into the exact range if needed; (a) per triangle; the
-   precondition and the boundary edges; (b); (c) and (d); the verdict. */
-BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
-                         const bp_allocator *alloc, bp_check_report *rep, bp_error *err)
+/* bp_check on a runner, in order: indices, finiteness and the magnitude
+   range, (a) per triangle (1.); a copy scaled into the exact range if
+   needed, and (a) again on it; the precondition and the boundary edges
+   (2.) with the pieces (3.); (b); (c) and (d); the verdict.  The same
+   report, error and status as bp_check for any runner. */
+static bp_status bp__check_par(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
+                               const bp_allocator *alloc, const bp__par *par, bp_check_report *rep, bp_error *err)
 {
     bp_allocator a;
-    bp__dedge *de = NULL;
+    bp__check_task T;
     bp__check_first first;
     double *scaled = NULL, maxabs, minabs;
-    const double *x;
-    uint32_t t, k, nb = 0;
-    bp_status st;
+    uint32_t nb = 0;
+    bp_status st = BP_OK;
     memset(&a, 0, sizeof a);
+    memset(&T, 0, sizeof T);
     memset(&first, 0, sizeof first);
     if (alloc) a = *alloc;
     if (!rep || (!tris && nt) || (!uv && nv))
@@ -9903,29 +10170,44 @@ BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, ui
     memset(rep, 0, sizeof *rep);
     rep->first_bad_triangle = rep->first_bad_edge[0] = rep->first_bad_edge[1] = -1;
     rep->first_nonmanifold_edge[0] = rep->first_nonmanifold_edge[1] = -1;
-    for (t = 0; t < nt; t++)
-        for (k = 0; k < 3; k++)
-            if (tris[3 * (size_t)t + k] >= nv)
-                return bp__fail(err, BP_ERR_INDEX, BP_ELEMENT_TRIANGLE, t, -1, 0,
-                                "bp_check: triangle index %u uses vertex %u, but there are %u vertices", t,
-                                tris[3 * (size_t)t + k], nv);
-    bp__check_finite(tris, nt, uv, rep, &maxabs, &minabs);
-    if ((st = bp__check_scale(&a, uv, nv, maxabs, minabs, &scaled, err)) != BP_OK) return st;
-    x = scaled ? scaled : uv;
-    bp__check_orientation(tris, nt, x, rep, &first);
-    st = bp__check_edges(&a, tris, nt, nv, rep, &first, &de, &nb);
-    if (st == BP_OK && !rep->nonfinite && !rep->nonmanifold_edges && !rep->misoriented_edges) {
-        /* boundary geometry is meaningful: (b), then (c) and (d) */
-        st = bp__boundary_conflicts(&a, x, de, nb, rep, NULL, first.pair);
-        if (st == BP_OK && !rep->flipped && !rep->degenerate && !rep->boundary_intersections)
-            st = bp__loop_topology(&a, tris, nt, x, nv, de, nb, rep, &first);
+    T.tris = tris;
+    T.uv = uv;
+    T.nt = nt;
+    T.nv = nv;
+    if (!bp__check_alloc(&a, &T, par)) { bp__check_free(&a, &T); return bp__oom(err, "checking a map"); }
+    bp__par_run(par, bp__check_chunk_task, &T, T.nchunk, nt);
+    if ((st = bp__check_chunks(&T, rep, &maxabs, &minabs, err)) != BP_OK ||
+        (st = bp__check_scale(&a, uv, nv, maxabs, minabs, &scaled, err)) != BP_OK) {
+        bp__check_free(&a, &T);
+        return st;
     }
-    bp__free(&a, de);
+    if (scaled) {
+        T.uv = scaled;
+        bp__par_run(par, bp__check_orient_task, &T, T.nchunk, nt);
+    }
+    bp__check_oriented(&T, rep, &first);
+    if (!bp__check_edges(&a, &T, par, !rep->nonfinite && !rep->flipped && !rep->degenerate, rep, &first, &nb))
+        st = BP_ERR_OUT_OF_MEMORY;
+    else if (!rep->nonfinite && !rep->nonmanifold_edges && !rep->misoriented_edges) {
+        /* boundary geometry is meaningful: (b), then (c) and (d) */
+        st = bp__boundary_conflicts(&a, T.uv, T.rec, nb, rep, NULL, first.pair);
+        if (st == BP_OK && !rep->flipped && !rep->degenerate && !rep->boundary_intersections)
+            st = bp__loop_topology(&a, T.uv, nv, T.piece, T.rec, nb, rep, &first);
+    }
+    bp__check_free(&a, &T);
     bp__free(&a, scaled);
     if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "checking a map");
     if (st != BP_OK)
         return bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "bp_check: the boundary's extent overflows");
     return bp__check_verdict(tris, nt, rep, &first, err);
+}
+
+/* The public check: the same tasks, one after the other. */
+BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
+                         const bp_allocator *alloc, bp_check_report *rep, bp_error *err)
+{
+    bp__par serial = bp__par_serial();
+    return bp__check_par(tris, nt, uv, nv, alloc, &serial, rep, err);
 }
 
 static int bp__report_valid(const bp_check_report *r)
@@ -10758,13 +11040,16 @@ static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *
 /* Phase 7, the exact check of the rounded start map.  A verdict of
    bp_check other than BP_OK is reported as BP_ERR_NUMERICAL: the start map
    is valid in exact arithmetic (Tutte's theorem), so only rounding can
-   break it. */
-static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, bp_error *err)
+   break it.  On the start map's runner (NULL: serial). */
+static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *runner,
+                                  bp_error *err)
 {
     bp_check_report rep;
     bp_error why;
     char n0[48], n1[48];
-    bp_status st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, &why);
+    bp__par serial = bp__par_serial();
+    bp_status st = bp__check_par(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a,
+                                 runner ? runner : &serial, &rep, &why);
     if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "computing the start map");
     if (!bp__check_verdict_status(st))
         return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, ch->face[0], -1, 0,
@@ -11079,7 +11364,7 @@ static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_me
     if (ch->init_used != 1) {
         if ((st = bp__pins_relax_free(ch, m, opt, runner, err)) != BP_OK) return st;
         bp__pins_similarity(ch, opt->pins, pidx);
-        if ((st = bp__tutte_verify(a, ch, m, err)) != BP_OK) return st;
+        if ((st = bp__tutte_verify(a, ch, m, runner, err)) != BP_OK) return st;
     }
     return bp__pins_reach(ch, m, opt, runner, pidx, err);
 }
@@ -11099,7 +11384,7 @@ static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mes
         !bp__tutte_order(a, &T, runner))
         st = bp__oom(err, "computing the start map");
     if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(a, &T, ch, runner, err);
-    if (st == BP_OK) st = bp__tutte_verify(a, ch, m, err);
+    if (st == BP_OK) st = bp__tutte_verify(a, ch, m, runner, err);
     if (st == BP_OK && !bp__tutte_keep_order(a, &T, ch)) st = bp__oom(err, "computing the start map");
     bp__tutte_free(a, &T);
     return st;
@@ -13964,13 +14249,13 @@ static void bp__opt_free(bp__opt *P)
    it there (bp_chart_init, or the caller's own map): with the barrier the
    whole of bp_check, without it every triangle positively oriented (such a
    map may overlap itself).  The elements are named as the mesh numbers
-   them. */
+   them.  On the optimizer's runner. */
 static bp_status bp__opt_check_start(const bp_allocator *a, const bp_chart *ch, uint32_t chart_index,
-                                     const bp_mesh *m, int barrier, bp_error *err)
+                                     const bp_mesh *m, int barrier, const bp__par *par, bp_error *err)
 {
     bp_check_report rep;
     bp_error why;
-    bp_status st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, &why);
+    bp_status st = bp__check_par(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, par, &rep, &why);
     if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "checking the start map");
     if (!bp__check_verdict_status(st))
         return bp__fail(err, st, BP_ELEMENT_CHART, chart_index, -1, 0, "chart %u: the start map could not be checked: %s",
@@ -14380,10 +14665,13 @@ static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, cons
                         "bp_chart_optimize needs a chart with a start map (bp_chart_init)");
     if ((int)P.o.energy < 0 || (int)P.o.energy >= (int)BP_ENERGY_COUNT)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)P.o.energy);
-    if ((st = bp__opt_check_start(&P.a, ch, chart_index, m, !P.o.no_barrier, err)) != BP_OK) return st;
     if (runner) P.par = *runner;                /* bp_parameterize's pool, or serial */
     else if (ch->num_triangles >= BP__PAR_MIN_TRIANGLES) P.par = bp__par_begin(&P.a, opt, &pool);
     else P.par = bp__par_serial();              /* small: no pool (see >>threads) */
+    if ((st = bp__opt_check_start(&P.a, ch, chart_index, m, !P.o.no_barrier, &P.par, err)) != BP_OK) {
+        bp__par_end(&P.a, pool);
+        return st;
+    }
     ch->threads = P.par.threads;
     if ((st = bp__opt_setup(&P, ch, chart_index, m, err)) != BP_OK) goto done;
     f = bp__objective(&P.S, P.x, P.g, &ed);
@@ -14664,13 +14952,14 @@ static double bp__chart_uv_area(const bp_chart *ch)
     return area;
 }
 
-/* All calls to the exact check from the packer go through here.  BP_OK
-   when bp_check gave a verdict (valid or not: the report says which, and
-   the packer compares reports), else bp_check's failure. */
-static bp_status bp__pack_check(const bp_allocator *a, const bp_chart *ch, const double *uv,
+/* All calls to the exact check from the packer go through here, on the
+   packer's runner (bp_atlas_pack's).  BP_OK when bp_check gave a verdict
+   (valid or not: the report says which, and the packer compares reports),
+   else bp_check's failure. */
+static bp_status bp__pack_check(const bp_allocator *a, const bp__par *par, const bp_chart *ch, const double *uv,
                                 bp_check_report *rep)
 {
-    bp_status st = bp_check(ch->triangles, ch->num_triangles, uv, ch->num_vertices, a, rep, NULL);
+    bp_status st = bp__check_par(ch->triangles, ch->num_triangles, uv, ch->num_vertices, a, par, rep, NULL);
     return bp__check_verdict_status(st) ? BP_OK : st;
 }
 
@@ -15229,6 +15518,7 @@ typedef struct bp__packer {
     int res, pad;
     bp__occ occ;
     double *L;                  /* scratch: local coordinates of one chart */
+    const bp__par *par;         /* runs the exact checks                   */
 } bp__packer;
 
 /* One attempt at density d: 1 if every chart found a place (pc[].x, y,
@@ -15329,7 +15619,7 @@ static bp_status bp__pack_apply(bp__packer *P, double d, uint32_t *broken)
             ch->uv[2 * v] = (P->L[2 * v] + pc->fx) / P->res;
             ch->uv[2 * v + 1] = (P->L[2 * v + 1] + pc->fy) / P->res;
         }
-        st = bp__pack_check(&P->a, ch, ch->uv, &rep);
+        st = bp__pack_check(&P->a, P->par, ch, ch->uv, &rep);
         if (st != BP_OK) return st;
         if (!bp__report_no_worse(&rep, &pc->before)) { *broken = i; return BP_OK; }
     }
@@ -15355,7 +15645,7 @@ static bp_status bp__pack_prepare(bp__packer *P, const bp_options *opt, bp_error
         memcpy(copy, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
         pc->orig = copy;
         if (ch->num_vertices > maxv) maxv = ch->num_vertices;
-        st = bp__pack_check(&P->a, ch, pc->orig, &pc->before);
+        st = bp__pack_check(&P->a, P->par, ch, pc->orig, &pc->before);
         if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "packing charts");
         if (st != BP_OK || pc->before.nonfinite)
             return bp__fail(err, st != BP_OK ? st : BP_ERR_NONFINITE, BP_ELEMENT_CHART, c, -1, 0,
@@ -15392,7 +15682,7 @@ static bp_status bp__pack_prepare(bp__packer *P, const bp_options *opt, bp_error
 
 /* Step 4's loop: search, apply, and on a chart whose rotated copy broke,
    retry with that chart in its own orientation. */
-static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
 {
     bp__packer P;
     bp_status st;
@@ -15401,6 +15691,7 @@ static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, bp_er
     memset(&P, 0, sizeof P);
     P.a = atlas->allocator;
     P.atlas = atlas;
+    P.par = par;
     P.res = opt->atlas_resolution;
     P.pad = opt->padding;
     P.pc = (bp__pchart *)bp__calloc_array(&P.a, atlas->num_charts ? atlas->num_charts : 1, sizeof *P.pc);
@@ -16858,8 +17149,8 @@ static int bp__packbox_cmp(const void *pa, const void *pb)
    valid as it was (bp__pack_check, bp__report_no_worse: a chart optimized
    without the barrier may overlap itself, and stays so); on failure
    restore and retry. */
-static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const double *lo, double s,
-                                double ox, double oy)
+static bp_status bp__move_chart(const bp_allocator *a, const bp__par *par, bp_chart *ch, const double *lo,
+                                double s, double ox, double oy)
 {
     double *save = (double *)bp__alloc_array(a, 2 * (size_t)ch->num_vertices, sizeof(double));
     uint32_t i;
@@ -16868,7 +17159,7 @@ static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const doubl
     bp_status st;
     if (!save) return BP_ERR_OUT_OF_MEMORY;
     memcpy(save, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
-    if ((st = bp__pack_check(a, ch, ch->uv, &before)) != BP_OK) { bp__free(a, save); return st; }
+    if ((st = bp__pack_check(a, par, ch, ch->uv, &before)) != BP_OK) { bp__free(a, save); return st; }
     for (attempt = 0; attempt < 8; attempt++) {
         bp_check_report rep;
         double jig = attempt ? 1 + attempt * 1e-7 : 1;
@@ -16876,7 +17167,7 @@ static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const doubl
             ch->uv[2 * i] = s * (save[2 * i] - lo[0]) + ox * jig;
             ch->uv[2 * i + 1] = s * (save[2 * i + 1] - lo[1]) + oy * jig;
         }
-        if ((st = bp__pack_check(a, ch, ch->uv, &rep)) != BP_OK) { bp__free(a, save); return st; }
+        if ((st = bp__pack_check(a, par, ch, ch->uv, &rep)) != BP_OK) { bp__free(a, save); return st; }
         if (bp__report_no_worse(&rep, &before)) {
             bp__free(a, save);
             return BP_OK;
@@ -16888,7 +17179,7 @@ static bp_status bp__move_chart(const bp_allocator *a, bp_chart *ch, const doubl
 }
 
 /* No fixed resolution: bounding boxes on shelves (the 0.1 packing). */
-static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
 {
     bp_allocator a;
     bp__packbox *bx;
@@ -16940,7 +17231,7 @@ static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, bp_error
     for (i = 0; i < atlas->num_charts; i++) {
         c = bx[i].chart;
         if (!atlas->charts[c].uv) continue;
-        bp_status ms = bp__move_chart(&a, &atlas->charts[c], lo + 2 * (size_t)c, s, s * bx[i].ox, s * bx[i].oy);
+        bp_status ms = bp__move_chart(&a, par, &atlas->charts[c], lo + 2 * (size_t)c, s, s * bx[i].ox, s * bx[i].oy);
         if (ms != BP_OK) {
             bp__free(&a, bx); bp__free(&a, lo);
             if (ms == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "packing charts");
@@ -16959,10 +17250,10 @@ static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, bp_error
 }
 
 /* Every chart that has a map, by shelves or by outlines (atlas_resolution). */
-static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
 {
     atlas->utilization = 0;
-    if (!opt || opt->atlas_resolution == 0) return bp__pack_shelf(atlas, opt, err);
+    if (!opt || opt->atlas_resolution == 0) return bp__pack_shelf(atlas, opt, par, err);
     if (opt->atlas_resolution < 0 || opt->atlas_resolution > BP__PACK_MAX_RES)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                         "atlas resolution %d is out of range: it must be between 1 and %d texels",
@@ -16971,7 +17262,7 @@ static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, bp_error *
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                         "padding %d is out of range: it must be at least 0 and less than the resolution %d",
                         opt->padding, opt->atlas_resolution);
-    return bp__pack_outlines(atlas, opt, err);
+    return bp__pack_outlines(atlas, opt, par, err);
 }
 
 /* The last word before success: the whole atlas -- every mapped chart, in
@@ -16979,7 +17270,7 @@ static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, bp_error *
    also proves that no two charts overlap.  This should never fail (every
    step was checked); if it does, the caller gets BP_ERR_NOT_BIJECTIVE, not
    a wrong map. */
-static bp_status bp__atlas_verify(const bp_atlas *atlas, bp_error *err)
+static bp_status bp__atlas_verify(const bp_atlas *atlas, const bp__par *par, bp_error *err)
 {
     bp_allocator a = atlas->allocator;
     uint32_t c, nt = 0, nv = 0, t, i, *tri, ov = 0, ot = 0;
@@ -17001,7 +17292,7 @@ static bp_status bp__atlas_verify(const bp_atlas *atlas, bp_error *err)
         ot += ch->num_triangles;
         ov += ch->num_vertices;
     }
-    st = bp_check(tri, nt, uv, nv, &a, &rep, &why);
+    st = bp__check_par(tri, nt, uv, nv, &a, par, &rep, &why);
     bp__free(&a, tri);
     bp__free(&a, uv);
     if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "verifying the atlas");
@@ -17025,7 +17316,7 @@ static bp_status bp__atlas_verify(const bp_atlas *atlas, bp_error *err)
    one block, to the right of the kept charts' bounding box, so the kept
    and the packed never meet; bp_parameterize's final check proves it.
    Without the barrier nothing is verified (maps may overlap themselves). */
-static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier, bp_error *why)
+static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier, const bp__par *par, bp_error *why)
 {
     double **save;
     uint32_t c;
@@ -17034,13 +17325,13 @@ static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier,
     save = (double **)bp__alloc_array(&atlas->allocator, atlas->num_charts, sizeof(double *));
     if (!save) return BP_ERR_OUT_OF_MEMORY;
     for (c = 0; c < atlas->num_charts; c++) { save[c] = atlas->charts[c].uv; if (!keep[c]) atlas->charts[c].uv = NULL; }
-    st = bp__atlas_verify(atlas, why);
+    st = bp__atlas_verify(atlas, par, why);
     for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].uv = save[c];
     bp__free(&atlas->allocator, save);
     return st;
 }
 
-static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
 {
     bp_allocator a = atlas->allocator;
     int *keep = (int *)bp__calloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(int));
@@ -17060,9 +17351,9 @@ static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, bp_er
         st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
                       "normalize and atlas_resolution would move the pinned charts off their pins: "
                       "use pins without them");
-    if (st == BP_OK && (st = bp__pack_kept_ok(atlas, keep, barrier, &why)) == BP_ERR_NOT_BIJECTIVE) {
+    if (st == BP_OK && (st = bp__pack_kept_ok(atlas, keep, barrier, par, &why)) == BP_ERR_NOT_BIJECTIVE) {
         for (c = 0; c < atlas->num_charts; c++) keep[c] = keep[c] && atlas->charts[c].num_pins > 0;
-        if ((st = bp__pack_kept_ok(atlas, keep, barrier, &why)) == BP_ERR_NOT_BIJECTIVE)
+        if ((st = bp__pack_kept_ok(atlas, keep, barrier, par, &why)) == BP_ERR_NOT_BIJECTIVE)
             st = bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
                           "the pinned charts overlap each other at their targets (%s)", why.message);
     }
@@ -17082,7 +17373,7 @@ static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, bp_er
         }
         if (keep[c]) ch->uv = NULL;            /* hidden from the packer: takes no room */
     }
-    if (st == BP_OK) st = bp__pack_all(atlas, opt, err);
+    if (st == BP_OK) st = bp__pack_all(atlas, opt, par, err);
     for (c = 0; c < atlas->num_charts; c++) if (keep[c]) atlas->charts[c].uv = save[c];
     if (st == BP_OK && nkeep) {
         gap = 0.02 * (kb[2] - kb[0] > kb[3] - kb[1] ? kb[2] - kb[0] : kb[3] - kb[1]);
@@ -17094,7 +17385,7 @@ static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, bp_er
         for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
             double zero[2] = { 0, 0 };
             if (keep[c] || !atlas->charts[c].uv) continue;
-            if (bp__move_chart(&a, &atlas->charts[c], zero, 1, kb[2] + gap - pb[0], kb[1] - pb[1]) != BP_OK)
+            if (bp__move_chart(&a, par, &atlas->charts[c], zero, 1, kb[2] + gap - pb[0], kb[1] - pb[1]) != BP_OK)
                 st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
                               "chart %u: placing it beside the charts kept in place would break its validity", c);
         }
@@ -17104,14 +17395,34 @@ static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, bp_er
     return st;
 }
 
+/* The packer's runner, for its exact checks (four per chart in the tool:
+   two here): a pool from opt when the charts with a map have
+   BP__PAR_MIN_TRIANGLES triangles or more together (*pool: to stop
+   later), else serial, as for a chart's own loops (>>threads). */
+static bp__par bp__pack_par(const bp_atlas *atlas, const bp_options *opt, void **pool)
+{
+    uint32_t c, nt = 0;
+    *pool = NULL;
+    for (c = 0; c < atlas->num_charts; c++)
+        if (atlas->charts[c].uv) nt += atlas->charts[c].num_triangles;
+    if (nt < BP__PAR_MIN_TRIANGLES) return bp__par_serial();
+    return bp__par_begin(&atlas->allocator, opt, pool);
+}
+
 /* Place the charts side by side without overlap, leaving pinned charts
    (and, without normalize, charts started from their input uvs) where
    they are: see bp__pack_in_place. */
 BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
+    void *pool;
+    bp__par par;
+    bp_status st;
     if (!atlas || !atlas->charts)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
-    return bp__pack_in_place(atlas, opt, err);
+    par = bp__pack_par(atlas, opt, &pool);
+    st = bp__pack_in_place(atlas, opt, &par, err);
+    bp__par_end(&atlas->allocator, pool);
+    return st;
 }
 
 BPDEF void bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *why)
@@ -17132,6 +17443,7 @@ static bp_status bp__input_map(bp_atlas *atlas, uint32_t c, const bp_mesh *m, bp
 {
     bp_allocator a = atlas->allocator;
     bp_chart *ch = &atlas->charts[c];
+    bp__par serial = bp__par_serial();
     bp_check_report rep;
     bp_status st;
     uint32_t i;
@@ -17146,7 +17458,7 @@ static bp_status bp__input_map(bp_atlas *atlas, uint32_t c, const bp_mesh *m, bp
         ch->uv[2 * i] = m->uvs[2 * (size_t)ch->vertex_uv[i]];
         ch->uv[2 * i + 1] = m->uvs[2 * (size_t)ch->vertex_uv[i] + 1];
     }
-    st = bp__pack_check(&a, ch, ch->uv, &rep);
+    st = bp__pack_check(&a, &serial, ch, ch->uv, &rep);
     if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(why, "repacking charts");
     if (st == BP_OK && bp__report_valid(&rep)) return BP_OK;
     if (rep.first_bad_triangle >= 0) {
@@ -17442,8 +17754,11 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
         if (st != BP_OK && st != BP_ERR_CANCELLED && err) *err = cancel;
     }
     if (st == BP_OK || (st == BP_ERR_CANCELLED && atlas->charts)) {   /* a cancel in bp_atlas_build: no charts */
-        bp_status ps = bp_atlas_pack(atlas, &local, err);
-        if (ps == BP_OK && !local.no_barrier) ps = bp__atlas_verify(atlas, err);
+        void *pool = NULL;
+        bp__par par = atlas->charts ? bp__pack_par(atlas, &local, &pool) : bp__par_serial();
+        bp_status ps = atlas->charts ? bp__pack_in_place(atlas, &local, &par, err) : bp_atlas_pack(atlas, &local, err);
+        if (ps == BP_OK && !local.no_barrier) ps = bp__atlas_verify(atlas, &par, err);
+        bp__par_end(&atlas->allocator, pool);
         if (ps == BP_OK && k) bp__unscale_atlas(atlas, k, local.normalize || local.atlas_resolution);
         if (ps != BP_OK) st = ps;
         else if (st == BP_ERR_CANCELLED) { if (err) *err = cancel; }

@@ -10,6 +10,9 @@
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
+
+/* bp__atlas_verify's runner: the serial loop. */
+static const bp__par serial_par = { bp__serial_for, NULL, 1 };
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -119,7 +122,7 @@ static int valid_or_none(const bp_atlas *at, bp_status want_chart_error)
         if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, &e) != BP_OK) return -1;
         mapped++;
     }
-    if (mapped && bp__atlas_verify(at, &e) != BP_OK) return -1;
+    if (mapped && bp__atlas_verify(at, &serial_par, &e) != BP_OK) return -1;
     return mapped;
 }
 

@@ -23,6 +23,9 @@
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
+
+/* bp__atlas_verify's runner: the serial loop. */
+static const bp__par serial_par = { bp__serial_for, NULL, 1 };
 #include "bpt_grid.h"
 #include <math.h>
 
@@ -158,7 +161,7 @@ static void check_atlas(const char *what, const bp_atlas *at, int res, int pad, 
         BPT_CHECK(mind > 0, "%s: charts apart with padding 0 (distance %.3g)", what, mind);
     BPT_CHECK(border >= want_border, "%s: every uv %.9g texels or more from the edge of the square (>= ceil(%d / 2))",
               what, border * res, pad);
-    BPT_CHECK(bp__atlas_verify(at, &err) == BP_OK, "%s: the whole atlas passes the exact check", what);
+    BPT_CHECK(bp__atlas_verify(at, &serial_par, &err) == BP_OK, "%s: the whole atlas passes the exact check", what);
     BPT_CHECK(fabs(at->utilization - area) <= 1e-12 * area, "%s: utilization %.15g == shoelace area %.15g", what,
               at->utilization, area);
     if (same_density)
@@ -427,7 +430,7 @@ static void test_slivers(void)
         if (st == BP_OK) {
             const double *uv = at.charts[0].uv;
             ok++;
-            if (bp__atlas_verify(&at, &e) != BP_OK) invalid++;
+            if (bp__atlas_verify(&at, &serial_par, &e) != BP_OK) invalid++;
             if (fabs((uv[3] - uv[1]) / (uv[2] - uv[0]) - (m.uvs[3] - m.uvs[1]) / (m.uvs[2] - m.uvs[0])) < 1e-6) fallback++;
         } else if (st == BP_ERR_NUMERICAL) {
             numerical++;
