@@ -10917,7 +10917,7 @@ static bp_status bp__tutte_factorize(const bp_allocator *a, const bp__tutte *T, 
 
 /* The order restricted to the chart's vertices, into ch->start_order: nv
    words of the order, then six per tree node (lo, a, b, hi, used, split),
-   for bp__opt_newton_order.  Returns 0 out of memory. */
+   for bp__opt_start_order.  Returns 0 out of memory. */
 static int bp__tutte_keep_order(const bp_allocator *a, const bp__tutte *T, bp_chart *ch)
 {
     uint32_t *keep = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
@@ -13586,7 +13586,7 @@ static void bp__pattern_place(void *task, uint32_t c)
    independent (and lets them run on several threads).  Otherwise a new
    order, as before.  Either way the same order on any number of threads.
    Before the first factorization the order to keep is the start map's
-   (bp__opt_newton_order), also when the pattern grows first. */
+   (bp__opt_start_order), also when the pattern grows first. */
 static void bp__newton_keep_order(bp__newton *N, const bp_allocator *a)
 {
     if (!N->F.sn && N->kperm) return;            /* no factor yet: the start map's order stays */
@@ -14385,11 +14385,13 @@ static int bp__opt_choose_newton(const bp__solver *S, const double *x)
 /* The start map's order (>>tutte, phase 5b), taken from the chart, which
    keeps it no longer (a new start map makes a new one), into P->N's kept
    order: the chart's own edges must respect it (they do, unless the
-   caller changed chart.start_order: then it is dropped).  Newton's first
-   factorization uses it as it does a kept order, when the barrier's pairs
-   respect it too (bp__nd_keeps); the L-BFGS preconditioner, the chart's
-   Laplacian (its graph the chart's edges, fewer where pins are), always,
-   after which it is freed (bp__opt_setup).  Returns 0 out of memory. */
+   caller changed chart.start_order: then it is dropped, as it is when
+   its tree is not nested: a node outside its half of its parent).
+   Newton's first factorization uses it as it does a kept order, when the
+   barrier's pairs respect it too (bp__nd_keeps); the L-BFGS
+   preconditioner, the chart's Laplacian (its graph the chart's edges,
+   fewer where pins are), always, after which it is freed (bp__opt_setup).
+   Returns 0 out of memory. */
 static int bp__opt_start_order(bp__opt *P, bp_chart *ch)
 {
     uint32_t nv = P->S.nv, k, j, *o = ch->start_order, *iv;
@@ -14404,6 +14406,11 @@ static int bp__opt_start_order(bp__opt *P, bp_chart *ch)
         memset(N, 0, sizeof *N);
         N->lo = w[0]; N->a = w[1]; N->b = w[2]; N->hi = w[3]; N->used = w[4] != 0; N->split = w[5] != 0;
         if (N->used && !(N->lo <= N->a && N->a <= N->b && N->b <= N->hi && N->hi <= nv)) k = 0;
+        if (N->used && j > 0) {                   /* inside its half of a split parent */
+            const bp__ndnode *U = &P->N.ktree[(j - 1) / 2];
+            uint32_t lo = j % 2 ? U->lo : U->a, hi = j % 2 ? U->a : U->b;
+            if (!U->used || !U->split || N->lo < lo || N->hi > hi) k = 0;
+        }
     }
     if (k != nv || !P->N.ktree[0].used || P->N.ktree[0].lo != 0 || P->N.ktree[0].hi != nv) k = 0;
     for (j = 0; k == nv && j < 3 * P->S.nt; j++) {            /* every edge of the chart */

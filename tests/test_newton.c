@@ -1027,8 +1027,8 @@ static void test_kept_order(void)
    graph: the same bits as a run without it), another valid order put
    there (the identity, an unsplit root) is used (the bits differ), one
    and two threads give the same bits, and a spoiled order (out of range,
-   or two vertices swapped across the root's split) is dropped: the same
-   bits as with none.  And before the first factorization a growing
+   two vertices swapped across the root's split, or a tree not nested) is
+   dropped: the same bits as with none.  And before the first factorization a growing
    pattern keeps the start map's order (bp__newton_keep_order). */
 static int part_of(const bp__ndnode *N, uint32_t p)
 {
@@ -1134,6 +1134,7 @@ static double *solve_start_order_dir(const char *path, int threads, int spoil, c
                 o[tr[0].lo] = o[tr[0].a];
                 o[tr[0].a] = x;
             }
+            if (spoil == 5) ch->start_order[nv + 6 + 3] = nv;   /* node 1 over its sibling too: not nested */
             if (spoil == 3) {                      /* another valid order: identity, the root unsplit */
                 memset(ch->start_order + nv, 0, 6 * BP__ND_NODES * sizeof(uint32_t));
                 for (k = 0; k < nv; k++) ch->start_order[k] = k;
@@ -1168,6 +1169,7 @@ static void test_start_order(void)
     double *un = solve_start_order(B, 1, 1, "bishop, order dropped", &nv), *us = solve_start_order(B, 1, 2, "bishop, order spoiled", &nv);
     double *ui = solve_start_order(B, 1, 3, "bishop, the identity order", &nv);
     double *ux = solve_start_order(B, 1, 4, "bishop, two vertices swapped across the root's split", &nv);
+    double *uy = solve_start_order(B, 1, 5, "bishop, a tree not nested", &nv);
     size_t n = 2 * (size_t)nv;
     if (u1 && u2) BPT_CHECK(memcmp(u1, u2, n * sizeof(double)) == 0, "bishop: the same bits on 1 and 2 threads");
     if (un && us) BPT_CHECK(memcmp(un, us, n * sizeof(double)) == 0, "bishop: a spoiled order is dropped (the same bits "
@@ -1178,6 +1180,9 @@ static void test_start_order(void)
                             "used (the bits differ)");
     if (ux && un) BPT_CHECK(memcmp(ux, un, n * sizeof(double)) == 0, "bishop: an order whose split the chart's edges cross "
                             "is dropped (the same bits as none)");
+    if (uy && un) BPT_CHECK(memcmp(uy, un, n * sizeof(double)) == 0, "bishop: a tree whose node 1 covers its sibling is "
+                            "dropped (the same bits as none)");
+    free(uy);
     free(uh); free(u1); free(u2); free(un); free(us); free(ui); free(ux);
     /* the preconditioned L-BFGS: the Laplacian factored in the start order */
     u1 = solve_start_order_dir(B, 2, 0, "bishop, L-BFGS", &nv, BP_DIRECTION_PRECONDITIONED);
