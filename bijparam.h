@@ -246,8 +246,11 @@ typedef enum bp_init {
     BP_INIT_MEAN_VALUE,  /* Floater's mean-value weights (Floater 2003)      */
     BP_INIT_INPUT,       /* the mesh's own uvs (corner_uv/uvs) when exactly
                             bijective, else AUTO; see bp_chart.init_used     */
-    BP_INIT_TUTTE        /* uniform weights (Tutte 1963); the default until
+    BP_INIT_TUTTE,       /* uniform weights (Tutte 1963); the default until
                             0.2 (then = 0), now 3: set it by name            */
+    BP_INIT_CONFORMAL    /* least squares conformal (Levy et al. 2002), free
+                            boundary, when exactly bijective and below
+                            100,000 triangles, else AUTO (>>conformal)      */
 } bp_init;
 
 typedef enum bp_start {
@@ -516,6 +519,10 @@ typedef struct bp_chart {
                                  which bp_chart_optimize takes for its first
                                  factorization (>>tutte, phase 5b); freed
                                  with the chart or by bp_chart_optimize    */
+    int       start_map;      /* set by bp_chart_init, which start it made:
+                                 BP_INIT_CONFORMAL, _MEAN_VALUE, _TUTTE or
+                                 _INPUT, or BP_INIT_AUTO for a planar chart's
+                                 own projection (>>start)                   */
 } bp_chart;
 
 /* Repairs (bp_atlas.repairs).  Outside opt.strict, bp_atlas_build mends
@@ -10254,7 +10261,10 @@ static int bp__check_verdict_status(bp_status st)
    gives a planar chart its own projection instead (the default), and can
    relax a Tutte start by progressive references (bp_options.start).
 
-   Which weights by default (BP_INIT_AUTO, docs/performance.md sec 6.7).
+   The default start (BP_INIT_AUTO) is now the conformal map of
+   >>conformal when it passes the exact check (below BP__CONFORMAL_MAX
+   triangles); the barycentric map is its fallback, and which weights
+   that fallback takes was measured before (docs/performance.md sec 6.7):
    The uniform map ignores the geometry, so its distortion grows with the
    resolution: on the face with six holes subdivided to 133K and 298K faces
    the optimizer needs 447 and 623 iterations from Tutte, 42 and 52 from
@@ -10915,33 +10925,36 @@ static bp_status bp__tutte_factorize(const bp_allocator *a, const bp__tutte *T, 
     return st;
 }
 
-/* The order restricted to the chart's vertices, into ch->start_order: nv
-   words of the order, then six per tree node (lo, a, b, hi, used, split),
-   for bp__opt_start_order.  Returns 0 out of memory. */
-static int bp__tutte_keep_order(const bp_allocator *a, const bp__tutte *T, bp_chart *ch)
+/* The order restricted to the chart's vertices (hole centres dropped):
+   order (nv words) and its tree.  Returns 0 out of memory. */
+static int bp__tutte_chart_order(const bp_allocator *a, const bp__tutte *T, uint32_t *order, bp__ndnode *tree)
 {
     uint32_t *keep = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
     uint32_t *pre = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
-    uint32_t *out = (uint32_t *)bp__alloc_array(a, (size_t)T->nv + 6 * BP__ND_NODES, sizeof(uint32_t));
-    bp__ndnode tree[BP__ND_NODES];
-    uint32_t v, k;
-    bp__free(a, ch->start_order);
-    ch->start_order = NULL;
-    if (keep && pre && out) {
+    uint32_t v;
+    int ok = keep && pre;
+    if (ok) {
         for (v = 0; v < T->N; v++) keep[v] = v < T->nv ? v : BP__NONE;
-        bp__nd_restrict(T->nd, T->ndtree, T->N, keep, out, tree, pre);
-        for (k = 0; k < BP__ND_NODES; k++) {
-            uint32_t *w = out + T->nv + 6 * k;
-            w[0] = tree[k].lo; w[1] = tree[k].a; w[2] = tree[k].b; w[3] = tree[k].hi;
-            w[4] = (uint32_t)tree[k].used; w[5] = (uint32_t)tree[k].split;
-        }
-        ch->start_order = out;
+        bp__nd_restrict(T->nd, T->ndtree, T->N, keep, order, tree, pre);
     }
     bp__free(a, keep);
     bp__free(a, pre);
-    if (ch->start_order) return 1;
-    bp__free(a, out);
-    return 0;
+    return ok;
+}
+
+/* That order (allocated with room for the tree: nv + 6 BP__ND_NODES
+   words), handed to the chart for Newton and the preconditioner: nv words
+   of the order, then six per tree node (lo, a, b, hi, used, split), read
+   back by bp__opt_start_order. */
+static void bp__tutte_keep_order(const bp__tutte *T, uint32_t *order, const bp__ndnode *tree, bp_chart *ch)
+{
+    uint32_t k;
+    for (k = 0; k < BP__ND_NODES; k++) {
+        uint32_t *w = order + T->nv + 6 * k;
+        w[0] = tree[k].lo; w[1] = tree[k].a; w[2] = tree[k].b; w[3] = tree[k].hi;
+        w[4] = (uint32_t)tree[k].used; w[5] = (uint32_t)tree[k].split;
+    }
+    ch->start_order = order;
 }
 
 /* Phase 6a as a whole: M, its factor, the iteration; the solution in
@@ -11338,6 +11351,13 @@ static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options
 static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                      bp_error *err);
 
+/* >>conformal, defined after >>rest, whose rest shapes it uses. */
+static int bp__conformal_map(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
+                             const bp__par *runner, const uint32_t *order, const bp__ndnode *tree);
+#ifndef BP__INIT_AUTO_CONFORMAL
+#define BP__INIT_AUTO_CONFORMAL 1       /* 0: BP_INIT_AUTO starts barycentric (as before 0.4) */
+#endif
+
 /* >>start, defined after the optimizer it uses. */
 static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const bp_mesh *m, double *eps);
 static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m);
@@ -11370,22 +11390,40 @@ static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_me
 }
 
 /* The seven phases above: the Tutte (mvc = 0) or mean-value (mvc = 1) map
-   of the filled chart into ch->uv, exactly checked; and the ordering of
-   phase 5b kept for Newton (ch->start_order). */
+   of the filled chart into ch->uv, exactly checked, or first, with
+   conformal, the conformal map of >>conformal when it passes that check;
+   the ordering of phase 5b kept for Newton (ch->start_order), and which
+   map it was in ch->start_map. */
 static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *runner, int mvc,
-                               bp_error *err)
+                               int conformal, bp_error *err)
 {
     bp__tutte T;
+    bp__ndnode tree[BP__ND_NODES];
+    uint32_t *order = (uint32_t *)bp__alloc_array(a, (size_t)ch->num_vertices + 6 * BP__ND_NODES, sizeof(uint32_t));
     bp_status st = BP_OK;
+    int done = 0;
     memset(&T, 0, sizeof T);
     if (runner) T.par = *runner;
-    if (!bp__tutte_fill(a, &T, ch, m) || !bp__tutte_adjacency(a, &T) || !bp__tutte_weights(a, &T, mvc) ||
-        !bp__tutte_circle(a, &T, ch) || (T.nfree > 0 && !bp__tutte_system(a, &T, ch, mvc)) ||
-        !bp__tutte_order(a, &T, runner))
+    bp__free(a, ch->start_order);
+    ch->start_order = NULL;
+    if (!order || !bp__tutte_fill(a, &T, ch, m) || !bp__tutte_adjacency(a, &T) || !bp__tutte_order(a, &T, runner) ||
+        !bp__tutte_chart_order(a, &T, order, tree))
         st = bp__oom(err, "computing the start map");
-    if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(a, &T, ch, runner, err);
-    if (st == BP_OK) st = bp__tutte_verify(a, ch, m, runner, err);
-    if (st == BP_OK && !bp__tutte_keep_order(a, &T, ch)) st = bp__oom(err, "computing the start map");
+    if (st == BP_OK && conformal && (done = bp__conformal_map(a, &T, ch, m, runner, order, tree)) < 0)
+        st = bp__oom(err, "computing the start map");
+    if (st == BP_OK && !done) {
+        if (!bp__tutte_weights(a, &T, mvc) || !bp__tutte_circle(a, &T, ch) ||
+            (T.nfree > 0 && !bp__tutte_system(a, &T, ch, mvc)))
+            st = bp__oom(err, "computing the start map");
+        if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(a, &T, ch, runner, err);
+        if (st == BP_OK) st = bp__tutte_verify(a, ch, m, runner, err);
+    }
+    if (st == BP_OK) {
+        bp__tutte_keep_order(&T, order, tree, ch);
+        order = NULL;
+        ch->start_map = done ? BP_INIT_CONFORMAL : mvc ? BP_INIT_MEAN_VALUE : BP_INIT_TUTTE;
+    }
+    bp__free(a, order);
     bp__tutte_free(a, &T);
     return st;
 }
@@ -11400,6 +11438,8 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     bp_status st = BP_OK;
     uint32_t *pidx = NULL;
     int tutte = opt && opt->init == BP_INIT_TUTTE, better = !opt || opt->start != BP_START_PLAIN, planar = 0;
+    int conformal = !opt || opt->init == BP_INIT_CONFORMAL ||
+                    (BP__INIT_AUTO_CONFORMAL && (opt->init == BP_INIT_AUTO || opt->init == BP_INIT_INPUT));
     if (ch && ch->error.status != BP_OK) {
         if (err) *err = ch->error;
         return ch->error.status;                 /* a chart that cannot be flattened */
@@ -11410,6 +11450,7 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     if (!ch->uv) ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)ch->num_vertices, sizeof(double));
     if (!ch->uv) return bp__oom(err, "computing the start map");
     ch->init_used = 0;
+    ch->start_map = BP_INIT_INPUT;
     if ((st = bp__pin_map(&a, ch, m, opt, &pidx, &ch->num_pins, err)) != BP_OK) return st;
     if (opt && opt->init == BP_INIT_INPUT) {
         int used = bp__init_input(&a, ch, m);
@@ -11419,11 +11460,12 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     if (st == BP_OK && ch->init_used != 1 && better) {                   /* >>start, 1 */
         planar = bp__start_planar(&a, ch, m);
         if (planar < 0) st = bp__oom(err, "checking the planar start map");
+        if (planar == 1) ch->start_map = BP_INIT_AUTO;
     }
     if (st == BP_OK && ch->init_used != 1 && planar != 1) {
-        st = bp__tutte_map(&a, ch, m, runner, !tutte, err);
+        st = bp__tutte_map(&a, ch, m, runner, !tutte, conformal && !tutte, err);
         if (st == BP_ERR_NUMERICAL && !tutte && (!opt || opt->init != BP_INIT_MEAN_VALUE))
-            st = bp__tutte_map(&a, ch, m, runner, 0, err);          /* AUTO: rounding spoiled the mean-value map */
+            st = bp__tutte_map(&a, ch, m, runner, 0, 0, err);       /* AUTO: rounding spoiled the mean-value map */
         if (st == BP_OK && opt && opt->start == BP_START_PROGRESSIVE && !pidx)
             st = bp__start_progressive(ch, m, opt, runner, err);                /* >>start, 3 */
     }
@@ -11528,6 +11570,280 @@ static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r
     r->m00 = q / w;
     r->m01 = -q * x / (w * y);
     r->m11 = q / y;
+}
+
+/* >>conformal ==============================================================
+
+   A conformal start (beyond the dissertation; issue 15, "a better start").
+   The barycentric maps above put the outer loop on a circle, whatever the
+   chart's shape: a face or a bust comes out with its rim stretched round
+   and its middle crushed (face: mean energy 87, bimba: 674, against
+   optima of 7.0 and 7.6), and Newton's first iterations go to undoing
+   that.  A map with a free boundary starts nearer.  The least squares
+   conformal map (Levy, Petitjean, Ray & Maillot 2002, "LSCM") is one
+   linear solve: a triangle's Jacobian J = [a b; c d] (>>rest, J = D M^-1)
+   is a similarity exactly when a = d and b = -c, so
+       E_C = sum_t A_t ((a - d)^2 + (b + c)^2)
+   measures how far the map is from conformal (A_t the 3D area).  Each
+   residual is linear in the triangle's six uv coordinates, r = g . U, so
+   E_C is a quadratic form with the 6 x 6 blocks A_t (g1 g1^T + g2 g2^T),
+   positive semidefinite, on the mesh's pattern in 2x2 blocks: the same
+   pattern as Newton's matrix, factored by the same supernodal Cholesky
+   after the same dissection (phase 5b's, restricted to the chart's
+   vertices).  E_C is zero on every similarity, so two vertices are held:
+   the two boundary vertices furthest apart in 3D (the second of two
+   sweeps: the vertex furthest from the first loop's first vertex, then
+   the one furthest from it), at (0, 0) and (d, 0), d their 3D distance.
+   Their rows and columns are the identity's and their couplings go to
+   the right-hand side, which leaves the matrix positive definite on a
+   connected chart.
+       K U = b,   then U <- s U,   s^4 = sum A_t |J|^2 / det(J)^2 / sum A_t |J|^2,
+   the scale that minimizes the symmetric Dirichlet energy of the map
+   (E(s) = s^2 a + b / s^2 over the chart: a conformal map shrinks
+   protrusions, and the area-preserving scale leaves them crushed: face
+   112 against 30 at the optimal scale); the other energies are either
+   blind to the scale (conformal, MIPS) or weigh stretch against
+   compression alike (isometric), so the same s serves them.
+
+   Nothing guarantees that the result is bijective: LSCM can fold a
+   triangle or run the boundary over itself on a chart that curls (of
+   ../shared/meshes, camel_b, shark, horse_cut and lucy fold).  So the
+   scaled map goes through the exact check (bp__check_par), and only a map
+   that passes it is kept; otherwise the barycentric map of >>tutte is
+   computed as before, from the same graph and the same dissection, and
+   the attempt has cost one factorization.  Charts of BP__CONFORMAL_MAX
+   triangles and more skip it: the 2x2 factor needs four times the
+   memory of the barycentric map's scalar one, and the million-face chart
+   must stay under 1 KiB per face (docs/performance.md sec 6.27 measures
+   both choices).  The map depends only on the chart (the sums of each
+   entry run over the corners in triangle order, gathered per vertex like
+   the phases above), so it is the same bits on any number of threads. */
+
+#ifndef BP__CONFORMAL_MAX
+#define BP__CONFORMAL_MAX 100000u       /* triangles: larger charts start barycentric */
+#endif
+
+/* The residuals r1 = a - d and r2 = b + c of chart triangle t as rows
+   g1, g2 over (U1x, U1y, U2x, U2y, U3x, U3y), from J = D M^-1 (>>rest):
+       a = m00 (U2x - U1x),            c = m00 (U2y - U1y),
+       b = m01 (U2x - U1x) + m11 (U3x - U1x),
+       d = m01 (U2y - U1y) + m11 (U3y - U1y).
+   Returns the triangle's area (0 when its rest shape is not usable: the
+   triangle then adds nothing). */
+static double bp__conformal_rows(const bp_chart *ch, const bp_mesh *m, uint32_t t, double *g1, double *g2)
+{
+    double w, x, y, area;
+    bp__rest r;
+    bp__chart_rest(ch, m, t, &w, &x, &y);
+    area = 0.5 * w * y;
+    if (!(area > 0) || !(area < HUGE_VAL)) return 0;
+    bp__rest_inverse(w, x, y, 1, &r);
+    g1[0] = -r.m00;          g1[1] = r.m01 + r.m11; g1[2] = r.m00; g1[3] = -r.m01; g1[4] = 0;     g1[5] = -r.m11;
+    g2[0] = -r.m01 - r.m11;  g2[1] = -r.m00;        g2[2] = r.m01; g2[3] = r.m00;  g2[4] = r.m11; g2[5] = 0;
+    return area;
+}
+
+/* The two held vertices (see above) and their distance; 0 when the
+   boundary has no two distinct points. */
+static int bp__conformal_pins(const bp_chart *ch, const bp_mesh *m, uint32_t *p0, uint32_t *p1, double *d)
+{
+    uint32_t j, j0 = ch->loop_start[0], j1 = ch->loop_start[ch->num_loops], from = ch->loop_vertices[j0], far = from;
+    int sweep;
+    for (sweep = 0; sweep < 2; sweep++) {
+        double best = 0;
+        from = far;
+        for (j = j0; j < j1; j++) {
+            double e = bp__dist3(bp__pos(m, ch->vertex[from]), bp__pos(m, ch->vertex[ch->loop_vertices[j]]));
+            if (e > best) { best = e; far = ch->loop_vertices[j]; }
+        }
+        *d = best;
+    }
+    *p0 = from;
+    *p1 = far;
+    return *d > 0 && *d < HUGE_VAL && from != far;
+}
+
+/* Position of vertex u in the block pattern of column 2 c0's vertex, whose
+   n vertices' rows 2u start at K->row[c0], every other entry. */
+static uint32_t bp__conformal_find(const bp__sparse *K, uint32_t c0, uint32_t n, uint32_t u)
+{
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (K->row[c0 + 2 * mid] < 2 * u) lo = mid + 1; else hi = mid;
+    }
+    return lo;
+}
+
+typedef struct bp__conformal_task {
+    const bp__tutte *T;
+    const bp_chart *ch;
+    const bp_mesh *m;
+    bp__sparse *K;
+    double *rhs;
+    uint32_t *glen;               /* first pass: each column vertex's count */
+    uint32_t p[2], nc;
+    double d;
+} bp__conformal_task;
+
+/* Vertex chunk c: with J->glen, the number of vertices in each column's
+   block pattern (the vertex and its chart neighbours); without, the
+   columns 2v, 2v+1 themselves (rows 2u, 2u+1 for each u in increasing
+   order, as Newton's matrix) and their values: each corner of v in
+   increasing corner number (so triangle order: the same sums on any
+   schedule) adds its triangle's blocks (r, k), k v's corner; a held
+   vertex's column is the identity's, and a held neighbour's block goes to
+   the right-hand side. */
+static void bp__conformal_task_run(void *task, uint32_t c)
+{
+    bp__conformal_task *J = (bp__conformal_task *)task;
+    const bp__tutte *T = J->T;
+    bp__sparse *K = J->K;
+    uint32_t v, v1 = bp__chunk_at(T->nv, J->nc, c + 1), e, q, w;
+    for (v = bp__chunk_at(T->nv, J->nc, c); v < v1; v++) {
+        uint32_t c0, len, n = 1, held = v == J->p[0] || v == J->p[1];
+        int dv = 0;
+        for (e = T->adjp[v]; e < T->adjp[v + 1]; e++) n += T->adj[e] < T->nv;
+        if (J->glen) { J->glen[v] = n; continue; }
+        c0 = K->colp[2 * v];
+        len = 2 * n;
+        for (w = c0, e = T->adjp[v]; e <= T->adjp[v + 1]; e++) {      /* rows of column 2v */
+            uint32_t u = e < T->adjp[v + 1] ? T->adj[e] : BP__NONE;
+            if (!dv && u > v) { K->row[w++] = 2 * v; K->row[w++] = 2 * v + 1; dv = 1; }
+            if (u < T->nv) { K->row[w++] = 2 * u; K->row[w++] = 2 * u + 1; }
+        }
+        memcpy(K->row + c0 + len, K->row + c0, len * sizeof(uint32_t));
+        memset(K->val + c0, 0, 2 * (size_t)len * sizeof(double));
+        if (held) {
+            uint32_t p = bp__conformal_find(K, c0, n, v);
+            K->val[c0 + 2 * p] = K->val[c0 + len + 2 * p + 1] = 1;
+            J->rhs[2 * v] = v == J->p[1] ? J->d : 0;
+            J->rhs[2 * v + 1] = 0;
+            continue;
+        }
+        for (q = T->incp[v]; q < T->incp[v + 1]; q++) {
+            uint32_t t = T->inc[q] / 3, k = T->inc[q] % 3, r;
+            double g1[6], g2[6], area;
+            int i, j;
+            if (t >= J->ch->num_triangles) continue;                 /* a hole's fan */
+            if (!((area = bp__conformal_rows(J->ch, J->m, t, g1, g2)) > 0)) continue;
+            for (r = 0; r < 3; r++) {
+                uint32_t u = T->tri[3 * (size_t)t + r], p = bp__conformal_find(K, c0, n, u);
+                for (j = 0; j < 2; j++)
+                    for (i = 0; i < 2; i++) {
+                        double h = area * (g1[2 * r + i] * g1[2 * k + j] + g2[2 * r + i] * g2[2 * k + j]);
+                        if (u == J->p[1] && i == 0) J->rhs[2 * v + j] -= h * J->d;
+                        else if (u != J->p[0] && u != J->p[1]) K->val[c0 + j * len + 2 * p + i] += h;
+                    }
+            }
+        }
+    }
+}
+
+/* The runner of the task above over the chart's vertices. */
+static void bp__conformal_run(bp__conformal_task *J, const bp__par *par)
+{
+    J->nc = bp__nchunks(J->T->nv, BP__TUTTE_CHUNK);
+    bp__par_run(par, bp__conformal_task_run, J, J->nc, J->T->nv);
+}
+
+/* The scale s of the essay for the map in ch->uv, 0 when a triangle of it
+   is flipped, degenerate or not finite (the map is then not used). */
+static double bp__conformal_scale(const bp_chart *ch, const bp_mesh *m)
+{
+    double sa = 0, sb = 0, s;
+    uint32_t t;
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        const double *u1 = ch->uv + 2 * (size_t)tr[0], *u2 = ch->uv + 2 * (size_t)tr[1], *u3 = ch->uv + 2 * (size_t)tr[2];
+        double w, x, y, area, a, b, c, d, det;
+        bp__rest r;
+        bp__chart_rest(ch, m, t, &w, &x, &y);
+        area = 0.5 * w * y;
+        if (!(area > 0) || !(area < HUGE_VAL)) continue;
+        bp__rest_inverse(w, x, y, 1, &r);
+        a = (u2[0] - u1[0]) * r.m00;
+        b = (u2[0] - u1[0]) * r.m01 + (u3[0] - u1[0]) * r.m11;
+        c = (u2[1] - u1[1]) * r.m00;
+        d = (u2[1] - u1[1]) * r.m01 + (u3[1] - u1[1]) * r.m11;
+        det = a * d - b * c;
+        if (!(det > 0)) return 0;
+        sa += area * (a * a + b * b + c * c + d * d);
+        sb += area * (a * a + b * b + c * c + d * d) / (det * det);
+    }
+    s = sqrt(sqrt(sb / sa));
+    return s > 0 && s < HUGE_VAL ? s : 0;
+}
+
+/* The conformal map of the chart into ch->uv, scaled, in the order
+   (order, tree) of the chart's vertices.  Returns 1 when it passed the
+   exact check, 0 when it is not used (too large, no two boundary points,
+   a pivot or a triangle gone wrong, the check failed: ch->uv is then
+   overwritten by the caller), -1 out of memory. */
+static int bp__conformal_map(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
+                             const bp__par *runner, const uint32_t *order, const bp__ndnode *tree)
+{
+    bp__conformal_task J;
+    bp__sparse K;
+    bp__factor F;
+    bp_check_report rep;
+    bp__par serial = bp__par_serial();
+    const bp__par *par = runner ? runner : &serial;
+    uint32_t nv = T->nv, n = 2 * nv, v, bad, j, p;
+    size_t w = 0, i;
+    double *buf = NULL, *rhs, *sol, *r, *dx, *z, s;
+    int ok = -1;
+    bp_status st;
+    memset(&J, 0, sizeof J);
+    memset(&K, 0, sizeof K);
+    memset(&F, 0, sizeof F);
+    if (ch->num_triangles >= BP__CONFORMAL_MAX || !bp__conformal_pins(ch, m, &J.p[0], &J.p[1], &J.d)) return 0;
+    J.T = T;
+    J.ch = ch;
+    J.m = m;
+    J.K = &K;
+    J.glen = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
+    K.colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    buf = (double *)bp__alloc_array(a, 5 * (size_t)n, sizeof(double));
+    if (!J.glen || !K.colp || !buf) goto done;
+    rhs = buf; sol = rhs + n; r = sol + n; dx = r + n; z = dx + n;
+    bp__conformal_run(&J, par);                              /* the columns' lengths */
+    for (v = 0; v < nv; v++) {
+        K.colp[2 * v] = (uint32_t)w;
+        K.colp[2 * v + 1] = (uint32_t)(w + 2 * (size_t)J.glen[v]);
+        w += 4 * (size_t)J.glen[v];
+        if (w > 0xfffffff0u) { ok = 0; goto done; }
+    }
+    K.colp[n] = (uint32_t)w;
+    K.n = n;
+    K.symmetric = 1;
+    K.blocks2 = 1;
+    K.row = (uint32_t *)bp__alloc_array(a, w + 1, sizeof(uint32_t));
+    K.val = (double *)bp__alloc_array(a, w + 1, sizeof(double));
+    if (!K.row || !K.val) goto done;
+    for (i = 0; i < n; i++) rhs[i] = 0;
+    bp__free(a, J.glen);
+    J.glen = NULL;
+    J.rhs = rhs;
+    bp__conformal_run(&J, par);                              /* the columns */
+    st = bp__factorize_order(a, &K, &F, &bad, par, order, tree);
+    if (st != BP_OK) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
+    bp__factor_solve_par(&F, rhs, sol, z, par);             /* one step of refinement */
+    for (i = 0; i < n; i++) r[i] = rhs[i];
+    for (j = 0; j < n; j++)
+        for (p = K.colp[j]; p < K.colp[j + 1]; p++) r[K.row[p]] -= K.val[p] * sol[j];
+    bp__factor_solve_par(&F, r, dx, z, par);
+    for (i = 0; i < n; i++) ch->uv[i] = sol[i] + dx[i];
+    if (!((s = bp__conformal_scale(ch, m)) > 0)) { ok = 0; goto done; }
+    for (i = 0; i < n; i++) ch->uv[i] *= s;
+    st = bp__check_par(ch->triangles, ch->num_triangles, ch->uv, nv, a, par, &rep, NULL);
+    ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : bp__check_verdict_status(st) && bp__report_valid(&rep);
+done:
+    bp__factor_free(a, &F);
+    bp__free(a, J.glen);
+    bp__free(a, K.colp); bp__free(a, K.row); bp__free(a, K.val);
+    bp__free(a, buf);
+    return ok;
 }
 
 /* >>energy =================================================================

@@ -79,8 +79,11 @@ static const char usage_text[] =
     "  --demo             use the built-in wavy cone instead of a file\n"
     "  --check            only check the file's own vt charts exactly (each chart\n"
     "                     bijective, no two overlapping): exit 0 yes, 1 no\n"
-    "  --init auto|mvc|tutte|input   start map; auto (default): mean-value\n"
-    "                     (Floater), Tutte if that one fails its exact check;\n"
+    "  --init auto|conformal|mvc|tutte|input   start map; auto (default):\n"
+    "                     conformal (least squares, free boundary) when\n"
+    "                     exactly bijective and below 100,000 triangles, else\n"
+    "                     mean-value (Floater), Tutte if that one fails its\n"
+    "                     exact check; conformal: the same; mvc: mean-value;\n"
     "                     tutte: uniform weights; input: the file's own\n"
     "                     vt per chart when bijective (else auto, reported), and\n"
     "                     those charts keep their place unless --normalize\n"
@@ -824,8 +827,10 @@ static void print_json(const char *input, const char *output, bp_status status, 
         printf(",\"error\":");
         if (ch->error.status != BP_OK) json_string(ch->error.message);
         else printf("null");
-        printf(",\"init_used\":%d,\"pins\":%u,\"in_place\":%d,\"seconds\":", ch->init_used,
-               (unsigned)ch->num_pins, ch->in_place);
+        printf(",\"init_used\":%d,\"start_map\":", ch->init_used);
+        json_string(ch->start_map == BP_INIT_CONFORMAL ? "conformal" : ch->start_map == BP_INIT_MEAN_VALUE ? "mvc" :
+                    ch->start_map == BP_INIT_TUTTE ? "tutte" : ch->start_map == BP_INIT_INPUT ? "input" : "planar");
+        printf(",\"pins\":%u,\"in_place\":%d,\"seconds\":", (unsigned)ch->num_pins, ch->in_place);
         json_number(ch->seconds);
         if (ch->uv)
             printf(",\"flipped\":%u,\"degenerate\":%u,\"boundary_intersections\":%u}",
@@ -1189,7 +1194,8 @@ int main(int argc, char **argv)
                 else if (!strcmp(v, "tutte")) opt.init = BP_INIT_TUTTE;
                 else if (!strcmp(v, "mvc")) opt.init = BP_INIT_MEAN_VALUE;
                 else if (!strcmp(v, "input")) opt.init = BP_INIT_INPUT;
-                else return usage_error("unknown start map '%s' (auto, mvc, tutte or input)", v);
+                else if (!strcmp(v, "conformal")) opt.init = BP_INIT_CONFORMAL;
+                else return usage_error("unknown start map '%s' (auto, conformal, mvc, tutte or input)", v);
             } else if (!strcmp(a, "--energy")) {
                 int e, found = 0;
                 for (e = 0; e < (int)BP_ENERGY_COUNT; e++)

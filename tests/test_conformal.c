@@ -1,0 +1,360 @@
+/* test_conformal.c - the conformal start map (>>conformal).
+
+   Everything is measured here by the test's own formulas: each triangle
+   flattened in its own 3D frame, J = [U2 - U1, U3 - U1] R^-1 with R the
+   frame's edge matrix, the conformal energy E_C = sum A ((a - d)^2 +
+   (b + c)^2) and its gradient through dE/dJ, and the symmetric Dirichlet
+   energy from |J|^2 and det J; nothing of the library's assembly.
+
+   (a) On face_holes (8,288 triangles, six holes) and bishop, the default
+       start is the conformal map (chart.start_map), exactly bijective
+       (bp_check), and it is the least squares conformal map: two boundary
+       vertices are held, one at the origin and one on the positive u axis
+       (their 3D distance at least half the boundary's diameter, found by
+       brute force), and at every other vertex the gradient of E_C is zero
+       (below 1e-7 of the held vertices' reaction); the map's scale is the
+       one that minimizes the symmetric Dirichlet energy (1.001 times
+       larger or smaller is worse).
+   (b) Where the conformal map folds (camel_b) the start is the mean-value
+       map, exactly bijective; BP_INIT_CONFORMAL asks for the same; the
+       barycentric inits are unchanged (BP_INIT_MEAN_VALUE gives the
+       mean-value map on face_holes).
+   (c) The same bits whatever the schedule of the tasks (serial, backwards,
+       odd then even) on face_holes, above the size where the start map's
+       phases run on a pool.
+   (d) The size rule: this file is compiled with BP__CONFORMAL_MAX 20000,
+       so camelhead (22,704 triangles, whose conformal map is bijective:
+       with the default limit the tool starts it conformal, docs/
+       performance.md sec 6.27) starts from the mean-value map, while
+       face_holes (8,288) starts conformal in (a).
+   (e) A planar chart asked for BP_START_PLAIN with BP_INIT_CONFORMAL: the
+       conformal map of a flat chart is a similarity, so its energy at the
+       optimal scale is 4 to rounding. */
+#define BP__CONFORMAL_MAX 20000u
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include "bptest.h"
+#include "bpt_grid.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const double *P3(const bp_mesh *m, const bp_chart *ch, uint32_t v)
+{
+    return m->positions + 3 * (size_t)ch->vertex[v];
+}
+
+/* Triangle t's J = D R^-1 in its own frame (x along edge 1), its area. */
+static double tri_jacobian(const bp_mesh *m, const bp_chart *ch, const double *uv, uint32_t t, double J[4],
+                           double Ri[4])
+{
+    const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+    const double *p1 = P3(m, ch, tr[0]), *p2 = P3(m, ch, tr[1]), *p3 = P3(m, ch, tr[2]);
+    double e1[3], e2[3], c[3], w, x, y, D[4];
+    int k;
+    for (k = 0; k < 3; k++) { e1[k] = p2[k] - p1[k]; e2[k] = p3[k] - p1[k]; }
+    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    w = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    x = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / w;
+    y = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / w;
+    /* R = [w x; 0 y], R^-1 = [1/w, -x/(w y); 0, 1/y] */
+    Ri[0] = 1 / w; Ri[1] = -x / (w * y); Ri[2] = 0; Ri[3] = 1 / y;
+    D[0] = uv[2 * tr[1]] - uv[2 * tr[0]];     D[1] = uv[2 * tr[2]] - uv[2 * tr[0]];
+    D[2] = uv[2 * tr[1] + 1] - uv[2 * tr[0] + 1]; D[3] = uv[2 * tr[2] + 1] - uv[2 * tr[0] + 1];
+    J[0] = D[0] * Ri[0] + D[1] * Ri[2]; J[1] = D[0] * Ri[1] + D[1] * Ri[3];
+    J[2] = D[2] * Ri[0] + D[3] * Ri[2]; J[3] = D[2] * Ri[1] + D[3] * Ri[3];
+    return 0.5 * w * y;
+}
+
+/* E_C and its gradient (2 nv, zeroed here) by the chain rule through J. */
+static double conformal_energy(const bp_mesh *m, const bp_chart *ch, const double *uv, double *g)
+{
+    double e = 0;
+    uint32_t t, i;
+    for (i = 0; i < 2 * ch->num_vertices; i++) g[i] = 0;
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        double J[4], Ri[4], A = tri_jacobian(m, ch, uv, t, J, Ri), r1 = J[0] - J[3], r2 = J[1] + J[2], G[4], GD[4];
+        int k;
+        e += A * (r1 * r1 + r2 * r2);
+        G[0] = 2 * A * r1; G[1] = 2 * A * r2; G[2] = 2 * A * r2; G[3] = -2 * A * r1;   /* dE/dJ */
+        GD[0] = G[0] * Ri[0] + G[1] * Ri[1]; GD[1] = G[0] * Ri[2] + G[1] * Ri[3];       /* dE/dD = dE/dJ R^-T */
+        GD[2] = G[2] * Ri[0] + G[3] * Ri[1]; GD[3] = G[2] * Ri[2] + G[3] * Ri[3];
+        for (k = 0; k < 2; k++) {
+            g[2 * tr[1] + k] += GD[2 * k];
+            g[2 * tr[2] + k] += GD[2 * k + 1];
+            g[2 * tr[0] + k] -= GD[2 * k] + GD[2 * k + 1];
+        }
+    }
+    return e;
+}
+
+/* The area-weighted mean symmetric Dirichlet energy of uv scaled by s. */
+static double sd_energy(const bp_mesh *m, const bp_chart *ch, const double *uv, double s)
+{
+    double e = 0, area = 0;
+    uint32_t t;
+    for (t = 0; t < ch->num_triangles; t++) {
+        double J[4], Ri[4], A = tri_jacobian(m, ch, uv, t, J, Ri), f, det;
+        int k;
+        for (k = 0; k < 4; k++) J[k] *= s;
+        f = J[0] * J[0] + J[1] * J[1] + J[2] * J[2] + J[3] * J[3];
+        det = J[0] * J[3] - J[1] * J[2];
+        e += A * (f + f / (det * det));
+        area += A;
+    }
+    return e / area;
+}
+
+static int load(const char *path, bp_mesh *m, bp_atlas *atlas)
+{
+    bp_error err;
+    bp_options opt;
+    memset(&opt, 0, sizeof opt);
+    if (!BPT_CHECK(bp_read_mesh(path, m, NULL, &err) == BP_OK, "read %s (%s)", path, err.message)) return 0;
+    if (!BPT_CHECK(bp_atlas_build(atlas, m, &opt, &err) == BP_OK && atlas->num_charts == 1, "%s: one chart (%s)", path,
+                   err.message)) {
+        bp_mesh_free(m, NULL);
+        return 0;
+    }
+    return 1;
+}
+
+static int init_with(bp_chart *ch, const bp_mesh *m, bp_init init, const bp__par *par)
+{
+    bp_options opt;
+    bp_error err;
+    bp__par serial = bp__par_serial();
+    bp_options_init(&opt);
+    opt.init = init;
+    return BPT_CHECK(bp__chart_init(ch, m, &opt, par ? par : &serial, &err) == BP_OK, "start map (%s)", err.message);
+}
+
+static int exactly_valid(const bp_chart *ch)
+{
+    bp_check_report rep;
+    return bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &rep, NULL) == BP_OK;
+}
+
+static int on_boundary(const bp_chart *ch, uint32_t v)
+{
+    uint32_t j;
+    for (j = ch->loop_start[0]; j < ch->loop_start[ch->num_loops]; j++)
+        if (ch->loop_vertices[j] == v) return 1;
+    return 0;
+}
+
+/* ---- (a) ------------------------------------------------------------------ */
+
+static void check_lscm(const char *path)
+{
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_chart *ch;
+    uint32_t v, p0 = BP__NONE, p1 = BP__NONE, n0 = 0, n1 = 0, i, j, nv;
+    double *g, gfree = 0, gheld = 0, diam = 0, e, s;
+    if (!load(path, &m, &atlas)) return;
+    ch = &atlas.charts[0];
+    nv = ch->num_vertices;
+    if (init_with(ch, &m, BP_INIT_AUTO, NULL) &&
+        BPT_CHECK(ch->start_map == BP_INIT_CONFORMAL && exactly_valid(ch),
+                  "%s: the default start is the conformal map (start_map %d), exactly bijective", path,
+                  ch->start_map)) {
+        for (v = 0; v < nv; v++) {
+            if (ch->uv[2 * v] == 0 && ch->uv[2 * v + 1] == 0) { p0 = v; n0++; }
+            else if (ch->uv[2 * v + 1] == 0 && ch->uv[2 * v] > 0) { p1 = v; n1++; }
+        }
+        for (i = ch->loop_start[0]; i < ch->loop_start[ch->num_loops]; i++)
+            for (j = i + 1; j < ch->loop_start[ch->num_loops]; j++) {
+                double d = bp__dist3(P3(&m, ch, ch->loop_vertices[i]), P3(&m, ch, ch->loop_vertices[j]));
+                if (d > diam) diam = d;
+            }
+        if (BPT_CHECK(n0 == 1 && n1 == 1 && on_boundary(ch, p0) && on_boundary(ch, p1) &&
+                      bp__dist3(P3(&m, ch, p0), P3(&m, ch, p1)) >= 0.5 * diam,
+                      "%s: one boundary vertex held at the origin (%u found), one on the positive u axis (%u), %.4g "
+                      "apart in 3D (boundary diameter %.4g)", path, n0, n1,
+                      n0 == 1 && n1 == 1 ? bp__dist3(P3(&m, ch, p0), P3(&m, ch, p1)) : -1.0, diam)) {
+            g = (double *)malloc(2 * (size_t)nv * sizeof(double));
+            e = conformal_energy(&m, ch, ch->uv, g);
+            for (v = 0; v < nv; v++) {
+                double gv = hypot(g[2 * v], g[2 * v + 1]);
+                if (v == p0 || v == p1) { if (gv > gheld) gheld = gv; }
+                else if (gv > gfree) gfree = gv;
+            }
+            BPT_CHECK(gheld > 0 && gfree <= 1e-7 * gheld,
+                      "%s: E_C = %.6g is stationary at every free vertex (largest gradient %.3g, held vertices' %.3g)",
+                      path, e, gfree, gheld);
+            free(g);
+        }
+        s = sd_energy(&m, ch, ch->uv, 1);
+        BPT_CHECK(s < sd_energy(&m, ch, ch->uv, 1.001) && s < sd_energy(&m, ch, ch->uv, 1 / 1.001),
+                  "%s: the scale minimizes the symmetric Dirichlet energy (%.8g; x1.001 %.8g, /1.001 %.8g)", path, s,
+                  sd_energy(&m, ch, ch->uv, 1.001), sd_energy(&m, ch, ch->uv, 1 / 1.001));
+    }
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+}
+
+/* ---- (b), (d) ------------------------------------------------------------- */
+
+static void check_start_map(const char *path, bp_init init, bp_init expect, const char *why)
+{
+    bp_mesh m;
+    bp_atlas atlas;
+    if (!load(path, &m, &atlas)) return;
+    if (init_with(&atlas.charts[0], &m, init, NULL))
+        BPT_CHECK(atlas.charts[0].start_map == (int)expect && exactly_valid(&atlas.charts[0]),
+                  "%s (%u triangles), init %d: start map %d, expected %d (%s), exactly bijective", path,
+                  atlas.charts[0].num_triangles, (int)init, atlas.charts[0].start_map, (int)expect, why);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+}
+
+/* A ramp winding twice around the z axis (r in [1, 2], two turns, rising
+   0.05 per radian): its conformal map winds about twice too, every
+   triangle positive, the boundary over itself. */
+static bp_mesh make_ramp(void)
+{
+    const uint32_t W = 4, H = 96;
+    bp_mesh m = bpt_mesh_new((W + 1) * (H + 1), 2 * W * H);
+    uint32_t i, j, t = 0;
+    for (j = 0; j <= H; j++)
+        for (i = 0; i <= W; i++) {
+            double r = 1 + (double)i / W, th = 4 * 3.14159265358979323846 * j / H;
+            double *p = m.positions + 3 * (size_t)(j * (W + 1) + i);
+            p[0] = r * cos(th); p[1] = r * sin(th); p[2] = 0.05 * th;
+        }
+    for (j = 0; j < H; j++)
+        for (i = 0; i < W; i++) {
+            uint32_t a = j * (W + 1) + i, b = a + 1, c = a + W + 1, d = c + 1;
+            m.triangles[3 * t] = a; m.triangles[3 * t + 1] = b; m.triangles[3 * t + 2] = d; t++;
+            m.triangles[3 * t] = a; m.triangles[3 * t + 1] = d; m.triangles[3 * t + 2] = c; t++;
+        }
+    return m;
+}
+
+/* (b) continued: the exact check, not only the scale's sign test, stands
+   between a conformal map and the optimizer.  bp__conformal_map itself on
+   the ramp: it answers 0 (not used) and leaves behind a map with every
+   triangle positive whose boundary crosses itself; the start the library
+   then makes is the mean-value map. */
+static void check_overlap(void)
+{
+    bp_mesh m = make_ramp();
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    bp__tutte T;
+    bp__ndnode tree[BP__ND_NODES];
+    bp_check_report rep;
+    uint32_t *order;
+    int got = -2;
+    bp_allocator al;
+    bp_options_init(&opt);
+    al = bp__allocator_of(&opt);
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &m, &opt, &err) == BP_OK && atlas.num_charts == 1, "ramp: one chart (%s)",
+                   err.message)) { bpt_mesh_free(&m); return; }
+    memset(&T, 0, sizeof T);
+    T.par = bp__par_serial();
+    order = (uint32_t *)malloc(((size_t)atlas.charts[0].num_vertices + 6 * BP__ND_NODES) * sizeof(uint32_t));
+    atlas.charts[0].uv = (double *)malloc(2 * (size_t)atlas.charts[0].num_vertices * sizeof(double));
+    if (bp__tutte_fill(&al, &T, &atlas.charts[0], &m) && bp__tutte_adjacency(&al, &T) && bp__tutte_order(&al, &T, NULL) &&
+        bp__tutte_chart_order(&al, &T, order, tree))
+        got = bp__conformal_map(&al, &T, &atlas.charts[0], &m, NULL, order, tree);
+    bp_check(atlas.charts[0].triangles, atlas.charts[0].num_triangles, atlas.charts[0].uv,
+             atlas.charts[0].num_vertices, NULL, &rep, NULL);
+    BPT_CHECK(got == 0 && rep.flipped == 0 && rep.degenerate == 0 && rep.boundary_intersections > 0,
+              "ramp of two turns: bp__conformal_map refuses (%d) a map with every triangle positive (%u flipped, %u "
+              "degenerate) whose boundary crosses itself (%u intersections)", got, rep.flipped, rep.degenerate,
+              rep.boundary_intersections);
+    bp__tutte_free(&al, &T);
+    free(order);
+    if (BPT_CHECK(bp_chart_init(&atlas.charts[0], &m, &opt, &err) == BP_OK, "ramp: start map (%s)", err.message))
+        BPT_CHECK(atlas.charts[0].start_map == BP_INIT_MEAN_VALUE && exactly_valid(&atlas.charts[0]),
+                  "ramp: the default start is the mean-value map (%d), exactly bijective", atlas.charts[0].start_map);
+    bp_atlas_free(&atlas);
+    bpt_mesh_free(&m);
+}
+
+/* ---- (c) ------------------------------------------------------------------ */
+
+static void check_schedules(const char *path)
+{
+    bp_mesh m;
+    bp_atlas atlas;
+    bp__par par[3];
+    double *uv0 = NULL;
+    int k, same = 1;
+    if (!load(path, &m, &atlas)) return;
+    par[0] = bp__par_serial();
+    par[1] = par[0]; par[1].run = bpt_backwards_for; par[1].threads = 2;
+    par[2] = par[0]; par[2].run = bpt_odd_even_for; par[2].threads = 2;
+    for (k = 0; k < 3; k++) {
+        bp_chart *ch = &atlas.charts[0];
+        if (!init_with(ch, &m, BP_INIT_CONFORMAL, &par[k]) || ch->start_map != BP_INIT_CONFORMAL) { same = 0; break; }
+        if (!uv0) {
+            uv0 = (double *)malloc(2 * (size_t)ch->num_vertices * sizeof(double));
+            memcpy(uv0, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
+        } else if (memcmp(uv0, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double)) != 0)
+            same = 0;
+    }
+    BPT_CHECK(same && atlas.charts[0].num_triangles >= BP__PAR_MIN_TRIANGLES,
+              "%s (%u triangles): the conformal map is the same bits serially, backwards and odd then even", path,
+              atlas.charts[0].num_triangles);
+    free(uv0);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+}
+
+/* ---- (e) ------------------------------------------------------------------ */
+
+static void check_flat(void)
+{
+    bpt_gen g;
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    uint32_t i;
+    double pos[3 * 121];
+    uint32_t tri[3 * 200];
+    g.pos = pos; g.tri = tri; g.nv = 0; g.nt = 0;
+    bpt_add_grid(&g, 10, 10, 2, 0.1, 0.3, 0, 0);         /* with a hole */
+    m = bpt_mesh_new(g.nv, g.nt);
+    for (i = 0; i < g.nv; i++) {           /* a tilted plane, not the uv plane */
+        m.positions[3 * i] = pos[3 * i];
+        m.positions[3 * i + 1] = 0.6 * pos[3 * i + 1];
+        m.positions[3 * i + 2] = 0.3 * pos[3 * i] + 0.8 * pos[3 * i + 1];
+    }
+    memcpy(m.triangles, tri, 3 * (size_t)g.nt * sizeof(uint32_t));
+    bp_options_init(&opt);
+    opt.init = BP_INIT_CONFORMAL;
+    opt.start = BP_START_PLAIN;
+    if (BPT_CHECK(bp_atlas_build(&atlas, &m, &opt, &err) == BP_OK && atlas.num_charts == 1, "flat grid: one chart (%s)", err.message)) {
+        if (BPT_CHECK(bp_chart_init(&atlas.charts[0], &m, &opt, &err) == BP_OK, "flat grid: start (%s)", err.message))
+            BPT_CHECK(atlas.charts[0].start_map == BP_INIT_CONFORMAL &&
+                      fabs(sd_energy(&m, &atlas.charts[0], atlas.charts[0].uv, 1) - 4) < 1e-9,
+                      "flat grid, BP_START_PLAIN: the conformal map is a similarity (energy %.15g = 4)",
+                      sd_energy(&m, &atlas.charts[0], atlas.charts[0].uv, 1));
+        bp_atlas_free(&atlas);
+    }
+    bpt_mesh_free(&m);
+}
+
+int main(void)
+{
+    check_lscm("tests/data/face_holes.off");
+    check_lscm("tests/data/bishop_part_f1000.obj");
+    check_start_map("tests/data/camel_b.obj", BP_INIT_AUTO, BP_INIT_MEAN_VALUE, "its conformal map folds");
+    check_start_map("tests/data/camel_b.obj", BP_INIT_CONFORMAL, BP_INIT_MEAN_VALUE, "its conformal map folds");
+    check_overlap();
+    check_start_map("tests/data/face_holes.off", BP_INIT_MEAN_VALUE, BP_INIT_MEAN_VALUE, "asked for");
+    check_start_map("tests/data/face_holes.off", BP_INIT_TUTTE, BP_INIT_TUTTE, "asked for");
+    check_start_map("tests/data/camelhead.off", BP_INIT_AUTO, BP_INIT_MEAN_VALUE, "above BP__CONFORMAL_MAX here");
+    check_schedules("tests/data/face_holes.off");
+    check_flat();
+    return bpt_finish();
+}
