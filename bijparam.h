@@ -11597,7 +11597,9 @@ static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r
    Their rows and columns are the identity's and their couplings go to
    the right-hand side, which leaves the matrix positive definite on a
    connected chart.
-       K U = b,   then U <- s U,   s^4 = sum A_t |J|^2 / det(J)^2 / sum A_t |J|^2,
+       K U = b (one solve, not refined: the map only has to be a good
+       start, and the exact check below has the last word),
+       then U <- s U,   s^4 = sum A_t |J|^2 / det(J)^2 / sum A_t |J|^2,
    the scale that minimizes the symmetric Dirichlet energy of the map
    (E(s) = s^2 a + b / s^2 over the chart: a conformal map shrinks
    protrusions, and the area-preserving scale leaves them crushed: face
@@ -11789,9 +11791,9 @@ static int bp__conformal_map(const bp_allocator *a, const bp__tutte *T, bp_chart
     bp_check_report rep;
     bp__par serial = bp__par_serial();
     const bp__par *par = runner ? runner : &serial;
-    uint32_t nv = T->nv, n = 2 * nv, v, bad, j, p;
+    uint32_t nv = T->nv, n = 2 * nv, v, bad;
     size_t w = 0, i;
-    double *buf = NULL, *rhs, *sol, *r, *dx, *z, s;
+    double *buf = NULL, *rhs, *z, s;
     int ok = -1;
     bp_status st;
     memset(&J, 0, sizeof J);
@@ -11804,9 +11806,9 @@ static int bp__conformal_map(const bp_allocator *a, const bp__tutte *T, bp_chart
     J.K = &K;
     J.glen = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
     K.colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    buf = (double *)bp__alloc_array(a, 5 * (size_t)n, sizeof(double));
+    buf = (double *)bp__alloc_array(a, 2 * (size_t)n, sizeof(double));
     if (!J.glen || !K.colp || !buf) goto done;
-    rhs = buf; sol = rhs + n; r = sol + n; dx = r + n; z = dx + n;
+    rhs = buf; z = rhs + n;
     bp__conformal_run(&J, par);                              /* the columns' lengths */
     for (v = 0; v < nv; v++) {
         K.colp[2 * v] = (uint32_t)w;
@@ -11828,12 +11830,7 @@ static int bp__conformal_map(const bp_allocator *a, const bp__tutte *T, bp_chart
     bp__conformal_run(&J, par);                              /* the columns */
     st = bp__factorize_order(a, &K, &F, &bad, par, order, tree);
     if (st != BP_OK) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
-    bp__factor_solve_par(&F, rhs, sol, z, par);             /* one step of refinement */
-    for (i = 0; i < n; i++) r[i] = rhs[i];
-    for (j = 0; j < n; j++)
-        for (p = K.colp[j]; p < K.colp[j + 1]; p++) r[K.row[p]] -= K.val[p] * sol[j];
-    bp__factor_solve_par(&F, r, dx, z, par);
-    for (i = 0; i < n; i++) ch->uv[i] = sol[i] + dx[i];
+    bp__factor_solve_par(&F, rhs, ch->uv, z, par);
     if (!((s = bp__conformal_scale(ch, m)) > 0)) { ok = 0; goto done; }
     for (i = 0; i < n; i++) ch->uv[i] *= s;
     st = bp__check_par(ch->triangles, ch->num_triangles, ch->uv, nv, a, par, &rep, NULL);
