@@ -11438,8 +11438,8 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     bp_status st = BP_OK;
     uint32_t *pidx = NULL;
     int tutte = opt && opt->init == BP_INIT_TUTTE, better = !opt || opt->start != BP_START_PLAIN, planar = 0;
-    int conformal = !opt || opt->init == BP_INIT_CONFORMAL ||
-                    (BP__INIT_AUTO_CONFORMAL && (opt->init == BP_INIT_AUTO || opt->init == BP_INIT_INPUT));
+    int conformal = (opt && opt->init == BP_INIT_CONFORMAL) ||          /* any other value acts as AUTO */
+                    (BP__INIT_AUTO_CONFORMAL && (!opt || (opt->init != BP_INIT_MEAN_VALUE && opt->init != BP_INIT_TUTTE)));
     if (ch && ch->error.status != BP_OK) {
         if (err) *err = ch->error;
         return ch->error.status;                 /* a chart that cannot be flattened */

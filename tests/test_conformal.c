@@ -18,7 +18,8 @@
    (b) Where the conformal map folds (camel_b) the start is the mean-value
        map, exactly bijective; BP_INIT_CONFORMAL asks for the same; the
        barycentric inits are unchanged (BP_INIT_MEAN_VALUE gives the
-       mean-value map on face_holes).
+       mean-value map on face_holes), and a value outside bp_init acts as
+       BP_INIT_AUTO (the conformal map there).
    (c) The same bits whatever the schedule of the tasks (serial, backwards,
        odd then even) on face_holes, above the size where the start map's
        phases run on a pool.
@@ -353,6 +354,7 @@ int main(void)
     check_overlap();
     check_start_map("tests/data/face_holes.off", BP_INIT_MEAN_VALUE, BP_INIT_MEAN_VALUE, "asked for");
     check_start_map("tests/data/face_holes.off", BP_INIT_TUTTE, BP_INIT_TUTTE, "asked for");
+    check_start_map("tests/data/face_holes.off", (bp_init)99, BP_INIT_CONFORMAL, "an unknown value acts as AUTO");
     check_start_map("tests/data/camelhead.off", BP_INIT_AUTO, BP_INIT_MEAN_VALUE, "above BP__CONFORMAL_MAX here");
     check_schedules("tests/data/face_holes.off");
     check_flat();
