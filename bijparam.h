@@ -241,8 +241,10 @@ typedef enum bp_energy {
 } bp_energy;
 
 typedef enum bp_init {
-    BP_INIT_AUTO = 0,    /* the default: mean-value, and Tutte if that map
-                            fails its exact check (>>tutte)                  */
+    BP_INIT_AUTO = 0,    /* the default: conformal (>>conformal) when
+                            exactly bijective and below 100,000 triangles,
+                            else mean-value, and Tutte if that map fails
+                            its exact check (>>tutte)                        */
     BP_INIT_MEAN_VALUE,  /* Floater's mean-value weights (Floater 2003)      */
     BP_INIT_INPUT,       /* the mesh's own uvs (corner_uv/uvs) when exactly
                             bijective, else AUTO; see bp_chart.init_used     */
@@ -373,7 +375,8 @@ typedef enum bp_cut {
 
 typedef struct bp_options {
     bp_allocator  allocator;      /* zero: BP_MALLOC / BP_FREE                 */
-    bp_init       init;           /* start map, default AUTO (mean-value)      */
+    bp_init       init;           /* start map, default AUTO (conformal, else
+                                     mean-value)                           */
     int           init_only;      /* nonzero: stop after the start map         */
     bp_energy     energy;         /* default symmetric Dirichlet               */
     int           no_barrier;     /* nonzero: locally injective only: no E_B and
