@@ -251,8 +251,9 @@ typedef enum bp_init {
     BP_INIT_TUTTE,       /* uniform weights (Tutte 1963); the default until
                             0.2 (then = 0), now 3: set it by name            */
     BP_INIT_CONFORMAL    /* least squares conformal (Levy et al. 2002), free
-                            boundary, when exactly bijective and below
-                            100,000 triangles, else AUTO (>>conformal)      */
+                            boundary, when exactly bijective, at any size
+                            (AUTO's stops at 100,000 triangles for memory),
+                            else the mean-value map (>>conformal)           */
 } bp_init;
 
 typedef enum bp_start {
@@ -11356,9 +11357,9 @@ static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_op
 
 /* >>conformal, defined after >>rest, whose rest shapes it uses. */
 static int bp__conformal_map(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
-                             const bp__par *runner, const uint32_t *order, const bp__ndnode *tree);
+                             const bp__par *runner, const uint32_t *order, const bp__ndnode *tree, int any_size);
 #ifndef BP__INIT_AUTO_CONFORMAL
-#define BP__INIT_AUTO_CONFORMAL 1       /* 0: BP_INIT_AUTO starts barycentric (as before 0.4) */
+#define BP__INIT_AUTO_CONFORMAL 1       /* 0: BP_INIT_AUTO starts barycentric, as before >>conformal */
 #endif
 
 /* >>start, defined after the optimizer it uses. */
@@ -11394,7 +11395,8 @@ static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_me
 
 /* The seven phases above: the Tutte (mvc = 0) or mean-value (mvc = 1) map
    of the filled chart into ch->uv, exactly checked, or first, with
-   conformal, the conformal map of >>conformal when it passes that check;
+   conformal (1: below BP__CONFORMAL_MAX triangles, 2: at any size), the
+   conformal map of >>conformal when it passes that check;
    the ordering of phase 5b kept for Newton (ch->start_order), and which
    map it was in ch->start_map. */
 static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *runner, int mvc,
@@ -11412,7 +11414,7 @@ static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mes
     if (!order || !bp__tutte_fill(a, &T, ch, m) || !bp__tutte_adjacency(a, &T) || !bp__tutte_order(a, &T, runner) ||
         !bp__tutte_chart_order(a, &T, order, tree))
         st = bp__oom(err, "computing the start map");
-    if (st == BP_OK && conformal && (done = bp__conformal_map(a, &T, ch, m, runner, order, tree)) < 0)
+    if (st == BP_OK && conformal && (done = bp__conformal_map(a, &T, ch, m, runner, order, tree, conformal == 2)) < 0)
         st = bp__oom(err, "computing the start map");
     if (st == BP_OK && !done) {
         if (!bp__tutte_weights(a, &T, mvc) || !bp__tutte_circle(a, &T, ch) ||
@@ -11441,8 +11443,9 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     bp_status st = BP_OK;
     uint32_t *pidx = NULL;
     int tutte = opt && opt->init == BP_INIT_TUTTE, better = !opt || opt->start != BP_START_PLAIN, planar = 0;
-    int conformal = (opt && opt->init == BP_INIT_CONFORMAL) ||          /* any other value acts as AUTO */
-                    (BP__INIT_AUTO_CONFORMAL && (!opt || (opt->init != BP_INIT_MEAN_VALUE && opt->init != BP_INIT_TUTTE)));
+    int conformal = opt && opt->init == BP_INIT_CONFORMAL ? 2 :         /* by name: at any size */
+                    BP__INIT_AUTO_CONFORMAL && (!opt || (opt->init != BP_INIT_MEAN_VALUE && opt->init != BP_INIT_TUTTE));
+                                                                /* (any other value acts as AUTO) */
     if (ch && ch->error.status != BP_OK) {
         if (err) *err = ch->error;
         return ch->error.status;                 /* a chart that cannot be flattened */
@@ -11466,7 +11469,7 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
         if (planar == 1) ch->start_map = BP_INIT_AUTO;
     }
     if (st == BP_OK && ch->init_used != 1 && planar != 1) {
-        st = bp__tutte_map(&a, ch, m, runner, !tutte, conformal && !tutte, err);
+        st = bp__tutte_map(&a, ch, m, runner, !tutte, tutte ? 0 : conformal, err);
         if (st == BP_ERR_NUMERICAL && !tutte && (!opt || opt->init != BP_INIT_MEAN_VALUE))
             st = bp__tutte_map(&a, ch, m, runner, 0, 0, err);       /* AUTO: rounding spoiled the mean-value map */
         if (st == BP_OK && opt && opt->start == BP_START_PROGRESSIVE && !pidx)
@@ -11621,10 +11624,12 @@ static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r
    3.00 -> 2.10 s, face_holes 0.049 -> 0.035 s, hilbert's conformal map an
    isometry (no iteration left), the 4,740-chart atlas 2.6 -> 1.5 s; the
    charts whose map folds 2-6% slower.  Charts of BP__CONFORMAL_MAX
-   triangles and more skip it: the 2x2 factor needs four times the
-   memory of the barycentric map's scalar one, and the million-face chart
-   must stay under 1 KiB per face (docs/performance.md sec 6.27 measures
-   both choices).  The map depends only on the chart (the sums of each
+   triangles and more skip it under BP_INIT_AUTO: the 2x2 factor needs
+   four times the memory of the barycentric map's scalar one, and the
+   million-face chart must stay under 1 KiB per face (docs/performance.md
+   sec 6.27 measures both choices: the 132K chart would be 30% faster at
+   1.27 KiB per face instead of 0.76); BP_INIT_CONFORMAL asked by name
+   tries it at any size.  The map depends only on the chart (the sums of each
    entry run over the corners in triangle order, gathered per vertex like
    the phases above), so it is the same bits on any number of threads. */
 
@@ -11672,8 +11677,9 @@ static int bp__conformal_pins(const bp_chart *ch, const bp_mesh *m, uint32_t *p0
     return *d > 0 && *d < HUGE_VAL && from != far;
 }
 
-/* Position of vertex u in the block pattern of column 2 c0's vertex, whose
-   n vertices' rows 2u start at K->row[c0], every other entry. */
+/* The position of vertex u among the n vertices of the column that
+   starts at K->row[c0] (rows 2u, 2u + 1 for each, increasing: the even
+   entries hold 2u). */
 static uint32_t bp__conformal_find(const bp__sparse *K, uint32_t c0, uint32_t n, uint32_t u)
 {
     uint32_t lo = 0, hi = n;
@@ -11785,12 +11791,14 @@ static double bp__conformal_scale(const bp_chart *ch, const bp_mesh *m)
 }
 
 /* The conformal map of the chart into ch->uv, scaled, in the order
-   (order, tree) of the chart's vertices.  Returns 1 when it passed the
-   exact check, 0 when it is not used (too large, no two boundary points,
+   (order, tree) of the chart's vertices (any_size: also at
+   BP__CONFORMAL_MAX triangles and more, BP_INIT_CONFORMAL asked by name).
+   Returns 1 when it passed the exact check, 0 when it is not used (too
+   large, no two boundary points,
    a pivot or a triangle gone wrong, the check failed: ch->uv is then
    overwritten by the caller), -1 out of memory. */
 static int bp__conformal_map(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
-                             const bp__par *runner, const uint32_t *order, const bp__ndnode *tree)
+                             const bp__par *runner, const uint32_t *order, const bp__ndnode *tree, int any_size)
 {
     bp__conformal_task J;
     bp__sparse K;
@@ -11806,7 +11814,8 @@ static int bp__conformal_map(const bp_allocator *a, const bp__tutte *T, bp_chart
     memset(&J, 0, sizeof J);
     memset(&K, 0, sizeof K);
     memset(&F, 0, sizeof F);
-    if (ch->num_triangles >= BP__CONFORMAL_MAX || !bp__conformal_pins(ch, m, &J.p[0], &J.p[1], &J.d)) return 0;
+    if ((!any_size && ch->num_triangles >= BP__CONFORMAL_MAX) || !bp__conformal_pins(ch, m, &J.p[0], &J.p[1], &J.d))
+        return 0;
     J.T = T;
     J.ch = ch;
     J.m = m;

@@ -83,7 +83,7 @@ static const char usage_text[] =
     "                     conformal (least squares, free boundary) when\n"
     "                     exactly bijective and below 100,000 triangles, else\n"
     "                     mean-value (Floater), Tutte if that one fails its\n"
-    "                     exact check; conformal: the same; mvc: mean-value;\n"
+    "                     exact check; conformal: at any size; mvc: mean-value;\n"
     "                     tutte: uniform weights; input: the file's own\n"
     "                     vt per chart when bijective (else auto, reported), and\n"
     "                     those charts keep their place unless --normalize\n"

@@ -24,10 +24,10 @@
        odd then even) on face_holes, above the size where the start map's
        phases run on a pool.
    (d) The size rule: this file is compiled with BP__CONFORMAL_MAX 20000,
-       so camelhead (22,704 triangles, whose conformal map is bijective:
-       with the default limit the tool starts it conformal, docs/
-       performance.md sec 6.27) starts from the mean-value map, while
-       face_holes (8,288) starts conformal in (a).
+       so camelhead (22,704 triangles) starts from the mean-value map,
+       while face_holes (8,288) starts conformal in (a); asked for by name
+       (BP_INIT_CONFORMAL, no size limit) camelhead starts conformal, so
+       its map is bijective and only the rule kept it out.
    (e) A planar chart asked for BP_START_PLAIN with BP_INIT_CONFORMAL: the
        conformal map of a flat chart is a similarity, so its energy at the
        optimal scale is 4 to rounding. */
@@ -264,7 +264,7 @@ static void check_overlap(void)
     atlas.charts[0].uv = (double *)malloc(2 * (size_t)atlas.charts[0].num_vertices * sizeof(double));
     if (bp__tutte_fill(&al, &T, &atlas.charts[0], &m) && bp__tutte_adjacency(&al, &T) && bp__tutte_order(&al, &T, NULL) &&
         bp__tutte_chart_order(&al, &T, order, tree))
-        got = bp__conformal_map(&al, &T, &atlas.charts[0], &m, NULL, order, tree);
+        got = bp__conformal_map(&al, &T, &atlas.charts[0], &m, NULL, order, tree, 0);
     bp_check(atlas.charts[0].triangles, atlas.charts[0].num_triangles, atlas.charts[0].uv,
              atlas.charts[0].num_vertices, NULL, &rep, NULL);
     BPT_CHECK(got == 0 && rep.flipped == 0 && rep.degenerate == 0 && rep.boundary_intersections > 0,
@@ -356,6 +356,7 @@ int main(void)
     check_start_map("tests/data/face_holes.off", BP_INIT_TUTTE, BP_INIT_TUTTE, "asked for");
     check_start_map("tests/data/face_holes.off", (bp_init)99, BP_INIT_CONFORMAL, "an unknown value acts as AUTO");
     check_start_map("tests/data/camelhead.off", BP_INIT_AUTO, BP_INIT_MEAN_VALUE, "above BP__CONFORMAL_MAX here");
+    check_start_map("tests/data/camelhead.off", BP_INIT_CONFORMAL, BP_INIT_CONFORMAL, "asked by name: any size");
     check_schedules("tests/data/face_holes.off");
     check_flat();
     return bpt_finish();
