@@ -828,8 +828,10 @@ static void print_json(const char *input, const char *output, bp_status status, 
         if (ch->error.status != BP_OK) json_string(ch->error.message);
         else printf("null");
         printf(",\"init_used\":%d,\"start_map\":", ch->init_used);
-        json_string(ch->start_map == BP_INIT_CONFORMAL ? "conformal" : ch->start_map == BP_INIT_MEAN_VALUE ? "mvc" :
-                    ch->start_map == BP_INIT_TUTTE ? "tutte" : ch->start_map == BP_INIT_INPUT ? "input" : "planar");
+        if (!ch->uv) printf("null");           /* no map (the chart failed before or in its start) */
+        else
+            json_string(ch->start_map == BP_INIT_CONFORMAL ? "conformal" : ch->start_map == BP_INIT_MEAN_VALUE ? "mvc" :
+                        ch->start_map == BP_INIT_TUTTE ? "tutte" : ch->start_map == BP_INIT_INPUT ? "input" : "planar");
         printf(",\"pins\":%u,\"in_place\":%d,\"seconds\":", (unsigned)ch->num_pins, ch->in_place);
         json_number(ch->seconds);
         if (ch->uv)

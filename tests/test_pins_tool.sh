@@ -11,7 +11,10 @@
 #     at one point) name both vertices, exit 1, and the chart is written
 #     without vt like any failed chart;
 #   - --init input on the cow: "init_used":1 and the result bijective; an
-#     unknown --init value is a usage error (exit 2).
+#     unknown --init value is a usage error (exit 2);
+#   - "start_map" in --json: bishop starts conformal by default and
+#     mean-value with --init mvc; the cow's conformal map folds, so even
+#     --init conformal gives "mvc".
 #
 # Needs build/bijparam.  Prints ok/FAIL lines and "BPTEST <passed> <failed>".
 set -u
@@ -79,6 +82,14 @@ if [ -f "$UVCHECK" ]; then
     python3 "$UVCHECK" "$TMP/cow.obj" >/dev/null 2>&1 && ok "uvcheck: the cow from its own vt is bijective" ||
         fail "uvcheck rejects the cow from its own vt"
 fi
+# --init conformal / mvc and "start_map" (bishop's conformal map is bijective, the cow's folds)
+"$TOOL" "$BISHOP" --json -q -o "$TMP/b_auto.obj" >"$TMP/b_auto.json" 2>&1; rc1=$?
+"$TOOL" "$BISHOP" --init mvc --json -q -o "$TMP/b_mvc.obj" >"$TMP/b_mvc.json" 2>&1; rc2=$?
+"$TOOL" "$COW" --init conformal --max-iters 20 --json -q -o "$TMP/c_conf.obj" >"$TMP/c_conf.json" 2>&1; rc3=$?
+if [ $rc1 -eq 0 ] && [ $rc2 -eq 0 ] && [ $rc3 -eq 0 ] && grep -q '"start_map":"conformal"' "$TMP/b_auto.json" &&
+   grep -q '"start_map":"mvc"' "$TMP/b_mvc.json" && grep -q '"start_map":"mvc"' "$TMP/c_conf.json"; then
+    ok "\"start_map\": bishop conformal by default, mvc when asked; the cow's conformal map folds: mvc"
+else fail "start_map: exits $rc1 $rc2 $rc3: $(grep -o '"start_map":[^,]*' "$TMP/b_auto.json" "$TMP/b_mvc.json" "$TMP/c_conf.json" | tr '\n' ' ')"; fi
 "$TOOL" "$COW" --init bogus -o "$TMP/x.obj" 2>"$TMP/usage.err"; rc=$?
 [ $rc -eq 2 ] && grep -q "input" "$TMP/usage.err" && ok "--init bogus: usage error naming the choices" ||
     fail "--init bogus: exit $rc $(cat "$TMP/usage.err")"
