@@ -11677,19 +11677,6 @@ static int bp__conformal_pins(const bp_chart *ch, const bp_mesh *m, uint32_t *p0
     return *d > 0 && *d < HUGE_VAL && from != far;
 }
 
-/* The position of vertex u among the n vertices of the column that
-   starts at K->row[c0] (rows 2u, 2u + 1 for each, increasing: the even
-   entries hold 2u). */
-static uint32_t bp__conformal_find(const bp__sparse *K, uint32_t c0, uint32_t n, uint32_t u)
-{
-    uint32_t lo = 0, hi = n;
-    while (lo < hi) {
-        uint32_t mid = lo + (hi - lo) / 2;
-        if (K->row[c0 + 2 * mid] < 2 * u) lo = mid + 1; else hi = mid;
-    }
-    return lo;
-}
-
 typedef struct bp__conformal_task {
     const bp__tutte *T;
     const bp_chart *ch;
@@ -11700,6 +11687,15 @@ typedef struct bp__conformal_task {
     uint32_t p[2], nc;
     double d;
 } bp__conformal_task;
+
+/* The place of vertex u in column vertex v's block pattern (v and its
+   chart neighbours, increasing): v's sorted neighbours below u
+   (bp__adj_find; the hole centres, numbered last, are never below a chart
+   vertex), plus v itself when it is below u. */
+static uint32_t bp__conformal_pos(const bp__tutte *T, uint32_t v, uint32_t u)
+{
+    return bp__adj_find(T->adjp, T->adj, v, u) - T->adjp[v] + (v < u);
+}
 
 /* Vertex chunk c: with J->glen, the number of vertices in each column's
    block pattern (the vertex and its chart neighbours); without, the
@@ -11730,7 +11726,7 @@ static void bp__conformal_task_run(void *task, uint32_t c)
         memcpy(K->row + c0 + len, K->row + c0, len * sizeof(uint32_t));
         memset(K->val + c0, 0, 2 * (size_t)len * sizeof(double));
         if (held) {
-            uint32_t p = bp__conformal_find(K, c0, n, v);
+            uint32_t p = bp__conformal_pos(T, v, v);
             K->val[c0 + 2 * p] = K->val[c0 + len + 2 * p + 1] = 1;
             J->rhs[2 * v] = v == J->p[1] ? J->d : 0;
             J->rhs[2 * v + 1] = 0;
@@ -11743,7 +11739,7 @@ static void bp__conformal_task_run(void *task, uint32_t c)
             if (t >= J->ch->num_triangles) continue;                 /* a hole's fan */
             if (!((area = bp__conformal_rows(J->ch, J->m, t, g1, g2)) > 0)) continue;
             for (r = 0; r < 3; r++) {
-                uint32_t u = T->tri[3 * (size_t)t + r], p = bp__conformal_find(K, c0, n, u);
+                uint32_t u = T->tri[3 * (size_t)t + r], p = bp__conformal_pos(T, v, u);
                 for (j = 0; j < 2; j++)
                     for (i = 0; i < 2; i++) {
                         double h = area * (g1[2 * r + i] * g1[2 * k + j] + g2[2 * r + i] * g2[2 * k + j]);

@@ -110,6 +110,24 @@ static inline int bpt_one_chart(const char *path, bp_mesh *mesh, bp_atlas *atlas
     return 1;
 }
 
+/* A 3D triangle (p0, p1, p2) in its own frame, the test's own rest shape:
+   p0 at the origin, p1 at (w, 0), p2 at (x, y), y >= 0; returns its area. */
+static inline double bpt_tri_frame(const double *p0, const double *p1, const double *p2, double *w, double *x,
+                                   double *y)
+{
+    double e1[3], e2[3], c[3], a2;
+    int k;
+    for (k = 0; k < 3; k++) { e1[k] = p1[k] - p0[k]; e2[k] = p2[k] - p0[k]; }
+    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    a2 = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    *w = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    *x = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / *w;
+    *y = a2 / *w;
+    return 0.5 * a2;
+}
+
 /* Mesh b appended to a (b moved by dx along x), without vt. */
 static inline bp_mesh bpt_concat(const bp_mesh *a, const bp_mesh *b, double dx)
 {

@@ -51,23 +51,14 @@ static double tri_jacobian(const bp_mesh *m, const bp_chart *ch, const double *u
                            double Ri[4])
 {
     const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-    const double *p1 = P3(m, ch, tr[0]), *p2 = P3(m, ch, tr[1]), *p3 = P3(m, ch, tr[2]);
-    double e1[3], e2[3], c[3], w, x, y, D[4];
-    int k;
-    for (k = 0; k < 3; k++) { e1[k] = p2[k] - p1[k]; e2[k] = p3[k] - p1[k]; }
-    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    w = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    x = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / w;
-    y = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / w;
+    double w, x, y, D[4], area = bpt_tri_frame(P3(m, ch, tr[0]), P3(m, ch, tr[1]), P3(m, ch, tr[2]), &w, &x, &y);
     /* R = [w x; 0 y], R^-1 = [1/w, -x/(w y); 0, 1/y] */
     Ri[0] = 1 / w; Ri[1] = -x / (w * y); Ri[2] = 0; Ri[3] = 1 / y;
     D[0] = uv[2 * tr[1]] - uv[2 * tr[0]];     D[1] = uv[2 * tr[2]] - uv[2 * tr[0]];
     D[2] = uv[2 * tr[1] + 1] - uv[2 * tr[0] + 1]; D[3] = uv[2 * tr[2] + 1] - uv[2 * tr[0] + 1];
     J[0] = D[0] * Ri[0] + D[1] * Ri[2]; J[1] = D[0] * Ri[1] + D[1] * Ri[3];
     J[2] = D[2] * Ri[0] + D[3] * Ri[2]; J[3] = D[2] * Ri[1] + D[3] * Ri[3];
-    return 0.5 * w * y;
+    return area;
 }
 
 /* E_C and its gradient (2 nv, zeroed here) by the chain rule through J. */

@@ -52,16 +52,8 @@ static double mean_sd_energy(const bp_chart *ch, const bp_mesh *m, const double 
         const double *p0 = m->positions + 3 * (size_t)ch->vertex[tr[0]];
         const double *p1 = m->positions + 3 * (size_t)ch->vertex[tr[1]];
         const double *p2 = m->positions + 3 * (size_t)ch->vertex[tr[2]];
-        double e1[3], e2[3], w, x, y, cr[3], a3, u1[2], u2[2], j00, j01, j10, j11, det, fro;
+        double w, x, y, a = bpt_tri_frame(p0, p1, p2, &w, &x, &y), u1[2], u2[2], j00, j01, j10, j11, det, fro;
         int k;
-        for (k = 0; k < 3; k++) { e1[k] = p1[k] - p0[k]; e2[k] = p2[k] - p0[k]; }
-        cr[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        cr[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        cr[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        a3 = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-        w = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-        x = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / w;
-        y = a3 / w;
         for (k = 0; k < 2; k++) {
             u1[k] = uv[2 * (size_t)tr[1] + k] - uv[2 * (size_t)tr[0] + k];
             u2[k] = uv[2 * (size_t)tr[2] + k] - uv[2 * (size_t)tr[0] + k];
@@ -71,8 +63,8 @@ static double mean_sd_energy(const bp_chart *ch, const bp_mesh *m, const double 
         j01 = (u2[0] - x * j00) / y; j11 = (u2[1] - x * j10) / y;
         det = j00 * j11 - j01 * j10;
         fro = j00 * j00 + j01 * j01 + j10 * j10 + j11 * j11;
-        sum += 0.5 * a3 * (fro + fro / (det * det));
-        area += 0.5 * a3;
+        sum += a * (fro + fro / (det * det));
+        area += a;
     }
     return sum / area;
 }
