@@ -66,6 +66,9 @@
                             -pthread); without it no link flags are needed
       BP_TRUST_FLT_EVAL_METHOD  accept FLT_EVAL_METHOD != 0 when you know each
                             double operation is rounded to double (>>predicates)
+      BP_NO_SIMD            leave out the AVX kernels of the sparse factorization
+                            (x86-64, GCC/Clang, chosen at run time; they give
+                            the same bits as the plain C loops, >>sparse)
 
    CONVENTIONS
    -----------
@@ -856,6 +859,20 @@ BPDEF void      bp_mesh_view_free(bp_mesh *mesh, const bp_mesh_view *view, const
 #ifndef BP_NO_STDIO
 #include <stdio.h>
 #include <errno.h>      /* the reason of a failed file operation (strerror) */
+#endif
+/* The dense kernels of the supernodal factorization on AVX registers
+   (>>sparse), x86-64 with GCC or Clang only, the processor asked at run
+   time; the same bits as the plain loops.  BP_NO_SIMD leaves them out. */
+#if !defined(BP_NO_SIMD) && (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
+#define BP__AVX 1
+#include <immintrin.h>
+#ifndef BP__HAVE_AVX
+#define BP__HAVE_AVX() __builtin_cpu_supports("avx")
+#endif
+#else
+#define BP__AVX 0
+#undef BP__HAVE_AVX
+#define BP__HAVE_AVX() 0
 #endif
 
 #if defined(BP_MALLOC) != defined(BP_FREE)
@@ -6433,7 +6450,9 @@ typedef struct bp__ndnode {
 typedef struct bp__super {
     uint32_t  nv, ns;             /* vertices (the matrix is bs nv x bs nv), supernodes */
     uint32_t  bs;                 /* the block size: 2 (Newton's x, y), or 1
-                                     (a scalar matrix: vertex = unknown)  */
+                                     (a scalar matrix: vertex = unknown);
+                                     row i of a block is vertex i >> (bs-1),
+                                     coordinate i & (bs-1): no division  */
     uint32_t *vperm, *viperm;     /* vertex order: new -> old, old -> new   */
     uint32_t *first;              /* ns+1                                   */
     uint32_t *snode;              /* nv: the supernode of each new vertex    */
@@ -7379,7 +7398,8 @@ done:
    never cross a tree node's boundary).  The dense loops run on blocks by
    rows, dots of contiguous rows, four rows by two columns at a time with
    each sum split into even and odd terms (a fixed order that compilers
-   vectorize without licence to reassociate).
+   vectorize without licence to reassociate; two rows to a register where
+   the processor has AVX, the same bits).
 
    The ordering.  Nested dissection as above, on G, but each separator is
    the best of three candidate cuts (bp__nd_split): on face the flop count
@@ -7788,6 +7808,79 @@ done:
     return st;
 }
 
+/* The dense kernels on 256-bit registers.  The sums of the two kernels
+   below (bp__super_dots, bp__super_trsm_rows) run in two lanes, even and
+   odd k, as their comments say.  On an x86-64 processor with AVX (asked
+   at run time by the compiler's __builtin_cpu_supports; GCC or Clang;
+   BP_NO_SIMD leaves this out, >>config) one register holds the two lanes
+   of two rows, [a0[k] a0[k+1] a1[k] a1[k+1]], and multiplies them by
+   [b[k] b[k+1] b[k] b[k+1]]: each lane gets the very terms, in the very
+   order, of the plain loops -- separate multiplications and additions,
+   never a fused multiply-add -- so the factor has the same bits with AVX
+   or without (tests/test_sparse.c (k) compares the two) for half the
+   instructions.  The odd last term goes to the even lane after the
+   registers, as in the plain loops.  On face's Newton matrix (5.4e8
+   multiply-adds) one numeric factorization takes 0.049 s instead of
+   0.071 (docs/performance.md 6.28). */
+#if BP__AVX
+/* Rows a0, a1 at k, k+1 in one register. */
+#define BP__AVX_ROWS(a0, a1, k) \
+    _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd((a0) + (k))), _mm_loadu_pd((a1) + (k)), 1)
+
+/* bp__super_dots for four rows: s[2r + c] = a_r . b_c. */
+__attribute__((target("avx")))
+static void bp__super_dots_avx(const double *a, size_t stride, const double *b0, const double *b1, uint32_t n,
+                               double *s)
+{
+    const double *a0 = a, *a1 = a + stride, *a2 = a1 + stride, *a3 = a2 + stride;
+    __m256d c0 = _mm256_setzero_pd(), c1 = c0, c2 = c0, c3 = c0;
+    double t[4][4];
+    uint32_t k;
+    int r;
+    for (k = 0; k + 1 < n; k += 2) {
+        __m256d y = _mm256_broadcast_pd((const __m128d *)(b0 + k)), z = _mm256_broadcast_pd((const __m128d *)(b1 + k));
+        __m256d x01 = BP__AVX_ROWS(a0, a1, k), x23 = BP__AVX_ROWS(a2, a3, k);
+        c0 = _mm256_add_pd(c0, _mm256_mul_pd(x01, y)); c1 = _mm256_add_pd(c1, _mm256_mul_pd(x01, z));
+        c2 = _mm256_add_pd(c2, _mm256_mul_pd(x23, y)); c3 = _mm256_add_pd(c3, _mm256_mul_pd(x23, z));
+    }
+    _mm256_storeu_pd(t[0], c0); _mm256_storeu_pd(t[1], c1); _mm256_storeu_pd(t[2], c2); _mm256_storeu_pd(t[3], c3);
+    /* t[2 h + c] = (even, odd of row 2h, even, odd of row 2h + 1) with b_c */
+    if (k < n) {
+        t[0][0] += a0[k] * b0[k]; t[1][0] += a0[k] * b1[k]; t[0][2] += a1[k] * b0[k]; t[1][2] += a1[k] * b1[k];
+        t[2][0] += a2[k] * b0[k]; t[3][0] += a2[k] * b1[k]; t[2][2] += a3[k] * b0[k]; t[3][2] += a3[k] * b1[k];
+    }
+    for (r = 0; r < 4; r++) {
+        const double *e0 = t[2 * (r / 2)] + 2 * (r % 2), *e1 = t[2 * (r / 2) + 1] + 2 * (r % 2);
+        s[2 * r] = e0[0] + e0[1];
+        s[2 * r + 1] = e1[0] + e1[1];
+    }
+}
+
+/* bp__super_trsm_rows for the four rows r0 .. r3 (= r0 + 3 c2), columns
+   [j0, j1). */
+__attribute__((target("avx")))
+static void bp__super_trsm4_avx(double *B, uint32_t c2, double *r0, uint32_t j0, uint32_t j1, const double *inv)
+{
+    double *r1 = r0 + c2, *r2 = r1 + c2, *r3 = r2 + c2, t[2][4];
+    uint32_t j, k;
+    for (j = j0; j < j1; j++) {
+        const double *rj = B + (size_t)j * c2;
+        __m256d c01 = _mm256_setzero_pd(), c23 = c01;
+        for (k = 0; k + 1 < j; k += 2) {
+            __m256d y = _mm256_broadcast_pd((const __m128d *)(rj + k));
+            c01 = _mm256_add_pd(c01, _mm256_mul_pd(BP__AVX_ROWS(r0, r1, k), y));
+            c23 = _mm256_add_pd(c23, _mm256_mul_pd(BP__AVX_ROWS(r2, r3, k), y));
+        }
+        _mm256_storeu_pd(t[0], c01); _mm256_storeu_pd(t[1], c23);
+        if (k < j) { t[0][0] += r0[k] * rj[k]; t[0][2] += r1[k] * rj[k]; t[1][0] += r2[k] * rj[k]; t[1][2] += r3[k] * rj[k]; }
+        r0[j] = (r0[j] - (t[0][0] + t[0][1])) * inv[j];
+        r1[j] = (r1[j] - (t[0][2] + t[0][3])) * inv[j];
+        r2[j] = (r2[j] - (t[1][0] + t[1][1])) * inv[j];
+        r3[j] = (r3[j] - (t[1][2] + t[1][3])) * inv[j];
+    }
+}
+#endif
+
 /* The update kernel: s[2r + c] = a_r . b_c for the nr <= 4 rows
    a_r = a + r stride and the two rows b_0, b_1, n terms each.  Every sum
    runs in two lanes, even and odd k (an odd n's last term goes to the
@@ -7795,10 +7888,15 @@ done:
    schedule, and one that compilers turn into packed SIMD instructions
    without licence to reassociate. */
 static void bp__super_dots(const double *a, size_t stride, int nr, const double *b0, const double *b1, uint32_t n,
-                           double *s)
+                           double *s, int avx)
 {
     uint32_t k;
     int r;
+#if BP__AVX
+    if (avx && nr == 4) { bp__super_dots_avx(a, stride, b0, b1, n, s); return; }
+#else
+    (void)avx;
+#endif
     if (nr == 4) {
         const double *a0 = a, *a1 = a + stride, *a2 = a1 + stride, *a3 = a2 + stride;
         double e00 = 0, o00 = 0, e01 = 0, o01 = 0, e10 = 0, o10 = 0, e11 = 0, o11 = 0;
@@ -7848,6 +7946,7 @@ static void bp__super_update(const bp__super *S, uint32_t K, uint32_t o, uint32_
     const double *LK = S->x + S->xp[K];
     uint32_t bs = S->bs, mK = S->rp[K + 1] - S->rp[K], cK = bs * (S->first[K + 1] - S->first[K]);
     uint32_t f = S->first[J], c2 = bs * (S->first[J + 1] - f), c, i, r, q = 0;
+    int avx = cK >= 8 && BP__HAVE_AVX();
     for (c = o; c < mK && rk[c] < v0; c++) {}
     if (c == mK || rk[c] >= v1) return;
     for (i = c; i < mK; i++) {
@@ -7861,9 +7960,9 @@ static void bp__super_update(const bp__super *S, uint32_t K, uint32_t o, uint32_
         for (i = R0; i < bs * mK; i += 4) {
             int nr = bs * mK - i < 4 ? (int)(bs * mK - i) : 4;
             double s[8];
-            bp__super_dots(LK + (size_t)i * cK, cK, nr, b0, b1, cK, s);
+            bp__super_dots(LK + (size_t)i * cK, cK, nr, b0, b1, cK, s, avx);
             for (r = 0; r < (uint32_t)nr; r++) {
-                double *t = B + ((size_t)bs * pos[(i + r) / bs] + (i + r) % bs) * c2;
+                double *t = B + ((size_t)bs * pos[(i + r) >> (bs - 1)] + ((i + r) & (bs - 1))) * c2;
                 t[j0] -= s[2 * r];
                 if (R1 != R0) t[j1] -= s[2 * r + 1];
             }
@@ -7931,6 +8030,10 @@ static void bp__super_trsm_rows(double *B, uint32_t c2, uint32_t i0, uint32_t i1
                                 const double *inv)
 {
     uint32_t i = i0, j, k;
+#if BP__AVX
+    if (j1 >= 8 && BP__HAVE_AVX())
+        for (; i + 4 <= i1; i += 4) bp__super_trsm4_avx(B, c2, B + (size_t)i * c2, j0, j1, inv);
+#endif
     for (; i + 4 <= i1; i += 4) {
         double *r0 = B + (size_t)i * c2, *r1 = r0 + c2, *r2 = r1 + c2, *r3 = r2 + c2;
         for (j = j0; j < j1; j++) {
@@ -8049,12 +8152,12 @@ static void bp__super_start(const bp__sparse *A, const bp__super *S, uint32_t s,
                 continue;
             }
             for (p = A->colp[col]; p < A->colp[col + 1]; p++) {
-                uint32_t u = S->viperm[A->row[p] / bs], r;
+                uint32_t u = S->viperm[A->row[p] >> (bs - 1)], r;
                 if (amap) amap[p] = BP__NONE;
                 if (u < f) continue;
                 r = bp__lower_bound(rows, 0, m, u);
-                if (amap) amap[p] = bs * r + A->row[p] % bs;
-                B[((size_t)bs * r + A->row[p] % bs) * c2 + bs * (v - f) + b] = A->val[p];
+                if (amap) amap[p] = bs * r + (A->row[p] & (bs - 1));
+                B[((size_t)bs * r + (A->row[p] & (bs - 1))) * c2 + bs * (v - f) + b] = A->val[p];
             }
         }
 }
@@ -8373,11 +8476,11 @@ static void bp__super_fscatter(const bp__super *S, uint32_t s, uint32_t vhi, dou
     const double *B = S->x + S->xp[s];
     double *zs = z + bs * (size_t)S->first[s];
     bp__super_fdiag(S, s, z);
-    for (i = c2; i < m2 && rows[i / bs] < vhi; i++) {
+    for (i = c2; i < m2 && rows[i >> (bs - 1)] < vhi; i++) {
         const double *r = B + (size_t)i * c2;
         double t = 0;
         for (j = 0; j < c2; j++) t += r[j] * zs[j];
-        z[bs * (size_t)rows[i / bs] + i % bs] -= t;
+        z[bs * (size_t)rows[i >> (bs - 1)] + (i & (bs - 1))] -= t;
     }
 }
 
@@ -8426,11 +8529,11 @@ static void bp__super_fscatter_buf(const bp__ssolve_task *T, uint32_t s, uint32_
     bp__super_fdiag(S, s, z);
     for (i = c2; i < m2; i++) {
         const double *r = B + (size_t)i * c2;
-        uint32_t u = rows[i / bs];
+        uint32_t u = rows[i >> (bs - 1)];
         double t = 0;
         for (j = 0; j < c2; j++) t += r[j] * zs[j];
-        if (u < vhi) z[bs * (size_t)u + i % bs] -= t;
-        else buf[bs * (size_t)bp__ssolve_sep(T, u) + i % bs] += t;
+        if (u < vhi) z[bs * (size_t)u + (i & (bs - 1))] -= t;
+        else buf[bs * (size_t)bp__ssolve_sep(T, u) + (i & (bs - 1))] += t;
     }
 }
 
@@ -8443,7 +8546,7 @@ static void bp__super_back(const bp__super *S, uint32_t s, double *z)
     double *zs = z + bs * (size_t)S->first[s];
     for (i = c2; i < m2; i++) {
         const double *r = B + (size_t)i * c2;
-        double t = z[bs * (size_t)rows[i / bs] + i % bs];
+        double t = z[bs * (size_t)rows[i >> (bs - 1)] + (i & (bs - 1))];
         for (j = 0; j < c2; j++) zs[j] -= r[j] * t;
     }
     for (i = c2; i-- > 0;) {

@@ -71,7 +71,22 @@
          and fertility's vertex graphs: the supernodes' rows against a
          brute-force symbolic factorization, the update lists against a
          brute-force scan, and every array of the analysis the serial
-         one's with the tasks run backwards, odd-even and on a real pool. */
+         one's with the tasks run backwards, odd-even and on a real pool.
+     (k) the AVX kernels (bp__super_dots_avx, bp__super_trsm4_avx): every
+         factor of (a), (b), (d) and (e) -- blocks of 2 and of 1, grids up
+         to the 100 x 100 one's big separators, camel_b's Newton matrix --
+         refactored with the AVX path switched off (the test's own
+         BP__HAVE_AVX) has the same bits, L and pivots.  On a processor
+         without AVX (or another compiler) there is one path, and the
+         test says so in a line of its output. */
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__) && !defined(BP_NO_SIMD)
+#define TEST_AVX 1
+static int avx_allowed = 1;
+static unsigned long avx_asked;          /* kernel calls that asked, AVX allowed */
+#define BP__HAVE_AVX() (avx_allowed && (avx_asked++, __builtin_cpu_supports("avx")))
+#else
+#define TEST_AVX 0
+#endif
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -294,6 +309,39 @@ static void check_big_supernodes(const bp__factor *F, const char *what)
     BPT_CHECK(big > 0, "%s: %u supernodes of 16 vertices or more (cut into pieces)", what, big);
 }
 
+/* (k) F (factored with the AVX kernels where the processor has them)
+   refactored with them switched off: the same bits. */
+static uint32_t simd_compared;
+
+static void check_simd(const bp__sparse *A, bp__factor *F, const char *what)
+{
+#if TEST_AVX
+    bp_allocator al;
+    bp__par ser = bp__par_serial();
+    size_t nx = F->sn->xp[F->sn->ns];
+    double *x, *d;
+    unsigned long asked = avx_asked;
+    if (!__builtin_cpu_supports("avx")) return;
+    memset(&al, 0, sizeof al);
+    x = (double *)malloc(nx * sizeof(double));
+    d = (double *)malloc(A->n * sizeof(double));
+    bp__fact_numeric(&al, A, F, NULL, &ser);           /* AVX, the asks counted */
+    asked = avx_asked - asked;
+    memcpy(x, F->sn->x, nx * sizeof(double));
+    memcpy(d, F->D, A->n * sizeof(double));
+    avx_allowed = 0;
+    bp__fact_numeric(&al, A, F, NULL, &ser);           /* the plain loops */
+    avx_allowed = 1;
+    BPT_CHECK(memcmp(x, F->sn->x, nx * sizeof(double)) == 0 && memcmp(d, F->D, A->n * sizeof(double)) == 0,
+              "%s: the plain loops give the AVX kernels' bits (%lu kernel calls asked for AVX)", what, asked);
+    if (asked > 0) simd_compared++;             /* (the smallest grids have no block to ask for) */
+    free(x);
+    free(d);
+#else
+    (void)A; (void)F; (void)what;
+#endif
+}
+
 /* (b) the same bits on other task orders: a new analysis of A with the
    numeric phase run backwards, then refactored odd-even, against F; the
    runners say two threads, so a phase of one separator goes WIDE, and so
@@ -441,6 +489,7 @@ static void test_random(void)
         /* (b) the same bits on other task orders: a new analysis with the
            numeric phase run backwards, then refactored odd-even */
         check_task_orders(&A, &F, what);
+        check_simd(&A, &F, what);
         check_scatter_map(&A, &F, b, what);
         bp__factor_free(&al, &F);
         bp__factor_free(&al, &Fs);
@@ -585,6 +634,7 @@ static void test_scalar(void)
         bp__factor_free(&al, &Fs);
         A.super1 = 1;
         check_task_orders(&A, &F, what);
+        check_simd(&A, &F, what);
         /* the preconditioner's form: single-precision rows, both
            coordinates (the second one b reversed) against the double solve */
         for (i = 0; i < n; i++) { q2[2 * i] = b[i]; q2[2 * i + 1] = b[n - 1 - i]; }
@@ -1130,6 +1180,7 @@ static void test_newton_matrix(void)
                 bp__fact_numeric(&a, &N.H, &F, NULL, &rev);
                 BPT_CHECK(memcmp(keep, F.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)) == 0,
                           "camel_b Newton matrix: refactored with tasks backwards, the same bits");
+                check_simd(&N.H, &F, "camel_b Newton matrix");
                 free(keep);
             }
             bp__factor_free(&a, &F);
@@ -1150,5 +1201,11 @@ int main(void)
     test_order();
     test_newton_matrix();
     test_analysis();
+#if TEST_AVX
+    if (__builtin_cpu_supports("avx"))
+        BPT_CHECK(simd_compared >= 11, "(k) %u factors that took the AVX kernels compared without them", simd_compared);
+    else
+#endif
+        printf("note test_sparse: no AVX on this processor or compiler: (k), AVX against the plain loops, not run\n");
     return bpt_finish();
 }
