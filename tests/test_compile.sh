@@ -7,6 +7,8 @@
 #     counted), at -O0 and -O2;
 #   - as C++11 and C++17 with g++ (and clang++ when installed);
 #   - with -DBP_NO_STDIO: compiles, and <stdio.h> is never included;
+#   - with -DBP_NO_SIMD: <immintrin.h> is never included (on x86-64 gcc it
+#     is without), and camel_b by Newton writes the same bytes both ways;
 #   - with -DBP_STATIC in two translation units linked into one program;
 #   - with BP_MALLOC/BP_FREE overridden (both): the overrides receive every
 #     allocation and the allocator's user pointer; defining only one of the
@@ -147,6 +149,51 @@ int main(void) { bp_mesh m; bp_error e; return (int)bp_read_obj("x.obj", &m, NUL
 EOF
 check_fails "-DBP_NO_STDIO leaves out bp_read_obj (calling it does not compile)" \
     $CC -std=c99 $WARN -I"$ROOT" -c "$TMP/nostdio_read.c" -o "$TMP/nostdio_read.o"
+
+# ---- BP_NO_SIMD ------------------------------------------------------------
+# Without it (x86-64, GCC) the AVX kernels are compiled in, <immintrin.h>
+# included; with it they are not.  Either way the whole run gives the
+# same bytes: camel_b by projected Newton (its factorizations take the
+# AVX kernels where the processor has them), the written OBJ compared.
+cat >"$TMP/simd.c" <<'EOF'
+#define BP_IMPLEMENTATION
+#include "bijparam.h"
+#include <string.h>
+int main(int argc, char **argv)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options opt;
+    (void)argc;
+    memset(&opt, 0, sizeof opt);
+    opt.direction = BP_DIRECTION_NEWTON;
+    opt.threads = 1;
+    if (bp_read_obj(argv[1], &mesh, NULL, &err) != BP_OK) return 1;
+    if (bp_parameterize(&atlas, &mesh, &opt, &err) != BP_OK) return 1;
+    if (bp_write_obj(argv[2], &mesh, &atlas, &err) != BP_OK) return 1;
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+    return 0;
+}
+EOF
+if [ "$(uname -m)" = x86_64 ]; then
+    if $CC -std=c99 -O2 -I"$ROOT" -H -fsyntax-only "$TMP/simd.c" 2>"$TMP/headers" && grep -q 'immintrin\.h' "$TMP/headers"; then
+        ok "gcc on x86-64 compiles the AVX kernels in (<immintrin.h> included)"
+    else fail "gcc on x86-64 compiles the AVX kernels in (<immintrin.h> not included)"; fi
+fi
+if $CC -std=c99 -O2 -DBP_NO_SIMD -I"$ROOT" -H -fsyntax-only "$TMP/simd.c" 2>"$TMP/headers"; then
+    if grep -q 'immintrin\.h' "$TMP/headers"; then fail "-DBP_NO_SIMD never includes <immintrin.h> (it does)"
+    else ok "-DBP_NO_SIMD never includes <immintrin.h>"; fi
+else
+    fail "-DBP_NO_SIMD header listing (gcc -H) failed"
+fi
+check "gcc -std=c99 $WARN, with and without -DBP_NO_SIMD: camel_b by Newton, the same bytes written" \
+    sh -c "$CC -std=c99 -O2 $WARN -I'$ROOT' '$TMP/simd.c' -o '$TMP/simd' -lm &&
+           $CC -std=c99 -O2 $WARN -DBP_NO_SIMD -I'$ROOT' '$TMP/simd.c' -o '$TMP/nosimd' -lm &&
+           '$TMP/simd' '$ROOT/tests/data/camel_b.obj' '$TMP/simd.obj' &&
+           '$TMP/nosimd' '$ROOT/tests/data/camel_b.obj' '$TMP/nosimd.obj' &&
+           cmp '$TMP/simd.obj' '$TMP/nosimd.obj'"
 
 # ---- BP_STATIC in two translation units --------------------------------------
 cat >"$TMP/static_a.c" <<'EOF'
