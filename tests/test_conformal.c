@@ -30,7 +30,16 @@
        its map is bijective and only the rule kept it out.
    (e) A planar chart asked for BP_START_PLAIN with BP_INIT_CONFORMAL: the
        conformal map of a flat chart is a similarity, so its energy at the
-       optimal scale is 4 to rounding. */
+       optimal scale is 4 to rounding.
+   (f) The start's factor handed to Newton (bp__handoff, bp_chart_solve):
+       on bishop, by projected Newton, bp_chart_solve gives the very
+       bits, iterations and energy of bp_chart_init then bp_chart_optimize;
+       the internal path hands the conformal factor over (made by the
+       start, taken by Newton's first factorization); a handed pattern
+       that is not H's (one unknown fewer) is refused and freed, with the
+       same bits again; where no conformal map was kept (camel_b: it
+       folds; bishop asked for the mean-value map) nothing is handed;
+       with init_only, bp_chart_solve stops at bp_chart_init's map. */
 #define BP__CONFORMAL_MAX 20000u
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
@@ -122,7 +131,7 @@ static int init_with(bp_chart *ch, const bp_mesh *m, bp_init init, const bp__par
     bp__par serial = bp__par_serial();
     bp_options_init(&opt);
     opt.init = init;
-    return BPT_CHECK(bp__chart_init(ch, m, &opt, par ? par : &serial, &err) == BP_OK, "start map (%s)", err.message);
+    return BPT_CHECK(bp__chart_init(ch, m, &opt, par ? par : &serial, NULL, &err) == BP_OK, "start map (%s)", err.message);
 }
 
 static int exactly_valid(const bp_chart *ch)
@@ -255,7 +264,7 @@ static void check_overlap(void)
     atlas.charts[0].uv = (double *)malloc(2 * (size_t)atlas.charts[0].num_vertices * sizeof(double));
     if (bp__tutte_fill(&al, &T, &atlas.charts[0], &m) && bp__tutte_adjacency(&al, &T) && bp__tutte_order(&al, &T, NULL) &&
         bp__tutte_chart_order(&al, &T, order, tree))
-        got = bp__conformal_map(&al, &T, &atlas.charts[0], &m, NULL, order, tree, 0);
+        got = bp__conformal_map(&al, &T, &atlas.charts[0], &m, NULL, order, tree, 0, NULL);
     bp_check(atlas.charts[0].triangles, atlas.charts[0].num_triangles, atlas.charts[0].uv,
              atlas.charts[0].num_vertices, NULL, &rep, NULL);
     BPT_CHECK(got == 0 && rep.flipped == 0 && rep.degenerate == 0 && rep.boundary_intersections > 0,
@@ -297,6 +306,90 @@ static void check_schedules(const char *path)
               "%s (%u triangles): the conformal map is the same bits serially, backwards and odd then even", path,
               atlas.charts[0].num_triangles);
     free(uv0);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+}
+
+/* ---- (f) ------------------------------------------------------------------ */
+
+typedef struct solved { double *uv; int iterations; double energy; } solved;
+
+static int same_as(const bp_chart *ch, const solved *r)
+{
+    return memcmp(ch->uv, r->uv, 2 * (size_t)ch->num_vertices * sizeof(double)) == 0 &&
+           ch->iterations == r->iterations && ch->energy_end == r->energy;
+}
+
+/* The internal path with a handoff; `spoil`: the handed pattern made one
+   unknown short of H's.  Returns 1 when both calls succeeded. */
+static int solve_handed(bp_chart *ch, const bp_mesh *m, const bp_options *opt, int spoil, int *made, int *used)
+{
+    bp__handoff h;
+    bp__par serial = bp__par_serial();
+    bp_error err;
+    bp_allocator a;
+    int ok;
+    *made = *used = 0;
+    memset(&h, 0, sizeof h);
+    memset(&a, 0, sizeof a);
+    ok = bp__chart_init(ch, m, opt, &serial, &h, &err) == BP_OK;
+    *made = h.F.sn != NULL;
+    if (spoil && h.F.sn) h.n -= 2;
+    ok = ok && bp__chart_optimize_pen(ch, 0, m, opt, NULL, NULL, &h, &err) == BP_OK;
+    *used = h.used;
+    bp__handoff_free(&a, &h);
+    return ok;
+}
+
+static void check_handoff(void)
+{
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    bp_chart *ch;
+    solved r;
+    int made = 0, used = 0, ok;
+    size_t bytes;
+    if (!load("tests/data/bishop_part_f1000.obj", &m, &atlas)) return;
+    ch = &atlas.charts[0];
+    bytes = 2 * (size_t)ch->num_vertices * sizeof(double);
+    bp_options_init(&opt);
+    opt.direction = BP_DIRECTION_NEWTON;
+    if (!BPT_CHECK(bp_chart_init(ch, &m, &opt, &err) == BP_OK && ch->start_map == BP_INIT_CONFORMAL &&
+                   bp_chart_optimize(ch, 0, &m, &opt, &err) == BP_OK, "bishop: init, then optimize (%s)", err.message))
+        goto out;
+    r.uv = (double *)malloc(bytes);
+    memcpy(r.uv, ch->uv, bytes);
+    r.iterations = ch->iterations;
+    r.energy = ch->energy_end;
+    BPT_CHECK(bp_chart_solve(ch, 0, &m, &opt, &err) == BP_OK && same_as(ch, &r),
+              "bishop: bp_chart_solve, the same bits, %d iterations, energy %.9g", ch->iterations, ch->energy_end);
+    ok = solve_handed(ch, &m, &opt, 0, &made, &used);
+    BPT_CHECK(ok && made && used && same_as(ch, &r),
+              "bishop: the conformal factor handed over (made %d, taken %d), the same bits", made, used);
+    ok = solve_handed(ch, &m, &opt, 1, &made, &used);
+    BPT_CHECK(ok && made && !used && same_as(ch, &r),
+              "bishop: a handed pattern not H's is refused (made %d, taken %d), the same bits", made, used);
+    opt.init = BP_INIT_MEAN_VALUE;
+    ok = solve_handed(ch, &m, &opt, 0, &made, &used);
+    BPT_CHECK(ok && !made && !used && ch->start_map == BP_INIT_MEAN_VALUE,
+              "bishop, the mean-value start asked for: nothing handed (made %d)", made);
+    opt.init = BP_INIT_AUTO;
+    opt.init_only = 1;
+    BPT_CHECK(bp_chart_solve(ch, 0, &m, &opt, &err) == BP_OK && ch->iterations == 0 && ch->start_map == BP_INIT_CONFORMAL &&
+              memcmp(ch->uv, r.uv, bytes) != 0 && exactly_valid(ch),
+              "bishop, init_only: bp_chart_solve stops at the start map");
+    free(r.uv);
+out:
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+    if (!load("tests/data/camel_b.obj", &m, &atlas)) return;
+    bp_options_init(&opt);
+    opt.direction = BP_DIRECTION_NEWTON;
+    ok = solve_handed(&atlas.charts[0], &m, &opt, 0, &made, &used);
+    BPT_CHECK(ok && !made && !used && atlas.charts[0].start_map == BP_INIT_MEAN_VALUE,
+              "camel_b (its conformal map folds): nothing handed (made %d)", made);
     bp_atlas_free(&atlas);
     bp_mesh_free(&m, NULL);
 }
@@ -350,5 +443,6 @@ int main(void)
     check_start_map("tests/data/camelhead.off", BP_INIT_CONFORMAL, BP_INIT_CONFORMAL, "asked by name: any size");
     check_schedules("tests/data/face_holes.off");
     check_flat();
+    check_handoff();
     return bpt_finish();
 }
