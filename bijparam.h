@@ -8005,11 +8005,29 @@ static void bp__super_update(const bp__super *S, uint32_t K, uint32_t o, uint32_
    the caller's check of D reports. */
 #define BP__DENSE_PANEL 32u               /* columns; a multiple of 4 */
 
-/* Rows [i0, i1) of the diagonal block, columns [j0, j1) (j1 <= i0). */
+/* Rows [i0, i1) of the diagonal block, columns [j0, j1) (j1 <= i0): each
+   sum one chain of subtractions, so eight rows at a time where they can
+   (eight chains in flight: 3% of face's factorization), then four, then
+   one; every row's chain is the same whatever the grouping. */
 static void bp__super_diag_rows(double *B, uint32_t c2, uint32_t i0, uint32_t i1, uint32_t j0, uint32_t j1,
                                 const double *inv)
 {
     uint32_t i = i0, j, k;
+    for (; i + 8 <= i1; i += 8) {
+        double *r0 = B + (size_t)i * c2, *r1 = r0 + c2, *r2 = r1 + c2, *r3 = r2 + c2;
+        double *r4 = r3 + c2, *r5 = r4 + c2, *r6 = r5 + c2, *r7 = r6 + c2;
+        for (j = j0; j < j1; j++) {
+            const double *rj = B + (size_t)j * c2;
+            double t0 = r0[j], t1 = r1[j], t2 = r2[j], t3 = r3[j], t4 = r4[j], t5 = r5[j], t6 = r6[j], t7 = r7[j];
+            for (k = 0; k < j; k++) {
+                double y = rj[k];
+                t0 -= r0[k] * y; t1 -= r1[k] * y; t2 -= r2[k] * y; t3 -= r3[k] * y;
+                t4 -= r4[k] * y; t5 -= r5[k] * y; t6 -= r6[k] * y; t7 -= r7[k] * y;
+            }
+            r0[j] = t0 * inv[j]; r1[j] = t1 * inv[j]; r2[j] = t2 * inv[j]; r3[j] = t3 * inv[j];
+            r4[j] = t4 * inv[j]; r5[j] = t5 * inv[j]; r6[j] = t6 * inv[j]; r7[j] = t7 * inv[j];
+        }
+    }
     for (; i + 4 <= i1; i += 4) {
         double *r0 = B + (size_t)i * c2, *r1 = r0 + c2, *r2 = r1 + c2, *r3 = r2 + c2;
         for (j = j0; j < j1; j++) {
