@@ -8156,13 +8156,16 @@ static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv, c
    A(R, v) placed: entry p of A, in row vertex u = viperm[row / bs], goes
    to the row r of s's sorted rows with rows[r] = u (none when u < first[s]:
    the upper triangle), and into B's row bs r + row % bs.  Finding r is a
-   binary search of s's rows; Newton refactors the same pattern at every
+   look-up in map[] (a vertex's row in s, filled by the caller: the whole
+   nodes of the dissection's phases) or else a binary search of s's rows
+   (the separators' pieces); Newton refactors the same pattern at every
    factorized iteration, so for bs 2 the first numeric factorization also
    writes B's row (or BP__NONE) to the scatter map amap[p] (one word per
    entry of A; every p belongs to one column, so to one task: no races),
    and the later ones read it: no search, no division.  The same place
    either way, so the same bits. */
-static void bp__super_start(const bp__sparse *A, const bp__super *S, uint32_t s, uint32_t v0, uint32_t v1)
+static void bp__super_start(const bp__sparse *A, const bp__super *S, uint32_t s, uint32_t v0, uint32_t v1,
+                            const uint32_t *map)
 {
     uint32_t bs = S->bs, f = S->first[s], c2 = bs * (S->first[s + 1] - f), m = S->rp[s + 1] - S->rp[s], i, v, p, b, col;
     const uint32_t *rows = S->ri + S->rp[s];
@@ -8182,7 +8185,7 @@ static void bp__super_start(const bp__sparse *A, const bp__super *S, uint32_t s,
                 uint32_t u = S->viperm[A->row[p] >> (bs - 1)], r;
                 if (amap) amap[p] = BP__NONE;
                 if (u < f) continue;
-                r = bp__lower_bound(rows, 0, m, u);
+                r = map ? map[u] : bp__lower_bound(rows, 0, m, u);
                 if (amap) amap[p] = bs * r + (A->row[p] & (bs - 1));
                 B[((size_t)bs * r + (A->row[p] & (bs - 1))) * c2 + bs * (v - f) + b] = A->val[p];
             }
@@ -8238,7 +8241,7 @@ static void bp__super_run(void *task, uint32_t t)
     uint32_t *pos = T->pos + (size_t)t * S->maxrows, s, q;
     if (T->mode == 1) {
         const bp__super_piece *P = &T->piece[t];
-        bp__super_start(T->A, S, P->s, P->v0, P->v1);
+        bp__super_start(T->A, S, P->s, P->v0, P->v1, NULL);
         for (q = S->up[P->s]; q < S->up[P->s + 1] && S->uk[q] < P->k0; q++)
             bp__super_update(S, S->uk[q], S->uo[q], P->s, S->x + S->xp[P->s], NULL, pos, P->v0, P->v1);
     } else if (T->mode == 3) {                             /* WIDE: the updates from k0 on */
@@ -8254,8 +8257,12 @@ static void bp__super_run(void *task, uint32_t t)
             q = S->up[s];
             if (T->mode == 2)                              /* past the OUTSIDE updates */
                 while (q < S->up[s + 1] && S->uk[q] < S->snode[v0]) q++;
-            else
-                bp__super_start(T->A, S, s, S->first[s], S->first[s + 1]);
+            else {
+                uint32_t i, m = S->rp[s + 1] - S->rp[s];
+                const uint32_t *rows = S->ri + S->rp[s];
+                for (i = 0; i < m; i++) map[rows[i]] = i;
+                bp__super_start(T->A, S, s, S->first[s], S->first[s + 1], map);
+            }
             bp__super_finish(T->F, s, q, map, pos, T->inv + (size_t)t * S->maxcols);
         }
     }

@@ -43,7 +43,8 @@
          vertex); a
          refactorization through the map of new values on the same
          pattern solves the new matrix (residual) and gives the same bits
-         as a fresh factorization of those values (binary searches).
+         as a fresh factorization of those values (rows found by a look-up
+         in the whole nodes, by binary searches in the separators' pieces).
      (g) the supernodal solve in the dissection's parallel phases (the
          forward solve gathering from the update lists, separators in
          OUTSIDE pieces on the 48 x 48 and 64 x 64 grids, the backward
