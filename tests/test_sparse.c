@@ -83,8 +83,9 @@
 #if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__) && !defined(BP_NO_SIMD)
 #define TEST_AVX 1
 static int avx_allowed = 1;
-static unsigned long avx_asked;          /* kernel calls that asked, AVX allowed */
-#define BP__HAVE_AVX() (avx_allowed && (avx_asked++, __builtin_cpu_supports("avx")))
+static unsigned long avx_asked;          /* kernel calls that asked, AVX allowed (from any thread) */
+#define BP__HAVE_AVX() \
+    (avx_allowed && (__atomic_fetch_add(&avx_asked, 1ul, __ATOMIC_RELAXED), __builtin_cpu_supports("avx")))
 #else
 #define TEST_AVX 0
 #endif
@@ -321,13 +322,13 @@ static void check_simd(const bp__sparse *A, bp__factor *F, const char *what)
     bp__par ser = bp__par_serial();
     size_t nx = F->sn->xp[F->sn->ns];
     double *x, *d;
-    unsigned long asked = avx_asked;
+    unsigned long asked = __atomic_load_n(&avx_asked, __ATOMIC_RELAXED);
     if (!__builtin_cpu_supports("avx")) return;
     memset(&al, 0, sizeof al);
     x = (double *)malloc(nx * sizeof(double));
     d = (double *)malloc(A->n * sizeof(double));
     bp__fact_numeric(&al, A, F, NULL, &ser);           /* AVX, the asks counted */
-    asked = avx_asked - asked;
+    asked = __atomic_load_n(&avx_asked, __ATOMIC_RELAXED) - asked;
     memcpy(x, F->sn->x, nx * sizeof(double));
     memcpy(d, F->D, A->n * sizeof(double));
     avx_allowed = 0;
