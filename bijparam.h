@@ -7827,7 +7827,10 @@ done:
    order, of the plain loops -- separate multiplications and additions,
    never a fused multiply-add -- so the factor has the same bits with AVX
    or without (tests/test_sparse.c (k) compares the two) for half the
-   instructions.  The odd last term goes to the even lane after the
+   instructions.  (A build that lets the compiler fuse the plain loops'
+   multiply-adds -- FMA enabled by -mfma or -march, with GCC's
+   -ffp-contract=fast or Clang's default -- gives other bits in those
+   loops; the default target has no FMA.)  The odd last term goes to the even lane after the
    registers, as in the plain loops.  On face's Newton matrix (5.4e8
    multiply-adds) one numeric factorization takes 0.049 s instead of
    0.071 (docs/performance.md 6.28). */
