@@ -7827,13 +7827,13 @@ done:
    order, of the plain loops -- separate multiplications and additions,
    never a fused multiply-add -- so the factor has the same bits with AVX
    or without (tests/test_sparse.c (k) compares the two) for half the
-   instructions.  (A build that lets the compiler fuse the plain loops'
-   multiply-adds -- FMA enabled by -mfma or -march, with GCC's
-   -ffp-contract=fast or Clang's default -- gives other bits in those
-   loops; the default target has no FMA.)  The odd last term goes to the even lane after the
+   instructions.  The odd last term goes to the even lane after the
    registers, as in the plain loops.  On face's Newton matrix (5.4e8
-   multiply-adds) one numeric factorization takes 0.049 s instead of
-   0.071 (docs/performance.md 6.28). */
+   multiply-adds) one numeric factorization takes 0.050 s instead of
+   0.074 (the least of 9 runs; docs/performance.md 6.28).  A build that
+   lets the compiler fuse the plain loops' multiply-adds (FMA enabled by
+   -mfma or -march, with GCC's -ffp-contract=fast or Clang's default)
+   gets other bits in those loops; the default target has no FMA. */
 #if BP__AVX
 /* Rows a0, a1 at k, k+1 in one register. */
 #define BP__AVX_ROWS(a0, a1, k) \
