@@ -247,8 +247,10 @@ static void test_triangle_hessians(void)
 }
 
 /* (d) H's gather by vertex (bp__newton_gather_task) against a scatter
-   written here: every triangle in turn adds its 6x6 Hessian N->ht to the
-   entries it finds by searching H's columns (not through tpos).  Without
+   written here: every triangle in turn adds its whole 6x6 projected
+   Hessian (bp__triangle_hessian at x, not the library's packed blocks
+   N->ht) to the entries it finds by searching H's columns (not through
+   tpos).  Without
    the barrier (delta given) H is that plus delta on the diagonal, bit for
    bit (the scatter's order per entry is the gather's); and assembled
    again with the vertex chunks run backwards on a two-thread runner, H
@@ -258,16 +260,22 @@ static void check_gather(bp__newton *N, bp__solver *S, const double *x, const do
     uint32_t n = N->H.n, t, r, c, a, b, p, bad = 0, miss = 0;
     double *Hs = (double *)calloc(N->H.colp[n] + 1, sizeof(double)), *H1 = (double *)malloc((N->H.colp[n] + 1) * sizeof(double));
     bp__par keep = S->par;
-    for (t = 0; t < S->nt; t++)
+    for (t = 0; t < S->nt; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        double h6[36];
+        if (!bp__triangle_hessian(S->energy, &S->rest[t], x + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1],
+                                  x + 2 * (size_t)tr[2], 1, h6))
+            memset(h6, 0, sizeof h6);
         for (r = 0; r < 3; r++)
             for (c = 0; c < 3; c++)
                 for (a = 0; a < 2; a++)
                     for (b = 0; b < 2; b++) {
-                        uint32_t row = 2 * S->tri[3 * t + r] + a, col = 2 * S->tri[3 * t + c] + b;
+                        uint32_t row = 2 * tr[r] + a, col = 2 * tr[c] + b;
                         for (p = N->H.colp[col]; p < N->H.colp[col + 1] && N->H.row[p] != row; p++) {}
                         if (p == N->H.colp[col + 1]) { miss++; continue; }
-                        Hs[p] += N->ht[36 * (size_t)t + 6 * (2 * r + a) + 2 * c + b];
+                        Hs[p] += h6[6 * (2 * r + a) + 2 * c + b];
                     }
+    }
     BPT_CHECK(miss == 0, "camel_b: every triangle block is in H's pattern (%u missing)", miss);
     if (delta) {       /* the library's shift from this H's trace: 1e-8 trace / n */
         double tr = 0, d;
