@@ -8197,14 +8197,13 @@ static void bp__super_start(const bp__sparse *A, const bp__super *S, uint32_t s,
 
 /* Supernode s from its update q0 on (the earlier ones done), then the
    dense factorization; with q0 = up[s] after bp__super_start, the whole
-   supernode.  map: nv words, pos: maxrows words of workspace. */
-static void bp__super_finish(bp__factor *F, uint32_t s, uint32_t q0, uint32_t *map, uint32_t *pos, double *inv)
+   supernode.  map: nv words holding each of s's rows' place in s (the
+   caller fills it), pos: maxrows words of workspace. */
+static void bp__super_finish(bp__factor *F, uint32_t s, uint32_t q0, const uint32_t *map, uint32_t *pos, double *inv)
 {
     const bp__super *S = F->sn;
-    uint32_t f = S->first[s], l = S->first[s + 1], m = S->rp[s + 1] - S->rp[s], i, q;
-    const uint32_t *rows = S->ri + S->rp[s];
+    uint32_t f = S->first[s], l = S->first[s + 1], q;
     double *B = S->x + S->xp[s];
-    for (i = 0; i < m; i++) map[rows[i]] = i;
     for (q = q0; q < S->up[s + 1]; q++) bp__super_update(S, S->uk[q], S->uo[q], s, B, map, pos, f, l);
     bp__super_dense(F, s, B, inv, NULL);
 }
@@ -8257,15 +8256,14 @@ static void bp__super_run(void *task, uint32_t t)
         uint32_t v0 = T->mode == 2 ? N->b : N->lo, *map = T->map + (size_t)t * S->nv;
         if (v0 >= N->hi) return;
         for (s = S->snode[v0]; s <= S->snode[N->hi - 1]; s++) {
+            uint32_t i, m = S->rp[s + 1] - S->rp[s];
+            const uint32_t *rows = S->ri + S->rp[s];
+            for (i = 0; i < m; i++) map[rows[i]] = i;     /* s's rows' places, for start and finish */
             q = S->up[s];
             if (T->mode == 2)                              /* past the OUTSIDE updates */
                 while (q < S->up[s + 1] && S->uk[q] < S->snode[v0]) q++;
-            else {
-                uint32_t i, m = S->rp[s + 1] - S->rp[s];
-                const uint32_t *rows = S->ri + S->rp[s];
-                for (i = 0; i < m; i++) map[rows[i]] = i;
+            else
                 bp__super_start(T->A, S, s, S->first[s], S->first[s + 1], map);
-            }
             bp__super_finish(T->F, s, q, map, pos, T->inv + (size_t)t * S->maxcols);
         }
     }
@@ -11655,25 +11653,29 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
 /* The public entry point: the factorization's rows run on the threads of
    opt (a pool for this call) when the chart is large enough to gain
    (BP__PAR_MIN_TRIANGLES, see >>threads). */
-BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp_error *err)
+static bp_status bp__chart_start(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp__handoff *h,
+                                 bp_error *err)
 {
-    bp_options o_;
-    bp_status ost_;
-    const bp_options *opt_ = bp__opts(opt, &o_, err, &ost_);     /* >>progress */
-    bp_allocator a = bp__allocator_of(opt_);
+    bp_allocator a = bp__allocator_of(opt);
     void *pool = NULL;
     bp__par par;
     bp_status st;
-    if (ost_ != BP_OK) return ost_;
-    opt = opt_;
     if (bp__report(opt, BP_STAGE_START, 0, BP_NO_CHART))
         return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before the start map");
     par = bp__par_serial();
     if (ch && ch->num_triangles >= BP__PAR_MIN_TRIANGLES) par = bp__par_begin(&a, opt, &pool);
-    st = bp__chart_init(ch, m, opt, &par, NULL, err);
+    st = bp__chart_init(ch, m, opt, &par, h, err);
     bp__par_end(&a, pool);
     if (st == BP_OK) bp__report(opt, BP_STAGE_START, 1, BP_NO_CHART);  /* a cancel here: the next stage sees it */
     return st;
+}
+
+BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_options o_;
+    bp_status st;
+    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;     /* >>progress */
+    return bp__chart_start(ch, m, opt, NULL, err);
 }
 
 /* >>rest ===================================================================
@@ -15281,18 +15283,27 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     return bp__chart_optimize_pen(ch, chart_index, m, opt, runner, NULL, NULL, err);
 }
 
+/* The public optimization (opt already read by bp__opts), with the start's
+   factor h or NULL. */
+static bp_status bp__chart_optimize_api(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
+                                        bp__handoff *h, bp_error *err)
+{
+    bp_options linked;                                            /* >>progress */
+    bp__iter_link L;
+    if (ch && m && ch->uv && opt && opt->num_pins) {                            /* pins */
+        bp_status st = bp__pins_at_targets(ch, chart_index, m, opt, err);
+        if (st != BP_OK) return st;
+    }
+    return bp__chart_optimize_pen(ch, chart_index, m, bp__with_iter_link(opt, &linked, &L), NULL, NULL, h, err);
+}
+
 BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
                                   const bp_options *opt, bp_error *err)
 {
-    bp_options o_, linked;                                        /* >>progress */
-    bp__iter_link L;
+    bp_options o_;
     bp_status st;
     if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
-    if (ch && m && ch->uv && opt && opt->num_pins) {                            /* pins */
-        st = bp__pins_at_targets(ch, chart_index, m, opt, err);
-        if (st != BP_OK) return st;
-    }
-    return bp__chart_optimize(ch, chart_index, m, bp__with_iter_link(opt, &linked, &L), NULL, err);
+    return bp__chart_optimize_api(ch, chart_index, m, opt, NULL, err);
 }
 
 /* Both at once (bp__handoff between them).  The same calls as
@@ -15300,28 +15311,15 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
 BPDEF bp_status bp_chart_solve(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
                                bp_error *err)
 {
-    bp_options o_, linked;
-    bp__iter_link L;
+    bp_options o_;
     bp_status st;
     bp_allocator a;
     bp__handoff h;
-    void *pool = NULL;
-    bp__par par;
     if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;       /* >>progress */
     a = bp__allocator_of(opt);
     memset(&h, 0, sizeof h);
-    if (bp__report(opt, BP_STAGE_START, 0, BP_NO_CHART))
-        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before the start map");
-    par = bp__par_serial();
-    if (ch && ch->num_triangles >= BP__PAR_MIN_TRIANGLES) par = bp__par_begin(&a, opt, &pool);
-    st = bp__chart_init(ch, m, opt, &par, &h, err);
-    bp__par_end(&a, pool);
-    if (st == BP_OK) bp__report(opt, BP_STAGE_START, 1, BP_NO_CHART);
-    if (st == BP_OK && !(opt && opt->init_only)) {
-        if (opt && opt->num_pins) st = bp__pins_at_targets(ch, chart_index, m, opt, err);      /* pins */
-        if (st == BP_OK)
-            st = bp__chart_optimize_pen(ch, chart_index, m, bp__with_iter_link(opt, &linked, &L), NULL, NULL, &h, err);
-    }
+    st = bp__chart_start(ch, m, opt, &h, err);
+    if (st == BP_OK && !(opt && opt->init_only)) st = bp__chart_optimize_api(ch, chart_index, m, opt, &h, err);
     bp__handoff_free(&a, &h);
     return st;
 }

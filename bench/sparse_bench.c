@@ -2,7 +2,7 @@
    (>>sparse, >>newton; docs/performance.md sec 6.1).
 
    Build: cc -std=c99 -O2 -I. bench/sparse_bench.c -o build/bench/sparse_bench -lm -pthread
-   Usage: build/bench/sparse_bench MESH [repeats [laplacian | meanvalue]]
+   Usage: build/bench/sparse_bench MESH [repeats [laplacian | meanvalue | numeric]]
    Takes the mesh's largest chart at its start map, assembles projected
    Newton's matrix H (bp__newton_assemble) and reports, for the scalar
    up-looking LDL^T and the supernodal Cholesky: nnz(L), the flop count
@@ -26,7 +26,13 @@
    (>>tutte phases 1-5) solved both ways: the LU by the scalar rows
    (bp__factorize + bp__solve_refined per coordinate, the fallback) and
    phase 6a (the symmetrized Laplacian's supernodal Cholesky and
-   BiCGSTAB, bp__tutte_krylov): CPU seconds, iterations, residuals. */
+   BiCGSTAB, bp__tutte_krylov): CPU seconds, iterations, residuals.
+   With `numeric` (docs/performance.md 6.28): Newton's matrix factored
+   once by the supernodal Cholesky, then refactored `repeats` times on one
+   thread (bp__fact_numeric): the median and the least CPU time of one
+   refactorization, and a checksum of L (sum of x_i (1 + i mod 7) over the
+   stored values), the same for every build that computes the same bits
+   (build with -DBP_NO_SIMD for the plain C kernels: the same checksum). */
 #define _POSIX_C_SOURCE 199309L     /* clock_gettime */
 #define BP_IMPLEMENTATION
 #define BP_USE_PTHREADS             /* the ordering on two threads (sec 6.15) */
@@ -235,6 +241,31 @@ static int laplacian(const bp_allocator *a, bp__solver *S, const bp_chart *ch, c
     return 0;
 }
 
+/* `numeric`: refactorizations of H on one thread, their median and least
+   CPU time, and the checksum of L. */
+static int numeric(const bp_allocator *a, bp__sparse *H, int reps)
+{
+    bp__factor F;
+    bp__par ser = bp__par_serial();
+    double t[64], sum = 0;
+    uint32_t bad;
+    size_t i;
+    int r;
+    H->blocks2 = 1;
+    if (bp__factorize(a, H, &F, &bad, NULL) != BP_OK || !F.sn) { fprintf(stderr, "factorize failed\n"); return 1; }
+    for (r = 0; r < reps; r++) {
+        double t0 = cpu();
+        bp__fact_numeric(a, H, &F, NULL, &ser);
+        t[r] = cpu() - t0;
+    }
+    for (i = 0; i < F.sn->xp[F.sn->ns]; i++) sum += F.sn->x[i] * (double)(1 + i % 7);
+    qsort(t, (size_t)reps, sizeof t[0], cmpd);
+    printf("numeric factorization (n = %u): median %.4f s, least %.4f s (%d runs, CPU); checksum of L %.17g; "
+           "AVX kernels %s\n", H->n, t[reps / 2], t[0], reps, sum, BP__AVX && BP__HAVE_AVX() ? "on" : "off");
+    bp__factor_free(a, &F);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     bp_mesh mesh;
@@ -267,6 +298,7 @@ int main(int argc, char **argv)
     if (argc > 3 && !strcmp(argv[3], "meanvalue")) return meanvalue(&a, &atlas.charts[best], &mesh);
     if (argc > 3 && !strcmp(argv[3], "laplacian")) return laplacian(&a, &S, &atlas.charts[best], &mesh, &opt, reps);
     bp__newton_assemble(&N, &S, atlas.charts[best].uv);
+    if (argc > 3 && !strcmp(argv[3], "numeric")) return numeric(&a, &N.H, reps);
     n = N.H.n;
     b = (double *)malloc(n * sizeof(double));
     x = (double *)malloc(n * sizeof(double));
