@@ -72,7 +72,20 @@
          vertex order and tree (counted), solves H x = b to a residual of
          1e-7, and has the same bits with its tasks run backwards on two
          threads; after an invalid pair it takes a new order, which
-         separates every extra pair. */
+         separates every extra pair;
+     (m) the isotropic phase: on camel_b without the barrier, with a
+         barrier 4 mean edges wide and with every 7th vertex held, the
+         library's K1 equals (H(2u, 2v) + H(2u+1, 2v+1)) / 2 of the H it
+         assembles otherwise, entry by entry (within 1e-12 max |H|; H shown
+         anisotropic, so the average is a test); its direction is one of
+         descent, solves (K1 (x) I) v = -g with K1 built here from H (max
+         residual 1e-8 max |g|), is exactly 0 on held vertices and is not
+         Newton's; K1 refactored through its scatter map has the bits of a
+         fresh factorization on the same order; the phase's end frees K1
+         and its factor.  A whole default solve of camelhead (Newton,
+         isotropic first): every accepted map exactly bijective by
+         bp_check, the energy never up, the same bits on one thread and on
+         two with the tasks run backwards. */
 /* every loop through the job system, even on these small charts (as in
    test_threads.c), so that (e)'s reversed task order is a real test */
 #define BP__PAR_MIN_TRIANGLES 1u
@@ -1199,6 +1212,188 @@ static void test_start_order(void)
     }
 }
 
+
+/* (m) the isotropic phase (>>newton, docs/performance.md sec 6.29). */
+static double iso_entry(const bp__sparse *H, uint32_t u, uint32_t v)   /* (H(2u,2v) + H(2u+1,2v+1)) / 2 */
+{
+    uint32_t p, xx = BP__NONE, yy = BP__NONE;
+    for (p = H->colp[2 * v]; p < H->colp[2 * v + 1]; p++) if (H->row[p] == 2 * u) xx = p;
+    for (p = H->colp[2 * v + 1]; p < H->colp[2 * v + 2]; p++) if (H->row[p] == 2 * u + 1) yy = p;
+    return xx == BP__NONE || yy == BP__NONE ? HUGE_VAL : 0.5 * (H->val[xx] + H->val[yy]);
+}
+
+static void test_isotropic(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_allocator a;
+    int mode;
+    memset(&a, 0, sizeof a);
+    {
+        bp_options o;
+        memset(&o, 0, sizeof o);
+        if (!bpt_one_chart("tests/data/camel_b.obj", &mesh, &atlas, &o, 1)) return;
+    }
+    for (mode = 0; mode < 3; mode++) {          /* plain; the barrier 4 mean edges wide; every 7th vertex held */
+        static const char *const MN[] = { "no barrier", "a wide barrier", "pins held" };
+        bp_chart *ch = &atlas.charts[0];
+        bp__solver S;
+        bp__newton N, N0;
+        bp_options o;
+        uint32_t nv = ch->num_vertices, nv2 = 2 * nv, i, v, p, k, *hold = NULL, bad = 0, aniso = 0, xy = 0, samep = 1;
+        double *x = (double *)malloc(nv2 * sizeof(double)), *g = (double *)malloc(nv2 * sizeof(double));
+        double *dv = (double *)malloc(nv2 * sizeof(double)), *d0 = (double *)malloc(nv2 * sizeof(double));
+        double ed, hmax = 0, worst = 0, res = 0, gmax = 0, gv = 0, gv0 = 0, diff = 0, dn = 0;
+        int r, r0;
+        memset(&o, 0, sizeof o);
+        o.no_barrier = mode == 0;
+        if (!BPT_CHECK(bp__solver_chart(&S, &a, ch, &mesh, &o, NULL, &err) == BP_OK, "solver for camel_b")) break;
+        if (mode == 1) S.eps = 4 * S.mean_edge;
+        if (mode == 2) {
+            hold = (uint32_t *)malloc(nv * sizeof(uint32_t));
+            for (i = 0, k = 0; i < nv; i++) hold[i] = i % 7 == 3 ? k++ : BP__NONE;
+        }
+        BPT_CHECK(bp__newton_init(&N, &a, &S) == BP_OK && bp__newton_init(&N0, &a, &S) == BP_OK, "Newton set-ups");
+        N.hold = N0.hold = hold;
+        memcpy(x, ch->uv, nv2 * sizeof(double));
+        bp__objective(&S, x, g, &ed);
+        if (hold) for (i = 0; i < nv; i++) if (hold[i] != BP__NONE) g[2 * i] = g[2 * i + 1] = 0;
+        for (i = 0; i < nv2; i++) if (fabs(g[i]) > gmax) gmax = fabs(g[i]);
+        /* K1 assembled by the library against the average of H's entries */
+        bp__newton_assemble(&N0, &S, x);              /* H itself (N0.iso = 0) */
+        N.iso = 1;
+        bp__newton_assemble(&N, &S, x);               /* K1 alone */
+        for (i = 0; i < N0.H.colp[N0.H.n]; i++) if (fabs(N0.H.val[i]) > hmax) hmax = fabs(N0.H.val[i]);
+        BPT_CHECK(N.K1.n == nv && N.K1.colp[nv] == N0.H.colp[N0.H.n] / 4, "camel_b, %s: K1 is %u x %u with a quarter of "
+                  "H's entries (%u of %u)", MN[mode], N.K1.n, nv, N.K1.colp[nv], N0.H.colp[N0.H.n]);
+        for (v = 0; v < nv && N.K1.n == nv; v++)
+            for (p = N.K1.colp[v]; p < N.K1.colp[v + 1]; p++) {
+                double want = iso_entry(&N0.H, N.K1.row[p], v), e = fabs(N.K1.val[p] - want);
+                if (!(e <= 1e-12 * hmax)) bad++;
+                if (e > worst || want == HUGE_VAL) worst = want == HUGE_VAL ? HUGE_VAL : e;
+                if (p > N.K1.colp[v] && N.K1.row[p] <= N.K1.row[p - 1]) samep = 0;
+            }
+        for (v = 0; v < nv2; v++)                      /* H's anisotropy: xx != yy, xy != 0 somewhere */
+            for (p = N0.H.colp[v]; p < N0.H.colp[v + 1]; p++) {
+                uint32_t u = N0.H.row[p];
+                if ((u & 1) != (v & 1) && fabs(N0.H.val[p]) > 1e-6 * hmax) xy++;
+                if ((u & 1) == 0 && (v & 1) == 0 && p + 1 < N0.H.colp[v + 1] &&
+                    fabs(N0.H.val[p] - N0.H.val[N0.H.colp[v + 1] + (p - N0.H.colp[v]) + 1]) > 1e-6 * hmax) aniso++;
+            }
+        BPT_CHECK(bad == 0 && samep, "camel_b, %s: K1(u, v) = (H(2u, 2v) + H(2u+1, 2v+1)) / 2 within 1e-12 max |H| "
+                  "everywhere (%u off, worst %.3g of max |H|), rows sorted", MN[mode], bad, worst / hmax);
+        BPT_CHECK(aniso > 0 && xy > 0, "camel_b, %s: H is not isotropic (%u entries with xx != yy, %u xy entries), so "
+                  "the average is a test", MN[mode], aniso, xy);
+        /* the direction: descent, and it solves (K1 (x) I) v = -g with K1 built here from H */
+        r = bp__newton_direction(&N, &S, x, g, dv, &gv);
+        r0 = bp__newton_direction(&N0, &S, x, g, d0, &gv0);
+        BPT_CHECK(r == 1 && N.niso == 1 && N.k1ok && gv < 0 && r0 == 1, "camel_b, %s: an isotropic direction (%d, %ld "
+                  "of them), g.v = %.3g < 0", MN[mode], r, N.niso, gv);
+        for (i = 0; i < nv && r == 1; i++) {
+            double s0 = g[2 * i], s1 = g[2 * i + 1];
+            for (p = N.K1.colp[i]; p < N.K1.colp[i + 1]; p++) {   /* row i of the symmetric K1: column i */
+                double kk = iso_entry(&N0.H, N.K1.row[p], i);
+                s0 += kk * dv[2 * N.K1.row[p]];
+                s1 += kk * dv[2 * N.K1.row[p] + 1];
+            }
+            if (fabs(s0) > res) res = fabs(s0);
+            if (fabs(s1) > res) res = fabs(s1);
+        }
+        for (i = 0; i < nv2; i++) { diff += (dv[i] - d0[i]) * (dv[i] - d0[i]); dn += d0[i] * d0[i]; }
+        BPT_CHECK(res <= 1e-8 * gmax, "camel_b, %s: max |(K1 (x) I) v + g| = %.3g (max |g| %.3g)", MN[mode], res, gmax);
+        BPT_CHECK(diff > 1e-6 * dn, "camel_b, %s: not Newton's direction (|v - v_newton|^2 / |v_newton|^2 = %.3g)",
+                  MN[mode], diff / dn);
+        if (hold) {
+            uint32_t zero = 0, nheld = 0;
+            for (i = 0; i < nv; i++) if (hold[i] != BP__NONE) { nheld++; zero += dv[2 * i] == 0 && dv[2 * i + 1] == 0; }
+            BPT_CHECK(zero == nheld, "camel_b, pins held: the isotropic v is exactly 0 on %u of %u held vertices", zero, nheld);
+        }
+        /* a refactorization through the scatter map (K1.super1 == 2) has the bits of a fresh one */
+        if (r == 1 && N.F1.sn) {
+            bp__factor F;
+            uint32_t badrow;
+            int fb;
+            for (i = 0; i < nv2; i++) x[i] += 1e-3 * S.mean_edge * (double)((i * 7) % 5 - 2);
+            bp__objective(&S, x, g, &ed);
+            bp__newton_assemble(&N, &S, x);
+            BPT_CHECK(N.F1.sn->amap && N.F1.sn->amap_ok && bp__newton_iso_factor(&N, &S) == 1,
+                      "camel_b, %s: K1 refactored through its scatter map", MN[mode]);
+            BPT_CHECK(bp__super_factorize(&a, &N.K1, &F, &badrow, NULL, 1, &fb, N.F1.sn->vperm, N.F1.tree) == BP_OK && F.sn &&
+                      F.sn->xp[F.sn->ns] == N.F1.sn->xp[N.F1.sn->ns] &&
+                      !memcmp(F.sn->x, N.F1.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)),
+                      "camel_b, %s: ... the same bits as a fresh factorization on the same order", MN[mode]);
+            bp__factor_free(&a, &F);
+        }
+        bp__newton_iso_end(&N, &a);
+        BPT_CHECK(!N.iso && !N.k1ok && !N.K1.colp && !N.F1.sn && N.cut, "camel_b, %s: the phase's end frees K1 and F1", MN[mode]);
+        bp__newton_free(&a, &N);
+        bp__newton_free(&a, &N0);
+        bp__solver_free(&S);
+        free(x); free(g); free(dv); free(d0); free(hold);
+    }
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+}
+
+/* (m) a whole default solve of camelhead (Newton, 22,704 triangles): every
+   accepted map exactly bijective (bp_check in the progress callback), the
+   energy going down, and the final map the same bits on one thread and on
+   two with the tasks run backwards. */
+typedef struct iso_watch { const bp_chart *ch; int maps, bad; double last; } iso_watch;
+
+static int iso_progress(void *user, uint32_t chart, int it, double e, double t)
+{
+    iso_watch *W = (iso_watch *)user;
+    bp_check_report rep;
+    (void)chart; (void)it; (void)t;
+    W->maps++;
+    if (bp_check(W->ch->triangles, W->ch->num_triangles, W->ch->uv, W->ch->num_vertices, NULL, &rep, NULL) != BP_OK ||
+        rep.flipped || rep.degenerate || rep.boundary_intersections || !(e <= W->last))
+        W->bad++;
+    W->last = e;
+    return 0;
+}
+
+
+static void test_isotropic_solve(void)
+{
+    bp_mesh mesh;
+    bp_atlas atlas[2];
+    bp_error err;
+    int r, built = 0;
+    bp_status st;
+    iso_watch W;
+    if (!BPT_CHECK(bp_read_mesh("tests/data/camelhead.off", &mesh, NULL, &err) == BP_OK, "read camelhead: %s", err.message))
+        return;
+    for (r = 0; r < 2; r++) {
+        bp_options opt;
+        memset(&opt, 0, sizeof opt);
+        opt.threads = r ? 2 : 1;
+        if (r) opt.parallel_for = bpt_backwards_for;
+        if (!BPT_CHECK(bp_atlas_build(&atlas[r], &mesh, &opt, &err) == BP_OK && atlas[r].num_charts == 1 &&
+                       bp_chart_init(&atlas[r].charts[0], &mesh, &opt, &err) == BP_OK, "camelhead: one chart, start map"))
+            break;
+        built++;
+        memset(&W, 0, sizeof W);
+        W.ch = &atlas[r].charts[0];
+        W.last = HUGE_VAL;
+        if (!r) { opt.progress = iso_progress; opt.progress_user = &W; }
+        st = bp_chart_optimize(&atlas[r].charts[0], 0, &mesh, &opt, &err);
+        BPT_CHECK(st == BP_OK && atlas[r].charts[0].stop == BP_STOP_CONVERGED, "camelhead, default direction (Newton, "
+                  "isotropic first), %d thread(s): converged (%s after %d iterations)", opt.threads,
+                  bp_stop_string(atlas[r].charts[0].stop), atlas[r].charts[0].iterations);
+        if (!r) BPT_CHECK(W.maps == atlas[0].charts[0].iterations && W.maps > 5 && W.bad == 0, "camelhead: each of the %d "
+                          "accepted maps exactly bijective (bp_check), the energy never up (%d bad)", W.maps, W.bad);
+    }
+    if (built == 2)
+        BPT_CHECK(atlas[0].charts[0].iterations == atlas[1].charts[0].iterations &&
+                  !memcmp(atlas[0].charts[0].uv, atlas[1].charts[0].uv, 2 * (size_t)atlas[0].charts[0].num_vertices * sizeof(double)),
+                  "camelhead: the same bits on one thread and on two with the tasks run backwards");
+    for (r = 0; r < built; r++) bp_atlas_free(&atlas[r]);
+    bp_mesh_free(&mesh, NULL);
+}
+
 int main(void)
 {
     bpt_rng_state = 0x9E3779B97F4A7C15ull;
@@ -1214,6 +1409,8 @@ int main(void)
     test_longer_steps();
     test_reuse();
     test_wide_barrier();
+    test_isotropic();
+    test_isotropic_solve();
     test_default_choice("tests/data/camel_b.obj");
     test_default_choice("tests/data/camelhead.off");
     test_default_choice("../shared/meshes/lucy_o_f48275.obj");
