@@ -14863,9 +14863,10 @@ static bp_status bp__newton_factorize(bp__newton *N, bp__solver *S, uint32_t *ba
 }
 
 /* The vertex order for K1's first analysis: the kept one while it still
-   dissects H's graph, else the start map's handed-over factor's when H
-   has no couplings beyond the chart's edges, else none (a dissection of
-   its own, then kept for Newton's first factorization). */
+   dissects H's graph, else the start map's handed-over factor's when its
+   matrix had H's pattern (compared entry by entry, as
+   bp__newton_factorize does), else none (a dissection of its own, then
+   kept for Newton's first factorization). */
 static const uint32_t *bp__newton_iso_order(const bp__newton *N, const bp__ndnode **tree)
 {
     const bp__handoff *h = N->given;
@@ -14873,7 +14874,9 @@ static const uint32_t *bp__newton_iso_order(const bp__newton *N, const bp__ndnod
         *tree = N->ktree;
         return N->kperm;
     }
-    if (h && h->F.sn && h->F.sn->vperm && h->n == N->H.n && !N->extra.count && h->F.tree[0].used) {
+    if (h && h->F.sn && h->F.sn->vperm && h->F.tree[0].used && h->n == N->H.n &&
+        !memcmp(h->colp, N->H.colp, ((size_t)h->n + 1) * sizeof(uint32_t)) &&
+        !memcmp(h->row, N->H.row, (size_t)N->H.colp[h->n] * sizeof(uint32_t))) {
         *tree = h->F.tree;
         return h->F.sn->vperm;
     }
