@@ -14501,6 +14501,20 @@ static int bp__newton_iso_pattern(bp__newton *N, const bp_allocator *a)
     return 1;
 }
 
+/* A barrier pair's blocks (v_i, v_j) in H: pos[i][j] the place of the
+   entry (2 v_i, 2 v_j); returns 1 when all nine couplings are in H's
+   pattern, 0 when some are not (then only the diagonal blocks count). */
+static int bp__newton_pair_places(const bp__newton *N, const bp__bpair *pr, uint32_t pos[3][3])
+{
+    int i, j, full = 1;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            pos[i][j] = i == j ? N->dpos[4 * (size_t)pr->v[i]] : bp__sparse_has(&N->H, 2 * pr->v[i], 2 * pr->v[j]);
+            if (pos[i][j] == BP__NONE) full = 0;
+        }
+    return full;
+}
+
 /* K1's columns for the vertices of chunk c, from the triangles' blocks:
    in the isotropic phase bp__newton_tri_task keeps 6 doubles per
    triangle, (xx + yy) / 2 of each block (r, c) with r <= c (a quarter of
@@ -14545,12 +14559,7 @@ static void bp__newton_iso_assemble(bp__newton *N, bp__solver *S)
         size_t q;
         for (q = 0; q < N->pairs.count; q++) {
             uint32_t pos[3][3];
-            int i, k, full = 1;
-            for (i = 0; i < 3; i++)
-                for (k = 0; k < 3; k++) {
-                    pos[i][k] = i == k ? N->dpos[4 * (size_t)pr[q].v[i]] : bp__sparse_has(&N->H, 2 * pr[q].v[i], 2 * pr[q].v[k]);
-                    if (pos[i][k] == BP__NONE) full = 0;
-                }
+            int i, k, full = bp__newton_pair_places(N, pr + q, pos);
             for (i = 0; i < 3; i++)
                 for (k = 0; k < 3; k++)
                     if (full || i == k)
@@ -14598,12 +14607,7 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
         size_t q;
         for (q = 0; q < N->pairs.count; q++) {
             uint32_t pos[3][3];                /* block (v_i, v_j): its (2 v_i, 2 v_j) entry */
-            int i, j, al, be, full = 1;       /* all couplings in the pattern, else only the blocks */
-            for (i = 0; i < 3; i++)
-                for (j = 0; j < 3; j++) {
-                    pos[i][j] = i == j ? N->dpos[4 * (size_t)pr[q].v[i]] : bp__sparse_has(&N->H, 2 * pr[q].v[i], 2 * pr[q].v[j]);
-                    if (pos[i][j] == BP__NONE) full = 0;
-                }
+            int i, j, al, be, full = bp__newton_pair_places(N, pr + q, pos);   /* else only the blocks */
             for (i = 0; i < 3; i++)
                 for (j = 0; j < 3; j++) {
                     uint32_t col = 2 * pr[q].v[j], len = N->H.colp[col + 1] - N->H.colp[col];
