@@ -1399,6 +1399,7 @@ struct bp__pool {
     uint32_t        skip;           /* loops to run on the caller alone      */
     uint32_t        backoff;        /* the next skip (bp__pool_for)          */
     uint32_t        wjobs;          /* parallel loops in the current window  */
+    uint32_t        spin;           /* ns a waiting thread polls (bp__pool_poll) */
     double          wwall, wcpu;    /* the window's start: wall, process CPU */
 };
 
@@ -1415,7 +1416,29 @@ struct bp__pool {
    on a condition variable.  The bound is on the clock, not on a count of
    iterations, whose length varies tenfold between processors.  Without
    GCC/Clang atomics a thread sleeps at once and tasks are claimed under
-   the mutex. */
+   the mutex.
+
+   How long is short depends on the machine.  Counted on the 2-core test
+   machine (a virtual machine, where a wake takes 55 us on average), face's
+   two-thread run posts 599 loops; with a 20 us poll the worker was asleep
+   at 310 of them and the caller slept 100 times waiting for the worker's
+   last task: some 17 ms of a 0.37 s run with one thread working or none.
+   A 100 us poll (BP__SPIN_LONG_NS) cut that to 99 and 26 sleeps and the
+   run by 10 ms (the median of 25 paired runs).  But a long poll is exactly
+   what hurt on the crowded machine of issue 13, so the pool polls long
+   only while it gets the cores it asked for: it starts long, and each
+   measuring window (bp__pool_window, below) sets the poll for the next
+   one, long when the threads used at least BP__SPIN_LONG_CORES of a core
+   each (polling included: a thread the system does not run does not
+   poll), the short BP__SPIN_NS otherwise.  With the other cores taken the
+   process gets about one core between its threads, below that bound, and
+   goes back to the short poll after one window. */
+#ifndef BP__SPIN_LONG_NS
+#define BP__SPIN_LONG_NS 100000
+#endif
+#ifndef BP__SPIN_LONG_CORES
+#define BP__SPIN_LONG_CORES 0.75
+#endif
 #if defined(__GNUC__) || defined(__clang__)
 #define BP__SPIN_NS 20000
 #define BP__LOAD(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
@@ -1437,24 +1460,24 @@ struct bp__pool {
 
 static double bp__seconds(void);
 
-/* Poll until *w differs from `old` (is_ne) or equals it (!is_ne), or the
-   spin time is over; returns whether the condition was met. */
-static int bp__pool_poll(const uint32_t *w, uint32_t old, int is_ne, const int *quit)
+/* Poll until *w differs from `old` (is_ne) or equals it (!is_ne), or
+   P's spin time is over; returns whether the condition was met. */
+static int bp__pool_poll(bp__pool *P, const uint32_t *w, uint32_t old, int is_ne)
 {
 #if BP__ATOMICS
     double until = 0;
     int k;
     for (k = 0;; k++) {
-        if ((BP__LOAD(w) != old) == is_ne || BP__LOAD(quit)) return 1;
+        if ((BP__LOAD(w) != old) == is_ne || BP__LOAD(&P->quit)) return 1;
         if ((k & 31) == 0) {                    /* the clock every 32 polls */
             double now = bp__seconds();
-            if (k == 0) until = now + 1e-9 * BP__SPIN_NS;
+            if (k == 0) until = now + 1e-9 * BP__LOAD(&P->spin);
             else if (now >= until) return 0;
         }
         BP__PAUSE();
     }
 #else
-    (void)w; (void)old; (void)is_ne; (void)quit;
+    (void)P; (void)w; (void)old; (void)is_ne;
     return 0;
 #endif
 }
@@ -1545,7 +1568,7 @@ static void *bp__pool_worker(void *arg)
     bp_task_fn fn;
     void *task;
     for (;;) {
-        bp__pool_poll(&P->gen, seen, 1, &P->quit);
+        bp__pool_poll(P, &P->gen, seen, 1);
         pthread_mutex_lock(&P->mu);
         while (!P->quit && P->gen == seen) pthread_cond_wait(&P->wake, &P->mu);
         if (P->quit) { pthread_mutex_unlock(&P->mu); break; }
@@ -1599,7 +1622,8 @@ static double bp__cpu_seconds(void)
 }
 
 /* After each parallel loop: close the window when it is long enough and
-   decide whether the next loops run on the caller alone. */
+   decide whether the next loops run on the caller alone, and how long a
+   waiting thread polls (the essay on waiting, above). */
 static void bp__pool_window(bp__pool *P)
 {
     double wall, cpu;
@@ -1608,6 +1632,8 @@ static void bp__pool_window(bp__pool *P)
     cpu = bp__cpu_seconds() - P->wcpu;
     P->wjobs = 0;
     if (P->wcpu < 0 || cpu < 0) return;                      /* no CPU clock: keep the threads */
+    BP__STORE(&P->spin, cpu >= BP__SPIN_LONG_CORES * (P->nth + 1) * wall ? (uint32_t)BP__SPIN_LONG_NS
+                                                                          : (uint32_t)BP__SPIN_NS);
     if (cpu < BP__MIN_CORES_PER_THREAD * (P->nth + 1) * wall) {
         P->backoff = P->backoff < BP__BACKOFF_MIN ? BP__BACKOFF_MIN
                    : P->backoff < BP__BACKOFF_MAX ? 2 * P->backoff : BP__BACKOFF_MAX;
@@ -1640,7 +1666,7 @@ static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
     pthread_cond_broadcast(&P->wake);
     pthread_mutex_unlock(&P->mu);
     if (bp__pool_finish(P, bp__pool_drain(P, 0, gen, fn, task, count)) != count &&   /* the caller works too */
-        !bp__pool_poll(&P->finished, count, 0, &P->quit)) {
+        !bp__pool_poll(P, &P->finished, count, 0)) {
         pthread_mutex_lock(&P->mu);
         while (BP__LOAD(&P->finished) != count) pthread_cond_wait(&P->done, &P->mu);
         pthread_mutex_unlock(&P->mu);
@@ -1660,6 +1686,7 @@ static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
     if (threads <= 1) return NULL;
     P = (bp__pool *)bp__calloc_array(a, 1, sizeof *P);
     if (!P) return NULL;
+    P->spin = BP__SPIN_LONG_NS;                /* long until a window says otherwise */
     P->th = (pthread_t *)bp__alloc_array(a, (size_t)threads - 1, sizeof(pthread_t));
     P->who = (bp__worker *)bp__alloc_array(a, (size_t)threads - 1, sizeof(bp__worker));
     P->claim = (uint64_t *)bp__calloc_array(a, (size_t)threads * BP__LINE, sizeof(uint64_t));

@@ -276,6 +276,47 @@ static void check_pool_stress(void)
     }
 }
 
+/* The pool's window (bp__pool_window, the essay on waiting in >>threads)
+   sets how long a waiting thread polls.  A new pool polls long; a window
+   in which the two threads got (almost) no CPU time -- a crowded machine
+   -- sets the short poll and the backoff; one in which they used 0.6 of a
+   core each sets the short poll without the backoff; one in which they
+   used more than a core each, the long poll again.  The windows are made
+   up (their start moved back in time), so nothing here depends on how
+   busy the test machine is. */
+static void window_after(bp__pool *P, double wall, double cpu)
+{
+    P->wjobs = BP__WINDOW_JOBS;                 /* this loop closes the window */
+    P->wwall = bp__seconds() - wall;
+    P->wcpu = bp__cpu_seconds() - cpu;
+    bp__pool_window(P);
+}
+
+static void check_pool_spin(void)
+{
+    bp_allocator a;
+    bp__pool *P;
+    uint32_t s0, s1, s2, s3, k1, k2, k3;
+    memset(&a, 0, sizeof a);
+    volatile double burn = 0;
+    while (bp__cpu_seconds() < 0.25) burn += 1;  /* a window's start must not be before the process's */
+    P = bp__pool_start(&a, 2);
+    if (!BPT_CHECK(P != NULL, "a pool of 2 threads")) return;
+    s0 = P->spin;
+    window_after(P, 0.1, 0.0);                  /* crowded: no CPU time in 0.1 s */
+    s1 = P->spin; k1 = P->skip;
+    P->skip = 0;
+    window_after(P, 0.1, 0.12);                 /* 0.6 of a core per thread */
+    s2 = P->spin; k2 = P->skip;
+    window_after(P, 0.1, 0.19);                 /* 0.95 of a core per thread */
+    s3 = P->spin; k3 = P->skip;
+    BPT_CHECK(s0 == BP__SPIN_LONG_NS && s1 == BP__SPIN_NS && k1 == BP__BACKOFF_MIN && s2 == BP__SPIN_NS && k2 == 0 &&
+                  s3 == BP__SPIN_LONG_NS && k3 == 0,
+              "pool window: polls %u ns new, %u ns crowded (skip %u), %u ns at 0.6 core/thread (skip %u), "
+              "%u ns at 0.95 (skip %u)", s0, s1, k1, s2, k2, s3, k3);
+    bp__pool_stop(&a, P);
+}
+
 /* A mesh of n separate triangles, each its own chart (the "10,000 charts"
    case of issue 13, smaller), solved by bp_parameterize on 1, 2 and 3
    threads (charts as parallel tasks: the same bits as 1 thread), and
@@ -337,6 +378,7 @@ int main(void)
     check_chunks();
     check_groups();
     check_pool_stress();
+    check_pool_spin();
     check_many_charts();
     if (quick) {
         check_mesh("tests/data/bishop_part_f1000.obj");
