@@ -2033,9 +2033,14 @@ static bp_status bp__parse_int(bp__parser *ps, int64_t *out, const char *what)
     return BP_OK;
 }
 
+/* Whether the cursor is at the word kw (non-empty), then past it.  The
+   first letter is tested before anything else: the readers and the writer
+   ask this of every line up to three times ("v", "vt", "f"). */
 static int bp__keyword(bp__parser *ps, const char *kw)
 {
-    size_t n = strlen(kw);
+    size_t n;
+    if (ps->p >= ps->end || *ps->p != kw[0]) return 0;
+    n = strlen(kw);
     if ((size_t)(ps->end - ps->p) < n || memcmp(ps->p, kw, n) != 0) return 0;
     if (ps->p + n < ps->end && !bp__is_space(ps->p[n]) && !bp__is_eol(ps->p[n])) return 0;
     ps->p += n;
@@ -13550,32 +13555,75 @@ static double bp__quad_form(const bp__sparse *K, const double *s, const bp__par 
    quarter of the mean 3D boundary edge (sec 3.3) unless o->epsilon is set.
    rest_wxy (3 per triangle, may be NULL) receives the flattened triangles
    (w, x, y) for the preconditioner.  On failure the solver is freed. */
-static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
-                                  const bp_options *o, double *rest_wxy, bp_error *err)
+/* The rest shapes of the triangles of chunk c: M^-1 and the weight
+   before its normalization, the flattened (w, x, y) in wxy, and in bad[c]
+   the chunk's first triangle whose importance is not positive and finite
+   (BP__NONE: none).  Each task writes its own triangles, so the chunks may
+   run on any threads (bp__solver_chart_par). */
+typedef struct bp__rest_task {
+    bp__solver      *S;
+    const bp_chart  *ch;
+    const bp_mesh   *m;
+    const double    *importance;
+    double          *wxy;
+    uint32_t        *bad;
+} bp__rest_task;
+
+static void bp__rest_task_run(void *task, uint32_t c)
 {
-    uint32_t t, L, k;
+    bp__rest_task *T = (bp__rest_task *)task;
+    bp__solver *S = T->S;
+    uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
+    T->bad[c] = BP__NONE;
+    for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1; t++) {
+        double w, px, py, imp = T->importance ? T->importance[T->ch->face[t]] : 1;
+        bp__chart_rest(T->ch, T->m, t, &w, &px, &py);
+        /* importance I (eq 4.1): singular values scaled by I^-1/2 (the rest
+           shape grows by sqrt(I)) and the energy weighted by I */
+        if (!(imp > 0) || !(imp < HUGE_VAL)) { T->bad[c] = t; return; }
+        bp__rest_inverse(w, px, py, 1 / sqrt(imp), &S->rest[t]);
+        S->rest[t].weight = 0.5 * w * py * imp;
+        T->wxy[3 * (size_t)t] = w; T->wxy[3 * (size_t)t + 1] = px; T->wxy[3 * (size_t)t + 2] = py;
+    }
+}
+
+/* The solver of a chart: its rest shapes (on par's threads, in chunks of
+   triangles; the areas are added in triangle order after them, so the
+   weights have the same bits on any threads), the boundary's mean edge and
+   the barrier's eps.  rest_wxy (3 nt doubles, or NULL) gets the flattened
+   triangles. */
+static bp_status bp__solver_chart_par(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
+                                      const bp_options *o, double *rest_wxy, const bp__par *par, bp_error *err)
+{
+    uint32_t t, L, k, c;
     double total_area = 0, len = 0;
+    bp__rest_task T;
     if (bp__solver_init(S, a, ch->num_vertices, ch->num_triangles, ch->triangles, ch->num_loops,
                         ch->loop_start, ch->loop_vertices) != BP_OK)
         return bp__oom(err, "optimizing a chart");
     S->energy = o->energy;
     S->barrier = !o->no_barrier;
-    for (t = 0; t < S->nt; t++) {
-        double w, px, py, imp = o->importance ? o->importance[ch->face[t]] : 1, q;
-        bp__chart_rest(ch, m, t, &w, &px, &py);
-        /* importance I (eq 4.1): singular values scaled by I^-1/2 (the rest
-           shape grows by sqrt(I)) and the energy weighted by I */
-        if (!(imp > 0) || !(imp < HUGE_VAL)) {
-            bp__solver_free(S);
-            return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_TRIANGLE, ch->face[t], -1, 0,
-                            "importance of mesh triangle %u is %g: it must be positive and finite", ch->face[t], imp);
-        }
-        q = 1 / sqrt(imp);
-        bp__rest_inverse(w, px, py, q, &S->rest[t]);
-        S->rest[t].weight = 0.5 * w * py * imp;
-        total_area += 0.5 * w * py;
-        if (rest_wxy) { rest_wxy[3 * (size_t)t] = w; rest_wxy[3 * (size_t)t + 1] = px; rest_wxy[3 * (size_t)t + 2] = py; }
+    T.S = S; T.ch = ch; T.m = m; T.importance = o->importance;
+    T.wxy = rest_wxy ? rest_wxy : (double *)bp__alloc_array(a, 3 * (size_t)S->nt + 1, sizeof(double));
+    T.bad = (uint32_t *)bp__alloc_array(a, (size_t)S->nchunk_t + 1, sizeof(uint32_t));
+    if (!T.wxy || !T.bad) {
+        if (!rest_wxy) bp__free(a, T.wxy);
+        bp__free(a, T.bad);
+        bp__solver_free(S);
+        return bp__oom(err, "optimizing a chart");
     }
+    par->run(par->user, bp__rest_task_run, &T, S->nchunk_t);
+    for (c = 0; c < S->nchunk_t && T.bad[c] == BP__NONE; c++) {}
+    for (t = 0; c == S->nchunk_t && t < S->nt; t++) total_area += 0.5 * T.wxy[3 * (size_t)t] * T.wxy[3 * (size_t)t + 2];
+    if (!rest_wxy) bp__free(a, T.wxy);
+    if (c < S->nchunk_t) {                         /* the first bad triangle, as a serial loop finds it */
+        uint32_t f = ch->face[T.bad[c]];
+        bp__free(a, T.bad);
+        bp__solver_free(S);
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_TRIANGLE, f, -1, 0,
+                        "importance of mesh triangle %u is %g: it must be positive and finite", f, o->importance[f]);
+    }
+    bp__free(a, T.bad);
     for (t = 0; t < S->nt; t++) S->rest[t].weight *= S->nt / total_area;
     for (L = 0; L < S->nloops; L++)
         for (k = S->loop_start[L]; k < S->loop_start[L + 1]; k++) {
@@ -13589,6 +13637,13 @@ static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp
         return bp__oom(err, "optimizing a chart");
     }
     return BP_OK;
+}
+
+static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
+                                  const bp_options *o, double *rest_wxy, bp_error *err)
+{
+    bp__par serial = bp__par_serial();
+    return bp__solver_chart_par(S, a, ch, m, o, rest_wxy, &serial, err);
 }
 
 /* The L-BFGS vector work in chunks (see >>threads).  One pass over n
@@ -15184,8 +15239,9 @@ static void bp__opt_hold(const bp__opt *P, double *g)
    finite keeps L-BFGS).  Above 100,000 triangles
    nothing was compared, and Newton's factor needs ~1.7 KB per face against
    L-BFGS's ~0.75 (issue 15's million-face chart must stay under 1 KiB),
-   so L-BFGS stays there.  The sum is serial: the choice is the same for
-   any number of threads. */
+   so L-BFGS stays there.  The sum is taken by chunks of triangles added
+   in chunk order (bp__energy_task, as bp__evaluate takes it), so the
+   choice is the same on any number of threads. */
 #ifndef BP__AUTO_NEWTON_MIN
 #define BP__AUTO_NEWTON_MIN 20000u
 #endif
@@ -15195,16 +15251,17 @@ static void bp__opt_hold(const bp__opt *P, double *g)
 #ifndef BP__AUTO_NEWTON_E0
 #define BP__AUTO_NEWTON_E0 HUGE_VAL   /* sec 6.6 had 1e9 (measurements) */
 #endif
-static int bp__opt_choose_newton(const bp__solver *S, const double *x)
+static int bp__opt_choose_newton(bp__solver *S, const double *x)
 {
+    bp__eval_task T;
     double sum = 0;
-    uint32_t t;
+    uint32_t c;
     if (S->nt < BP__AUTO_NEWTON_MIN || S->nt >= BP__AUTO_NEWTON_MAX) return 0;
-    for (t = 0; t < S->nt; t++) {
-        const uint32_t *tr = S->tri + 3 * (size_t)t;
-        sum += S->rest[t].weight * bp__triangle_energy(S->energy, &S->rest[t], x + 2 * (size_t)tr[0],
-                                                       x + 2 * (size_t)tr[1], x + 2 * (size_t)tr[2], NULL, NULL, NULL);
-    }
+    memset(&T, 0, sizeof T);
+    T.S = S;
+    T.x = x;
+    S->par.run(S->par.user, bp__energy_task, &T, S->nchunk_t);   /* E_D by chunks, as bp__evaluate */
+    for (c = 0; c < S->nchunk_t; c++) sum += S->part[c];
     return sum / S->nt < BP__AUTO_NEWTON_E0;       /* also false for a NaN or infinite start */
 }
 
@@ -15218,6 +15275,29 @@ static int bp__opt_choose_newton(const bp__solver *S, const double *x)
    preconditioner, the chart's Laplacian (its graph the chart's edges,
    fewer where pins are), always, after which it is freed (bp__opt_setup).
    Returns 0 out of memory. */
+/* Whether the edges of chunk c of the triangles respect the order (in
+   ok[c]). */
+typedef struct bp__keeps_task {
+    const bp__solver  *S;
+    const bp__ndnode  *tree;
+    const uint32_t    *iperm;
+    uint32_t          *ok;
+} bp__keeps_task;
+
+static void bp__keeps_task_run(void *task, uint32_t c)
+{
+    bp__keeps_task *T = (bp__keeps_task *)task;
+    const bp__solver *S = T->S;
+    size_t j, j1 = 3 * (size_t)bp__chunk_at(S->nt, S->nchunk_t, c + 1);
+    T->ok[c] = 1;
+    for (j = 3 * (size_t)bp__chunk_at(S->nt, S->nchunk_t, c); j < j1; j++) {
+        uint32_t uw[2];
+        uw[0] = S->tri[j];
+        uw[1] = S->tri[j % 3 == 2 ? j - 2 : j + 1];
+        if (!bp__nd_keeps(T->tree, T->iperm, uw, 1)) { T->ok[c] = 0; return; }
+    }
+}
+
 static int bp__opt_start_order(bp__opt *P, bp_chart *ch)
 {
     uint32_t nv = P->S.nv, k, j, *o = ch->start_order, *iv;
@@ -15239,11 +15319,14 @@ static int bp__opt_start_order(bp__opt *P, bp_chart *ch)
         }
     }
     if (k != nv || !P->N.ktree[0].used || P->N.ktree[0].lo != 0 || P->N.ktree[0].hi != nv) k = 0;
-    for (j = 0; k == nv && j < 3 * P->S.nt; j++) {            /* every edge of the chart */
-        uint32_t uw[2];
-        uw[0] = P->S.tri[j];
-        uw[1] = P->S.tri[j % 3 == 2 ? j - 2 : j + 1];
-        if (!bp__nd_keeps(P->N.ktree, iv, uw, 1)) k = 0;
+    if (k == nv) {                                            /* every edge of the chart, by chunks */
+        bp__keeps_task T;
+        T.S = &P->S; T.tree = P->N.ktree; T.iperm = iv;
+        T.ok = (uint32_t *)bp__alloc_array(&P->a, (size_t)P->S.nchunk_t + 1, sizeof(uint32_t));
+        if (!T.ok) { bp__free(&P->a, o); bp__free(&P->a, iv); return 0; }
+        P->par.run(P->par.user, bp__keeps_task_run, &T, P->S.nchunk_t);
+        for (j = 0; j < P->S.nchunk_t; j++) if (!T.ok[j]) k = 0;
+        bp__free(&P->a, T.ok);
     }
     if (k != nv) { bp__free(&P->a, o); bp__free(&P->a, iv); return 1; }
     P->N.kperm = o;                               /* nv words and more: freed as one */
@@ -15264,7 +15347,10 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
     if ((st = bp__opt_pins(P, ch, m, err)) != BP_OK) return st;                 /* pins */
     rest_wxy = (double *)bp__alloc_array(&P->a, 3 * (size_t)ch->num_triangles, sizeof(double));
     if (!rest_wxy) return bp__oom(err, "optimizing a chart");
-    if ((st = bp__solver_chart(&P->S, &P->a, ch, m, &P->o, rest_wxy, err)) != BP_OK) { bp__free(&P->a, rest_wxy); return st; }
+    if ((st = bp__solver_chart_par(&P->S, &P->a, ch, m, &P->o, rest_wxy, &P->par, err)) != BP_OK) {
+        bp__free(&P->a, rest_wxy);
+        return st;
+    }
     P->S.par = P->par;
     if (P->o.direction == BP_DIRECTION_DEFAULT) {
         P->newton = bp__opt_choose_newton(&P->S, ch->uv);

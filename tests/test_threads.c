@@ -317,6 +317,58 @@ static void check_pool_spin(void)
     bp__pool_stop(&a, P);
 }
 
+/* The rest shapes are made in chunks of triangles on the threads
+   (bp__solver_chart_par); an importance that is not positive and finite
+   must still be reported at the first such triangle in the chart's order,
+   not at the first one a task meets.  Camelhead (22,704 triangles: 12
+   chunks of 2048, a pool even with the default thresholds): a NaN at a
+   triangle of chunk 9 and a -1 at one of chunk 3; the error names the
+   latter's mesh triangle, on 1, 2 and 3 threads and with the tasks run
+   backwards. */
+static void check_importance_error(void)
+{
+    static const int runs[4] = { 1, 2, 3, -1 };
+    bp_mesh m;
+    bp_atlas at;
+    bp_error e;
+    double *imp;
+    uint32_t t, ta = 9 * 2048 + 17, tb = 3 * 2048 + 5;
+    int r;
+    if (!BPT_CHECK(bp_read_mesh("tests/data/camelhead.off", &m, NULL, &e) == BP_OK, "read camelhead")) return;
+    if (!BPT_CHECK(bp_atlas_build(&at, &m, NULL, &e) == BP_OK && at.num_charts == 1 && at.charts[0].num_triangles > ta,
+                   "camelhead: one chart of more than %u triangles", ta)) {
+        bp_mesh_free(&m, NULL);
+        return;
+    }
+    imp = (double *)malloc(m.num_triangles * sizeof *imp);
+    for (t = 0; t < m.num_triangles; t++) imp[t] = 1;
+    imp[at.charts[0].face[ta]] = strtod("nan", NULL);
+    imp[at.charts[0].face[tb]] = -1;
+    for (r = 0; r < 4; r++) {
+        bp_options o;
+        bp_status st;
+        char want[128];
+        memset(&o, 0, sizeof o);
+        o.importance = imp;
+        o.max_iterations = 1;
+        if (runs[r] > 0) o.threads = runs[r];
+        else o.parallel_for = reverse_for;
+        memset(&e, 0, sizeof e);
+        st = bp_chart_init(&at.charts[0], &m, &o, &e);
+        if (st == BP_OK) st = bp_chart_optimize(&at.charts[0], 0, &m, &o, &e);
+        snprintf(want, sizeof want, "importance of mesh triangle %u is -1", at.charts[0].face[tb]);
+        BPT_CHECK(st == BP_ERR_INVALID_ARGUMENT && e.element == BP_ELEMENT_TRIANGLE &&
+                      e.index == (int64_t)at.charts[0].face[tb] && strncmp(e.message, want, strlen(want)) == 0,
+                  "importance -1 at chart triangle %u and NaN at %u, %s: the error names mesh triangle %u (%s: %s)",
+                  tb, ta, runs[r] > 0 ? (runs[r] == 1 ? "1 thread" : runs[r] == 2 ? "2 threads" : "3 threads")
+                                      : "tasks backwards",
+                  at.charts[0].face[tb], bp_status_string(st), e.message);
+    }
+    free(imp);
+    bp_atlas_free(&at);
+    bp_mesh_free(&m, NULL);
+}
+
 /* A mesh of n separate triangles, each its own chart (the "10,000 charts"
    case of issue 13, smaller), solved by bp_parameterize on 1, 2 and 3
    threads (charts as parallel tasks: the same bits as 1 thread), and
@@ -379,6 +431,7 @@ int main(void)
     check_groups();
     check_pool_stress();
     check_pool_spin();
+    check_importance_error();
     check_many_charts();
     if (quick) {
         check_mesh("tests/data/bishop_part_f1000.obj");
