@@ -12,10 +12,14 @@ one run only) it runs
     TOOL CHART -o OUT --json --threads T -q        T = 1, 2 alternated
 
 RUNS times (default 3) and prints one JSON line per run (wall and CPU
-seconds of the process, iterations, final energy, bytes per face, the
-tool's exact verdict, the load average) and one Markdown row per chart:
-median wall 1 thread, 2 threads, their ratio, median CPU 1 / 2 threads,
-iterations, bytes per face, and whether both outputs are the same bytes.
+seconds of the process, the chart's solve -- the tool's start map and
+optimization, without reading, building the charts, packing and
+writing --, iterations, final energy, bytes per face, the tool's exact
+verdict, the load average) and one Markdown row per chart: median wall 1
+thread, 2 threads, their ratio, the median of the runs' own ratios (each
+1-thread run against the 2-thread run right after it), the median solve
+times and their ratio, median CPU 1 / 2 threads, iterations, bytes per
+face, and whether both outputs are the same bytes.
 "busy" starts two processes that spin on the two cores for the whole
 run. MESHES: a comma-separated subset of face,bimba,n4_132K,n11_1M.
 TOOL (environment) defaults to build/bijparam. Never asserts times.
@@ -51,7 +55,9 @@ def run(path, name, T):
     wall, r1 = time.time() - t0, resource.getrusage(resource.RUSAGE_CHILDREN)
     rep = json.loads(p.stdout.decode().strip().splitlines()[-1])
     pc = rep["per_chart"]
+    tm = rep.get("timings", {})
     return {"mesh": name, "T": T, "wall": wall, "cpu": r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime,
+            "solve": tm.get("init", 0) + tm.get("optimize", 0),
             "iters": sum(c["iterations"] for c in pc), "E": pc[0]["energy_end"], "bpf": rep.get("bytes_per_face"),
             "exact": all(not c["flipped"] and not c["degenerate"] and not c["boundary_intersections"] for c in pc),
             "load": os.getloadavg()[0]}
@@ -79,14 +85,18 @@ def main():
                     print(json.dumps(r), flush=True)
             w1, w2 = (statistics.median(x["wall"] for x in res[T]) for T in (1, 2))
             c1, c2 = (statistics.median(x["cpu"] for x in res[T]) for T in (1, 2))
+            s1, s2 = (statistics.median(x["solve"] for x in res[T]) for T in (1, 2))
+            pairs = sorted(a["wall"] / b["wall"] for a, b in zip(res[1], res[2]))
             same = subprocess.run(["cmp", "-s"] + [os.path.join(OUT, "%s_%d.obj" % (name, T)) for T in (1, 2)]).returncode == 0
-            rows.append("| %s | %.2f | %.2f | %.2f | %.2f / %.2f | %d | %.0f | %s |" % (
-                name, w1, w2, w1 / w2, c1, c2, res[1][0]["iters"], res[2][0]["bpf"] or 0, "yes" if same else "NO"))
+            rows.append("| %s | %.2f | %.2f | %.2f | %.2f | %.2f / %.2f | %.2f | %.2f / %.2f | %d | %.0f | %s |" % (
+                name, w1, w2, w1 / w2, statistics.median(pairs), s1, s2, s1 / s2, c1, c2, res[1][0]["iters"],
+                res[2][0]["bpf"] or 0, "yes" if same else "NO"))
     finally:
         for h in hogs:
             h.kill()
-    print("\n| chart | wall 1 thread | wall 2 threads | speed-up | CPU 1 / 2 | iters | B/face | same bytes |")
-    print("|---|---:|---:|---:|---|---:|---:|---|")
+    print("\n| chart | wall 1 thread | wall 2 threads | speed-up | median of pairs | solve 1 / 2 | solve speed-up "
+          "| CPU 1 / 2 | iters | B/face | same bytes |")
+    print("|---|---:|---:|---:|---:|---|---:|---|---:|---:|---|")
     print("\n".join(rows))
 
 
