@@ -1426,19 +1426,25 @@ struct bp__pool {
    A 100 us poll (BP__SPIN_LONG_NS) cut that to 99 and 26 sleeps and the
    run by 10 ms (the median of 25 paired runs).  But a long poll is exactly
    what hurt on the crowded machine of issue 13, so the pool polls long
-   only while it gets the cores it asked for: it starts long, and each
-   measuring window (bp__pool_window, below) sets the poll for the next
-   one, long when the threads used at least BP__SPIN_LONG_CORES of a core
-   each (polling included: a thread the system does not run does not
-   poll), the short BP__SPIN_NS otherwise.  With the other cores taken the
-   process gets about one core between its threads, below that bound, and
-   goes back to the short poll after one window. */
+   only while it gets the cores it asked for: it starts short, looks
+   early (after BP__SPIN_WINDOW_JOBS loops and BP__SPIN_WINDOW_S seconds
+   of its measuring window, bp__pool_window, below), and then at the end
+   of each window, and polls long when the threads used at least
+   BP__SPIN_LONG_CORES of a core each (polling included: a thread the
+   system does not run does not poll), short otherwise.  With the other
+   cores taken the process gets about one core between its threads, below
+   that bound.  (Starting long instead cost bimba 7% more CPU time on the
+   crowded machine of bench/threads.py: every pool's first window polled
+   long.)  The early look only sets the poll; the backoff waits for the
+   whole window, as before. */
 #ifndef BP__SPIN_LONG_NS
 #define BP__SPIN_LONG_NS 100000
 #endif
 #ifndef BP__SPIN_LONG_CORES
 #define BP__SPIN_LONG_CORES 0.75
 #endif
+#define BP__SPIN_WINDOW_JOBS 32u
+#define BP__SPIN_WINDOW_S    0.002
 #if defined(__GNUC__) || defined(__clang__)
 #define BP__SPIN_NS 20000
 #define BP__LOAD(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
@@ -1624,16 +1630,26 @@ static double bp__cpu_seconds(void)
 /* After each parallel loop: close the window when it is long enough and
    decide whether the next loops run on the caller alone, and how long a
    waiting thread polls (the essay on waiting, above). */
+/* The poll for the next loops: long when the threads used at least
+   BP__SPIN_LONG_CORES of a core each over `wall` seconds (`cpu` of them). */
+static void bp__pool_spin(bp__pool *P, double wall, double cpu)
+{
+    BP__STORE(&P->spin, cpu >= BP__SPIN_LONG_CORES * (P->nth + 1) * wall ? (uint32_t)BP__SPIN_LONG_NS
+                                                                          : (uint32_t)BP__SPIN_NS);
+}
+
 static void bp__pool_window(bp__pool *P)
 {
     double wall, cpu;
     if (P->wjobs++ == 0) { P->wwall = bp__seconds(); P->wcpu = bp__cpu_seconds(); return; }
+    if (P->wjobs == BP__SPIN_WINDOW_JOBS && P->wcpu >= 0 &&            /* the early look: the poll only */
+        (wall = bp__seconds() - P->wwall) >= BP__SPIN_WINDOW_S && (cpu = bp__cpu_seconds() - P->wcpu) >= 0)
+        bp__pool_spin(P, wall, cpu);
     if (P->wjobs < BP__WINDOW_JOBS || (wall = bp__seconds() - P->wwall) < BP__WINDOW_S) return;
     cpu = bp__cpu_seconds() - P->wcpu;
     P->wjobs = 0;
     if (P->wcpu < 0 || cpu < 0) return;                      /* no CPU clock: keep the threads */
-    BP__STORE(&P->spin, cpu >= BP__SPIN_LONG_CORES * (P->nth + 1) * wall ? (uint32_t)BP__SPIN_LONG_NS
-                                                                          : (uint32_t)BP__SPIN_NS);
+    bp__pool_spin(P, wall, cpu);
     if (cpu < BP__MIN_CORES_PER_THREAD * (P->nth + 1) * wall) {
         P->backoff = P->backoff < BP__BACKOFF_MIN ? BP__BACKOFF_MIN
                    : P->backoff < BP__BACKOFF_MAX ? 2 * P->backoff : BP__BACKOFF_MAX;
@@ -1686,7 +1702,7 @@ static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
     if (threads <= 1) return NULL;
     P = (bp__pool *)bp__calloc_array(a, 1, sizeof *P);
     if (!P) return NULL;
-    P->spin = BP__SPIN_LONG_NS;                /* long until a window says otherwise */
+    P->spin = BP__SPIN_NS;                     /* short until a window says otherwise */
     P->th = (pthread_t *)bp__alloc_array(a, (size_t)threads - 1, sizeof(pthread_t));
     P->who = (bp__worker *)bp__alloc_array(a, (size_t)threads - 1, sizeof(bp__worker));
     P->claim = (uint64_t *)bp__calloc_array(a, (size_t)threads * BP__LINE, sizeof(uint64_t));
