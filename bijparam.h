@@ -1400,6 +1400,7 @@ struct bp__pool {
     uint32_t        backoff;        /* the next skip (bp__pool_for)          */
     uint32_t        wjobs;          /* parallel loops in the current window  */
     uint32_t        spin;           /* ns a waiting thread polls (bp__pool_poll) */
+    int             looked;         /* the first window's early look is done */
     double          wwall, wcpu;    /* the window's start: wall, process CPU */
 };
 
@@ -1427,16 +1428,17 @@ struct bp__pool {
    run by 10 ms (the median of 25 paired runs).  But a long poll is exactly
    what hurt on the crowded machine of issue 13, so the pool polls long
    only while it gets the cores it asked for: it starts short, looks
-   early (after BP__SPIN_WINDOW_JOBS loops and BP__SPIN_WINDOW_S seconds
-   of its measuring window, bp__pool_window, below), and then at the end
+   early in its first measuring window (after BP__SPIN_WINDOW_JOBS loops
+   and BP__SPIN_WINDOW_S seconds; bp__pool_window, below), then at the end
    of each window, and polls long when the threads used at least
    BP__SPIN_LONG_CORES of a core each (polling included: a thread the
    system does not run does not poll), short otherwise.  With the other
    cores taken the process gets about one core between its threads, below
    that bound.  (Starting long instead cost bimba 7% more CPU time on the
    crowded machine of bench/threads.py: every pool's first window polled
-   long.)  The early look only sets the poll; the backoff waits for the
-   whole window, as before. */
+   long; and an early look in every window let a few lucky milliseconds
+   set the long poll again for most of each window.)  The early look only
+   sets the poll; the backoff waits for the whole window, as before. */
 #ifndef BP__SPIN_LONG_NS
 #define BP__SPIN_LONG_NS 100000
 #endif
@@ -1642,12 +1644,15 @@ static void bp__pool_window(bp__pool *P)
 {
     double wall, cpu;
     if (P->wjobs++ == 0) { P->wwall = bp__seconds(); P->wcpu = bp__cpu_seconds(); return; }
-    if (P->wjobs == BP__SPIN_WINDOW_JOBS && P->wcpu >= 0 &&            /* the early look: the poll only */
-        (wall = bp__seconds() - P->wwall) >= BP__SPIN_WINDOW_S && (cpu = bp__cpu_seconds() - P->wcpu) >= 0)
+    if (!P->looked && P->wjobs == BP__SPIN_WINDOW_JOBS && P->wcpu >= 0 &&   /* the early look: the poll only */
+        (wall = bp__seconds() - P->wwall) >= BP__SPIN_WINDOW_S && (cpu = bp__cpu_seconds() - P->wcpu) >= 0) {
+        P->looked = 1;
         bp__pool_spin(P, wall, cpu);
+    }
     if (P->wjobs < BP__WINDOW_JOBS || (wall = bp__seconds() - P->wwall) < BP__WINDOW_S) return;
     cpu = bp__cpu_seconds() - P->wcpu;
     P->wjobs = 0;
+    P->looked = 1;                                           /* whole windows decide from now on */
     if (P->wcpu < 0 || cpu < 0) return;                      /* no CPU clock: keep the threads */
     bp__pool_spin(P, wall, cpu);
     if (cpu < BP__MIN_CORES_PER_THREAD * (P->nth + 1) * wall) {

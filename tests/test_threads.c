@@ -278,12 +278,14 @@ static void check_pool_stress(void)
 
 /* The pool's window (bp__pool_window, the essay on waiting in >>threads)
    sets how long a waiting thread polls.  A new pool polls short; the
-   early look of a window in which the threads used 0.95 of a core each
-   sets the long poll and nothing else (no backoff, the window goes on); a
-   window in which the two threads got (almost) no CPU time -- a crowded
-   machine -- sets the short poll and the backoff; one in which they used
-   0.6 of a core each sets the short poll without the backoff; one in which
-   they used 0.95 of a core each, the long poll again.  The windows are
+   early look of its first window, in which the threads used 0.95 of a
+   core each, sets the long poll and nothing else (no backoff, the window
+   goes on); a window in which the two threads got (almost) no CPU time --
+   a crowded machine -- sets the short poll and the backoff; one in which
+   they used 0.6 of a core each sets the short poll without the backoff;
+   after that an early look at 0.95 changes nothing (whole windows decide
+   once one has been measured); a whole window at 0.95 sets the long poll
+   again.  The windows are
    made up (their start moved back in time), so nothing here depends on how
    busy the test machine is. */
 static void window_after(bp__pool *P, double wall, double cpu)
@@ -294,34 +296,43 @@ static void window_after(bp__pool *P, double wall, double cpu)
     bp__pool_window(P);
 }
 
+static void early_look(bp__pool *P)            /* 0.95 of a core per thread so far */
+{
+    P->wjobs = BP__SPIN_WINDOW_JOBS - 1;
+    P->wwall = bp__seconds() - 0.01;
+    P->wcpu = bp__cpu_seconds() - 0.019;
+    bp__pool_window(P);
+}
+
 static void check_pool_spin(void)
 {
     bp_allocator a;
     bp__pool *P;
-    uint32_t s0, se, je, s1, s2, s3, k1, k2, k3;
+    uint32_t s0, se, je, s1, s2, sl, s3, k1, k2, k3;
     memset(&a, 0, sizeof a);
     volatile double burn = 0;
     while (bp__cpu_seconds() < 0.25) burn += 1;  /* a window's start must not be before the process's */
     P = bp__pool_start(&a, 2);
     if (!BPT_CHECK(P != NULL, "a pool of 2 threads")) return;
     s0 = P->spin;
-    P->wjobs = BP__SPIN_WINDOW_JOBS - 1;        /* the early look of a window */
-    P->wwall = bp__seconds() - 0.01;
-    P->wcpu = bp__cpu_seconds() - 0.019;
-    bp__pool_window(P);
+    early_look(P);
     se = P->spin; je = P->wjobs;
     window_after(P, 0.1, 0.0);                  /* crowded: no CPU time in 0.1 s */
     s1 = P->spin; k1 = P->skip;
     P->skip = 0;
     window_after(P, 0.1, 0.12);                 /* 0.6 of a core per thread */
     s2 = P->spin; k2 = P->skip;
+    early_look(P);
+    sl = P->spin;
     window_after(P, 0.1, 0.19);                 /* 0.95 of a core per thread */
     s3 = P->spin; k3 = P->skip;
     BPT_CHECK(s0 == BP__SPIN_NS && se == BP__SPIN_LONG_NS && je == BP__SPIN_WINDOW_JOBS && s1 == BP__SPIN_NS &&
-                  k1 == BP__BACKOFF_MIN && s2 == BP__SPIN_NS && k2 == 0 && s3 == BP__SPIN_LONG_NS && k3 == 0,
-              "pool window: polls %u ns new, %u ns after an early look at 0.95 core/thread (the window goes on: "
-              "%u loops), %u ns crowded (skip %u), %u ns at 0.6 core/thread (skip %u), %u ns at 0.95 (skip %u)",
-              s0, se, je, s1, k1, s2, k2, s3, k3);
+                  k1 == BP__BACKOFF_MIN && s2 == BP__SPIN_NS && k2 == 0 && sl == BP__SPIN_NS && s3 == BP__SPIN_LONG_NS &&
+                  k3 == 0,
+              "pool window: polls %u ns new, %u ns after the first early look at 0.95 core/thread (the window "
+              "goes on: %u loops), %u ns crowded (skip %u), %u ns at 0.6 core/thread (skip %u), still %u ns after "
+              "a later early look at 0.95, %u ns after a whole window at 0.95 (skip %u)",
+              s0, se, je, s1, k1, s2, k2, sl, s3, k3);
     bp__pool_stop(&a, P);
 }
 
