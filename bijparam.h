@@ -1629,9 +1629,6 @@ static double bp__cpu_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* After each parallel loop: close the window when it is long enough and
-   decide whether the next loops run on the caller alone, and how long a
-   waiting thread polls (the essay on waiting, above). */
 /* The poll for the next loops: long when the threads used at least
    BP__SPIN_LONG_CORES of a core each over `wall` seconds (`cpu` of them). */
 static void bp__pool_spin(bp__pool *P, double wall, double cpu)
@@ -1640,6 +1637,10 @@ static void bp__pool_spin(bp__pool *P, double wall, double cpu)
                                                                           : (uint32_t)BP__SPIN_NS);
 }
 
+/* After each parallel loop: close the window when it is long enough and
+   decide whether the next loops run on the caller alone, and how long a
+   waiting thread polls (the essay on waiting, above; the first window also
+   looks early, for the poll only). */
 static void bp__pool_window(bp__pool *P)
 {
     double wall, cpu;
@@ -13569,13 +13570,6 @@ static double bp__quad_form(const bp__sparse *K, const double *s, const bp__par 
     return sum;
 }
 
-/* The solver of one chart, set up as bp_chart_optimize uses it (and as the
-   tests check it): rest shapes of sec 3.1 with the importance of eq 4.1,
-   weights E_D = sum (A_t / mean area) E_t (so E_D / nt is the area-weighted
-   mean the report shows), the energy, and the barrier width eps -- a
-   quarter of the mean 3D boundary edge (sec 3.3) unless o->epsilon is set.
-   rest_wxy (3 per triangle, may be NULL) receives the flattened triangles
-   (w, x, y) for the preconditioner.  On failure the solver is freed. */
 /* The rest shapes of the triangles of chunk c: M^-1 and the weight
    before its normalization, the flattened (w, x, y) in wxy, and in bad[c]
    the chunk's first triangle whose importance is not positive and finite
@@ -13608,11 +13602,16 @@ static void bp__rest_task_run(void *task, uint32_t c)
     }
 }
 
-/* The solver of a chart: its rest shapes (on par's threads, in chunks of
-   triangles; the areas are added in triangle order after them, so the
-   weights have the same bits on any threads), the boundary's mean edge and
-   the barrier's eps.  rest_wxy (3 nt doubles, or NULL) gets the flattened
-   triangles. */
+/* The solver of one chart, set up as bp_chart_optimize uses it (and as the
+   tests check it): rest shapes of sec 3.1 with the importance of eq 4.1,
+   weights E_D = sum (A_t / mean area) E_t (so E_D / nt is the area-weighted
+   mean the report shows), the energy, and the barrier width eps -- a
+   quarter of the mean 3D boundary edge (sec 3.3) unless o->epsilon is set.
+   rest_wxy (3 per triangle, may be NULL) receives the flattened triangles
+   (w, x, y) for the preconditioner.  On failure the solver is freed.  The
+   rest shapes are made on par's threads, in chunks of triangles; the areas
+   are added in triangle order after them, so the weights have the same
+   bits on any threads.  bp__solver_chart: the same on the caller alone. */
 static bp_status bp__solver_chart_par(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
                                       const bp_options *o, double *rest_wxy, const bp__par *par, bp_error *err)
 {
@@ -15286,16 +15285,6 @@ static int bp__opt_choose_newton(bp__solver *S, const double *x)
     return sum / S->nt < BP__AUTO_NEWTON_E0;       /* also false for a NaN or infinite start */
 }
 
-/* The start map's order (>>tutte, phase 5b), taken from the chart, which
-   keeps it no longer (a new start map makes a new one), into P->N's kept
-   order: the chart's own edges must respect it (they do, unless the
-   caller changed chart.start_order: then it is dropped, as it is when
-   its tree is not nested: a node outside its half of its parent).
-   Newton's first factorization uses it as it does a kept order, when the
-   barrier's pairs respect it too (bp__nd_keeps); the L-BFGS
-   preconditioner, the chart's Laplacian (its graph the chart's edges,
-   fewer where pins are), always, after which it is freed (bp__opt_setup).
-   Returns 0 out of memory. */
 /* Whether the edges of chunk c of the triangles respect the order (in
    ok[c]). */
 typedef struct bp__keeps_task {
@@ -15319,6 +15308,16 @@ static void bp__keeps_task_run(void *task, uint32_t c)
     }
 }
 
+/* The start map's order (>>tutte, phase 5b), taken from the chart, which
+   keeps it no longer (a new start map makes a new one), into P->N's kept
+   order: the chart's own edges must respect it (they do, unless the
+   caller changed chart.start_order: then it is dropped, as it is when
+   its tree is not nested: a node outside its half of its parent).
+   Newton's first factorization uses it as it does a kept order, when the
+   barrier's pairs respect it too (bp__nd_keeps); the L-BFGS
+   preconditioner, the chart's Laplacian (its graph the chart's edges,
+   fewer where pins are), always, after which it is freed (bp__opt_setup).
+   Returns 0 out of memory. */
 static int bp__opt_start_order(bp__opt *P, bp_chart *ch)
 {
     uint32_t nv = P->S.nv, k, j, *o = ch->start_order, *iv;
