@@ -534,27 +534,35 @@ static int demo_mesh(bp_mesh *m)
 
 /* ---- per-chart facts for the report ------------------------------------- */
 
-static int cmp_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* V - E + F of a chart, counting each undirected edge once (1 for a disk). */
+/* V - E + F of a chart, counting each undirected edge once (1 for a disk),
+   from its triangles alone (not from its loops: the report checks the
+   library's topology, it does not repeat it).  The corner edges are
+   bucketed by their smaller vertex (a counting sort) and each bucket's
+   larger ends counted once, marked with the bucket's vertex: linear in
+   the corners.  (A qsort of the edge keys took 8 ms of face's 0.37 s
+   two-thread run, all of it serial; docs/performance.md 6.30.) */
 static long chart_euler(const bp_chart *c)
 {
-    size_t n = 3 * (size_t)c->num_triangles, k, edges = 0;
-    uint64_t *e = (uint64_t *)malloc((n ? n : 1) * sizeof(uint64_t));
-    if (!e) return 0;
+    size_t n = 3 * (size_t)c->num_triangles, k, i, edges = 0;
+    uint32_t nv = c->num_vertices, v;
+    uint32_t *start = (uint32_t *)calloc((size_t)nv + 2, sizeof *start);
+    uint32_t *hi = (uint32_t *)malloc((n ? n : 1) * sizeof *hi);
+    uint32_t *mark = (uint32_t *)malloc(((size_t)nv + 1) * sizeof *mark);
+    if (!start || !hi || !mark) { free(start); free(hi); free(mark); return 0; }
     for (k = 0; k < n; k++) {
-        uint64_t a = c->triangles[k];
-        uint64_t b = c->triangles[k - k % 3 + (k + 1) % 3];
-        e[k] = a < b ? (a << 32 | b) : (b << 32 | a);
+        uint32_t a = c->triangles[k], b = c->triangles[k - k % 3 + (k + 1) % 3];
+        start[(a < b ? a : b) + 2]++;
     }
-    qsort(e, n, sizeof *e, cmp_u64);
-    for (k = 0; k < n; k++)
-        if (k == 0 || e[k] != e[k - 1]) edges++;
-    free(e);
+    for (v = 2; v <= nv + 1; v++) start[v] += start[v - 1];   /* bucket v: [start[v+1], ...) */
+    for (k = 0; k < n; k++) {
+        uint32_t a = c->triangles[k], b = c->triangles[k - k % 3 + (k + 1) % 3];
+        hi[start[(a < b ? a : b) + 1]++] = a < b ? b : a;
+    }
+    for (v = 0; v < nv; v++) mark[v] = 0xffffffffu;
+    for (v = 0; v < nv; v++)                                  /* bucket v: [start[v], start[v+1]) */
+        for (i = start[v]; i < start[v + 1]; i++)
+            if (mark[hi[i]] != v) { mark[hi[i]] = v; edges++; }
+    free(start); free(hi); free(mark);
     return (long)c->num_vertices - (long)edges + (long)c->num_triangles;
 }
 

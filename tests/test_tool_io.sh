@@ -12,6 +12,9 @@
 #   held inside by an importance file that is a FIFO nobody writes to yet).
 # - Where the result went: one stderr line with -o, "no output written" without
 #   it, nothing with --quiet, the "output" field with --json.
+# - The --json report's "euler" (counted from the triangles alone) is 2 minus
+#   the chart's loops for every chart of spot, face_holes, the cow and
+#   fertility (each a disk with holes after the tool's cut).
 # - A usage error is two lines (the error, "see bijparam --help"); --version
 #   prints the header's BP_VERSION_STRING; I/O errors give the reason; the
 #   messages count faces from 1.
@@ -136,6 +139,22 @@ check $(( $(rc) != 0 || js != 0 || $(wc -c < "$d/stderr") != 0 )) "--json withou
 run "$d/asset.obj" --json -o "$d/j.obj"
 grep -q '"output":"'"$d"'/j.obj"' "$d/stdout"
 check $? "--json with -o: the report names the output"
+
+# --- the report's Euler characteristic ---------------------------------------
+# chart_euler counts the edges from the triangles alone (a counting sort);
+# every chart the tool solves is a disk with holes, so V - E + F = 2 - (its
+# loops), which the report lists separately: spot's 13 charts, face_holes
+# (several holes), the cow's seamed chart, fertility (genus 4, closed: cut).
+for m in tests/data/spot.obj tests/data/face_holes.off tests/data/cow_param_withSUV.obj tests/data/fertility.off; do
+    run "$m" --json --init-only
+    python3 -c '
+import json, sys
+r = json.loads(open(sys.argv[1]).read().strip().splitlines()[-1])
+bad = [c["index"] for c in r["per_chart"] if c["euler"] != 2 - len(c["loops"])]
+print(len(r["per_chart"]), bad)
+sys.exit(1 if bad or not r["per_chart"] else 0)' "$d/stdout" > "$d/euler"
+    check $? "$(basename "$m"): every chart's euler is 2 - its loops (charts, wrong: $(cat "$d/euler"))"
+done
 
 # --- usage, version, messages -------------------------------------------------
 run --bogus
