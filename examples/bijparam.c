@@ -553,13 +553,13 @@ static long chart_euler(const bp_chart *c)
         uint32_t a = c->triangles[k], b = c->triangles[k - k % 3 + (k + 1) % 3];
         start[(a < b ? a : b) + 2]++;
     }
-    for (v = 2; v <= nv + 1; v++) start[v] += start[v - 1];   /* bucket v: [start[v+1], ...) */
+    for (v = 2; v <= nv + 1; v++) start[v] += start[v - 1];   /* start[v + 1]: where bucket v begins */
     for (k = 0; k < n; k++) {
         uint32_t a = c->triangles[k], b = c->triangles[k - k % 3 + (k + 1) % 3];
         hi[start[(a < b ? a : b) + 1]++] = a < b ? b : a;
     }
     for (v = 0; v < nv; v++) mark[v] = 0xffffffffu;
-    for (v = 0; v < nv; v++)                                  /* bucket v: [start[v], start[v+1]) */
+    for (v = 0; v < nv; v++)                                  /* filled: bucket v is [start[v], start[v+1]) */
         for (i = start[v]; i < start[v + 1]; i++)
             if (mark[hi[i]] != v) { mark[hi[i]] = v; edges++; }
     free(start); free(hi); free(mark);

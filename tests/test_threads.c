@@ -285,9 +285,8 @@ static void check_pool_stress(void)
    they used 0.6 of a core each sets the short poll without the backoff;
    after that an early look at 0.95 changes nothing (whole windows decide
    once one has been measured); a whole window at 0.95 sets the long poll
-   again.  The windows are
-   made up (their start moved back in time), so nothing here depends on how
-   busy the test machine is. */
+   again.  The windows are made up (their start moved back in time), so
+   nothing here depends on how busy the test machine is. */
 static void window_after(bp__pool *P, double wall, double cpu)
 {
     P->wjobs = BP__WINDOW_JOBS;                 /* this loop closes the window */
@@ -309,8 +308,8 @@ static void check_pool_spin(void)
     bp_allocator a;
     bp__pool *P;
     uint32_t s0, se, je, s1, s2, sl, s3, k1, k2, k3;
-    memset(&a, 0, sizeof a);
     volatile double burn = 0;
+    memset(&a, 0, sizeof a);
     while (bp__cpu_seconds() < 0.25) burn += 1;  /* a window's start must not be before the process's */
     P = bp__pool_start(&a, 2);
     if (!BPT_CHECK(P != NULL, "a pool of 2 threads")) return;
