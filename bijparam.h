@@ -8175,39 +8175,63 @@ static void bp__super_panel_tri(double *B, uint32_t c2, uint32_t q0, uint32_t q1
 /* The panels in turn; with a runner (par not NULL) and a block of at
    least BP__DENSE_WIDE multiply-adds, each panel's rows below its
    triangle go to 2 x threads tasks of whole groups of four rows (the
-   WIDE pass), else on the calling thread. */
+   WIDE pass), else on the calling thread.
+   Look-ahead: the next panel's triangle needs only its own rows, all
+   finished up to the current panel once this pass is done.  So task 0
+   of a pass takes exactly those rows (the next panel's, [q1, q2)) and
+   then that triangle, while the other tasks share the rows below q2;
+   the caller no longer computes each triangle alone between two passes
+   (measured on face with 2 threads: 4.6 ms of such triangles in a run).
+   Every entry and pivot is the same sum as before, in the same order:
+   each row's values depend only on its own chains, not on which task
+   or group of rows holds it; the same bits.  The first panel's triangle,
+   and any after a pass too short to cut, stay on the caller. */
 #define BP__SUPER_PIECES 64u              /* pieces per parallel loop, at most */
 #define BP__DENSE_WIDE 2000000.0          /* multiply-adds of a block worth cutting */
 typedef struct bp__dense_task {
-    double *B;
-    const double *inv;
-    uint32_t c2, q0, q1;
-    uint32_t cut[BP__SUPER_PIECES + 1];
+    double *B, *D, *inv;
+    uint32_t c2, q0, q1, q2;              /* q2: the next panel's end, 0 without look-ahead */
+    uint32_t cut[BP__SUPER_PIECES + 2];
 } bp__dense_task;
 
 static void bp__dense_run(void *task, uint32_t t)
 {
     bp__dense_task *T = (bp__dense_task *)task;
     bp__super_panel_rows(T->B, T->c2, T->cut[t], T->cut[t + 1], T->q0, T->q1, T->inv);
+    if (t == 0 && T->q2) bp__super_panel_tri(T->B, T->c2, T->q1, T->q2, T->D, T->inv);
 }
 
 static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv, const bp__par *par)
 {
     const bp__super *S = F->sn;
     uint32_t f = S->first[s], c2 = S->bs * (S->first[s + 1] - f), m2 = S->bs * (S->rp[s + 1] - S->rp[s]), parts = 1, r;
+    uint32_t ahead = 0, n;               /* ahead: this panel's triangle is done */
     bp__dense_task T;
     if (par && (double)m2 * c2 * c2 / 2 >= BP__DENSE_WIDE) parts = 2 * (uint32_t)par->threads;
     if (parts > BP__SUPER_PIECES) parts = BP__SUPER_PIECES;
-    T.B = B; T.inv = inv; T.c2 = c2;
+    T.B = B; T.D = F->D + (size_t)S->bs * f; T.inv = inv; T.c2 = c2;
     for (T.q0 = 0; T.q0 < c2; T.q0 = T.q1) {
-        uint32_t rows;
+        uint32_t rows, lo;
         T.q1 = T.q0 + BP__DENSE_PANEL < c2 ? T.q0 + BP__DENSE_PANEL : c2;
-        bp__super_panel_tri(B, c2, T.q0, T.q1, F->D + (size_t)S->bs * f, inv);
+        if (!ahead) bp__super_panel_tri(B, c2, T.q0, T.q1, T.D, inv);
         rows = m2 - T.q1;
+        ahead = 0;
         if (parts == 1 || rows < 8 * parts) { bp__super_panel_rows(B, c2, T.q1, m2, T.q0, T.q1, inv); continue; }
-        for (r = 0; r < parts; r++) T.cut[r] = T.q1 + 4 * (uint32_t)(((uint64_t)rows / 4 * r) / parts);
-        T.cut[parts] = m2;
-        par->run(par->user, bp__dense_run, &T, parts);
+        T.q2 = T.q1 + BP__DENSE_PANEL < c2 ? T.q1 + BP__DENSE_PANEL : c2;
+        if (T.q1 < c2 && m2 - T.q2 >= 8 * parts) {  /* task 0: the next panel's rows, then its triangle */
+            T.cut[0] = T.q1;
+            lo = T.q2;
+            n = 1;
+            ahead = 1;
+        } else {
+            T.q2 = 0;
+            lo = T.q1;
+            n = 0;
+        }
+        rows = m2 - lo;
+        for (r = 0; r < parts; r++) T.cut[n + r] = lo + 4 * (uint32_t)(((uint64_t)rows / 4 * r) / parts);
+        T.cut[n + parts] = m2;
+        par->run(par->user, bp__dense_run, &T, n + parts);
     }
 }
 

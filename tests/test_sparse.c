@@ -20,8 +20,10 @@
          (so the top phase, one separator, takes the WIDE pass), also on
          a 48 x 48 grid whose separators are cut into several OUTSIDE
          pieces and a 100 x 100 grid whose top supernode is big enough for
-         the dense panels' rows to be cut (BP__DENSE_WIDE) (no dense
-         brute force there: 4,608 unknowns; residual and scalar only);
+         the dense panels' rows to be cut (BP__DENSE_WIDE), the next
+         panel's triangle taken ahead by task 0 (computing it before that
+         task's rows fails here) (no dense brute force there: 4,608
+         unknowns; residual and scalar only);
      (c) a matrix that is not positive definite is reported
          (BP_ERR_NUMERICAL) and a matrix flagged blocks2 that is not made
          of whole 2x2 blocks falls back to the scalar factorization and is
