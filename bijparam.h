@@ -14050,6 +14050,9 @@ typedef struct bp__newton {
     double    *ht;                /* BP__HT per triangle: its Hessian's
                                      blocks (bp__newton_tri_task)          */
     double    *bd;                /* 3 per vertex: barrier block xx, xy, yy */
+    double    *dg;                /* per vertex: its diagonal's part of the
+                                     trace, written by the gather tasks   */
+    double     delta;             /* the shift of the diagonal (assembly)   */
     double    *rhs, *z;
     double    *r, *p, *q;         /* conjugate gradients (the barrier pairs) */
     bp__vec    pairs;             /* bp__bpair: the barrier's pairs at x     */
@@ -14093,7 +14096,7 @@ static void bp__newton_free(const bp_allocator *a, bp__newton *N)
     bp__sparse_free(a, &N->K1);
     bp__factor_free(a, &N->F1);
     bp__free(a, N->b1);
-    bp__free(a, N->tpos); bp__free(a, N->dpos); bp__free(a, N->ht); bp__free(a, N->bd);
+    bp__free(a, N->tpos); bp__free(a, N->dpos); bp__free(a, N->ht); bp__free(a, N->bd); bp__free(a, N->dg);
     bp__free(a, N->rhs); bp__free(a, N->z);
     bp__free(a, N->r); bp__free(a, N->p); bp__free(a, N->q); bp__free(a, N->w); bp__free(a, N->part);
     bp__free(a, N->kperm); bp__free(a, N->kiperm);
@@ -14343,6 +14346,7 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
                                                  bp__newton_tri_task before any read: not zeroed, so its pages are
                                                  first touched on the threads */
     N->bd = (double *)bp__alloc_array(a, 3 * (size_t)S->nv, sizeof(double));
+    N->dg = (double *)bp__alloc_array(a, (size_t)S->nv + 1, sizeof(double));
     N->rhs = (double *)bp__alloc_array(a, n, sizeof(double));
     N->z = (double *)bp__alloc_array(a, n, sizeof(double));
     N->r = (double *)bp__alloc_array(a, n, sizeof(double));
@@ -14351,7 +14355,7 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
     N->w = (double *)bp__alloc_array(a, n, sizeof(double));
     N->part = (double *)bp__alloc_array(a, (size_t)bp__vec_nchunks(n) + 1, sizeof(double));
     N->b1 = (double *)bp__alloc_array(a, 2 * (size_t)n + 1, sizeof(double));
-    if (!N->tpos || !N->dpos || !N->ht || !N->bd || !N->rhs || !N->z || !N->r || !N->p || !N->q || !N->w || !N->part || !N->b1 ||
+    if (!N->tpos || !N->dpos || !N->ht || !N->bd || !N->dg || !N->rhs || !N->z || !N->r || !N->p || !N->q || !N->w || !N->part || !N->b1 ||
         bp__newton_pattern(N, a, S) != BP_OK) {
         bp__newton_free(a, N);
         return BP_ERR_OUT_OF_MEMORY;
@@ -14446,6 +14450,20 @@ static void bp__newton_gather_task(void *task, uint32_t c)
                 else { val[P] += b[0]; val[P + 1] += b[1]; val[P + len] += b[2]; val[P + len + 1] += b[3]; }
             }
         }
+        N->dg[v] = val[N->dpos[4 * (size_t)v]] + val[N->dpos[4 * (size_t)v + 3]];   /* its part of the trace */
+    }
+}
+
+/* The shift delta I of H's diagonal, in chunks of vertices (each
+   vertex's diagonal block lies in its own two columns). */
+static void bp__newton_shift_task(void *task, uint32_t c)
+{
+    bp__newton *N = (bp__newton *)task;
+    const bp__solver *S = N->S;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1);
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
+        N->H.val[N->dpos[4 * (size_t)v]] += N->delta;
+        N->H.val[N->dpos[4 * (size_t)v + 3]] += N->delta;
     }
 }
 
@@ -14662,6 +14680,21 @@ static void bp__newton_iso_gather_task(void *task, uint32_t c)
             for (r = 0; r < 3; r++)
                 val[k0 + (N->tpos[9 * (size_t)t + 3 * r + cc] - h0) / 2] += N->ht[6 * (size_t)t + bp__ht_block[r][cc] / 4];
         }
+        N->dg[v] = 2 * val[k0 + (N->dpos[4 * (size_t)v] - h0) / 2];             /* its part of the trace */
+    }
+}
+
+/* K1's diagonal: the shift delta, then the homotopy's pull, per vertex,
+   in chunks of vertices. */
+static void bp__newton_iso_shift_task(void *task, uint32_t c)
+{
+    bp__newton *N = (bp__newton *)task;
+    const bp__solver *S = N->S;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1);
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
+        double *d = N->K1.val + N->K1.colp[v] + (N->dpos[4 * (size_t)v] - N->H.colp[2 * v]) / 2;
+        *d += N->delta;
+        if (N->pull && N->pull[v] != BP__NONE) *d += 2 * N->pull_w;
     }
 }
 
@@ -14692,18 +14725,19 @@ static void bp__newton_iso_assemble(bp__newton *N, bp__solver *S)
                         val[bp__newton_iso_at(N, pr[q].v[k], pos[i][k])] +=
                             0.5 * (pr[q].K[6 * (2 * i) + 2 * k] + pr[q].K[6 * (2 * i + 1) + 2 * k + 1]);
         }
-    }
-    for (v = 0; v < S->nv; v++) {
-        double *d = val + bp__newton_iso_at(N, v, N->dpos[4 * (size_t)v]);
-        if (BP__NEWTON_BARRIER != 3) *d += 0.5 * (N->bd[3 * (size_t)v] + N->bd[3 * (size_t)v + 2]);
-        trace += 2 * *d;
-    }
+        for (q = 0; q < N->pairs.count; q++)           /* the diagonals the pairs changed */
+            for (v = 0; v < 3; v++)
+                N->dg[pr[q].v[v]] = 2 * val[bp__newton_iso_at(N, pr[q].v[v], N->dpos[4 * (size_t)pr[q].v[v]])];
+    } else
+        for (v = 0; v < S->nv; v++) {
+            double *d = val + bp__newton_iso_at(N, v, N->dpos[4 * (size_t)v]);
+            *d += 0.5 * (N->bd[3 * (size_t)v] + N->bd[3 * (size_t)v + 2]);
+            N->dg[v] = 2 * *d;
+        }
+    for (v = 0; v < S->nv; v++) trace += N->dg[v];    /* in vertex order: the same sum on any threads */
     delta = 1e-8 * trace / (2 * (double)S->nv);
-    for (v = 0; v < S->nv; v++) {
-        double *d = val + bp__newton_iso_at(N, v, N->dpos[4 * (size_t)v]);
-        *d += delta;
-        if (N->pull && N->pull[v] != BP__NONE) *d += 2 * N->pull_w;
-    }
+    N->delta = delta;
+    S->par.run(S->par.user, bp__newton_iso_shift_task, N, S->nchunk_v);
     if (N->hold)
         for (j = 0; j < N->K1.n; j++)
             for (p = N->K1.colp[j]; p < N->K1.colp[j + 1]; p++)
@@ -14744,17 +14778,22 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
                                 pr[q].K[6 * (2 * i + al) + 2 * j + be];   /* >>barrier: f'' c c n n^T, or whole */
                 }
         }
-    }
-    for (v = 0; v < S->nv; v++) {
-        const uint32_t *dp = N->dpos + 4 * (size_t)v;
-        const double *b = N->bd + 3 * (size_t)v;
-        if (BP__NEWTON_BARRIER != 3) {
+        for (q = 0; q < N->pairs.count; q++)           /* the diagonals the pairs changed */
+            for (v = 0; v < 3; v++) {
+                const uint32_t *dp = N->dpos + 4 * (size_t)pr[q].v[v];
+                N->dg[pr[q].v[v]] = N->H.val[dp[0]] + N->H.val[dp[3]];
+            }
+    } else
+        for (v = 0; v < S->nv; v++) {
+            const uint32_t *dp = N->dpos + 4 * (size_t)v;
+            const double *b = N->bd + 3 * (size_t)v;
             N->H.val[dp[0]] += b[0]; N->H.val[dp[1]] += b[1]; N->H.val[dp[2]] += b[1]; N->H.val[dp[3]] += b[2];
+            N->dg[v] = N->H.val[dp[0]] + N->H.val[dp[3]];
         }
-        trace += N->H.val[dp[0]] + N->H.val[dp[3]];
-    }
+    for (v = 0; v < S->nv; v++) trace += N->dg[v];    /* in vertex order: the same sum on any threads */
     delta = 1e-8 * trace / n;
-    for (v = 0; v < S->nv; v++) { N->H.val[N->dpos[4 * (size_t)v]] += delta; N->H.val[N->dpos[4 * (size_t)v + 3]] += delta; }
+    N->delta = delta;
+    S->par.run(S->par.user, bp__newton_shift_task, N, S->nchunk_v);
     bp__newton_pins(N, S);
 }
 

@@ -21,7 +21,10 @@
          (gathered by vertex in parallel chunks) is, without the barrier,
          the scatter of the triangles' Hessians in triangle order written
          here (searching H's columns) plus delta I, bit for bit, and has the
-         same bits with its chunks run backwards; it
+         same bits with its chunks run backwards; the shift delta the
+         library took (its trace summed from the gather tasks' diagonals
+         and, with the barrier's pairs, theirs) is 1e-8 trace / n of H
+         before the shift, recovered from H's diagonal; it
          without the barrier dominates the true Hessian: w^T H w >=
          w^T (finite-difference Hessian) w for random w, since clamping
          adds a positive semidefinite term per triangle; with the barrier,
@@ -76,7 +79,8 @@
      (m) the isotropic phase: on camel_b without the barrier, with a
          barrier 4 mean edges wide and with every 7th vertex held, the
          library's K1 equals (H(2u, 2v) + H(2u+1, 2v+1)) / 2 of the H it
-         assembles otherwise, entry by entry (within 1e-12 max |H|; H shown
+         assembles otherwise, entry by entry, and its shift is H's (within
+         1e-12 max |H|, and 1e-9 of the shift; H shown
          anisotropic, so the average is a test); its direction is one of
          descent, solves (K1 (x) I) v = -g with K1 built here from H (max
          residual 1e-8 max |g|), is exactly 0 on held vertices and is not
@@ -347,7 +351,14 @@ static void test_assembled(void)
             for (i = 0; i < S.nv; i++) tr += N.H.val[N.dpos[4 * i]] + N.H.val[N.dpos[4 * i + 3]];
             for (i = 0; i < 3 * S.nv; i++) bsum += fabs(N.bd[i]);
             delta = 1e-8 * (tr / (1 + 1e-8)) / nv2;
-            if (withb) BPT_CHECK(bsum > 0, "camel_b, eps = 4 mean edges: the barrier adds to H (sum |blocks| %.3g)", bsum);
+            if (withb) BPT_CHECK(bsum > 0 && N.pairs.count > 0, "camel_b, eps = 4 mean edges: the barrier adds to H (sum "
+                                 "|blocks| %.3g, %u pairs)", bsum, (unsigned)N.pairs.count);
+            /* the shift the library took (summed from its gather tasks' and
+               the pairs' diagonals) against the one recovered from H's own
+               diagonal: a diagonal left out of the trace, or taken before
+               the pairs added to it, fails this */
+            BPT_CHECK(fabs(N.delta - delta) <= 1e-9 * delta, "camel_b %s: the shift delta %.9g is 1e-8 trace / n of H before "
+                      "it (%.9g recovered from H's diagonal)", withb ? "with the barrier" : "without barrier", N.delta, delta);
         }
         check_gather(&N, &S, x, withb ? NULL : &delta);
         for (k = 0; k < 20; k++) {
@@ -1264,6 +1275,8 @@ static void test_isotropic(void)
         bp__newton_assemble(&N0, &S, x);              /* H itself (N0.iso = 0) */
         N.iso = 1;
         bp__newton_assemble(&N, &S, x);               /* K1 alone */
+        BPT_CHECK(fabs(N.delta - N0.delta) <= 1e-9 * N0.delta, "camel_b, %s: K1's shift %.9g is H's (%.9g): its trace, "
+                  "summed from its own diagonal and the pairs', is half of H's", MN[mode], N.delta, N0.delta);
         for (i = 0; i < N0.H.colp[N0.H.n]; i++) if (fabs(N0.H.val[i]) > hmax) hmax = fabs(N0.H.val[i]);
         BPT_CHECK(N.K1.n == nv && N.K1.colp[nv] == N0.H.colp[N0.H.n] / 4, "camel_b, %s: K1 is %u x %u with a quarter of "
                   "H's entries (%u of %u)", MN[mode], N.K1.n, nv, N.K1.colp[nv], N0.H.colp[N0.H.n]);
