@@ -1373,6 +1373,39 @@ static void bp__par_run(const bp__par *par, bp_task_fn fn, void *task, uint32_t 
     else par->run(par->user, fn, task, count);
 }
 
+/* Two independent loops as one: tasks [0, a.count) are a's, the rest b's.
+   A loop that is one long task (the dissection's root split) leaves the
+   other threads idle; run beside a loop of many short tasks that does
+   not depend on it (the conformal start's matrix), the threads share
+   both: the caller takes task 0 first (the pool hands the caller the
+   first block) and the others take b's tasks.  Each loop's tasks do what
+   they would alone: the same bits. */
+typedef struct bp__loop {
+    bp_task_fn fn;
+    void *task;
+    uint32_t count;
+} bp__loop;
+
+typedef struct bp__two_loops { bp__loop a, b; } bp__two_loops;
+
+static void bp__two_loops_run(void *task, uint32_t i)
+{
+    const bp__two_loops *L = (const bp__two_loops *)task;
+    if (i < L->a.count) L->a.fn(L->a.task, i);
+    else L->b.fn(L->b.task, i - L->a.count);
+}
+
+/* a's loop, and b's (when not NULL) in the same parallel loop. */
+static void bp__par_run_with(const bp__par *par, bp_task_fn fn, void *task, uint32_t count, uint32_t items,
+                             const bp__loop *b)
+{
+    bp__two_loops L;
+    if (!b || !b->count) { bp__par_run(par, fn, task, count, items); return; }
+    L.a.fn = fn; L.a.task = task; L.a.count = count;
+    L.b = *b;
+    bp__par_run(par, bp__two_loops_run, &L, count + b->count, items);
+}
+
 #ifdef BP_USE_PTHREADS
 #include <pthread.h>
 #include <unistd.h>
@@ -6971,7 +7004,9 @@ static void bp__nd_subtree(const bp__nd *D, bp__nd_task *T)
    disjoint vertices, which no comparison ever sees.
 
    The schedule.  The root is split alone (a tenth of the work on the
-   26K-vertex face chart: 3.8 of 36 ms); then each level of the recorded tree
+   26K-vertex face chart: 3.8 of 36 ms), as one task of a loop in which
+   the caller's other work independent of the order may run on the other
+   threads (bp__nd_order_with: the conformal start's columns); then each level of the recorded tree
    down to depth BP__ND_PAR_DEPTH is one parallel loop with a task per
    piece (one split each), and the pieces at that depth (up to
    2^BP__ND_PAR_DEPTH) are ordered whole, one task each, largest first
@@ -7029,8 +7064,10 @@ static void bp__nd_piece_task(void *task, uint32_t i)
 }
 
 /* One parallel loop over P's pieces: a split each, or (whole) their
-   subtrees; then the next level's pieces, in lo order, and the new base. */
-static void bp__nd_par_level(bp__nd_par *P, const bp__par *par, uint32_t n)
+   subtrees, with the loop `with` beside them when not NULL
+   (bp__par_run_with); then the next level's pieces, in lo order, and the
+   new base. */
+static void bp__nd_par_level(bp__nd_par *P, const bp__par *par, uint32_t n, const bp__loop *with)
 {
     uint32_t r, i, k = 0, sz;
     for (r = 0; r < P->npiece; r++) {               /* largest first */
@@ -7039,7 +7076,7 @@ static void bp__nd_par_level(bp__nd_par *P, const bp__par *par, uint32_t n)
             P->turn[i] = P->turn[i - 1];
         P->turn[i] = r;
     }
-    bp__par_run(par, bp__nd_piece_task, P, P->npiece, n);
+    bp__par_run_with(par, bp__nd_piece_task, P, P->npiece, n, with);
     for (r = 0; r < P->npiece; r++) if (P->stamp[r] > P->base) P->base = P->stamp[r];
     if (P->whole) return;
     for (r = 0; r < P->npiece; r++)                 /* kids: A then B */
@@ -7054,9 +7091,12 @@ static void bp__nd_par_level(bp__nd_par *P, const bp__par *par, uint32_t n)
 
 /* The nested-dissection order of A's graph (order: new -> old) and the
    top of its tree; on par's threads when par is given (any thread count,
-   any task order: the same order and tree).  Returns 0 out of memory. */
-static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *order, bp__ndnode *tree, int mode,
-                        const bp__par *par)
+   any task order: the same order and tree).  with (or NULL): a loop
+   independent of the order, run beside the root's split (in the same
+   parallel loop: the root is one task), or before the order on one
+   thread.  Returns 0 out of memory (with then may not have run). */
+static int bp__nd_order_with(const bp_allocator *a, const bp__sparse *A, uint32_t *order, bp__ndnode *tree, int mode,
+                             const bp__par *par, const bp__loop *with)
 {
     uint32_t n = A->n, i;
     uint32_t *owner = (uint32_t *)bp__alloc_array(a, n, sizeof(uint32_t));
@@ -7084,6 +7124,7 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
     memset(tree, 0, BP__ND_NODES * sizeof *tree);
     D.A = A; D.order = order; D.owner = owner; D.level = level; D.seen = seen; D.tree = tree; D.mode = mode;
     if (!par || par->threads == 1) {
+        if (with) bp__serial_for(NULL, with->fn, with->task, with->count);
         T.queue = queue; T.stack = stack; T.stamp = 0; T.W = W;
         T.stack[0] = 0; T.stack[1] = n; T.stack[2] = 0;
         T.sp = 3;
@@ -7095,9 +7136,9 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
         P.D = &D; P.queue = queue; P.stack = stack; P.q2 = W.q2; P.hist = W.hist; P.diff = W.diff; P.W = W;
         P.npiece = 1;
         P.piece[0] = 0; P.piece[1] = n; P.piece[2] = 0;
-        for (d = 0; d < BP__ND_PAR_DEPTH && P.npiece; d++) bp__nd_par_level(&P, par, n);
+        for (d = 0; d < BP__ND_PAR_DEPTH && P.npiece; d++, with = NULL) bp__nd_par_level(&P, par, n, with);
         P.whole = 1;
-        if (P.npiece) bp__nd_par_level(&P, par, n);
+        if (P.npiece) bp__nd_par_level(&P, par, n, with);
     }
     ok = 1;
 done:
@@ -7105,6 +7146,12 @@ done:
     bp__free(a, W.dv); bp__free(a, W.dw); bp__free(a, W.dw2); bp__free(a, W.key); bp__free(a, W.q2);
     bp__free(a, W.hist); bp__free(a, W.diff);
     return ok;
+}
+
+static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *order, bp__ndnode *tree, int mode,
+                        const bp__par *par)
+{
+    return bp__nd_order_with(a, A, order, tree, mode, par, NULL);
 }
 
 /* A dissection restricted to some of its vertices: keep[v] is v's number
@@ -11101,8 +11148,9 @@ done:
    filled graph's on them) plus the barrier's pairs, which bp__nd_keeps
    checks there before the order is used (else Newton orders anew).  The
    order is computed on the runner's threads with the same result on any
-   number (>>sparse). */
-static int bp__tutte_order(const bp_allocator *a, bp__tutte *T, const bp__par *runner)
+   number (>>sparse); with (or NULL) is a loop run beside the dissection's
+   root split (bp__nd_order_with): the conformal start's matrix. */
+static int bp__tutte_order(const bp_allocator *a, bp__tutte *T, const bp__par *runner, const bp__loop *with)
 {
     bp__sparse G;
     uint32_t v, e, w = 0;
@@ -11122,7 +11170,7 @@ static int bp__tutte_order(const bp_allocator *a, bp__tutte *T, const bp__par *r
         }
         G.colp[T->N] = w;
     }
-    ok = G.colp && G.row && T->nd && bp__nd_order(a, &G, T->nd, T->ndtree, BP__SUPER_ORDER, runner);
+    ok = G.colp && G.row && T->nd && bp__nd_order_with(a, &G, T->nd, T->ndtree, BP__SUPER_ORDER, runner, with);
     bp__free(a, G.colp);
     bp__free(a, G.row);
     return ok;
@@ -11580,7 +11628,7 @@ static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_op
    (2x2 blocks on the chart's edges) and order (the start map's
    dissection, kept for Newton: bp__tutte_keep_order) are those of
    Newton's first matrix when the barrier adds no pair, need not be freed
-   and analysed again: bp__conformal_map moves it here, with its matrix's
+   and analysed again: bp__conformal_end moves it here, with its matrix's
    pattern, and bp__newton_factorize refactors it in place when H's
    pattern is that very one (compared entry by entry), else frees it.
    The analysis of one pattern in one order is the same, so are the bits.
@@ -11602,9 +11650,33 @@ static void bp__handoff_free(const bp_allocator *a, bp__handoff *h)
 }
 
 /* >>conformal, defined after >>rest, whose rest shapes it uses. */
-static int bp__conformal_map(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
-                             const bp__par *runner, const uint32_t *order, const bp__ndnode *tree, int any_size,
-                             bp__handoff *h);
+typedef struct bp__conformal_task {
+    const bp__tutte *T;
+    const bp_chart *ch;
+    const bp_mesh *m;
+    bp__sparse *K;
+    double *rhs;
+    uint32_t *glen;               /* first pass: each column vertex's count */
+    uint32_t p[2], nc;
+    double d;
+} bp__conformal_task;
+
+/* The conformal start in two halves around the dissection (>>conformal):
+   bp__conformal_begin sets up the system, whose columns are then filled
+   by the loop C->J (bp__conformal_task_run, C->J.nc tasks) beside the
+   dissection's root split, and bp__conformal_end factors and solves it in
+   that order. */
+typedef struct bp__conformal {
+    bp__conformal_task J;
+    bp__sparse K;
+    double *buf;                  /* rhs, then the solve's workspace       */
+} bp__conformal;
+static int bp__conformal_begin(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
+                               const bp__par *runner, int any_size, bp__conformal *C);
+static void bp__conformal_task_run(void *task, uint32_t c);
+static int bp__conformal_end(const bp_allocator *a, bp__conformal *C, bp_chart *ch, const bp_mesh *m,
+                             const bp__par *runner, const uint32_t *order, const bp__ndnode *tree, bp__handoff *h);
+static void bp__conformal_free(const bp_allocator *a, bp__conformal *C);
 #ifndef BP__INIT_AUTO_CONFORMAL
 #define BP__INIT_AUTO_CONFORMAL 1       /* 0: BP_INIT_AUTO starts barycentric, as before >>conformal */
 #endif
@@ -11654,16 +11726,26 @@ static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mes
     bp__ndnode tree[BP__ND_NODES];
     uint32_t *order = (uint32_t *)bp__alloc_array(a, (size_t)ch->num_vertices + 6 * BP__ND_NODES, sizeof(uint32_t));
     bp_status st = BP_OK;
-    int done = 0;
+    bp__conformal C;
+    bp__loop cols;
+    int done = 0, cf = 0;          /* cf 1: the conformal system is set up */
     memset(&T, 0, sizeof T);
+    memset(&C, 0, sizeof C);
     if (runner) T.par = *runner;
     bp__free(a, ch->start_order);
     ch->start_order = NULL;
-    if (!order || !bp__tutte_fill(a, &T, ch, m) || !bp__tutte_adjacency(a, &T) || !bp__tutte_order(a, &T, runner) ||
-        !bp__tutte_chart_order(a, &T, order, tree))
+    if (!order || !bp__tutte_fill(a, &T, ch, m) || !bp__tutte_adjacency(a, &T))
         st = bp__oom(err, "computing the start map");
-    if (st == BP_OK && conformal && (done = bp__conformal_map(a, &T, ch, m, runner, order, tree, conformal == 2, h)) < 0)
+    if (st == BP_OK && conformal && (cf = bp__conformal_begin(a, &T, ch, m, runner, conformal == 2, &C)) < 0)
         st = bp__oom(err, "computing the start map");
+    cols.fn = bp__conformal_task_run;               /* its columns, beside the root split */
+    cols.task = &C.J;
+    cols.count = cf == 1 ? C.J.nc : 0;
+    if (st == BP_OK && (!bp__tutte_order(a, &T, runner, cf == 1 ? &cols : NULL) || !bp__tutte_chart_order(a, &T, order, tree)))
+        st = bp__oom(err, "computing the start map");
+    if (st == BP_OK && cf == 1 && (done = bp__conformal_end(a, &C, ch, m, runner, order, tree, h)) < 0)
+        st = bp__oom(err, "computing the start map");
+    bp__conformal_free(a, &C);
     if (st == BP_OK && !done) {
         if (!bp__tutte_weights(a, &T, mvc) || !bp__tutte_circle(a, &T, ch) ||
             (T.nfree > 0 && !bp__tutte_system(a, &T, ch, mvc)))
@@ -11929,17 +12011,6 @@ static int bp__conformal_pins(const bp_chart *ch, const bp_mesh *m, uint32_t *p0
     return *d > 0 && *d < HUGE_VAL && from != far;
 }
 
-typedef struct bp__conformal_task {
-    const bp__tutte *T;
-    const bp_chart *ch;
-    const bp_mesh *m;
-    bp__sparse *K;
-    double *rhs;
-    uint32_t *glen;               /* first pass: each column vertex's count */
-    uint32_t p[2], nc;
-    double d;
-} bp__conformal_task;
-
 /* The place of vertex u in column vertex v's block pattern (v and its
    chart neighbours, increasing): v's sorted neighbours below u
    (bp__adj_find; the hole centres, numbered last, are never below a chart
@@ -12039,79 +12110,99 @@ static double bp__conformal_scale(const bp_chart *ch, const bp_mesh *m)
 }
 
 /* The conformal map of the chart into ch->uv, scaled, in the order
-   (order, tree) of the chart's vertices (any_size: also at
-   BP__CONFORMAL_MAX triangles and more, BP_INIT_CONFORMAL asked by name).
-   Returns 1 when it passed the exact check, 0 when it is not used (too
-   large, no two boundary points,
-   a pivot or a triangle gone wrong, the check failed: ch->uv is then
-   overwritten by the caller), -1 out of memory. */
-static int bp__conformal_map(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
-                             const bp__par *runner, const uint32_t *order, const bp__ndnode *tree, int any_size,
-                             bp__handoff *h)
+   (order, tree) of the chart's vertices, in two halves around the
+   dissection (bp__tutte_map).  bp__conformal_begin: 0 when the map is not
+   tried (too large -- any_size: also at BP__CONFORMAL_MAX triangles and
+   more, BP_INIT_CONFORMAL asked by name --, no two boundary points, a
+   pattern too big), -1 out of memory, 1 when the system is set up: its
+   pattern's column lengths counted (the first pass of C->J), K's arrays
+   allocated, and C->J ready for the second pass (the columns and the
+   right-hand side), which the caller runs. */
+static int bp__conformal_begin(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
+                               const bp__par *runner, int any_size, bp__conformal *C)
 {
-    bp__conformal_task J;
-    bp__sparse K;
+    bp__conformal_task *J = &C->J;
+    bp__sparse *K = &C->K;
+    bp__par serial = bp__par_serial();
+    const bp__par *par = runner ? runner : &serial;
+    uint32_t nv = T->nv, n = 2 * nv, v;
+    size_t w = 0, i;
+    memset(C, 0, sizeof *C);
+    if ((!any_size && ch->num_triangles >= BP__CONFORMAL_MAX) || !bp__conformal_pins(ch, m, &J->p[0], &J->p[1], &J->d))
+        return 0;
+    J->T = T;
+    J->ch = ch;
+    J->m = m;
+    J->K = K;
+    J->glen = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
+    K->colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    C->buf = (double *)bp__alloc_array(a, 2 * (size_t)n, sizeof(double));
+    if (!J->glen || !K->colp || !C->buf) return -1;
+    bp__conformal_run(J, par);                               /* the columns' lengths */
+    for (v = 0; v < nv; v++) {
+        K->colp[2 * v] = (uint32_t)w;
+        K->colp[2 * v + 1] = (uint32_t)(w + 2 * (size_t)J->glen[v]);
+        w += 4 * (size_t)J->glen[v];
+        if (w > 0xfffffff0u) return 0;
+    }
+    K->colp[n] = (uint32_t)w;
+    K->n = n;
+    K->symmetric = 1;
+    K->blocks2 = 1;
+    K->row = (uint32_t *)bp__alloc_array(a, w + 1, sizeof(uint32_t));
+    K->val = (double *)bp__alloc_array(a, w + 1, sizeof(double));
+    if (!K->row || !K->val) return -1;
+    for (i = 0; i < n; i++) C->buf[i] = 0;
+    bp__free(a, J->glen);
+    J->glen = NULL;                                          /* the next pass: the columns */
+    J->rhs = C->buf;
+    return 1;
+}
+
+/* bp__conformal_end, after the columns' pass: the factor in the order
+   (order, tree), the solve, the scale and the exact check.  Returns 1
+   when the map passed the check (ch->uv holds it; its factor to *h when h
+   is not NULL: bp__handoff), 0 when it is not used (a pivot or a triangle
+   gone wrong, the check failed: ch->uv is then overwritten by the
+   caller), -1 out of memory. */
+static int bp__conformal_end(const bp_allocator *a, bp__conformal *C, bp_chart *ch, const bp_mesh *m,
+                             const bp__par *runner, const uint32_t *order, const bp__ndnode *tree, bp__handoff *h)
+{
+    bp__sparse *K = &C->K;
     bp__factor F;
     bp_check_report rep;
     bp__par serial = bp__par_serial();
     const bp__par *par = runner ? runner : &serial;
-    uint32_t nv = T->nv, n = 2 * nv, v, bad;
-    size_t w = 0, i;
-    double *buf = NULL, *rhs, *z, s;
+    uint32_t n = K->n, bad;
+    size_t i;
+    double *rhs = C->buf, *z = rhs + n, s;
     int ok = -1;
     bp_status st;
-    memset(&J, 0, sizeof J);
-    memset(&K, 0, sizeof K);
     memset(&F, 0, sizeof F);
-    if ((!any_size && ch->num_triangles >= BP__CONFORMAL_MAX) || !bp__conformal_pins(ch, m, &J.p[0], &J.p[1], &J.d))
-        return 0;
-    J.T = T;
-    J.ch = ch;
-    J.m = m;
-    J.K = &K;
-    J.glen = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
-    K.colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
-    buf = (double *)bp__alloc_array(a, 2 * (size_t)n, sizeof(double));
-    if (!J.glen || !K.colp || !buf) goto done;
-    rhs = buf; z = rhs + n;
-    bp__conformal_run(&J, par);                              /* the columns' lengths */
-    for (v = 0; v < nv; v++) {
-        K.colp[2 * v] = (uint32_t)w;
-        K.colp[2 * v + 1] = (uint32_t)(w + 2 * (size_t)J.glen[v]);
-        w += 4 * (size_t)J.glen[v];
-        if (w > 0xfffffff0u) { ok = 0; goto done; }
-    }
-    K.colp[n] = (uint32_t)w;
-    K.n = n;
-    K.symmetric = 1;
-    K.blocks2 = 1;
-    K.row = (uint32_t *)bp__alloc_array(a, w + 1, sizeof(uint32_t));
-    K.val = (double *)bp__alloc_array(a, w + 1, sizeof(double));
-    if (!K.row || !K.val) goto done;
-    for (i = 0; i < n; i++) rhs[i] = 0;
-    bp__free(a, J.glen);
-    J.glen = NULL;
-    J.rhs = rhs;
-    bp__conformal_run(&J, par);                              /* the columns */
-    st = bp__factorize_order(a, &K, &F, &bad, par, order, tree);
+    st = bp__factorize_order(a, K, &F, &bad, par, order, tree);
     if (st != BP_OK) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
     bp__factor_solve_par(&F, rhs, ch->uv, z, par);
     if (!((s = bp__conformal_scale(ch, m)) > 0)) { ok = 0; goto done; }
     for (i = 0; i < n; i++) ch->uv[i] *= s;
-    st = bp__check_par(ch->triangles, ch->num_triangles, ch->uv, nv, a, par, &rep, NULL);
+    st = bp__check_par(ch->triangles, ch->num_triangles, ch->uv, n / 2, a, par, &rep, NULL);
     ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : bp__check_verdict_status(st) && bp__report_valid(&rep);
     if (ok == 1 && h && F.sn) {                              /* to Newton (bp__handoff) */
         bp__handoff_free(a, h);
-        h->F = F; h->n = n; h->colp = K.colp; h->row = K.row;
+        h->F = F; h->n = n; h->colp = K->colp; h->row = K->row;
         memset(&F, 0, sizeof F);
-        K.colp = K.row = NULL;
+        K->colp = K->row = NULL;
     }
 done:
     bp__factor_free(a, &F);
-    bp__free(a, J.glen);
-    bp__free(a, K.colp); bp__free(a, K.row); bp__free(a, K.val);
-    bp__free(a, buf);
     return ok;
+}
+
+static void bp__conformal_free(const bp_allocator *a, bp__conformal *C)
+{
+    bp__free(a, C->J.glen);
+    bp__free(a, C->K.colp); bp__free(a, C->K.row); bp__free(a, C->K.val);
+    bp__free(a, C->buf);
+    memset(C, 0, sizeof *C);
 }
 
 /* >>energy =================================================================

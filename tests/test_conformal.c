@@ -238,8 +238,9 @@ static bp_mesh make_ramp(void)
 }
 
 /* (b) continued: the exact check, not only the scale's sign test, stands
-   between a conformal map and the optimizer.  bp__conformal_map itself on
-   the ramp: it answers 0 (not used) and leaves behind a map with every
+   between a conformal map and the optimizer.  The conformal start itself
+   (bp__conformal_begin, its columns beside the dissection, then
+   bp__conformal_end) on the ramp: it answers 0 (not used) and leaves behind a map with every
    triangle positive whose boundary crosses itself; the start the library
    then makes is the mean-value map. */
 static void check_overlap(void)
@@ -262,13 +263,22 @@ static void check_overlap(void)
     T.par = bp__par_serial();
     order = (uint32_t *)malloc(((size_t)atlas.charts[0].num_vertices + 6 * BP__ND_NODES) * sizeof(uint32_t));
     atlas.charts[0].uv = (double *)malloc(2 * (size_t)atlas.charts[0].num_vertices * sizeof(double));
-    if (bp__tutte_fill(&al, &T, &atlas.charts[0], &m) && bp__tutte_adjacency(&al, &T) && bp__tutte_order(&al, &T, NULL) &&
-        bp__tutte_chart_order(&al, &T, order, tree))
-        got = bp__conformal_map(&al, &T, &atlas.charts[0], &m, NULL, order, tree, 0, NULL);
+    if (bp__tutte_fill(&al, &T, &atlas.charts[0], &m) && bp__tutte_adjacency(&al, &T)) {
+        bp__conformal C;
+        bp__loop cols;
+        int cf = bp__conformal_begin(&al, &T, &atlas.charts[0], &m, NULL, 0, &C);
+        cols.fn = bp__conformal_task_run;      /* the columns, beside the dissection as bp__tutte_map does */
+        cols.task = &C.J;
+        cols.count = C.J.nc;
+        if (BPT_CHECK(cf == 1, "ramp: the conformal system is set up (%d)", cf) &&
+            bp__tutte_order(&al, &T, NULL, &cols) && bp__tutte_chart_order(&al, &T, order, tree))
+            got = bp__conformal_end(&al, &C, &atlas.charts[0], &m, NULL, order, tree, NULL);
+        bp__conformal_free(&al, &C);
+    }
     bp_check(atlas.charts[0].triangles, atlas.charts[0].num_triangles, atlas.charts[0].uv,
              atlas.charts[0].num_vertices, NULL, &rep, NULL);
     BPT_CHECK(got == 0 && rep.flipped == 0 && rep.degenerate == 0 && rep.boundary_intersections > 0,
-              "ramp of two turns: bp__conformal_map refuses (%d) a map with every triangle positive (%u flipped, %u "
+              "ramp of two turns: the conformal start refuses (%d) a map with every triangle positive (%u flipped, %u "
               "degenerate) whose boundary crosses itself (%u intersections)", got, rep.flipped, rep.degenerate,
               rep.boundary_intersections);
     bp__tutte_free(&al, &T);

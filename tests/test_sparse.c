@@ -62,7 +62,11 @@
          halves of a recorded split (what makes the pieces independent),
          and with the tasks run backwards and odd-even (counted: the
          parallel path is taken, with several tasks a loop) the order and
-         the tree are the serial loop's, bit for bit.
+         the tree are the serial loop's, bit for bit; the same with a
+         loop of 37 counting tasks beside the root split
+         (bp__nd_order_with, as the conformal start's columns run),
+         serially, in those task orders and on real pools: each of its
+         tasks runs once.
      (i) the separators' refinement (bp__nd_refine): on grids, shuffled
          components and the vertex graphs of camelhead, face_holes and
          fertility, nnz(L) under the refined order (mode 1), counted here
@@ -694,6 +698,31 @@ static void counted_for(void *user, bp_task_fn fn, void *task, uint32_t count)
     c->run(NULL, fn, task, count);
 }
 
+/* A loop beside the dissection (bp__nd_order_with): task i counts its
+   runs in slot i. */
+#define WITH_TASKS 37u
+static void count_slot(void *task, uint32_t i) { ((uint32_t *)task)[i]++; }
+
+/* The dissection with WITH_TASKS counting tasks beside it: the order and
+   tree o, t (those without it), and every task run once. */
+static void check_with(const bp_allocator *al, const bp__sparse *M, const bp__par *par, int mode, const uint32_t *o,
+                       const bp__ndnode *t, const char *what, const char *how)
+{
+    uint32_t n = M->n, i, once = 0, slot[WITH_TASKS], *op = (uint32_t *)malloc(n * sizeof(uint32_t));
+    bp__ndnode tp[BP__ND_NODES];
+    bp__loop with;
+    memset(slot, 0, sizeof slot);
+    with.fn = count_slot; with.task = slot; with.count = WITH_TASKS;
+    if (BPT_CHECK(bp__nd_order_with(al, M, op, tp, mode, par, &with), "%s, mode %d, %s: ordered with a loop beside", what,
+                  mode, how)) {
+        for (i = 0; i < WITH_TASKS; i++) once += slot[i] == 1;
+        BPT_CHECK(once == WITH_TASKS && memcmp(o, op, n * sizeof(uint32_t)) == 0 && memcmp(t, tp, sizeof tp) == 0,
+                  "%s, mode %d, %s: with a loop beside the root split, the same order and tree, and each of its %u tasks "
+                  "run once (%u)", what, mode, how, WITH_TASKS, once);
+    }
+    free(op);
+}
+
 static void check_order(const bp__sparse *M, const char *what)
 {
     bp_allocator al;
@@ -724,6 +753,7 @@ static void check_order(const bp__sparse *M, const char *what)
         }
         BPT_CHECK(bad == 0 && t[0].split, "%s, mode %d: the root is split and no edge joins the two halves of a split "
                   "(%u bad nodes)", what, mode, bad);
+        check_with(&al, M, NULL, mode, o, t, what, "serially");
         for (r = 0; r < 2; r++) {
             counted_runner c;
             bp__par par = bp__par_serial();
@@ -740,6 +770,7 @@ static void check_order(const bp__sparse *M, const char *what)
             BPT_CHECK(memcmp(o, op, n * sizeof(uint32_t)) == 0 && memcmp(t, tp, sizeof t) == 0,
                       "%s, mode %d: tasks run %s: the serial loop's order and tree, bit for bit", what, mode,
                       r ? "odd-even" : "backwards");
+            check_with(&al, M, &par, mode, o, t, what, r ? "tasks odd-even" : "tasks backwards");
         }
 #ifdef BP_USE_PTHREADS
         for (r = 2; r <= 3; r++) {      /* on real threads (built with the pool: ThreadSanitizer) */
@@ -749,6 +780,7 @@ static void check_order(const bp__sparse *M, const char *what)
             BPT_CHECK(bp__nd_order(&al, M, op, tp, mode, &par) && memcmp(o, op, n * sizeof(uint32_t)) == 0 &&
                       memcmp(t, tp, sizeof t) == 0, "%s, mode %d: on %d threads: the serial loop's order and tree", what,
                       mode, r);
+            check_with(&al, M, &par, mode, o, t, what, r == 2 ? "2 threads" : "3 threads");
             bp__pool_stop(&al, P);
         }
 #endif
