@@ -8580,7 +8580,36 @@ typedef struct bp__ssolve_task {
     uint32_t nsep, nr;            /* separator vertices; ranges            */
     uint32_t rb[BP__ND_NODES], rhi[BP__ND_NODES], roff[BP__ND_NODES]; /* by b */
     uint32_t slot[BP__ND_NODES];  /* phase 0's task t -> its buffer        */
+    const double *b;              /* in the tasks (b != x): phase 0's and the  */
+    double *x;                    /*   separators' own ranges permuted in and out */
 } bp__ssolve_task;
+
+/* Whether phase 0's ranges and the later phases' separators, disjoint by
+   the tree's making, cover all the vertices (their sizes add up to nv). */
+static int bp__ssolve_covers(const bp__factor *F)
+{
+    uint32_t nodes[BP__ND_NODES], c, k, sum = 0;
+    int phase;
+    for (phase = 0; phase <= BP__ND_DEPTH; phase++)
+        for (c = bp__nd_phase(F, phase, nodes), k = 0; k < c; k++)
+            sum += F->tree[nodes[k]].hi - (phase ? F->tree[nodes[k]].b : F->tree[nodes[k]].lo);
+    return sum == F->sn->nv;
+}
+
+/* z = P b and x = P^T z over the new vertices [v0, v1). */
+static void bp__ssolve_perm_in(const bp__super *S, const double *b, double *z, uint32_t v0, uint32_t v1)
+{
+    uint32_t v, a, bs = S->bs;
+    for (v = v0; v < v1; v++)
+        for (a = 0; a < bs; a++) z[bs * (size_t)v + a] = b[bs * (size_t)S->vperm[v] + a];
+}
+
+static void bp__ssolve_perm_out(const bp__super *S, const double *z, double *x, uint32_t v0, uint32_t v1)
+{
+    uint32_t v, a, bs = S->bs;
+    for (v = v0; v < v1; v++)
+        for (a = 0; a < bs; a++) x[bs * (size_t)S->vperm[v] + a] = z[bs * (size_t)v + a];
+}
 
 /* The separators' rows (the phases after 0), for the buffered forward
    solve below: the index of row vertex v among them, or BP__NONE. */
@@ -8737,8 +8766,10 @@ static void bp__ssolve_run(void *task, uint32_t t)
     s1 = S->snode[N->hi - 1] + 1;
     if (T->mode >= 3) {
         for (s = s1; s-- > s0;) bp__super_back(S, s, T->z);
+        if (T->b) bp__ssolve_perm_out(S, T->z, T->x, T->mode == 3 ? N->b : N->lo, N->hi);   /* final here */
         return;
     }
+    if (T->mode == 0 && T->b) bp__ssolve_perm_in(S, T->b, T->z, N->lo, N->hi);
     if (T->mode == 0 && T->buf) {
         double *buf = T->buf + (size_t)T->slot[t] * S->bs * T->nsep;
         for (s = s0; s < s1; s++) bp__super_fscatter_buf(T, s, N->hi, buf);
@@ -8822,13 +8853,19 @@ static void bp__super_solve(const bp__factor *F, const double *b, double *x, dou
 {
     const bp__super *S = F->sn;
     bp__ssolve_task T;
-    uint32_t bs = S->bs, v, a, c;
+    uint32_t v, c, k;
     int phase;
-    for (v = 0; v < S->nv; v++)
-        for (a = 0; a < bs; a++) z[bs * (size_t)v + a] = b[bs * (size_t)S->vperm[v] + a];
     memset(&T, 0, sizeof T);
     T.F = F;
     T.z = z;
+    if (par->threads != 1 && b != x && bp__ssolve_covers(F)) {   /* the tasks permute their own ranges */
+        T.b = b;
+        T.x = x;
+        for (phase = 1; phase <= BP__ND_DEPTH; phase++)   /* the separators' ranges here */
+            for (c = bp__nd_phase(F, phase, T.nodes), k = 0; k < c; k++)
+                bp__ssolve_perm_in(S, b, z, F->tree[T.nodes[k]].b, F->tree[T.nodes[k]].hi);
+    } else
+        bp__ssolve_perm_in(S, b, z, 0, S->nv);
     bp__ssolve_buffers(&T, F, x);
     if (par->threads == 1 && !T.buf) {           /* one thread: the plain scatter, no phases */
         for (v = 0; v < S->ns; v++) bp__super_fscatter(S, v, S->nv, z);
@@ -8849,8 +8886,7 @@ static void bp__super_solve(const bp__factor *F, const double *b, double *x, dou
         T.mode = phase > 0 ? 3 : 4;
         par->run(par->user, bp__ssolve_run, &T, c);
     }
-    for (v = 0; v < S->nv; v++)
-        for (a = 0; a < bs; a++) x[bs * (size_t)S->vperm[v] + a] = z[bs * (size_t)v + a];
+    if (!T.b) bp__ssolve_perm_out(S, z, x, 0, S->nv);
 }
 
 /* bp__factorize for a symmetric matrix in whole 2x2 blocks (bs 2,
@@ -8859,17 +8895,21 @@ static void bp__super_solve(const bp__factor *F, const double *b, double *x, dou
    bp__factorize, and BP_ERR_NUMERICAL also for a pivot that is not
    positive (this is Cholesky: A must be positive definite); *fallback = 1
    when A is not in whole blocks after all (nothing done).  order, tree:
-   a kept vertex order, or NULL (bp__super_analyse). */
-static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
-                                     const bp__par *par, uint32_t bs, int *fallback, const uint32_t *order,
-                                     const bp__ndnode *tree)
+   a kept vertex order, or NULL (bp__super_analyse).  like (or NULL): a
+   factor analysed on A's very vertex graph in that very order, with
+   another block size: its analysis is copied (bp__super_clone) instead. */
+static int bp__super_clone(const bp_allocator *a, const bp__factor *like, const bp__ndnode *tree, bp__factor *F);
+static bp_status bp__super_factorize_like(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
+                                          const bp__par *par, uint32_t bs, int *fallback, const uint32_t *order,
+                                          const bp__ndnode *tree, const bp__factor *like)
 {
     bp__sparse G;
     bp__par serial = bp__par_serial();
     bp_status st = BP_ERR_OUT_OF_MEMORY;
     uint32_t k;
     int g = 1;
-    if (bs == 2) g = bp__super_graph(a, A, &G);
+    if (like) G = *A;                          /* not read */
+    else if (bs == 2) g = bp__super_graph(a, A, &G);
     else if (A->symmetric) G = *A;
     else g = 0;
     *fallback = g == 0;
@@ -8880,7 +8920,9 @@ static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A,
     F->sn = (bp__super *)bp__calloc_array(a, 1, sizeof(bp__super));
     F->D = (double *)bp__alloc_array(a, A->n ? A->n : 1, sizeof(double));
     if (F->sn && F->D) F->sn->bs = bs;
-    if (F->sn && F->D && (st = bp__super_analyse(a, &G, F, par, order, tree)) == BP_OK) {
+    if (F->sn && F->D && like) st = bp__super_clone(a, like, tree, F) ? BP_OK : BP_ERR_OUT_OF_MEMORY;
+    else if (F->sn && F->D) st = bp__super_analyse(a, &G, F, par, order, tree);
+    if (st == BP_OK) {
         st = BP_ERR_OUT_OF_MEMORY;
         /* the scatter map for the refactorizations (bp__super_start; its
            rows 2 r + 1 < BP__NONE, else the binary searches stay): Newton's
@@ -8897,9 +8939,64 @@ static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A,
                 }
         }
     }
-    if (bs == 2) { bp__free(a, G.colp); bp__free(a, G.row); }
+    if (bs == 2 && !like) { bp__free(a, G.colp); bp__free(a, G.row); }
     if (st != BP_OK) bp__factor_free(a, F);
     return st;
+}
+
+static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
+                                     const bp__par *par, uint32_t bs, int *fallback, const uint32_t *order,
+                                     const bp__ndnode *tree)
+{
+    return bp__super_factorize_like(a, A, F, bad_row, par, bs, fallback, order, tree, NULL);
+}
+
+/* The analysis of `like` for F->sn->bs (F->n = bs nv, F->sn and F->D
+   allocated): bp__super_analyse's result depends on the vertex graph, the
+   order and the tree alone, but for the block sizes in xp and maxcols, so
+   the same graph in the same order needs no second analysis (Newton's
+   isotropic K1 after the conformal start: face, 8 ms of one thread).
+   The tree is the caller's, as bp__super_analyse copies it.  Returns 0
+   out of memory. */
+static int bp__super_clone(const bp_allocator *a, const bp__factor *like, const bp__ndnode *tree, bp__factor *F)
+{
+    const bp__super *L = like->sn;
+    bp__super *S = F->sn;
+    uint32_t nv = L->nv, ns = L->ns, bs = S->bs, s, nup = L->up[ns];
+    S->nv = nv;
+    S->ns = ns;
+    S->ntask = L->ntask;
+    S->maxrows = L->maxrows;
+    memcpy(F->tree, tree, sizeof F->tree);
+    S->vperm = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    S->viperm = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    S->snode = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    S->first = (uint32_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(uint32_t));
+    S->rp = (uint32_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(uint32_t));
+    S->xp = (size_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(size_t));
+    S->ri = (uint32_t *)bp__alloc_array(a, L->rp[ns] ? L->rp[ns] : 1, sizeof(uint32_t));
+    S->up = (uint32_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(uint32_t));
+    S->uk = (uint32_t *)bp__alloc_array(a, nup ? nup : 1, sizeof(uint32_t));
+    S->uo = (uint32_t *)bp__alloc_array(a, nup ? nup : 1, sizeof(uint32_t));
+    if (!S->vperm || !S->viperm || !S->snode || !S->first || !S->rp || !S->xp || !S->ri || !S->up || !S->uk || !S->uo)
+        return 0;
+    memcpy(S->vperm, L->vperm, nv * sizeof(uint32_t));
+    memcpy(S->viperm, L->viperm, nv * sizeof(uint32_t));
+    memcpy(S->snode, L->snode, nv * sizeof(uint32_t));
+    memcpy(S->first, L->first, ((size_t)ns + 1) * sizeof(uint32_t));
+    memcpy(S->rp, L->rp, ((size_t)ns + 1) * sizeof(uint32_t));
+    memcpy(S->ri, L->ri, L->rp[ns] * sizeof(uint32_t));
+    memcpy(S->up, L->up, ((size_t)ns + 1) * sizeof(uint32_t));
+    memcpy(S->uk, L->uk, nup * sizeof(uint32_t));
+    memcpy(S->uo, L->uo, nup * sizeof(uint32_t));
+    S->xp[0] = 0;
+    S->maxcols = 0;
+    for (s = 0; s < ns; s++) {                 /* as bp__super_analyse sizes them */
+        uint32_t nc = S->first[s + 1] - S->first[s];
+        S->xp[s + 1] = S->xp[s] + (size_t)bs * bs * (S->rp[s + 1] - S->rp[s]) * nc;
+        if (bs * nc > S->maxcols) S->maxcols = bs * nc;
+    }
+    return 1;
 }
 
 /* The values of L, U and D, one row k at a time, in parallel phases along
@@ -15144,6 +15241,31 @@ static const uint32_t *bp__newton_iso_order(const bp__newton *N, const bp__ndnod
     return NULL;
 }
 
+/* The start map's handed-over factor when its analysis is K1's own: its
+   matrix's vertex graph is K1's pattern, entry by entry, and it was
+   analysed in this order and tree (bp__super_clone copies it), else NULL. */
+static const bp__factor *bp__newton_iso_like(const bp__newton *N, const uint32_t *order, const bp__ndnode *tree)
+{
+    const bp__handoff *h = N->given;
+    const bp__sparse *K = &N->K1;
+    uint32_t v, i, k;
+    if (!order || !tree || !h || !h->F.sn || h->F.sn->bs != 2 || h->n != 2 * K->n || h->F.sn->nv != K->n ||
+        memcmp(order, h->F.sn->vperm, K->n * sizeof(uint32_t)) != 0)
+        return NULL;
+    for (k = 0; k < BP__ND_NODES; k++) {
+        const bp__ndnode *x = &tree[k], *y = &h->F.tree[k];
+        if (x->used != y->used || x->split != y->split || x->lo != y->lo || x->a != y->a || x->b != y->b || x->hi != y->hi)
+            return NULL;
+    }
+    for (v = 0; v < K->n; v++) {                      /* column 2v's even rows, halved: v's column of K1 */
+        uint32_t p0 = h->colp[2 * v], len = K->colp[v + 1] - K->colp[v];
+        if (h->colp[2 * v + 1] - p0 != 2 * len) return NULL;
+        for (i = 0; i < len; i++)
+            if (h->row[p0 + 2 * i] != 2 * K->row[K->colp[v] + i]) return NULL;
+    }
+    return &h->F;
+}
+
 /* K1's factor (its values assembled, bp__newton_iso_assemble): on a new
    pattern the analysis (above), else the numeric phase alone.  Returns 1,
    0 when a pivot is not positive and finite (the phase ends), -1 out of
@@ -15160,7 +15282,8 @@ static int bp__newton_iso_factor(bp__newton *N, bp__solver *S)
         return bp__newton_pivots_ok(&N->F1);
     }
     order = bp__newton_iso_order(N, &tree);
-    st = bp__super_factorize(S->a, &N->K1, &N->F1, &bad, &S->par, 1, &fallback, order, tree);
+    st = bp__super_factorize_like(S->a, &N->K1, &N->F1, &bad, &S->par, 1, &fallback, order, tree,
+                                  bp__newton_iso_like(N, order, tree));
     if (st == BP_ERR_OUT_OF_MEMORY) return -1;
     if (st != BP_OK || fallback || !N->F1.sn) return 0;
     N->k1ok = 1;

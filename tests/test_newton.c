@@ -85,7 +85,11 @@
          descent, solves (K1 (x) I) v = -g with K1 built here from H (max
          residual 1e-8 max |g|), is exactly 0 on held vertices and is not
          Newton's; K1 refactored through its scatter map has the bits of a
-         fresh factorization on the same order; the phase's end frees K1
+         fresh factorization on the same order, and so has K1 factored
+         with the analysis copied from H's factor in that order
+         (bp__super_clone: every array the same; bp__newton_iso_like
+         takes that factor, and refuses it with one row of its pattern
+         moved); the phase's end frees K1
          and its factor.  A whole default solve of camelhead (Newton,
          isotropic first): every accepted map exactly bijective by
          bp_check, the energy never up, the same bits on one thread and on
@@ -1224,6 +1228,49 @@ static void test_start_order(void)
 }
 
 
+/* (m) K1's analysis copied from a factor of H's size (bp__super_clone):
+   H factored in blocks of 2 in K1's order, handed over as the conformal
+   start hands its factor; bp__newton_iso_like takes it (and refuses it
+   when one row of its pattern differs), and K1 factored with it has
+   every array of the fresh factorization F, values and pivots bit for
+   bit. */
+static void check_iso_like(const bp_allocator *a, bp__newton *N, const bp__newton *N0, const bp__factor *F, const char *what)
+{
+    bp__handoff h;
+    bp__factor F2, Fl;
+    const bp__super *A = F->sn, *B;
+    uint32_t bad, ns = A->ns, nv = A->nv, keep;
+    int fb, same;
+    memset(&h, 0, sizeof h);
+    if (!BPT_CHECK(bp__super_factorize(a, &N0->H, &F2, &bad, NULL, 2, &fb, A->vperm, F->tree) == BP_OK && F2.sn,
+                   "camel_b, %s: H factored in K1's order", what)) return;
+    h.F = F2; h.n = N0->H.n; h.colp = N0->H.colp; h.row = N0->H.row;
+    N->given = &h;
+    BPT_CHECK(bp__newton_iso_like(N, A->vperm, F->tree) == &h.F, "camel_b, %s: H's factor is K1's analysis", what);
+    keep = h.row[h.colp[2 * (nv / 2)] + 2];
+    h.row[h.colp[2 * (nv / 2)] + 2] = keep + 2;         /* one row of the pattern moved */
+    BPT_CHECK(bp__newton_iso_like(N, A->vperm, F->tree) == NULL, "camel_b, %s: ... not with one row of the pattern moved",
+              what);
+    h.row[h.colp[2 * (nv / 2)] + 2] = keep;
+    N->given = NULL;
+    if (BPT_CHECK(bp__super_factorize_like(a, &N->K1, &Fl, &bad, NULL, 1, &fb, A->vperm, F->tree, &F2) == BP_OK && Fl.sn,
+                  "camel_b, %s: K1 factored with the copied analysis", what)) {
+        B = Fl.sn;
+        same = B->ns == ns && B->nv == nv && B->bs == 1 && B->maxcols == A->maxcols && B->maxrows == A->maxrows &&
+               B->ntask == A->ntask && !memcmp(B->vperm, A->vperm, nv * sizeof(uint32_t)) &&
+               !memcmp(B->viperm, A->viperm, nv * sizeof(uint32_t)) && !memcmp(B->snode, A->snode, nv * sizeof(uint32_t)) &&
+               !memcmp(B->first, A->first, (ns + 1) * sizeof(uint32_t)) && !memcmp(B->rp, A->rp, (ns + 1) * sizeof(uint32_t)) &&
+               !memcmp(B->ri, A->ri, A->rp[ns] * sizeof(uint32_t)) && !memcmp(B->xp, A->xp, (ns + 1) * sizeof(size_t)) &&
+               !memcmp(B->up, A->up, (ns + 1) * sizeof(uint32_t)) && !memcmp(B->uk, A->uk, A->up[ns] * sizeof(uint32_t)) &&
+               !memcmp(B->uo, A->uo, A->up[ns] * sizeof(uint32_t)) && !memcmp(Fl.tree, F->tree, sizeof Fl.tree) &&
+               !memcmp(B->x, A->x, A->xp[ns] * sizeof(double)) && !memcmp(Fl.D, F->D, nv * sizeof(double));
+        BPT_CHECK(same, "camel_b, %s: ... every array of the analysis, the values and the pivots those of the fresh "
+                  "factorization (%u supernodes)", what, ns);
+        bp__factor_free(a, &Fl);
+    }
+    bp__factor_free(a, &F2);
+}
+
 /* (m) the isotropic phase (>>newton, docs/performance.md sec 6.29). */
 static double iso_entry(const bp__sparse *H, uint32_t u, uint32_t v)   /* (H(2u,2v) + H(2u+1,2v+1)) / 2 */
 {
@@ -1336,6 +1383,7 @@ static void test_isotropic(void)
                       F.sn->xp[F.sn->ns] == N.F1.sn->xp[N.F1.sn->ns] &&
                       !memcmp(F.sn->x, N.F1.sn->x, F.sn->xp[F.sn->ns] * sizeof(double)),
                       "camel_b, %s: ... the same bits as a fresh factorization on the same order", MN[mode]);
+            check_iso_like(&a, &N, &N0, &F, MN[mode]);
             bp__factor_free(&a, &F);
         }
         bp__newton_iso_end(&N, &a);

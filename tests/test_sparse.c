@@ -50,9 +50,11 @@
      (g) the supernodal solve in the dissection's parallel phases (the
          forward solve gathering from the update lists, separators in
          OUTSIDE pieces on the 48 x 48 and 64 x 64 grids, the backward
-         solve top-down), for (a) and (e): the same bits with its tasks
-         run backwards and odd-even, and the solution of Gaussian
-         elimination on the dense matrix by brute force;
+         solve top-down, each task permuting its own range in and out),
+         for (a) and (e): the same bits with its tasks run backwards and
+         odd-even, and the solution of Gaussian elimination on the dense
+         matrix by brute force (a separator's range left out of either
+         permutation fails it);
      (h) the nested-dissection ordering on several threads
          (bp__nd_order with a runner): on the 48 x 48 grid's vertex graph
          and the 64 x 64 scalar grid, a graph of 9 mesh-like components
