@@ -12178,30 +12178,67 @@ static void bp__conformal_run(bp__conformal_task *J, const bp__par *par)
     bp__par_run(par, bp__conformal_task_run, J, J->nc, J->T->nv);
 }
 
-/* The scale s of the essay for the map in ch->uv, 0 when a triangle of it
-   is flipped, degenerate or not finite (the map is then not used). */
-static double bp__conformal_scale(const bp_chart *ch, const bp_mesh *m)
+/* The scale s of the essay for the map in ch->uv: s^4 = sum_t sb_t /
+   sum_t sa_t with sa_t = A_t |J_t|^2, sb_t = A_t |J_t|^2 / det(J_t)^2 over
+   the triangles of positive finite rest area; 0 when a triangle of the map
+   is flipped, degenerate or not finite (the map is then not used), -1 out
+   of memory.  The terms in chunks of triangles on the threads (each its
+   own), the sums in triangle order after them: the serial loop's bits. */
+typedef struct bp__scale_task {
+    const bp_chart *ch;
+    const bp_mesh *m;
+    double *term;                 /* 2 per triangle: sa_t, sb_t (0, 0 when skipped) */
+    uint32_t nc;
+    int *bad;                     /* per chunk: a triangle not positive      */
+} bp__scale_task;
+
+static void bp__scale_run(void *task, uint32_t c)
 {
-    double sa = 0, sb = 0, s;
-    uint32_t t;
-    for (t = 0; t < ch->num_triangles; t++) {
+    const bp__scale_task *J = (const bp__scale_task *)task;
+    const bp_chart *ch = J->ch;
+    uint32_t t, t1 = bp__chunk_at(ch->num_triangles, J->nc, c + 1);
+    J->bad[c] = 0;
+    for (t = bp__chunk_at(ch->num_triangles, J->nc, c); t < t1; t++) {
         const uint32_t *tr = ch->triangles + 3 * (size_t)t;
         const double *u1 = ch->uv + 2 * (size_t)tr[0], *u2 = ch->uv + 2 * (size_t)tr[1], *u3 = ch->uv + 2 * (size_t)tr[2];
-        double w, x, y, area, a, b, c, d, det;
+        double w, x, y, area, a, b, cc, d, det, *o = J->term + 2 * (size_t)t;
         bp__rest r;
-        bp__chart_rest(ch, m, t, &w, &x, &y);
+        o[0] = o[1] = 0;
+        bp__chart_rest(ch, J->m, t, &w, &x, &y);
         area = 0.5 * w * y;
         if (!(area > 0) || !(area < HUGE_VAL)) continue;
         bp__rest_inverse(w, x, y, 1, &r);
         a = (u2[0] - u1[0]) * r.m00;
         b = (u2[0] - u1[0]) * r.m01 + (u3[0] - u1[0]) * r.m11;
-        c = (u2[1] - u1[1]) * r.m00;
+        cc = (u2[1] - u1[1]) * r.m00;
         d = (u2[1] - u1[1]) * r.m01 + (u3[1] - u1[1]) * r.m11;
-        det = a * d - b * c;
-        if (!(det > 0)) return 0;
-        sa += area * (a * a + b * b + c * c + d * d);
-        sb += area * (a * a + b * b + c * c + d * d) / (det * det);
+        det = a * d - b * cc;
+        if (!(det > 0)) { J->bad[c] = 1; return; }
+        o[0] = area * (a * a + b * b + cc * cc + d * d);
+        o[1] = area * (a * a + b * b + cc * cc + d * d) / (det * det);
     }
+}
+
+static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, const bp_mesh *m, const bp__par *par)
+{
+    bp__scale_task J;
+    double sa = 0, sb = 0, s;
+    uint32_t t, c;
+    J.ch = ch;
+    J.m = m;
+    J.nc = bp__nchunks(ch->num_triangles, BP__TRI_CHUNK);
+    J.term = (double *)bp__alloc_array(al, 2 * (size_t)ch->num_triangles + 1, sizeof(double));
+    J.bad = (int *)bp__alloc_array(al, (size_t)J.nc + 1, sizeof(int));
+    if (!J.term || !J.bad) { bp__free(al, J.term); bp__free(al, J.bad); return -1; }
+    bp__par_run(par, bp__scale_run, &J, J.nc, ch->num_triangles);
+    for (c = 0; c < J.nc && !J.bad[c]; c++) {}
+    for (t = 0; c == J.nc && t < ch->num_triangles; t++) {   /* adding 0 for a skipped one changes nothing */
+        sa += J.term[2 * (size_t)t];
+        sb += J.term[2 * (size_t)t + 1];
+    }
+    bp__free(al, J.term);
+    bp__free(al, J.bad);
+    if (c < J.nc) return 0;
     s = sqrt(sqrt(sb / sa));
     return s > 0 && s < HUGE_VAL ? s : 0;
 }
@@ -12279,7 +12316,7 @@ static int bp__conformal_end(const bp_allocator *a, bp__conformal *C, bp_chart *
     st = bp__factorize_order(a, K, &F, &bad, par, order, tree);
     if (st != BP_OK) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
     bp__factor_solve_par(&F, rhs, ch->uv, z, par);
-    if (!((s = bp__conformal_scale(ch, m)) > 0)) { ok = 0; goto done; }
+    if (!((s = bp__conformal_scale(a, ch, m, par)) > 0)) { ok = s < 0 ? -1 : 0; goto done; }
     for (i = 0; i < n; i++) ch->uv[i] *= s;
     st = bp__check_par(ch->triangles, ch->num_triangles, ch->uv, n / 2, a, par, &rep, NULL);
     ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : bp__check_verdict_status(st) && bp__report_valid(&rep);
