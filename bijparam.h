@@ -11779,7 +11779,7 @@ static void bp__conformal_free(const bp_allocator *a, bp__conformal *C);
 #endif
 
 /* >>start, defined after the optimizer it uses. */
-static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const bp_mesh *m, double *eps);
+static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const double *wxy, double *eps);
 static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m);
 static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                        bp_error *err);
@@ -13884,9 +13884,9 @@ static bp_status bp__solver_chart_par(bp__solver *S, const bp_allocator *a, cons
     par->run(par->user, bp__rest_task_run, &T, S->nchunk_t);
     for (c = 0; c < S->nchunk_t && T.bad[c] == BP__NONE; c++) {}
     for (t = 0; c == S->nchunk_t && t < S->nt; t++) total_area += 0.5 * T.wxy[3 * (size_t)t] * T.wxy[3 * (size_t)t + 2];
-    if (!rest_wxy) bp__free(a, T.wxy);
     if (c < S->nchunk_t) {                         /* the first bad triangle, as a serial loop finds it */
         uint32_t f = ch->face[T.bad[c]];
+        if (!rest_wxy) bp__free(a, T.wxy);
         bp__free(a, T.bad);
         bp__solver_free(S);
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_TRIANGLE, f, -1, 0,
@@ -13901,10 +13901,12 @@ static bp_status bp__solver_chart_par(bp__solver *S, const bp_allocator *a, cons
         }
     S->mean_edge = len / S->nb;
     S->eps = o->epsilon > 0 ? o->epsilon : S->mean_edge / 4;
-    if (!(o->epsilon > 0) && !bp__start_thin_eps(a, ch, m, &S->eps)) {      /* thin charts, >>start */
+    if (!(o->epsilon > 0) && !bp__start_thin_eps(a, ch, T.wxy, &S->eps)) {      /* thin charts, >>start */
+        if (!rest_wxy) bp__free(a, T.wxy);
         bp__solver_free(S);
         return bp__oom(err, "optimizing a chart");
     }
+    if (!rest_wxy) bp__free(a, T.wxy);
     return BP_OK;
 }
 
@@ -17477,8 +17479,10 @@ static int bp__start_dbl_cmp(const void *pa, const void *pb)
    barrier energy at all (every boundary vertex is at least h from every
    boundary edge not its own).  The barrier's guarantee does not depend on
    eps: any eps > 0 is infinite at contact, and the exact check accepts
-   every iterate anyway.  Returns 0 when out of memory. */
-static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const bp_mesh *m, double *eps)
+   every iterate anyway.  wxy: the rest shapes (>>rest) the solver's
+   set-up has just made, 3 per triangle; only a boundary edge's length is
+   taken.  Returns 0 when out of memory. */
+static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const double *wxy, double *eps)
 {
     uint32_t nb = ch->loop_start[ch->num_loops], L, k, t, n = 0;
     uint32_t *next = (uint32_t *)bp__alloc_array(a, ch->num_vertices, sizeof(uint32_t));
@@ -17490,15 +17494,13 @@ static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const b
             next[ch->loop_vertices[k]] = ch->loop_vertices[k + 1 < ch->loop_start[L + 1] ? k + 1 : ch->loop_start[L]];
     for (t = 0; t < ch->num_triangles && n < nb; t++) {
         const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        double w, x, y, len[3];
+        double w = wxy[3 * (size_t)t], x = wxy[3 * (size_t)t + 1], y = wxy[3 * (size_t)t + 2], len;
         int c;
-        bp__chart_rest(ch, m, t, &w, &x, &y);     /* F1 = (0,0), F2 = (w,0), F3 = (x,y) */
-        len[0] = w;
-        len[1] = sqrt((x - w) * (x - w) + y * y);
-        len[2] = sqrt(x * x + y * y);
-        for (c = 0; c < 3; c++) {
+        for (c = 0; c < 3; c++) {                 /* F1 = (0,0), F2 = (w,0), F3 = (x,y) */
             uint32_t vi = tr[c], vj = tr[(c + 1) % 3];
-            if (next[vi] == vj || next[vj] == vi) h[n++] = w * y / len[c];     /* 2 A / |e| */
+            if (next[vi] != vj && next[vj] != vi) continue;
+            len = c == 0 ? w : c == 1 ? sqrt((x - w) * (x - w) + y * y) : sqrt(x * x + y * y);
+            h[n++] = w * y / len;                 /* 2 A / |e| */
         }
     }
     bp__free(a, next);

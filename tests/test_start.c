@@ -8,7 +8,11 @@
        and the uvs (not by the library), is <= 4.01 (the isometry has 4).
        The 1e-4 strip also from the plain Tutte start (BP_START_PLAIN): the
        barrier width of thin charts alone lets it reach the isometry.
-   (b) The barrier width: on the strips eps is at most the strip's width;
+   (b) The barrier width: on the strips eps is at most the strip's width,
+       and it is the median altitude 2 A / |e| onto the boundary edges
+       computed here in 3D (also on a 1 x 1e-3 strip with every
+       triangle's corners turned once and twice, so that the boundary
+       edges lie in each place of their triangles);
        on every chart of the meshes of tests/data it is a quarter of the
        mean boundary edge exactly, as before (the bound never acts there).
    (c) A planar chart (a rotated grid with a hole) starts from its own
@@ -124,6 +128,12 @@ static void check_strip(double h, int rot, bp_start start)
     bpt_mesh_free(&m);
 }
 
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
 /* eps of the optimizer's solver for chart c, and the mean boundary edge */
 static double solver_eps(const bp_chart *ch, const bp_mesh *m, double *mean_edge)
 {
@@ -142,18 +152,54 @@ static double solver_eps(const bp_chart *ch, const bp_mesh *m, double *mean_edge
     return eps;
 }
 
-static void check_strip_eps(double h)
+static void check_strip_eps(double h, int turn)
 {
     bp_mesh m = make_strip(h, 1);
     bp_atlas atlas;
     bp_options opt;
     bp_error err;
     double me = 0, eps;
+    uint32_t i;
+    for (i = 0; turn && i < m.num_triangles; i++) {     /* every triangle's corners turned: its edges in other places */
+        uint32_t *t = m.triangles + 3 * (size_t)i, r, keep;
+        for (r = 0; r < (uint32_t)turn; r++) { keep = t[0]; t[0] = t[1]; t[1] = t[2]; t[2] = keep; }
+    }
     memset(&opt, 0, sizeof opt);
     if (!BPT_CHECK(bp_atlas_build(&atlas, &m, &opt, &err) == BP_OK, "strip atlas (%s)", err.message)) { bpt_mesh_free(&m); return; }
     eps = solver_eps(&atlas.charts[0], &m, &me);
     BPT_CHECK(eps > 0 && eps <= h * (1 + 1e-6) && eps < me / 4, "strip 1 x %g: barrier width %.3g <= the width (mean "
               "boundary edge / 4 = %.3g)", h, eps, me / 4);
+    {   /* the median altitude onto the boundary edges, 2 A / |e| in 3D, by brute force */
+        const bp_chart *ch = &atlas.charts[0];
+        double *alt = (double *)malloc(3 * (size_t)ch->num_triangles * sizeof(double)), med;
+        uint32_t t, c, L, k, n = 0;
+        for (t = 0; t < ch->num_triangles; t++)
+            for (c = 0; c < 3; c++) {
+                uint32_t vi = ch->triangles[3 * t + c], vj = ch->triangles[3 * t + (c + 1) % 3];
+                uint32_t vk = ch->triangles[3 * t + (c + 2) % 3];
+                int on = 0;
+                for (L = 0; L < ch->num_loops && !on; L++)
+                    for (k = ch->loop_start[L]; k < ch->loop_start[L + 1] && !on; k++) {
+                        uint32_t a0 = ch->loop_vertices[k];
+                        uint32_t a1 = ch->loop_vertices[k + 1 < ch->loop_start[L + 1] ? k + 1 : ch->loop_start[L]];
+                        on = (a0 == vi && a1 == vj) || (a0 == vj && a1 == vi);
+                    }
+                if (on) {
+                    const double *p = m.positions + 3 * (size_t)ch->vertex[vi], *q = m.positions + 3 * (size_t)ch->vertex[vj];
+                    const double *r = m.positions + 3 * (size_t)ch->vertex[vk];
+                    double e[3], f[3], x[3];
+                    int d;
+                    for (d = 0; d < 3; d++) { e[d] = q[d] - p[d]; f[d] = r[d] - p[d]; }
+                    x[0] = e[1] * f[2] - e[2] * f[1]; x[1] = e[2] * f[0] - e[0] * f[2]; x[2] = e[0] * f[1] - e[1] * f[0];
+                    alt[n++] = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) / sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+                }
+            }
+        qsort(alt, n, sizeof(double), cmp_double);
+        med = n ? alt[n / 2] : 0;
+        BPT_CHECK(n > 0 && fabs(eps - med) <= 1e-9 * med, "strip 1 x %g%s: the barrier width %.12g is the median altitude "
+                  "onto the %u boundary edges, %.12g by brute force", h, turn == 1 ? ", corners turned once" : turn == 2 ? ", corners turned twice" : "", eps, n, med);
+        free(alt);
+    }
     bp_atlas_free(&atlas);
     bpt_mesh_free(&m);
 }
@@ -395,8 +441,11 @@ int main(void)
         check_strip(1e-4, rot, BP_START_AUTO);
     }
     check_strip(1e-4, 1, BP_START_PLAIN);
-    check_strip_eps(1e-7);
-    check_strip_eps(1e-4);
+    check_strip_eps(1e-7, 0);
+    check_strip_eps(1e-4, 0);
+    check_strip_eps(1e-3, 0);
+    check_strip_eps(1e-3, 1);
+    check_strip_eps(1e-3, 2);
     check_mesh_eps("tests/data/camel_b.obj");
     check_mesh_eps("tests/data/cow_param_withSUV.obj");
     check_mesh_eps("tests/data/face_holes.off");
