@@ -11780,7 +11780,7 @@ static void bp__conformal_free(const bp_allocator *a, bp__conformal *C);
 
 /* >>start, defined after the optimizer it uses. */
 static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const double *wxy, double *eps);
-static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m);
+static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *par);
 static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                        bp_error *err);
 struct bp__opt;
@@ -11891,7 +11891,7 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
         ch->init_used = used > 0 ? 1 : -1;
     }
     if (st == BP_OK && ch->init_used != 1 && better) {                   /* >>start, 1 */
-        planar = bp__start_planar(&a, ch, m);
+        planar = bp__start_planar(&a, ch, m, runner);
         if (planar < 0) st = bp__oom(err, "checking the planar start map");
         if (planar == 1) ch->start_map = BP_INIT_AUTO;
     }
@@ -17518,31 +17518,50 @@ static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const d
    area-weighted normal n, e1 e2 n right-handed so that a triangle facing
    n is counter-clockwise), used when every triangle keeps
    BP__START_PLANAR of its area and the map passes bp_check: 1 used, 0
-   not, -1 out of memory. */
-static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m)
+   not, -1 out of memory.  The triangles' cross products are taken in
+   chunks on par's threads (each its own), and added in triangle order
+   after them: the serial loop's n, bit for bit. */
+typedef struct bp__cross_task { const bp_chart *ch; const bp_mesh *m; double *cr; uint32_t nc; } bp__cross_task;
+
+static void bp__cross_run(void *task, uint32_t c)
+{
+    const bp__cross_task *J = (const bp__cross_task *)task;
+    const bp_chart *ch = J->ch;
+    uint32_t t, t1 = bp__chunk_at(ch->num_triangles, J->nc, c + 1);
+    for (t = bp__chunk_at(ch->num_triangles, J->nc, c); t < t1; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        bp__start_cross(bp__pos(J->m, ch->vertex[tr[0]]), bp__pos(J->m, ch->vertex[tr[1]]),
+                        bp__pos(J->m, ch->vertex[tr[2]]), J->cr + 3 * (size_t)t);
+    }
+}
+
+static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *par)
 {
     double n[3] = { 0, 0, 0 }, c[3] = { 0, 0, 0 }, e1[3], e2[3], len;
     uint32_t t, i, k;
     bp_check_report rep;
     bp_status st;
+    bp__cross_task J;
+    bp__par serial = bp__par_serial();
     for (t = 0; ch->rest_side && t < ch->num_triangles; t++) if (ch->rest_side[t] > 0) return 0;
-    for (t = 0; t < ch->num_triangles; t++) {
-        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        double cr[3];
-        bp__start_cross(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]), bp__pos(m, ch->vertex[tr[2]]), cr);
-        for (k = 0; k < 3; k++) n[k] += cr[k];
-    }
+    J.ch = ch;
+    J.m = m;
+    J.nc = bp__nchunks(ch->num_triangles, BP__TRI_CHUNK);
+    if (!(J.cr = (double *)bp__alloc_array(a, 3 * (size_t)ch->num_triangles + 1, sizeof(double)))) return -1;
+    bp__par_run(par ? par : &serial, bp__cross_run, &J, J.nc, ch->num_triangles);
+    for (t = 0; t < ch->num_triangles; t++)
+        for (k = 0; k < 3; k++) n[k] += J.cr[3 * (size_t)t + k];
     len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(len > 0) || !(len < HUGE_VAL)) return 0;
+    if (!(len > 0) || !(len < HUGE_VAL)) { bp__free(a, J.cr); return 0; }
     for (k = 0; k < 3; k++) n[k] /= len;
     bp__start_frame(n, e1, e2);
     for (t = 0; t < ch->num_triangles; t++) {
-        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        double cr[3], ar;
-        bp__start_cross(bp__pos(m, ch->vertex[tr[0]]), bp__pos(m, ch->vertex[tr[1]]), bp__pos(m, ch->vertex[tr[2]]), cr);
-        ar = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-        if (!(cr[0] * n[0] + cr[1] * n[1] + cr[2] * n[2] >= BP__START_PLANAR * ar)) return 0;
+        const double *cr = J.cr + 3 * (size_t)t;
+        double ar = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        if (!(cr[0] * n[0] + cr[1] * n[1] + cr[2] * n[2] >= BP__START_PLANAR * ar)) break;
     }
+    bp__free(a, J.cr);
+    if (t < ch->num_triangles) return 0;
     for (i = 0; i < ch->num_vertices; i++)
         for (k = 0; k < 3; k++) c[k] += bp__pos(m, ch->vertex[i])[k] / ch->num_vertices;
     for (i = 0; i < ch->num_vertices; i++) {

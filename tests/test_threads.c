@@ -7,7 +7,7 @@
    a user parallel_for that runs the tasks in reverse order.  This is
    checked on real charts: camel_b (one chart, long boundary), face_holes
    (7 loops), spot (13 charts: solved in parallel as whole charts), the cow,
-   and bishop; and on visibility (chapter 4), whose random streams are per
+   bishop, and a planar grid (its start is its projection); and on visibility (chapter 4), whose random streams are per
    triangle.
 
    The library runs small charts and small loops serially (>>threads); this
@@ -110,6 +110,45 @@ static void check_mesh(const char *path)
     (void)same;
     free(ref);
     bp_mesh_free(&m, NULL);
+}
+
+/* A planar chart (a tilted 40 x 40 grid, 3,042 triangles): its start is
+   its own projection (>>start, 1), whose normal sums the triangles' cross
+   products computed in tasks; then the same bytes on every thread count. */
+static void check_planar(void)
+{
+    const char *path = "build/tests/threads_plane.obj";
+    FILE *f = fopen(path, "w");
+    bp_mesh m;
+    bp_atlas at;
+    bp_options o;
+    bp_error e;
+    int i, j, n = 40;
+    if (!BPT_CHECK(f != NULL, "%s: written", path)) return;
+    for (j = 0; j < n; j++)
+        for (i = 0; i < n; i++) {
+            double x = (double)i / (n - 1), y = 0.7 * j / (n - 1);
+            fprintf(f, "v %.17g %.17g %.17g\n", 0.8 * x, y, 0.6 * x + 0.3 * y);
+        }
+    for (j = 0; j + 1 < n; j++)
+        for (i = 0; i + 1 < n; i++) {
+            int a = j * n + i + 1;
+            fprintf(f, "f %d %d %d\nf %d %d %d\n", a, a + 1, a + n + 1, a, a + n + 1, a + n);
+        }
+    fclose(f);
+    if (BPT_CHECK(bp_read_mesh(path, &m, NULL, &e) == BP_OK, "%s: read (%s)", path, e.message)) {
+        memset(&o, 0, sizeof o);
+        o.threads = 2;
+        o.init_only = 1;
+        if (BPT_CHECK(bp_parameterize(&at, &m, &o, &e) == BP_OK, "plane: start map (%s)", e.message)) {
+            BPT_CHECK(at.charts[0].start_map == BP_INIT_AUTO, "plane: the start is its own projection (start_map %d)",
+                      (int)at.charts[0].start_map);
+            bp_atlas_free(&at);
+        }
+        bp_mesh_free(&m, NULL);
+        check_mesh(path);
+    }
+    remove(path);
 }
 
 static void check_visibility(void)
@@ -461,6 +500,7 @@ int main(void)
     check_mesh("tests/data/spot.obj");
     check_mesh("tests/data/cow_param_withSUV.obj");
     check_mesh("tests/data/bishop_part_f1000.obj");
+    check_planar();
     check_visibility();
     return bpt_finish();
 }
