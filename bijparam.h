@@ -7006,7 +7006,8 @@ static void bp__nd_subtree(const bp__nd *D, bp__nd_task *T)
    The schedule.  The root is split alone (a tenth of the work on the
    26K-vertex face chart: 3.8 of 36 ms), as one task of a loop in which
    the caller's other work independent of the order may run on the other
-   threads (bp__nd_order_with: the conformal start's columns); then each level of the recorded tree
+   threads (bp__nd_order_with: the conformal start's columns); then each
+   level of the recorded tree
    down to depth BP__ND_PAR_DEPTH is one parallel loop with a task per
    piece (one split each), and the pieces at that depth (up to
    2^BP__ND_PAR_DEPTH) are ordered whole, one task each, largest first
