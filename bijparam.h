@@ -11839,7 +11839,8 @@ static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mes
     cols.fn = bp__conformal_task_run;               /* its columns, beside the root split */
     cols.task = &C.J;
     cols.count = cf == 1 ? C.J.nc : 0;
-    if (st == BP_OK && (!bp__tutte_order(a, &T, runner, cf == 1 ? &cols : NULL) || !bp__tutte_chart_order(a, &T, order, tree)))
+    if (st == BP_OK &&
+        (!bp__tutte_order(a, &T, runner, cf == 1 ? &cols : NULL) || !bp__tutte_chart_order(a, &T, order, tree)))
         st = bp__oom(err, "computing the start map");
     if (st == BP_OK && cf == 1 && (done = bp__conformal_end(a, &C, ch, m, runner, order, tree, h)) < 0)
         st = bp__oom(err, "computing the start map");
