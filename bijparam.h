@@ -13868,6 +13868,7 @@ static bp_status bp__solver_chart_par(bp__solver *S, const bp_allocator *a, cons
 {
     uint32_t t, L, k, c;
     double total_area = 0, len = 0;
+    int ok;
     bp__rest_task T;
     if (bp__solver_init(S, a, ch->num_vertices, ch->num_triangles, ch->triangles, ch->num_loops,
                         ch->loop_start, ch->loop_vertices) != BP_OK)
@@ -13903,12 +13904,12 @@ static bp_status bp__solver_chart_par(bp__solver *S, const bp_allocator *a, cons
         }
     S->mean_edge = len / S->nb;
     S->eps = o->epsilon > 0 ? o->epsilon : S->mean_edge / 4;
-    if (!(o->epsilon > 0) && !bp__start_thin_eps(a, ch, T.wxy, &S->eps)) {      /* thin charts, >>start */
-        if (!rest_wxy) bp__free(a, T.wxy);
+    ok = o->epsilon > 0 || bp__start_thin_eps(a, ch, T.wxy, &S->eps);      /* thin charts, >>start */
+    if (!rest_wxy) bp__free(a, T.wxy);
+    if (!ok) {
         bp__solver_free(S);
         return bp__oom(err, "optimizing a chart");
     }
-    if (!rest_wxy) bp__free(a, T.wxy);
     return BP_OK;
 }
 
