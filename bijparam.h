@@ -11731,7 +11731,10 @@ static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_op
    pattern is that very one (compared entry by entry), else frees it.
    The analysis of one pattern in one order is the same, so are the bits.
    Never held between the public bp_chart_init and bp_chart_optimize (a
-   caller may start every chart before optimizing any). */
+   caller may start every chart before optimizing any).  Only the
+   conformal map solved in 2x2 blocks has such a factor: one solved by
+   the boundary's Schur complement (>>conformal) hands nothing, and
+   Newton's first factorization then analyses its pattern itself. */
 typedef struct bp__handoff {
     bp__factor F;                 /* F.sn NULL: nothing handed over         */
     uint32_t   n, *colp, *row;    /* the factored matrix's pattern          */
@@ -11768,6 +11771,10 @@ typedef struct bp__conformal {
     bp__conformal_task J;
     bp__sparse K;
     double *buf;                  /* rhs, then the solve's workspace       */
+    int how;                      /* the solve bp__conformal_end took: 1 the
+                                     boundary's Schur complement, 2 the
+                                     factor in 2x2 blocks (set to 2 before
+                                     it: that one, for tests)              */
 } bp__conformal;
 static int bp__conformal_begin(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
                                const bp__par *runner, int any_size, bp__conformal *C);
@@ -12245,6 +12252,265 @@ static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, co
     return s > 0 && s < HUGE_VAL ? s : 0;
 }
 
+/* The boundary's Schur complement (beyond Levy et al.; issue 15, a
+   cheaper start).  Expand a triangle's residuals:
+       (a - d)^2 + (b + c)^2 = |J|^2 - 2 det J,
+   so E_C = sum_t A_t |J_t|^2 - 2 sum_t A_t det J_t: the Dirichlet energy
+   of x and of y, each the same scalar Laplacian L (the xx and the yy
+   blocks of K are the same products, added in the same order: the same
+   bits), minus twice the map's signed area (A_t det J_t is triangle t's
+   area in the plane), and the area is a sum over the boundary's edges
+   alone (Green: half the sum of x_i y_j - x_j y_i along the loops).  So K
+   couples x with y only between boundary vertices; inside, its xy entries
+   are the rounding of terms that cancel across every interior edge.
+   Order the interior vertices I first (the chart's dissection without
+   the boundary) and the free boundary vertices B last, as the root's
+   separator; factor the scalar L = R R^T; the trailing block R_BB of R
+   gives L's Schur complement on the boundary, S = R_BB R_BB^T (the
+   interior eliminated), and with C = K's xy entries between boundary
+   vertices, K's whole system reduces to the dense one on B,
+       [S C; C^T S] (x_B, y_B) = (S u_B, S w_B),   u = L^-1 b_x, w = L^-1 b_y,
+   (since (L^-1)_BB = S^-1), after which x = L^-1 (b_x - C y_B) and
+   y = L^-1 (b_y - C^T x_B), the corrections on the boundary rows only.
+   One scalar factorization of nv columns, a dense one of 2 |B|, and four
+   scalar solves replace the factorization in 2x2 blocks, which costs
+   eight times the scalar one's multiply-adds: face's start map, with 96
+   boundary vertices, measured in docs/performance.md sec 6.32.  The dense
+   parts grow as |B|^3, so charts with more than BP__CONFORMAL_SCHUR_K
+   sqrt(nv) boundary vertices keep the 2x2 factorization (of
+   ../shared/meshes: face, bimba and camelhead go this way; hilbert, the
+   strips and the many-loop charts the other).  The map solves the same
+   least squares problem (the interior xy terms taken as the zeros they
+   are), so it goes through the same scale and the same exact check. */
+#ifndef BP__CONFORMAL_SCHUR
+#define BP__CONFORMAL_SCHUR 1           /* 0: always the factorization in 2x2 blocks */
+#endif
+#ifndef BP__CONFORMAL_SCHUR_K
+#define BP__CONFORMAL_SCHUR_K 2.5       /* boundary vertices at most this times sqrt(nv) */
+#endif
+
+typedef struct bp__cschur {
+    uint32_t nv, ni, nb;          /* vertices, interior (and held), free boundary */
+    uint32_t *bidx;               /* nv: v's place among B, BP__NONE inside  */
+    uint32_t *ord, *bv;           /* the order (B last), B's vertices        */
+    bp__ndnode tree[BP__ND_NODES];
+    bp__sparse L;                 /* K's xx entries: the scalar Laplacian    */
+    bp__factor F, FB;             /* L's factor; the dense system's          */
+    bp__sparse KB;                /* [S C; C^T S] in 2x2 blocks, dense       */
+    double *R, *Cx;               /* nb x nb: R_BB then S, by rows; C        */
+    double *work;                 /* 5 nv + 6 nb: b_x, b_y, u, w, z; the
+                                     dense system's right side, solution
+                                     and work                             */
+} bp__cschur;
+
+static void bp__cschur_free(const bp_allocator *a, bp__cschur *Z)
+{
+    bp__free(a, Z->bidx); bp__free(a, Z->ord); bp__free(a, Z->bv);
+    bp__free(a, Z->L.colp); bp__free(a, Z->L.row); bp__free(a, Z->L.val);
+    bp__factor_free(a, &Z->F); bp__factor_free(a, &Z->FB);
+    bp__free(a, Z->KB.colp); bp__free(a, Z->KB.row); bp__free(a, Z->KB.val);
+    bp__free(a, Z->R); bp__free(a, Z->Cx); bp__free(a, Z->work);
+    memset(Z, 0, sizeof *Z);
+}
+
+/* B (the loops' vertices but the two held ones) in Z->bidx and its size;
+   the order: the dissection's with B moved to the end (in the order's
+   sequence), its tree with the root's range stretched over B. */
+static void bp__cschur_order(bp__cschur *Z, const bp_chart *ch, const uint32_t *held, const uint32_t *order,
+                             const bp__ndnode *tree)
+{
+    uint32_t j, k, v, m = 0;
+    for (v = 0; v < Z->nv; v++) Z->bidx[v] = BP__NONE;
+    for (j = ch->loop_start[0]; j < ch->loop_start[ch->num_loops]; j++) {
+        v = ch->loop_vertices[j];
+        if (v != held[0] && v != held[1]) Z->bidx[v] = 0;
+    }
+    for (k = 0; k < Z->nv; k++) {                 /* the interior, pre[k] in bv */
+        Z->bv[k] = m;
+        if (Z->bidx[order[k]] == BP__NONE) Z->ord[m++] = order[k];
+    }
+    Z->ni = m;
+    memset(Z->tree, 0, sizeof Z->tree);
+    for (k = 0; k < BP__ND_NODES; k++) {
+        if (!tree[k].used) continue;
+        Z->tree[k] = tree[k];
+        Z->tree[k].lo = tree[k].lo < Z->nv ? Z->bv[tree[k].lo] : m;
+        Z->tree[k].a = tree[k].a < Z->nv ? Z->bv[tree[k].a] : m;
+        Z->tree[k].b = tree[k].b < Z->nv ? Z->bv[tree[k].b] : m;
+        Z->tree[k].hi = tree[k].hi < Z->nv ? Z->bv[tree[k].hi] : m;
+    }
+    Z->tree[0].hi = Z->nv;
+    for (k = 0; k < Z->nv; k++)                   /* then B */
+        if (Z->bidx[order[k]] != BP__NONE) {
+            Z->bidx[order[k]] = m - Z->ni;
+            Z->bv[m - Z->ni] = order[k];
+            Z->ord[m++] = order[k];
+        }
+}
+
+/* L from K: column v is column 2v's even rows (2u: u's x), halved. */
+static int bp__cschur_laplacian(const bp_allocator *a, bp__cschur *Z, const bp__sparse *K)
+{
+    uint32_t v, i, nnz = K->colp[K->n] / 4;
+    Z->L.n = Z->nv;
+    Z->L.symmetric = 1;
+    Z->L.super1 = 1;
+    Z->L.colp = (uint32_t *)bp__alloc_array(a, (size_t)Z->nv + 1, sizeof(uint32_t));
+    Z->L.row = (uint32_t *)bp__alloc_array(a, (size_t)nnz + 1, sizeof(uint32_t));
+    Z->L.val = (double *)bp__alloc_array(a, (size_t)nnz + 1, sizeof(double));
+    if (!Z->L.colp || !Z->L.row || !Z->L.val) return 0;
+    for (v = 0; v <= Z->nv; v++) Z->L.colp[v] = K->colp[2 * v] / 4;
+    for (v = 0; v < Z->nv; v++) {
+        uint32_t c0 = K->colp[2 * v], p = Z->L.colp[v], len = Z->L.colp[v + 1] - p;
+        for (i = 0; i < len; i++) {
+            Z->L.row[p + i] = K->row[c0 + 2 * i] / 2;
+            Z->L.val[p + i] = K->val[c0 + 2 * i];
+        }
+    }
+    return 1;
+}
+
+/* R_BB, the trailing nb x nb block of L's factor (B's rows and columns,
+   which no interior supernode holds: rows come after columns), into Z->R
+   by rows, then S = R_BB R_BB^T in its place (lower triangle and its
+   mirror; each sum in four lanes added in a fixed order). */
+static int bp__cschur_complement(const bp_allocator *a, bp__cschur *Z)
+{
+    const bp__super *S = Z->F.sn;
+    uint32_t nb = Z->nb, ni = Z->ni, s, i, j, k, c;
+    double *R = (double *)bp__calloc_array(a, (size_t)nb * nb, sizeof(double));
+    if (!R) return 0;
+    for (s = S->snode[ni]; s < S->ns; s++) {
+        uint32_t cs = S->first[s + 1] - S->first[s], mr = S->rp[s + 1] - S->rp[s];
+        const uint32_t *rows = S->ri + S->rp[s];
+        const double *B = S->x + S->xp[s];
+        for (c = S->first[s] < ni ? ni - S->first[s] : 0; c < cs; c++)
+            for (i = c; i < mr; i++) R[(size_t)(rows[i] - ni) * nb + (S->first[s] + c - ni)] = B[(size_t)i * cs + c];
+    }
+    Z->R = (double *)bp__alloc_array(a, (size_t)nb * nb, sizeof(double));
+    if (!Z->R) { bp__free(a, R); return 0; }
+    for (i = 0; i < nb; i++)
+        for (j = 0; j <= i; j++) {
+            const double *ri = R + (size_t)i * nb, *rj = R + (size_t)j * nb;
+            double t[4] = { 0, 0, 0, 0 };
+            for (k = 0; k + 4 <= j + 1; k += 4) {
+                t[0] += ri[k] * rj[k]; t[1] += ri[k + 1] * rj[k + 1];
+                t[2] += ri[k + 2] * rj[k + 2]; t[3] += ri[k + 3] * rj[k + 3];
+            }
+            for (; k <= j; k++) t[0] += ri[k] * rj[k];
+            Z->R[(size_t)i * nb + j] = Z->R[(size_t)j * nb + i] = (t[0] + t[1]) + (t[2] + t[3]);
+        }
+    bp__free(a, R);
+    return 1;
+}
+
+/* C (x of B's vertex i against y of j: K's row 2 bv[i], column
+   2 bv[j] + 1) from the y columns of B, and the dense system
+   [S C; C^T S] in 2x2 blocks, all its entries in the pattern. */
+static int bp__cschur_system(const bp_allocator *a, bp__cschur *Z, const bp__sparse *K)
+{
+    uint32_t nb = Z->nb, n = 2 * nb, i, j, p, r;
+    Z->Cx = (double *)bp__calloc_array(a, (size_t)nb * nb, sizeof(double));
+    Z->KB.colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    Z->KB.row = (uint32_t *)bp__alloc_array(a, (size_t)n * n, sizeof(uint32_t));
+    Z->KB.val = (double *)bp__alloc_array(a, (size_t)n * n, sizeof(double));
+    if (!Z->Cx || !Z->KB.colp || !Z->KB.row || !Z->KB.val) return 0;
+    for (j = 0; j < nb; j++) {
+        uint32_t c0 = K->colp[2 * Z->bv[j] + 1], c1 = K->colp[2 * Z->bv[j] + 2];
+        for (p = c0; p < c1; p += 2) {
+            uint32_t u = K->row[p] / 2;
+            if (Z->bidx[u] != BP__NONE) Z->Cx[(size_t)Z->bidx[u] * nb + j] = K->val[p];
+        }
+    }
+    Z->KB.n = n;
+    Z->KB.symmetric = 1;
+    Z->KB.blocks2 = 1;
+    for (j = 0; j < n; j++) {
+        double *col = Z->KB.val + (size_t)j * n;
+        Z->KB.colp[j] = j * n;
+        for (r = 0; r < n; r++) Z->KB.row[(size_t)j * n + r] = r;
+        for (i = 0; i < nb; i++) {
+            col[2 * i + (j & 1)] = Z->R[(size_t)i * nb + j / 2];                       /* S */
+            col[2 * i + 1 - (j & 1)] = j & 1 ? Z->Cx[(size_t)i * nb + j / 2]          /* (x_i, y_j): C */
+                                             : Z->Cx[(size_t)(j / 2) * nb + i];       /* (y_i, x_j): C^T */
+        }
+    }
+    Z->KB.colp[n] = n * n;
+    return 1;
+}
+
+/* The solves above: rhs (2 per vertex, x y) to ch->uv. */
+static void bp__cschur_solve(bp__cschur *Z, const double *rhs, bp_chart *ch, const bp__par *par)
+{
+    uint32_t nv = Z->nv, nb = Z->nb, v, i, j;
+    double *bx = Z->work, *by = bx + nv, *u = by + nv, *w = u + nv, *z = w + nv;
+    double *kb = z + nv, *xb = kb + 2 * (size_t)nb, *zb = xb + 2 * (size_t)nb;
+    for (v = 0; v < nv; v++) { bx[v] = rhs[2 * (size_t)v]; by[v] = rhs[2 * (size_t)v + 1]; }
+    bp__factor_solve_par(&Z->F, bx, u, z, par);
+    bp__factor_solve_par(&Z->F, by, w, z, par);
+    for (i = 0; i < nb; i++) {                          /* (S u_B, S w_B), interleaved */
+        const double *si = Z->R + (size_t)i * nb;
+        double sx = 0, sy = 0;
+        for (j = 0; j < nb; j++) { sx += si[j] * u[Z->bv[j]]; sy += si[j] * w[Z->bv[j]]; }
+        kb[2 * i] = sx;
+        kb[2 * i + 1] = sy;
+    }
+    bp__factor_solve_par(&Z->FB, kb, xb, zb, par);      /* (x_B, y_B) interleaved */
+    for (i = 0; i < nb; i++) {                          /* b_x - C y_B, b_y - C^T x_B */
+        double cx = 0, cy = 0;
+        for (j = 0; j < nb; j++) {
+            cx += Z->Cx[(size_t)i * nb + j] * xb[2 * j + 1];
+            cy += Z->Cx[(size_t)j * nb + i] * xb[2 * j];
+        }
+        bx[Z->bv[i]] -= cx;
+        by[Z->bv[i]] -= cy;
+    }
+    bp__factor_solve_par(&Z->F, bx, u, z, par);
+    bp__factor_solve_par(&Z->F, by, w, z, par);
+    for (v = 0; v < nv; v++) { ch->uv[2 * (size_t)v] = u[v]; ch->uv[2 * (size_t)v + 1] = w[v]; }
+}
+
+/* The conformal map (unscaled) into ch->uv by the Schur complement.
+   Returns 1, 0 when not taken (too many boundary vertices, a pivot not
+   positive: the 2x2 factorization then serves), -1 out of memory. */
+static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp_chart *ch, const bp__par *par,
+                               const uint32_t *order, const bp__ndnode *tree)
+{
+    bp__cschur Z;
+    uint32_t nv = C->K.n / 2, bad, k;
+    int fallback = 0, ok = -1;
+    bp_status st;
+    bp__ndnode one[BP__ND_NODES];
+    if (!BP__CONFORMAL_SCHUR || !order || !tree) return 0;
+    memset(&Z, 0, sizeof Z);
+    Z.nv = nv;
+    Z.bidx = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    Z.ord = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    Z.bv = (uint32_t *)bp__alloc_array(a, 2 * (size_t)nv + 1, sizeof(uint32_t));   /* B's, then an identity */
+    if (!Z.bidx || !Z.ord || !Z.bv) goto done;
+    bp__cschur_order(&Z, ch, C->J.p, order, tree);
+    Z.nb = nv - Z.ni;
+    ok = 0;
+    if (Z.nb == 0 || (double)Z.nb > BP__CONFORMAL_SCHUR_K * sqrt((double)nv)) goto done;
+    ok = -1;
+    Z.work = (double *)bp__alloc_array(a, 5 * (size_t)nv + 6 * (size_t)Z.nb, sizeof(double));
+    if (!Z.work || !bp__cschur_laplacian(a, &Z, &C->K)) goto done;
+    st = bp__super_factorize(a, &Z.L, &Z.F, &bad, par, 1, &fallback, Z.ord, Z.tree);
+    if (st != BP_OK || fallback) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
+    if (!bp__cschur_complement(a, &Z) || !bp__cschur_system(a, &Z, &C->K)) goto done;
+    for (k = 0; k < Z.nb; k++) Z.bv[Z.nb + k] = k;      /* the dense system's order */
+    memset(one, 0, sizeof one);
+    one[0].used = 1;
+    one[0].hi = Z.nb;
+    st = bp__super_factorize(a, &Z.KB, &Z.FB, &bad, par, 2, &fallback, Z.bv + Z.nb, one);
+    if (st != BP_OK || fallback) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
+    bp__cschur_solve(&Z, C->buf, ch, par);
+    ok = 1;
+done:
+    bp__cschur_free(a, &Z);
+    return ok;
+}
+
 /* The conformal map of the chart into ch->uv, scaled, in the order
    (order, tree) of the chart's vertices, in two halves around the
    dissection (bp__tutte_map).  bp__conformal_begin: 0 when the map is not
@@ -12295,12 +12561,13 @@ static int bp__conformal_begin(const bp_allocator *a, const bp__tutte *T, bp_cha
     return 1;
 }
 
-/* bp__conformal_end, after the columns' pass: the factor in the order
-   (order, tree), the solve, the scale and the exact check.  Returns 1
-   when the map passed the check (ch->uv holds it; its factor to *h when h
-   is not NULL: bp__handoff), 0 when it is not used (a pivot or a triangle
-   gone wrong, the check failed: ch->uv is then overwritten by the
-   caller), -1 out of memory. */
+/* bp__conformal_end, after the columns' pass: the solve, by the
+   boundary's Schur complement (above) or else by the factor in 2x2 blocks
+   in the order (order, tree) (C->how says which), then the scale and the
+   exact check.  Returns 1 when the map passed the check (ch->uv holds it;
+   the 2x2 factor to *h when h is not NULL: bp__handoff), 0 when it is not
+   used (a pivot or a triangle gone wrong, the check failed: ch->uv is
+   then overwritten by the caller), -1 out of memory. */
 static int bp__conformal_end(const bp_allocator *a, bp__conformal *C, bp_chart *ch, const bp_mesh *m,
                              const bp__par *runner, const uint32_t *order, const bp__ndnode *tree, bp__handoff *h)
 {
@@ -12315,9 +12582,15 @@ static int bp__conformal_end(const bp_allocator *a, bp__conformal *C, bp_chart *
     int ok = -1;
     bp_status st;
     memset(&F, 0, sizeof F);
-    st = bp__factorize_order(a, K, &F, &bad, par, order, tree);
-    if (st != BP_OK) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
-    bp__factor_solve_par(&F, rhs, ch->uv, z, par);
+    if (C->how != 2 && (ok = bp__conformal_schur(a, C, ch, par, order, tree)) < 0) goto done;
+    C->how = ok == 1 ? 1 : 2;
+    if (C->how == 2) {                                       /* the 2x2 factorization */
+        ok = -1;
+        st = bp__factorize_order(a, K, &F, &bad, par, order, tree);
+        if (st != BP_OK) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
+        bp__factor_solve_par(&F, rhs, ch->uv, z, par);
+    }
+    ok = -1;
     if (!((s = bp__conformal_scale(a, ch, m, par)) > 0)) { ok = s < 0 ? -1 : 0; goto done; }
     for (i = 0; i < n; i++) ch->uv[i] *= s;
     st = bp__check_par(ch->triangles, ch->num_triangles, ch->uv, n / 2, a, par, &rep, NULL);

@@ -32,14 +32,25 @@
        conformal map of a flat chart is a similarity, so its energy at the
        optimal scale is 4 to rounding.
    (f) The start's factor handed to Newton (bp__handoff, bp_chart_solve):
-       on bishop, by projected Newton, bp_chart_solve gives the very
+       on a grid lifted onto a bump (its conformal map solved in 2x2
+       blocks), by projected Newton, bp_chart_solve gives the very
        bits, iterations and energy of bp_chart_init then bp_chart_optimize;
        the internal path hands the conformal factor over (made by the
        start, taken by Newton's first factorization); a handed pattern
        that is not H's (one unknown fewer) is refused and freed, with the
        same bits again; where no conformal map was kept (camel_b: it
-       folds; bishop asked for the mean-value map) nothing is handed;
-       with init_only, bp_chart_solve stops at bp_chart_init's map. */
+       folds; the bump asked for the mean-value map; bishop, whose map
+       is solved by the boundary's Schur complement, with no 2x2 factor)
+       nothing is handed, and bishop's bits are bp_chart_solve's; with
+       init_only, bp_chart_solve stops at bp_chart_init's map.
+   (g) The boundary's Schur complement (>>conformal): camelhead and
+       bishop, with few boundary vertices, are solved that way, face_holes
+       (304 of 4,291 vertices on its loops) by the 2x2 factor; on each the
+       two solves, asked for in turn, give the same map to 1e-9 of its
+       extent, and the chosen one is the same bits on every schedule.
+       (a) also runs on camelhead asked for BP_INIT_CONFORMAL: the Schur
+       complement's map is the least squares conformal map, by the
+       test's own gradient. */
 #define BP__CONFORMAL_MAX 20000u
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
@@ -150,7 +161,7 @@ static int on_boundary(const bp_chart *ch, uint32_t v)
 
 /* ---- (a) ------------------------------------------------------------------ */
 
-static void check_lscm(const char *path)
+static void check_lscm(const char *path, bp_init init)
 {
     bp_mesh m;
     bp_atlas atlas;
@@ -160,9 +171,9 @@ static void check_lscm(const char *path)
     if (!load(path, &m, &atlas)) return;
     ch = &atlas.charts[0];
     nv = ch->num_vertices;
-    if (init_with(ch, &m, BP_INIT_AUTO, NULL) &&
+    if (init_with(ch, &m, init, NULL) &&
         BPT_CHECK(ch->start_map == BP_INIT_CONFORMAL && exactly_valid(ch),
-                  "%s: the default start is the conformal map (start_map %d), exactly bijective", path,
+                  "%s, init %d: the start is the conformal map (start_map %d), exactly bijective", path, (int)init,
                   ch->start_map)) {
         for (v = 0; v < nv; v++) {
             if (ch->uv[2 * v] == 0 && ch->uv[2 * v + 1] == 0) { p0 = v; n0++; }
@@ -322,6 +333,29 @@ static void check_schedules(const char *path)
 
 /* ---- (f) ------------------------------------------------------------------ */
 
+/* A 20 x 20 grid of the unit square lifted onto the bump z = 0.4 (x^2 +
+   y^2): a disk with 80 of its 441 vertices on the loop, more than
+   BP__CONFORMAL_SCHUR_K sqrt(nv), so its conformal map is solved in 2x2
+   blocks, and a boundary that stays far from itself. */
+static bp_mesh make_bump(void)
+{
+    bpt_gen g;
+    bp_mesh m;
+    uint32_t i;
+    double pos[3 * 441];
+    uint32_t tri[3 * 800];
+    g.pos = pos; g.tri = tri; g.nv = 0; g.nt = 0;
+    bpt_add_grid(&g, 20, 20, 0, 0.05, 0, -0.5, -0.5);
+    m = bpt_mesh_new(g.nv, g.nt);
+    for (i = 0; i < g.nv; i++) {
+        m.positions[3 * i] = pos[3 * i];
+        m.positions[3 * i + 1] = pos[3 * i + 1];
+        m.positions[3 * i + 2] = 0.4 * (pos[3 * i] * pos[3 * i] + pos[3 * i + 1] * pos[3 * i + 1]);
+    }
+    memcpy(m.triangles, tri, 3 * (size_t)g.nt * sizeof(uint32_t));
+    return m;
+}
+
 typedef struct solved { double *uv; int iterations; double energy; } solved;
 
 static int same_as(const bp_chart *ch, const solved *r)
@@ -361,37 +395,60 @@ static void check_handoff(void)
     solved r;
     int made = 0, used = 0, ok;
     size_t bytes;
-    if (!load("tests/data/bishop_part_f1000.obj", &m, &atlas)) return;
+    m = make_bump();
+    bp_options_init(&opt);
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &m, &opt, &err) == BP_OK && atlas.num_charts == 1, "bump: one chart (%s)",
+                   err.message)) { bpt_mesh_free(&m); return; }
     ch = &atlas.charts[0];
     bytes = 2 * (size_t)ch->num_vertices * sizeof(double);
     bp_options_init(&opt);
     opt.direction = BP_DIRECTION_NEWTON;
+    opt.start = BP_START_PLAIN;              /* (its projection would be the start: >>start, 1) */
     if (!BPT_CHECK(bp_chart_init(ch, &m, &opt, &err) == BP_OK && ch->start_map == BP_INIT_CONFORMAL &&
-                   bp_chart_optimize(ch, 0, &m, &opt, &err) == BP_OK, "bishop: init, then optimize (%s)", err.message))
+                   bp_chart_optimize(ch, 0, &m, &opt, &err) == BP_OK, "bump: init, then optimize (%s)", err.message))
         goto out;
     r.uv = (double *)malloc(bytes);
     memcpy(r.uv, ch->uv, bytes);
     r.iterations = ch->iterations;
     r.energy = ch->energy_end;
     BPT_CHECK(bp_chart_solve(ch, 0, &m, &opt, &err) == BP_OK && same_as(ch, &r),
-              "bishop: bp_chart_solve, the same bits, %d iterations, energy %.9g", ch->iterations, ch->energy_end);
+              "bump: bp_chart_solve, the same bits, %d iterations, energy %.9g", ch->iterations, ch->energy_end);
     ok = solve_handed(ch, &m, &opt, 0, &made, &used);
     BPT_CHECK(ok && made && used && same_as(ch, &r),
-              "bishop: the conformal factor handed over (made %d, taken %d), the same bits", made, used);
+              "bump (80 of 441 vertices on its loop: solved in 2x2 blocks): the conformal factor handed over (made %d, taken %d), the same bits", made, used);
     ok = solve_handed(ch, &m, &opt, 1, &made, &used);
     BPT_CHECK(ok && made && !used && same_as(ch, &r),
-              "bishop: a handed pattern not H's is refused (made %d, taken %d), the same bits", made, used);
+              "bump: a handed pattern not H's is refused (made %d, taken %d), the same bits", made, used);
     opt.init = BP_INIT_MEAN_VALUE;
     ok = solve_handed(ch, &m, &opt, 0, &made, &used);
     BPT_CHECK(ok && !made && !used && ch->start_map == BP_INIT_MEAN_VALUE,
-              "bishop, the mean-value start asked for: nothing handed (made %d)", made);
+              "bump, the mean-value start asked for: nothing handed (made %d)", made);
     opt.init = BP_INIT_AUTO;
     opt.init_only = 1;
     BPT_CHECK(bp_chart_solve(ch, 0, &m, &opt, &err) == BP_OK && ch->iterations == 0 && ch->start_map == BP_INIT_CONFORMAL &&
               memcmp(ch->uv, r.uv, bytes) != 0 && exactly_valid(ch),
-              "bishop, init_only: bp_chart_solve stops at the start map");
+              "bump, init_only: bp_chart_solve stops at the start map");
     free(r.uv);
 out:
+    bp_atlas_free(&atlas);
+    bpt_mesh_free(&m);
+    if (!load("tests/data/bishop_part_f1000.obj", &m, &atlas)) return;
+    ch = &atlas.charts[0];
+    bp_options_init(&opt);
+    opt.direction = BP_DIRECTION_NEWTON;
+    if (BPT_CHECK(bp_chart_solve(ch, 0, &m, &opt, &err) == BP_OK && ch->start_map == BP_INIT_CONFORMAL,
+                  "bishop: solved from the conformal start (%s)", err.message)) {
+        bytes = 2 * (size_t)ch->num_vertices * sizeof(double);
+        r.uv = (double *)malloc(bytes);
+        memcpy(r.uv, ch->uv, bytes);
+        r.iterations = ch->iterations;
+        r.energy = ch->energy_end;
+        ok = solve_handed(ch, &m, &opt, 0, &made, &used);
+        BPT_CHECK(ok && !made && !used && same_as(ch, &r),
+                  "bishop (solved by the boundary's Schur complement): nothing handed (made %d, taken %d), the same "
+                  "bits", made, used);
+        free(r.uv);
+    }
     bp_atlas_free(&atlas);
     bp_mesh_free(&m, NULL);
     if (!load("tests/data/camel_b.obj", &m, &atlas)) return;
@@ -400,6 +457,94 @@ out:
     ok = solve_handed(&atlas.charts[0], &m, &opt, 0, &made, &used);
     BPT_CHECK(ok && !made && !used && atlas.charts[0].start_map == BP_INIT_MEAN_VALUE,
               "camel_b (its conformal map folds): nothing handed (made %d)", made);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+}
+
+/* ---- (g) ------------------------------------------------------------------ */
+
+/* The conformal map of atlas chart 0 by bp__tutte_map's own steps (as
+   check_overlap), with `how` set before bp__conformal_end (0: its
+   choice, 2: the 2x2 factor); the map (unchecked: bp__conformal_end's
+   own verdict in *got) into uv, the solve taken returned (0 on a failure
+   before the solve). */
+static int conformal_by(const bp_mesh *m, bp_chart *ch, int how, const bp__par *par, double *uv, int *got)
+{
+    bp_options opt;
+    bp_allocator al;
+    bp__tutte T;
+    bp__ndnode tree[BP__ND_NODES];
+    uint32_t *order = (uint32_t *)malloc(((size_t)ch->num_vertices + 6 * BP__ND_NODES) * sizeof(uint32_t));
+    double *keep = ch->uv;
+    int took = 0;
+    bp_options_init(&opt);
+    al = bp__allocator_of(&opt);
+    memset(&T, 0, sizeof T);
+    T.par = par ? *par : bp__par_serial();
+    *got = -2;
+    ch->uv = uv;
+    if (order && bp__tutte_fill(&al, &T, ch, m) && bp__tutte_adjacency(&al, &T)) {
+        bp__conformal C;
+        bp__loop cols;
+        if (bp__conformal_begin(&al, &T, ch, m, par, 1, &C) == 1) {
+            cols.fn = bp__conformal_task_run;
+            cols.task = &C.J;
+            cols.count = C.J.nc;
+            C.how = how;
+            if (bp__tutte_order(&al, &T, par, &cols) && bp__tutte_chart_order(&al, &T, order, tree)) {
+                *got = bp__conformal_end(&al, &C, ch, m, par, order, tree, NULL);
+                took = C.how;
+            }
+        }
+        bp__conformal_free(&al, &C);
+    }
+    ch->uv = keep;
+    bp__tutte_free(&al, &T);
+    free(order);
+    return took;
+}
+
+/* The boundary's Schur complement against the 2x2 factor: on charts with
+   few boundary vertices (camelhead: 54 of 11,381, bishop) the start takes
+   the Schur complement, on face_holes (304 of 4,291, above
+   BP__CONFORMAL_SCHUR_K sqrt(nv)) the 2x2 factor; both solves give the
+   same map to 1e-9 of its extent (two exact methods for one linear
+   system, rounded differently), both maps pass bp__conformal_end's check,
+   and the Schur path is the same bits serially, backwards and odd then
+   even. */
+static void check_schur(const char *path, int expect)
+{
+    bp_mesh m;
+    bp_atlas atlas;
+    bp__par par[3];
+    double *uv1, *uv2, *uv3, ext = 0, dif = 0;
+    uint32_t n, i;
+    int got1, got2, got3, how1, how2, how3, k, same = 1;
+    if (!load(path, &m, &atlas)) return;
+    n = 2 * atlas.charts[0].num_vertices;
+    uv1 = (double *)malloc(n * sizeof(double));
+    uv2 = (double *)malloc(n * sizeof(double));
+    uv3 = (double *)malloc(n * sizeof(double));
+    how1 = conformal_by(&m, &atlas.charts[0], 0, NULL, uv1, &got1);
+    how2 = conformal_by(&m, &atlas.charts[0], 2, NULL, uv2, &got2);
+    for (i = 0; i < n; i++) {
+        if (fabs(uv2[i]) > ext) ext = fabs(uv2[i]);
+        if (fabs(uv1[i] - uv2[i]) > dif) dif = fabs(uv1[i] - uv2[i]);
+    }
+    BPT_CHECK(how1 == expect && how2 == 2 && got1 == 1 && got2 == 1,
+              "%s: the start's own choice is solve %d (expected %d: 1 the Schur complement, 2 the 2x2 factor), the "
+              "2x2 factor asked for is %d; both maps pass the check (%d, %d)", path, how1, expect, how2, got1, got2);
+    BPT_CHECK(dif <= 1e-9 * ext, "%s: the two solves give the same map, largest difference %.3g (extent %.4g)", path,
+              dif, ext);
+    par[0] = bp__par_serial();
+    par[1] = par[0]; par[1].run = bpt_backwards_for; par[1].threads = 2;
+    par[2] = par[0]; par[2].run = bpt_odd_even_for; par[2].threads = 2;
+    for (k = 1; k < 3; k++) {
+        how3 = conformal_by(&m, &atlas.charts[0], 0, &par[k], uv3, &got3);
+        if (how3 != how1 || got3 != got1 || memcmp(uv1, uv3, n * sizeof(double)) != 0) same = 0;
+    }
+    BPT_CHECK(same, "%s: solve %d is the same bits serially, backwards and odd then even", path, how1);
+    free(uv1); free(uv2); free(uv3);
     bp_atlas_free(&atlas);
     bp_mesh_free(&m, NULL);
 }
@@ -441,8 +586,12 @@ static void check_flat(void)
 
 int main(void)
 {
-    check_lscm("tests/data/face_holes.off");
-    check_lscm("tests/data/bishop_part_f1000.obj");
+    check_lscm("tests/data/face_holes.off", BP_INIT_AUTO);
+    check_lscm("tests/data/bishop_part_f1000.obj", BP_INIT_AUTO);
+    check_lscm("tests/data/camelhead.off", BP_INIT_CONFORMAL);
+    check_schur("tests/data/camelhead.off", 1);
+    check_schur("tests/data/bishop_part_f1000.obj", 1);
+    check_schur("tests/data/face_holes.off", 2);
     check_start_map("tests/data/camel_b.obj", BP_INIT_AUTO, BP_INIT_MEAN_VALUE, "its conformal map folds");
     check_start_map("tests/data/camel_b.obj", BP_INIT_CONFORMAL, BP_INIT_MEAN_VALUE, "its conformal map folds");
     check_overlap();
