@@ -12835,36 +12835,75 @@ static int bp__hessian_j(bp_energy kind, const double J[4], int project, double 
     return 1;
 }
 
+/* Block (al, be) of the 4x4 Hessian h4 in J, B_ab (rows 2 al, 2 al + 1,
+   columns 2 be, 2 be + 1), carried to the corners: M = G^T B_ab G, with
+   G the rows of J's gradient (g_2 = (m00, m01), g_3 = (0, m11), and
+   corner 1's g_1 = -g_2 - g_3). */
+static void bp__hessian_corners(const bp__rest *r, const double *h4, int al, int be, double M[3][3])
+{
+    const double *b0 = h4 + 4 * (2 * al) + 2 * be, *b1 = b0 + 4;   /* rows p = 0, 1 of B_ab */
+    double c[2][2];
+    c[0][0] = b0[0] * r->m00 + b0[1] * r->m01; c[0][1] = b0[1] * r->m11;      /* c = B_ab G */
+    c[1][0] = b1[0] * r->m00 + b1[1] * r->m01; c[1][1] = b1[1] * r->m11;
+    M[1][1] = r->m00 * c[0][0] + r->m01 * c[1][0]; M[1][2] = r->m00 * c[0][1] + r->m01 * c[1][1];
+    M[2][1] = r->m11 * c[1][0];                    M[2][2] = r->m11 * c[1][1];
+    M[0][1] = -M[1][1] - M[2][1]; M[0][2] = -M[1][2] - M[2][2];
+    M[1][0] = -M[1][1] - M[1][2]; M[2][0] = -M[2][1] - M[2][2];
+    M[0][0] = -M[0][1] - M[0][2];
+}
+
+/* J of the triangle's map; 0 when it is not positive. */
+static int bp__triangle_j(const bp__rest *r, const double *u1, const double *u2, const double *u3, double J[4])
+{
+    double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
+    J[0] = d00 * r->m00; J[1] = d00 * r->m01 + d01 * r->m11;
+    J[2] = d10 * r->m00; J[3] = d10 * r->m01 + d11 * r->m11;
+    return 1;
+}
+
 /* The 6x6 Hessian of weight * E_t in (u1x, u1y, u2x, u2y, u3x, u3y), row
    major into h6 (projected to positive semidefinite with `project`).
    Returns 0 (h6 untouched) for a triangle that is not positive. */
 static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double *u1, const double *u2,
                                 const double *u3, int project, double h6[36])
 {
-    double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
-    double J[4], h4[16], w = r->weight;
+    double J[4], h4[16] = { 0 }, w = r->weight, M[3][3];   /* (zeroed: GCC cannot see bp__hessian_j fill it) */
     int k, l, al, be;
-    J[0] = d00 * r->m00; J[1] = d00 * r->m01 + d01 * r->m11;
-    J[2] = d10 * r->m00; J[3] = d10 * r->m01 + d11 * r->m11;
+    bp__triangle_j(r, u1, u2, u3, J);
     if (!bp__hessian_j(kind, J, project, h4)) return 0;
     for (al = 0; al < 2; al++)
         for (be = al; be < 2; be++) {
-            const double *b0 = h4 + 4 * (2 * al) + 2 * be, *b1 = b0 + 4;   /* rows p = 0, 1 of B_ab */
-            double c[2][2], M[3][3];
-            /* c = B_ab G (g_2 = (m00, m01), g_3 = (0, m11)), then M = G^T c */
-            c[0][0] = b0[0] * r->m00 + b0[1] * r->m01; c[0][1] = b0[1] * r->m11;
-            c[1][0] = b1[0] * r->m00 + b1[1] * r->m01; c[1][1] = b1[1] * r->m11;
-            M[1][1] = r->m00 * c[0][0] + r->m01 * c[1][0]; M[1][2] = r->m00 * c[0][1] + r->m01 * c[1][1];
-            M[2][1] = r->m11 * c[1][0];                    M[2][2] = r->m11 * c[1][1];
-            M[0][1] = -M[1][1] - M[2][1]; M[0][2] = -M[1][2] - M[2][2];      /* corner 1: g_1 = -g_2 - g_3 */
-            M[1][0] = -M[1][1] - M[1][2]; M[2][0] = -M[2][1] - M[2][2];
-            M[0][0] = -M[0][1] - M[0][2];
+            bp__hessian_corners(r, h4, al, be, M);
             for (k = 0; k < 3; k++)
                 for (l = 0; l < 3; l++) {
                     h6[6 * (2 * k + al) + 2 * l + be] = w * M[k][l];
                     h6[6 * (2 * l + be) + 2 * k + al] = w * M[k][l];     /* (M_ba = M_ab^T) */
                 }
         }
+    return 1;
+}
+
+/* Its isotropic part (Newton's isotropic phase, bp__newton_tri_task):
+   k[i] = (xx + yy) / 2 of corner block (r, q), r <= q, at i =
+   bp__ht_block[r][q] / 4, from the blocks al = be alone: the very
+   products of the 6x6 above, so the same bits as halving its entries'
+   sum, for two of its three blocks B_ab and no 6x6 written.  Newton's
+   H keeps its six 2x2 corner blocks (r, q), r <= q, per triangle in
+   that order, each row major, the block (r, q) at bp__ht_block[r][q]
+   (bp__newton_tri_task); the isotropic phase keeps one number per block,
+   at a quarter of that. */
+static const unsigned char bp__ht_block[3][3] = { { 0, 4, 8 }, { 4, 12, 16 }, { 8, 16, 20 } };
+static int bp__triangle_hessian_iso(bp_energy kind, const bp__rest *r, const double *u1, const double *u2,
+                                    const double *u3, double k6[6])
+{
+    double J[4], h4[16] = { 0 }, w = r->weight, M0[3][3], M1[3][3];
+    int k, l;
+    bp__triangle_j(r, u1, u2, u3, J);
+    if (!bp__hessian_j(kind, J, 1, h4)) return 0;
+    bp__hessian_corners(r, h4, 0, 0, M0);
+    bp__hessian_corners(r, h4, 1, 1, M1);
+    for (k = 0; k < 3; k++)
+        for (l = k; l < 3; l++) k6[bp__ht_block[k][l] / 4] = 0.5 * (w * M0[l][k] + w * M1[l][k]);   /* (the mirror's, written last) */
     return 1;
 }
 
@@ -14896,8 +14935,9 @@ static int bp__newton_grow(bp__newton *N, bp__solver *S)
    order (0,0) (0,1) (0,2) (1,1) (1,2) (2,2), each row major: BP__HT = 24
    doubles instead of 36, two thirds of the memory the gather below
    streams through at every factorized iteration.  Block (r, c) with
-   r > c is block (c, r) transposed: the same values, so the same bits. */
-static const unsigned char bp__ht_block[3][3] = { { 0, 4, 8 }, { 4, 12, 16 }, { 8, 16, 20 } };
+   r > c is block (c, r) transposed: the same values, so the same bits.
+   bp__ht_block[r][c] (defined before bp__triangle_hessian_iso) is where
+   block (r, c) starts. */
 
 static void bp__newton_tri_task(void *task, uint32_t c)
 {
@@ -14908,15 +14948,16 @@ static void bp__newton_tri_task(void *task, uint32_t c)
     for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1; t++) {
         const uint32_t *tr = S->tri + 3 * (size_t)t;
         double h6[36], *h = N->ht + BP__HT * (size_t)t;
+        if (N->iso) {                      /* (xx + yy) / 2 per block (bp__newton_iso_gather_task) */
+            double *k = N->ht + 6 * (size_t)t;
+            if (!bp__triangle_hessian_iso(S->energy, &S->rest[t], N->x + 2 * (size_t)tr[0],
+                                          N->x + 2 * (size_t)tr[1], N->x + 2 * (size_t)tr[2], k))
+                memset(k, 0, 6 * sizeof(double));
+            continue;
+        }
         if (!bp__triangle_hessian(S->energy, &S->rest[t], N->x + 2 * (size_t)tr[0], N->x + 2 * (size_t)tr[1],
                                   N->x + 2 * (size_t)tr[2], 1, h6))
             memset(h6, 0, sizeof h6);
-        if (N->iso) {                      /* (xx + yy) / 2 per block (bp__newton_iso_gather_task) */
-            double *k = N->ht + 6 * (size_t)t;
-            for (r = 0; r < 3; r++)
-                for (q = r; q < 3; q++) k[bp__ht_block[r][q] / 4] = 0.5 * (h6[12 * r + 2 * q] + h6[12 * r + 2 * q + 7]);
-            continue;
-        }
         for (r = 0; r < 3; r++)
             for (q = r; q < 3; q++) {
                 double *b = h + bp__ht_block[r][q];
