@@ -44,7 +44,12 @@
      (g) longer steps (bp__opt_extend): a whole Newton solve of camel_b
          whose progress callback runs the exact bp_check on every accepted
          map: all bijective, and some accepted steps are longer than 1 (so
-         the extension ran), every one of those maps checked too;
+         the extension ran), every one of those maps checked too; the
+         gate (BP__NEWTON_EXTEND_RATIO, set by this file): camel_b with
+         the doubling tried after a full step only from 0.9 of the model's
+         decrease is the same bits as with it always tried, in fewer of
+         bp__opt_extend's loop tests (counted by this file's
+         BP__NEWTON_EXTEND_MAX), and never doubling changes the map;
      (h) factor reuse: along 30 camel_b maps of a Newton iteration with its
          own backtracking line search (without the barrier, so that H's
          pattern is fixed), conjugate gradients preconditioned by the
@@ -98,6 +103,11 @@
    test_threads.c), so that (e)'s reversed task order is a real test */
 #define BP__PAR_MIN_TRIANGLES 1u
 #define BP__PAR_MIN_ITEMS     1u
+/* (g): bp__opt_extend's loop tests counted, its gate's share set here */
+static long bpt_extend_loops;
+static double bpt_extend_ratio = 0.9;
+#define BP__NEWTON_EXTEND_MAX (bpt_extend_loops++, 40)
+#define BP__NEWTON_EXTEND_RATIO bpt_extend_ratio
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -538,6 +548,51 @@ static void test_longer_steps(void)
         bp_atlas_free(&atlas);
         bp_mesh_free(&mesh, NULL);
     }
+}
+
+/* (g) the gate: camel_b by Newton, one thread, with the doubling tried
+   after a full step only from a share `ratio` of the model's decrease;
+   the map, and the count of bp__opt_extend's loop tests. */
+static int solve_gated(double ratio, double **uv, long *loops)
+{
+    bp_mesh mesh;
+    bp_atlas atlas;
+    bp_error err;
+    bp_options o;
+    int ok = 0;
+    memset(&o, 0, sizeof o);
+    *uv = NULL;
+    if (!bpt_one_chart("tests/data/camel_b.obj", &mesh, &atlas, &o, 1)) return 0;
+    o.direction = BP_DIRECTION_NEWTON;
+    o.threads = 1;
+    bpt_extend_ratio = ratio;
+    bpt_extend_loops = 0;
+    if (bp_chart_optimize(&atlas.charts[0], 0, &mesh, &o, &err) == BP_OK) {
+        size_t bytes = 2 * (size_t)atlas.charts[0].num_vertices * sizeof(double);
+        *uv = (double *)malloc(bytes);
+        memcpy(*uv, atlas.charts[0].uv, bytes);
+        ok = (int)(bytes / sizeof(double));
+    }
+    *loops = bpt_extend_loops;
+    bpt_extend_ratio = 0.9;
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&mesh, NULL);
+    return ok;
+}
+
+static void test_extend_gate(void)
+{
+    double *gated, *always, *never;
+    long lg, la, ln;
+    int n = solve_gated(0.9, &gated, &lg), na = solve_gated(-HUGE_VAL, &always, &la), nn = solve_gated(HUGE_VAL, &never, &ln);
+    if (BPT_CHECK(n > 0 && na == n && nn == n, "camel_b Newton, gated, always and never extended: solved"))  {
+        BPT_CHECK(memcmp(gated, always, n * sizeof(double)) == 0 && lg < la,
+                  "camel_b Newton: the gate (a share of 0.9 of the model's decrease) declines doublings (%ld loop "
+                  "tests against %ld) that would have gained nothing: the same bits as always trying", lg, la);
+        BPT_CHECK(ln == 0 && memcmp(never, always, n * sizeof(double)) != 0,
+                  "camel_b Newton: never doubling (%ld loop tests) gives another map, so the comparison can fail", ln);
+    }
+    free(gated); free(always); free(never);
 }
 
 /* (h): m(v) = g.v + v.H v / 2 with H's stored values (full pattern). */
@@ -1468,6 +1523,7 @@ int main(void)
     test_optimize("tests/data/camel_b.obj");
     test_pinned_direction();
     test_longer_steps();
+    test_extend_gate();
     test_reuse();
     test_wide_barrier();
     test_isotropic();
