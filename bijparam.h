@@ -14609,6 +14609,7 @@ typedef struct bp__newton {
                                      reused factor, CG steps, reuse attempts
                                      (counts for tests and measurements)     */
     long       nkept;             /* analyses with a kept order (the same)   */
+    long       ncloned;           /* ... of them copied from K1's (below)    */
     long       nhanded;           /* first factorizations handed over by the
                                      conformal start (bp__handoff)          */
     bp__handoff *given;           /* that start's factor, or NULL            */
@@ -15539,13 +15540,44 @@ static int bp__newton_reuse_solve(bp__newton *N, const double *b, double *v)
     return 0;
 }
 
+/* Whether two recorded trees are the same nodes. */
+static int bp__nd_same_tree(const bp__ndnode *x, const bp__ndnode *y)
+{
+    uint32_t k;
+    for (k = 0; k < BP__ND_NODES; k++)
+        if (x[k].used != y[k].used || x[k].split != y[k].split || x[k].lo != y[k].lo || x[k].a != y[k].a ||
+            x[k].b != y[k].b || x[k].hi != y[k].hi)
+            return 0;
+    return 1;
+}
+
+/* The isotropic phase's K1 analysis, kept by bp__newton_iso_end, as H's
+   own: K1's pattern is H's vertex graph (built from it, and freed with it
+   whenever the pattern grows: bp__newton_pattern), and its order is the
+   one H's first factorization would take -- the kept order when it
+   dissects that graph (bp__newton_iso_order checks as
+   bp__newton_factorize did), else a dissection of that very graph, the
+   one H's bp__factorize would compute again -- so bp__super_clone copies
+   it for blocks of 2 instead of a second analysis (face: 8 ms of one
+   thread, which the conformal start's 2x2 factor saved Newton before the
+   start was solved by the boundary's Schur complement, >>conformal).
+   NULL when there is none (no isotropic phase, or a pattern since). */
+static const bp__factor *bp__newton_h_like(const bp__newton *N, uint32_t nv)
+{
+    const bp__factor *F1 = &N->F1;
+    if (N->iso || !F1->sn || !F1->sn->vperm || !F1->sn->ri || F1->sn->bs != 1 || F1->sn->nv != nv || !F1->tree[0].used)
+        return NULL;
+    return F1;
+}
+
 /* The first factorization of H's pattern: with the order kept from
    before the pattern grew when it still dissects the new pattern (above),
    else a new one.  The kept order is then dropped: the new factor holds
    it. */
 static bp_status bp__newton_factorize(bp__newton *N, bp__solver *S, uint32_t *bad)
 {
-    bp_status st;
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    const bp__factor *like;
     int fallback = 0;
     bp__handoff *h = N->given;
     N->given = NULL;
@@ -15563,11 +15595,15 @@ static bp_status bp__newton_factorize(bp__newton *N, bp__solver *S, uint32_t *ba
         return st;
     }
     bp__handoff_free(S->a, h);
-    if (N->kperm && bp__nd_keeps(N->ktree, N->kiperm, (const uint32_t *)N->extra.data, N->extra.count)) {
+    if ((like = bp__newton_h_like(N, S->nv)) != NULL) {
+        st = bp__super_factorize_like(S->a, &N->H, &N->F, bad, &S->par, 2, &fallback, like->sn->vperm, like->tree, like);
+        if (!fallback) N->ncloned++;
+    } else if (N->kperm && bp__nd_keeps(N->ktree, N->kiperm, (const uint32_t *)N->extra.data, N->extra.count)) {
         st = bp__super_factorize(S->a, &N->H, &N->F, bad, &S->par, 2, &fallback, N->kperm, N->ktree);
         if (!fallback) N->nkept++;
     } else
         fallback = 1;
+    if (!N->iso) bp__factor_free(S->a, &N->F1);   /* (the phase's analysis, copied or not) */
     if (fallback) st = bp__factorize(S->a, &N->H, &N->F, bad, &S->par);
     bp__free(S->a, N->kperm);
     bp__free(S->a, N->kiperm);
@@ -15604,15 +15640,11 @@ static const bp__factor *bp__newton_iso_like(const bp__newton *N, const uint32_t
 {
     const bp__handoff *h = N->given;
     const bp__sparse *K = &N->K1;
-    uint32_t v, i, k;
+    uint32_t v, i;
     if (!order || !tree || !h || !h->F.sn || h->F.sn->bs != 2 || h->n != 2 * K->n || h->F.sn->nv != K->n ||
         memcmp(order, h->F.sn->vperm, K->n * sizeof(uint32_t)) != 0)
         return NULL;
-    for (k = 0; k < BP__ND_NODES; k++) {
-        const bp__ndnode *x = &tree[k], *y = &h->F.tree[k];
-        if (x->used != y->used || x->split != y->split || x->lo != y->lo || x->a != y->a || x->b != y->b || x->hi != y->hi)
-            return NULL;
-    }
+    if (!bp__nd_same_tree(tree, h->F.tree)) return NULL;
     for (v = 0; v < K->n; v++) {                      /* column 2v's even rows, halved: v's column of K1 */
         uint32_t p0 = h->colp[2 * v], len = K->colp[v + 1] - K->colp[v];
         if (h->colp[2 * v + 1] - p0 != 2 * len) return NULL;
@@ -15662,7 +15694,11 @@ static void bp__newton_iso_end(bp__newton *N, const bp_allocator *a)
     N->k1ok = 0;
     N->cut = 1;
     bp__sparse_free(a, &N->K1);
-    bp__factor_free(a, &N->F1);
+    if (N->F1.sn) {                               /* the analysis stays for H's (bp__newton_factorize) */
+        bp__free(a, N->F1.sn->x); N->F1.sn->x = NULL;
+        bp__free(a, N->F1.sn->amap); N->F1.sn->amap = NULL;
+        N->F1.sn->amap_ok = 0;
+    }
 }
 
 /* v = -(K1 (x) I_2)^-1 g (rhs = -g, interleaved): x and y each through

@@ -95,7 +95,10 @@
          (bp__super_clone: every array the same; bp__newton_iso_like
          takes that factor, and refuses it with one row of its pattern
          moved); the phase's end frees K1
-         and its factor.  A whole default solve of camelhead (Newton,
+         and its factor's values, and H's first factorization after it
+         copies that analysis (bp__newton_h_like; where no barrier pair
+         grew H's pattern since: without the barrier) with every array,
+         value and pivot of a fresh factorization in that order.  A whole default solve of camelhead (Newton,
          isotropic first): every accepted map exactly bijective by
          bp_check, the energy never up, the same bits on one thread and on
          two with the tasks run backwards. */
@@ -1341,7 +1344,8 @@ static void test_isotropic(void)
     bp_atlas atlas;
     bp_error err;
     bp_allocator a;
-    int mode;
+    bp_status st;
+    int mode, copied = 0;
     memset(&a, 0, sizeof a);
     {
         bp_options o;
@@ -1442,12 +1446,44 @@ static void test_isotropic(void)
             bp__factor_free(&a, &F);
         }
         bp__newton_iso_end(&N, &a);
-        BPT_CHECK(!N.iso && !N.k1ok && !N.K1.colp && !N.F1.sn && N.cut, "camel_b, %s: the phase's end frees K1 and F1", MN[mode]);
+        BPT_CHECK(!N.iso && !N.k1ok && !N.K1.colp && N.cut && (!N.F1.sn || (!N.F1.sn->x && N.F1.sn->ri)),
+                  "camel_b, %s: the phase's end frees K1 and F1's values, and keeps F1's analysis", MN[mode]);
+        if (r == 1 && N.F1.sn) bp__newton_assemble(&N, &S, x);   /* H (a barrier pair may grow its pattern) */
+        if (r == 1 && N.F1.sn) {                       /* H's first factorization copies the analysis */
+            bp__factor F;
+            uint32_t badrow;
+            int fb;
+            st = bp__newton_factorize(&N, &S, &badrow);
+            BPT_CHECK(st == BP_OK && N.F.sn && N.ncloned == 1 && !N.F1.sn,
+                      "camel_b, %s: H's first factorization copies K1's analysis and frees it", MN[mode]);
+            copied++;
+            if (N.F.sn && BPT_CHECK(bp__super_factorize(&a, &N.H, &F, &badrow, NULL, 2, &fb, N.F.sn->vperm, N.F.tree) ==
+                                    BP_OK && F.sn, "camel_b, %s: H factored afresh in that order", MN[mode])) {
+                const bp__super *A = F.sn, *B = N.F.sn;
+                uint32_t ns = A->ns, nvv = A->nv;
+                BPT_CHECK(B->ns == ns && B->nv == nvv && B->bs == 2 && B->maxcols == A->maxcols &&
+                          B->maxrows == A->maxrows && B->ntask == A->ntask &&
+                          !memcmp(B->snode, A->snode, nvv * sizeof(uint32_t)) &&
+                          !memcmp(B->first, A->first, (ns + 1) * sizeof(uint32_t)) &&
+                          !memcmp(B->rp, A->rp, (ns + 1) * sizeof(uint32_t)) &&
+                          !memcmp(B->ri, A->ri, A->rp[ns] * sizeof(uint32_t)) &&
+                          !memcmp(B->xp, A->xp, (ns + 1) * sizeof(size_t)) &&
+                          !memcmp(B->up, A->up, (ns + 1) * sizeof(uint32_t)) &&
+                          !memcmp(B->uk, A->uk, A->up[ns] * sizeof(uint32_t)) &&
+                          !memcmp(B->uo, A->uo, A->up[ns] * sizeof(uint32_t)) &&
+                          !memcmp(B->x, A->x, A->xp[ns] * sizeof(double)) && !memcmp(N.F.D, F.D, N.H.n * sizeof(double)),
+                          "camel_b, %s: ... every array of its analysis, its values and pivots those of a fresh "
+                          "factorization (%u supernodes)", MN[mode], ns);
+                bp__factor_free(&a, &F);
+            }
+        }
         bp__newton_free(&a, &N);
         bp__newton_free(&a, &N0);
         bp__solver_free(&S);
         free(x); free(g); free(dv); free(d0); free(hold);
     }
+    BPT_CHECK(copied >= 1, "camel_b: H's first factorization copied K1's analysis in %d of the modes (where no barrier "
+              "pair grew H's pattern after the phase)", copied);
     bp_atlas_free(&atlas);
     bp_mesh_free(&mesh, NULL);
 }
