@@ -8583,6 +8583,8 @@ typedef struct bp__ssolve_task {
     uint32_t slot[BP__ND_NODES];  /* phase 0's task t -> its buffer        */
     const double *b;              /* in the tasks (b != x): phase 0's and the  */
     double *x;                    /*   separators' own ranges permuted in and out */
+    uint32_t nrhs;                /* right-hand sides: 1, or 2 (bs 1 only:
+                                     two interleaved, x y per vertex)       */
 } bp__ssolve_task;
 
 /* Whether phase 0's ranges and the later phases' separators, disjoint by
@@ -8597,19 +8599,20 @@ static int bp__ssolve_covers(const bp__factor *F)
     return sum == F->sn->nv;
 }
 
-/* z = P b and x = P^T z over the new vertices [v0, v1). */
-static void bp__ssolve_perm_in(const bp__super *S, const double *b, double *z, uint32_t v0, uint32_t v1)
+/* z = P b and x = P^T z over the new vertices [v0, v1), w values per
+   vertex (bs, or 2 for two right-hand sides of a scalar factor). */
+static void bp__ssolve_perm_in(const bp__super *S, uint32_t w, const double *b, double *z, uint32_t v0, uint32_t v1)
 {
-    uint32_t v, a, bs = S->bs;
+    uint32_t v, a;
     for (v = v0; v < v1; v++)
-        for (a = 0; a < bs; a++) z[bs * (size_t)v + a] = b[bs * (size_t)S->vperm[v] + a];
+        for (a = 0; a < w; a++) z[w * (size_t)v + a] = b[w * (size_t)S->vperm[v] + a];
 }
 
-static void bp__ssolve_perm_out(const bp__super *S, const double *z, double *x, uint32_t v0, uint32_t v1)
+static void bp__ssolve_perm_out(const bp__super *S, uint32_t w, const double *z, double *x, uint32_t v0, uint32_t v1)
 {
-    uint32_t v, a, bs = S->bs;
+    uint32_t v, a;
     for (v = v0; v < v1; v++)
-        for (a = 0; a < bs; a++) x[bs * (size_t)S->vperm[v] + a] = z[bs * (size_t)v + a];
+        for (a = 0; a < w; a++) x[w * (size_t)S->vperm[v] + a] = z[w * (size_t)v + a];
 }
 
 /* The separators' rows (the phases after 0), for the buffered forward
@@ -8641,6 +8644,26 @@ static void bp__super_gather(const bp__super *S, uint32_t q0, uint32_t q1, uint3
                 for (j = 0; j < cK; j++) t += r[j] * zK[j];
                 z[bs * (size_t)rk[c] + a] -= t;
             }
+    }
+}
+
+/* bp__super_gather for two right-hand sides of a scalar factor (bs 1,
+   z: x y per vertex; bp__super_fdiag2 below). */
+static void bp__super_gather2(const bp__super *S, uint32_t q0, uint32_t q1, uint32_t v0, uint32_t v1, double *z)
+{
+    uint32_t q, c, j;
+    for (q = q0; q < q1; q++) {
+        uint32_t K = S->uk[q], mK = S->rp[K + 1] - S->rp[K], cK = S->first[K + 1] - S->first[K];
+        const uint32_t *rk = S->ri + S->rp[K];
+        const double *B = S->x + S->xp[K], *zK = z + 2 * (size_t)S->first[K];
+        c = rk[S->uo[q]] < v0 ? bp__lower_bound(rk, S->uo[q], mK, v0) : S->uo[q];
+        for (; c < mK && rk[c] < v1; c++) {
+            const double *r = B + (size_t)c * cK;
+            double t0 = 0, t1 = 0;
+            for (j = 0; j < cK; j++) { t0 += r[j] * zK[2 * j]; t1 += r[j] * zK[2 * j + 1]; }
+            z[2 * (size_t)rk[c]] -= t0;
+            z[2 * (size_t)rk[c] + 1] -= t1;
+        }
     }
 }
 
@@ -8691,7 +8714,7 @@ static void bp__ssolve_gather_sep(const bp__ssolve_task *T, uint32_t q0, uint32_
         if (K >= kb) {                                  /* a run inside range r */
             uint32_t e = q;
             while (e < q1 && S->uk[e] <= ke) e++;
-            bp__super_gather(S, q, e, v0, v1, T->z);
+            if (T->nrhs == 2) bp__super_gather2(S, q, e, v0, v1, T->z); else bp__super_gather(S, q, e, v0, v1, T->z);
             q = e;
             r++;
             continue;
@@ -8748,6 +8771,90 @@ static void bp__super_back(const bp__super *S, uint32_t s, double *z)
     }
 }
 
+/* Two right-hand sides of a scalar factor (bs 1, bp__super_solve_n's
+   nr 2): z holds x y per vertex, and each kernel below is the one above
+   with its row of L read once for both sides, each side's sum the very
+   terms of the one-side kernel in their order (the same bits as two
+   solves).  Newton's isotropic K1 solves for x and y at once this way,
+   and so does the conformal start's Schur complement (>>conformal);
+   bp__super_gather2, above, is the gather's. */
+static void bp__super_fdiag2(const bp__super *S, uint32_t s, double *z)
+{
+    uint32_t c = S->first[s + 1] - S->first[s], i, j;
+    const double *B = S->x + S->xp[s];
+    double *zs = z + 2 * (size_t)S->first[s];
+    for (i = 0; i < c; i++) {
+        const double *r = B + (size_t)i * c;
+        double t0 = zs[2 * i], t1 = zs[2 * i + 1];
+        for (j = 0; j < i; j++) { t0 -= r[j] * zs[2 * j]; t1 -= r[j] * zs[2 * j + 1]; }
+        zs[2 * i] = t0 / r[i];
+        zs[2 * i + 1] = t1 / r[i];
+    }
+}
+
+/* Row i of supernode s's block against its columns' two sides. */
+static void bp__super_dot2(const double *r, const double *zs, uint32_t c, double *t0, double *t1)
+{
+    uint32_t j;
+    double a = 0, b = 0;
+    for (j = 0; j < c; j++) { a += r[j] * zs[2 * j]; b += r[j] * zs[2 * j + 1]; }
+    *t0 = a;
+    *t1 = b;
+}
+
+static void bp__super_fscatter2(const bp__super *S, uint32_t s, uint32_t vhi, double *z)
+{
+    uint32_t c = S->first[s + 1] - S->first[s], m = S->rp[s + 1] - S->rp[s], i;
+    const uint32_t *rows = S->ri + S->rp[s];
+    const double *B = S->x + S->xp[s];
+    double *zs = z + 2 * (size_t)S->first[s], t0, t1;
+    bp__super_fdiag2(S, s, z);
+    for (i = c; i < m && rows[i] < vhi; i++) {
+        bp__super_dot2(B + (size_t)i * c, zs, c, &t0, &t1);
+        z[2 * (size_t)rows[i]] -= t0;
+        z[2 * (size_t)rows[i] + 1] -= t1;
+    }
+}
+
+static void bp__super_fscatter_buf2(const bp__ssolve_task *T, uint32_t s, uint32_t vhi, double *buf)
+{
+    const bp__super *S = T->F->sn;
+    uint32_t c = S->first[s + 1] - S->first[s], m = S->rp[s + 1] - S->rp[s], i;
+    const uint32_t *rows = S->ri + S->rp[s];
+    const double *B = S->x + S->xp[s];
+    double *z = T->z, *zs = z + 2 * (size_t)S->first[s], t0, t1;
+    bp__super_fdiag2(S, s, z);
+    for (i = c; i < m; i++) {
+        uint32_t u = rows[i];
+        bp__super_dot2(B + (size_t)i * c, zs, c, &t0, &t1);
+        if (u < vhi) { z[2 * (size_t)u] -= t0; z[2 * (size_t)u + 1] -= t1; }
+        else {
+            size_t k = 2 * (size_t)bp__ssolve_sep(T, u);
+            buf[k] += t0;
+            buf[k + 1] += t1;
+        }
+    }
+}
+
+static void bp__super_back2(const bp__super *S, uint32_t s, double *z)
+{
+    uint32_t c = S->first[s + 1] - S->first[s], m = S->rp[s + 1] - S->rp[s], i, j;
+    const uint32_t *rows = S->ri + S->rp[s];
+    const double *B = S->x + S->xp[s];
+    double *zs = z + 2 * (size_t)S->first[s];
+    for (i = c; i < m; i++) {
+        const double *r = B + (size_t)i * c;
+        double t0 = z[2 * (size_t)rows[i]], t1 = z[2 * (size_t)rows[i] + 1];
+        for (j = 0; j < c; j++) { zs[2 * j] -= r[j] * t0; zs[2 * j + 1] -= r[j] * t1; }
+    }
+    for (i = c; i-- > 0;) {
+        const double *r = B + (size_t)i * c;
+        zs[2 * i] /= r[i];
+        zs[2 * i + 1] /= r[i];
+        for (j = 0; j < i; j++) { zs[2 * j] -= r[j] * zs[2 * i]; zs[2 * j + 1] -= r[j] * zs[2 * i + 1]; }
+    }
+}
+
 static void bp__ssolve_run(void *task, uint32_t t)
 {
     bp__ssolve_task *T = (bp__ssolve_task *)task;
@@ -8757,8 +8864,9 @@ static void bp__ssolve_run(void *task, uint32_t t)
     if (T->mode == 1) {
         const bp__super_piece *P = &T->piece[t];
         for (q = S->up[P->s]; q < S->up[P->s + 1] && S->uk[q] < P->k0; q++) {}
-        if (!T->buf) { bp__super_gather(S, S->up[P->s], q, P->v0, P->v1, T->z); return; }
-        bp__ssolve_gather_sep(T, S->up[P->s], q, P->v0, P->v1);
+        if (T->buf) bp__ssolve_gather_sep(T, S->up[P->s], q, P->v0, P->v1);
+        else if (T->nrhs == 2) bp__super_gather2(S, S->up[P->s], q, P->v0, P->v1, T->z);
+        else bp__super_gather(S, S->up[P->s], q, P->v0, P->v1, T->z);
         return;
     }
     N = &T->F->tree[T->nodes[t]];
@@ -8766,17 +8874,23 @@ static void bp__ssolve_run(void *task, uint32_t t)
     s0 = S->snode[T->mode == 2 || T->mode == 3 ? N->b : N->lo];
     s1 = S->snode[N->hi - 1] + 1;
     if (T->mode >= 3) {
-        for (s = s1; s-- > s0;) bp__super_back(S, s, T->z);
-        if (T->b) bp__ssolve_perm_out(S, T->z, T->x, T->mode == 3 ? N->b : N->lo, N->hi);   /* final here */
+        for (s = s1; s-- > s0;) {
+            if (T->nrhs == 2) bp__super_back2(S, s, T->z); else bp__super_back(S, s, T->z);
+        }
+        if (T->b) bp__ssolve_perm_out(S, S->bs * T->nrhs, T->z, T->x, T->mode == 3 ? N->b : N->lo, N->hi);   /* final here */
         return;
     }
-    if (T->mode == 0 && T->b) bp__ssolve_perm_in(S, T->b, T->z, N->lo, N->hi);
+    if (T->mode == 0 && T->b) bp__ssolve_perm_in(S, S->bs * T->nrhs, T->b, T->z, N->lo, N->hi);
     if (T->mode == 0 && T->buf) {
-        double *buf = T->buf + (size_t)T->slot[t] * S->bs * T->nsep;
-        for (s = s0; s < s1; s++) bp__super_fscatter_buf(T, s, N->hi, buf);
+        double *buf = T->buf + (size_t)T->slot[t] * S->bs * T->nrhs * T->nsep;
+        for (s = s0; s < s1; s++) {
+            if (T->nrhs == 2) bp__super_fscatter_buf2(T, s, N->hi, buf); else bp__super_fscatter_buf(T, s, N->hi, buf);
+        }
         return;
     }
-    for (s = s0; s < s1; s++) bp__super_fscatter(S, s, N->hi, T->z);
+    for (s = s0; s < s1; s++) {
+        if (T->nrhs == 2) bp__super_fscatter2(S, s, N->hi, T->z); else bp__super_fscatter(S, s, N->hi, T->z);
+    }
 }
 
 /* The OUTSIDE pieces of one phase's separators: each supernode of nc
@@ -8809,7 +8923,8 @@ static void bp__ssolve_outside(bp__ssolve_task *T, const bp__par *par, uint32_t 
 /* Whether the forward solve can buffer phase 0's terms for the
    separators (bp__super_fscatter_buf) in x, free until the end: the
    separators' ranges [b, hi) of the split nodes above phase 0, sorted,
-   and room for bs nsep doubles per subtree of phase 0.  Sets T's ranges
+   and room for bs nrhs nsep doubles per subtree of phase 0 (x holds
+   bs nrhs nv).  Sets T's ranges
    and buf (x, zeroed) or leaves buf NULL.  Depends on the factor only, so
    one thread and several take the same sums. */
 static void bp__ssolve_buffers(bp__ssolve_task *T, const bp__factor *F, double *x)
@@ -8831,7 +8946,7 @@ static void bp__ssolve_buffers(bp__ssolve_task *T, const bp__factor *F, double *
     for (i = 0; i < nleaf; i++)                  /* buffers in node order, whatever the task order */
         for (T->slot[i] = 0, k = 0; k < nleaf; k++) T->slot[i] += T->nodes[k] < T->nodes[i];
     T->buf = x;
-    memset(x, 0, (size_t)nleaf * S->bs * T->nsep * sizeof(double));
+    memset(x, 0, (size_t)nleaf * S->bs * T->nrhs * T->nsep * sizeof(double));
 }
 
 /* After phase 0 of the buffered forward solve: each separator row
@@ -8839,37 +8954,43 @@ static void bp__ssolve_buffers(bp__ssolve_task *T, const bp__factor *F, double *
 static void bp__ssolve_reduce(const bp__ssolve_task *T, uint32_t nleaf)
 {
     const bp__super *S = T->F->sn;
-    uint32_t r, v, a, k, bs = S->bs;
-    size_t m = (size_t)bs * T->nsep;
+    uint32_t r, v, a, k, w = S->bs * T->nrhs;
+    size_t m = (size_t)w * T->nsep;
     for (r = 0; r < T->nr; r++)
         for (v = T->rb[r]; v < T->rhi[r]; v++)
-            for (a = 0; a < bs; a++) {
-                size_t i = bs * (size_t)(T->roff[r] + v - T->rb[r]) + a;
-                double *zv = T->z + bs * (size_t)v + a;
+            for (a = 0; a < w; a++) {
+                size_t i = w * (size_t)(T->roff[r] + v - T->rb[r]) + a;
+                double *zv = T->z + w * (size_t)v + a;
                 for (k = 0; k < nleaf; k++) *zv -= T->buf[k * m + i];
             }
 }
 
-static void bp__super_solve(const bp__factor *F, const double *b, double *x, double *z, const bp__par *par)
+/* nrhs right-hand sides (2: only with bs 1, interleaved x y per vertex;
+   b, x and z then hold 2 nv). */
+static void bp__super_solve_n(const bp__factor *F, const double *b, double *x, double *z, const bp__par *par,
+                              uint32_t nrhs)
 {
     const bp__super *S = F->sn;
     bp__ssolve_task T;
-    uint32_t v, c, k;
+    uint32_t v, c, k, w = S->bs * nrhs;
     int phase;
     memset(&T, 0, sizeof T);
     T.F = F;
     T.z = z;
+    T.nrhs = nrhs;
     if (par->threads != 1 && b != x && bp__ssolve_covers(F)) {   /* the tasks permute their own ranges */
         T.b = b;
         T.x = x;
         for (phase = 1; phase <= BP__ND_DEPTH; phase++)   /* the separators' ranges here */
             for (c = bp__nd_phase(F, phase, T.nodes), k = 0; k < c; k++)
-                bp__ssolve_perm_in(S, b, z, F->tree[T.nodes[k]].b, F->tree[T.nodes[k]].hi);
+                bp__ssolve_perm_in(S, w, b, z, F->tree[T.nodes[k]].b, F->tree[T.nodes[k]].hi);
     } else
-        bp__ssolve_perm_in(S, b, z, 0, S->nv);
+        bp__ssolve_perm_in(S, w, b, z, 0, S->nv);
     bp__ssolve_buffers(&T, F, x);
     if (par->threads == 1 && !T.buf) {           /* one thread: the plain scatter, no phases */
-        for (v = 0; v < S->ns; v++) bp__super_fscatter(S, v, S->nv, z);
+        for (v = 0; v < S->ns; v++) {
+            if (nrhs == 2) bp__super_fscatter2(S, v, S->nv, z); else bp__super_fscatter(S, v, S->nv, z);
+        }
         phase = BP__ND_DEPTH + 1;
     } else
         phase = 0;
@@ -8880,14 +9001,22 @@ static void bp__super_solve(const bp__factor *F, const double *b, double *x, dou
         par->run(par->user, bp__ssolve_run, &T, c);
         if (phase == 0 && T.buf) bp__ssolve_reduce(&T, c);
     }
-    if (par->threads == 1)                       /* backward: the plain loop, or by phases */
-        for (v = S->ns; v-- > 0;) bp__super_back(S, v, z);
+    if (par->threads == 1) {                     /* backward: the plain loop, or by phases */
+        for (v = S->ns; v-- > 0;) {
+            if (nrhs == 2) bp__super_back2(S, v, z); else bp__super_back(S, v, z);
+        }
+    }
     for (phase = par->threads == 1 ? -1 : BP__ND_DEPTH; phase >= 0; phase--) {
         if (!(c = bp__nd_phase(F, phase, T.nodes))) continue;
         T.mode = phase > 0 ? 3 : 4;
         par->run(par->user, bp__ssolve_run, &T, c);
     }
-    if (!T.b) bp__ssolve_perm_out(S, z, x, 0, S->nv);
+    if (!T.b) bp__ssolve_perm_out(S, w, z, x, 0, S->nv);
+}
+
+static void bp__super_solve(const bp__factor *F, const double *b, double *x, double *z, const bp__par *par)
+{
+    bp__super_solve_n(F, b, x, z, par, 1);
 }
 
 /* bp__factorize for a symmetric matrix in whole 2x2 blocks (bs 2,
@@ -12272,8 +12401,9 @@ static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, co
        [S C; C^T S] (x_B, y_B) = (S u_B, S w_B),   u = L^-1 b_x, w = L^-1 b_y,
    (since (L^-1)_BB = S^-1), after which x = L^-1 (b_x - C y_B) and
    y = L^-1 (b_y - C^T x_B), the corrections on the boundary rows only.
-   One scalar factorization of nv columns, a dense one of 2 |B|, and four
-   scalar solves replace the factorization in 2x2 blocks, which costs
+   One scalar factorization of nv columns, a dense one of 2 |B|, and two
+   scalar solves with two right-hand sides each (bp__super_solve_n)
+   replace the factorization in 2x2 blocks, which costs
    eight times the scalar one's multiply-adds: face's start map, with 96
    boundary vertices, measured in docs/performance.md sec 6.32.  The dense
    parts grow as |B|^3, so charts with more than BP__CONFORMAL_SCHUR_K
@@ -12298,9 +12428,10 @@ typedef struct bp__cschur {
     bp__factor F, FB;             /* L's factor; the dense system's          */
     bp__sparse KB;                /* [S C; C^T S] in 2x2 blocks, dense       */
     double *R, *Cx;               /* nb x nb: R_BB then S, by rows; C        */
-    double *work;                 /* 5 nv + 6 nb: b_x, b_y, u, w, z; the
-                                     dense system's right side, solution
-                                     and work                             */
+    double *work;                 /* 6 nv + 6 nb: (u, w), the solves' work,
+                                     the corrected right side (each x y per
+                                     vertex); the dense system's right
+                                     side, solution and work              */
 } bp__cschur;
 
 static void bp__cschur_free(const bp_allocator *a, bp__cschur *Z)
@@ -12439,35 +12570,33 @@ static int bp__cschur_system(const bp_allocator *a, bp__cschur *Z, const bp__spa
     return 1;
 }
 
-/* The solves above: rhs (2 per vertex, x y) to ch->uv. */
+/* The solves above, x and y at once (bp__super_solve_n, two right-hand
+   sides): rhs (2 per vertex, x y) to ch->uv. */
 static void bp__cschur_solve(bp__cschur *Z, const double *rhs, bp_chart *ch, const bp__par *par)
 {
-    uint32_t nv = Z->nv, nb = Z->nb, v, i, j;
-    double *bx = Z->work, *by = bx + nv, *u = by + nv, *w = u + nv, *z = w + nv;
-    double *kb = z + nv, *xb = kb + 2 * (size_t)nb, *zb = xb + 2 * (size_t)nb;
-    for (v = 0; v < nv; v++) { bx[v] = rhs[2 * (size_t)v]; by[v] = rhs[2 * (size_t)v + 1]; }
-    bp__factor_solve_par(&Z->F, bx, u, z, par);
-    bp__factor_solve_par(&Z->F, by, w, z, par);
+    uint32_t nv = Z->nv, nb = Z->nb, i, j;
+    double *uw = Z->work, *z = uw + 2 * (size_t)nv, *b = z + 2 * (size_t)nv;
+    double *kb = b + 2 * (size_t)nv, *xb = kb + 2 * (size_t)nb, *zb = xb + 2 * (size_t)nb;
+    bp__super_solve_n(&Z->F, rhs, uw, z, par, 2);       /* (u, w) = L^-1 (b_x, b_y) */
     for (i = 0; i < nb; i++) {                          /* (S u_B, S w_B), interleaved */
         const double *si = Z->R + (size_t)i * nb;
         double sx = 0, sy = 0;
-        for (j = 0; j < nb; j++) { sx += si[j] * u[Z->bv[j]]; sy += si[j] * w[Z->bv[j]]; }
+        for (j = 0; j < nb; j++) { sx += si[j] * uw[2 * (size_t)Z->bv[j]]; sy += si[j] * uw[2 * (size_t)Z->bv[j] + 1]; }
         kb[2 * i] = sx;
         kb[2 * i + 1] = sy;
     }
     bp__factor_solve_par(&Z->FB, kb, xb, zb, par);      /* (x_B, y_B) interleaved */
+    memcpy(b, rhs, 2 * (size_t)nv * sizeof(double));
     for (i = 0; i < nb; i++) {                          /* b_x - C y_B, b_y - C^T x_B */
         double cx = 0, cy = 0;
         for (j = 0; j < nb; j++) {
             cx += Z->Cx[(size_t)i * nb + j] * xb[2 * j + 1];
             cy += Z->Cx[(size_t)j * nb + i] * xb[2 * j];
         }
-        bx[Z->bv[i]] -= cx;
-        by[Z->bv[i]] -= cy;
+        b[2 * (size_t)Z->bv[i]] -= cx;
+        b[2 * (size_t)Z->bv[i] + 1] -= cy;
     }
-    bp__factor_solve_par(&Z->F, bx, u, z, par);
-    bp__factor_solve_par(&Z->F, by, w, z, par);
-    for (v = 0; v < nv; v++) { ch->uv[2 * (size_t)v] = u[v]; ch->uv[2 * (size_t)v + 1] = w[v]; }
+    bp__super_solve_n(&Z->F, b, ch->uv, z, par, 2);
 }
 
 /* The conformal map (unscaled) into ch->uv by the Schur complement.
@@ -12493,7 +12622,7 @@ static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp
     ok = 0;
     if (Z.nb == 0 || (double)Z.nb > BP__CONFORMAL_SCHUR_K * sqrt((double)nv)) goto done;
     ok = -1;
-    Z.work = (double *)bp__alloc_array(a, 5 * (size_t)nv + 6 * (size_t)Z.nb, sizeof(double));
+    Z.work = (double *)bp__alloc_array(a, 6 * (size_t)nv + 6 * (size_t)Z.nb, sizeof(double));
     if (!Z.work || !bp__cschur_laplacian(a, &Z, &C->K)) goto done;
     st = bp__super_factorize(a, &Z.L, &Z.F, &bad, par, 1, &fallback, Z.ord, Z.tree);
     if (st != BP_OK || fallback) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
@@ -15701,18 +15830,17 @@ static void bp__newton_iso_end(bp__newton *N, const bp_allocator *a)
     }
 }
 
-/* v = -(K1 (x) I_2)^-1 g (rhs = -g, interleaved): x and y each through
-   F1.  Returns 1, 0 when K1 could not be factored, -1 out of memory. */
+/* v = -(K1 (x) I_2)^-1 g (rhs = -g, interleaved): x and y through F1
+   in one solve with two right-hand sides (bp__super_solve_n: F1 is
+   supernodal, bp__newton_iso_factor sees to it; the same bits as two
+   solves, for one pass over L each way instead of two).  Returns 1, 0
+   when K1 could not be factored, -1 out of memory. */
 static int bp__newton_iso_direction(bp__newton *N, bp__solver *S, double *v)
 {
-    uint32_t nv = S->nv, i;
-    double *bx = N->b1, *by = bx + nv, *xx = by + nv, *xy = xx + nv;
+    bp__par serial = bp__par_serial();
     int r = bp__newton_iso_factor(N, S);
     if (r <= 0) return r;
-    for (i = 0; i < nv; i++) { bx[i] = N->rhs[2 * (size_t)i]; by[i] = N->rhs[2 * (size_t)i + 1]; }
-    bp__factor_solve_par(&N->F1, bx, xx, N->z, N->par);
-    bp__factor_solve_par(&N->F1, by, xy, N->z, N->par);
-    for (i = 0; i < nv; i++) { v[2 * (size_t)i] = xx[i]; v[2 * (size_t)i + 1] = xy[i]; }
+    bp__super_solve_n(&N->F1, N->rhs, v, N->z, N->par ? N->par : &serial, 2);   /* x and y at once */
     return 1;
 }
 

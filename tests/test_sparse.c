@@ -54,7 +54,9 @@
          for (a) and (e): the same bits with its tasks run backwards and
          odd-even, and the solution of Gaussian elimination on the dense
          matrix by brute force (a separator's range left out of either
-         permutation fails it);
+         permutation fails it); for (e), two right-hand sides in one
+         solve (bp__super_solve_n) give the bits of two solves, serially,
+         backwards and odd-even;
      (h) the nested-dissection ordering on several threads
          (bp__nd_order with a runner): on the 48 x 48 grid's vertex graph
          and the 64 x 64 scalar grid, a graph of 9 mesh-like components
@@ -636,6 +638,24 @@ static void test_scalar(void)
         bp__factor_solve(&F, b, x, z);
         BPT_CHECK(rel_residual(&A, x, b) < 1e-10, "%s: |A x - b| / |b| = %.3g", what, rel_residual(&A, x, b));
         check_solve(&A, &F, b, x, what);
+        {   /* (g) two right-hand sides in one solve (bp__super_solve_n) */
+            double *rb = (double *)malloc(n * sizeof(double));
+            bp__par ps[3];
+            int k, same = 1;
+            for (i = 0; i < n; i++) { q2[2 * i] = b[i]; q2[2 * i + 1] = b[n - 1 - i]; xs[i] = b[n - 1 - i]; }
+            bp__factor_solve(&F, xs, rb, z);
+            ps[0] = bp__par_serial();
+            ps[1] = ps[0]; ps[1].run = bpt_backwards_for; ps[1].threads = 2;
+            ps[2] = ps[0]; ps[2].run = bpt_odd_even_for; ps[2].threads = 2;
+            for (k = 0; k < 3; k++) {
+                bp__super_solve_n(&F, q2, r2, z, &ps[k], 2);
+                for (i = 0; i < n; i++)
+                    if (memcmp(r2 + 2 * i, x + i, sizeof(double)) || memcmp(r2 + 2 * i + 1, rb + i, sizeof(double))) same = 0;
+            }
+            BPT_CHECK(same, "%s: two right-hand sides in one solve are the bits of two solves, serially, backwards and "
+                      "odd-even", what);
+            free(rb);
+        }
         A.super1 = 0;
         BPT_CHECK(bp__factorize(&al, &A, &Fs, &bad, NULL) == BP_OK && !Fs.sn, "%s: scalar rows", what);
         bp__factor_solve(&Fs, b, xs, z);
