@@ -6609,17 +6609,18 @@ static void bp__factor_free(const bp_allocator *a, bp__factor *f)
 static uint32_t bp__bfs(const bp__sparse *A, const uint32_t *owner, uint32_t id, uint32_t start,
                         uint32_t *queue, uint32_t *level, uint32_t *seen, uint32_t stamp)
 {
+    const uint32_t *row = A->row;
     uint32_t head = 0, tail = 0, p;
     queue[tail++] = start;
     seen[start] = stamp;
     level[start] = 0;
     while (head < tail) {
-        uint32_t v = queue[head++];
-        for (p = A->colp[v]; p < A->colp[v + 1]; p++) {
-            uint32_t w = A->row[p];
-            if (owner[w] != id || seen[w] == stamp) continue;
+        uint32_t v = queue[head++], p1 = A->colp[v + 1], lv = level[v] + 1;   /* (the stores below may alias) */
+        for (p = A->colp[v]; p < p1; p++) {
+            uint32_t w = row[p];
+            if (seen[w] == stamp || owner[w] != id) continue;   /* seen first: half the neighbours, one load */
             seen[w] = stamp;
-            level[w] = level[v] + 1;
+            level[w] = lv;
             queue[tail++] = w;
         }
     }
@@ -6973,9 +6974,12 @@ static void bp__nd_subtree(const bp__nd *D, bp__nd_task *T)
    the level split test owner[w] == id before they touch anything else of
    a neighbour w; bp__nd_key_diff and the disconnected case read only the
    piece's own list; the owner writes after a split are to its own
-   vertices.  Of a neighbour w outside the piece it reads owner[w] alone,
-   and that is BP__NONE, written before the task began and never again,
-   because every such w lies in the separator S of an ancestor.  By
+   vertices.  Of a neighbour w outside the piece it reads owner[w], which
+   is BP__NONE, and (bp__bfs, which tests it first: for the neighbours
+   inside, half of them already reached, one load instead of two) seen[w],
+   neither written after the task began or ever again, because every
+   such w lies in the separator S of an ancestor (so a stale seen[w] is
+   only ever followed by the owner test).  By
    induction from the root (the whole graph, no outside), since no edge
    joins the two halves of any split (the pattern is symmetric,
    bp__sparse):
