@@ -12169,7 +12169,9 @@ static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r
    positive semidefinite, on the mesh's pattern in 2x2 blocks: the same
    pattern as Newton's matrix, factored by the same supernodal Cholesky
    after the same dissection (phase 5b's, restricted to the chart's
-   vertices).  E_C is zero on every similarity, so two vertices are held:
+   vertices) -- or, on a chart with few boundary vertices, reduced to
+   the boundary first (the boundary's Schur complement, below: a scalar
+   factor, a small dense system).  E_C is zero on every similarity, so two vertices are held:
    the two boundary vertices furthest apart in 3D (the second of two
    sweeps: the vertex furthest from the first loop's first vertex, then
    the one furthest from it), at (0, 0) and (d, 0), d their 3D distance.
