@@ -8881,7 +8881,8 @@ static void bp__ssolve_run(void *task, uint32_t t)
         for (s = s1; s-- > s0;) {
             if (T->nrhs == 2) bp__super_back2(S, s, T->z); else bp__super_back(S, s, T->z);
         }
-        if (T->b) bp__ssolve_perm_out(S, S->bs * T->nrhs, T->z, T->x, T->mode == 3 ? N->b : N->lo, N->hi);   /* final here */
+        if (T->b)                                                 /* final here */
+            bp__ssolve_perm_out(S, S->bs * T->nrhs, T->z, T->x, T->mode == 3 ? N->b : N->lo, N->hi);
         return;
     }
     if (T->mode == 0 && T->b) bp__ssolve_perm_in(S, S->bs * T->nrhs, T->b, T->z, N->lo, N->hi);
@@ -12476,7 +12477,7 @@ static void bp__cschur_order(bp__cschur *Z, const bp_chart *ch, const uint32_t *
         Z->tree[k].b = tree[k].b < Z->nv ? Z->bv[tree[k].b] : m;
         Z->tree[k].hi = tree[k].hi < Z->nv ? Z->bv[tree[k].hi] : m;
     }
-    Z->tree[0].hi = Z->nv;
+    if (Z->tree[0].used) Z->tree[0].hi = Z->nv;   /* B in the root's separator */
     for (k = 0; k < Z->nv; k++)                   /* then B */
         if (Z->bidx[order[k]] != BP__NONE) {
             Z->bidx[order[k]] = m - Z->ni;
@@ -13038,7 +13039,8 @@ static int bp__triangle_hessian_iso(bp_energy kind, const bp__rest *r, const dou
     bp__hessian_corners(r, h4, 0, 0, M0);
     bp__hessian_corners(r, h4, 1, 1, M1);
     for (k = 0; k < 3; k++)
-        for (l = k; l < 3; l++) k6[bp__ht_block[k][l] / 4] = 0.5 * (w * M0[l][k] + w * M1[l][k]);   /* (the mirror's, written last) */
+        for (l = k; l < 3; l++)                   /* M[l][k]: the mirror's, which the 6x6 loop writes last */
+            k6[bp__ht_block[k][l] / 4] = 0.5 * (w * M0[l][k] + w * M1[l][k]);
     return 1;
 }
 
@@ -15731,7 +15733,8 @@ static bp_status bp__newton_factorize(bp__newton *N, bp__solver *S, uint32_t *ba
     }
     bp__handoff_free(S->a, h);
     if ((like = bp__newton_h_like(N, S->nv)) != NULL) {
-        st = bp__super_factorize_like(S->a, &N->H, &N->F, bad, &S->par, 2, &fallback, like->sn->vperm, like->tree, like);
+        st = bp__super_factorize_like(S->a, &N->H, &N->F, bad, &S->par, 2, &fallback, like->sn->vperm, like->tree,
+                                      like);
         if (!fallback) N->ncloned++;
     } else if (N->kperm && bp__nd_keeps(N->ktree, N->kiperm, (const uint32_t *)N->extra.data, N->extra.count)) {
         st = bp__super_factorize(S->a, &N->H, &N->F, bad, &S->par, 2, &fallback, N->kperm, N->ktree);
