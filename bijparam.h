@@ -12508,14 +12508,38 @@ static int bp__cschur_laplacian(const bp_allocator *a, bp__cschur *Z, const bp__
     return 1;
 }
 
+/* Rows [i0, i1) of S = R R^T (task->R: R_BB by rows, into task->S by
+   rows, the lower triangle and its mirror): each sum in four lanes added
+   in a fixed order, so the same bits in any chunks. */
+typedef struct bp__rrt_task { const double *R; double *S; uint32_t nb, nc; } bp__rrt_task;
+
+static void bp__rrt_run(void *task, uint32_t t)
+{
+    const bp__rrt_task *T = (const bp__rrt_task *)task;
+    uint32_t nb = T->nb, i, j, k, i1 = bp__chunk_at(nb, T->nc, t + 1);
+    for (i = bp__chunk_at(nb, T->nc, t); i < i1; i++)
+        for (j = 0; j <= i; j++) {
+            const double *ri = T->R + (size_t)i * nb, *rj = T->R + (size_t)j * nb;
+            double q[4] = { 0, 0, 0, 0 };
+            for (k = 0; k + 4 <= j + 1; k += 4) {
+                q[0] += ri[k] * rj[k]; q[1] += ri[k + 1] * rj[k + 1];
+                q[2] += ri[k + 2] * rj[k + 2]; q[3] += ri[k + 3] * rj[k + 3];
+            }
+            for (; k <= j; k++) q[0] += ri[k] * rj[k];
+            T->S[(size_t)i * nb + j] = (q[0] + q[1]) + (q[2] + q[3]);
+        }
+}
+
 /* R_BB, the trailing nb x nb block of L's factor (B's rows and columns,
    which no interior supernode holds: rows come after columns), into Z->R
-   by rows, then S = R_BB R_BB^T in its place (lower triangle and its
-   mirror; each sum in four lanes added in a fixed order). */
-static int bp__cschur_complement(const bp_allocator *a, bp__cschur *Z)
+   by rows, then S = R_BB R_BB^T in its place (bp__rrt_run, on the
+   threads in 16 chunks of rows: the later rows have more terms, and the
+   pool deals the chunks out as threads come free). */
+static int bp__cschur_complement(const bp_allocator *a, bp__cschur *Z, const bp__par *par)
 {
     const bp__super *S = Z->F.sn;
-    uint32_t nb = Z->nb, ni = Z->ni, s, i, j, k, c;
+    uint32_t nb = Z->nb, ni = Z->ni, s, i, j, c;
+    bp__rrt_task T;
     double *R = (double *)bp__calloc_array(a, (size_t)nb * nb, sizeof(double));
     if (!R) return 0;
     for (s = S->snode[ni]; s < S->ns; s++) {
@@ -12527,17 +12551,13 @@ static int bp__cschur_complement(const bp_allocator *a, bp__cschur *Z)
     }
     Z->R = (double *)bp__alloc_array(a, (size_t)nb * nb, sizeof(double));
     if (!Z->R) { bp__free(a, R); return 0; }
-    for (i = 0; i < nb; i++)
-        for (j = 0; j <= i; j++) {
-            const double *ri = R + (size_t)i * nb, *rj = R + (size_t)j * nb;
-            double t[4] = { 0, 0, 0, 0 };
-            for (k = 0; k + 4 <= j + 1; k += 4) {
-                t[0] += ri[k] * rj[k]; t[1] += ri[k + 1] * rj[k + 1];
-                t[2] += ri[k + 2] * rj[k + 2]; t[3] += ri[k + 3] * rj[k + 3];
-            }
-            for (; k <= j; k++) t[0] += ri[k] * rj[k];
-            Z->R[(size_t)i * nb + j] = Z->R[(size_t)j * nb + i] = (t[0] + t[1]) + (t[2] + t[3]);
-        }
+    T.R = R;
+    T.S = Z->R;
+    T.nb = nb;
+    T.nc = nb < 16 ? 1 : 16;
+    bp__par_run(par, bp__rrt_run, &T, T.nc, nb * nb / 2);   /* (items: the entries, not the rows) */
+    for (i = 0; i < nb; i++)                            /* the mirror */
+        for (j = 0; j < i; j++) Z->R[(size_t)j * nb + i] = Z->R[(size_t)i * nb + j];
     bp__free(a, R);
     return 1;
 }
@@ -12633,10 +12653,10 @@ static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp
     if (!Z.work || !bp__cschur_laplacian(a, &Z, &C->K)) goto done;
     st = bp__super_factorize(a, &Z.L, &Z.F, &bad, par, 1, &fallback, Z.ord, Z.tree);
     if (st != BP_OK || fallback) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
-    if (!bp__cschur_complement(a, &Z) || !bp__cschur_system(a, &Z, &C->K)) goto done;
+    if (!bp__cschur_complement(a, &Z, par) || !bp__cschur_system(a, &Z, &C->K)) goto done;
     for (k = 0; k < Z.nb; k++) Z.bv[Z.nb + k] = k;      /* the dense system's order */
-    memset(one, 0, sizeof one);
-    one[0].used = 1;
+    memset(one, 0, sizeof one);                         /* one separator: the dense */
+    one[0].used = one[0].split = 1;                      /* factor's panels on the threads */
     one[0].hi = Z.nb;
     st = bp__super_factorize(a, &Z.KB, &Z.FB, &bad, par, 2, &fallback, Z.bv + Z.nb, one);
     if (st != BP_OK || fallback) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
