@@ -12393,10 +12393,11 @@ static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, co
        (a - d)^2 + (b + c)^2 = |J|^2 - 2 det J,
    so E_C = sum_t A_t |J_t|^2 - 2 sum_t A_t det J_t: the Dirichlet energy
    of x and of y, each the same scalar Laplacian L (the xx and the yy
-   blocks of K are the same products, added in the same order: the same
-   bits), minus twice the map's signed area (A_t det J_t is triangle t's
-   area in the plane), and the area is a sum over the boundary's edges
-   alone (Green: half the sum of x_i y_j - x_j y_i along the loops).  So K
+   blocks of K are sums of the same two products per triangle; L is
+   taken from the xx ones), minus twice the map's signed area (A_t det
+   J_t is triangle t's area in the plane), and the area is a sum over the
+   boundary's edges alone (Green: half the sum of x_i y_j - x_j y_i along
+   the loops).  So K
    couples x with y only between boundary vertices; inside, its xy entries
    are the rounding of terms that cancel across every interior edge.
    Order the interior vertices I first (the chart's dissection without
@@ -12415,8 +12416,8 @@ static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, co
    boundary vertices, measured in docs/performance.md sec 6.32.  The dense
    parts grow as |B|^3, so charts with more than BP__CONFORMAL_SCHUR_K
    sqrt(nv) boundary vertices keep the 2x2 factorization (of
-   ../shared/meshes: face, bimba and camelhead go this way; hilbert, the
-   strips and the many-loop charts the other).  The map solves the same
+   ../shared/meshes: face, bimba and camelhead go this way; hilbert,
+   face_holes and the many-loop charts the other).  The map solves the same
    least squares problem (the interior xy terms taken as the zeros they
    are), so it goes through the same scale and the same exact check. */
 #ifndef BP__CONFORMAL_SCHUR
