@@ -333,28 +333,33 @@ static void check_schedules(const char *path)
 
 /* ---- (f) ------------------------------------------------------------------ */
 
-/* A 20 x 20 grid of the unit square lifted onto the bump z = 0.4 (x^2 +
-   y^2): a disk with 80 of its 441 vertices on the loop, more than
-   BP__CONFORMAL_SCHUR_K sqrt(nv), so its conformal map is solved in 2x2
-   blocks, and a boundary that stays far from itself. */
-static bp_mesh make_bump(void)
+/* A mesh of bpt_add_grid's w x h grid (kind, cell side s, turned by a,
+   at ox, oy) whose point (x, y) goes to lift(x, y) in 3D. */
+static bp_mesh grid_mesh(int w, int h, int kind, double s, double a, double ox, double oy,
+                         void (*lift)(double x, double y, double *p))
 {
     bpt_gen g;
     bp_mesh m;
     uint32_t i;
-    double pos[3 * 441];
-    uint32_t tri[3 * 800];
+    double *pos = (double *)malloc(3 * (size_t)(w + 1) * (h + 1) * sizeof(double));
+    uint32_t *tri = (uint32_t *)malloc(6 * (size_t)w * h * sizeof(uint32_t));
     g.pos = pos; g.tri = tri; g.nv = 0; g.nt = 0;
-    bpt_add_grid(&g, 20, 20, 0, 0.05, 0, -0.5, -0.5);
+    bpt_add_grid(&g, w, h, kind, s, a, ox, oy);
     m = bpt_mesh_new(g.nv, g.nt);
-    for (i = 0; i < g.nv; i++) {
-        m.positions[3 * i] = pos[3 * i];
-        m.positions[3 * i + 1] = pos[3 * i + 1];
-        m.positions[3 * i + 2] = 0.4 * (pos[3 * i] * pos[3 * i] + pos[3 * i + 1] * pos[3 * i + 1]);
-    }
+    for (i = 0; i < g.nv; i++) lift(pos[3 * i], pos[3 * i + 1], m.positions + 3 * i);
     memcpy(m.triangles, tri, 3 * (size_t)g.nt * sizeof(uint32_t));
+    free(pos);
+    free(tri);
     return m;
 }
+
+/* A 20 x 20 grid of the unit square lifted onto the bump z = 0.4 (x^2 +
+   y^2): a disk with 80 of its 441 vertices on the loop, more than
+   BP__CONFORMAL_SCHUR_K sqrt(nv), so its conformal map is solved in 2x2
+   blocks, and a boundary that stays far from itself. */
+static void bump(double x, double y, double *p) { p[0] = x; p[1] = y; p[2] = 0.4 * (x * x + y * y); }
+
+static bp_mesh make_bump(void) { return grid_mesh(20, 20, 0, 0.05, 0, -0.5, -0.5, bump); }
 
 typedef struct solved { double *uv; int iterations; double energy; } solved;
 
@@ -551,25 +556,15 @@ static void check_schur(const char *path, int expect)
 
 /* ---- (e) ------------------------------------------------------------------ */
 
+/* A tilted plane, not the uv plane. */
+static void tilted(double x, double y, double *p) { p[0] = x; p[1] = 0.6 * y; p[2] = 0.3 * x + 0.8 * y; }
+
 static void check_flat(void)
 {
-    bpt_gen g;
-    bp_mesh m;
+    bp_mesh m = grid_mesh(10, 10, 2, 0.1, 0.3, 0, 0, tilted);   /* with a hole */
     bp_atlas atlas;
     bp_options opt;
     bp_error err;
-    uint32_t i;
-    double pos[3 * 121];
-    uint32_t tri[3 * 200];
-    g.pos = pos; g.tri = tri; g.nv = 0; g.nt = 0;
-    bpt_add_grid(&g, 10, 10, 2, 0.1, 0.3, 0, 0);         /* with a hole */
-    m = bpt_mesh_new(g.nv, g.nt);
-    for (i = 0; i < g.nv; i++) {           /* a tilted plane, not the uv plane */
-        m.positions[3 * i] = pos[3 * i];
-        m.positions[3 * i + 1] = 0.6 * pos[3 * i + 1];
-        m.positions[3 * i + 2] = 0.3 * pos[3 * i] + 0.8 * pos[3 * i + 1];
-    }
-    memcpy(m.triangles, tri, 3 * (size_t)g.nt * sizeof(uint32_t));
     bp_options_init(&opt);
     opt.init = BP_INIT_CONFORMAL;
     opt.start = BP_START_PLAIN;
