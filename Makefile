@@ -60,7 +60,7 @@ OPENMESH_LIBS ?= -lOpenMeshCore
 OPENMESH_CXXFLAGS ?= -Wno-maybe-uninitialized
 
 BUILD := build
-HEADERS := bijparam.h tests/bptest.h
+HEADERS := bijparam.h tests/bptest.h tests/bpt_triplets.h
 
 TOOL     := $(BUILD)/bijparam
 EXAMPLES := $(patsubst examples/%.c,$(BUILD)/examples/%,$(filter-out examples/bijparam.c,$(wildcard examples/*.c)))

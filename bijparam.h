@@ -14159,51 +14159,6 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
    mean diagonal, since a free map can translate), and H0 = K^-1 / sigma
    with the scale sigma = s.y / s.K s fitted to the latest curvature pair. */
 
-typedef struct bp__trip { uint32_t i, j; double v; } bp__trip;
-
-/* Compressed columns from triplets (duplicates summed, in input order).
-   A counting sort by column, then each column (a vertex's neighbours,
-   a few dozen entries) by row with a stable insertion sort: linear time on
-   a mesh, where a comparison sort of all triplets was the set-up's largest
-   serial cost.  The order equals the stable sort by (column, row).  `t` is
-   only read. */
-static int bp__sparse_from_triplets(const bp_allocator *a, uint32_t n, bp__trip *t, size_t nt,
-                                    bp__sparse *A)
-{
-    size_t k, w = 0, m;
-    uint32_t j, *ord = (uint32_t *)bp__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
-    A->n = n;
-    A->colp = (uint32_t *)bp__calloc_array(a, (size_t)n + 2, sizeof(uint32_t));
-    if (!ord || !A->colp || nt > 0xfffffff0u) { bp__free(a, ord); return 0; }
-    for (k = 0; k < nt; k++) A->colp[t[k].j + 2]++;
-    for (j = 0; j < n; j++) A->colp[j + 2] += A->colp[j + 1];
-    for (k = 0; k < nt; k++) ord[A->colp[t[k].j + 1]++] = (uint32_t)k;   /* column j: [colp[j], colp[j+1]) */
-    for (j = 0; j < n; j++)
-        for (k = A->colp[j] + 1; k < A->colp[j + 1]; k++) {
-            uint32_t o = ord[k];
-            for (m = k; m > A->colp[j] && t[ord[m - 1]].i > t[o].i; m--) ord[m] = ord[m - 1];
-            ord[m] = o;
-        }
-    for (k = 0; k < nt; k++)                       /* distinct entries */
-        if (k == 0 || t[ord[k]].j != t[ord[k - 1]].j || t[ord[k]].i != t[ord[k - 1]].i) w++;
-    A->row = (uint32_t *)bp__alloc_array(a, w ? w : 1, sizeof(uint32_t));
-    A->val = (double *)bp__alloc_array(a, w ? w : 1, sizeof(double));
-    if (!A->row || !A->val) { bp__free(a, ord); return 0; }
-    w = 0;
-    for (j = 0; j < n; j++) {
-        size_t c0 = w, k1 = A->colp[j + 1];
-        for (k = A->colp[j]; k < k1; k++) {
-            const bp__trip *e = &t[ord[k]];
-            if (w > c0 && A->row[w - 1] == e->i) A->val[w - 1] += e->v;
-            else { A->row[w] = e->i; A->val[w++] = e->v; }
-        }
-        A->colp[j] = (uint32_t)c0;
-    }
-    A->colp[n] = (uint32_t)w;
-    bp__free(a, ord);
-    return 1;
-}
-
 static void bp__sparse_free(const bp_allocator *a, bp__sparse *A)
 {
     bp__free(a, A->colp); bp__free(a, A->row); bp__free(a, A->val);
@@ -14212,46 +14167,149 @@ static void bp__sparse_free(const bp_allocator *a, bp__sparse *A)
 
 /* K of the chart's rest shape: for each triangle and each corner i with
    opposite edge (j, k), 1/2 cot(theta_i) couples j and k (the linear FEM
-   stiffness matrix, positive semi-definite for any triangle shapes). */
+   stiffness matrix, positive semi-definite for any triangle shapes):
+
+       K_jk -= w_i,   K_jj += w_i,   K_kk += w_i,   w_i = 1/2 cot(theta_i),
+
+   and every diagonal gains the regularizer below.  K is assembled
+   straight into its compressed columns, on the solver's threads, in three
+   passes (a triplet list sorted by column was 78 ms of serial work on a
+   132K-face chart's two-thread run, docs/performance.md sec 6.33):
+     1. per triangle chunk, the three weights w of each triangle;
+     2. per vertex chunk, v's rows: v and the other corners of the
+        triangles around it (the solver's corner lists, in triangle order),
+        sorted, duplicates dropped;
+     3. per vertex chunk, v's values: each entry the sum of its
+        contributions in triangle order (corner order within a triangle),
+        started from -0 so that the first contribution is taken as it is.
+   Each entry's sum runs in the order the serial triplet assembly it
+   replaced summed it (triangle by triangle; tests/bpt_triplets.h keeps
+   that assembly, and test_tutte (c) compares the two bit for bit), and
+   the regularizer's mean diagonal is one serial sum over the weights in
+   that order, so K has the same bits on any number of threads. */
+typedef struct bp__lap_task {
+    const bp__solver *S;
+    const double *wxy;            /* rest triangles (w, x, y)               */
+    const uint32_t *pidx;         /* pins (NULL: none)                      */
+    double *w;                    /* 3 per triangle: 1/2 cot of each corner */
+    uint32_t *gr, *glen;          /* v's rows at gr + 2 vc_start[v] + v     */
+    bp__sparse *K;
+    double reg;                   /* mean diagonal: the regularizer's scale */
+} bp__lap_task;
+
+static void bp__lap_weights(void *task, uint32_t c)
+{
+    bp__lap_task *T = (bp__lap_task *)task;
+    uint32_t f, f1 = bp__chunk_at(T->S->nt, T->S->nchunk_t, c + 1);
+    for (f = bp__chunk_at(T->S->nt, T->S->nchunk_t, c); f < f1; f++) {
+        const double *r = T->wxy + 3 * (size_t)f;      /* F1=(0,0) F2=(w,0) F3=(x,y) */
+        double P[3][2], area2 = r[0] * r[2];
+        int i;
+        P[0][0] = 0; P[0][1] = 0; P[1][0] = r[0]; P[1][1] = 0; P[2][0] = r[1]; P[2][1] = r[2];
+        for (i = 0; i < 3; i++) {
+            int j = (i + 1) % 3, k = (i + 2) % 3;
+            double ux = P[j][0] - P[i][0], uy = P[j][1] - P[i][1], vx = P[k][0] - P[i][0], vy = P[k][1] - P[i][1];
+            T->w[3 * (size_t)f + i] = 0.5 * (ux * vx + uy * vy) / area2;      /* 1/2 cot(theta_i) */
+        }
+    }
+}
+
+static int bp__lap_pinned(const bp__lap_task *T, uint32_t v) { return T->pidx && T->pidx[v] != BP__NONE; }
+
+/* Pass 2: the rows of column v.  A pinned vertex keeps only its diagonal,
+   and a free one no coupling to a pinned one. */
+static void bp__lap_cols(void *task, uint32_t c)
+{
+    bp__lap_task *T = (bp__lap_task *)task;
+    const bp__solver *S = T->S;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p, m, k, q;
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
+        uint32_t *col = T->gr + 2 * (size_t)S->vc_start[v] + v;
+        m = 0;
+        col[m++] = v;
+        if (!bp__lap_pinned(T, v))
+            for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++)
+                for (k = 1; k <= 2; k++) {
+                    uint32_t u = S->tri[3 * (size_t)(S->vc_list[p] / 3) + (S->vc_list[p] % 3 + k) % 3];
+                    if (!bp__lap_pinned(T, u)) col[m++] = u;
+                }
+        bp__u32_sort(col, m);
+        for (k = 1, q = 1; q < m; q++)
+            if (col[q] != col[k - 1]) col[k++] = col[q];
+        T->glen[v] = k;
+    }
+}
+
+/* Pass 3: the values of column v, each added where its row sits, then
+   the regularizer: 1e-8 of the mean diagonal (a free map can translate),
+   and on a pinned vertex the mean diagonal alone.  K is then block
+   diagonal, K_ff (free rows and columns of the Laplacian) and a diagonal
+   on the pinned ones, so K^-1 maps a vector that is zero on the pinned
+   coordinates to one that is zero there too (see >>pins). */
+static void bp__lap_values(void *task, uint32_t c)
+{
+    bp__lap_task *T = (bp__lap_task *)task;
+    const bp__solver *S = T->S;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p, q, k;
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
+        const uint32_t *col = T->gr + 2 * (size_t)S->vc_start[v] + v;
+        uint32_t m = T->glen[v], c0 = T->K->colp[v], dpos = 0;
+        double *val = T->K->val + c0;
+        memcpy(T->K->row + c0, col, m * sizeof(uint32_t));
+        for (q = 0; q < m; q++) { val[q] = -0.0; if (col[q] == v) dpos = q; }
+        if (!bp__lap_pinned(T, v))
+            for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
+                uint32_t t = S->vc_list[p] / 3, cv = S->vc_list[p] % 3;
+                const double *w = T->w + 3 * (size_t)t;
+                for (k = 0; k < 3; k++) {                 /* corner k's weight, in corner order */
+                    uint32_t u, pos = 0;
+                    if (k == cv) continue;
+                    val[dpos] += w[k];                    /* v is an end of corner k's edge */
+                    u = S->tri[3 * (size_t)t + 3 - k - cv];   /* the edge's other end */
+                    if (bp__lap_pinned(T, u)) continue;
+                    for (q = 0; q < m; q++) pos += col[q] < u;
+                    val[pos] -= w[k];
+                }
+            }
+        val[dpos] += (bp__lap_pinned(T, v) ? 1 : 1e-8) * T->reg;
+    }
+}
+
 static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const double *rest_wxy,
                                const uint32_t *pidx, bp__sparse *K, bp__factor *F, const uint32_t *order,
                                const bp__ndnode *tree)
 {
-    bp__trip *t = (bp__trip *)bp__alloc_array(a, 12 * (size_t)S->nt + S->nv, sizeof(bp__trip));
-    size_t n = 0;
-    uint32_t f, i, bad;
+    bp__lap_task T;
+    size_t f, w = 0, nslot = 6 * (size_t)S->nt + S->nv;
+    uint32_t v, bad;
     double diag = 0;
-    bp_status st;
-    if (!t) return BP_ERR_OUT_OF_MEMORY;
-    for (f = 0; f < S->nt; f++) {
-        const double *r = rest_wxy + 3 * (size_t)f;    /* F1=(0,0) F2=(w,0) F3=(x,y) */
-        double P[3][2], area2 = r[0] * r[2];
-        int c;
-        P[0][0] = 0; P[0][1] = 0; P[1][0] = r[0]; P[1][1] = 0; P[2][0] = r[1]; P[2][1] = r[2];
-        for (c = 0; c < 3; c++) {
-            int j = (c + 1) % 3, k = (c + 2) % 3;
-            double ux = P[j][0] - P[c][0], uy = P[j][1] - P[c][1], vx = P[k][0] - P[c][0], vy = P[k][1] - P[c][1];
-            double w = 0.5 * (ux * vx + uy * vy) / area2;     /* 1/2 cot(theta_c) */
-            uint32_t vj = S->tri[3 * (size_t)f + j], vk = S->tri[3 * (size_t)f + k];
-            int hj = pidx && pidx[vj] != BP__NONE, hk = pidx && pidx[vk] != BP__NONE;   /* pins */
-            if (!hj && !hk) {
-                t[n].i = vj; t[n].j = vk; t[n++].v = -w;
-                t[n].i = vk; t[n].j = vj; t[n++].v = -w;
-            }
-            if (!hj) { t[n].i = vj; t[n].j = vj; t[n++].v = w; }
-            if (!hk) { t[n].i = vk; t[n].j = vk; t[n++].v = w; }
-            diag += 2 * w;
-        }
-    }
-    /* a pinned vertex keeps only a diagonal (the mean one): K is then
-       block diagonal, K_ff (free rows and columns of the Laplacian) and a
-       diagonal on the pinned ones, so K^-1 maps a vector that is zero on
-       the pinned coordinates to one that is zero there too (see >>pins) */
-    for (i = 0; i < S->nv; i++)
-        { t[n].i = i; t[n].j = i; t[n++].v = (pidx && pidx[i] != BP__NONE ? 1 : 1e-8) * diag / S->nv; }
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    memset(&T, 0, sizeof T);
+    T.S = S;
+    T.wxy = rest_wxy;
+    T.pidx = pidx;
+    T.K = K;
+    T.w = (double *)bp__alloc_array(a, 3 * (size_t)S->nt + 1, sizeof(double));
+    T.gr = (uint32_t *)bp__alloc_array(a, nslot + 1, sizeof(uint32_t));
+    T.glen = (uint32_t *)bp__alloc_array(a, (size_t)S->nv + 1, sizeof(uint32_t));
+    K->n = S->nv;
+    K->colp = (uint32_t *)bp__alloc_array(a, (size_t)S->nv + 1, sizeof(uint32_t));
+    if (!T.w || !T.gr || !T.glen || !K->colp || nslot > 0xfffffff0u) goto done;
+    S->par.run(S->par.user, bp__lap_weights, &T, S->nchunk_t);
+    for (f = 0; f < 3 * (size_t)S->nt; f++) diag += 2 * T.w[f];        /* the order of the serial sum */
+    T.reg = diag / S->nv;
+    S->par.run(S->par.user, bp__lap_cols, &T, S->nchunk_v);
+    for (v = 0; v < S->nv; v++) { K->colp[v] = (uint32_t)w; w += T.glen[v]; }
+    K->colp[S->nv] = (uint32_t)w;
+    K->row = (uint32_t *)bp__alloc_array(a, w + 1, sizeof(uint32_t));
+    K->val = (double *)bp__alloc_array(a, w + 1, sizeof(double));
+    if (!K->row || !K->val) goto done;
+    S->par.run(S->par.user, bp__lap_values, &T, S->nchunk_v);
+    st = BP_OK;
+done:
+    bp__free(a, T.w); bp__free(a, T.gr); bp__free(a, T.glen);
+    if (st != BP_OK) return st;
     K->symmetric = 1;
-    if (!bp__sparse_from_triplets(a, S->nv, t, n, K)) { bp__free(a, t); return BP_ERR_OUT_OF_MEMORY; }
-    bp__free(a, t);
     K->super1 = BP__SUPER_SCALAR;
     st = bp__factorize_order(a, K, F, &bad, &S->par, order, tree);     /* order: the start map's, or NULL */
     if (st == BP_OK && (!bp__factor_single(a, F, &S->par) || !bp__solve_plan(a, F))) st = BP_ERR_OUT_OF_MEMORY;

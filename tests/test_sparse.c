@@ -102,6 +102,7 @@ static unsigned long avx_asked;          /* kernel calls that asked, AVX allowed
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
+#include "bpt_triplets.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -130,7 +131,7 @@ static int random_matrix(uint32_t g, uint32_t pairs, bp__sparse *A)
     bp_allocator al;
     uint32_t nv = g * g, i, j, t, k, l, r, ntri = 2 * (g - 1) * (g - 1);
     size_t cap = 36 * (size_t)ntri + 16 * (size_t)pairs + 2 * (size_t)nv, nt = 0;
-    bp__trip *tr = (bp__trip *)malloc(cap * sizeof *tr);
+    bpt_trip *tr = (bpt_trip *)malloc(cap * sizeof *tr);
     int ok;
     memset(&al, 0, sizeof al);
     memset(A, 0, sizeof *A);
@@ -161,7 +162,7 @@ static int random_matrix(uint32_t g, uint32_t pairs, bp__sparse *A)
     for (k = 0; k < 2 * nv; k++) { tr[nt].i = tr[nt].j = k; tr[nt++].v = 1e-3; }
     A->symmetric = 1;
     A->blocks2 = 1;
-    ok = bp__sparse_from_triplets(&al, 2 * nv, tr, nt, A);
+    ok = bpt_from_triplets(&al, 2 * nv, tr, nt, A);
     free(tr);
     return ok;
 }
@@ -526,7 +527,7 @@ static int random_scalar(uint32_t g, uint32_t pairs, bp__sparse *A)
     bp_allocator al;
     uint32_t nv = g * g, i, j, t, k, l, r, ntri = 2 * (g - 1) * (g - 1);
     size_t nt = 0;
-    bp__trip *tr = (bp__trip *)malloc((9 * (size_t)ntri + 4 * (size_t)pairs + nv) * sizeof *tr);
+    bpt_trip *tr = (bpt_trip *)malloc((9 * (size_t)ntri + 4 * (size_t)pairs + nv) * sizeof *tr);
     int ok;
     memset(&al, 0, sizeof al);
     memset(A, 0, sizeof *A);
@@ -557,7 +558,7 @@ static int random_scalar(uint32_t g, uint32_t pairs, bp__sparse *A)
     for (k = 0; k < nv; k++) { tr[nt].i = tr[nt].j = k; tr[nt++].v = 1e-3; }
     A->symmetric = 1;
     A->super1 = 1;
-    ok = bp__sparse_from_triplets(&al, nv, tr, nt, A);
+    ok = bpt_from_triplets(&al, nv, tr, nt, A);
     free(tr);
     return ok;
 }
@@ -818,13 +819,13 @@ static int components_graph(bp__sparse *A)
     bp_allocator al;
     uint32_t nv = 0, c, i, j, k, *perm, base = 0;
     size_t nt = 0;
-    bp__trip *tr;
+    bpt_trip *tr;
     int ok;
     memset(&al, 0, sizeof al);
     memset(A, 0, sizeof *A);
     for (c = 0; c < 9; c++) nv += GW[c] * GH[c];
     perm = (uint32_t *)malloc(nv * sizeof(uint32_t));
-    tr = (bp__trip *)malloc((size_t)(nv * 9 + nv) * sizeof *tr);
+    tr = (bpt_trip *)malloc((size_t)(nv * 9 + nv) * sizeof *tr);
     for (i = 0; i < nv; i++) perm[i] = i;
     for (i = nv; i > 1; i--) { k = (uint32_t)(bpt_rng_unit() * i) % i; j = perm[i - 1]; perm[i - 1] = perm[k]; perm[k] = j; }
     for (c = 0; c < 9; c++) {
@@ -845,7 +846,7 @@ static int components_graph(bp__sparse *A)
         base += g * h;
     }
     A->symmetric = 1;
-    ok = bp__sparse_from_triplets(&al, nv, tr, nt, A);
+    ok = bpt_from_triplets(&al, nv, tr, nt, A);
     free(tr); free(perm);
     return ok;
 }
@@ -906,21 +907,21 @@ static int mesh_graph(const char *path, bp__sparse *G)
     bp_mesh m;
     bp_error err;
     bp_allocator al;
-    bp__trip *tr;
+    bpt_trip *tr;
     size_t nt = 0;
     uint32_t t, k, l;
     int ok;
     memset(&al, 0, sizeof al);
     memset(G, 0, sizeof *G);
     if (bp_read_mesh(path, &m, NULL, &err) != BP_OK) return 0;
-    tr = (bp__trip *)malloc((6 * (size_t)m.num_triangles + m.num_vertices) * sizeof(bp__trip));
+    tr = (bpt_trip *)malloc((6 * (size_t)m.num_triangles + m.num_vertices) * sizeof(bpt_trip));
     for (t = 0; t < m.num_triangles; t++)
         for (k = 0; k < 3; k++)
             for (l = 0; l < 3; l++)
                 if (k != l) { tr[nt].i = m.triangles[3 * t + k]; tr[nt].j = m.triangles[3 * t + l]; tr[nt++].v = 1; }
     for (t = 0; t < m.num_vertices; t++) { tr[nt].i = tr[nt].j = t; tr[nt++].v = 1; }
     G->symmetric = 1;
-    ok = bp__sparse_from_triplets(&al, m.num_vertices, tr, nt, G);
+    ok = bpt_from_triplets(&al, m.num_vertices, tr, nt, G);
     free(tr);
     bp_mesh_free(&m, NULL);
     return ok;
@@ -1152,7 +1153,7 @@ static void test_fallback(void)
     uint32_t sz, i, bad;
     memset(&al, 0, sizeof al);
     for (sz = 7; sz <= 8; sz++) {
-        bp__trip tr[32];
+        bpt_trip tr[32];
         size_t nt = 0;
         bp__sparse A;
         bp__factor F;
@@ -1165,7 +1166,7 @@ static void test_fallback(void)
         }
         A.symmetric = 1;
         A.blocks2 = 1;
-        bp__sparse_from_triplets(&al, sz, tr, nt, &A);
+        bpt_from_triplets(&al, sz, tr, nt, &A);
         if (BPT_CHECK(bp__factorize(&al, &A, &F, &bad, NULL) == BP_OK && !F.sn,
                       "tridiagonal %u x %u flagged blocks2: the scalar factorization serves", sz, sz)) {
             bp__factor_solve(&F, b, x, z);

@@ -19,7 +19,9 @@
        real chart, factored and solved in phases along the dissection tree):
        the factor and the solve give the same bits under three task orders
        (serial, backwards, odd then even), the single-precision solve agrees
-       with the double one, and the double one solves K r = q.
+       with the double one, and the double one solves K r = q.  K itself,
+       assembled in columns on the threads, against the triplet assembly
+       (tests/bpt_triplets.h), pattern and bits, also with pins.
    (d) The mean-value system's Krylov solve (phase 6a): on the random
        M-matrices of (a) against dense elimination; on real charts its
        residual recomputed here, the LU's solution, the same bits when the
@@ -35,6 +37,7 @@
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
+#include "bpt_triplets.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -87,7 +90,7 @@ static void test_solver(int w, int h, int symmetric, double *worst_err, double *
     double *dense = (double *)calloc((size_t)n * n, sizeof(double)), *copy = (double *)malloc((size_t)n * n * sizeof(double));
     double *b = (double *)calloc(n, sizeof(double)), *xd = (double *)calloc(n, sizeof(double));
     double *x = (double *)malloc(n * sizeof(double)), *work = (double *)malloc(3 * n * sizeof(double));
-    bp__trip *t = (bp__trip *)malloc((size_t)8 * n * sizeof(bp__trip));
+    bpt_trip *t = (bpt_trip *)malloc((size_t)8 * n * sizeof(bpt_trip));
     size_t nt = 0;
     bp__sparse A;
     bp__factor F;
@@ -115,7 +118,7 @@ static void test_solver(int w, int h, int symmetric, double *worst_err, double *
         for (j = 0; j < n; j++)
             if (dense[i * n + j] != 0 || i == j) { t[nt].i = (uint32_t)i; t[nt].j = (uint32_t)j; t[nt++].v = dense[i * n + j]; }
     A.symmetric = symmetric;
-    bp__sparse_from_triplets(&a, (uint32_t)n, t, nt, &A);
+    bpt_from_triplets(&a, (uint32_t)n, t, nt, &A);
     for (i = 0; i < n; i++) b[i] = xd[i] = rng_unit() - 0.5;
     memcpy(copy, dense, (size_t)n * n * sizeof(double));
     dense_solve(n, copy, xd);
@@ -286,6 +289,91 @@ static void check_plan(const char *path, const bp__factor *F)
               path, seps, ranges, worst, worst_node);
 }
 
+/* (c) The preconditioner's K as the triplet assembly built it (each
+   corner's 1/2 cot into four triplets, triangle by triangle, then the
+   regularizer; pins keep only it), by the tests' own bpt_from_triplets:
+   bp__laplacian assembles it straight into columns on the threads and must
+   give the same pattern and the same bits. */
+static int ref_laplacian(const bp__solver *S, const double *rw, const uint32_t *pidx, bp__sparse *R)
+{
+    bp_allocator a = bp__allocator_of(NULL);
+    bpt_trip *t = (bpt_trip *)malloc((12 * (size_t)S->nt + S->nv) * sizeof *t);
+    size_t n = 0;
+    uint32_t f, i;
+    double diag = 0;
+    int ok;
+    if (!t) return 0;
+    for (f = 0; f < S->nt; f++) {
+        const double *r = rw + 3 * (size_t)f;
+        double P[3][2], area2 = r[0] * r[2];
+        int c;
+        P[0][0] = 0; P[0][1] = 0; P[1][0] = r[0]; P[1][1] = 0; P[2][0] = r[1]; P[2][1] = r[2];
+        for (c = 0; c < 3; c++) {
+            int j = (c + 1) % 3, k = (c + 2) % 3;
+            double ux = P[j][0] - P[c][0], uy = P[j][1] - P[c][1], vx = P[k][0] - P[c][0], vy = P[k][1] - P[c][1];
+            double w = 0.5 * (ux * vx + uy * vy) / area2;
+            uint32_t vj = S->tri[3 * (size_t)f + j], vk = S->tri[3 * (size_t)f + k];
+            int hj = pidx && pidx[vj] != BP__NONE, hk = pidx && pidx[vk] != BP__NONE;
+            if (!hj && !hk) {
+                t[n].i = vj; t[n].j = vk; t[n++].v = -w;
+                t[n].i = vk; t[n].j = vj; t[n++].v = -w;
+            }
+            if (!hj) { t[n].i = vj; t[n].j = vj; t[n++].v = w; }
+            if (!hk) { t[n].i = vk; t[n].j = vk; t[n++].v = w; }
+            diag += 2 * w;
+        }
+    }
+    for (i = 0; i < S->nv; i++)
+        { t[n].i = i; t[n].j = i; t[n++].v = (pidx && pidx[i] != BP__NONE ? 1 : 1e-8) * diag / S->nv; }
+    memset(R, 0, sizeof *R);
+    ok = bpt_from_triplets(&a, S->nv, t, n, R);
+    free(t);
+    return ok;
+}
+
+static int same_matrix(const bp__sparse *A, const bp__sparse *B)
+{
+    return A->n == B->n && !memcmp(A->colp, B->colp, ((size_t)A->n + 1) * sizeof(uint32_t)) &&
+           !memcmp(A->row, B->row, A->colp[A->n] * sizeof(uint32_t)) &&
+           !memcmp(A->val, B->val, A->colp[A->n] * sizeof(double));
+}
+
+/* (c) The same with every fifth vertex pinned (and the first and the
+   last): a pinned vertex's column holds only its diagonal and no free
+   column a row of it, serially and with the tasks run backwards. */
+static void pins_laplacian(const char *path, bp__solver *S, const double *rw)
+{
+    static const bp_parallel_for_fn orders[2] = { bp__serial_for, bpt_backwards_for };
+    bp_allocator a = bp__allocator_of(NULL);
+    bp_parallel_for_fn keep = S->par.run;
+    uint32_t *pidx = (uint32_t *)malloc((size_t)S->nv * sizeof(uint32_t)), v, np = 0, p, only_diag = 1;
+    bp__sparse K, R;
+    bp__factor F;
+    int k, same = 1, ok = pidx != NULL;
+    for (v = 0; ok && v < S->nv; v++) {
+        pidx[v] = v % 5 == 0 || v + 1 == S->nv ? np : BP__NONE;
+        np += pidx[v] != BP__NONE;
+    }
+    ok = ok && ref_laplacian(S, rw, pidx, &R);
+    for (k = 0; ok && k < 2; k++) {
+        S->par.run = orders[k];
+        memset(&K, 0, sizeof K);
+        memset(&F, 0, sizeof F);
+        ok = bp__laplacian(&a, S, rw, pidx, &K, &F, NULL, NULL) == BP_OK;
+        same &= ok && same_matrix(&K, &R);
+        for (v = 0; ok && v < S->nv; v++)
+            for (p = K.colp[v]; p < K.colp[v + 1]; p++)
+                if (K.row[p] != v && (pidx[v] != BP__NONE || pidx[K.row[p]] != BP__NONE)) only_diag = 0;
+        bp__sparse_free(&a, &K);
+        bp__factor_free(&a, &F);
+    }
+    S->par.run = keep;
+    BPT_CHECK(ok && same && only_diag, "%s with %u of %u vertices pinned: K in columns is the triplet assembly's, "
+              "pattern and bits, serially and backwards; pinned vertices couple to nothing", path, np, S->nv);
+    if (R.colp) bp__sparse_free(&a, &R);
+    free(pidx);
+}
+
 static void check_precondition(const char *path)
 {
     static const bp_parallel_for_fn orders[3] = { bp__serial_for, bpt_backwards_for, bpt_odd_even_for };
@@ -299,7 +387,8 @@ static void check_precondition(const char *path)
     bp__factor F[3], Fd;
     double *rw, *q, *r[3], *z, *rd, *col, *work, mean[2] = { 0, 0 }, err = 0, big = 0, res = 0, qmax = 0;
     uint32_t c, best = 0, n, i, j, p, bad;
-    int k, same_factor = 1, same_solve = 1, nodes;
+    int k, same_factor = 1, same_solve = 1, nodes, same_k = 1, ok_ref;
+    bp__sparse R;
     FILE *f = fopen(path, "rb");
     if (!BPT_CHECK(f != NULL, "%s: present (tests/data is part of the repository, ../shared/meshes the shared meshes "
                    "next to it; a missing file is a failure, not a skip)", path)) return;
@@ -321,11 +410,13 @@ static void check_precondition(const char *path)
     work = (double *)malloc(3 * sizeof(double) * n);
     for (i = 0; i < 2 * n; i++) { q[i] = rng_unit() - 0.5; mean[i & 1] += q[i] / n; }
     for (i = 0; i < 2 * n; i++) { q[i] -= mean[i & 1]; if (fabs(q[i]) > qmax) qmax = fabs(q[i]); }  /* no translation part */
+    ok_ref = ref_laplacian(&S, rw, NULL, &R);
     for (k = 0; k < 3; k++) {
         S.par.run = orders[k];
         S.par.user = NULL;
         memset(&K[k], 0, sizeof K[k]);
         BPT_CHECK(bp__laplacian(&a, &S, rw, NULL, &K[k], &F[k], NULL, NULL) == BP_OK, "%s: Laplacian factored (order %d)", path, k);
+        same_k &= same_matrix(&K[k], &R);
         r[k] = (double *)malloc(2 * sizeof(double) * n);
         bp__precondition(&F[k], &S.par, q, r[k], z);
         if (k > 0) {
@@ -335,6 +426,9 @@ static void check_precondition(const char *path)
             same_solve &= !memcmp(r[k], r[0], 2 * n * sizeof(double));
         }
     }
+    BPT_CHECK(ok_ref && same_k, "%s: K assembled in columns on the threads is the triplet assembly's K, pattern and "
+              "bits, under three task orders (nnz %u)", path, R.colp ? R.colp[n] : 0);
+    pins_laplacian(path, &S, rw);
     for (nodes = 0, i = 0; i < BP__ND_NODES; i++) nodes += F[0].tree[i].used && F[0].tree[i].split;
     BPT_CHECK(same_factor, "%s (%u unknowns, %d separators in the phase tree, nnz(L) %u): the factor has the same bits "
               "under three task orders", path, n, nodes, F[0].Rp[n]);
@@ -364,6 +458,7 @@ static void check_precondition(const char *path)
     BPT_CHECK(res < 1e-8 * qmax, "%s: the double factor solves K r = q (residual %.2g of max |q| %.2g)", path, res, qmax);
     for (k = 0; k < 3; k++) { bp__factor_free(&a, &F[k]); bp__sparse_free(&a, &K[k]); free(r[k]); }
     bp__factor_free(&a, &Fd);
+    bp__sparse_free(&a, &R);
     bp__solver_free(&S);
     free(rw); free(q); free(z); free(rd); free(col); free(work);
     bp_atlas_free(&at);
