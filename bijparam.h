@@ -11137,40 +11137,105 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
 #define BP__KRYLOV_TOL 1e-13
 #define BP__KRYLOV_ITERS 200
 
-/* M of A (see above), on A's pattern (A's rows sorted: the transposes by
-   bp__fact_transpose). */
-static int bp__tutte_symmetric(const bp_allocator *a, const bp__sparse *A, bp__sparse *M)
+/* The set-up of phase 6a in column chunks on the runner's threads (it was
+   serial: 25-45 ms of a two-thread run on the 132K-face chart, while the
+   other thread waited; docs/performance.md sec 6.33).  Each pass writes
+   only its own columns and each sum runs in the serial order, so the bits
+   do not depend on the schedule:
+     pass 0: dg_j, A's positive diagonal (1 if none), and the transposes
+             tpos[p] (A's pattern is symmetric and its rows sorted, so the
+             transpose of entry (i, j) is row j's place in column i);
+     pass 1: As = D^-1 A (each row over its diagonal) and b = D^-1 rhs;
+     pass 2: M of As (above): row sums of As as gathers of its transposes,
+             in column order, the order the serial scatter added them. */
+typedef struct bp__ksym_task {
+    const bp__sparse *A;          /* A, then As                             */
+    bp__sparse *M;
+    const double *rhs;            /* 2 nfree: x block, then y block         */
+    double *b, *dg, *sval;        /* b interleaved, the scaled values       */
+    uint32_t *tpos;
+    uint32_t nc;
+    int pass;
+} bp__ksym_task;
+
+static void bp__ksym_run(void *task, uint32_t c)
 {
-    uint32_t n = A->n, j, p, *tpos = NULL;
-    double *fix = (double *)bp__calloc_array(a, n ? n : 1, sizeof(double));
+    bp__ksym_task *T = (bp__ksym_task *)task;
+    const bp__sparse *A = T->A;
+    uint32_t n = A->n, j, p, j1 = bp__chunk_at(n, T->nc, c + 1);
+    for (j = bp__chunk_at(n, T->nc, c); j < j1; j++) {
+        uint32_t p0 = A->colp[j], p1 = A->colp[j + 1], d = BP__NONE;
+        double fix = 0, off = 0;
+        if (T->pass == 0 && T->dg) {
+            T->dg[j] = 1;
+            for (p = p0; p < p1; p++)
+                if (A->row[p] == j && A->val[p] > 0) T->dg[j] = A->val[p];
+        } else if (T->pass == 0) {
+            for (p = p0; p < p1; p++)
+                T->tpos[p] = bp__lower_bound(A->row, A->colp[A->row[p]], A->colp[A->row[p] + 1], j);
+        } else if (T->pass == 1) {
+            for (p = p0; p < p1; p++) T->sval[p] = A->val[p] / T->dg[A->row[p]];
+            T->b[2 * (size_t)j] = T->rhs[j] / T->dg[j];
+            T->b[2 * (size_t)j + 1] = T->rhs[n + j] / T->dg[j];
+        } else {
+            for (p = p0; p < p1; p++) fix += A->val[T->tpos[p]];     /* row j's sum */
+            for (p = p0; p < p1; p++) {
+                if (A->row[p] == j) { d = p; continue; }
+                T->M->val[p] = 0.5 * (A->val[p] + A->val[T->tpos[p]]);
+                off -= T->M->val[p];
+            }
+            if (d != BP__NONE) T->M->val[d] = fix + off;
+        }
+    }
+}
+
+static void bp__ksym_pass(bp__ksym_task *T, const bp__par *par, int pass)
+{
+    bp__par serial = bp__par_serial();
+    T->pass = pass;
+    bp__par_run(par ? par : &serial, bp__ksym_run, T, T->nc, T->A->n);
+}
+
+/* As's values (D^-1 A) into sval and b = D^-1 rhs (interleaved), dg the
+   diagonal D. */
+static void bp__tutte_scaled(const bp__sparse *A, const double *rhs, const bp__par *par, double *sval, double *b,
+                             double *dg)
+{
+    bp__ksym_task T;
+    memset(&T, 0, sizeof T);
+    T.A = A;
+    T.rhs = rhs;
+    T.b = b;
+    T.dg = dg;
+    T.sval = sval;
+    T.nc = bp__nchunks(A->n, BP__VERT_CHUNK);
+    bp__ksym_pass(&T, par, 0);
+    bp__ksym_pass(&T, par, 1);
+}
+
+/* M of A (see above), on A's pattern; par NULL: serially. */
+static int bp__tutte_symmetric(const bp_allocator *a, const bp__sparse *A, bp__sparse *M, const bp__par *par)
+{
+    bp__ksym_task T;
+    uint32_t n = A->n;
     memset(M, 0, sizeof *M);
+    memset(&T, 0, sizeof T);
     M->n = n;
     M->symmetric = 1;
     M->super1 = 1;
     M->colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
     M->row = (uint32_t *)bp__alloc_array(a, A->colp[n] ? A->colp[n] : 1, sizeof(uint32_t));
     M->val = (double *)bp__alloc_array(a, A->colp[n] ? A->colp[n] : 1, sizeof(double));
-    if (!fix || !M->colp || !M->row || !M->val || !bp__fact_transpose(a, A, &tpos)) {
-        bp__free(a, fix);
-        bp__free(a, tpos);
-        return 0;
-    }
+    T.tpos = (uint32_t *)bp__alloc_array(a, A->colp[n] ? A->colp[n] : 1, sizeof(uint32_t));
+    if (!M->colp || !M->row || !M->val || !T.tpos) { bp__free(a, T.tpos); return 0; }
     memcpy(M->colp, A->colp, ((size_t)n + 1) * sizeof(uint32_t));
     memcpy(M->row, A->row, A->colp[n] * sizeof(uint32_t));
-    for (j = 0; j < n; j++)                   /* row sums of A: the fixed weights */
-        for (p = A->colp[j]; p < A->colp[j + 1]; p++) fix[A->row[p]] += A->val[p];
-    for (j = 0; j < n; j++) {
-        uint32_t d = BP__NONE;
-        double off = 0;
-        for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
-            if (A->row[p] == j) { d = p; continue; }
-            M->val[p] = 0.5 * (A->val[p] + A->val[tpos[p]]);
-            off -= M->val[p];
-        }
-        if (d != BP__NONE) M->val[d] = fix[j] + off;
-    }
-    bp__free(a, tpos);
-    bp__free(a, fix);
+    T.A = A;
+    T.M = M;
+    T.nc = bp__nchunks(n, BP__VERT_CHUNK);
+    bp__ksym_pass(&T, par, 0);
+    bp__ksym_pass(&T, par, 2);
+    bp__free(a, T.tpos);
     return 1;
 }
 
@@ -11469,7 +11534,7 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
     bp__sparse M, As = T->A;
     bp__factor K;
     bp__par serial = bp__par_serial();
-    uint32_t bad, i, j, p, nfree = T->nfree;
+    uint32_t bad, i, nfree = T->nfree;
     double *b = NULL, *x = NULL, *dg = NULL, rel = 1;
     int ok = 0, it = -1;
     bp_status st;
@@ -11481,16 +11546,8 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
     x = (double *)bp__alloc_array(a, 2 * (size_t)nfree, sizeof(double));
     dg = (double *)bp__alloc_array(a, nfree ? nfree : 1, sizeof(double));
     As.val = (double *)bp__alloc_array(a, T->A.colp[nfree] ? T->A.colp[nfree] : 1, sizeof(double));
-    if (b && x && dg && As.val) {                     /* the rows over their diagonals */
-        for (j = 0; j < nfree; j++) dg[j] = 1;
-        for (j = 0; j < nfree; j++)
-            for (p = T->A.colp[j]; p < T->A.colp[j + 1]; p++)
-                if (T->A.row[p] == j && T->A.val[p] > 0) dg[j] = T->A.val[p];
-        for (j = 0; j < nfree; j++)
-            for (p = T->A.colp[j]; p < T->A.colp[j + 1]; p++) As.val[p] = T->A.val[p] / dg[T->A.row[p]];
-        for (i = 0; i < nfree; i++) { b[2 * (size_t)i] = T->rhs[i] / dg[i]; b[2 * (size_t)i + 1] = T->rhs[nfree + i] / dg[i]; }
-    }
-    if (!b || !x || !dg || !As.val || !bp__tutte_symmetric(a, &As, &M)) ok = -1;
+    if (b && x && dg && As.val) bp__tutte_scaled(&T->A, T->rhs, runner, As.val, b, dg);   /* rows over diagonals */
+    if (!b || !x || !dg || !As.val || !bp__tutte_symmetric(a, &As, &M, runner)) ok = -1;
     else if ((st = bp__tutte_factorize(a, T, &M, &K, &bad, runner)) != BP_OK) ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0;
     else if (!K.sn) ok = 0;                           /* (the scalar rows took over: not SPD) */
     else if (!bp__factor_single(a, &K, runner) || !bp__solve_plan(a, &K)) ok = -1;

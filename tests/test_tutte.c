@@ -31,9 +31,11 @@
        here), bit for bit, with the chunks run serially, backwards and odd
        then even.
    (f) BiCGSTAB on real charts: its products by A (a gather over A's
-       rows) against the column scatter they replaced, and the whole
-       iteration against the old serial one (both written here), bit for
-       bit, with the tasks run backwards and odd then even. */
+       rows) against the column scatter they replaced, the scaling D^-1 A
+       and the symmetrized M (column chunks) against the serial loops they
+       replaced, and the whole iteration against the old serial one (all
+       written here), bit for bit, with the tasks run backwards and odd
+       then even. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -554,6 +556,79 @@ done:
     return ok;
 }
 
+/* The symmetrized M of phase 6a as it was computed serially: the row
+   sums scattered column by column, the transposes by a cursor per row. */
+static int ref_symmetric(const bp__sparse *A, bp__sparse *M)
+{
+    uint32_t n = A->n, j, p, *tpos = (uint32_t *)malloc((A->colp[n] + 1) * sizeof(uint32_t));
+    uint32_t *cur = (uint32_t *)malloc(((size_t)n + 1) * sizeof(uint32_t));
+    double *fix = (double *)calloc((size_t)n + 1, sizeof(double));
+    memset(M, 0, sizeof *M);
+    M->val = (double *)malloc((A->colp[n] + 1) * sizeof(double));
+    if (!tpos || !cur || !fix || !M->val) { free(tpos); free(cur); free(fix); free(M->val); M->val = NULL; return 0; }
+    for (j = 0; j < n; j++) cur[j] = A->colp[j];
+    for (j = 0; j < n; j++)
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) tpos[p] = cur[A->row[p]]++;
+    for (j = 0; j < n; j++)
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) fix[A->row[p]] += A->val[p];
+    for (j = 0; j < n; j++) {
+        uint32_t d = 0xffffffffu;
+        double off = 0;
+        for (p = A->colp[j]; p < A->colp[j + 1]; p++) {
+            if (A->row[p] == j) { d = p; continue; }
+            M->val[p] = 0.5 * (A->val[p] + A->val[tpos[p]]);
+            off -= M->val[p];
+        }
+        if (d != 0xffffffffu) M->val[d] = fix[j] + off;
+    }
+    free(tpos); free(cur); free(fix);
+    return 1;
+}
+
+/* Phase 6a's set-up on the threads (bp__tutte_scaled, bp__tutte_symmetric)
+   against the serial loops written here, bit for bit, with the column
+   chunks run backwards and odd then even. */
+static void same_scaled(const char *path, const bp__tutte *T, const double *sval, const double *b)
+{
+    uint32_t n = T->nfree, nnz = T->A.colp[n], order;
+    double *v = (double *)malloc((nnz + 1) * sizeof(double)), *bb = (double *)malloc((2 * (size_t)n + 1) * sizeof(double));
+    double *dg = (double *)malloc(((size_t)n + 1) * sizeof(double));
+    bp__par par = bp__par_serial();
+    int same = v && bb && dg;
+    par.threads = 2;
+    for (order = 0; same && order < 2; order++) {
+        par.run = order ? bpt_odd_even_for : bpt_backwards_for;
+        memset(v, 0xff, nnz * sizeof(double));
+        bp__tutte_scaled(&T->A, T->rhs, &par, v, bb, dg);
+        same &= !memcmp(v, sval, nnz * sizeof(double)) && !memcmp(bb, b, 2 * (size_t)n * sizeof(double));
+    }
+    BPT_CHECK(same, "%s: D^-1 A and D^-1 b in column chunks (backwards, odd then even) are the serial loops' bits "
+              "(%u unknowns, %u chunks)", path, n, bp__nchunks(n, BP__VERT_CHUNK));
+    free(v); free(bb); free(dg);
+}
+
+static void same_symmetric(const char *path, const bp__sparse *As)
+{
+    bp_allocator a;
+    bp__sparse M, R;
+    bp__par par = bp__par_serial();
+    uint32_t order;
+    int same = ref_symmetric(As, &R);
+    memset(&a, 0, sizeof a);
+    par.threads = 2;
+    for (order = 0; same && order < 3; order++) {
+        par.run = order == 2 ? bp__serial_for : order ? bpt_odd_even_for : bpt_backwards_for;
+        same &= bp__tutte_symmetric(&a, As, &M, order == 2 ? NULL : &par) &&
+                !memcmp(M.colp, As->colp, ((size_t)As->n + 1) * sizeof(uint32_t)) &&
+                !memcmp(M.row, As->row, As->colp[As->n] * sizeof(uint32_t)) &&
+                !memcmp(M.val, R.val, As->colp[As->n] * sizeof(double));
+        bp__sparse_free(&a, &M);
+    }
+    BPT_CHECK(same, "%s: the symmetrized M in column chunks (backwards, odd then even, serial) is the serial "
+              "scatter's, pattern and bits", path);
+    free(R.val);
+}
+
 /* T: a mean-value system (phases 1-5 done). */
 static void check_bicgstab(const char *path, bp__tutte *T)
 {
@@ -593,7 +668,9 @@ static void check_bicgstab(const char *path, bp__tutte *T)
         BPT_CHECK(!memcmp(y0, y1, 2 * (size_t)n * sizeof(double)), "%s: A x by rows (tasks %s) has the column "
                   "scatter's bits", path, order ? "odd then even" : "backwards");
     }
-    if (!BPT_CHECK(bp__tutte_symmetric(&a, &As, &M) && bp__factorize(&a, &M, &K, &bad, NULL) == BP_OK && K.sn &&
+    same_scaled(path, T, As.val, b);
+    same_symmetric(path, &As);
+    if (!BPT_CHECK(bp__tutte_symmetric(&a, &As, &M, NULL) && bp__factorize(&a, &M, &K, &bad, NULL) == BP_OK && K.sn &&
                    bp__factor_single(&a, &K, NULL) && bp__solve_plan(&a, &K), "%s: the preconditioner", path)) goto out2;
     it0 = ref_bicgstab(&As, &K, b, y0);
     for (order = 0; order < 2; order++) {
