@@ -10982,15 +10982,28 @@ static void bp__tutte_weights_task(void *task, uint32_t c)
 /* Phase 3, the weights: 1 (Tutte), or Floater's mean-value weights
    (tan(alpha/2) + tan(beta/2)) / |p_i - p_j| summed over the two triangles
    of edge ij (in triangle order); anything not positive and finite
-   becomes 1. */
+   becomes 1.  bp__tutte_weights_loop only allocates them and sets up the
+   loop *L that computes them (to run beside phase 5b's root split, which
+   does not need them: bp__tutte_map); bp__tutte_weights runs it. */
+static int bp__tutte_weights_loop(const bp_allocator *a, bp__tutte *T, int mvc, bp__tutte_task *J, bp__loop *L)
+{
+    T->w = (double *)bp__calloc_array(a, T->ne ? T->ne : 1, sizeof(double));
+    if (!T->w) return 0;
+    memset(J, 0, sizeof *J);
+    J->T = T;
+    J->mvc = mvc;
+    J->nc = bp__nchunks(T->N, BP__TUTTE_CHUNK);
+    L->fn = bp__tutte_weights_task;
+    L->task = J;
+    L->count = J->nc;
+    return 1;
+}
+
 static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
 {
     bp__tutte_task J;
-    T->w = (double *)bp__calloc_array(a, T->ne ? T->ne : 1, sizeof(double));
-    if (!T->w) return 0;
-    memset(&J, 0, sizeof J);
-    J.T = T;
-    J.mvc = mvc;
+    bp__loop L;
+    if (!bp__tutte_weights_loop(a, T, mvc, &J, &L)) return 0;
     bp__tutte_run(&J, bp__tutte_weights_task);
     return 1;
 }
@@ -11446,7 +11459,8 @@ done:
    checks there before the order is used (else Newton orders anew).  The
    order is computed on the runner's threads with the same result on any
    number (>>sparse); with (or NULL) is a loop run beside the dissection's
-   root split (bp__nd_order_with): the conformal start's matrix. */
+   root split (bp__nd_order_with): the conformal start's matrix, or
+   without it phase 3's weights. */
 static int bp__tutte_order(const bp_allocator *a, bp__tutte *T, const bp__par *runner, const bp__loop *with)
 {
     bp__sparse G;
@@ -12024,7 +12038,9 @@ static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mes
     bp_status st = BP_OK;
     bp__conformal C;
     bp__loop cols;
-    int done = 0, cf = 0;          /* cf 1: the conformal system is set up */
+    bp__tutte_task WJ;
+    int done = 0, cf = 0, wpre = 0; /* cf 1: the conformal system is set up;
+                                      wpre 1: the weights beside the order */
     memset(&T, 0, sizeof T);
     memset(&C, 0, sizeof C);
     if (runner) T.par = *runner;
@@ -12037,14 +12053,16 @@ static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mes
     cols.fn = bp__conformal_task_run;               /* its columns, beside the root split */
     cols.task = &C.J;
     cols.count = cf == 1 ? C.J.nc : 0;
+    if (st == BP_OK && cf != 1 && !(wpre = bp__tutte_weights_loop(a, &T, mvc, &WJ, &cols)))
+        st = bp__oom(err, "computing the start map");   /* no conformal try: the weights beside it */
     if (st == BP_OK &&
-        (!bp__tutte_order(a, &T, runner, cf == 1 ? &cols : NULL) || !bp__tutte_chart_order(a, &T, order, tree)))
+        (!bp__tutte_order(a, &T, runner, &cols) || !bp__tutte_chart_order(a, &T, order, tree)))
         st = bp__oom(err, "computing the start map");
     if (st == BP_OK && cf == 1 && (done = bp__conformal_end(a, &C, ch, m, runner, order, tree, h)) < 0)
         st = bp__oom(err, "computing the start map");
     bp__conformal_free(a, &C);
     if (st == BP_OK && !done) {
-        if (!bp__tutte_weights(a, &T, mvc) || !bp__tutte_circle(a, &T, ch) ||
+        if ((!wpre && !bp__tutte_weights(a, &T, mvc)) || !bp__tutte_circle(a, &T, ch) ||
             (T.nfree > 0 && !bp__tutte_system(a, &T, ch, mvc)))
             st = bp__oom(err, "computing the start map");
         if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(a, &T, ch, runner, err);
