@@ -7722,6 +7722,7 @@ typedef struct bp__sym_task {
     uint32_t *parent, *anc, *mark, *cnt, *head, *next;
     uint32_t nodes[BP__ND_NODES], n;
     size_t slot;                  /* task t stamps rows at mark + t slot */
+    uint8_t *fresh;               /* slot t not yet set to BP__NONE (1)  */
     int phase, whole;             /* whole: the one task is [0, n)   */
     int bad[BP__ND_NODES];        /* a supernode's row count disagreed  */
 } bp__sym_task;
@@ -7791,12 +7792,19 @@ static int bp__super_rows_one(const bp__sparse *G, bp__super *S, uint32_t *mark,
 }
 
 /* Task t: the rows of the supernodes of its range, stamped in its own
-   array (slot t). */
+   array (slot t), which the first task to use it sets to BP__NONE (slot
+   t serves task t of every phase, one task at a time: ntask x n words,
+   set in parallel and first touched by a thread that stamps them). */
 static void bp__sym_rows_task(void *task, uint32_t t)
 {
     bp__sym_task *T = (bp__sym_task *)task;
     bp__super *S = T->S;
-    uint32_t k0, k1, s;
+    uint32_t k0, k1, s, j;
+    if (T->fresh && T->fresh[t]) {
+        uint32_t *m = T->mark + (size_t)t * T->slot;
+        for (j = 0; j < T->n; j++) m[j] = BP__NONE;
+        T->fresh[t] = 0;
+    }
     bp__sym_range(T, t, &k0, &k1);
     if (k0 >= k1) return;
     for (s = S->snode[k0]; s <= S->snode[k1 - 1]; s++)
@@ -7845,6 +7853,7 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     uint8_t *bound;
     bp__factor Fv;
     bp_status st = BP_ERR_OUT_OF_MEMORY;
+    memset(&T, 0, sizeof T);                       /* (T.fresh freed at done) */
     S->nv = nv;
     S->vperm = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
     S->viperm = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
@@ -7911,8 +7920,10 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     }
     T.slot = T.whole || par->threads == 1 ? 0 : nv;
     marks = T.slot ? (uint32_t *)bp__alloc_array(a, (size_t)S->ntask * nv, sizeof(uint32_t)) : mark;
-    if (!marks) goto done;
-    for (j = 0; j < (T.slot ? (size_t)S->ntask : 1) * nv; j++) marks[j] = BP__NONE;
+    T.fresh = T.slot ? (uint8_t *)bp__alloc_array(a, S->ntask, 1) : NULL;
+    if (!marks || (T.slot && !T.fresh)) goto done;
+    if (T.slot) memset(T.fresh, 1, S->ntask);     /* each slot set by its first task */
+    else for (j = 0; j < nv; j++) marks[j] = BP__NONE;
     T.mark = marks;
     bp__sym_phases(&T, par, bp__sym_rows_task);
     for (k = 0; k < BP__ND_NODES; k++)
@@ -7921,6 +7932,7 @@ static bp_status bp__super_analyse(const bp_allocator *a, const bp__sparse *G, b
     st = BP_OK;
 done:
     if (marks != mark) bp__free(a, marks);
+    bp__free(a, T.fresh);
     bp__free(a, parent); bp__free(a, mark); bp__free(a, cnt); bp__free(a, reach); bp__free(a, msz); bp__free(a, bound);
     return st;
 }
