@@ -11191,13 +11191,15 @@ static void bp__ksym_run(void *task, uint32_t c)
     for (j = bp__chunk_at(n, T->nc, c); j < j1; j++) {
         uint32_t p0 = A->colp[j], p1 = A->colp[j + 1], d = BP__NONE;
         double fix = 0, off = 0;
-        if (T->pass == 0 && T->dg) {
-            T->dg[j] = 1;
-            for (p = p0; p < p1; p++)
-                if (A->row[p] == j && A->val[p] > 0) T->dg[j] = A->val[p];
-        } else if (T->pass == 0) {
-            for (p = p0; p < p1; p++)
-                T->tpos[p] = bp__lower_bound(A->row, A->colp[A->row[p]], A->colp[A->row[p] + 1], j);
+        if (T->pass == 0) {
+            if (T->dg) {                                          /* (bp__tutte_scaled) */
+                T->dg[j] = 1;
+                for (p = p0; p < p1; p++)
+                    if (A->row[p] == j && A->val[p] > 0) T->dg[j] = A->val[p];
+            }
+            if (T->tpos)                                          /* (bp__tutte_symmetric) */
+                for (p = p0; p < p1; p++)
+                    T->tpos[p] = bp__lower_bound(A->row, A->colp[A->row[p]], A->colp[A->row[p] + 1], j);
         } else if (T->pass == 1) {
             for (p = p0; p < p1; p++) T->sval[p] = A->val[p] / T->dg[A->row[p]];
             T->b[2 * (size_t)j] = T->rhs[j] / T->dg[j];
@@ -12650,8 +12652,8 @@ static int bp__cschur_complement(const bp_allocator *a, bp__cschur *Z, const bp_
     return 1;
 }
 
-/* Columns [j0, j1) of the dense system [S C; C^T S] in 2x2 blocks (every
-   entry in the pattern), written by one task: KB's 2|B| columns are 4.5 MB
+/* Task t: chunk t of the columns of the dense system [S C; C^T S] in 2x2
+   blocks (every entry in the pattern).  KB's 2|B| columns are 4.5 MB
    of values and 2.2 MB of rows on bimba, first touched by the thread that
    fills them (one serial pass was 7 ms of a two-thread run). */
 typedef struct bp__kb_task { bp__cschur *Z; uint32_t nc; } bp__kb_task;
