@@ -14301,7 +14301,7 @@ typedef struct bp__lap_task {
     double *w;                    /* 3 per triangle: 1/2 cot of each corner */
     uint32_t *gr, *glen;          /* v's rows at gr + 2 vc_start[v] + v     */
     bp__sparse *K;
-    double reg;                   /* mean diagonal: the regularizer's scale */
+    double diag;                  /* sum of K's diagonal, before the regularizer */
 } bp__lap_task;
 
 static void bp__lap_weights(void *task, uint32_t c)
@@ -14378,7 +14378,7 @@ static void bp__lap_values(void *task, uint32_t c)
                     val[pos] -= w[k];
                 }
             }
-        val[dpos] += (bp__lap_pinned(T, v) ? 1 : 1e-8) * T->reg;
+        val[dpos] += (bp__lap_pinned(T, v) ? 1 : 1e-8) * T->diag / S->nv;   /* (in the triplets' order) */
     }
 }
 
@@ -14404,7 +14404,7 @@ static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const
     if (!T.w || !T.gr || !T.glen || !K->colp || nslot > 0xfffffff0u) goto done;
     S->par.run(S->par.user, bp__lap_weights, &T, S->nchunk_t);
     for (f = 0; f < 3 * (size_t)S->nt; f++) diag += 2 * T.w[f];        /* the order of the serial sum */
-    T.reg = diag / S->nv;
+    T.diag = diag;
     S->par.run(S->par.user, bp__lap_cols, &T, S->nchunk_v);
     for (v = 0; v < S->nv; v++) { K->colp[v] = (uint32_t)w; w += T.glen[v]; }
     K->colp[S->nv] = (uint32_t)w;
