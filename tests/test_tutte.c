@@ -352,6 +352,7 @@ static void pins_laplacian(const char *path, bp__solver *S, const double *rw)
     bp__sparse K, R;
     bp__factor F;
     int k, same = 1, ok = pidx != NULL;
+    memset(&R, 0, sizeof R);
     for (v = 0; ok && v < S->nv; v++) {
         pidx[v] = v % 5 == 0 || v + 1 == S->nv ? np : BP__NONE;
         np += pidx[v] != BP__NONE;
