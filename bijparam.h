@@ -14378,7 +14378,7 @@ static void bp__lap_values(void *task, uint32_t c)
                     val[pos] -= w[k];
                 }
             }
-        val[dpos] += (bp__lap_pinned(T, v) ? 1 : 1e-8) * T->diag / S->nv;   /* (in the triplets' order) */
+        val[dpos] += (bp__lap_pinned(T, v) ? 1 : 1e-8) * T->diag / S->nv;   /* (as the triplets had it) */
     }
 }
 
