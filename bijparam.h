@@ -14283,8 +14283,8 @@ static void bp__sparse_free(const bp_allocator *a, bp__sparse *A)
    passes (a triplet list sorted by column was 78 ms of serial work on a
    132K-face chart's two-thread run, docs/performance.md sec 6.33):
      1. per triangle chunk, the three weights w of each triangle;
-     2. per vertex chunk, v's rows: v and the other corners of the
-        triangles around it (the solver's corner lists, in triangle order),
+     2. per vertex chunk, v's rows (bp__vertex_col): v and the other
+        corners of the triangles around it (the solver's corner lists),
         sorted, duplicates dropped;
      3. per vertex chunk, v's values: each entry the sum of its
         contributions in triangle order (corner order within a triangle),
@@ -14294,6 +14294,43 @@ static void bp__sparse_free(const bp_allocator *a, bp__sparse *A)
    that assembly, and test_tutte (c) compares the two bit for bit), and
    the regularizer's mean diagonal is one serial sum over the weights in
    that order, so K has the same bits on any number of threads. */
+/* The rows of vertex v's column in a matrix on the chart's edges: v, the
+   other two corners of every triangle around v (the solver's corner
+   lists), and the nx extra vertices xl (NULL: none), sorted, repeats
+   dropped, into col (room for 2 x v's corners + 1 + nx); returns their
+   count.  With pins (pidx not NULL) a pinned v has only itself and a
+   pinned neighbour is left out.  Newton's H (>>newton) and the
+   preconditioner's K below both take their patterns from it. */
+static uint32_t bp__vertex_col(const bp__solver *S, uint32_t v, const uint32_t *pidx, const uint32_t *xl, uint32_t nx,
+                               uint32_t *col)
+{
+    uint32_t m = 0, p, k, q;
+    col[m++] = v;
+    if (!pidx || pidx[v] == BP__NONE) {
+        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++)
+            for (k = 1; k <= 2; k++) {
+                uint32_t u = S->tri[3 * (size_t)(S->vc_list[p] / 3) + (S->vc_list[p] % 3 + k) % 3];
+                if (!pidx || pidx[u] == BP__NONE) col[m++] = u;
+            }
+        for (q = 0; q < nx; q++) col[m++] = xl[q];
+    }
+    bp__u32_sort(col, m);
+    for (k = 1, q = 1; q < m; q++)
+        if (col[q] != col[k - 1]) col[k++] = col[q];
+    return k;
+}
+
+/* The position of row r in a sorted column of m rows that holds it: the
+   count of rows below r, without branches for a short column (a binary
+   search's branches were mispredicted at every step, half of pass (2)). */
+static uint32_t bp__pattern_pos(const uint32_t *col, uint32_t m, uint32_t r)
+{
+    uint32_t q, pos = 0;
+    if (m > 64) return bp__lower_bound(col, 0, m, r);
+    for (q = 0; q < m; q++) pos += col[q] < r;
+    return pos;
+}
+
 typedef struct bp__lap_task {
     const bp__solver *S;
     const double *wxy;            /* rest triangles (w, x, y)               */
@@ -14329,22 +14366,9 @@ static void bp__lap_cols(void *task, uint32_t c)
 {
     bp__lap_task *T = (bp__lap_task *)task;
     const bp__solver *S = T->S;
-    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p, m, k, q;
-    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
-        uint32_t *col = T->gr + 2 * (size_t)S->vc_start[v] + v;
-        m = 0;
-        col[m++] = v;
-        if (!bp__lap_pinned(T, v))
-            for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++)
-                for (k = 1; k <= 2; k++) {
-                    uint32_t u = S->tri[3 * (size_t)(S->vc_list[p] / 3) + (S->vc_list[p] % 3 + k) % 3];
-                    if (!bp__lap_pinned(T, u)) col[m++] = u;
-                }
-        bp__u32_sort(col, m);
-        for (k = 1, q = 1; q < m; q++)
-            if (col[q] != col[k - 1]) col[k++] = col[q];
-        T->glen[v] = k;
-    }
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1);
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++)
+        T->glen[v] = bp__vertex_col(S, v, T->pidx, NULL, 0, T->gr + 2 * (size_t)S->vc_start[v] + v);
 }
 
 /* Pass 3: the values of column v, each added where its row sits, then
@@ -14369,13 +14393,11 @@ static void bp__lap_values(void *task, uint32_t c)
                 uint32_t t = S->vc_list[p] / 3, cv = S->vc_list[p] % 3;
                 const double *w = T->w + 3 * (size_t)t;
                 for (k = 0; k < 3; k++) {                 /* corner k's weight, in corner order */
-                    uint32_t u, pos = 0;
+                    uint32_t u;
                     if (k == cv) continue;
                     val[dpos] += w[k];                    /* v is an end of corner k's edge */
                     u = S->tri[3 * (size_t)t + 3 - k - cv];   /* the edge's other end */
-                    if (bp__lap_pinned(T, u)) continue;
-                    for (q = 0; q < m; q++) pos += col[q] < u;
-                    val[pos] -= w[k];
+                    if (!bp__lap_pinned(T, u)) val[bp__pattern_pos(col, m, u)] -= w[k];
                 }
             }
         val[dpos] += (bp__lap_pinned(T, v) ? 1 : 1e-8) * T->diag / S->nv;   /* (as the triplets had it) */
@@ -15037,34 +15059,10 @@ static void bp__pattern_cols(void *task, uint32_t c)
 {
     bp__pattern_task *T = (bp__pattern_task *)task;
     const bp__solver *S = T->S;
-    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p, m, k;
-    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
-        uint32_t *col = T->gr + bp__pattern_at(T, v);
-        m = 0;
-        col[m++] = v;
-        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
-            uint32_t t = S->vc_list[p] / 3, cc = S->vc_list[p] % 3;
-            col[m++] = S->tri[3 * (size_t)t + (cc + 1) % 3];
-            col[m++] = S->tri[3 * (size_t)t + (cc + 2) % 3];
-        }
-        if (T->xp)
-            for (p = T->xp[v]; p < T->xp[v + 1]; p++) col[m++] = T->xl[p];
-        bp__u32_sort(col, m);
-        for (k = 1, p = 1; p < m; p++)
-            if (col[p] != col[k - 1]) col[k++] = col[p];
-        T->glen[v] = k;
-    }
-}
-
-/* The position of row r in a sorted column of m rows that holds it: the
-   count of rows below r, without branches for a short column (a binary
-   search's branches were mispredicted at every step, half of pass (2)). */
-static uint32_t bp__pattern_pos(const uint32_t *col, uint32_t m, uint32_t r)
-{
-    uint32_t q, pos = 0;
-    if (m > 64) return bp__lower_bound(col, 0, m, r);
-    for (q = 0; q < m; q++) pos += col[q] < r;
-    return pos;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1);
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++)
+        T->glen[v] = bp__vertex_col(S, v, NULL, T->xp ? T->xl + T->xp[v] : NULL, T->xp ? T->xp[v + 1] - T->xp[v] : 0,
+                                    T->gr + bp__pattern_at(T, v));
 }
 
 /* Pass (2) for the vertices of chunk c (H.colp is known); H's values in
