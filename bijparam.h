@@ -13149,26 +13149,77 @@ static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double 
 
 /* Its isotropic part (Newton's isotropic phase, bp__newton_tri_task):
    k[i] = (xx + yy) / 2 of corner block (r, q), r <= q, at i =
-   bp__ht_block[r][q] / 4, from the blocks al = be alone: the very
-   products of the 6x6 above, so the same bits as halving its entries'
-   sum, for two of its three blocks B_ab and no 6x6 written.  Newton's
-   H keeps its six 2x2 corner blocks (r, q), r <= q, per triangle in
-   that order, each row major, the block (r, q) at bp__ht_block[r][q]
-   (bp__newton_tri_task); the isotropic phase keeps one number per block,
-   at a quarter of that. */
+   bp__ht_block[r][q] / 4.  Newton's H keeps its six 2x2 corner blocks
+   (r, q), r <= q, per triangle in that order, each row major, the block
+   (r, q) at bp__ht_block[r][q] (bp__newton_tri_task); the isotropic phase
+   keeps one number per block, at a quarter of that.
+
+   The average of the xx and yy blocks needs neither the 4x4 nor two
+   congruences.  The x coordinates move J's row 0 and the y coordinates
+   its row 1 (>>hessian), so (xx + yy) / 2 = G^T C G with
+   C = (B_00 + B_11) / 2, B_aa the diagonal 2x2 blocks of the projected
+   H4 = sum_k lambda_k vec(Q_k) vec(Q_k)^T.  Summing over J's two rows,
+       C = 1/2 sum_k lambda_k Q_k^T Q_k.
+   Twist and flip are U [0 -+1; 1 0] V^T / sqrt2, so Q^T Q = I / 2 for
+   both; a scaling eigenvector c1 U diag(1,0) V^T + c2 U diag(0,1) V^T
+   gives V diag(c1^2, c2^2) V^T, and summed with its eigenvalues the two
+   give V diag(al, be) V^T, with (al, be) the diagonal of the projected
+   scaling block (the block itself when both its eigenvalues are >= 0, as
+   for symmetric Dirichlet always).  With V diag(1, -1) V^T = rot^T ref
+   (rot = U V^T = [E -H; H E] / Q, ref = U diag(1,-1) V^T =
+   [F G; G -F] / R, as in bp__hessian_j),
+       C = (tw + fl + al + be) / 4 I + (al - be) / 4 P,
+       P = rot^T ref = [EF + HG, EG - HF; EG - HF, -(EF + HG)] / (Q R),
+   tw and fl clamped at 0; at R = 0 the reflection [1 0; 0 -1] of
+   bp__hessian_j, P = [E -H; -H -E] / Q.  Face: a third of the time of
+   the 4x4 and its two congruences (docs/performance.md sec 6.34).
+   C is written as a block of an H4 (rows at stride 4: C[0] C[1] / C[4]
+   C[5]) for bp__hessian_corners.  tests/test_newton.c (l) checks it
+   against the 4x4's blocks for every energy. */
+static int bp__hessian_iso_j(bp_energy kind, const double J[4], double C[8])
+{
+    double a = J[0], b = J[1], c = J[2], d = J[3];
+    double E = 0.5 * (a + d), F = 0.5 * (a - d), G = 0.5 * (c + b), H = 0.5 * (c - b);
+    double Q = sqrt(E * E + H * H), R = sqrt(F * F + G * G), det = a * d - b * c;
+    double sa, sb, fa, fb, hs[3], tw, fl, al, be, t, l1, l2, iso, dev, p0, p1;
+    if (!(det > 0)) return 0;
+    sa = Q + R;
+    sb = det / sa;
+    bp__energy_sv(kind, sa, sb, &fa, &fb);
+    bp__energy_sv2(kind, sa, sb, fa, fb, hs, &tw, &fl);
+    t = sqrt(0.25 * (hs[0] - hs[2]) * (hs[0] - hs[2]) + hs[1] * hs[1]);
+    l1 = 0.5 * (hs[0] + hs[2]) + t;
+    l2 = 0.5 * (hs[0] + hs[2]) - t;
+    if (l2 >= 0) { al = hs[0]; be = hs[2]; }          /* already positive semidefinite */
+    else if (!(l1 > 0)) al = be = 0;
+    else {                                            /* l1 e e^T, e as in bp__hessian_j */
+        double x1 = hs[1], y1 = l1 - hs[0], x2 = l1 - hs[2], y2 = hs[1], n1 = x1 * x1 + y1 * y1, n2 = x2 * x2 + y2 * y2;
+        if (n1 >= n2) { al = l1 * x1 * x1 / n1; be = l1 * y1 * y1 / n1; }
+        else { al = l1 * x2 * x2 / n2; be = l1 * y2 * y2 / n2; }
+    }
+    if (!(tw > 0)) tw = 0;
+    if (!(fl > 0)) fl = 0;
+    iso = 0.25 * (tw + fl + al + be);
+    dev = 0.25 * (al - be);
+    if (R > 0) { p0 = (E * F + H * G) / (Q * R); p1 = (E * G - H * F) / (Q * R); }
+    else { p0 = E / Q; p1 = -H / Q; }
+    C[0] = iso + dev * p0;
+    C[1] = C[4] = dev * p1;
+    C[5] = iso - dev * p0;
+    return 1;
+}
+
 static const unsigned char bp__ht_block[3][3] = { { 0, 4, 8 }, { 4, 12, 16 }, { 8, 16, 20 } };
 static int bp__triangle_hessian_iso(bp_energy kind, const bp__rest *r, const double *u1, const double *u2,
                                     const double *u3, double k6[6])
 {
-    double J[4], h4[16] = { 0 }, w = r->weight, M0[3][3], M1[3][3];
+    double J[4], C[8], w = r->weight, M[3][3];
     int k, l;
     bp__triangle_j(r, u1, u2, u3, J);
-    if (!bp__hessian_j(kind, J, 1, h4)) return 0;
-    bp__hessian_corners(r, h4, 0, 0, M0);
-    bp__hessian_corners(r, h4, 1, 1, M1);
+    if (!bp__hessian_iso_j(kind, J, C)) return 0;
+    bp__hessian_corners(r, C, 0, 0, M);
     for (k = 0; k < 3; k++)
-        for (l = k; l < 3; l++)                   /* M[l][k]: the mirror's, which the 6x6 loop writes last */
-            k6[bp__ht_block[k][l] / 4] = 0.5 * (w * M0[l][k] + w * M1[l][k]);
+        for (l = k; l < 3; l++) k6[bp__ht_block[k][l] / 4] = w * M[l][k];
     return 1;
 }
 

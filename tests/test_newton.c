@@ -81,6 +81,15 @@
          1e-7, and has the same bits with its tasks run backwards on two
          threads; after an invalid pair it takes a new order, which
          separates every extra pair;
+     (l) the isotropic block's closed form (bp__hessian_iso_j): for
+         every energy, on 4000 random Jacobians with det > 0 (a tenth of
+         them exact similarities, R = 0), C equals (B_00 + B_11) / 2 of
+         the projected 4x4 bp__hessian_j builds from its eigenvectors
+         (within 1e-11 of the 4x4's largest entry), and the triangles'
+         six numbers (bp__triangle_hessian_iso) equal (xx + yy) / 2 of
+         the projected 6x6's corner blocks; R = 0 and both cases of the
+         scaling block (already semidefinite, clamped to one
+         eigenvector) occur;
      (m) the isotropic phase: on camel_b without the barrier, with a
          barrier 4 mean edges wide and with every 7th vertex held, the
          library's K1 equals (H(2u, 2v) + H(2u+1, 2v+1)) / 2 of the H it
@@ -1546,10 +1555,92 @@ static void test_isotropic_solve(void)
     bp_mesh_free(&mesh, NULL);
 }
 
+/* (l) */
+static void test_iso_block(void)
+{
+    /* the 4x4 on the heap: GCC 12.2 at -O1 and -O2 folds the reads of a
+       zero-initialized local array after bp__hessian_j returns to the
+       zeros (its ipa-modref: with -fno-ipa-modref it does not), so the check
+       failed on a correct C.  The library's callers read H4 and C through
+       bp__hessian_corners, and (a) and the six numbers below check them */
+    double *h4heap = (double *)calloc(16, sizeof(double));
+    int kind;
+    if (!BPT_CHECK(h4heap != NULL, "allocated")) return;
+    for (kind = 0; kind < BP_ENERGY_COUNT; kind++) {
+        int trial, bad = 0, bad6 = 0, n = 0, n6 = 0, refused = 0, psd = 0, one = 0, sim = 0;
+        double worst = 0, worst6 = 0;
+        for (trial = 0; trial < 4000; trial++) {
+            double J[4], *h4 = h4heap, C[8] = { 0 }, M[3], sa, sb, fa, fb, hs[3], tw, fl, t, l2, big = 0, e;
+            int i;
+            if (trial % 10 == 0) {                 /* s R(th): F = G = 0 exactly */
+                double s = exp(bpt_rng_range(-1.5, 1.5)), th = bpt_rng_range(-3, 3);
+                J[0] = J[3] = s * cos(th); J[2] = s * sin(th); J[1] = -J[2];
+            } else
+                do { for (i = 0; i < 4; i++) J[i] = bpt_rng_range(-2, 2); } while (J[0] * J[3] - J[1] * J[2] < 0.05);
+            if (!bp__hessian_j((bp_energy)kind, J, 1, h4) || !bp__hessian_iso_j((bp_energy)kind, J, C)) { refused++; continue; }
+            for (i = 0; i < 16; i++) if (fabs(h4[i]) > big) big = fabs(h4[i]);
+            M[0] = 0.5 * (h4[0] + h4[10]); M[1] = 0.5 * (h4[1] + h4[11]); M[2] = 0.5 * (h4[5] + h4[15]);
+            e = fabs(C[0] - M[0]);
+            if (fabs(C[1] - M[1]) > e) e = fabs(C[1] - M[1]);
+            if (fabs(C[5] - M[2]) > e) e = fabs(C[5] - M[2]);
+            if (C[4] != C[1]) e = HUGE_VAL;
+            if (!(e <= 1e-11 * big)) bad++;
+            if (big > 0 && e / big > worst) worst = e / big;
+            n++;
+            /* which case of the scaling block this was (its eigenvalues, as the library's) */
+            sa = sqrt(0.25 * (J[0] + J[3]) * (J[0] + J[3]) + 0.25 * (J[2] - J[1]) * (J[2] - J[1]));
+            t = sqrt(0.25 * (J[0] - J[3]) * (J[0] - J[3]) + 0.25 * (J[2] + J[1]) * (J[2] + J[1]));
+            if (t == 0) sim++;
+            sa += t;
+            sb = (J[0] * J[3] - J[1] * J[2]) / sa;
+            bp__energy_sv((bp_energy)kind, sa, sb, &fa, &fb);
+            bp__energy_sv2((bp_energy)kind, sa, sb, fa, fb, hs, &tw, &fl);
+            t = sqrt(0.25 * (hs[0] - hs[2]) * (hs[0] - hs[2]) + hs[1] * hs[1]);
+            l2 = 0.5 * (hs[0] + hs[2]) - t;
+            if (l2 >= 0) psd++;
+            else if (l2 + 2 * t > 0) one++;
+        }
+        for (trial = 0; trial < 500; trial++) {    /* the triangles' six numbers */
+            bp__rest r;
+            double U[3][2], P[36], k6[6], big = 0, e = 0;
+            int i, k, l;
+            random_triangle(&r, U, trial % 2);
+            if (!bp__triangle_hessian((bp_energy)kind, &r, U[0], U[1], U[2], 1, P)) continue;
+            if (!bp__triangle_hessian_iso((bp_energy)kind, &r, U[0], U[1], U[2], k6)) { refused++; continue; }
+            n6++;
+            for (i = 0; i < 36; i++) if (fabs(P[i]) > big) big = fabs(P[i]);
+            for (k = 0; k < 3; k++)
+                for (l = k; l < 3; l++) {
+                    double want = 0.5 * (P[6 * (2 * k) + 2 * l] + P[6 * (2 * k + 1) + 2 * l + 1]);
+                    double d = fabs(k6[bp__ht_block[k][l] / 4] - want);
+                    if (d > e) e = d;
+                }
+            if (!(e <= 1e-11 * big)) bad6++;
+            if (big > 0 && e / big > worst6) worst6 = e / big;
+        }
+        BPT_CHECK(refused == 0 && n == 4000 && bad == 0, "%s: C = (B_00 + B_11) / 2 of the projected 4x4 on %d "
+                  "Jacobians (worst %.2g of its largest entry; %d refused)", ENAME[kind], n, worst, refused);
+        BPT_CHECK(n6 >= 400 && bad6 == 0, "%s: the six isotropic numbers = (xx + yy) / 2 of the projected 6x6 on %d "
+                  "triangles (worst %.2g)", ENAME[kind], n6, worst6);
+        BPT_CHECK(sim >= 300, "%s: %d exact similarities (R = 0)", ENAME[kind], sim);
+        /* the scaling block [f_aa f_ab; f_ab f_bb]: conformal's has f_aa = 0 and f_ab != 0, so one negative
+           eigenvalue always; MIPS's both cases; the others' are diagonal and >= 0 */
+        if (kind == BP_ENERGY_CONFORMAL)
+            BPT_CHECK(one == n, "%s: one eigenvector of the scaling block kept on all %d (%d)", ENAME[kind], n, one);
+        else if (kind == BP_ENERGY_MIPS)
+            BPT_CHECK(psd > 0 && one > 0 && psd + one == n, "%s: the scaling block semidefinite (%d) and clamped to "
+                      "one eigenvector (%d), both occur", ENAME[kind], psd, one);
+        else
+            BPT_CHECK(psd == n, "%s: the scaling block is semidefinite on all %d (%d)", ENAME[kind], n, psd);
+    }
+    free(h4heap);
+}
+
 int main(void)
 {
     bpt_rng_state = 0x9E3779B97F4A7C15ull;
     test_triangle_hessians();
+    test_iso_block();
     test_assembled();
     test_pattern();
     test_kept_order();
