@@ -15116,8 +15116,12 @@ static void bp__pattern_cols(void *task, uint32_t c)
                                     T->gr + bp__pattern_at(T, v));
 }
 
-/* Pass (2) for the vertices of chunk c (H.colp is known); H's values in
-   v's columns are zeroed here too, by the thread that will gather them. */
+/* Pass (2) for the vertices of chunk c (H.colp is known).  H's values
+   are left as allocated: every assembly zeroes v's columns before it
+   gathers them (bp__newton_gather_task), and the isotropic phase never
+   reads them, so their pages are first touched at Newton's first
+   assembly, after it (face: 5 ms of page faults and zeroing off the
+   start of the optimization). */
 static void bp__pattern_place(void *task, uint32_t c)
 {
     bp__pattern_task *T = (bp__pattern_task *)task;
@@ -15129,7 +15133,6 @@ static void bp__pattern_place(void *task, uint32_t c)
         uint32_t m = T->glen[v], c0 = N->H.colp[2 * v], len = 2 * m;
         for (k = 0, w = c0; k < 2; k++)
             for (p = 0; p < m; p++) { N->H.row[w++] = 2 * col[p]; N->H.row[w++] = 2 * col[p] + 1; }
-        memset(N->H.val + c0, 0, 4 * (size_t)m * sizeof(double));
         w = c0 + 2 * bp__pattern_pos(col, m, v);
         for (k = 0; k < 4; k++) N->dpos[4 * (size_t)v + k] = w + k % 2 + (k / 2) * len;
         for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
