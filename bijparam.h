@@ -13057,7 +13057,7 @@ static int bp__hessian_j(bp_energy kind, const double J[4], int project, double 
     double E = 0.5 * (a + d), F = 0.5 * (a - d), G = 0.5 * (c + b), H = 0.5 * (c - b);
     double Q = sqrt(E * E + H * H), R = sqrt(F * F + G * G), det = a * d - b * c;
     double sa, sb, fa, fb, hs[3], tw, fl, rot[4], ref[4], m[4][4], lam[4], s2 = sqrt(0.5);
-    double t, c1, c2, l1, l2, hv;
+    double t, c1, c2, l1, l2, hv, out[16];
     int i, j, k;
     if (!(det > 0)) return 0;
     sa = Q + R;
@@ -13094,8 +13094,16 @@ static int bp__hessian_j(bp_energy kind, const double J[4], int project, double 
         for (j = i; j < 4; j++) {
             double s = 0;
             for (k = 0; k < 4; k++) s += lam[k] * m[k][i] * m[k][j];
-            h4[4 * i + j] = h4[4 * j + i] = s;
+            out[4 * i + j] = out[4 * j + i] = s;
         }
+    /* Built in a local array and copied out whole: GCC 12 (at -O1 and -O2,
+       with this function out of line) rewrote the mirrored store into the
+       caller's array as a memory reference based at address 0, which its
+       mod/ref analysis then took for a null dereference ending the block:
+       the function was summarized as storing nothing, and a caller's reads
+       of a zero-initialized h4 were folded to the zeros (fixed in later
+       GCC's induction-variable pass; tests/test_newton.c (l) reads one) */
+    memcpy(h4, out, sizeof out);
     return 1;
 }
 
@@ -13131,7 +13139,7 @@ static int bp__triangle_j(const bp__rest *r, const double *u1, const double *u2,
 static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double *u1, const double *u2,
                                 const double *u3, int project, double h6[36])
 {
-    double J[4], h4[16] = { 0 }, w = r->weight, M[3][3];   /* (zeroed: GCC cannot see bp__hessian_j fill it) */
+    double J[4], h4[16], w = r->weight, M[3][3];
     int k, l, al, be;
     bp__triangle_j(r, u1, u2, u3, J);
     if (!bp__hessian_j(kind, J, project, h4)) return 0;
