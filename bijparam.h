@@ -13179,8 +13179,8 @@ static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double 
        C = (tw + fl + al + be) / 4 I + (al - be) / 4 P,
        P = rot^T ref = [EF + HG, EG - HF; EG - HF, -(EF + HG)] / (Q R),
    tw and fl clamped at 0; at R = 0 the reflection [1 0; 0 -1] of
-   bp__hessian_j, P = [E -H; -H -E] / Q.  Face: a third of the time of
-   the 4x4 and its two congruences (docs/performance.md sec 6.34).
+   bp__hessian_j, P = [E -H; -H -E] / Q.  Face: less than half the time
+   of the 4x4 and its two congruences (docs/performance.md sec 6.34).
    C is written as a block of an H4 (rows at stride 4: C[0] C[1] / C[4]
    C[5]) for bp__hessian_corners.  tests/test_newton.c (l) checks it
    against the 4x4's blocks for every energy. */
