@@ -13048,47 +13048,67 @@ static void bp__energy_sv2(bp_energy kind, double sa, double sb, double fa, doub
     }
 }
 
+/* What both Hessians below need of J (the essay above): its rotation and
+   reflection parts E, F, G, H and their norms Q, R, the twist and flip
+   eigenvalues, the scaling block hs = [f_aa f_ab; f_ab f_bb] with its
+   eigenvalues l1 >= l2 (t their half difference) and, when t > 0, the
+   better conditioned of the two unnormalized eigenvectors of l1,
+   (h1, l1 - h0) or (l1 - h2, h1), as (x, y).  Returns 0 when J is not
+   positively oriented. */
+typedef struct bp__jeig {
+    double E, F, G, H, Q, R, tw, fl, hs[3], t, l1, l2, x, y;
+} bp__jeig;
+
+static int bp__hessian_eig(bp_energy kind, const double J[4], bp__jeig *e)
+{
+    double a = J[0], b = J[1], c = J[2], d = J[3], det = a * d - b * c, sa, sb, fa, fb;
+    e->E = 0.5 * (a + d); e->F = 0.5 * (a - d); e->G = 0.5 * (c + b); e->H = 0.5 * (c - b);
+    e->Q = sqrt(e->E * e->E + e->H * e->H);
+    e->R = sqrt(e->F * e->F + e->G * e->G);
+    if (!(det > 0)) return 0;
+    sa = e->Q + e->R;
+    sb = det / sa;
+    bp__energy_sv(kind, sa, sb, &fa, &fb);
+    bp__energy_sv2(kind, sa, sb, fa, fb, e->hs, &e->tw, &e->fl);
+    e->t = sqrt(0.25 * (e->hs[0] - e->hs[2]) * (e->hs[0] - e->hs[2]) + e->hs[1] * e->hs[1]);
+    e->l1 = 0.5 * (e->hs[0] + e->hs[2]) + e->t;
+    e->l2 = 0.5 * (e->hs[0] + e->hs[2]) - e->t;
+    if (e->t > 0) {
+        double x1 = e->hs[1], y1 = e->l1 - e->hs[0], x2 = e->l1 - e->hs[2], y2 = e->hs[1];
+        if (x1 * x1 + y1 * y1 >= x2 * x2 + y2 * y2) { e->x = x1; e->y = y1; } else { e->x = x2; e->y = y2; }
+    } else { e->x = 1; e->y = 0; }
+    return 1;
+}
+
 /* The 4x4 Hessian of f(J) in J's entries (a, b, c, d) = (J00, J01, J10,
    J11), row major into h4; with `project`, its positive semidefinite
    projection.  Returns 0 when J is not positively oriented. */
 static int bp__hessian_j(bp_energy kind, const double J[4], int project, double h4[16])
 {
-    double a = J[0], b = J[1], c = J[2], d = J[3];
-    double E = 0.5 * (a + d), F = 0.5 * (a - d), G = 0.5 * (c + b), H = 0.5 * (c - b);
-    double Q = sqrt(E * E + H * H), R = sqrt(F * F + G * G), det = a * d - b * c;
-    double sa, sb, fa, fb, hs[3], tw, fl, rot[4], ref[4], m[4][4], lam[4], s2 = sqrt(0.5);
-    double t, c1, c2, l1, l2, hv, out[16];
+    double rot[4], ref[4], m[4][4], lam[4], s2 = sqrt(0.5), c1, c2, hv, out[16];
+    bp__jeig e;
     int i, j, k;
-    if (!(det > 0)) return 0;
-    sa = Q + R;
-    sb = det / sa;
-    bp__energy_sv(kind, sa, sb, &fa, &fb);
-    bp__energy_sv2(kind, sa, sb, fa, fb, hs, &tw, &fl);
-    rot[0] = E / Q; rot[1] = -H / Q; rot[2] = H / Q; rot[3] = E / Q;
-    if (R > 0) { ref[0] = F / R; ref[1] = G / R; ref[2] = G / R; ref[3] = -F / R; }
+    if (!bp__hessian_eig(kind, J, &e)) return 0;
+    rot[0] = e.E / e.Q; rot[1] = -e.H / e.Q; rot[2] = e.H / e.Q; rot[3] = e.E / e.Q;
+    if (e.R > 0) { ref[0] = e.F / e.R; ref[1] = e.G / e.R; ref[2] = e.G / e.R; ref[3] = -e.F / e.R; }
     else { ref[0] = 1; ref[1] = 0; ref[2] = 0; ref[3] = -1; }
     /* twist and flip: [-H -E; E -H] / Q and [-G F; F G] / R, over sqrt2 */
     m[0][0] = -rot[2] * s2; m[0][1] = -rot[0] * s2; m[0][2] = rot[0] * s2; m[0][3] = -rot[2] * s2;
     m[1][0] = -ref[1] * s2; m[1][1] = ref[0] * s2; m[1][2] = ref[0] * s2; m[1][3] = ref[1] * s2;
-    lam[0] = tw; lam[1] = fl;
+    lam[0] = e.tw; lam[1] = e.fl;
     /* the scaling block in the basis D1 = (rot + ref) / 2, D2 = (rot - ref) / 2:
-       eigenvalues l1 >= l2 of [h0 h1; h1 h2], eigenvector (c1, c2) of l1 */
-    t = sqrt(0.25 * (hs[0] - hs[2]) * (hs[0] - hs[2]) + hs[1] * hs[1]);
-    l1 = 0.5 * (hs[0] + hs[2]) + t;
-    l2 = 0.5 * (hs[0] + hs[2]) - t;
-    if (t > 0) {
-        /* (h1, l1 - h0) or (l1 - h2, h1): the better conditioned of the two */
-        double x1 = hs[1], y1 = l1 - hs[0], x2 = l1 - hs[2], y2 = hs[1];
-        if (x1 * x1 + y1 * y1 >= x2 * x2 + y2 * y2) { c1 = x1; c2 = y1; } else { c1 = x2; c2 = y2; }
+       eigenvalues l1 >= l2, the unit eigenvector (c1, c2) of l1 */
+    c1 = e.x; c2 = e.y;
+    if (e.t > 0) {
         hv = sqrt(c1 * c1 + c2 * c2);
         c1 /= hv; c2 /= hv;
-    } else { c1 = 1; c2 = 0; }
+    }
     for (k = 0; k < 4; k++) {
         double d1 = 0.5 * (rot[k] + ref[k]), d2 = 0.5 * (rot[k] - ref[k]);
         m[2][k] = c1 * d1 + c2 * d2;         /* eigenvector of l1 */
         m[3][k] = -c2 * d1 + c1 * d2;        /* eigenvector of l2 */
     }
-    lam[2] = l1; lam[3] = l2;
+    lam[2] = e.l1; lam[3] = e.l2;
     for (k = 0; k < 4; k++) if (project && !(lam[k] > 0)) lam[k] = 0;
     for (i = 0; i < 4; i++)                  /* symmetric: the upper triangle, mirrored */
         for (j = i; j < 4; j++) {
@@ -13186,31 +13206,22 @@ static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double 
    against the 4x4's blocks for every energy. */
 static int bp__hessian_iso_j(bp_energy kind, const double J[4], double C[8])
 {
-    double a = J[0], b = J[1], c = J[2], d = J[3];
-    double E = 0.5 * (a + d), F = 0.5 * (a - d), G = 0.5 * (c + b), H = 0.5 * (c - b);
-    double Q = sqrt(E * E + H * H), R = sqrt(F * F + G * G), det = a * d - b * c;
-    double sa, sb, fa, fb, hs[3], tw, fl, al, be, t, l1, l2, iso, dev, p0, p1;
-    if (!(det > 0)) return 0;
-    sa = Q + R;
-    sb = det / sa;
-    bp__energy_sv(kind, sa, sb, &fa, &fb);
-    bp__energy_sv2(kind, sa, sb, fa, fb, hs, &tw, &fl);
-    t = sqrt(0.25 * (hs[0] - hs[2]) * (hs[0] - hs[2]) + hs[1] * hs[1]);
-    l1 = 0.5 * (hs[0] + hs[2]) + t;
-    l2 = 0.5 * (hs[0] + hs[2]) - t;
-    if (l2 >= 0) { al = hs[0]; be = hs[2]; }          /* already positive semidefinite */
-    else if (!(l1 > 0)) al = be = 0;
-    else {                                            /* l1 e e^T, e as in bp__hessian_j */
-        double x1 = hs[1], y1 = l1 - hs[0], x2 = l1 - hs[2], y2 = hs[1], n1 = x1 * x1 + y1 * y1, n2 = x2 * x2 + y2 * y2;
-        if (n1 >= n2) { al = l1 * x1 * x1 / n1; be = l1 * y1 * y1 / n1; }
-        else { al = l1 * x2 * x2 / n2; be = l1 * y2 * y2 / n2; }
+    double al, be, tw, fl, iso, dev, p0, p1;
+    bp__jeig e;
+    if (!bp__hessian_eig(kind, J, &e)) return 0;
+    if (e.l2 >= 0) { al = e.hs[0]; be = e.hs[2]; }    /* already positive semidefinite */
+    else if (!(e.l1 > 0)) al = be = 0;
+    else {                                            /* l1 e e^T, e = (x, y) / |(x, y)| */
+        double n = e.x * e.x + e.y * e.y;
+        al = e.l1 * e.x * e.x / n;
+        be = e.l1 * e.y * e.y / n;
     }
-    if (!(tw > 0)) tw = 0;
-    if (!(fl > 0)) fl = 0;
+    tw = e.tw > 0 ? e.tw : 0;
+    fl = e.fl > 0 ? e.fl : 0;
     iso = 0.25 * (tw + fl + al + be);
     dev = 0.25 * (al - be);
-    if (R > 0) { p0 = (E * F + H * G) / (Q * R); p1 = (E * G - H * F) / (Q * R); }
-    else { p0 = E / Q; p1 = -H / Q; }
+    if (e.R > 0) { p0 = (e.E * e.F + e.H * e.G) / (e.Q * e.R); p1 = (e.E * e.G - e.H * e.F) / (e.Q * e.R); }
+    else { p0 = e.E / e.Q; p1 = -e.H / e.Q; }
     C[0] = iso + dev * p0;
     C[1] = C[4] = dev * p1;
     C[5] = iso - dev * p0;
