@@ -11975,9 +11975,14 @@ typedef struct bp__conformal_task {
     const bp_chart *ch;
     const bp_mesh *m;
     bp__sparse *K;
+    bp__sparse *L;                /* scalar: the Laplacian's columns instead */
     double *rhs;
     uint32_t *glen;               /* first pass: each column vertex's count */
+    const uint32_t *bxp;          /* scalar: a boundary column's place in bxy
+                                     (BP__NONE elsewhere)                   */
+    double *bxy;                  /* ... and there its xy entries K(2u, 2v+1) */
     uint32_t p[2], nc;
+    int scalar;                   /* fill L, bxy and rhs, not K            */
     double d;
 } bp__conformal_task;
 
@@ -11988,7 +11993,13 @@ typedef struct bp__conformal_task {
    that order. */
 typedef struct bp__conformal {
     bp__conformal_task J;
-    bp__sparse K;
+    bp__sparse K;                 /* the 2x2 system (n = 2 nv always set;
+                                     its arrays only when that solve is
+                                     taken: bp__conformal_full)             */
+    bp__sparse L;                 /* the Schur complement's way: the scalar
+                                     Laplacian, K's xx entries             */
+    uint32_t *bxp;                /* its boundary columns' xy entries      */
+    double *bxy;
     double *buf;                  /* rhs, then the solve's workspace       */
     int how;                      /* the solve bp__conformal_end took: 1 the
                                      boundary's Schur complement, 2 the
@@ -12351,8 +12362,55 @@ static uint32_t bp__conformal_pos(const bp__tutte *T, uint32_t v, uint32_t u)
     return bp__adj_find(T->adjp, T->adj, v, u) - T->adjp[v] + (v < u);
 }
 
+/* Column v of the scalar Laplacian L (J->scalar: the Schur complement's
+   way, which reads nothing else of K): rows v and its chart neighbours,
+   increasing, and each value K's xx entry (2u, 2v), the very terms in the
+   very order of bp__conformal_task_run's below (so the same bits); for a
+   boundary column also K's xy entries (2u, 2v+1), the only ones of K's
+   other three blocks the Schur complement needs (bp__cschur_system); the
+   right-hand side as there.  A quarter of K's 35 MB on face (its pages
+   and its zeroing were 5 ms of the start), and a quarter of the
+   products. */
+static void bp__conformal_scalar_col(bp__conformal_task *J, uint32_t v)
+{
+    const bp__tutte *T = J->T;
+    bp__sparse *L = J->L;
+    uint32_t c0 = L->colp[v], len = L->colp[v + 1] - c0, e, q, w, dv = 0;
+    double *xy = J->bxp[v] != BP__NONE ? J->bxy + J->bxp[v] : NULL;
+    for (w = c0, e = T->adjp[v]; e <= T->adjp[v + 1]; e++) {          /* rows: v and its neighbours */
+        uint32_t u = e < T->adjp[v + 1] ? T->adj[e] : BP__NONE;
+        if (!dv && u > v) { L->row[w++] = v; dv = 1; }
+        if (u < T->nv) L->row[w++] = u;
+    }
+    memset(L->val + c0, 0, len * sizeof(double));
+    if (xy) memset(xy, 0, len * sizeof(double));
+    if (v == J->p[0] || v == J->p[1]) {                              /* held: the identity's column */
+        L->val[c0 + bp__conformal_pos(T, v, v)] = 1;
+        J->rhs[2 * v] = v == J->p[1] ? J->d : 0;
+        J->rhs[2 * v + 1] = 0;
+        return;
+    }
+    for (q = T->incp[v]; q < T->incp[v + 1]; q++) {
+        uint32_t t = T->inc[q] / 3, k = T->inc[q] % 3, r;
+        double g1[6], g2[6], area;
+        if (t >= J->ch->num_triangles) continue;                     /* a hole's fan */
+        if (!((area = bp__conformal_rows(J->ch, J->m, t, g1, g2)) > 0)) continue;
+        for (r = 0; r < 3; r++) {
+            uint32_t u = T->tri[3 * (size_t)t + r], p = bp__conformal_pos(T, v, u);
+            double hxx = area * (g1[2 * r] * g1[2 * k] + g2[2 * r] * g2[2 * k]);
+            double hxy = area * (g1[2 * r] * g1[2 * k + 1] + g2[2 * r] * g2[2 * k + 1]);
+            if (u == J->p[1]) { J->rhs[2 * v] -= hxx * J->d; J->rhs[2 * v + 1] -= hxy * J->d; }
+            else if (u != J->p[0]) {
+                L->val[c0 + p] += hxx;
+                if (xy) xy[p] += hxy;
+            }
+        }
+    }
+}
+
 /* Vertex chunk c: with J->glen, the number of vertices in each column's
-   block pattern (the vertex and its chart neighbours); without, the
+   block pattern (the vertex and its chart neighbours); with J->scalar,
+   the columns of L (above); else the
    columns 2v, 2v+1 themselves (rows 2u, 2u+1 for each u in increasing
    order, as Newton's matrix) and their values: each corner of v in
    increasing corner number (so triangle order: the same sums on any
@@ -12370,6 +12428,7 @@ static void bp__conformal_task_run(void *task, uint32_t c)
         int dv = 0;
         for (e = T->adjp[v]; e < T->adjp[v + 1]; e++) n += T->adj[e] < T->nv;
         if (J->glen) { J->glen[v] = n; continue; }
+        if (J->scalar) { bp__conformal_scalar_col(J, v); continue; }
         c0 = K->colp[2 * v];
         len = 2 * n;
         for (w = c0, e = T->adjp[v]; e <= T->adjp[v + 1]; e++) {      /* rows of column 2v */
@@ -12677,9 +12736,12 @@ static void bp__kb_run(void *task, uint32_t t)
 }
 
 /* C (x of B's vertex i against y of j: K's row 2 bv[i], column
-   2 bv[j] + 1) from the y columns of B, and the dense system
-   [S C; C^T S] (bp__kb_run, on the threads in 16 column chunks). */
-static int bp__cschur_system(const bp_allocator *a, bp__cschur *Z, const bp__sparse *K, const bp__par *par)
+   2 bv[j] + 1) from the y columns of B (xy: those entries kept beside L
+   by the columns' pass, bp__conformal_scalar_col; NULL: K's own), and
+   the dense system [S C; C^T S] (bp__kb_run, on the threads in 16 column
+   chunks). */
+static int bp__cschur_system(const bp_allocator *a, bp__cschur *Z, const bp__sparse *K, const uint32_t *bxp,
+                             const double *bxy, const bp__par *par)
 {
     uint32_t nb = Z->nb, n = 2 * nb, j, p;
     bp__kb_task T;
@@ -12689,7 +12751,14 @@ static int bp__cschur_system(const bp_allocator *a, bp__cschur *Z, const bp__spa
     Z->KB.val = (double *)bp__alloc_array(a, (size_t)n * n, sizeof(double));
     if (!Z->Cx || !Z->KB.colp || !Z->KB.row || !Z->KB.val) return 0;
     for (j = 0; j < nb; j++) {
-        uint32_t c0 = K->colp[2 * Z->bv[j] + 1], c1 = K->colp[2 * Z->bv[j] + 2];
+        uint32_t v = Z->bv[j], c0, c1;
+        if (bxy) {                                     /* L's pattern, the kept xy entries */
+            for (c0 = Z->L.colp[v], p = c0; p < Z->L.colp[v + 1]; p++)
+                if (Z->bidx[Z->L.row[p]] != BP__NONE) Z->Cx[(size_t)Z->bidx[Z->L.row[p]] * nb + j] = bxy[bxp[v] + p - c0];
+            continue;
+        }
+        c0 = K->colp[2 * v + 1];
+        c1 = K->colp[2 * v + 2];
         for (p = c0; p < c1; p += 2) {
             uint32_t u = K->row[p] / 2;
             if (Z->bidx[u] != BP__NONE) Z->Cx[(size_t)Z->bidx[u] * nb + j] = K->val[p];
@@ -12758,10 +12827,13 @@ static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp
     if (Z.nb == 0 || (double)Z.nb > BP__CONFORMAL_SCHUR_K * sqrt((double)nv)) goto done;
     ok = -1;
     Z.work = (double *)bp__alloc_array(a, 6 * (size_t)nv + 6 * (size_t)Z.nb, sizeof(double));
-    if (!Z.work || !bp__cschur_laplacian(a, &Z, &C->K)) goto done;
+    if (C->J.scalar) Z.L = C->L;                        /* built by the columns' pass: borrowed */
+    if (!Z.work || (!C->J.scalar && !bp__cschur_laplacian(a, &Z, &C->K))) goto done;
     st = bp__super_factorize(a, &Z.L, &Z.F, &bad, par, 1, &fallback, Z.ord, Z.tree);
     if (st != BP_OK || fallback) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
-    if (!bp__cschur_complement(a, &Z, par) || !bp__cschur_system(a, &Z, &C->K, par)) goto done;
+    if (!bp__cschur_complement(a, &Z, par) ||
+        !bp__cschur_system(a, &Z, &C->K, C->J.scalar ? C->bxp : NULL, C->J.scalar ? C->bxy : NULL, par))
+        goto done;
     for (k = 0; k < Z.nb; k++) Z.bv[Z.nb + k] = k;      /* the dense system's order */
     memset(one, 0, sizeof one);                         /* one separator: the dense */
     one[0].used = one[0].split = 1;                      /* factor's panels on the threads */
@@ -12771,8 +12843,60 @@ static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp
     bp__cschur_solve(&Z, C->buf, ch, par);
     ok = 1;
 done:
+    if (C->J.scalar) memset(&Z.L, 0, sizeof Z.L);      /* C's own, freed with C */
     bp__cschur_free(a, &Z);
     return ok;
+}
+
+/* K's arrays in 2x2 blocks from L's column lengths (4 entries per
+   block, columns 2v and 2v+1 each 2 |column v|).  Returns 0 out of
+   memory. */
+static int bp__conformal_alloc_k(const bp_allocator *a, bp__conformal *C)
+{
+    bp__sparse *K = &C->K;
+    uint32_t nv = C->L.n, v;
+    size_t w = 0;
+    K->colp = (uint32_t *)bp__alloc_array(a, 2 * (size_t)nv + 1, sizeof(uint32_t));
+    if (!K->colp) return 0;
+    for (v = 0; v < nv; v++) {
+        uint32_t g = C->L.colp[v + 1] - C->L.colp[v];
+        K->colp[2 * v] = (uint32_t)w;
+        K->colp[2 * v + 1] = (uint32_t)(w + 2 * (size_t)g);
+        w += 4 * (size_t)g;
+    }
+    K->colp[2 * nv] = (uint32_t)w;
+    K->row = (uint32_t *)bp__alloc_array(a, w + 1, sizeof(uint32_t));
+    K->val = (double *)bp__alloc_array(a, w + 1, sizeof(double));
+    return K->row && K->val;
+}
+
+/* Whether bp__conformal_schur will be tried: the free boundary B (the
+   loops' vertices but the held two) is not empty and has at most
+   BP__CONFORMAL_SCHUR_K sqrt(nv) vertices, the test it makes itself.
+   Marks B in bxp (0 there, BP__NONE elsewhere). */
+static int bp__conformal_schur_planned(const bp_chart *ch, const uint32_t *held, uint32_t nv, uint32_t *bxp)
+{
+    uint32_t j, v, nb = 0;
+    for (v = 0; v < nv; v++) bxp[v] = BP__NONE;
+    for (j = ch->loop_start[0]; j < ch->loop_start[ch->num_loops]; j++) {
+        v = ch->loop_vertices[j];
+        if (v != held[0] && v != held[1] && bxp[v] == BP__NONE) { bxp[v] = 0; nb++; }
+    }
+    return BP__CONFORMAL_SCHUR && nb > 0 && (double)nb <= BP__CONFORMAL_SCHUR_K * sqrt((double)nv);
+}
+
+/* The 2x2 system after all (asked for, or the Schur complement refused
+   it): K's arrays and its columns, the right-hand side again with them
+   (the same sums).  Returns 0 out of memory. */
+static int bp__conformal_full(const bp_allocator *a, bp__conformal *C, const bp__par *par)
+{
+    uint32_t i;
+    if (C->K.row) return 1;
+    if (!bp__conformal_alloc_k(a, C)) return 0;
+    for (i = 0; i < C->K.n; i++) C->buf[i] = 0;
+    C->J.scalar = 0;
+    bp__conformal_run(&C->J, par);
+    return 1;
 }
 
 /* The conformal map of the chart into ch->uv, scaled, in the order
@@ -12788,41 +12912,53 @@ static int bp__conformal_begin(const bp_allocator *a, const bp__tutte *T, bp_cha
                                const bp__par *runner, int any_size, bp__conformal *C)
 {
     bp__conformal_task *J = &C->J;
-    bp__sparse *K = &C->K;
     bp__par serial = bp__par_serial();
     const bp__par *par = runner ? runner : &serial;
     uint32_t nv = T->nv, n = 2 * nv, v;
-    size_t w = 0, i;
+    size_t i;
     memset(C, 0, sizeof *C);
     if ((!any_size && ch->num_triangles >= BP__CONFORMAL_MAX) || !bp__conformal_pins(ch, m, &J->p[0], &J->p[1], &J->d))
         return 0;
     J->T = T;
     J->ch = ch;
     J->m = m;
-    J->K = K;
+    J->K = &C->K;
+    J->L = &C->L;
     J->glen = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
-    K->colp = (uint32_t *)bp__alloc_array(a, (size_t)n + 1, sizeof(uint32_t));
+    C->L.colp = (uint32_t *)bp__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    C->bxp = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
     C->buf = (double *)bp__alloc_array(a, 2 * (size_t)n, sizeof(double));
-    if (!J->glen || !K->colp || !C->buf) return -1;
+    if (!J->glen || !C->L.colp || !C->bxp || !C->buf) return -1;
     bp__conformal_run(J, par);                               /* the columns' lengths */
+    C->L.colp[0] = 0;
     for (v = 0; v < nv; v++) {
-        K->colp[2 * v] = (uint32_t)w;
-        K->colp[2 * v + 1] = (uint32_t)(w + 2 * (size_t)J->glen[v]);
-        w += 4 * (size_t)J->glen[v];
-        if (w > 0xfffffff0u) return 0;
+        if ((size_t)C->L.colp[v] + J->glen[v] > 0x3ffffffcu) return 0;   /* K's 4x must fit */
+        C->L.colp[v + 1] = C->L.colp[v] + J->glen[v];
     }
-    K->colp[n] = (uint32_t)w;
-    K->n = n;
-    K->symmetric = 1;
-    K->blocks2 = 1;
-    K->row = (uint32_t *)bp__alloc_array(a, w + 1, sizeof(uint32_t));
-    K->val = (double *)bp__alloc_array(a, w + 1, sizeof(double));
-    if (!K->row || !K->val) return -1;
+    C->K.n = n;
+    C->K.symmetric = 1;
+    C->K.blocks2 = 1;
+    C->L.n = nv;
+    C->L.symmetric = 1;
+    C->L.super1 = 1;
     for (i = 0; i < n; i++) C->buf[i] = 0;
     bp__free(a, J->glen);
     J->glen = NULL;                                          /* the next pass: the columns */
     J->rhs = C->buf;
-    return 1;
+    if (bp__conformal_schur_planned(ch, J->p, nv, C->bxp)) {
+        size_t nxy = 0;
+        for (v = 0; v < nv; v++)
+            if (C->bxp[v] != BP__NONE) { C->bxp[v] = (uint32_t)nxy; nxy += C->L.colp[v + 1] - C->L.colp[v]; }
+        C->L.row = (uint32_t *)bp__alloc_array(a, (size_t)C->L.colp[nv] + 1, sizeof(uint32_t));
+        C->L.val = (double *)bp__alloc_array(a, (size_t)C->L.colp[nv] + 1, sizeof(double));
+        C->bxy = (double *)bp__alloc_array(a, nxy + 1, sizeof(double));
+        if (!C->L.row || !C->L.val || !C->bxy) return -1;
+        J->bxp = C->bxp;
+        J->bxy = C->bxy;
+        J->scalar = 1;
+        return 1;
+    }
+    return bp__conformal_alloc_k(a, C) ? 1 : -1;
 }
 
 /* bp__conformal_end, after the columns' pass: the solve, by the
@@ -12850,6 +12986,7 @@ static int bp__conformal_end(const bp_allocator *a, bp__conformal *C, bp_chart *
     C->how = ok == 1 ? 1 : 2;
     if (C->how == 2) {                                       /* the 2x2 factorization */
         ok = -1;
+        if (!bp__conformal_full(a, C, par)) goto done;
         st = bp__factorize_order(a, K, &F, &bad, par, order, tree);
         if (st != BP_OK) { ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : 0; goto done; }
         bp__factor_solve_par(&F, rhs, ch->uv, z, par);
@@ -12874,6 +13011,8 @@ static void bp__conformal_free(const bp_allocator *a, bp__conformal *C)
 {
     bp__free(a, C->J.glen);
     bp__free(a, C->K.colp); bp__free(a, C->K.row); bp__free(a, C->K.val);
+    bp__free(a, C->L.colp); bp__free(a, C->L.row); bp__free(a, C->L.val);
+    bp__free(a, C->bxp); bp__free(a, C->bxy);
     bp__free(a, C->buf);
     memset(C, 0, sizeof *C);
 }

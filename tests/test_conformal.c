@@ -50,7 +50,12 @@
        extent, and the chosen one is the same bits on every schedule.
        (a) also runs on camelhead asked for BP_INIT_CONFORMAL: the Schur
        complement's map is the least squares conformal map, by the
-       test's own gradient. */
+       test's own gradient.
+   (h) Where the Schur complement is planned (camelhead, bishop) the
+       columns' pass fills the scalar Laplacian and the boundary's xy
+       entries instead of K; K built afterwards (the 2x2 solve's need)
+       holds exactly those values, bit for bit, and the same right-hand
+       side; on face_holes K is filled by the pass itself. */
 #define BP__CONFORMAL_MAX 20000u
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
@@ -554,6 +559,79 @@ static void check_schur(const char *path, int expect)
     bp_mesh_free(&m, NULL);
 }
 
+/* ---- (h) ------------------------------------------------------------------ */
+
+/* The Schur complement's system without K: where bp__conformal_schur
+   will be tried, the columns' pass fills the scalar Laplacian L, the
+   boundary columns' xy entries and the right-hand side, and K is not
+   allocated; bp__conformal_full then builds K after all (as the 2x2
+   solve needs it), and every value of L must be bit for bit K's entry
+   (2u, 2v), every kept xy entry K's (2u, 2v + 1), and the right-hand side
+   the same.  Where the Schur complement is not planned (face_holes), K is
+   built by the pass itself. */
+static void check_scalar_pass(const char *path, int planned)
+{
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_allocator al;
+    bp__tutte T;
+    bp__conformal C;
+    bp__par par = bp__par_serial();
+    bp_chart *ch;
+    uint32_t v, i, nv, bad_l = 0, bad_xy = 0, bad_rhs = 0, nxy = 0, nl = 0;
+    double *lv = NULL, *xy = NULL, *rhs = NULL;
+    if (!load(path, &m, &atlas)) return;
+    ch = &atlas.charts[0];
+    bp_options_init(&opt);
+    al = bp__allocator_of(&opt);
+    memset(&T, 0, sizeof T);
+    T.par = par;
+    if (!BPT_CHECK(bp__tutte_fill(&al, &T, ch, &m) && bp__tutte_adjacency(&al, &T) &&
+                   bp__conformal_begin(&al, &T, ch, &m, NULL, 1, &C) == 1, "%s: the conformal system set up", path)) {
+        bp__tutte_free(&al, &T); bp_atlas_free(&atlas); bp_mesh_free(&m, NULL);
+        return;
+    }
+    nv = C.L.n;
+    BPT_CHECK(C.J.scalar == planned && (C.K.row == NULL) == planned,
+              "%s: the columns' pass fills %s (scalar %d, K %s)", path, planned ? "L alone" : "K", C.J.scalar,
+              C.K.row ? "allocated" : "not allocated");
+    bp__serial_for(NULL, bp__conformal_task_run, &C.J, C.J.nc);
+    if (planned) {
+        lv = (double *)malloc(((size_t)C.L.colp[nv] + 1) * sizeof(double));
+        xy = (double *)malloc(((size_t)C.L.colp[nv] + 1) * sizeof(double));
+        rhs = (double *)malloc(2 * (size_t)nv * sizeof(double));
+        memcpy(lv, C.L.val, C.L.colp[nv] * sizeof(double));
+        memcpy(rhs, C.buf, 2 * (size_t)nv * sizeof(double));
+        for (v = 0; v < nv; v++)
+            if (C.bxp[v] != BP__NONE)
+                for (i = 0; i < C.L.colp[v + 1] - C.L.colp[v]; i++) xy[C.L.colp[v] + i] = C.bxy[C.bxp[v] + i];
+        if (BPT_CHECK(bp__conformal_full(&al, &C, &par) && C.K.row, "%s: K built after all", path)) {
+            for (v = 0; v < nv; v++) {
+                uint32_t c0 = C.K.colp[2 * v], c1 = C.K.colp[2 * v + 1], len = C.L.colp[v + 1] - C.L.colp[v];
+                for (i = 0; i < len; i++) {
+                    uint32_t p = C.L.colp[v] + i;
+                    nl++;
+                    if (C.K.row[c0 + 2 * i] != 2 * C.L.row[p] || memcmp(&C.K.val[c0 + 2 * i], &lv[p], sizeof(double)))
+                        bad_l++;
+                    if (C.bxp[v] == BP__NONE) continue;
+                    nxy++;
+                    if (memcmp(&C.K.val[c1 + 2 * i], &xy[p], sizeof(double))) bad_xy++;
+                }
+            }
+            for (i = 0; i < 2 * nv; i++) bad_rhs += memcmp(&rhs[i], &C.buf[i], sizeof(double)) != 0;
+            BPT_CHECK(bad_l == 0 && bad_xy == 0 && bad_rhs == 0 && nxy > 0,
+                      "%s: L is K's xx entries bit for bit (%u of %u differ), the kept xy entries K's (%u of %u), "
+                      "the right-hand side the same (%u of %u)", path, bad_l, nl, bad_xy, nxy, bad_rhs, 2 * nv);
+        }
+    }
+    free(lv); free(xy); free(rhs);
+    bp__conformal_free(&al, &C);
+    bp__tutte_free(&al, &T);
+    bp_atlas_free(&atlas);
+    bp_mesh_free(&m, NULL);
+}
+
 /* ---- (e) ------------------------------------------------------------------ */
 
 /* A tilted plane, not the uv plane. */
@@ -587,6 +665,9 @@ int main(void)
     check_schur("tests/data/camelhead.off", 1);
     check_schur("tests/data/bishop_part_f1000.obj", 1);
     check_schur("tests/data/face_holes.off", 2);
+    check_scalar_pass("tests/data/camelhead.off", 1);
+    check_scalar_pass("tests/data/bishop_part_f1000.obj", 1);
+    check_scalar_pass("tests/data/face_holes.off", 0);
     check_start_map("tests/data/camel_b.obj", BP_INIT_AUTO, BP_INIT_MEAN_VALUE, "its conformal map folds");
     check_start_map("tests/data/camel_b.obj", BP_INIT_CONFORMAL, BP_INIT_MEAN_VALUE, "its conformal map folds");
     check_overlap();
