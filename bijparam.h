@@ -12368,9 +12368,8 @@ static uint32_t bp__conformal_pos(const bp__tutte *T, uint32_t v, uint32_t u)
    very order of bp__conformal_task_run's below (so the same bits); for a
    boundary column also K's xy entries (2u, 2v+1), the only ones of K's
    other three blocks the Schur complement needs (bp__cschur_system); the
-   right-hand side as there.  A quarter of K's 35 MB on face (its pages
-   and its zeroing were 5 ms of the start), and a quarter of the
-   products. */
+   right-hand side as there.  A quarter of K's entries (face: 2.2 of 8.7
+   MB, 1,600 fewer pages touched) and of its products. */
 static void bp__conformal_scalar_col(bp__conformal_task *J, uint32_t v)
 {
     const bp__tutte *T = J->T;
