@@ -8707,7 +8707,16 @@ static void bp__super_fscatter(const bp__super *S, uint32_t s, uint32_t vhi, dou
     const double *B = S->x + S->xp[s];
     double *zs = z + bs * (size_t)S->first[s];
     bp__super_fdiag(S, s, z);
-    for (i = c2; i < m2 && rows[i >> (bs - 1)] < vhi; i++) {
+    for (i = c2; i + 4 <= m2 && rows[(i + 3) >> (bs - 1)] < vhi; i += 4) {   /* four chains in flight */
+        const double *r0 = B + (size_t)i * c2, *r1 = r0 + c2, *r2 = r1 + c2, *r3 = r2 + c2;
+        double t0 = 0, t1 = 0, t2 = 0, t3 = 0;
+        for (j = 0; j < c2; j++) { double y = zs[j]; t0 += r0[j] * y; t1 += r1[j] * y; t2 += r2[j] * y; t3 += r3[j] * y; }
+        z[bs * (size_t)rows[i >> (bs - 1)] + (i & (bs - 1))] -= t0;
+        z[bs * (size_t)rows[(i + 1) >> (bs - 1)] + ((i + 1) & (bs - 1))] -= t1;
+        z[bs * (size_t)rows[(i + 2) >> (bs - 1)] + ((i + 2) & (bs - 1))] -= t2;
+        z[bs * (size_t)rows[(i + 3) >> (bs - 1)] + ((i + 3) & (bs - 1))] -= t3;
+    }
+    for (; i < m2 && rows[i >> (bs - 1)] < vhi; i++) {
         const double *r = B + (size_t)i * c2;
         double t = 0;
         for (j = 0; j < c2; j++) t += r[j] * zs[j];
@@ -8768,17 +8777,30 @@ static void bp__super_fscatter_buf(const bp__ssolve_task *T, uint32_t s, uint32_
     }
 }
 
-/* Supernode s, backward: its rows below, then its diagonal block. */
+/* Supernode s, backward: its rows below, then its diagonal block.  Each
+   zs[j] subtracts the rows' terms in increasing row order; four columns
+   at a time keep their sums in registers over the rows (not in memory,
+   where each row's subtraction waited on the last one's store): the same
+   terms in the same order, so the same bits. */
 static void bp__super_back(const bp__super *S, uint32_t s, double *z)
 {
     uint32_t bs = S->bs, c2 = bs * (S->first[s + 1] - S->first[s]), m2 = bs * (S->rp[s + 1] - S->rp[s]), i, j;
     const uint32_t *rows = S->ri + S->rp[s];
     const double *B = S->x + S->xp[s];
     double *zs = z + bs * (size_t)S->first[s];
-    for (i = c2; i < m2; i++) {
-        const double *r = B + (size_t)i * c2;
-        double t = z[bs * (size_t)rows[i >> (bs - 1)] + (i & (bs - 1))];
-        for (j = 0; j < c2; j++) zs[j] -= r[j] * t;
+    for (j = 0; j + 4 <= c2; j += 4) {
+        double a0 = zs[j], a1 = zs[j + 1], a2 = zs[j + 2], a3 = zs[j + 3];
+        for (i = c2; i < m2; i++) {
+            const double *r = B + (size_t)i * c2 + j;
+            double t = z[bs * (size_t)rows[i >> (bs - 1)] + (i & (bs - 1))];
+            a0 -= r[0] * t; a1 -= r[1] * t; a2 -= r[2] * t; a3 -= r[3] * t;
+        }
+        zs[j] = a0; zs[j + 1] = a1; zs[j + 2] = a2; zs[j + 3] = a3;
+    }
+    for (; j < c2; j++) {
+        double a0 = zs[j];
+        for (i = c2; i < m2; i++) a0 -= B[(size_t)i * c2 + j] * z[bs * (size_t)rows[i >> (bs - 1)] + (i & (bs - 1))];
+        zs[j] = a0;
     }
     for (i = c2; i-- > 0;) {
         const double *r = B + (size_t)i * c2;
@@ -8825,7 +8847,18 @@ static void bp__super_fscatter2(const bp__super *S, uint32_t s, uint32_t vhi, do
     const double *B = S->x + S->xp[s];
     double *zs = z + 2 * (size_t)S->first[s], t0, t1;
     bp__super_fdiag2(S, s, z);
-    for (i = c; i < m && rows[i] < vhi; i++) {
+    for (i = c; i + 2 <= m && rows[i + 1] < vhi; i += 2) {        /* two rows: four chains in flight */
+        const double *r0 = B + (size_t)i * c, *r1 = r0 + c;
+        double a0 = 0, b0 = 0, a1 = 0, b1 = 0;
+        uint32_t j;
+        for (j = 0; j < c; j++) {
+            double x = zs[2 * j], y = zs[2 * j + 1];
+            a0 += r0[j] * x; b0 += r0[j] * y; a1 += r1[j] * x; b1 += r1[j] * y;
+        }
+        z[2 * (size_t)rows[i]] -= a0; z[2 * (size_t)rows[i] + 1] -= b0;
+        z[2 * (size_t)rows[i + 1]] -= a1; z[2 * (size_t)rows[i + 1] + 1] -= b1;
+    }
+    for (; i < m && rows[i] < vhi; i++) {
         bp__super_dot2(B + (size_t)i * c, zs, c, &t0, &t1);
         z[2 * (size_t)rows[i]] -= t0;
         z[2 * (size_t)rows[i] + 1] -= t1;
@@ -8858,10 +8891,26 @@ static void bp__super_back2(const bp__super *S, uint32_t s, double *z)
     const uint32_t *rows = S->ri + S->rp[s];
     const double *B = S->x + S->xp[s];
     double *zs = z + 2 * (size_t)S->first[s];
-    for (i = c; i < m; i++) {
-        const double *r = B + (size_t)i * c;
-        double t0 = z[2 * (size_t)rows[i]], t1 = z[2 * (size_t)rows[i] + 1];
-        for (j = 0; j < c; j++) { zs[2 * j] -= r[j] * t0; zs[2 * j + 1] -= r[j] * t1; }
+    for (j = 0; j + 4 <= c; j += 4) {             /* as bp__super_back: sums in registers */
+        double a0 = zs[2 * j], b0 = zs[2 * j + 1], a1 = zs[2 * j + 2], b1 = zs[2 * j + 3];
+        double a2 = zs[2 * j + 4], b2 = zs[2 * j + 5], a3 = zs[2 * j + 6], b3 = zs[2 * j + 7];
+        for (i = c; i < m; i++) {
+            const double *r = B + (size_t)i * c + j, *zt = z + 2 * (size_t)rows[i];
+            double t0 = zt[0], t1 = zt[1];
+            a0 -= r[0] * t0; b0 -= r[0] * t1; a1 -= r[1] * t0; b1 -= r[1] * t1;
+            a2 -= r[2] * t0; b2 -= r[2] * t1; a3 -= r[3] * t0; b3 -= r[3] * t1;
+        }
+        zs[2 * j] = a0; zs[2 * j + 1] = b0; zs[2 * j + 2] = a1; zs[2 * j + 3] = b1;
+        zs[2 * j + 4] = a2; zs[2 * j + 5] = b2; zs[2 * j + 6] = a3; zs[2 * j + 7] = b3;
+    }
+    for (; j < c; j++) {
+        double a0 = zs[2 * j], b0 = zs[2 * j + 1];
+        for (i = c; i < m; i++) {
+            const double *zt = z + 2 * (size_t)rows[i];
+            double rr = B[(size_t)i * c + j];
+            a0 -= rr * zt[0]; b0 -= rr * zt[1];
+        }
+        zs[2 * j] = a0; zs[2 * j + 1] = b0;
     }
     for (i = c; i-- > 0;) {
         const double *r = B + (size_t)i * c;
