@@ -12615,7 +12615,11 @@ static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, co
    ../shared/meshes: face, bimba and camelhead go this way; hilbert,
    face_holes and the many-loop charts the other).  The map solves the same
    least squares problem (the interior xy terms taken as the zeros they
-   are), so it goes through the same scale and the same exact check. */
+   are), so it goes through the same scale and the same exact check.
+   Since this way reads only L, C and the right-hand side, the columns'
+   pass writes just those when it will be taken (bp__conformal_scalar_col,
+   the same values), and K itself is built only for the 2x2 solve
+   (bp__conformal_full). */
 #ifndef BP__CONFORMAL_SCHUR
 #define BP__CONFORMAL_SCHUR 1           /* 0: always the factorization in 2x2 blocks */
 #endif
