@@ -12411,6 +12411,40 @@ static uint32_t bp__conformal_pos(const bp__tutte *T, uint32_t v, uint32_t u)
     return bp__adj_find(T->adjp, T->adj, v, u) - T->adjp[v] + (v < u);
 }
 
+/* The rows of column vertex v's pattern, increasing: v and its chart
+   neighbours, each as bs rows bs u .. bs u + bs - 1 (bs 1: L's column v;
+   2: K's column 2v, and 2v + 1 the same). */
+static void bp__conformal_col_rows(const bp__tutte *T, uint32_t v, uint32_t bs, uint32_t *out)
+{
+    uint32_t e, w = 0, b;
+    int dv = 0;
+    for (e = T->adjp[v]; e <= T->adjp[v + 1]; e++) {
+        uint32_t u = e < T->adjp[v + 1] ? T->adj[e] : BP__NONE;
+        if (!dv && u > v) { for (b = 0; b < bs; b++) out[w++] = bs * v + b; dv = 1; }
+        if (u < T->nv) for (b = 0; b < bs; b++) out[w++] = bs * u + b;
+    }
+}
+
+/* Corner q of the incidence lists: its triangle *t, its corner *k, and
+   t's residual rows and area (bp__conformal_rows); 0 for a corner that
+   adds nothing (a hole's fan, a rest shape not usable). */
+static int bp__conformal_corner(const bp__conformal_task *J, uint32_t q, uint32_t *t, uint32_t *k, double *g1,
+                                double *g2, double *area)
+{
+    *t = J->T->inc[q] / 3;
+    *k = J->T->inc[q] % 3;
+    if (*t >= J->ch->num_triangles) return 0;                       /* a hole's fan */
+    return (*area = bp__conformal_rows(J->ch, J->m, *t, g1, g2)) > 0;
+}
+
+/* A held vertex's right-hand side: (d, 0) at the far one, (0, 0) at the
+   origin (its column is the identity's). */
+static void bp__conformal_held_rhs(const bp__conformal_task *J, uint32_t v)
+{
+    J->rhs[2 * v] = v == J->p[1] ? J->d : 0;
+    J->rhs[2 * v + 1] = 0;
+}
+
 /* Column v of the scalar Laplacian L (J->scalar: the Schur complement's
    way, which reads nothing else of K): rows v and its chart neighbours,
    increasing, and each value K's xx entry (2u, 2v), the very terms in the
@@ -12423,26 +12457,18 @@ static void bp__conformal_scalar_col(bp__conformal_task *J, uint32_t v)
 {
     const bp__tutte *T = J->T;
     bp__sparse *L = J->L;
-    uint32_t c0 = L->colp[v], len = L->colp[v + 1] - c0, e, q, w, dv = 0;
-    double *xy = J->bxp[v] != BP__NONE ? J->bxy + J->bxp[v] : NULL;
-    for (w = c0, e = T->adjp[v]; e <= T->adjp[v + 1]; e++) {          /* rows: v and its neighbours */
-        uint32_t u = e < T->adjp[v + 1] ? T->adj[e] : BP__NONE;
-        if (!dv && u > v) { L->row[w++] = v; dv = 1; }
-        if (u < T->nv) L->row[w++] = u;
-    }
+    uint32_t c0 = L->colp[v], len = L->colp[v + 1] - c0, q, t, k, r;
+    double *xy = J->bxp[v] != BP__NONE ? J->bxy + J->bxp[v] : NULL, g1[6], g2[6], area;
+    bp__conformal_col_rows(T, v, 1, L->row + c0);
     memset(L->val + c0, 0, len * sizeof(double));
     if (xy) memset(xy, 0, len * sizeof(double));
     if (v == J->p[0] || v == J->p[1]) {                              /* held: the identity's column */
         L->val[c0 + bp__conformal_pos(T, v, v)] = 1;
-        J->rhs[2 * v] = v == J->p[1] ? J->d : 0;
-        J->rhs[2 * v + 1] = 0;
+        bp__conformal_held_rhs(J, v);
         return;
     }
     for (q = T->incp[v]; q < T->incp[v + 1]; q++) {
-        uint32_t t = T->inc[q] / 3, k = T->inc[q] % 3, r;
-        double g1[6], g2[6], area;
-        if (t >= J->ch->num_triangles) continue;                     /* a hole's fan */
-        if (!((area = bp__conformal_rows(J->ch, J->m, t, g1, g2)) > 0)) continue;
+        if (!bp__conformal_corner(J, q, &t, &k, g1, g2, &area)) continue;
         for (r = 0; r < 3; r++) {
             uint32_t u = T->tri[3 * (size_t)t + r], p = bp__conformal_pos(T, v, u);
             double hxx = area * (g1[2 * r] * g1[2 * k] + g2[2 * r] * g2[2 * k]);
@@ -12470,37 +12496,29 @@ static void bp__conformal_task_run(void *task, uint32_t c)
     bp__conformal_task *J = (bp__conformal_task *)task;
     const bp__tutte *T = J->T;
     bp__sparse *K = J->K;
-    uint32_t v, v1 = bp__chunk_at(T->nv, J->nc, c + 1), e, q, w;
+    uint32_t v, v1 = bp__chunk_at(T->nv, J->nc, c + 1), e, q, t, k, r;
+    double g1[6], g2[6], area;
     for (v = bp__chunk_at(T->nv, J->nc, c); v < v1; v++) {
-        uint32_t c0, len, n = 1, held = v == J->p[0] || v == J->p[1];
-        int dv = 0;
+        uint32_t c0, len, n = 1;
         for (e = T->adjp[v]; e < T->adjp[v + 1]; e++) n += T->adj[e] < T->nv;
         if (J->glen) { J->glen[v] = n; continue; }
         if (J->scalar) { bp__conformal_scalar_col(J, v); continue; }
         c0 = K->colp[2 * v];
         len = 2 * n;
-        for (w = c0, e = T->adjp[v]; e <= T->adjp[v + 1]; e++) {      /* rows of column 2v */
-            uint32_t u = e < T->adjp[v + 1] ? T->adj[e] : BP__NONE;
-            if (!dv && u > v) { K->row[w++] = 2 * v; K->row[w++] = 2 * v + 1; dv = 1; }
-            if (u < T->nv) { K->row[w++] = 2 * u; K->row[w++] = 2 * u + 1; }
-        }
-        memcpy(K->row + c0 + len, K->row + c0, len * sizeof(uint32_t));
+        bp__conformal_col_rows(T, v, 2, K->row + c0);                 /* rows of column 2v, */
+        memcpy(K->row + c0 + len, K->row + c0, len * sizeof(uint32_t)); /* and of 2v + 1 */
         memset(K->val + c0, 0, 2 * (size_t)len * sizeof(double));
-        if (held) {
+        if (v == J->p[0] || v == J->p[1]) {                          /* held: the identity's columns */
             uint32_t p = bp__conformal_pos(T, v, v);
             K->val[c0 + 2 * p] = K->val[c0 + len + 2 * p + 1] = 1;
-            J->rhs[2 * v] = v == J->p[1] ? J->d : 0;
-            J->rhs[2 * v + 1] = 0;
+            bp__conformal_held_rhs(J, v);
             continue;
         }
         for (q = T->incp[v]; q < T->incp[v + 1]; q++) {
-            uint32_t t = T->inc[q] / 3, k = T->inc[q] % 3, r;
-            double g1[6], g2[6], area;
-            int i, j;
-            if (t >= J->ch->num_triangles) continue;                 /* a hole's fan */
-            if (!((area = bp__conformal_rows(J->ch, J->m, t, g1, g2)) > 0)) continue;
+            if (!bp__conformal_corner(J, q, &t, &k, g1, g2, &area)) continue;
             for (r = 0; r < 3; r++) {
                 uint32_t u = T->tri[3 * (size_t)t + r], p = bp__conformal_pos(T, v, u);
+                int i, j;
                 for (j = 0; j < 2; j++)
                     for (i = 0; i < 2; i++) {
                         double h = area * (g1[2 * r + i] * g1[2 * k + j] + g2[2 * r + i] * g2[2 * k + j]);
