@@ -301,6 +301,112 @@ static void test_obj_ok(void)
               "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1/1 2/2 3/1\nf 1 3 4\n", 4, 2, check_mixed);
 }
 
+/* ---- the decimals' fast path -------------------------------------------
+
+   bp__decimal_fast reads m x 10^q with at most 15 significant digits and
+   |q| <= 22 by one multiplication or division, and must give strtod's
+   double bit for bit; everything else it must hand back (0) to strtod.
+   Random tokens of every shape (signs, leading and trailing zeros, a
+   point anywhere or none, exponents with and without signs, long
+   mantissas, large exponents): each one the fast path takes must equal
+   strtod's bits, each one of the documented shape it must take, and the
+   reader (bp_parse_obj) must give strtod's bits for all of them, taken or
+   not. */
+static uint64_t dec_rng = 0x243f6a8885a308d3ull;
+static uint32_t dec_next(uint32_t n)
+{
+    dec_rng = dec_rng * 6364136223846793005ull + 1442695040888963407ull;
+    return (uint32_t)(dec_rng >> 33) % n;
+}
+
+/* A random decimal token in t; *eligible: of the fast path's shape. */
+static size_t dec_token(char *t, int *eligible)
+{
+    size_t n = 0;
+    int ni = (int)dec_next(12), nf = dec_next(3) ? (int)dec_next(12) : -1, d, sig = 0, nz = 0, q = 0, ex = 0;
+    if (dec_next(4) == 0) ni += (int)dec_next(8);            /* long mantissas too */
+    if (ni == 0 && nf <= 0) ni = 1;
+    if (dec_next(3) == 0) t[n++] = dec_next(2) ? '-' : '+';
+    for (d = 0; d < ni; d++) {
+        char c = (char)('0' + (d == 0 && dec_next(3) == 0 ? 0 : dec_next(10)));
+        t[n++] = c;
+        if (nz || c != '0') { nz = 1; sig++; }
+    }
+    if (nf >= 0) {
+        t[n++] = '.';
+        for (d = 0; d < nf; d++) {
+            char c = (char)('0' + (dec_next(4) == 0 ? 0 : dec_next(10)));
+            t[n++] = c;
+            q--;
+            if (nz || c != '0') { nz = 1; sig++; }
+        }
+    }
+    if (dec_next(3) == 0) {
+        int en = dec_next(2), k, len = 1 + (int)dec_next(2);
+        t[n++] = dec_next(2) ? 'e' : 'E';
+        if (en || dec_next(3) == 0) t[n++] = en ? '-' : '+';
+        for (k = 0; k < len; k++) { int c = (int)dec_next(k ? 10 : 4); t[n++] = (char)('0' + c); ex = 10 * ex + c; }
+        q += en ? -ex : ex;
+    }
+    t[n] = 0;
+    *eligible = sig <= 15 && (sig == 0 || (q >= -22 && q <= 22));
+    return n;
+}
+
+static void test_decimal_fast(void)
+{
+    static const char *const edge[] = { "0", "-0", "+0", "-0.0", "0e500", "-0e-9999", ".5", "5.", "-.5e-3",
+                                        "1e22", "1e-22", "1e23", "9e-23", "123456789012345", "1234567890123456",
+                                        "9007199254740993", "0.000000000000000000000001", "1.7976931348623157e308",
+                                        "4.9e-324", "1e", "1e+", "1.5.2", "e5", "+", "-", ".", "0x10", "inf",
+                                        "nan", "1,5", "1d5", "--1", "1e5x", "170.381", "-2.76586" };
+    char tok[80], *text;
+    size_t k, n, len = 0, cap = 40 * 3 * 20000 + 64;
+    long i, taken = 0, eligible_n = 0, wrong = 0, missed = 0, stray = 0, read_wrong = 0;
+    bp_mesh m;
+    bp_error err;
+    double *want = (double *)malloc(3 * 20000 * sizeof(double));
+    text = (char *)malloc(cap);
+    for (k = 0; k < sizeof edge / sizeof *edge; k++) {
+        double x, y;
+        char *stop;
+        int took = bp__decimal_fast(edge[k], strlen(edge[k]), &x);
+        y = strtod(edge[k], &stop);
+        if (took && (*stop || memcmp(&x, &y, sizeof x) != 0)) stray++;
+    }
+    for (i = 0; i < 3 * 20000; i++) {
+        double x, y;
+        int el, took;
+        n = dec_token(tok, &el);
+        took = bp__decimal_fast(tok, n, &x);
+        y = strtod(tok, NULL);
+        taken += took;
+        eligible_n += el;
+        if (took && memcmp(&x, &y, sizeof x) != 0) wrong++;
+        if (el && !took) missed++;
+        if (!el && took) stray++;
+        want[i] = y;
+        if (i % 3 == 0) len += (size_t)sprintf(text + len, "v");
+        len += (size_t)sprintf(text + len, " %s", tok);
+        if (i % 3 == 2) len += (size_t)sprintf(text + len, "\n");
+    }
+    len += (size_t)sprintf(text + len, "f 1 2 3\n");
+    if (bp_parse_obj(text, len, &m, NULL, &err) != BP_OK || m.num_vertices != 20000) read_wrong = -1;
+    else {
+        for (i = 0; i < 3 * 20000; i++)
+            if (memcmp(&m.positions[i], &want[i], sizeof(double)) != 0) read_wrong++;
+        bp_mesh_free(&m, NULL);
+    }
+    BPT_CHECK(wrong == 0 && missed == 0 && stray == 0 && taken > 30000 && taken < 3 * 20000 - 3000,
+              "the decimals' fast path: %ld of 60000 random tokens taken (%ld of the documented shape), "
+              "each strtod's bits (%ld differ), none of that shape refused (%ld), none of another shape or "
+              "edge case taken wrongly (%ld)", taken, eligible_n, wrong, missed, stray);
+    BPT_CHECK(read_wrong == 0, "bp_parse_obj reads 60000 random decimals (fast path or strtod) as strtod's bits "
+              "(%ld differ; -1: the text was refused: %s)", read_wrong, read_wrong < 0 ? err.message : "");
+    free(text);
+    free(want);
+}
+
 /* ---- malformed OBJ ------------------------------------------------------ */
 
 static void test_obj_errors(void)
@@ -1491,6 +1597,7 @@ int main(void)
     test_read_chunked();
     test_par_alloc_failures();
     test_obj_ok();
+    test_decimal_fast();
     test_obj_errors();
     test_off();
     test_alloc_failures();
