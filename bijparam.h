@@ -12063,6 +12063,10 @@ typedef struct bp__handoff {
     bp__factor F;                 /* F.sn NULL: nothing handed over         */
     uint32_t   n, *colp, *row;    /* the factored matrix's pattern          */
     int        used;              /* set when Newton took F (for tests)     */
+    int        checked;           /* chart->uv as the start left it passed
+                                     the exact check (bp__check_par, the
+                                     whole of bp_check): the optimizer does
+                                     not check it again                   */
 } bp__handoff;
 
 static void bp__handoff_free(const bp_allocator *a, bp__handoff *h)
@@ -12218,6 +12222,7 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     bp_status st = BP_OK;
     uint32_t *pidx = NULL;
     int tutte = opt && opt->init == BP_INIT_TUTTE, better = !opt || opt->start != BP_START_PLAIN, planar = 0;
+    int checked = 0;              /* the map is bp__tutte_map's, which checked it exactly */
     int conformal = opt && opt->init == BP_INIT_CONFORMAL ? 2 :         /* by name: at any size */
                     BP__INIT_AUTO_CONFORMAL && (!opt || (opt->init != BP_INIT_MEAN_VALUE && opt->init != BP_INIT_TUTTE));
                                                                 /* (any other value acts as AUTO) */
@@ -12247,11 +12252,15 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
         st = bp__tutte_map(&a, ch, m, runner, !tutte, tutte ? 0 : conformal, h, err);
         if (st == BP_ERR_NUMERICAL && !tutte && (!opt || opt->init != BP_INIT_MEAN_VALUE))
             st = bp__tutte_map(&a, ch, m, runner, 0, 0, NULL, err);  /* AUTO: rounding spoiled the mean-value map */
-        if (st == BP_OK && opt && opt->start == BP_START_PROGRESSIVE && !pidx)
+        checked = st == BP_OK && !pidx;   /* each way of bp__tutte_map ends with bp__check_par on the map */
+        if (st == BP_OK && opt && opt->start == BP_START_PROGRESSIVE && !pidx) {
             st = bp__start_progressive(ch, m, opt, runner, err);                /* >>start, 3 */
+            checked = 0;
+        }
     }
     if (st == BP_OK && pidx) st = bp__pins_start(&a, ch, m, opt, runner, pidx, err);
     bp__free(&a, pidx);
+    if (h) h->checked = st == BP_OK && checked;
     if (st != BP_OK) return st;
     ch->stop = BP_STOP_NONE;
     ch->iterations = 0;
@@ -16478,7 +16487,11 @@ static void bp__opt_free(bp__opt *P)
    it there (bp_chart_init, or the caller's own map): with the barrier the
    whole of bp_check, without it every triangle positively oriented (such a
    map may overlap itself).  The elements are named as the mesh numbers
-   them.  On the optimizer's runner. */
+   them.  On the optimizer's runner.  bp_chart_solve (and bp_atlas_solve,
+   bp_parameterize) skip it when the start itself ended with this very
+   check of this very map (bp__handoff.checked: the conformal or Tutte map
+   left as bp__tutte_map checked it, no progressive start, no pins); 2.5
+   ms of face's one-thread run. */
 static bp_status bp__opt_check_start(const bp_allocator *a, const bp_chart *ch, uint32_t chart_index,
                                      const bp_mesh *m, int barrier, const bp__par *par, bp_error *err)
 {
@@ -16953,7 +16966,8 @@ static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, cons
     if (runner) P.par = *runner;                /* bp_parameterize's pool, or serial */
     else if (ch->num_triangles >= BP__PAR_MIN_TRIANGLES) P.par = bp__par_begin(&P.a, opt, &pool);
     else P.par = bp__par_serial();              /* small: no pool (see >>threads) */
-    if ((st = bp__opt_check_start(&P.a, ch, chart_index, m, !P.o.no_barrier, &P.par, err)) != BP_OK) {
+    if (!(h && h->checked) &&                   /* bp_chart_solve: checked by the start already */
+        (st = bp__opt_check_start(&P.a, ch, chart_index, m, !P.o.no_barrier, &P.par, err)) != BP_OK) {
         bp__par_end(&P.a, pool);
         return st;
     }
@@ -17026,7 +17040,9 @@ static bp_status bp__chart_optimize_api(bp_chart *ch, uint32_t chart_index, cons
     bp_options linked;                                            /* >>progress */
     bp__iter_link L;
     if (ch && m && ch->uv && opt && opt->num_pins) {                            /* pins */
-        bp_status st = bp__pins_at_targets(ch, chart_index, m, opt, err);
+        bp_status st;
+        if (h) h->checked = 0;                                   /* the pins may move the map */
+        st = bp__pins_at_targets(ch, chart_index, m, opt, err);
         if (st != BP_OK) return st;
     }
     return bp__chart_optimize_pen(ch, chart_index, m, bp__with_iter_link(opt, &linked, &L), NULL, NULL, h, err);

@@ -33,7 +33,14 @@
        passes bp_check (checked in the progress callback), the chart's
        energy_start is the start map's own energy computed here (not the
        enlarged map's), and the result is bijective with a mean energy
-       (computed here) within 1e-3 of the isometry's 4. */
+       (computed here) within 1e-3 of the isometry's 4.
+   (g) The start's own exact check handed to the optimizer
+       (bp__handoff.checked, which makes bp_chart_solve skip the second
+       check): on camel_b, face_holes and camelhead (conformal by the
+       Schur complement), with the default start, Tutte's and the
+       mean-value map, the flag is set and the map passes bp_check here;
+       after the progressive start, with a pin, and on the planar grid
+       (its projection, not bp__tutte_map's) it is clear. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -433,6 +440,83 @@ static void check_crushed(void)
     bp_atlas_free(&atlas);
 }
 
+static void check_handoff(const char *path)
+{
+    bp_mesh m;
+    bp_error err;
+    bp_allocator a;                       /* the default one */
+    int variant;
+    memset(&a, 0, sizeof a);
+    if (!BPT_CHECK(bp_read_mesh(path, &m, NULL, &err) == BP_OK, "%s read (%s)", path, err.message)) return;
+    /* 0 default; 1 Tutte; 2 mean-value; 3 progressive; 4 a pin */
+    for (variant = 0; variant < 5; variant++) {
+        static const char *what[5] = { "default", "Tutte", "mean-value", "progressive", "a pin" };
+        bp_atlas atlas;
+        bp_options opt;
+        bp_pin pin;
+        bp__handoff h;
+        bp_status st;
+        int want = variant < 3;
+        memset(&opt, 0, sizeof opt);
+        memset(&h, 0, sizeof h);
+        opt.init = variant == 1 || variant == 3 ? BP_INIT_TUTTE : variant == 2 ? BP_INIT_MEAN_VALUE : BP_INIT_AUTO;
+        opt.start = variant == 3 ? BP_START_PROGRESSIVE : BP_START_AUTO;
+        if (variant == 4) {
+            pin.vertex = m.triangles[0]; pin.uv = 0; pin.u = 0.25; pin.v = -0.5;
+            opt.pins = &pin; opt.num_pins = 1;
+        }
+        if (bp_atlas_build(&atlas, &m, &opt, &err) != BP_OK || atlas.num_charts != 1) {
+            BPT_CHECK(0, "%s: one chart (%s)", path, err.message);
+            break;
+        }
+        st = bp__chart_start(&atlas.charts[0], &m, &opt, &h, &err);
+        BPT_CHECK(st == BP_OK && h.checked == want && (!h.checked || map_valid(&atlas.charts[0], atlas.charts[0].uv)),
+                  "%s, %s start: the start's exact check handed over %s (flag %d)%s", path, what[variant],
+                  want ? "(and the map passes bp_check here)" : "not: the map changed after it", h.checked,
+                  st == BP_OK ? "" : err.message);
+        bp__handoff_free(&a, &h);
+        bp_atlas_free(&atlas);
+    }
+    bp_mesh_free(&m, NULL);
+}
+
+/* (g) on the planar grid: its own projection, no hand-over. */
+static void check_handoff_planar(void)
+{
+    double pos[3 * 121];
+    uint32_t tri[3 * 200];
+    bpt_gen g;
+    bp_mesh m;
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
+    bp__handoff h;
+    bp_allocator a;
+    uint32_t i;
+    memset(&a, 0, sizeof a);
+    g.pos = pos; g.tri = tri; g.nv = 0; g.nt = 0;
+    bpt_add_grid(&g, 10, 10, 2, 0.1, 0.3, 0, 0);
+    m = bpt_mesh_new(g.nv, g.nt);
+    for (i = 0; i < g.nv; i++) {
+        m.positions[3 * i] = pos[3 * i];
+        m.positions[3 * i + 1] = pos[3 * i + 1];
+        m.positions[3 * i + 2] = 0.3 * pos[3 * i] - 0.2 * pos[3 * i + 1];
+    }
+    memcpy(m.triangles, tri, 3 * (size_t)g.nt * sizeof(uint32_t));
+    memset(&opt, 0, sizeof opt);
+    memset(&h, 0, sizeof h);
+    h.checked = 1;
+    if (BPT_CHECK(bp_atlas_build(&atlas, &m, &opt, &err) == BP_OK && atlas.num_charts == 1, "grid: one chart")) {
+        bp_status st = bp__chart_start(&atlas.charts[0], &m, &opt, &h, &err);
+        BPT_CHECK(st == BP_OK && atlas.charts[0].start_map == BP_INIT_AUTO && h.checked == 0,
+                  "tilted planar grid: its projection is the start, the start's check is not handed over (flag %d)",
+                  h.checked);
+        bp__handoff_free(&a, &h);
+        bp_atlas_free(&atlas);
+    }
+    bpt_mesh_free(&m);
+}
+
 int main(void)
 {
     int rot;
@@ -458,5 +542,9 @@ int main(void)
     check_progressive("tests/data/cow_param_withSUV.obj");
     check_progressive("tests/data/face_holes.off");
     check_crushed();
+    check_handoff("tests/data/camel_b.obj");
+    check_handoff("tests/data/face_holes.off");
+    check_handoff("tests/data/camelhead.off");
+    check_handoff_planar();
     return bpt_finish();
 }
