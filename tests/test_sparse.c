@@ -89,7 +89,13 @@
          refactored with the AVX path switched off (the test's own
          BP__HAVE_AVX) has the same bits, L and pivots.  On a processor
          without AVX (or another compiler) there is one path, and the
-         test says so in a line of its output. */
+         test says so in a line of its output.
+     (l) the column counts of one thread (bp__sym_counts_gnp, Gilbert,
+         Ng and Peyton's algorithm) equal the row subtrees' counts
+         (bp__row_count, the parallel phases' way, walked here row by row)
+         on the vertex graphs of camelhead and fertility and on the
+         shuffled components graph, in the dissection's order, the
+         identity, its reverse and a random order. */
 #if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__) && !defined(BP_NO_SIMD)
 #define TEST_AVX 1
 static int avx_allowed = 1;
@@ -1107,6 +1113,62 @@ static void check_same_analysis(const bp__sparse *G, const bp__super *S0, const 
     }
 }
 
+/* (l) GNP's counts against the row subtrees', in four orders. */
+static void check_counts(const bp__sparse *G, const char *what)
+{
+    bp_allocator al;
+    uint32_t n = G->n, k, o, *cnt = (uint32_t *)malloc(n * sizeof(uint32_t)), *ref = (uint32_t *)calloc(n, sizeof(uint32_t));
+    uint32_t *parent = (uint32_t *)malloc(n * sizeof(uint32_t)), *mark = (uint32_t *)malloc(n * sizeof(uint32_t));
+    uint32_t *perm = (uint32_t *)malloc(n * sizeof(uint32_t)), *iperm = (uint32_t *)malloc(n * sizeof(uint32_t));
+    bp__ndnode tree[BP__ND_NODES];
+    uint64_t rng = 88172645463325252ull;
+    memset(&al, 0, sizeof al);
+    for (o = 0; o < 4; o++) {
+        static const char *HOW[] = { "the dissection's order", "the identity", "the reverse", "a random order" };
+        bp__factor F;
+        uint32_t wrong = 0;
+        double nnz = 0;
+        int ok = 1;
+        if (o == 0) ok = bp__nd_order(&al, G, perm, tree, 1, NULL);
+        for (k = 0; k < n && o > 0; k++) perm[k] = o == 2 ? n - 1 - k : k;
+        for (k = n; o == 3 && k > 1; k--) {
+            uint32_t r, t;
+            rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17;
+            r = (uint32_t)(rng % k); t = perm[k - 1]; perm[k - 1] = perm[r]; perm[r] = t;
+        }
+        for (k = 0; k < n; k++) iperm[perm[k]] = k;
+        memset(&F, 0, sizeof F);
+        F.perm = perm; F.iperm = iperm;
+        bp__fact_etree(G, &F, parent, mark);
+        memset(ref, 0, n * sizeof(uint32_t));
+        for (k = 0; k < n; k++) mark[k] = BP__NONE;
+        for (k = 0; k < n; k++) bp__row_count(G, &F, parent, mark, k, ref);
+        ok = ok && bp__sym_counts_gnp(&al, G, &F, parent, cnt);
+        for (k = 0; k < n && ok; k++) { wrong += cnt[k] != ref[k]; nnz += ref[k]; }
+        BPT_CHECK(ok && wrong == 0 && nnz > n, "%s, %s: the column counts by Gilbert, Ng and Peyton are the row subtrees' "
+                  "(%.0f entries below the diagonal; %u columns differ)", what, HOW[o], nnz, wrong);
+    }
+    free(cnt); free(ref); free(parent); free(mark); free(perm); free(iperm);
+}
+
+static void test_counts(void)
+{
+    static const char *MESH[] = { "tests/data/camelhead.off", "tests/data/fertility.off" };
+    bp_allocator al;
+    bp__sparse G;
+    int k;
+    memset(&al, 0, sizeof al);
+    for (k = 0; k < 2; k++)
+        if (BPT_CHECK(mesh_graph(MESH[k], &G), "counts: %s's vertex graph", MESH[k])) {
+            check_counts(&G, MESH[k]);
+            bp__sparse_free(&al, &G);
+        }
+    if (BPT_CHECK(components_graph(&G), "counts: the components graph")) {
+        check_counts(&G, "shuffled components");
+        bp__sparse_free(&al, &G);
+    }
+}
+
 static void test_analysis(void)
 {
     static const char *MESH[] = { "tests/data/camelhead.off", "tests/data/fertility.off" };
@@ -1260,6 +1322,7 @@ int main(void)
     test_order();
     test_newton_matrix();
     test_analysis();
+    test_counts();
 #if TEST_AVX
     if (__builtin_cpu_supports("avx"))
         BPT_CHECK(simd_compared >= 11, "(k) %u factors that took the AVX kernels compared without them", simd_compared);
