@@ -282,7 +282,9 @@ typedef enum bp_direction {
     BP_DIRECTION_DEFAULT = 0,        /* chosen per chart before solving (>>optimize,
                                         bp__opt_choose_newton): NEWTON for charts of
                                         20,000-99,999 triangles (start energy
-                                        finite), else PRECONDITIONED               */
+                                        finite), and of 1,000-19,999 triangles
+                                        whose start's mean symmetric Dirichlet
+                                        energy is 8 or more; else PRECONDITIONED */
     BP_DIRECTION_LBFGS,              /* the dissertation's L-BFGS, scalar initial
                                         Hessian (sec 3.5, Algorithm 1)             */
     BP_DIRECTION_GRADIENT,           /* gradient descent (for comparison)          */
@@ -16684,11 +16686,30 @@ static void bp__opt_hold(const bp__opt *P, double *g)
    finite keeps L-BFGS).  Above 100,000 triangles
    nothing was compared, and Newton's factor needs ~1.7 KB per face against
    L-BFGS's ~0.75 (issue 15's million-face chart must stay under 1 KiB),
-   so L-BFGS stays there.  The sum is taken by chunks of triangles added
+   so L-BFGS stays there.  Below 20,000 triangles the comparison was
+   made again after the isotropic phase and the faster factorizations
+   (sec 6.36, symmetric Dirichlet, CPU of the whole run, one thread):
+   Newton now wins where the start is far from an isometry -- camel_b
+   (E0 870) 0.29 against 0.40 s, the cow (843) 0.43 against 0.85,
+   mech-holes-shark (27.9) 0.66 against 1.28, fertility cut open (13.2)
+   0.98 against 1.06, bishop (70.9, 1,000 triangles) 0.017 against 0.029
+   -- and ties or loses where it is near one, since L-BFGS then needs few
+   iterations and Newton's ordering and first analysis are a fixed cost:
+   torus_with_holes (E0 6.0) 0.054 against 0.053, face_holes (4.08) 0.10
+   against 0.067.  So from BP__AUTO_NEWTON_SMALL triangles a start of
+   mean symmetric Dirichlet energy at least BP__AUTO_NEWTON_SMALL_E0
+   (twice the isometry's 4) takes Newton too; the other energies keep the
+   rule above (not measured).  The sum is taken by chunks of triangles added
    in chunk order (bp__energy_task, as bp__evaluate takes it), so the
    choice is the same on any number of threads. */
 #ifndef BP__AUTO_NEWTON_MIN
 #define BP__AUTO_NEWTON_MIN 20000u
+#endif
+#ifndef BP__AUTO_NEWTON_SMALL
+#define BP__AUTO_NEWTON_SMALL 1000u
+#endif
+#ifndef BP__AUTO_NEWTON_SMALL_E0
+#define BP__AUTO_NEWTON_SMALL_E0 8.0
 #endif
 #ifndef BP__AUTO_NEWTON_MAX
 #define BP__AUTO_NEWTON_MAX 100000u
@@ -16701,12 +16722,15 @@ static int bp__opt_choose_newton(bp__solver *S, const double *x)
     bp__eval_task T;
     double sum = 0;
     uint32_t c;
-    if (S->nt < BP__AUTO_NEWTON_MIN || S->nt >= BP__AUTO_NEWTON_MAX) return 0;
+    int small = S->nt < BP__AUTO_NEWTON_MIN;
+    if (S->nt < BP__AUTO_NEWTON_SMALL || S->nt >= BP__AUTO_NEWTON_MAX) return 0;
+    if (small && S->energy != BP_ENERGY_SYMMETRIC_DIRICHLET) return 0;
     memset(&T, 0, sizeof T);
     T.S = S;
     T.x = x;
     S->par.run(S->par.user, bp__energy_task, &T, S->nchunk_t);   /* E_D by chunks, as bp__evaluate */
     for (c = 0; c < S->nchunk_t; c++) sum += S->part[c];
+    if (small) return sum / S->nt >= BP__AUTO_NEWTON_SMALL_E0 && sum / S->nt < HUGE_VAL;
     return sum / S->nt < BP__AUTO_NEWTON_E0;       /* also false for a NaN or infinite start */
 }
 
