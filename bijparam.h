@@ -2095,7 +2095,8 @@ static int bp__decimal_fast(const char *s, size_t n, double *out)
 }
 
 /* A finite double: by bp__decimal_fast, else by strtod on a copy of the
-   token (so strtod never reads past `end`). */
+   token (so strtod never reads past `end`); a token of 80 characters or
+   more is refused either way. */
 static bp_status bp__parse_double(bp__parser *ps, double *out, const char *what)
 {
     char buf[80];
@@ -2106,10 +2107,10 @@ static bp_status bp__parse_double(bp__parser *ps, double *out, const char *what)
     if (n == 0)
         return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
                         "line %D: %s is missing", ps->line, what);
-    if (bp__decimal_fast(ps->p, n, out)) { ps->p += n; return BP_OK; }
     if (n >= sizeof buf)
         return bp__fail(ps->err, BP_ERR_PARSE, BP_ELEMENT_LINE, ps->line, -1, ps->line,
                         "line %D: %s is not a number (token too long)", ps->line, what);
+    if (bp__decimal_fast(ps->p, n, out)) { ps->p += n; return BP_OK; }
     memcpy(buf, ps->p, n);
     buf[n] = 0;
     *out = strtod(buf, &stop);

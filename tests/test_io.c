@@ -403,6 +403,19 @@ static void test_decimal_fast(void)
               "edge case taken wrongly (%ld)", taken, eligible_n, wrong, missed, stray);
     BPT_CHECK(read_wrong == 0, "bp_parse_obj reads 60000 random decimals (fast path or strtod) as strtod's bits "
               "(%ld differ; -1: the text was refused: %s)", read_wrong, read_wrong < 0 ? err.message : "");
+    {   /* a token of 80 characters or more is refused, also when the fast path could read it */
+        char big[160];
+        bp_status st;
+        memset(big, 0, sizeof big);
+        memcpy(big, "v ", 2);
+        memset(big + 2, '0', 84);
+        len = 86 + (size_t)sprintf(big + 86, "1.5 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        st = bp_parse_obj(big, len, &m, NULL, &err);
+        BPT_CHECK(st == BP_ERR_PARSE && err.line == 1 && strstr(err.message, "too long") != NULL,
+                  "an 87-character coordinate (84 leading zeros) is refused as too long, as before the fast path "
+                  "(status %d: %s)", (int)st, err.message);
+        if (st == BP_OK) bp_mesh_free(&m, NULL);
+    }
     free(text);
     free(want);
 }
