@@ -105,6 +105,8 @@ static const char usage_solver[] =
     "                     most the median boundary triangle height)\n"
     "  --direction default|precond|lbfgs|gd|newton   search direction; default:\n"
     "                     projected Newton for charts of 20,000-99,999 triangles,\n"
+    "                     and of 1,000-19,999 whose start's mean symmetric\n"
+    "                     Dirichlet energy is 8 or more (twice the isometry's),\n"
     "                     else precond;\n"
     "                     precond: L-BFGS preconditioned by the Laplacian, lbfgs:\n"
     "                     plain L-BFGS, gd: gradient descent, newton: always Newton\n"
