@@ -236,25 +236,33 @@ static void check_mesh_eps(const char *path)
 
 /* ---- (c), (d) ------------------------------------------------------------ */
 
-static void check_planar_grid(void)
+/* A 10 x 10 grid with a hole in the tilted plane z = 0.3 x - 0.2 y
+   (bpt_mesh_free it). */
+static bp_mesh tilted_grid(void)
 {
     double pos[3 * 121];
     uint32_t tri[3 * 200];
     bpt_gen g;
     bp_mesh m;
-    bp_atlas atlas;
-    bp_options opt;
-    bp_error err;
     uint32_t i;
     g.pos = pos; g.tri = tri; g.nv = 0; g.nt = 0;
     bpt_add_grid(&g, 10, 10, 2, 0.1, 0.3, 0, 0);
     m = bpt_mesh_new(g.nv, g.nt);
-    for (i = 0; i < g.nv; i++) {                       /* tilt the plane: z = 0.3 x - 0.2 y */
+    for (i = 0; i < g.nv; i++) {
         m.positions[3 * i] = pos[3 * i];
         m.positions[3 * i + 1] = pos[3 * i + 1];
         m.positions[3 * i + 2] = 0.3 * pos[3 * i] - 0.2 * pos[3 * i + 1];
     }
     memcpy(m.triangles, tri, 3 * (size_t)g.nt * sizeof(uint32_t));
+    return m;
+}
+
+static void check_planar_grid(void)
+{
+    bp_mesh m = tilted_grid();
+    bp_atlas atlas;
+    bp_options opt;
+    bp_error err;
     memset(&opt, 0, sizeof opt);
     if (BPT_CHECK(bp_atlas_build(&atlas, &m, &opt, &err) == BP_OK && atlas.num_charts == 1 &&
                   atlas.charts[0].num_loops == 2, "tilted grid with a hole: one chart, two loops (%s)", err.message)) {
@@ -483,26 +491,13 @@ static void check_handoff(const char *path)
 /* (g) on the planar grid: its own projection, no hand-over. */
 static void check_handoff_planar(void)
 {
-    double pos[3 * 121];
-    uint32_t tri[3 * 200];
-    bpt_gen g;
-    bp_mesh m;
+    bp_mesh m = tilted_grid();
     bp_atlas atlas;
     bp_options opt;
     bp_error err;
     bp__handoff h;
     bp_allocator a;
-    uint32_t i;
     memset(&a, 0, sizeof a);
-    g.pos = pos; g.tri = tri; g.nv = 0; g.nt = 0;
-    bpt_add_grid(&g, 10, 10, 2, 0.1, 0.3, 0, 0);
-    m = bpt_mesh_new(g.nv, g.nt);
-    for (i = 0; i < g.nv; i++) {
-        m.positions[3 * i] = pos[3 * i];
-        m.positions[3 * i + 1] = pos[3 * i + 1];
-        m.positions[3 * i + 2] = 0.3 * pos[3 * i] - 0.2 * pos[3 * i + 1];
-    }
-    memcpy(m.triangles, tri, 3 * (size_t)g.nt * sizeof(uint32_t));
     memset(&opt, 0, sizeof opt);
     memset(&h, 0, sizeof h);
     h.checked = 1;
