@@ -20,6 +20,15 @@ thread, 2 threads, their ratio, the median of the runs' own ratios (each
 1-thread run against the 2-thread run right after it), the median solve
 times and their ratio, median CPU 1 / 2 threads, iterations, bytes per
 face, and whether both outputs are the same bytes.
+On an idle machine each round also runs two one-thread processes side by
+side, one per core, and the row gives the machine's ceiling: 2 w1 / wp,
+w1 the round's one-thread wall and wp the mean wall of the pair.  The
+two cores share the memory bus and the last-level cache (and, on a
+virtual machine, the host's other guests share them too), so each of the
+pair runs slower than alone; a two-thread run that split its work
+perfectly, with no serial part and no waiting, would take wp / 2, so 2 w1
+/ wp is the most two threads can gain on this machine in these minutes.
+"share" is the speed-up divided by it.
 "busy" starts two processes that spin on the two cores for the whole
 run. MESHES: a comma-separated subset of face,bimba,n4_132K,n11_1M.
 TOOL (environment) defaults to build/bijparam. Never asserts times.
@@ -63,6 +72,19 @@ def run(path, name, T):
             "load": os.getloadavg()[0]}
 
 
+def side_by_side(path, name):
+    """Two one-thread runs at once; the mean of their walls."""
+    t0 = time.time()
+    procs = [subprocess.Popen([TOOL, path, "-o", os.path.join(OUT, "%s_pair%d.obj" % (name, k)), "--threads", "1",
+                               "-q"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) for k in (0, 1)]
+    walls = []
+    for p in procs:
+        if p.wait() != 0:
+            raise SystemExit("side-by-side run of %s failed" % name)
+        walls.append(time.time() - t0)
+    return sum(walls) / 2
+
+
 def main():
     runs = int(sys.argv[1]) if len(sys.argv) > 1 else 3
     busy = len(sys.argv) > 2 and sys.argv[2] == "busy"
@@ -76,27 +98,33 @@ def main():
     rows = []
     try:
         for name, path_of, R in meshes:
-            path, res = path_of(), {1: [], 2: []}
+            path, res, ceil = path_of(), {1: [], 2: []}, []
             for _ in range(R):
                 for T in (1, 2):
                     r = run(path, name, T)
                     r["busy"] = busy
                     res[T].append(r)
                     print(json.dumps(r), flush=True)
+                if not busy and R > 1:
+                    wp = side_by_side(path, name)
+                    ceil.append(2 * res[1][-1]["wall"] / wp)
+                    print(json.dumps({"mesh": name, "pair_wall": wp, "ceiling": ceil[-1]}), flush=True)
             w1, w2 = (statistics.median(x["wall"] for x in res[T]) for T in (1, 2))
             c1, c2 = (statistics.median(x["cpu"] for x in res[T]) for T in (1, 2))
             s1, s2 = (statistics.median(x["solve"] for x in res[T]) for T in (1, 2))
             pairs = sorted(a["wall"] / b["wall"] for a, b in zip(res[1], res[2]))
             same = subprocess.run(["cmp", "-s"] + [os.path.join(OUT, "%s_%d.obj" % (name, T)) for T in (1, 2)]).returncode == 0
-            rows.append("| %s | %.2f | %.2f | %.2f | %.2f | %.2f / %.2f | %.2f | %.2f / %.2f | %d | %.0f | %s |" % (
-                name, w1, w2, w1 / w2, statistics.median(pairs), s1, s2, s1 / s2, c1, c2, res[1][0]["iters"],
+            cm = statistics.median(ceil) if ceil else None
+            rows.append("| %s | %.2f | %.2f | %.2f | %.2f | %s | %s | %.2f / %.2f | %.2f | %.2f / %.2f | %d | %.0f | %s |" % (
+                name, w1, w2, w1 / w2, statistics.median(pairs), "%.2f" % cm if cm else "-",
+                "%.2f" % (w1 / w2 / cm) if cm else "-", s1, s2, s1 / s2, c1, c2, res[1][0]["iters"],
                 res[2][0]["bpf"] or 0, "yes" if same else "NO"))
     finally:
         for h in hogs:
             h.kill()
-    print("\n| chart | wall 1 thread | wall 2 threads | speed-up | median of pairs | solve 1 / 2 | solve speed-up "
-          "| CPU 1 / 2 | iters | B/face | same bytes |")
-    print("|---|---:|---:|---:|---:|---|---:|---|---:|---:|---|")
+    print("\n| chart | wall 1 thread | wall 2 threads | speed-up | median of pairs | ceiling | share "
+          "| solve 1 / 2 | solve speed-up | CPU 1 / 2 | iters | B/face | same bytes |")
+    print("|---|---:|---:|---:|---:|---:|---:|---|---:|---|---:|---:|---|")
     print("\n".join(rows))
 
 
