@@ -77,11 +77,14 @@ def side_by_side(path, name):
     t0 = time.time()
     procs = [subprocess.Popen([TOOL, path, "-o", os.path.join(OUT, "%s_pair%d.obj" % (name, k)), "--threads", "1",
                                "-q"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) for k in (0, 1)]
-    walls = []
-    for p in procs:
-        if p.wait() != 0:
-            raise SystemExit("side-by-side run of %s failed" % name)
-        walls.append(time.time() - t0)
+    walls, codes = [None, None], [None, None]
+    while None in codes:                  # each one's own end, whichever ends first
+        for k, p in enumerate(procs):
+            if codes[k] is None and p.poll() is not None:
+                codes[k], walls[k] = p.returncode, time.time() - t0
+        time.sleep(0.001)
+    if any(codes):
+        raise SystemExit("side-by-side run of %s failed (exit %s)" % (name, codes))
     return sum(walls) / 2
 
 
