@@ -20,15 +20,16 @@ thread, 2 threads, their ratio, the median of the runs' own ratios (each
 1-thread run against the 2-thread run right after it), the median solve
 times and their ratio, median CPU 1 / 2 threads, iterations, bytes per
 face, and whether both outputs are the same bytes.
-On an idle machine each round also runs two one-thread processes side by
-side, one per core, and the row gives the machine's ceiling: 2 w1 / wp,
-w1 the round's one-thread wall and wp the mean wall of the pair.  The
-two cores share the memory bus and the last-level cache (and, on a
-virtual machine, the host's other guests share them too), so each of the
-pair runs slower than alone; a two-thread run that split its work
-perfectly, with no serial part and no waiting, would take wp / 2, so 2 w1
-/ wp is the most two threads can gain on this machine in these minutes.
-"share" is the speed-up divided by it.
+On an idle machine, with RUNS above 1, each round also runs two
+one-thread processes side by side, one per core, and the row gives the
+machine's ceiling: 2 w1 / wp, w1 the round's one-thread wall and wp the
+mean wall of the pair.  The two cores share the last-level cache (and,
+on a virtual machine, the host's other guests share it too), so each of
+the pair may run slower than alone; a two-thread run that split its work
+perfectly, with no serial part and no waiting, would take wp / 2, so
+2 w1 / wp is the most two threads can gain on this machine in these
+minutes.  "share" is the speed-up divided by it (docs/performance.md
+6.37).
 "busy" starts two processes that spin on the two cores for the whole
 run. MESHES: a comma-separated subset of face,bimba,n4_132K,n11_1M.
 TOOL (environment) defaults to build/bijparam. Never asserts times.
