@@ -268,17 +268,17 @@ tsan:
 	$(if $(wildcard examples/thread_pool.c),$(TSAN_ENV) $(BUILD)/tsan/thread_pool tests/data/spot.obj 2)
 	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_threads.c -o $(BUILD)/tsan/test_threads $(LDLIBS)
 	@mkdir -p $(BUILD)/tests   # test_threads writes its scratch OBJ files there
-	BP_TEST_QUICK=1 $(TSAN_ENV) $(BUILD)/tsan/test_threads > $(BUILD)/tsan/test_threads.log || { tail -30 $(BUILD)/tsan/test_threads.log; exit 1; }
+	BP_TEST_QUICK=1 $(TSAN_ENV) $(BUILD)/tsan/test_threads > $(BUILD)/tsan/test_threads.log || { grep -v '^ok ' $(BUILD)/tsan/test_threads.log | tail -40; exit 1; }
 	@tail -1 $(BUILD)/tsan/test_threads.log
 	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_cancel.c -o $(BUILD)/tsan/test_cancel $(LDLIBS)
-	$(TSAN_ENV) $(BUILD)/tsan/test_cancel > $(BUILD)/tsan/test_cancel.log || { tail -30 $(BUILD)/tsan/test_cancel.log; exit 1; }
+	$(TSAN_ENV) $(BUILD)/tsan/test_cancel > $(BUILD)/tsan/test_cancel.log || { grep -v '^ok ' $(BUILD)/tsan/test_cancel.log | tail -40; exit 1; }
 	@tail -1 $(BUILD)/tsan/test_cancel.log
 	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_io.c -o $(BUILD)/tsan/test_io $(LDLIBS)
-	$(TSAN_ENV) $(BUILD)/tsan/test_io > $(BUILD)/tsan/test_io.log || { tail -30 $(BUILD)/tsan/test_io.log; exit 1; }
+	$(TSAN_ENV) $(BUILD)/tsan/test_io > $(BUILD)/tsan/test_io.log || { grep -v '^ok ' $(BUILD)/tsan/test_io.log | tail -40; exit 1; }
 	@tail -1 $(BUILD)/tsan/test_io.log
 	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) -DBP_USE_PTHREADS -pthread tests/test_sparse.c \
 	    -o $(BUILD)/tsan/test_sparse $(LDLIBS)
-	$(TSAN_ENV) $(BUILD)/tsan/test_sparse > $(BUILD)/tsan/test_sparse.log || { tail -30 $(BUILD)/tsan/test_sparse.log; exit 1; }
+	$(TSAN_ENV) $(BUILD)/tsan/test_sparse > $(BUILD)/tsan/test_sparse.log || { grep -v '^ok ' $(BUILD)/tsan/test_sparse.log | tail -40; exit 1; }
 	@tail -1 $(BUILD)/tsan/test_sparse.log
 	@echo "tsan: no data race reported"
 

@@ -85,7 +85,8 @@
      to the I/O functions); NULL means BP_MALLOC/BP_FREE.
    - Use the same allocator (bp_options.allocator) for every call on one
      atlas.  When charts are solved in parallel, the allocator and the
-     progress callbacks are called from several threads at once.  The
+     per-iteration progress are called from several threads at once, and
+     run_progress from several threads one at a time.  The
      per-iteration progress returning nonzero cancels that one chart, not
      the others; run_progress returning nonzero cancels the whole run
      (every chart stops at its next iteration, see >>progress).
@@ -323,9 +324,11 @@ typedef int (*bp_progress_fn)(void *user, uint32_t chart, int iteration,
    run: every chart stops at its next iteration, charts not yet started
    are reported failed with BP_ERR_CANCELLED, the calls return
    BP_ERR_CANCELLED, and every map returned is valid (see bp_parameterize).
-   It may be called from several threads at once when charts are solved in
-   parallel; the stages start and optimize of different charts interleave
-   then.  The per-iteration `progress` keeps its meaning: its nonzero
+   When charts are solved in parallel it is called from several threads,
+   one at a time (with GCC or Clang; see >>progress), and the stages start
+   and optimize of different charts interleave; a thread that finds
+   another inside the callback skips its optimize report of that
+   iteration rather than wait.  The per-iteration `progress` keeps its meaning: its nonzero
    return stops that one chart only. */
 typedef enum bp_stage {
     BP_STAGE_READ = 0,    /* bp_read_mesh_opt: bytes loaded, then parsed      */
@@ -1156,11 +1159,28 @@ BPDEF const char *bp_stop_string(bp_stop s)
    flag and answers nonzero to every later report without calling the
    caller again.  Every chart, on whatever thread, reads the flag at its
    next iteration (and before its start map), so one cancel stops them
-   all.  The flag and the count of finished triangles are touched with
-   atomic operations (GCC / Clang builtins; elsewhere a volatile int, which
-   is enough on the platforms such compilers target for a one-way flag but
-   is not a C99 guarantee), so the threads that race on them do not make a
-   data race.
+   all.
+
+   "Never again" must hold when charts report from two threads: a thread
+   that read the flag down just before another thread's call answered
+   stop would otherwise call the caller once more.  So the caller is
+   called under a small lock (`calling`) and the flag is read again inside
+   it; the lock also means the callback is never entered by two threads at
+   once, so a caller's progress bar needs no lock of its own.  A thread
+   that finds the lock taken waits for it -- except for an optimize
+   report of one chart's iteration, which it drops: those come every
+   iteration, the next one carries the same news, and a thread must not
+   spin while the caller's callback runs on another (a busy machine may
+   have put that thread to sleep).  The reports at the start and end of a
+   stage, and a chart's start reports, are never dropped.
+
+   The flag, the lock and the count of finished triangles are touched with
+   atomic operations (GCC / Clang builtins), so the threads that race on
+   them do not make a data race.  Elsewhere the flag and count are a
+   volatile int (enough on the platforms such compilers target for a
+   one-way flag, but not a C99 guarantee) and there is no lock: the
+   callback may then be entered by two threads at once and, at a cancel,
+   called once more by a report already under way.
 
    The per-iteration `progress` of 0.1 is unchanged: a chart's optimization
    sees bp__iter_forward in its place, which calls the caller's progress
@@ -1172,11 +1192,17 @@ BPDEF const char *bp_stop_string(bp_stop s)
 #define BP__FLAG_RAISE(p) __atomic_store_n((p), 1, __ATOMIC_RELEASE)
 #define BP__COUNT_ADD(p, v) ((void)__atomic_fetch_add((p), (v), __ATOMIC_RELAXED))
 #define BP__COUNT_LOAD(p) __atomic_load_n((p), __ATOMIC_RELAXED)
+#define BP__LOCK_HELD(p) __atomic_load_n((p), __ATOMIC_RELAXED)
+#define BP__LOCK_TRY(p) (!__atomic_exchange_n((p), 1, __ATOMIC_ACQUIRE))
+#define BP__LOCK_RELEASE(p) __atomic_store_n((p), 0, __ATOMIC_RELEASE)
 #else
 #define BP__FLAG_LOAD(p) (*(volatile int *)(p))
 #define BP__FLAG_RAISE(p) ((void)(*(volatile int *)(p) = 1))
 #define BP__COUNT_ADD(p, v) ((void)(*(volatile uint64_t *)(p) += (v)))
 #define BP__COUNT_LOAD(p) (*(volatile uint64_t *)(p))
+#define BP__LOCK_HELD(p) 0              /* no lock: see above */
+#define BP__LOCK_TRY(p) ((void)(p), 1)
+#define BP__LOCK_RELEASE(p) ((void)(p))
 #endif
 
 BPDEF const char *bp_stage_name(bp_stage s)
@@ -1198,17 +1224,38 @@ typedef struct bp__run {
     bp_run_progress_fn fn;
     void    *user;
     int      cancelled;
+    int      calling;       /* the lock around the caller's callback        */
     uint64_t done, total;
 } bp__run;
+
+/* Take the lock, or give up (0) when the report may be dropped or the run
+   was cancelled meanwhile.  Test and test-and-set: the waiting thread
+   reads the lock and only tries to take it when it looks free. */
+static int bp__run_lock(bp__run *R, int droppable)
+{
+    while (!BP__LOCK_TRY(&R->calling)) {
+        if (droppable) return 0;
+        while (BP__LOCK_HELD(&R->calling))
+            if (BP__FLAG_LOAD(&R->cancelled)) return 0;
+    }
+    return 1;
+}
 
 static int bp__run_forward(void *user, bp_stage stage, double fraction, uint32_t chart)
 {
     bp__run *R = (bp__run *)user;
+    int stop;
     if (BP__FLAG_LOAD(&R->cancelled)) return 1;
-    if ((stage == BP_STAGE_START || stage == BP_STAGE_OPTIMIZE) && R->total)
-        fraction = (double)BP__COUNT_LOAD(&R->done) / (double)R->total;
-    if (R->fn(R->user, stage, fraction, chart)) { BP__FLAG_RAISE(&R->cancelled); return 1; }
-    return 0;
+    if (!bp__run_lock(R, stage == BP_STAGE_OPTIMIZE && chart != BP_NO_CHART))
+        return BP__FLAG_LOAD(&R->cancelled);
+    stop = BP__FLAG_LOAD(&R->cancelled);           /* again, inside the lock */
+    if (!stop) {
+        if ((stage == BP_STAGE_START || stage == BP_STAGE_OPTIMIZE) && R->total)
+            fraction = (double)BP__COUNT_LOAD(&R->done) / (double)R->total;
+        if (R->fn(R->user, stage, fraction, chart)) { BP__FLAG_RAISE(&R->cancelled); stop = 1; }
+    }
+    BP__LOCK_RELEASE(&R->calling);
+    return stop;
 }
 
 /* The run behind opt, if opt came from bp_parameterize with a callback. */

@@ -3,8 +3,10 @@
    write) returns BP_ERR_CANCELLED and leaves valid maps or none -- every
    chart either mapped, packed and exactly valid, or reported failed -- and
    never a half-written file; one cancel stops every chart, also charts
-   solved in parallel; the per-iteration progress still cancels one chart;
-   and bp_options.struct_size keeps an older caller's meaning. */
+   solved in parallel; a slow callback on two threads is never entered by
+   two at once nor called after its stop; the per-iteration progress still
+   cancels one chart; and bp_options.struct_size keeps an older caller's
+   meaning. */
 #define _POSIX_C_SOURCE 200809L      /* mkdtemp */
 #define BP_USE_PTHREADS
 #define BP_IMPLEMENTATION
@@ -17,6 +19,7 @@ static const bp__par serial_par = { bp__serial_for, NULL, 1 };
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 /* ---- meshes written by the test ---- */
@@ -62,7 +65,9 @@ static int file_exists(const char *path)
 typedef struct recorder {
     pthread_mutex_t mu;
     bp_stage stage;          /* cancel at the nth call of this stage        */
-    int nth, seen;
+    int nth, seen;           /* ... counting only reports at a fraction  */
+    double from;             /* of at least `from` (optimize reports of  */
+                             /* parallel charts may be skipped, >>progress) */
     int cancelled;           /* we answered nonzero                         */
     int calls_after;         /* calls that reached us after that            */
     int bad_fraction;        /* a fraction outside [0, 1]                   */
@@ -87,7 +92,7 @@ static int on_run(void *user, bp_stage s, double f, uint32_t chart)
     if (!(f >= 0 && f <= 1)) r->bad_fraction++;
     if ((int)s >= 0 && s < BP_STAGE_COUNT) r->calls[s]++;
     if (r->cancelled) r->calls_after++;
-    else if (s == r->stage && ++r->seen >= r->nth) stop = r->cancelled = 1;
+    else if (s == r->stage && f >= r->from && ++r->seen >= r->nth) stop = r->cancelled = 1;
     pthread_mutex_unlock(&r->mu);
     return stop;
 }
@@ -150,8 +155,9 @@ static bp_status run(recorder *r, bp_atlas *at, int views, bp_error *err)
     return bp_parameterize(at, &grids, &opt, err);
 }
 
-/* A cancel at the nth report of `stage` inside bp_parameterize. */
-static void cancel_in_run(bp_stage stage, int nth, int views)
+/* A cancel at the nth report of `stage` at a fraction of at least `from`
+   inside bp_parameterize. */
+static void cancel_in_run(bp_stage stage, int nth, double from, int views)
 {
     recorder r;
     bp_atlas at;
@@ -159,16 +165,19 @@ static void cancel_in_run(bp_stage stage, int nth, int views)
     bp_status st;
     int mapped;
     uint32_t c;
+    char at_[80];
     rec_init(&r, stage, nth);
+    r.from = from;
+    snprintf(at_, sizeof at_, "%s #%d at a fraction >= %g", bp_stage_name(stage), nth, from);
     st = run(&r, &at, views, &err);
     mapped = valid_or_none(&at, BP_ERR_CANCELLED);
-    BPT_CHECK(st == BP_ERR_CANCELLED && r.cancelled, "cancel at %s #%d: BP_ERR_CANCELLED (%s: %s)", bp_stage_name(stage),
-              nth, bp_status_string(st), err.message);
-    BPT_CHECK(mapped >= 0, "cancel at %s #%d: every chart valid or reported (%d of %u mapped)", bp_stage_name(stage), nth,
-              mapped, at.num_charts);
+    BPT_CHECK(st == BP_ERR_CANCELLED && r.cancelled, "cancel at %s: BP_ERR_CANCELLED (%s: %s)", at_, bp_status_string(st),
+              err.message);
+    BPT_CHECK(mapped >= 0, "cancel at %s: every chart valid or reported (%d of %u mapped)", at_, mapped,
+              at.num_charts);
     BPT_CHECK(r.calls_after == 0 && !r.bad_fraction,
-              "cancel at %s #%d: the callback is not called again after it said stop (%d), fractions in [0,1]",
-              bp_stage_name(stage), nth, r.calls_after);
+              "cancel at %s: the callback is not called again after it said stop (%d), fractions in [0,1]",
+              at_, r.calls_after);
     if (stage == BP_STAGE_CHARTS || stage == BP_STAGE_VISIBILITY)   /* visibility comes first (it guides the seams) */
         BPT_CHECK(at.num_charts == 0 && at.charts == NULL, "cancel at %s: no atlas (%u charts)", bp_stage_name(stage),
                   at.num_charts);
@@ -213,6 +222,66 @@ static void per_chart_cancel(void)
         if (c != 2 && at.charts[c].uv && at.charts[c].stop != BP_STOP_CANCELLED && at.charts[c].iterations > 1) others++;
     BPT_CHECK(others == 5 && valid_or_none(&at, BP_OK) == 6,
               "... and does not stop the other 5 charts (%u solved on), all 6 valid", others);
+    bp_atlas_free(&at);
+}
+
+/* The whole-run callback is never entered by two threads at once, and
+   never again once it answered stop -- also when it is slow and charts are
+   solved in parallel.  The callback below stays inside for a while (a
+   busy wait on the clock) to open the window in which a second thread
+   would enter it; `inside` counts the threads in it. */
+typedef struct slow_recorder {
+    recorder r;
+    int inside, overlaps;
+} slow_recorder;
+
+static void busy_wait_us(long us)
+{
+    struct timespec a, b;
+    clock_gettime(CLOCK_MONOTONIC, &a);
+    do clock_gettime(CLOCK_MONOTONIC, &b);
+    while ((b.tv_sec - a.tv_sec) * 1000000L + (b.tv_nsec - a.tv_nsec) / 1000 < us);
+}
+
+static int on_run_slow(void *user, bp_stage s, double f, uint32_t chart)
+{
+    slow_recorder *S = (slow_recorder *)user;
+    int stop;
+    pthread_mutex_lock(&S->r.mu);
+    if (++S->inside > 1) S->overlaps++;
+    pthread_mutex_unlock(&S->r.mu);
+    busy_wait_us(300);
+    stop = on_run(&S->r, s, f, chart);
+    pthread_mutex_lock(&S->r.mu);
+    S->inside--;
+    pthread_mutex_unlock(&S->r.mu);
+    return stop;
+}
+
+static void slow_callback(bp_stage stage, int nth, double from)
+{
+    slow_recorder S;
+    bp_options opt;
+    bp_atlas at;
+    bp_error err;
+    bp_status st;
+    int mapped;
+    memset(&S, 0, sizeof S);
+    rec_init(&S.r, stage, nth);
+    S.r.from = from;
+    bp_options_init(&opt);
+    opt.threads = 2;
+    opt.run_progress = on_run_slow;
+    opt.run_progress_user = &S;
+    st = bp_parameterize(&at, &grids, &opt, &err);
+    mapped = valid_or_none(&at, BP_ERR_CANCELLED);
+    BPT_CHECK(st == BP_ERR_CANCELLED && S.r.cancelled && mapped >= 0,
+              "a slow callback cancels at %s #%d at a fraction >= %g: BP_ERR_CANCELLED, every chart valid or "
+              "reported (%s)", bp_stage_name(stage), nth, from, bp_status_string(st));
+    BPT_CHECK(S.overlaps == 0 && S.r.calls_after == 0,
+              "a slow callback on 2 threads: never entered by two threads at once (%d overlaps), never called "
+              "after it said stop (%d calls; %d optimize reports reached it)", S.overlaps, S.r.calls_after,
+              S.r.calls[BP_STAGE_OPTIMIZE]);
     bp_atlas_free(&at);
 }
 
@@ -329,16 +398,18 @@ static void struct_size(void)
 int main(void)
 {
     setup();
-    cancel_in_run(BP_STAGE_CHARTS, 1, 0);
-    cancel_in_run(BP_STAGE_CHARTS, 2, 0);
-    cancel_in_run(BP_STAGE_START, 1, 0);
-    cancel_in_run(BP_STAGE_START, 4, 0);
-    cancel_in_run(BP_STAGE_VISIBILITY, 1, 1);
-    cancel_in_run(BP_STAGE_OPTIMIZE, 1, 0);
-    cancel_in_run(BP_STAGE_OPTIMIZE, 40, 0);
-    cancel_in_run(BP_STAGE_PACK, 1, 0);
-    cancel_in_run(BP_STAGE_PACK, 2, 0);
+    cancel_in_run(BP_STAGE_CHARTS, 1, 0, 0);
+    cancel_in_run(BP_STAGE_CHARTS, 2, 0, 0);
+    cancel_in_run(BP_STAGE_START, 1, 0, 0);
+    cancel_in_run(BP_STAGE_START, 4, 0, 0);
+    cancel_in_run(BP_STAGE_VISIBILITY, 1, 0, 1);
+    cancel_in_run(BP_STAGE_OPTIMIZE, 1, 0, 0);
+    cancel_in_run(BP_STAGE_OPTIMIZE, 1, 0.5, 0);    /* half the triangles done: the last chart reports alone */
+    cancel_in_run(BP_STAGE_PACK, 1, 0, 0);
+    cancel_in_run(BP_STAGE_PACK, 2, 0, 0);
     per_chart_cancel();
+    slow_callback(BP_STAGE_START, 3, 0);
+    slow_callback(BP_STAGE_OPTIMIZE, 1, 0.5);
     read_write();
     struct_size();
     bp_mesh_free(&grids, NULL);
