@@ -328,8 +328,8 @@ typedef int (*bp_progress_fn)(void *user, uint32_t chart, int iteration,
    one at a time (with GCC or Clang; see >>progress), and the stages start
    and optimize of different charts interleave; a thread that finds
    another inside the callback skips its optimize report of that
-   iteration rather than wait.  The per-iteration `progress` keeps its meaning: its nonzero
-   return stops that one chart only. */
+   iteration rather than wait.  The per-iteration `progress` keeps its
+   meaning: its nonzero return stops that one chart only. */
 typedef enum bp_stage {
     BP_STAGE_READ = 0,    /* bp_read_mesh_opt: bytes loaded, then parsed      */
     BP_STAGE_CHARTS,      /* bp_atlas_build                                   */
@@ -3763,10 +3763,10 @@ static bp_status bp__out_close(bp__out *o, const char *path, bp_status st, bp_er
 
    Every coordinate the writers print is "%.17g": seventeen significant
    digits, enough to read back the same double.  The C library prints them
-   in multiple precision, some 500 ns a number here -- face's 51,810 texture
-   coordinates cost 25 ms, more than the rest of the writer.  The plain
-   range (the reader's fast path, >>obj, is the same idea the other way)
-   needs only 64-bit integers:
+   in multiple precision, some 430 ns a number here -- face's 25,905 vt
+   lines (51,810 numbers) cost 22 ms, more than the rest of the writer.
+   The plain range needs only 64-bit integers (bp__decimal_fast, above, is
+   the same idea for reading):
 
      x = M 2^E, M < 2^53 an integer (x normal).  Let X be x's decimal
      exponent, 10^X <= x < 10^(X+1), and k = 16 - X.  The 17 digits are
@@ -3777,21 +3777,21 @@ static bp_status bp__out_close(bp__out *o, const char *path, bp_status st, bp_er
    shifted by -E bits (or left by E) and the bits shifted out decide the
    rounding exactly: above half up, below down, a tie to the even D (IEEE
    754's round-to-nearest, which the header requires anyway, >>predicates).
-   X comes from E (log10 2 (E + 52) is at most one below it) and is
-   checked on D itself: a D below 10^16 means X is one too large, a D of
-   10^17 or more one too small.  A D that rounds up to 10^17 moves X up by
-   one and is 10^16.
+   X comes from E (floor((E + 52) log10 2) is X or X - 1, and a guess
+   below -3 is taken as -3 since x >= 1e-3) and is checked on D itself: a
+   D below 10^16 means X is one too large, a D of 10^17 or more one too
+   small.  A D that rounds up to 10^17 moves X up by one and is 10^16.
 
    C99 7.19.6.1 then says how %.17g prints: with P = 17 and the exponent X
    of the rounded value, P > X >= -4 is the %f style with P - 1 - X
    decimals, trailing zeros and a trailing point removed.  X lies in
    -3..16 here, so it is always that style: the digits of D with the
    point after the first X + 1 (or "0." and -X - 1 zeros first, X < 0).
-   Anything else -- zero's sign aside, tiny, huge, subnormal, inf, nan, or
-   a D that rounds to X = 17 -- goes to snprintf.  These are the correctly
-   rounded digits that glibc, musl and any conforming library print in the
-   default rounding mode; tests/test_io.c compares millions of numbers with
-   snprintf byte for byte. */
+   Zero prints as "0" or "-0"; anything else outside the range -- tiny,
+   huge, subnormal, inf, nan, or a D that rounds to X = 17 -- goes to
+   snprintf.  These are the correctly rounded digits that glibc, musl and
+   any conforming library print in the default rounding mode;
+   tests/test_io.c compares 801,045 numbers with snprintf byte for byte. */
 
 /* The 128-bit product a b as hi:lo, by 32-bit halves (C99 has no wider
    integer). */
