@@ -394,6 +394,87 @@ static void test_fmt_g17(void)
               "%ld exact ties among them", c.taken, c.missed, c.stray, c.ties);
 }
 
+/* ---- the rewrite's head ----------------------------------------------------
+
+   bp__rewrite_head copies the lines before the first vt or f line in one
+   piece, counting the v lines, with memchr for the line ends.  It must do
+   exactly what taking those lines one by one with the parser's own steps
+   does (bp__skip_space, bp__keyword, bp__next_line: the rule the rest of
+   the writer and the reader follow): the same bytes out, the same count of
+   v lines and of lines, and the cursor left at the same place -- on random
+   texts of v, vt, f, vn, comment, blank and odd lines ("vtx", "fo", "v"
+   alone, leading spaces and tabs, a NUL byte), with \n, \r\n and lone \r
+   endings mixed, the last line with or without one. */
+static uint64_t head_rng = 0x2545f4914f6cdd1dull;
+static uint32_t head_next(uint32_t n)
+{
+    head_rng ^= head_rng << 13;
+    head_rng ^= head_rng >> 7;
+    head_rng ^= head_rng << 17;
+    return (uint32_t)(head_rng >> 32) % n;
+}
+
+static void test_rewrite_head(void)
+{
+    static const char *const kinds[] = { "v 1 2 3", "v", "vt 0.5 0.5", "vt", "f 1 2 3", "f", "vn 0 0 1", "# c",
+                                         "", "  ", "vtx 1", "fo 2", "\tv 4 5 6", " f 1 2 3", "o name", "v\t1 2 3",
+                                         "vp 1", "g" };
+    static const char *const eols[] = { "\n", "\r\n", "\r" };
+    char text[2048], want[2048];
+    long runs, bad = 0, heads = 0, stopped = 0;
+    for (runs = 0; runs < 4000; runs++) {
+        size_t n = 0, wn = 0;
+        int lines = (int)head_next(24), k;
+        int64_t want_nv = 0, want_line = 1;
+        const char *want_p;
+        bp__parser ps;
+        bp__out o;
+        bp__rewriter r;
+        for (k = 0; k < lines; k++) {
+            const char *s = kinds[head_next(k < lines / 2 ? 3 : (uint32_t)(sizeof kinds / sizeof *kinds))];
+            n += (size_t)sprintf(text + n, "%s", s);
+            if (head_next(40) == 0) text[n++] = '\0';
+            if (k + 1 < lines || head_next(2)) n += (size_t)sprintf(text + n, "%s", eols[head_next(3)]);
+        }
+        /* the reference: line by line */
+        memset(&ps, 0, sizeof ps);
+        ps.p = text; ps.end = text + n; ps.line = 1;
+        while (ps.p < ps.end) {
+            const char *line = ps.p;
+            bp__skip_space(&ps);
+            if (bp__keyword(&ps, "vt") || bp__keyword(&ps, "f")) { ps.p = line; break; }
+            if (bp__keyword(&ps, "v")) want_nv++;
+            bp__next_line(&ps);
+            memcpy(want + wn, line, (size_t)(ps.p - line));
+            wn += (size_t)(ps.p - line);
+        }
+        want_p = ps.p;
+        want_line = ps.line;
+        /* bp__rewrite_head into a buffer of its own */
+        memset(&o, 0, sizeof o);
+        o.ok = 1;
+        o.buf = (char *)malloc(sizeof want);
+        o.cap = sizeof want;
+        memset(&r, 0, sizeof r);
+        r.ps.p = text; r.ps.end = text + n; r.ps.line = 1;
+        r.o = &o;
+        bp__rewrite_head(&r);
+        if (!o.ok || o.len != wn || memcmp(o.buf, want, wn) != 0 || r.nv != want_nv || r.ps.line != want_line ||
+            r.ps.p != want_p) {
+            if (bad++ < 3)
+                printf("#   run %ld: %zu bytes out (want %zu), nv %lld (%lld), line %lld (%lld), at %ld (%ld)\n", runs,
+                       o.len, wn, (long long)r.nv, (long long)want_nv, (long long)r.ps.line, (long long)want_line,
+                       (long)(r.ps.p - text), (long)(want_p - text));
+        }
+        heads += wn > 0;
+        stopped += want_p < text + n;
+        free(o.buf);
+    }
+    BPT_CHECK(bad == 0 && heads > 1000 && stopped > 1000,
+              "the rewrite's head: the same bytes, v lines, lines and cursor as line by line (%ld of 4000 random texts "
+              "differ; %ld with a head, %ld stopped at a vt or f line)", bad, heads, stopped);
+}
+
 /* ---- the decimals' fast path -------------------------------------------
 
    bp__decimal_fast reads m x 10^q with at most 15 significant digits and
@@ -1705,6 +1786,7 @@ int main(void)
     test_obj_ok();
     test_decimal_fast();
     test_fmt_g17();
+    test_rewrite_head();
     test_obj_errors();
     test_off();
     test_alloc_failures();
