@@ -754,7 +754,8 @@ BPDEF int bp_segments_intersect(const double a[2], const double b[2],
 
 #ifndef BP_NO_STDIO
 /* Readers: v, vt, f (v, v/vt, v/vt/vn, v//vn, negative indices), comments,
-   CRLF; polygons are fan-triangulated (triangle_face keeps the source face).
+   CRLF, a UTF-8 byte order mark (OBJ and OFF); polygons are
+   fan-triangulated (triangle_face keeps the source face).
    On failure nothing is allocated and err names the file line. */
 BPDEF bp_status bp_read_obj(const char *path, bp_mesh *mesh,
                             const bp_allocator *alloc, bp_error *err);
@@ -788,7 +789,8 @@ BPDEF bp_status bp_read_mesh_opt(const char *path, bp_mesh *mesh,
    which is written as its triangles).
    bp_write_obj_from keeps everything else of the OBJ file `source` the
    mesh was read from: every line comes back byte for byte and in order
-   (vn, usemtl, mtllib, g, o, s, l, comments, unknown statements, CRLF),
+   (vn, usemtl, mtllib, g, o, s, l, comments, unknown statements, CRLF,
+   a UTF-8 byte order mark),
    except that the old vt lines are replaced by the new ones (placed where
    the first vt or f line was) and each f corner gets its new vt index,
    keeping its v and vn indices as written.  Faces of failed charts keep v
@@ -2907,6 +2909,18 @@ enum { BP__FORMAT_OBJ, BP__FORMAT_OFF, BP__FORMAT_PLY };
 static bp_status bp__parse_ply(bp__parser *ps, bp_mesh *mesh);
 
 /* Parse text of a format; opt (may be NULL) gives run_progress. */
+/* Some editors and exporters on Windows start a UTF-8 text file with the
+   byte order mark EF BB BF.  It is not part of the first line: the OBJ and
+   OFF readers step over it (so that line is read, and still counted as
+   line 1), and bp_write_obj_from copies it back as it is.  A PLY file is
+   not read as text (its header is followed by binary data in the binary
+   formats) and keeps the rule of its magic "ply". */
+static size_t bp__bom_len(const char *text, size_t length)
+{
+    return length >= 3 && (unsigned char)text[0] == 0xEF && (unsigned char)text[1] == 0xBB &&
+           (unsigned char)text[2] == 0xBF ? 3 : 0;
+}
+
 static bp_status bp__parse_text(const char *text, size_t length, bp_mesh *mesh,
                                 const bp_allocator *alloc, bp_error *err, int format, const bp_options *opt)
 {
@@ -2927,6 +2941,7 @@ static bp_status bp__parse_text(const char *text, size_t length, bp_mesh *mesh,
     ps.opt = opt && opt->run_progress && length ? opt : NULL;
     ps.begin = text;
     ps.cancelled = 0;
+    if (format != BP__FORMAT_PLY) ps.p += bp__bom_len(text, length);   /* a text file's UTF-8 mark */
     if (format == BP__FORMAT_OBJ && opt && length >= BP__READ_PAR_MIN) {   /* a large OBJ: on threads */
         void *pool = NULL;
         bp__par par = bp__par_begin(&a, opt, &pool);
@@ -4474,9 +4489,10 @@ static bp_status bp__write_obj_from(const char *path, const char *source, const 
         o.opt = opt;
         bp__out_threads(&o, opt, base[atlas->num_charts] + len / 64);   /* a line: ~64 bytes */
         memset(&r, 0, sizeof r);
-        r.ps.p = text;
+        r.ps.p = text + bp__bom_len(text, len);   /* the mark goes out first, as it is */
         r.ps.end = text + len;
         r.ps.line = 1;
+        bp__out_bytes(&o, text, (size_t)(r.ps.p - text));
         r.ps.a = &a;
         r.ps.err = err;
         r.o = &o;

@@ -1561,6 +1561,74 @@ static void test_par_alloc_failures(void)
     rmdir(dir);
 }
 
+/* A UTF-8 byte order mark (EF BB BF) before the first line: the OBJ and
+   OFF readers read the file as if it were not there -- the same mesh, by
+   the serial and the chunked reader, errors on the same line numbers --
+   and bp_write_obj_from gives it back first, the rest as without it. */
+static void test_bom(void)
+{
+    static const char obj[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\nf 1 3 4\n";
+    static const char bad[] = "v 0 0 0\nv 1 0 0\nf 1 2 5\n";
+    static const char off[] = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+    char buf[256], dir[] = "/tmp/bptest_bom_XXXXXX", src[96], src_bom[96], out[96], out_bom[96];
+    bp_mesh m0, m1;
+    bp_error e0, e1;
+    bp_status s0, s1;
+    long errors = 0;
+    size_t n0 = 0, n1 = 0;
+    char *o0 = NULL, *o1 = NULL;
+    memcpy(buf, "\xEF\xBB\xBF", 3);
+    memcpy(buf + 3, obj, sizeof obj - 1);
+    s0 = parse(OBJ, obj, sizeof obj - 1, &m0, NULL, &e0);
+    s1 = parse(OBJ, buf, 3 + sizeof obj - 1, &m1, NULL, &e1);
+    BPT_CHECK(s0 == BP_OK && s1 == BP_OK && same_mesh(&m0, &m1) && m1.num_vertices == 4,
+              "OBJ after a byte order mark: the same mesh (%u vertices, %u triangles; %s)", m1.num_vertices,
+              m1.num_triangles, e1.message);
+    if (s0 == BP_OK) bp_mesh_free(&m0, NULL);
+    if (s1 == BP_OK) bp_mesh_free(&m1, NULL);
+    BPT_CHECK(chunked_agrees(buf, 3 + sizeof obj - 1, &errors) && errors == 0,
+              "... the chunked reader on 2 and 3 threads agrees with the serial one");
+    memcpy(buf + 3, bad, sizeof bad - 1);
+    s0 = parse(OBJ, bad, sizeof bad - 1, &m0, NULL, &e0);
+    s1 = parse(OBJ, buf, 3 + sizeof bad - 1, &m1, NULL, &e1);
+    BPT_CHECK(s0 == BP_ERR_INDEX && s1 == s0 && e1.line == 3 && e0.line == 3 && !strcmp(e0.message, e1.message),
+              "... an error names the same line after the mark (line %ld: %s)", (long)e1.line, e1.message);
+    memcpy(buf + 3, off, sizeof off - 1);
+    s0 = parse(OFF, off, sizeof off - 1, &m0, NULL, &e0);
+    s1 = parse(OFF, buf, 3 + sizeof off - 1, &m1, NULL, &e1);
+    BPT_CHECK(s0 == BP_OK && s1 == BP_OK && same_mesh(&m0, &m1) && m1.num_triangles == 2,
+              "OFF after a byte order mark: the same mesh (%s)", e1.message);
+    if (s0 == BP_OK) bp_mesh_free(&m0, NULL);
+    if (s1 == BP_OK) bp_mesh_free(&m1, NULL);
+    /* the writer: the mark first, then what it writes without it */
+    if (!BPT_CHECK(mkdtemp(dir) != NULL, "a temporary directory")) return;
+    snprintf(src, sizeof src, "%s/a.obj", dir);
+    snprintf(src_bom, sizeof src_bom, "%s/b.obj", dir);
+    snprintf(out, sizeof out, "%s/a_out.obj", dir);
+    snprintf(out_bom, sizeof out_bom, "%s/b_out.obj", dir);
+    memcpy(buf + 3, obj, sizeof obj - 1);
+    if (write_bytes(src, obj, sizeof obj - 1) && write_bytes(src_bom, buf, 3 + sizeof obj - 1) &&
+        bp_read_mesh(src_bom, &m1, NULL, &e1) == BP_OK) {
+        bp_atlas at;
+        if (bp_parameterize(&at, &m1, NULL, &e1) == BP_OK) {
+            s0 = bp_write_obj_from(out, src, &m1, &at, &e0);
+            s1 = bp_write_obj_from(out_bom, src_bom, &m1, &at, &e1);
+            o0 = read_bytes(out, &n0);
+            o1 = read_bytes(out_bom, &n1);
+            bp_atlas_free(&at);
+        }
+        bp_mesh_free(&m1, NULL);
+    }
+    BPT_CHECK(o0 && o1 && s0 == BP_OK && s1 == BP_OK && n1 == n0 + 3 && !memcmp(o1, "\xEF\xBB\xBF", 3) &&
+                  !memcmp(o1 + 3, o0, n0),
+              "bp_write_obj_from on a source with the mark: the mark, then the bytes it writes without it (%zu and %zu "
+              "bytes)", n1, n0);
+    free(o0);
+    free(o1);
+    remove(src); remove(src_bom); remove(out); remove(out_bom);
+    rmdir(dir);
+}
+
 /* Mutations of the asset as the source of bp_write_obj_from, with the mesh
    and atlas of the original: the writer must never crash or leak, must
    leave no file when it fails, and must succeed whenever the mutated text
@@ -1787,6 +1855,7 @@ int main(void)
     test_decimal_fast();
     test_fmt_g17();
     test_rewrite_head();
+    test_bom();
     test_obj_errors();
     test_off();
     test_alloc_failures();
