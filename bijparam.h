@@ -2067,6 +2067,12 @@ static void bp__parse_tick(bp__parser *ps)
 static int bp__is_space(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
 static int bp__is_eol(char c) { return c == '\n' || c == '\r'; }
 
+/* A keyword ends at p: the end, a space or a line end. */
+static int bp__word_ends(const char *p, const char *end)
+{
+    return p == end || bp__is_space(*p) || bp__is_eol(*p);
+}
+
 static void bp__skip_space(bp__parser *ps)
 {
     while (ps->p < ps->end && bp__is_space(*ps->p)) ps->p++;
@@ -2200,8 +2206,7 @@ static int bp__keyword(bp__parser *ps, const char *kw)
     size_t n;
     if (ps->p >= ps->end || *ps->p != kw[0]) return 0;
     n = strlen(kw);
-    if ((size_t)(ps->end - ps->p) < n || memcmp(ps->p, kw, n) != 0) return 0;
-    if (ps->p + n < ps->end && !bp__is_space(ps->p[n]) && !bp__is_eol(ps->p[n])) return 0;
+    if ((size_t)(ps->end - ps->p) < n || memcmp(ps->p, kw, n) != 0 || !bp__word_ends(ps->p + n, ps->end)) return 0;
     ps->p += n;
     return 1;
 }
@@ -4409,12 +4414,6 @@ static bp_status bp__rewrite_par(bp__rewriter *r)
     return st;
 }
 
-/* A keyword ends at p (bp__keyword's rule): the end, a space or a line end. */
-static int bp__word_ends(const char *p, const char *end)
-{
-    return p == end || bp__is_space(*p) || bp__is_eol(*p);
-}
-
 /* The lines before the first vt or f line -- in most files the v lines,
    half the text -- come back as they are, and only the v lines are
    counted.  So they are not taken apart one by one (bp__rewrite_line):
@@ -4428,7 +4427,7 @@ static void bp__rewrite_head(bp__rewriter *r)
     while (p < end) {
         const char *q = p, *nl, *cr;
         while (q < end && bp__is_space(*q)) q++;
-        if (q < end && *q == 'f' && bp__word_ends(q + 1, end)) break;                       /* f  */
+        if (q < end && *q == 'f' && bp__word_ends(q + 1, end)) break;         /* f (bp__keyword's rule) */
         if (q < end && *q == 'v') {
             if (q + 1 < end && q[1] == 't' && bp__word_ends(q + 2, end)) break;             /* vt */
             if (bp__word_ends(q + 1, end)) r->nv++;                                          /* v  */
