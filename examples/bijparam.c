@@ -792,7 +792,7 @@ static void print_json_repairs(const bp_repair_report *r, int written)
 }
 
 static void print_json(const char *input, const char *output, bp_status status, const char *message,
-                       const bp_mesh *mesh, const bp_atlas *atlas, bp_energy energy,
+                       const bp_mesh *mesh, const bp_atlas *atlas, const bp_options *opt,
                        const timings *tm, const extra_report *ex)
 {
     uint32_t c, l;
@@ -816,12 +816,12 @@ static void print_json(const char *input, const char *output, bp_status status, 
         bp_check_report rep;
         double e_start = ch->energy_start, e_end = ch->energy_end, e_max = ch->energy_max;
         memset(&rep, 0, sizeof rep);
-        if (ch->uv)
-            bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices,
-                     NULL, &rep, NULL);
+        if (ch->uv)                      /* on the run's threads: the same report */
+            bp_check_opt(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices,
+                         opt, &rep, NULL);
         /* not optimized (--init-only): report the distortion of the start map */
         if (ch->uv && ch->stop == BP_STOP_NONE &&
-            bp_chart_distortion(ch, mesh, energy, &e_start, &e_max, NULL, NULL) == BP_OK)
+            bp_chart_distortion(ch, mesh, opt->energy, &e_start, &e_max, NULL, NULL) == BP_OK)
             e_end = e_start;
         printf("%s{\"index\":%u,\"vertices\":%u,\"faces\":%u,\"loops\":[",
                c ? "," : "", (unsigned)c, (unsigned)ch->num_vertices,
@@ -982,7 +982,7 @@ static int run_check(const char *input)
     uint32_t c, i, bad = 0, nt = 0, nv = 0, *tri = NULL, *first = NULL;
     double *all = NULL;
     int overlap = 0;
-    memset(&opt, 0, sizeof opt);
+    bp_options_init(&opt);             /* threads 0: the checks on all cores */
     memset(&at, 0, sizeof at);
     st = bp_read_mesh(input, &mesh, NULL, &err);
     if (st != BP_OK) { report_error(input, &err); return 1; }
@@ -1019,7 +1019,7 @@ static int run_check(const char *input)
             bad++;
             continue;
         }
-        st = bp_check(ch->triangles, ch->num_triangles, uv, ch->num_vertices, NULL, &r, &e);
+        st = bp_check_opt(ch->triangles, ch->num_triangles, uv, ch->num_vertices, &opt, &r, &e);
         if (st == BP_OK) {
             printf("chart %u: %u faces: bijective\n", (unsigned)c, (unsigned)ch->num_triangles);
             continue;
@@ -1035,7 +1035,7 @@ static int run_check(const char *input)
     if (!bad && at.num_charts > 1) {
         bp_check_report r;
         bp_error e;
-        st = bp_check(tri, nt, all, nv, NULL, &r, &e);
+        st = bp_check_opt(tri, nt, all, nv, &opt, &r, &e);
         if (st != BP_OK) {
             uint32_t tc = 0, tl = 0;
             overlap = 1;
@@ -1570,7 +1570,7 @@ int main(int argc, char **argv)
         ex.resolution = opt.atlas_resolution;
         ex.padding = opt.atlas_resolution ? opt.padding : 0;
         print_json(input, wrote ? output : NULL, js, st == BP_OK ? NULL : err.message, &mesh, &atlas,
-                   opt.energy, &tm, &ex);
+                   &opt, &tm, &ex);
     } else if (!quiet && wrote) {
         fprintf(stderr, "bijparam: wrote %s (%u chart%s%s)\n", output, (unsigned)atlas.num_charts,
                 atlas.num_charts == 1 ? "" : "s", atlas.num_failed ? "; failed charts without vt" : "");

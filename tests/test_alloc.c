@@ -16,7 +16,8 @@
    next to a closed one (BP_ERR_CHARTS_FAILED when nothing fails and the cut
    is off; BP_OK with the closed chart cut into a disk), with
    init_only and with normalize, with the projected Newton direction; bp_visibility on a small closed mesh;
-   bp_write_obj (its table comes from the atlas's allocator); bp_check.
+   bp_write_obj (its table comes from the atlas's allocator); bp_check and
+   bp_check_opt (the options' allocator).
    The parsers' own allocation failures are covered by test_io.c.
 
    The library is built here without threads, so the allocation sequence is
@@ -303,6 +304,21 @@ static bp_status call_check(void *ctx, const bp_allocator *a, int *valid)
     return st == BP_ERR_OUT_OF_MEMORY ? st : BP_OK;
 }
 
+/* The same through bp_check_opt: the allocator comes from the options. */
+static bp_status call_check_opt(void *ctx, const bp_allocator *a, int *valid)
+{
+    check_ctx *K = (check_ctx *)ctx;
+    bp_check_report r;
+    bp_options o;
+    bp_status st;
+    bp_options_init(&o);
+    if (a) o.allocator = *a;
+    st = bp_check_opt(K->ch->triangles, K->ch->num_triangles, K->ch->uv, K->ch->num_vertices, &o, &r, NULL);
+    *valid = st == BP_ERR_OUT_OF_MEMORY ||
+             (st == BP_OK && !r.flipped && !r.boundary_intersections && !r.loop_orientation && !r.nested);
+    return st == BP_ERR_OUT_OF_MEMORY ? st : BP_OK;
+}
+
 int main(void)
 {
     bp_mesh bishop, holed, mixed, small;
@@ -458,6 +474,7 @@ int main(void)
             }
             K.ch = &at.charts[0];
             sweep("bp_check on the mapped chart", call_check, &K, BP_OK);
+            sweep("bp_check_opt on the mapped chart (opt's allocator)", call_check_opt, &K, BP_OK);
             unlink(path);
             rmdir(dir);
         }

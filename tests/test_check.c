@@ -25,6 +25,7 @@
 #define BP__CHECK_CHUNK 16u          /* many chunks and key ranges on small */
 #define BP__CHECK_RANGE_SHIFT 2u     /* layouts, every loop on the runners  */
 #define BP__PAR_MIN_ITEMS 1u         /* (see par_random)                    */
+#define BP__PAR_MIN_TRIANGLES 1u     /* bp_check_opt's threads on them too  */
 #include "bijparam.h"
 #include "bptest.h"
 #include <math.h>
@@ -477,16 +478,22 @@ static int par_disagree(const char *what, const uint32_t *tri, uint32_t nt, cons
     bp_check_report r0, r;
     bp_error e0, e;
     int i, bad = 0;
+    bp_options o;
     *st = ref_check(tri, nt, uv, nv, &r0, &e0);
-    for (i = 0; i <= NRUN; i++) {
-        bp_status s = i < NRUN ? bp__check_par(tri, nt, uv, nv, NULL, &runners[i], &r, &e)
-                               : bp_check(tri, nt, uv, nv, NULL, &r, &e);
+    bp_options_init(&o);
+    for (i = 0; i <= NRUN + 2; i++) {
+        bp_status s;
+        if (i == NRUN + 1) o.threads = 2;                    /* bp_check_opt on a pool of its own */
+        if (i == NRUN + 2) { o.threads = 0; o.parallel_for = bpt_backwards_for; }   /* on the caller's runner */
+        s = i < NRUN ? bp__check_par(tri, nt, uv, nv, NULL, &runners[i], &r, &e)
+          : i == NRUN ? bp_check(tri, nt, uv, nv, NULL, &r, &e) : bp_check_opt(tri, nt, uv, nv, &o, &r, &e);
         int same = s == *st && strcmp(e.message, e0.message) == 0 && e.element == e0.element && e.index == e0.index &&
                    e.index2 == e0.index2 && (*st == BP_ERR_INDEX || *st == BP_ERR_INVALID_ARGUMENT || same_report(&r, &r0));
         if (!same) {
             bad++;
             if (printed++ < 4)
-                printf("  %s (%s): %s / %s\n    reference: %s / %s\n", what, i < NRUN ? runner_name[i] : "bp_check",
+                printf("  %s (%s): %s / %s\n    reference: %s / %s\n", what,
+                       i < NRUN ? runner_name[i] : i == NRUN ? "bp_check" : "bp_check_opt",
                        bp_status_string(s), e.message, bp_status_string(*st), e0.message);
         }
     }
@@ -516,8 +523,9 @@ static void par_random(void)
     }
     BPT_CHECK(bad == 0 && kinds[0] > 300 && kinds[1] > 30 && kinds[2] > 30 && kinds[3] > 300,
               "%d random layouts (and each scaled by 2^900 and 2^-900; %d valid, %d nonmanifold, %d misoriented, %d "
-              "not bijective), chunks of %u triangles, key ranges of %u vertices: bp__check_par on 5 runners and "
-              "bp_check give the serial reference's status, report and message (%d differ)",
+              "not bijective), chunks of %u triangles, key ranges of %u vertices: bp__check_par on 5 runners, "
+              "bp_check and bp_check_opt (2 threads; a caller's parallel_for) give the serial reference's status, "
+              "report and message (%d differ)",
               n, kinds[0], kinds[1], kinds[2], kinds[3], BP__CHECK_CHUNK, 1u << BP__CHECK_RANGE_SHIFT, bad);
 }
 
@@ -631,7 +639,7 @@ static void par_meshes(void)
     }
     BPT_CHECK(bad == 0 && kinds[0] > 5 && kinds[1] > 10 && kinds[2] > 3 && kinds[3] > 3 && kinds[4] > 3 && kinds[5] > 3,
               "%d maps of the charts of 5 meshes (start maps and broken: %d valid, %d not bijective, %d NaN, %d bad "
-              "index, %d misoriented, %d nonmanifold): bp__check_par on 5 runners and bp_check give the serial "
+              "index, %d misoriented, %d nonmanifold): bp__check_par on 5 runners, bp_check and bp_check_opt give the serial "
               "reference's status, report and message (%d differ)",
               n, kinds[0], kinds[1], kinds[2], kinds[3], kinds[4], kinds[5], bad);
 }
@@ -983,9 +991,44 @@ static void acceptance_counts_loops(void)
     bpt_mesh_free(&m);
 }
 
+/* bp_check_opt's options: NULL is the defaults (all cores), a struct_size
+   of 8 bytes is refused and named, a set byte beyond this version's struct
+   is refused; the verdict with good options is bp_check's. */
+static void check_opt_args(void)
+{
+    static layout L;
+    unsigned char big[sizeof(bp_options) + 16];
+    bp_check_report r0, r;
+    bp_error e0, e;
+    bp_options o;
+    bp_status s0, s;
+    int i, same = 0;
+    for (i = 0; i < 20; i++) {
+        random_layout(&L, i % 3);
+        s0 = bp_check(L.tri, L.nt, L.uv, L.nv, NULL, &r0, &e0);
+        s = bp_check_opt(L.tri, L.nt, L.uv, L.nv, NULL, &r, &e);
+        same += s == s0 && same_report(&r, &r0) && strcmp(e.message, e0.message) == 0;
+    }
+    BPT_CHECK(same == 20, "bp_check_opt with NULL options: bp_check's status, report and message (%d of 20)", same);
+    bp_options_init(&o);
+    o.struct_size = 8;
+    s = bp_check_opt(L.tri, L.nt, L.uv, L.nv, &o, &r, &e);
+    BPT_CHECK(s == BP_ERR_INVALID_ARGUMENT && bpt_has_number(e.message, 8), "bp_check_opt: struct_size 8 refused: %s",
+              e.message);
+    memset(big, 0, sizeof big);
+    bp_options_init(&o);
+    o.struct_size = sizeof big;
+    memcpy(big, &o, sizeof o);
+    big[sizeof(bp_options) + 5] = 1;
+    s = bp_check_opt(L.tri, L.nt, L.uv, L.nv, (const bp_options *)(const void *)big, &r, &e);
+    BPT_CHECK(s == BP_ERR_INVALID_ARGUMENT && bpt_has_number(e.message, (long long)sizeof(bp_options) + 5),
+              "bp_check_opt: a set byte beyond this version's struct is refused, named: %s", e.message);
+}
+
 int main(void)
 {
     bpt_rng_state = 0x5EED0C4ECull;
+    check_opt_args();
     named_cases();
     random_agreement();
     overlapping_start();

@@ -453,6 +453,95 @@ static void test_slivers(void)
    area / 3D area; with importance (the optimized map already carries it)
    the charts keep their relative scale: packed area / input area is the
    same for every chart. */
+/* The shelves (no atlas_resolution, normalize on): a moved chart is
+   checked once, and the map as it was only when the moved one has a count
+   (bp__move_chart).  (a) The 200 slivers of test_slivers: each pack gives
+   exactly valid charts in [0,1]^2 or fails with BP_ERR_NUMERICAL and moves
+   nothing.  (b) A chart given a mirrored triangle after
+   bp_atlas_use_input_uvs (1 flipped, its loop clockwise) still packs: the
+   moved map has the same counts, no worse than the map it had, and the
+   other charts stay valid. */
+static void test_shelf_counts(void)
+{
+    int k, ok = 0, numerical = 0, other = 0, invalid = 0, moved = 0;
+    uint32_t i, c;
+    bp_mesh m;
+    bp_atlas at;
+    bp_options o;
+    bp_error e;
+    bp_status st;
+    bp_check_report before, after;
+    for (k = 0; k < 200; k++) {
+        double slope = 0.3 + k * 1e-3, keep;
+        m = bpt_mesh_new(6, 2);
+        m.positions[3] = 1; m.positions[7] = 1;
+        m.positions[9] = 5; m.positions[12] = 6; m.positions[15] = 5; m.positions[16] = 1;
+        for (i = 0; i < 6; i++) m.triangles[i] = i;
+        m.corner_uv = (uint32_t *)malloc(6 * sizeof(uint32_t));
+        memcpy(m.corner_uv, m.triangles, 6 * sizeof(uint32_t));
+        m.uvs = (double *)calloc(12, sizeof(double));
+        m.num_uvs = 6;
+        m.uvs[0] = 1e6; m.uvs[1] = 1e6; m.uvs[2] = 1e6 + 1; m.uvs[3] = 1e6 + slope;
+        m.uvs[4] = 1e6 + 0.5; m.uvs[5] = nextafter(1e6 + slope * 0.5, 2e6);
+        if (k % 2) m.uvs[5] = nextafter(m.uvs[5], 2e6);
+        m.uvs[6] = 5; m.uvs[8] = 6; m.uvs[10] = 5; m.uvs[11] = 1;
+        memset(&o, 0, sizeof o);
+        st = bp_atlas_build(&at, &m, &o, &e);
+        if (st == BP_OK) st = bp_atlas_use_input_uvs(&at, &m, &e);
+        if (st != BP_OK) { other++; bpt_mesh_free(&m); continue; }
+        keep = at.charts[0].uv[5];
+        o.normalize = 1;
+        st = bp_atlas_pack(&at, &o, &e);
+        if (st == BP_OK) {
+            ok++;
+            for (c = 0; c < at.num_charts; c++) {
+                const bp_chart *ch = &at.charts[c];
+                invalid += bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &after, NULL) != BP_OK;
+                for (i = 0; i < 2 * ch->num_vertices; i++) invalid += !(ch->uv[i] >= 0 && ch->uv[i] <= 1);
+            }
+        } else if (st == BP_ERR_NUMERICAL) {
+            numerical++;
+            moved += at.charts[0].uv[5] != keep;
+        } else other++;
+        bp_atlas_free(&at);
+        bpt_mesh_free(&m);
+    }
+    BPT_CHECK(other == 0 && invalid == 0 && ok + numerical == 200 && moved == 0,
+              "200 slivers on shelves: %d packed and exactly valid in [0,1]^2 (%d invalid), %d BP_ERR_NUMERICAL "
+              "(%d moved), %d other", ok, invalid, numerical, moved, other);
+
+    m = make_charts(10, 1);
+    memset(&o, 0, sizeof o);
+    st = bp_atlas_build(&at, &m, &o, &e);
+    if (st == BP_OK) st = bp_atlas_use_input_uvs(&at, &m, &e);
+    if (!BPT_CHECK(st == BP_OK && at.num_charts == 10 && at.charts[4].num_triangles == 1,
+                   "10 charts from their input uvs, chart 4 one triangle (%s)", st == BP_OK ? "ok" : e.message)) {
+        if (st == BP_OK) bp_atlas_free(&at);
+        bpt_mesh_free(&m);
+        return;
+    }
+    for (i = 0; i < 3; i++) at.charts[4].uv[2 * i] *= -1;            /* mirrored after the input check */
+    bp_check(at.charts[4].triangles, 1, at.charts[4].uv, 3, NULL, &before, NULL);
+    o.normalize = 1;
+    st = bp_atlas_pack(&at, &o, &e);
+    BPT_CHECK(st == BP_OK, "the charts with a mirrored one pack on shelves (%s)", st == BP_OK ? "ok" : e.message);
+    if (st == BP_OK) {
+        bp_check(at.charts[4].triangles, 1, at.charts[4].uv, 3, NULL, &after, NULL);
+        BPT_CHECK(before.flipped == 1 && after.flipped == 1 && after.loop_orientation == before.loop_orientation &&
+                  after.degenerate == 0 && after.boundary_intersections == 0,
+                  "the mirrored chart keeps its counts: flipped %u -> %u, loop orientation %u -> %u",
+                  before.flipped, after.flipped, before.loop_orientation, after.loop_orientation);
+        for (c = 0, invalid = 0; c < at.num_charts; c++) {
+            const bp_chart *ch = &at.charts[c];
+            if (c != 4) invalid += bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &after, NULL) != BP_OK;
+            for (i = 0; i < 2 * ch->num_vertices; i++) invalid += !(ch->uv[i] >= 0 && ch->uv[i] <= 1);
+        }
+        BPT_CHECK(invalid == 0, "the other 9 charts are exactly valid and every uv is in [0,1] (%d problems)", invalid);
+    }
+    bp_atlas_free(&at);
+    bpt_mesh_free(&m);
+}
+
 static void test_importance_density(void)
 {
     bp_mesh m = make_charts(10, 1);
@@ -500,6 +589,7 @@ int main(void)
     test_rotation();
     test_long_strip();
     test_slivers();
+    test_shelf_counts();
     test_importance_density();
     test_threads();
     test_errors();
