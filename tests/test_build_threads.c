@@ -28,7 +28,9 @@
          near-zero area must be given relative to the box of the serial
          loop (bp__validate_global);
      (c) invalid meshes (a vertex index out of range, a NaN coordinate) at
-         the same places: the error names the first in triangle order.
+         the same places: the error names the first in triangle order, and
+         bp_parameterize (which validates before it builds, to rescale)
+         gives the same error on any runner.
    Prints "BPTEST <passed> <failed>". */
 #define _POSIX_C_SOURCE 200809L
 #define BP__PAR_MIN_TRIANGLES 1u
@@ -507,6 +509,23 @@ static void check_damaged(const bp_mesh *clean, int kind)
                       "camelhead, %s at 4 places in 3 or 4 chunks%s: every runner gives the serial error%s, the first in "
                       "the serial order (%lld %lld): %s", kind_name[kind], strict ? ", strict" : "", why,
                       (long long)i1, (long long)i2, re.message);
+        }
+        if (kind >= D_INDEX) {      /* bp_parameterize validates first (bp__rescaled_mesh, serial): the same error */
+            int r, same = 0;
+            for (r = 0; r < 4; r++) {
+                bp_options o;
+                bp_atlas at;
+                bp_error e;
+                bp_status ps;
+                bp_options_init(&o);
+                o.max_iterations = 1;
+                if (r < 3) o.threads = r + 1; else o.parallel_for = bpt_backwards_for;
+                ps = bp_parameterize(&at, &d.m, &o, &e);
+                same += ps == st && e.index == re.index && e.index2 == re.index2 && !strcmp(e.message, re.message);
+                if (ps == BP_OK || ps == BP_ERR_CHARTS_FAILED || ps == BP_ERR_CANCELLED) bp_atlas_free(&at);
+            }
+            BPT_CHECK(same == 4, "camelhead, %s: bp_parameterize on 1, 2, 3 threads and backwards gives bp_atlas_build's "
+                      "error (%d of 4)", kind_name[kind], same);
         }
         bp_atlas_free(&ref);
     }
