@@ -1171,7 +1171,11 @@ BPDEF const char *bp_stop_string(bp_stop s)
    flag and answers nonzero to every later report without calling the
    caller again.  Every chart, on whatever thread, reads the flag at its
    next iteration (and before its start map), so one cancel stops them
-   all.
+   all.  bp_atlas_solve, called alone, makes a run of its own
+   (bp__run_begin) for the same promises: it too solves charts on several
+   threads.  (Until 0.2 it handed the caller's callback down as it was:
+   two threads could be inside it at once, and a chart could report after
+   another chart's report had said stop.)
 
    "Never again" must hold when charts report from two threads: a thread
    that read the flag down just before another thread's call answered
@@ -1274,6 +1278,26 @@ static int bp__run_forward(void *user, bp_stage stage, double fraction, uint32_t
 static bp__run *bp__run_of(const bp_options *opt)
 {
     return opt && opt->run_progress == bp__run_forward ? (bp__run *)opt->run_progress_user : NULL;
+}
+
+/* A run of its own for a public call that solves charts in parallel and
+   reports them (bp_atlas_solve) when the caller gave a run_progress
+   and no run is under way: opt's copy in *copy then carries
+   bp__run_forward over *R, so that the callback is entered by one thread
+   at a time and never called again after it answered stop, as inside
+   bp_parameterize.  total: the triangles whose solve is the fraction of
+   the start and optimize reports (0: each chart's own fraction). */
+static const bp_options *bp__run_begin(const bp_options *opt, bp_options *copy, bp__run *R, uint64_t total)
+{
+    if (!opt || !opt->run_progress || bp__run_of(opt)) return opt;
+    memset(R, 0, sizeof *R);
+    R->fn = opt->run_progress;
+    R->user = opt->run_progress_user;
+    R->total = total;
+    *copy = *opt;
+    copy->run_progress = bp__run_forward;
+    copy->run_progress_user = R;
+    return copy;
 }
 
 /* The per-iteration link: the caller's progress, then the run's report.
@@ -19743,11 +19767,16 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
    there are several (bp_parameterize's solve, >>driver). */
 BPDEF bp_status bp_atlas_solve(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
-    bp_options o_;
+    bp_options o_, ro;
+    bp__run run;
+    uint64_t total = 0;
+    uint32_t c;
     bp_status st;
     if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
     if (!atlas || !atlas->charts || !m)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_solve needs an atlas and its mesh");
+    for (c = 0; c < atlas->num_charts; c++) total += atlas->charts[c].num_triangles;
+    opt = bp__run_begin(opt, &ro, &run, total);          /* >>progress: one thread in the callback */
     st = bp__solve_charts(atlas, m, opt, err);
     return st == BP_OK ? bp__charts_status(atlas, err) : st;
 }

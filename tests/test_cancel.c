@@ -4,7 +4,8 @@
    chart either mapped, packed and exactly valid, or reported failed -- and
    never a half-written file; one cancel stops every chart, also charts
    solved in parallel; a slow callback on two threads is never entered by
-   two at once nor called after its stop; the per-iteration progress still
+   two at once nor called after its stop, inside bp_parameterize and from
+   bp_atlas_solve called on its own; the per-iteration progress still
    cancels one chart; and bp_options.struct_size keeps an older caller's
    meaning. */
 #define _POSIX_C_SOURCE 200809L      /* mkdtemp */
@@ -258,7 +259,27 @@ static int on_run_slow(void *user, bp_stage s, double f, uint32_t chart)
     return stop;
 }
 
-static void slow_callback(bp_stage stage, int nth, double from)
+/* Each chart mapped and exactly valid, or failed with a reason (charts
+   solved but not packed may lie on each other); -1 if not. */
+static int charts_valid_or_failed(const bp_atlas *at)
+{
+    uint32_t c;
+    int mapped = 0;
+    for (c = 0; c < at->num_charts; c++) {
+        const bp_chart *ch = &at->charts[c];
+        bp_check_report r;
+        if (!ch->uv) { if (ch->error.status == BP_OK) return -1; continue; }
+        if (ch->error.status != BP_OK ||
+            bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, NULL) != BP_OK)
+            return -1;
+        mapped++;
+    }
+    return mapped;
+}
+
+/* direct: bp_atlas_build, then bp_atlas_solve called by the caller (its
+   charts on 2 threads too), instead of bp_parameterize. */
+static void slow_callback(bp_stage stage, int nth, double from, int direct)
 {
     slow_recorder S;
     bp_options opt;
@@ -273,15 +294,22 @@ static void slow_callback(bp_stage stage, int nth, double from)
     opt.threads = 2;
     opt.run_progress = on_run_slow;
     opt.run_progress_user = &S;
-    st = bp_parameterize(&at, &grids, &opt, &err);
-    mapped = valid_or_none(&at, BP_ERR_CANCELLED);
+    if (direct) {
+        st = bp_atlas_build(&at, &grids, &opt, &err);
+        if (st == BP_OK) st = bp_atlas_solve(&at, &grids, &opt, &err);
+        mapped = charts_valid_or_failed(&at);
+    } else {
+        st = bp_parameterize(&at, &grids, &opt, &err);
+        mapped = valid_or_none(&at, BP_ERR_CANCELLED);
+    }
     BPT_CHECK(st == BP_ERR_CANCELLED && S.r.cancelled && mapped >= 0,
-              "a slow callback cancels at %s #%d at a fraction >= %g: BP_ERR_CANCELLED, every chart valid or "
-              "reported (%s)", bp_stage_name(stage), nth, from, bp_status_string(st));
+              "a slow callback cancels %s at %s #%d at a fraction >= %g: BP_ERR_CANCELLED, every chart valid or "
+              "reported (%s)", direct ? "bp_atlas_solve" : "bp_parameterize", bp_stage_name(stage), nth, from,
+              bp_status_string(st));
     BPT_CHECK(S.overlaps == 0 && S.r.calls_after == 0,
-              "a slow callback on 2 threads: never entered by two threads at once (%d overlaps), never called "
-              "after it said stop (%d calls; %d optimize reports reached it)", S.overlaps, S.r.calls_after,
-              S.r.calls[BP_STAGE_OPTIMIZE]);
+              "a slow callback on 2 threads (%s): never entered by two threads at once (%d overlaps), never called "
+              "after it said stop (%d calls; %d optimize reports reached it)", direct ? "bp_atlas_solve" : "bp_parameterize",
+              S.overlaps, S.r.calls_after, S.r.calls[BP_STAGE_OPTIMIZE]);
     bp_atlas_free(&at);
 }
 
@@ -408,8 +436,10 @@ int main(void)
     cancel_in_run(BP_STAGE_PACK, 1, 0, 0);
     cancel_in_run(BP_STAGE_PACK, 2, 0, 0);
     per_chart_cancel();
-    slow_callback(BP_STAGE_START, 3, 0);
-    slow_callback(BP_STAGE_OPTIMIZE, 1, 0.5);
+    slow_callback(BP_STAGE_START, 3, 0, 0);
+    slow_callback(BP_STAGE_OPTIMIZE, 1, 0.5, 0);
+    slow_callback(BP_STAGE_START, 3, 0, 1);
+    slow_callback(BP_STAGE_OPTIMIZE, 1, 0.5, 1);
     read_write();
     struct_size();
     bp_mesh_free(&grids, NULL);
