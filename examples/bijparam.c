@@ -8,9 +8,10 @@
    other line of the user's file (normals, materials, groups, comments)
    comes back unchanged; an OFF input is written by bp_write_obj.  It shows
    every public step of the library in the order a program calls them
-   (bp_read_mesh, bp_atlas_build, bp_chart_solve -- bp_chart_init and
-   bp_chart_optimize in one call, separate with --frames --,
-   bp_atlas_pack, bp_write_obj_from / bp_write_obj), how the options map onto
+   (bp_read_mesh, bp_atlas_build, bp_atlas_solve for several charts -- the
+   charts themselves on the threads -- or bp_chart_solve chart by chart --
+   bp_chart_init and bp_chart_optimize in one call, separate with
+   --frames --, bp_atlas_pack, bp_write_obj_from / bp_write_obj), how the options map onto
    bp_options, how a progress callback traces the solve, and how bp_check
    proves the result.  With --demo it flattens a built-in "wavy cone" (fig
    3.3 of the dissertation) whose isometric flattening overlaps itself, so
@@ -616,6 +617,7 @@ typedef struct run_state {
     int      bar_visible;
     double   start_done;       /* when the chart's start map was done (the
                                   split of bp_chart_solve's time)          */
+    int      together;         /* the charts solved at once (bp_atlas_solve) */
 } run_state;
 
 /* The one-line progress bar (stderr, only on a terminal): the stage, a bar
@@ -626,6 +628,7 @@ static void draw_bar(run_state *rs, bp_stage s, double f)
 {
     char bar[31];
     int pct, i;
+    if (s == BP_STAGE_START && rs->together) s = BP_STAGE_OPTIMIZE;   /* one bar for both: they interleave */
     if (s == BP_STAGE_START || s == BP_STAGE_OPTIMIZE)
         f = rs->tris_total > 0 ? (rs->tris_before + f * rs->tris_chart) / rs->tris_total : f;
     if (f < 0) f = 0;
@@ -636,7 +639,9 @@ static void draw_bar(run_state *rs, bp_stage s, double f)
     rs->drawn_stage = s;
     for (i = 0; i < 30; i++) bar[i] = i < (int)(30 * f) ? '#' : '.';
     bar[30] = 0;
-    if (s == BP_STAGE_START || s == BP_STAGE_OPTIMIZE)
+    if ((s == BP_STAGE_START || s == BP_STAGE_OPTIMIZE) && rs->together)
+        fprintf(stderr, "\rbijparam: %-10s [%s] %3d%%  %u charts   ", "solve", bar, pct, (unsigned)rs->num_charts);
+    else if (s == BP_STAGE_START || s == BP_STAGE_OPTIMIZE)
         fprintf(stderr, "\rbijparam: %-10s [%s] %3d%%  chart %u/%u   ", bp_stage_name(s), bar, pct,
                 (unsigned)rs->chart + 1, (unsigned)rs->num_charts);
     else
@@ -1083,7 +1088,7 @@ int main(int argc, char **argv)
     bpd_render_options png_opt;
     frames_state fs;
     char final_path[4096];
-    int json = 0, demo = 0, have_mesh = 0, i, status = 0, segmented = 0, force = 0, quiet = 0, wrote = 0, check = 0, repack = 0, padding_set = 0;
+    int json = 0, demo = 0, have_mesh = 0, i, status = 0, segmented = 0, together = 0, force = 0, quiet = 0, wrote = 0, check = 0, repack = 0, padding_set = 0;
     uint32_t c;
     double t0;
 
@@ -1438,8 +1443,25 @@ int main(int argc, char **argv)
         tm.optimize += now_seconds() - t0;
         rs.num_charts = atlas.num_charts;
     }
-    /* 3. start map and optimization, chart by chart */
-    for (c = 0; st == BP_OK && !repack && !segmented && c < atlas.num_charts; c++) {
+    /* 3. start map and optimization.  Several charts (without --frames):
+          all at once by bp_atlas_solve, which solves the charts themselves
+          on the threads when none holds half the triangles (each one the
+          same bits as alone); the start and optimize stages of different
+          charts then interleave, so their whole time is "optimize".  One
+          chart, or --frames: chart by chart, each chart's time split into
+          its start map and its optimization. */
+    together = st == BP_OK && !repack && !segmented && !fs.dir && atlas.num_charts > 1;
+    if (together) {
+        t0 = now_seconds();
+        rs.tris_before = 0;                  /* the bar: the run's fraction of triangles */
+        rs.tris_chart = rs.tris_total;
+        rs.together = 1;
+        st = bp_atlas_solve(&atlas, &mesh, &opt, &err);
+        if (st == BP_ERR_CHARTS_FAILED && !opt.strict) st = BP_OK;   /* reported per chart below */
+        tm.optimize += now_seconds() - t0;
+    }
+    /* chart by chart */
+    for (c = 0; st == BP_OK && !repack && !segmented && !together && c < atlas.num_charts; c++) {
         if (atlas.charts[c].error.status != BP_OK) continue;   /* failed in step 2 */
         rs.chart = c;                        /* the progress bar's place */
         rs.tris_chart = atlas.charts[c].num_triangles;

@@ -11,6 +11,8 @@
 #   stages on a pseudo-terminal (script(1)), none with --quiet.
 # - --json names the format read: "obj", "off", "ply" (an ASCII PLY written
 #   here), and a PLY error names the file line.
+# - Several charts are solved together (bp_atlas_solve) on the threads: the
+#   report's thread count, the same bytes as one thread, one "solve" bar.
 # Prints "BPTEST <passed> <failed>" last (tests/run_all.sh).  Run from the
 # repository root.
 set -u
@@ -82,6 +84,28 @@ if command -v script > /dev/null; then
     check $(( rc != 0 || $(wc -c < "$d/tty") != 0 )) "--quiet on a terminal: nothing at all ($(wc -c < "$d/tty") bytes)"
 else
     check 1 "script(1) is needed to give the tool a terminal (util-linux)"
+fi
+
+# --- several charts: solved together (bp_atlas_solve), on the threads ----------------
+# spot's 13 vt charts (--repack off: solved), none holding half the triangles:
+# with 2 threads the charts themselves are the tasks ("threads": 2 in the
+# report, where chart by chart each small chart ran alone), the same bytes
+# as one thread, the solve's time all under "optimize" ("init" 0), and on a
+# terminal one "solve" bar naming the charts.
+"$tool" tests/data/spot.obj -o "$d/spot1.obj" --threads 1 -q
+"$tool" tests/data/spot.obj -o "$d/spot2.obj" --threads 2 -q --json > "$d/spot2.json"; rc=$?
+python3 - "$d/spot2.json" <<'PY'; ok=$?
+import json, sys
+d = json.load(open(sys.argv[1]))
+t = d["timings"]
+sys.exit(0 if d["threads"] == 2 and d["charts"] == 13 and t["init"] == 0 and t["optimize"] > 0 else 1)
+PY
+cmp -s "$d/spot1.obj" "$d/spot2.obj"; same=$?
+check $(( rc != 0 || ok != 0 || same != 0 )) "spot's 13 charts on 2 threads: solved together (\"threads\": 2, init 0), the same bytes as 1 thread"
+if command -v script > /dev/null; then
+    script -qc "$tool --threads 2 tests/data/spot.obj -o $d/spot3.obj" /dev/null > "$d/tty2" 2>&1; rc=$?
+    grep -q 'bijparam: solve *\[.*13 charts' "$d/tty2"; bar=$?
+    check $(( rc != 0 || bar != 0 )) "spot on a terminal: one 'solve' bar for the 13 charts solved together"
 fi
 
 # --- SIGINT: cancel through the callback ---------------------------------------------
