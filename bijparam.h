@@ -726,8 +726,8 @@ BPDEF bp_status bp_check(const uint32_t *triangles, uint32_t num_triangles,
    opt->parallel_for) with opt's allocator: the same verdict, report and
    err for any thread count.  Maps under BP__PAR_MIN_TRIANGLES (8192)
    triangles are checked on the caller's thread (starting threads would
-   cost more than they save).  opt may be NULL
-   (the defaults); a bad opt is BP_ERR_INVALID_ARGUMENT, as everywhere. */
+   cost more than they save).  opt may be NULL (the defaults); a bad opt
+   is BP_ERR_INVALID_ARGUMENT, as everywhere. */
 BPDEF bp_status bp_check_opt(const uint32_t *triangles, uint32_t num_triangles,
                              const double *uv, uint32_t num_vertices,
                              const bp_options *opt, bp_check_report *report, bp_error *err);
@@ -3444,8 +3444,8 @@ static const char *bp__io_reason(int e)
    of the file's size when the stream can seek (fseek, ftell), else grown by
    doubling (a pipe).  Growing cost every caller without a run_progress
    1.8 ms on face's 1.7 MB (its copies and fresh pages), where the one
-   buffer takes 0.1 ms (bp__load_file alone, repeated, medians of 61).  A directory opens on POSIX but cannot be read: its
-   EISDIR says so. */
+   buffer takes 0.1 ms (bp__load_file alone, repeated, medians of 61).
+   A directory opens on POSIX but cannot be read: its EISDIR says so. */
 static bp_status bp__load_file(const char *path, const bp_allocator *a, char **text,
                                size_t *length, bp_error *err, const bp_options *opt)
 {
