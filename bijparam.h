@@ -20290,11 +20290,13 @@ typedef struct bp__chart_job {
     bp_status *status;
     bp_error *errs;
     bp__run *run;                 /* bp_parameterize's run, or NULL (>>progress) */
+    const uint32_t *list;         /* task i solves chart list[i] (NULL: chart i) */
 } bp__chart_job;
 
-static void bp__chart_task(void *task, uint32_t c)
+static void bp__chart_task(void *task, uint32_t i)
 {
     bp__chart_job *J = (bp__chart_job *)task;
+    uint32_t c = J->list ? J->list[i] : i;
     bp__par serial = bp__par_serial();
     const bp__par *inner = J->atlas->charts[c].num_triangles >= BP__PAR_MIN_TRIANGLES ? J->inner : &serial;
     bp_allocator a = bp__allocator_of(J->opt);
@@ -20353,8 +20355,10 @@ static bp_status bp__collect(bp_atlas *atlas, const bp__chart_job *J, int strict
 /* Start map and optimization of every chart.  Charts are independent, so
    with several threads and no dominant chart (none holds more than half of
    the triangles) the charts themselves are the parallel tasks, each solved
-   with serial loops; otherwise the charts go one after the other and the
-   loops of the large ones (see >>threads) run in parallel.  Either way each
+   with serial loops; otherwise the large charts (BP__PAR_MIN_TRIANGLES or
+   more) go one after the other, their loops (see >>threads) in parallel,
+   and then the small ones are the parallel tasks (until 0.2 they followed
+   one by one on the caller, the other threads idle).  Either way each
    chart's result is bit-identical to a serial solve.  One pool serves the
    whole call, and none is started when neither way would use it (one small
    chart).  Returns as bp__collect. */
@@ -20364,7 +20368,7 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
     bp__par par, serial;
     bp__chart_job J;
     void *pool = NULL;
-    uint32_t c, largest = 0;
+    uint32_t c, largest = 0, *small = NULL;
     int by_chart;
     bp_status st;
     bp_options linked;
@@ -20385,10 +20389,28 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
         if (atlas->charts[c].num_triangles > largest) largest = atlas->charts[c].num_triangles;
     by_chart = atlas->num_charts > 1 && 2 * (uint64_t)largest <= m->num_triangles;
     par = by_chart || largest >= BP__PAR_MIN_TRIANGLES ? bp__par_begin(&a, opt, &pool) : serial;
+    J.list = NULL;
     if (par.threads != 1 && by_chart) {
         J.inner = &serial;
         par.run(par.user, bp__chart_task, &J, atlas->num_charts);
         for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].threads = par.threads;
+    } else if (par.threads != 1) {
+        uint32_t ns = 0;
+        if (!(small = (uint32_t *)bp__alloc_array(&a, atlas->num_charts, sizeof(uint32_t)))) {
+            bp__par_end(&a, pool);
+            bp__free(&a, J.status); bp__free(&a, J.errs);
+            return bp__oom(err, "starting the solve");
+        }
+        J.inner = &par;                                   /* the large charts, their loops on the threads */
+        for (c = 0; c < atlas->num_charts; c++)
+            if (atlas->charts[c].num_triangles >= BP__PAR_MIN_TRIANGLES) bp__chart_task(&J, c);
+            else small[ns++] = c;
+        J.inner = &serial;                                /* then the small ones as the tasks */
+        J.list = small;
+        if (ns > 1) par.run(par.user, bp__chart_task, &J, ns);
+        else bp__serial_for(NULL, bp__chart_task, &J, ns);
+        for (c = 0; ns > 1 && c < ns; c++) atlas->charts[small[c]].threads = par.threads;
+        bp__free(&a, small);
     } else {
         J.inner = &par;
         bp__serial_for(NULL, bp__chart_task, &J, atlas->num_charts);

@@ -8,7 +8,7 @@
      - a chart of 8192 triangles or more uses the threads: chart.threads == 2
        and a user parallel_for is called, with the same bits as 1 thread;
      - many small charts are solved as parallel tasks (chart.threads == 2),
-       one pool for the whole call.
+       one pool for the whole call, also after a dominant large chart.
    Allocations are counted by a bp_allocator that wraps malloc (a pool is
    four allocations); a count cannot be flaky the way a time can. */
 #define BP_USE_PTHREADS
@@ -178,10 +178,57 @@ static void check_many_charts(void)
     bpt_mesh_free(&m);
 }
 
+/* A dominant chart (the 8192-triangle grid, more than half the
+   triangles) and 200 one-triangle charts, bp_parameterize: on 2 threads
+   the grid's loops use the threads and then the small charts are the
+   parallel tasks (every chart.threads 2; they used to follow one by one on
+   the caller), with the same bits as 1 thread. */
+static void check_dominant_chart(void)
+{
+    enum { N = 200 };
+    bp_mesh g = grid(64), m = bpt_mesh_new(g.num_vertices + 3 * N, g.num_triangles + N);
+    bp_options o1 = options(1, 0), o2 = options(2, 0);
+    bp_atlas a1, a2;
+    bp_error e1, e2;
+    uint32_t i, c, small2 = 0, nsmall = 0, same = 1;
+    int ok;
+    memcpy(m.positions, g.positions, 3 * (size_t)g.num_vertices * sizeof(double));
+    memcpy(m.triangles, g.triangles, 3 * (size_t)g.num_triangles * sizeof(uint32_t));
+    for (i = 0; i < N; i++) {
+        double *p = m.positions + 3 * ((size_t)g.num_vertices + 3 * i);
+        uint32_t *t = m.triangles + 3 * ((size_t)g.num_triangles + i);
+        p[0] = 3.0 + 2.0 * i; p[1] = 0; p[2] = 0;
+        p[3] = 4.0 + 2.0 * i; p[4] = 0; p[5] = 0;
+        p[6] = 3.0 + 2.0 * i; p[7] = 1; p[8] = 0.5;
+        t[0] = g.num_vertices + 3 * i; t[1] = t[0] + 1; t[2] = t[0] + 2;
+    }
+    ok = bp_parameterize(&a1, &m, &o1, &e1) == BP_OK;
+    ok = ok && bp_parameterize(&a2, &m, &o2, &e2) == BP_OK;
+    if (!BPT_CHECK(ok && a1.num_charts == N + 1 && a2.num_charts == N + 1, "a grid and %d small charts: solved (%s)", N,
+                   ok ? "ok" : e1.message))
+        return;
+    for (c = 0; c < a2.num_charts; c++) {
+        const bp_chart *x = &a1.charts[c], *y = &a2.charts[c];
+        same = same && x->num_vertices == y->num_vertices &&
+               !memcmp(x->uv, y->uv, 2 * (size_t)x->num_vertices * sizeof(double));
+        if (y->num_triangles < 8192) { nsmall++; small2 += y->threads == 2; }
+        else BPT_CHECK(y->threads == 2, "the dominant grid chart's loops on 2 threads (chart.threads %d)", y->threads);
+    }
+    BPT_CHECK(same && nsmall == N && small2 == N,
+              "a dominant grid chart and %d small charts on 2 threads: the small ones are the parallel tasks "
+              "(%u of %u report 2 threads), every chart the same bits as 1 thread (%s)", N, small2, nsmall,
+              same ? "yes" : "no");
+    bp_atlas_free(&a1);
+    bp_atlas_free(&a2);
+    bpt_mesh_free(&g);
+    bpt_mesh_free(&m);
+}
+
 int main(void)
 {
     check_small_chart();
     check_large_chart();
     check_many_charts();
+    check_dominant_chart();
     return bpt_finish();
 }
