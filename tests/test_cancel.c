@@ -108,14 +108,13 @@ static int on_iter(void *user, uint32_t chart, int it, double e, double step)
     return 0;
 }
 
-/* Valid maps or none: every chart mapped and exactly valid, or failed with
-   a reason; and all mapped charts together pass the exact check (packed,
-   no two overlapping).  Returns the number of mapped charts, -1 if invalid. */
-static int valid_or_none(const bp_atlas *at, bp_status want_chart_error)
+/* Each chart mapped and exactly valid, or failed with a reason (that
+   reason, when want_chart_error is not BP_OK).  Returns the number of
+   mapped charts, -1 if not. */
+static int charts_valid_or_failed(const bp_atlas *at, bp_status want_chart_error)
 {
     uint32_t c;
     int mapped = 0;
-    bp_error e;
     for (c = 0; c < at->num_charts; c++) {
         const bp_chart *ch = &at->charts[c];
         bp_check_report r;
@@ -124,11 +123,21 @@ static int valid_or_none(const bp_atlas *at, bp_status want_chart_error)
                 return -1;
             continue;
         }
-        if (ch->error.status != BP_OK) return -1;
-        if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, &e) != BP_OK) return -1;
+        if (ch->error.status != BP_OK ||
+            bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, NULL) != BP_OK)
+            return -1;
         mapped++;
     }
-    if (mapped && bp__atlas_verify(at, &serial_par, &e) != BP_OK) return -1;
+    return mapped;
+}
+
+/* Valid maps or none (above), and all mapped charts together pass the
+   exact check (packed, no two overlapping). */
+static int valid_or_none(const bp_atlas *at, bp_status want_chart_error)
+{
+    bp_error e;
+    int mapped = charts_valid_or_failed(at, want_chart_error);
+    if (mapped > 0 && bp__atlas_verify(at, &serial_par, &e) != BP_OK) return -1;
     return mapped;
 }
 
@@ -259,24 +268,6 @@ static int on_run_slow(void *user, bp_stage s, double f, uint32_t chart)
     return stop;
 }
 
-/* Each chart mapped and exactly valid, or failed with a reason (charts
-   solved but not packed may lie on each other); -1 if not. */
-static int charts_valid_or_failed(const bp_atlas *at)
-{
-    uint32_t c;
-    int mapped = 0;
-    for (c = 0; c < at->num_charts; c++) {
-        const bp_chart *ch = &at->charts[c];
-        bp_check_report r;
-        if (!ch->uv) { if (ch->error.status == BP_OK) return -1; continue; }
-        if (ch->error.status != BP_OK ||
-            bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &r, NULL) != BP_OK)
-            return -1;
-        mapped++;
-    }
-    return mapped;
-}
-
 /* direct: bp_atlas_build, then bp_atlas_solve called by the caller (its
    charts on 2 threads too), instead of bp_parameterize. */
 static void slow_callback(bp_stage stage, int nth, double from, int direct)
@@ -297,7 +288,7 @@ static void slow_callback(bp_stage stage, int nth, double from, int direct)
     if (direct) {
         st = bp_atlas_build(&at, &grids, &opt, &err);
         if (st == BP_OK) st = bp_atlas_solve(&at, &grids, &opt, &err);
-        mapped = charts_valid_or_failed(&at);
+        mapped = charts_valid_or_failed(&at, BP_ERR_CANCELLED);   /* solved, not packed: they may lie on each other */
     } else {
         st = bp_parameterize(&at, &grids, &opt, &err);
         mapped = valid_or_none(&at, BP_ERR_CANCELLED);

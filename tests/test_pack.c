@@ -390,6 +390,28 @@ static void test_long_strip(void)
     bpt_mesh_free(&m);
 }
 
+/* Sliver k of test_slivers (below): a triangle whose apex is one (k even)
+   or two (k odd) ulps off its long edge of slope 0.3 + k / 1000, at uv
+   near 1e6, beside an ordinary triangle; the uvs are the input map. */
+static bp_mesh sliver_mesh(int k)
+{
+    bp_mesh m = bpt_mesh_new(6, 2);
+    double slope = 0.3 + k * 1e-3;
+    uint32_t i;
+    m.positions[3] = 1; m.positions[7] = 1;
+    m.positions[9] = 5; m.positions[12] = 6; m.positions[15] = 5; m.positions[16] = 1;
+    for (i = 0; i < 6; i++) m.triangles[i] = i;
+    m.corner_uv = (uint32_t *)malloc(6 * sizeof(uint32_t));
+    memcpy(m.corner_uv, m.triangles, 6 * sizeof(uint32_t));
+    m.uvs = (double *)calloc(12, sizeof(double));
+    m.num_uvs = 6;
+    m.uvs[0] = 1e6; m.uvs[1] = 1e6; m.uvs[2] = 1e6 + 1; m.uvs[3] = 1e6 + slope;
+    m.uvs[4] = 1e6 + 0.5; m.uvs[5] = nextafter(1e6 + slope * 0.5, 2e6);
+    if (k % 2) m.uvs[5] = nextafter(m.uvs[5], 2e6);
+    m.uvs[6] = 5; m.uvs[8] = 6; m.uvs[10] = 5; m.uvs[11] = 1;
+    return m;
+}
+
 /* Slivers: a triangle whose apex is one or two ulps off its long edge, far
    from the origin (uv near 1e6), next to an ordinary triangle.  Its input
    map is exactly valid, but rotating and scaling it rounds by about as much
@@ -401,25 +423,13 @@ static void test_long_strip(void)
 static void test_slivers(void)
 {
     int k, ok = 0, numerical = 0, other = 0, invalid = 0, fallback = 0, named = 0, moved = 0;
-    uint32_t i;
     for (k = 0; k < 200; k++) {
-        bp_mesh m = bpt_mesh_new(6, 2);
+        bp_mesh m = sliver_mesh(k);
         bp_atlas at;
         bp_options o;
         bp_error e;
         bp_status st;
-        double slope = 0.3 + k * 1e-3, keep;
-        m.positions[3] = 1; m.positions[7] = 1;
-        m.positions[9] = 5; m.positions[12] = 6; m.positions[15] = 5; m.positions[16] = 1;
-        for (i = 0; i < 6; i++) m.triangles[i] = i;
-        m.corner_uv = (uint32_t *)malloc(6 * sizeof(uint32_t));
-        memcpy(m.corner_uv, m.triangles, 6 * sizeof(uint32_t));
-        m.uvs = (double *)calloc(12, sizeof(double));
-        m.num_uvs = 6;
-        m.uvs[0] = 1e6; m.uvs[1] = 1e6; m.uvs[2] = 1e6 + 1; m.uvs[3] = 1e6 + slope;
-        m.uvs[4] = 1e6 + 0.5; m.uvs[5] = nextafter(1e6 + slope * 0.5, 2e6);
-        if (k % 2) m.uvs[5] = nextafter(m.uvs[5], 2e6);
-        m.uvs[6] = 5; m.uvs[8] = 6; m.uvs[10] = 5; m.uvs[11] = 1;
+        double keep;
         memset(&o, 0, sizeof o);
         st = bp_atlas_build(&at, &m, &o, &e);
         if (st == BP_OK) st = bp_atlas_use_input_uvs(&at, &m, &e);
@@ -472,19 +482,8 @@ static void test_shelf_counts(void)
     bp_status st;
     bp_check_report before, after;
     for (k = 0; k < 200; k++) {
-        double slope = 0.3 + k * 1e-3, keep;
-        m = bpt_mesh_new(6, 2);
-        m.positions[3] = 1; m.positions[7] = 1;
-        m.positions[9] = 5; m.positions[12] = 6; m.positions[15] = 5; m.positions[16] = 1;
-        for (i = 0; i < 6; i++) m.triangles[i] = i;
-        m.corner_uv = (uint32_t *)malloc(6 * sizeof(uint32_t));
-        memcpy(m.corner_uv, m.triangles, 6 * sizeof(uint32_t));
-        m.uvs = (double *)calloc(12, sizeof(double));
-        m.num_uvs = 6;
-        m.uvs[0] = 1e6; m.uvs[1] = 1e6; m.uvs[2] = 1e6 + 1; m.uvs[3] = 1e6 + slope;
-        m.uvs[4] = 1e6 + 0.5; m.uvs[5] = nextafter(1e6 + slope * 0.5, 2e6);
-        if (k % 2) m.uvs[5] = nextafter(m.uvs[5], 2e6);
-        m.uvs[6] = 5; m.uvs[8] = 6; m.uvs[10] = 5; m.uvs[11] = 1;
+        double keep;
+        m = sliver_mesh(k);
         memset(&o, 0, sizeof o);
         st = bp_atlas_build(&at, &m, &o, &e);
         if (st == BP_OK) st = bp_atlas_use_input_uvs(&at, &m, &e);
