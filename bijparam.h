@@ -1280,9 +1280,10 @@ static bp__run *bp__run_of(const bp_options *opt)
     return opt && opt->run_progress == bp__run_forward ? (bp__run *)opt->run_progress_user : NULL;
 }
 
-/* A run of its own for a public call that solves charts in parallel and
-   reports them (bp_atlas_solve) when the caller gave a run_progress
-   and no run is under way: opt's copy in *copy then carries
+/* The run of bp_parameterize, and a run of its own for bp_atlas_solve
+   (which solves charts in parallel and reports them) when the caller gave
+   a run_progress and no run is under way: opt's copy in *copy (opt itself
+   may be the copy) then carries
    bp__run_forward over *R, so that the callback is entered by one thread
    at a time and never called again after it answered stop, as inside
    bp_parameterize.  total: the triangles whose solve is the fraction of
@@ -1294,7 +1295,7 @@ static const bp_options *bp__run_begin(const bp_options *opt, bp_options *copy, 
     R->fn = opt->run_progress;
     R->user = opt->run_progress_user;
     R->total = total;
-    *copy = *opt;
+    if (copy != opt) *copy = *opt;
     copy->run_progress = bp__run_forward;
     copy->run_progress_user = R;
     return copy;
@@ -19926,12 +19927,11 @@ static bp_status bp__move_chart(const bp_allocator *a, const bp__par *par, bp_ch
     double *save = (double *)bp__alloc_array(a, 2 * (size_t)ch->num_vertices, sizeof(double));
     uint32_t i;
     int attempt;
-    bp_check_report before, zero;
-    const bp_check_report *ref = &zero;        /* `before` once it is checked */
+    bp_check_report before;
+    int checked = 0;                           /* `before` holds the map as it was */
     bp_status st;
     if (!save) return BP_ERR_OUT_OF_MEMORY;
     memcpy(save, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
-    memset(&zero, 0, sizeof zero);
     for (attempt = 0; attempt < 8; attempt++) {
         bp_check_report rep;
         double jig = attempt ? 1 + attempt * 1e-7 : 1;
@@ -19940,11 +19940,11 @@ static bp_status bp__move_chart(const bp_allocator *a, const bp__par *par, bp_ch
             ch->uv[2 * i + 1] = s * (save[2 * i + 1] - lo[1]) + oy * jig;
         }
         if ((st = bp__pack_check(a, par, ch, ch->uv, &rep)) != BP_OK) { bp__free(a, save); return st; }
-        if (ref == &zero && !bp__report_no_worse(&rep, &zero)) {     /* a count: what did the map have? */
+        if (!bp__report_valid(&rep) && !checked) {                   /* a count: what did the map have? */
             if ((st = bp__pack_check(a, par, ch, save, &before)) != BP_OK) { bp__free(a, save); return st; }
-            ref = &before;
+            checked = 1;
         }
-        if (bp__report_no_worse(&rep, ref)) {
+        if (bp__report_valid(&rep) || bp__report_no_worse(&rep, &before)) {
             bp__free(a, save);
             return BP_OK;
         }
@@ -20407,9 +20407,11 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
             else small[ns++] = c;
         J.inner = &serial;                                /* then the small ones as the tasks */
         J.list = small;
-        if (ns > 1) par.run(par.user, bp__chart_task, &J, ns);
-        else bp__serial_for(NULL, bp__chart_task, &J, ns);
-        for (c = 0; ns > 1 && c < ns; c++) atlas->charts[small[c]].threads = par.threads;
+        if (ns > 1) {
+            par.run(par.user, bp__chart_task, &J, ns);
+            for (c = 0; c < ns; c++) atlas->charts[small[c]].threads = par.threads;
+        } else
+            bp__serial_for(NULL, bp__chart_task, &J, ns);
         bp__free(&a, small);
     } else {
         J.inner = &par;
@@ -20523,13 +20525,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     if ((st = bp__rescaled_mesh(&a, m, &ms, &k, err)) != BP_OK) return st;
     if (!opt) memset(&local, 0, sizeof local);
     memset(&run, 0, sizeof run);
-    if (local.run_progress) {        /* one flag for the whole run (>>progress) */
-        run.fn = local.run_progress;
-        run.user = local.run_progress_user;
-        run.total = m->num_triangles;
-        local.run_progress = bp__run_forward;
-        local.run_progress_user = &run;
-    }
+    bp__run_begin(&local, &local, &run, m->num_triangles);   /* one flag for the whole run (>>progress) */
     if (k) local.epsilon = ldexp(local.epsilon, k);     /* a barrier width is a length */
     if (k) st = bp__rescale_controls(&a, &local, &ms, k, &pins_k, &uvs_k, err);   /* pins, input uvs */
     if (st == BP_OK && local.views.model != BP_VIEW_NONE && !local.init_only) {
