@@ -352,6 +352,38 @@ typedef int (*bp_run_progress_fn)(void *user, bp_stage stage, double fraction, u
 typedef void (*bp_task_fn)(void *task, uint32_t index);
 typedef void (*bp_parallel_for_fn)(void *user, bp_task_fn fn, void *task, uint32_t count);
 
+/* A pool of threads kept across calls.  Without one, each call that runs
+   on opt->threads (reading, building the charts, solving, packing,
+   checking, writing) starts its own threads and stops them on return; a
+   pipeline of those calls, or a batch of meshes, starts and stops them
+   again and again, and each new pool must first learn whether the machine
+   gives it its cores (>>threads).  A bp_pool is the library's own pool,
+   made once:
+
+       bp_pool *pool;
+       if (bp_pool_create(&pool, 0, NULL, &err) == BP_OK) {   -- 0: all cores
+           opt.parallel_for = bp_pool_for;
+           opt.parallel_user = pool;
+           ... any calls with opt ...
+           bp_pool_destroy(pool);
+       }
+
+   The calls behave exactly as with opt->threads set to the pool's thread
+   count (bp_pool_threads), the same bits for any count.  One loop runs
+   on a pool at a time: a bp_pool_for called while the pool is running
+   another one (another thread's call sharing the pool, or a library call
+   from inside a callback) runs its tasks on its own calling thread, one
+   after the other, so sharing a pool is safe, never a deadlock, and
+   changes no result.  Destroy it only when no call uses it.  Without
+   BP_USE_PTHREADS a pool has one thread (the caller's).  threads < 0 is
+   BP_ERR_INVALID_ARGUMENT; if a thread cannot be created the pool runs
+   with those it has. */
+typedef struct bp_pool bp_pool;
+BPDEF bp_status bp_pool_create(bp_pool **pool, int threads, const bp_allocator *alloc, bp_error *err);
+BPDEF void bp_pool_destroy(bp_pool *pool);
+BPDEF int bp_pool_threads(const bp_pool *pool);   /* the caller's included */
+BPDEF void bp_pool_for(void *pool, bp_task_fn fn, void *task, uint32_t count);
+
 /* View models of fig 4.3: where the camera may be, as directions toward it. */
 typedef enum bp_view_model {
     BP_VIEW_NONE = 0,
@@ -1821,15 +1853,22 @@ static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
     bp__pool_window(P);
 }
 
+/* The threads a pool of `threads` has (0: all cores, up to 256). */
+static int bp__pool_size(int threads)
+{
+    if (threads <= 0) {
+        long n = sysconf(_SC_NPROCESSORS_ONLN);
+        threads = n > 0 ? (int)(n < 256 ? n : 256) : 1;
+    }
+    return threads;
+}
+
 /* A pool of `threads` (0: all cores) including the caller. */
 static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
 {
     bp__pool *P;
     int i, mu = 0, wake = 0, done = 0;
-    if (threads <= 0) {
-        long n = sysconf(_SC_NPROCESSORS_ONLN);
-        threads = n > 0 ? (int)(n < 256 ? n : 256) : 1;
-    }
+    threads = bp__pool_size(threads);
     if (threads <= 1) return NULL;
     P = (bp__pool *)bp__calloc_array(a, 1, sizeof *P);
     if (!P) return NULL;
@@ -1883,6 +1922,8 @@ static bp__par bp__par_serial(void)
     return par;
 }
 
+static void bp__pool_call(bp_pool *pool);
+
 /* Choose how loops run for a solve; *pool receives a pool to stop later. */
 static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void **pool)
 {
@@ -1893,6 +1934,11 @@ static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void 
         par.run = opt->parallel_for;
         par.user = opt->parallel_user;
         par.threads = 0;
+        if (par.run == bp_pool_for && par.user) {     /* the library's pool: its real count */
+            par.threads = bp_pool_threads((const bp_pool *)par.user);
+            if (par.threads == 1) return bp__par_serial();
+            bp__pool_call((bp_pool *)par.user);
+        }
         return par;
     }
 #ifdef BP_USE_PTHREADS
@@ -1928,6 +1974,107 @@ static void bp__par_end(const bp_allocator *a, void *pool)
 #else
     (void)a; (void)pool;
 #endif
+}
+
+/* The public pool (bp_pool_create): the same bp__pool, kept, with a lock
+   that one loop at a time holds.  A loop that finds it taken (another
+   thread's call on the same pool, or a call from inside a task or a
+   callback of the running loop: the lock is not recursive) runs its
+   tasks on its own thread; who runs a task changes no result.  The pool's
+   measuring windows and its backoff (the essay on the machine's other
+   load, above) go on from call to call, so a batch keeps what the pool
+   learned about the machine. */
+struct bp_pool {
+    bp_allocator a;
+    int threads;                      /* the caller's included */
+#ifdef BP_USE_PTHREADS
+    bp__pool *P;                      /* NULL: one thread       */
+    pthread_mutex_t busy;
+#endif
+};
+
+/* A call begins on the pool: its measuring window starts afresh at the
+   call's first loop.  The time between two calls is the caller's own
+   (its file reads, its other work, perhaps waiting for a disk) and says
+   nothing about the cores the machine gives; a window that spanned it
+   would count it as a crowded machine and send the next loops to the
+   caller alone.  What the windows decided (the poll, the backoff) carries
+   over.  Skipped when another call is running a loop on the pool. */
+static void bp__pool_call(bp_pool *pool)
+{
+#ifdef BP_USE_PTHREADS
+    if (pool->P && pthread_mutex_trylock(&pool->busy) == 0) {
+        pool->P->wjobs = 0;
+        pthread_mutex_unlock(&pool->busy);
+    }
+#else
+    (void)pool;
+#endif
+}
+
+BPDEF bp_status bp_pool_create(bp_pool **pool, int threads, const bp_allocator *alloc, bp_error *err)
+{
+    bp_allocator a;
+    bp_pool *p;
+    memset(&a, 0, sizeof a);
+    if (alloc) a = *alloc;
+    if (pool) *pool = NULL;
+    if (!pool || threads < 0)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        pool ? "threads must be 0 (all cores) or more, not %D" : "pool must not be NULL",
+                        (int64_t)threads);
+    p = (bp_pool *)bp__calloc_array(&a, 1, sizeof *p);
+    if (!p) return bp__oom(err, "creating a thread pool");
+    p->a = a;
+    p->threads = 1;
+#ifdef BP_USE_PTHREADS
+    if (pthread_mutex_init(&p->busy, NULL) != 0) {
+        bp__free(&a, p);
+        return bp__oom(err, "creating a thread pool's lock");
+    }
+    if (bp__pool_size(threads) > 1) {
+        p->P = bp__pool_start(&a, threads);
+        if (!p->P) {
+            pthread_mutex_destroy(&p->busy);
+            bp__free(&a, p);
+            return bp__oom(err, "creating a thread pool");
+        }
+        p->threads = p->P->nth + 1;
+    }
+#endif
+    *pool = p;
+    bp__ok(err);
+    return BP_OK;
+}
+
+BPDEF void bp_pool_destroy(bp_pool *pool)
+{
+    bp_allocator a;
+    if (!pool) return;
+    a = pool->a;
+#ifdef BP_USE_PTHREADS
+    bp__pool_stop(&a, pool->P);
+    pthread_mutex_destroy(&pool->busy);
+#endif
+    bp__free(&a, pool);
+}
+
+BPDEF int bp_pool_threads(const bp_pool *pool)
+{
+    return pool ? pool->threads : 1;
+}
+
+BPDEF void bp_pool_for(void *pool, bp_task_fn fn, void *task, uint32_t count)
+{
+#ifdef BP_USE_PTHREADS
+    bp_pool *p = (bp_pool *)pool;
+    if (p && p->P && pthread_mutex_trylock(&p->busy) == 0) {
+        bp__pool_for(p->P, fn, task, count);
+        pthread_mutex_unlock(&p->busy);
+        return;
+    }
+#endif
+    bp__serial_for(pool, fn, task, count);
 }
 
 /* >>predicates =============================================================

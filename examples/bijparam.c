@@ -1072,6 +1072,7 @@ done:
 int main(int argc, char **argv)
 {
     bp_options opt;
+    bp_pool *pool = NULL;              /* one pool for every stage (step 0) */
     bp_mesh mesh;
     bp_atlas atlas;
     bp_error err;
@@ -1329,15 +1330,25 @@ int main(int argc, char **argv)
         rs.frames = &fs;
     }
 
-    /* 0. the temporary the result goes into, created now so that an output
-          that cannot be written fails before the work, removed on any
-          error or signal */
+    /* 0. one pool of threads for every stage (bp_pool_create): each call
+          would otherwise start and stop threads of its own, and the pool
+          started now is running by the time the reader needs it.  Without
+          one (out of memory) every call starts its own, as opt.threads. */
+    if (opt.threads != 1 && bp_pool_create(&pool, opt.threads, NULL, NULL) == BP_OK) {
+        opt.parallel_for = bp_pool_for;
+        opt.parallel_user = pool;
+    }
+
+    /* 0b. the temporary the result goes into, created now so that an
+           output that cannot be written fails before the work, removed on
+           any error or signal */
     if (output) {
         int why = 0;
         if (!temp_create(output, final_path, sizeof final_path, &why)) {
             fprintf(stderr, "bijparam: error: %s: cannot create a file next to it: %s\n",
                     output, strerror(why));
             if (rs.trace) fclose(rs.trace);
+            bp_pool_destroy(pool);
             return 1;
         }
         signal(SIGTERM, on_signal);
@@ -1604,6 +1615,7 @@ int main(int argc, char **argv)
     }
 
     if (rs.trace) fclose(rs.trace);
+    bp_pool_destroy(pool);
     for (i = 0; i < fs.nsnap; i++) free(fs.snap[i]);
     free(importance);
     free(pins);

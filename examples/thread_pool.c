@@ -15,8 +15,9 @@
    (on a mesh of a few thousand triangles the synchronization per call
    costs about what the threads save; the gain grows with the mesh).
    (The header also has its own pool: define BP_USE_PTHREADS and set
-   opt.threads; this example shows the hook you would use for TBB, OpenMP,
-   a game engine's job system...)  Build with -pthread.
+   opt.threads, or keep one across calls with bp_pool_create and
+   opt.parallel_for = bp_pool_for; this example shows the hook you would
+   use for TBB, OpenMP, a game engine's job system...)  Build with -pthread.
 
        build/examples/thread_pool [mesh] [threads] */
 #define _POSIX_C_SOURCE 200809L

@@ -17,7 +17,8 @@
    is off; BP_OK with the closed chart cut into a disk), with
    init_only and with normalize, with the projected Newton direction; bp_visibility on a small closed mesh;
    bp_write_obj (its table comes from the atlas's allocator); bp_check and
-   bp_check_opt (the options' allocator).
+   bp_check_opt (the options' allocator); bp_pool_create (a pool of one
+   thread here).
    The parsers' own allocation failures are covered by test_io.c.
 
    The library is built here without threads, so the allocation sequence is
@@ -319,6 +320,25 @@ static bp_status call_check_opt(void *ctx, const bp_allocator *a, int *valid)
     return st == BP_ERR_OUT_OF_MEMORY ? st : BP_OK;
 }
 
+/* bp_pool_create built without threads: a pool of one thread (the
+   caller's), one allocation from the given allocator; a loop on it runs
+   every task once. */
+static void count_task(void *task, uint32_t i) { ((uint32_t *)task)[i]++; }
+static bp_status call_pool(void *ctx, const bp_allocator *a, int *valid)
+{
+    bp_pool *pool;
+    bp_error err;
+    bp_status st = bp_pool_create(&pool, 4, a, &err);
+    uint32_t n[100] = { 0 }, i;
+    (void)ctx;
+    *valid = st == BP_OK ? bp_pool_threads(pool) == 1 : pool == NULL && err.message[0];
+    if (st != BP_OK) return st;
+    bp_pool_for(pool, count_task, n, 100);
+    for (i = 0; i < 100; i++) *valid = *valid && n[i] == 1;
+    bp_pool_destroy(pool);
+    return st;
+}
+
 int main(void)
 {
     bp_mesh bishop, holed, mixed, small;
@@ -475,6 +495,7 @@ int main(void)
             K.ch = &at.charts[0];
             sweep("bp_check on the mapped chart", call_check, &K, BP_OK);
             sweep("bp_check_opt on the mapped chart (opt's allocator)", call_check_opt, &K, BP_OK);
+            sweep("bp_pool_create without threads (one thread)", call_pool, NULL, BP_OK);
             unlink(path);
             rmdir(dir);
         }

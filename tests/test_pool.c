@@ -8,7 +8,16 @@
      - a chart of 8192 triangles or more uses the threads: chart.threads == 2
        and a user parallel_for is called, with the same bits as 1 thread;
      - many small charts are solved as parallel tasks (chart.threads == 2),
-       one pool for the whole call, also after a dominant large chart.
+       one pool for the whole call, also after a dominant large chart;
+     - a bp_pool kept across calls (bp_pool_create): the calls see its
+       real thread count (chart.threads 2, not 0 as for a foreign
+       parallel_for), start no pools of their own (fewer allocations than
+       threads = 2), give the same bits as 1 thread, and run every task
+       exactly once; two threads sharing one pool, and a call from inside
+       a callback of a call on the pool, finish with the same bits (the
+       loop that finds the pool busy runs on its own thread); bad
+       arguments and every failed allocation of bp_pool_create are
+       reported, with nothing leaked.
    Allocations are counted by a bp_allocator that wraps malloc (a pool is
    four allocations); a count cannot be flaky the way a time can. */
 #define BP_USE_PTHREADS
@@ -16,6 +25,7 @@
 #include "bijparam.h"
 #include "bptest.h"
 
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -224,11 +234,232 @@ static void check_dominant_chart(void)
     bpt_mesh_free(&m);
 }
 
+/* ---- a bp_pool kept across calls ------------------------------------- */
+
+/* bp_pool_for directly: each of `count` tasks adds one to its own slot. */
+typedef struct hits { uint32_t *n; } hits;
+static void hit_task(void *task, uint32_t i)
+{
+    __atomic_fetch_add(&((hits *)task)->n[i], 1u, __ATOMIC_RELAXED);
+}
+
+static int once_each(bp_pool *pool, uint32_t count)
+{
+    hits h;
+    uint32_t i;
+    int ok = 1;
+    h.n = (uint32_t *)calloc(count, sizeof(uint32_t));
+    bp_pool_for(pool, hit_task, &h, count);
+    for (i = 0; i < count; i++) ok = ok && h.n[i] == 1;
+    free(h.n);
+    return ok;
+}
+
+/* A loop on the pool whose tasks each run a loop on the same pool: the
+   inner loops find it busy and run on their own threads. */
+typedef struct outer { bp_pool *pool; uint32_t bad; } outer;
+static void outer_task(void *task, uint32_t i)
+{
+    outer *O = (outer *)task;
+    if (!once_each(O->pool, 50 + i)) __atomic_fetch_add(&O->bad, 1u, __ATOMIC_RELAXED);
+}
+
+/* A whole run of bp_parameterize with o; 1 when its charts' uv equal ref's
+   (ref NULL: kept in *out, the caller frees it). */
+static int same_run(const bp_mesh *m, const bp_options *o, const bp_atlas *ref, bp_atlas *out, int *threads)
+{
+    bp_atlas at;
+    bp_error e;
+    uint32_t c;
+    int ok = bp_parameterize(&at, m, o, &e) == BP_OK;
+    *threads = 0;
+    for (c = 0; ok && c < at.num_charts; c++) {
+        if (at.charts[c].threads > *threads) *threads = at.charts[c].threads;
+        ok = !ref || (ref->num_charts == at.num_charts && ref->charts[c].num_vertices == at.charts[c].num_vertices &&
+                      !memcmp(ref->charts[c].uv, at.charts[c].uv, 2 * (size_t)at.charts[c].num_vertices * sizeof(double)));
+    }
+    if (!ok && !e.message[0]) printf("  a run gave other bits\n");
+    else if (!ok) printf("  failed: %s\n", e.message);
+    if (out) *out = at;
+    else bp_atlas_free(&at);
+    return ok;
+}
+
+typedef struct sharer {
+    const bp_mesh *m;
+    bp_options o;
+    const bp_atlas *ref;
+    int ok, threads;
+} sharer;
+
+static void *share_run(void *arg)
+{
+    sharer *S = (sharer *)arg;
+    int r;
+    S->ok = 1;
+    for (r = 0; r < 3 && S->ok; r++) S->ok = same_run(S->m, &S->o, S->ref, NULL, &S->threads);
+    return NULL;
+}
+
+/* A run_progress that checks the map of a small mesh on the same pool,
+   from inside the call on the pool (the callback may run inside a loop's
+   task: the pool is then busy). */
+typedef struct nested { bp_pool *pool; const bp_mesh *small; const bp_atlas *small_ref; long calls, ok; } nested;
+static int nested_progress(void *user, bp_stage stage, double fraction, uint32_t chart)
+{
+    nested *N = (nested *)user;
+    bp_options o;
+    int t;
+    (void)stage; (void)fraction; (void)chart;
+    N->calls++;
+    bp_options_init(&o);
+    o.max_iterations = 5;
+    o.parallel_for = bp_pool_for;
+    o.parallel_user = N->pool;
+    if (same_run(N->small, &o, N->small_ref, NULL, &t)) N->ok++;
+    return 0;
+}
+
+/* An allocator whose k-th allocation fails (k = 0: none), with balance. */
+static long fa_k, fa_n, fa_live;
+static void *fail_alloc(void *user, size_t size)
+{
+    (void)user;
+    if (++fa_n == fa_k) return NULL;
+    fa_live++;
+    return malloc(size);
+}
+static void fail_free(void *user, void *p)
+{
+    (void)user;
+    if (p) fa_live--;
+    free(p);
+}
+
+static void check_pool_arguments(void)
+{
+    bp_pool *pool = (bp_pool *)&pool;
+    bp_allocator fa;
+    bp_error e;
+    long n, k, wrong = 0;
+    BPT_CHECK(bp_pool_create(NULL, 2, NULL, &e) == BP_ERR_INVALID_ARGUMENT && strstr(e.message, "pool"),
+              "bp_pool_create(NULL, ...): BP_ERR_INVALID_ARGUMENT (%s)", e.message);
+    BPT_CHECK(bp_pool_create(&pool, -3, NULL, &e) == BP_ERR_INVALID_ARGUMENT && bpt_has_number(e.message, -3) &&
+              pool == NULL, "bp_pool_create with threads -3: BP_ERR_INVALID_ARGUMENT naming -3, *pool NULL (%s)",
+              e.message);
+    BPT_CHECK(bp_pool_threads(NULL) == 1, "bp_pool_threads(NULL) is 1");
+    bp_pool_destroy(NULL);
+    BPT_CHECK(bp_pool_create(&pool, 1, NULL, &e) == BP_OK && bp_pool_threads(pool) == 1 && once_each(pool, 1000),
+              "a pool of 1 thread: 1 thread, every task of a loop run once");
+    bp_pool_destroy(pool);
+    BPT_CHECK(bp_pool_create(&pool, 0, NULL, &e) == BP_OK && bp_pool_threads(pool) >= 1 && once_each(pool, 1000),
+              "a pool of all cores (0): %d threads, every task of a loop run once", pool ? bp_pool_threads(pool) : 0);
+    bp_pool_destroy(pool);
+    fa.alloc = fail_alloc; fa.free = fail_free; fa.user = NULL;
+    fa_k = 0; fa_n = 0; fa_live = 0;
+    if (!BPT_CHECK(bp_pool_create(&pool, 3, &fa, &e) == BP_OK && bp_pool_threads(pool) == 3, "a pool of 3 threads"))
+        return;
+    n = fa_n;
+    bp_pool_destroy(pool);
+    for (k = 1; k <= n; k++) {
+        fa_k = k; fa_n = 0; fa_live = 0;
+        pool = (bp_pool *)&pool;
+        if (bp_pool_create(&pool, 3, &fa, &e) != BP_ERR_OUT_OF_MEMORY || pool != NULL || fa_live != 0 ||
+            !strstr(e.message, "pool"))
+            wrong++;
+    }
+    BPT_CHECK(n >= 2 && fa_live == 0 && wrong == 0,
+              "bp_pool_create on 3 threads: %ld allocations through its allocator, each one failing gives "
+              "BP_ERR_OUT_OF_MEMORY, *pool NULL and nothing leaked (%ld wrong)", n, wrong);
+}
+
+static void check_shared_pool(void)
+{
+    bp_mesh m = grid(64), small;
+    bp_options o1 = options(1, 0), o2 = options(2, 0), op = options(1, 0);
+    bp_pool *pool = NULL;
+    bp_atlas ref, small_ref;
+    bp_error e;
+    long a2, ap;
+    int t = 0, tp = 0, ok;
+    pthread_t th[2];
+    sharer S[2];
+    nested N;
+    uint32_t k;
+    if (!BPT_CHECK(bp_read_mesh("tests/data/camel_b.obj", &small, NULL, &e) == BP_OK, "read camel_b"))
+        return;
+    if (!BPT_CHECK(bp_pool_create(&pool, 2, NULL, &e) == BP_OK && bp_pool_threads(pool) == 2, "a pool of 2 threads"))
+        return;
+    op.parallel_for = bp_pool_for;
+    op.parallel_user = pool;
+    ok = same_run(&m, &o1, NULL, &ref, &t);
+    n_alloc = 0;
+    ok = ok && same_run(&m, &o2, &ref, NULL, &t);
+    a2 = n_alloc;
+    n_alloc = 0;
+    ok = ok && same_run(&m, &op, &ref, NULL, &tp);
+    ap = n_alloc;
+    BPT_CHECK(ok && t == 2 && tp == 2 && ap < a2,
+              "the %u-triangle grid through a bp_pool: the same bits as 1 thread, chart.threads %d (the pool's "
+              "count), no pools of its own (%ld allocations against %ld with threads = 2)", m.num_triangles, tp, ap,
+              a2);
+    for (ok = 1, k = 0; k < 200 && ok; k++) ok = once_each(pool, 1 + k * 37);
+    BPT_CHECK(ok, "200 loops of 1 to 7364 tasks on the kept pool: every task run exactly once");
+    {
+        outer O;
+        O.pool = pool; O.bad = 0;
+        bp_pool_for(pool, outer_task, &O, 64);
+        BPT_CHECK(O.bad == 0 && once_each(pool, 1000), "64 tasks on the pool, each running a loop of 50 to 113 tasks "
+                  "on the same pool: every inner task run once (%u loops wrong), and the pool works after", O.bad);
+    }
+    /* a call starts a fresh measuring window (the time between calls is
+       the caller's, not the machine's load), and keeps the poll */
+    {
+        bp__par par;
+        void *own = NULL;
+        uint32_t spin;
+        for (k = 0; k < 100; k++) once_each(pool, 4);
+        spin = pool->P->spin;
+        par = bp__par_begin(&op.allocator, &op, &own);
+        BPT_CHECK(pool->P->wjobs == 0 && spin == pool->P->spin && own == NULL && par.threads == 2 &&
+                  par.run == bp_pool_for, "a call's start on a kept pool: its window starts afresh (%u loops in it), "
+                  "the poll kept, no pool of its own, 2 threads", pool->P->wjobs);
+    }
+    /* two threads sharing the pool: 3 runs each, at once */
+    for (k = 0; k < 2; k++) {
+        S[k].m = &m; S[k].o = op; S[k].ref = &ref; S[k].ok = 0; S[k].threads = 0;
+        pthread_create(&th[k], NULL, share_run, &S[k]);
+    }
+    for (k = 0; k < 2; k++) pthread_join(th[k], NULL);
+    BPT_CHECK(S[0].ok && S[1].ok, "two threads running bp_parameterize on one pool at once, 3 times each: "
+              "the same bits as 1 thread (%d, %d)", S[0].ok, S[1].ok);
+    /* a call on the pool from inside a callback of a call on the pool */
+    {
+        bp_options on = op;
+        N.pool = pool; N.small = &small; N.calls = 0; N.ok = 0;
+        ok = same_run(&small, &o1, NULL, &small_ref, &t);
+        N.small_ref = &small_ref;
+        on.run_progress = nested_progress;
+        on.run_progress_user = &N;
+        ok = ok && same_run(&m, &on, &ref, NULL, &tp);
+        BPT_CHECK(ok && N.calls >= 3 && N.ok == N.calls,
+                  "bp_parameterize on the pool, its run_progress parameterizing camel_b on the same pool (%ld of %ld "
+                  "inner runs the same bits as 1 thread): both finish, the same bits", N.ok, N.calls);
+        bp_atlas_free(&small_ref);
+    }
+    bp_pool_destroy(pool);
+    bp_atlas_free(&ref);
+    bp_mesh_free(&small, NULL);
+    bpt_mesh_free(&m);
+}
+
 int main(void)
 {
     check_small_chart();
     check_large_chart();
     check_many_charts();
     check_dominant_chart();
+    check_pool_arguments();
+    check_shared_pool();
     return bpt_finish();
 }
