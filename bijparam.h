@@ -1994,17 +1994,22 @@ struct bp_pool {
 };
 
 /* A call begins on the pool: its measuring window starts afresh at the
-   call's first loop.  The time between two calls is the caller's own
-   (its file reads, its other work, perhaps waiting for a disk) and says
-   nothing about the cores the machine gives; a window that spanned it
-   would count it as a crowded machine and send the next loops to the
-   caller alone.  What the windows decided (the poll, the backoff) carries
-   over.  Skipped when another call is running a loop on the pool. */
+   call's first loop, with the early look of a new pool's first window.
+   The time between two calls is the caller's own (its file reads, its
+   other work, perhaps waiting for a disk) and says nothing about the
+   cores the machine gives; a window that spanned it would count it as a
+   crowded machine and send the next loops to the caller alone.  And a
+   call of few loops (reading a file: two) is no measure for the next
+   one: without the early look, a solve after such a call would keep that
+   call's poll until its first whole window closed, 50 ms on.  What the
+   windows decided (the poll, the backoff) carries over until then.
+   Skipped when another call is running a loop on the pool. */
 static void bp__pool_call(bp_pool *pool)
 {
 #ifdef BP_USE_PTHREADS
     if (pool->P && pthread_mutex_trylock(&pool->busy) == 0) {
         pool->P->wjobs = 0;
+        pool->P->looked = 0;
         pthread_mutex_unlock(&pool->busy);
     }
 #else

@@ -418,12 +418,14 @@ static void check_shared_pool(void)
         bp__par par;
         void *own = NULL;
         uint32_t spin;
-        for (k = 0; k < 100; k++) once_each(pool, 4);
+        for (k = 0; k < 300; k++) once_each(pool, 4);
+        pool->P->looked = 1;                  /* as after an earlier call's look */
         spin = pool->P->spin;
         par = bp__par_begin(&op.allocator, &op, &own);
-        BPT_CHECK(pool->P->wjobs == 0 && spin == pool->P->spin && own == NULL && par.threads == 2 &&
-                  par.run == bp_pool_for, "a call's start on a kept pool: its window starts afresh (%u loops in it), "
-                  "the poll kept, no pool of its own, 2 threads", pool->P->wjobs);
+        BPT_CHECK(pool->P->wjobs == 0 && !pool->P->looked && spin == pool->P->spin && own == NULL &&
+                  par.threads == 2 && par.run == bp_pool_for, "a call's start on a kept pool: its window starts "
+                  "afresh (%u loops in it) with an early look, the poll kept, no pool of its own, 2 threads",
+                  pool->P->wjobs);
     }
     /* two threads sharing the pool: 3 runs each, at once */
     for (k = 0; k < 2; k++) {
