@@ -36,6 +36,9 @@
 #   make bench-threads bench/threads.py: 1 against 2 threads on face, bimba
 #                     and the 132K and 1M subdivided charts, idle then busy
 #                     (~4 min; not in bench)
+#   make bench-pool   bench/pool_bench.c: a batch of four meshes read,
+#                     parameterized and written in one process, a pool per
+#                     call against one kept bp_pool (~1 min; not in bench)
 #   make clean        remove build/
 #
 # Every program includes bijparam.h, so every program depends on it.
@@ -73,7 +76,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-start bench-threads clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-start bench-threads bench-pool clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -197,6 +200,15 @@ bench-scaf: $(TOOL)
 bench-threads: $(TOOL)
 	python3 bench/threads.py 3 idle
 	python3 bench/threads.py 3 busy face,bimba,n4_132K
+
+# a batch in one process (read, parameterize, write four meshes of 8K-40K
+# faces): a pool per call against one kept bp_pool (~1 min; performance.md 6.40)
+POOL_MESHES = $(addprefix ../shared/meshes/,face_holes.off mech-holes-shark.off camelhead.off horse_cut.obj)
+bench-pool: bijparam.h bench/pool_bench.c
+	mkdir -p $(BUILD)/bench/pool
+	$(CC) -std=c99 -O2 -Wall -Wextra -pedantic -Werror -I. -DBP_USE_PTHREADS -pthread bench/pool_bench.c \
+	    -o $(BUILD)/bench/pool_bench -lm
+	$(BUILD)/bench/pool_bench $(BUILD)/bench/pool 7 $(POOL_MESHES)
 
 clean:
 	rm -rf $(BUILD)

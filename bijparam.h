@@ -20666,6 +20666,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     bp_mesh ms;
     bp_error cancel;
     bp__run run;
+    bp_pool *pool = NULL;
     double *imp = NULL, *uvs_k = NULL;
     bp_pin *pins_k = NULL;
     int k = 0;
@@ -20678,6 +20679,15 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     if (!opt) memset(&local, 0, sizeof local);
     memset(&run, 0, sizeof run);
     bp__run_begin(&local, &local, &run, m->num_triangles);   /* one flag for the whole run (>>progress) */
+#ifdef BP_USE_PTHREADS
+    /* one pool for every stage (bp_pool_create; a mesh this large starts
+       one in bp_atlas_build anyway), not one per stage */
+    if (!local.parallel_for && local.threads != 1 && m->num_triangles >= BP__PAR_MIN_TRIANGLES &&
+        bp_pool_create(&pool, local.threads, &a, NULL) == BP_OK) {
+        local.parallel_for = bp_pool_for;
+        local.parallel_user = pool;
+    }
+#endif
     if (k) local.epsilon = ldexp(local.epsilon, k);     /* a barrier width is a length */
     if (k) st = bp__rescale_controls(&a, &local, &ms, k, &pins_k, &uvs_k, err);   /* pins, input uvs */
     if (st == BP_OK && local.views.model != BP_VIEW_NONE && !local.init_only) {
@@ -20718,6 +20728,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
                           "cancelled; every chart was solved, packed and verified first");
         else st = bp__charts_status(atlas, err);
     }
+    bp_pool_destroy(pool);
     bp__free(&a, imp);
     bp__free(&a, pins_k);
     bp__free(&a, uvs_k);

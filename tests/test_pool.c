@@ -9,6 +9,8 @@
        and a user parallel_for is called, with the same bits as 1 thread;
      - many small charts are solved as parallel tasks (chart.threads == 2),
        one pool for the whole call, also after a dominant large chart;
+     - bp_parameterize on 2 threads starts one pool for all its stages
+       (build, solve, pack, check), not one per stage;
      - a bp_pool kept across calls (bp_pool_create): the calls see its
        real thread count (chart.threads 2, not 0 as for a foreign
        parallel_for), start no pools of their own (fewer allocations than
@@ -403,6 +405,13 @@ static void check_shared_pool(void)
               "the %u-triangle grid through a bp_pool: the same bits as 1 thread, chart.threads %d (the pool's "
               "count), no pools of its own (%ld allocations against %ld with threads = 2)", m.num_triangles, tp, ap,
               a2);
+    {   /* bp_parameterize on threads = 2 keeps one pool for all its stages */
+        bp_pool *one;
+        n_alloc = 0;
+        if (bp_pool_create(&one, 2, &o2.allocator, &e) == BP_OK) bp_pool_destroy(one);
+        BPT_CHECK(a2 - ap == n_alloc, "bp_parameterize on threads = 2 starts one pool for all its stages: %ld "
+                  "allocations more than on a kept pool, one pool's %ld", a2 - ap, n_alloc);
+    }
     for (ok = 1, k = 0; k < 200 && ok; k++) ok = once_each(pool, 1 + k * 37);
     BPT_CHECK(ok, "200 loops of 1 to 7364 tasks on the kept pool: every task run exactly once");
     {
