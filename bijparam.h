@@ -1420,9 +1420,10 @@ static const bp_options *bp__opts(const bp_options *in, bp_options *out, bp_erro
    one after the other.
 
    Who runs the tasks: a parallel_for supplied in the options (your job
-   system), or, with BP_USE_PTHREADS, a small pool (one per bp_parameterize
-   call, or per bp_chart_init / bp_chart_optimize of a large chart called
-   alone), or a plain loop; small charts and small loops always run as a
+   system, or a bp_pool you keep: bp_pool_for, recognized by its address,
+   below), or, with BP_USE_PTHREADS, a small pool (one per bp_parameterize
+   call, or per other call of a large mesh or chart called alone), or a
+   plain loop; small charts and small loops always run as a
    plain loop (below).  If a thread cannot be created the pool runs with
    the threads it has (possibly none besides the caller); chart->threads
    says how many the chart's loops could use. */
