@@ -1981,10 +1981,7 @@ static void bp__par_end(const bp_allocator *a, void *pool)
    that one loop at a time holds.  A loop that finds it taken (another
    thread's call on the same pool, or a call from inside a task or a
    callback of the running loop: the lock is not recursive) runs its
-   tasks on its own thread; who runs a task changes no result.  The pool's
-   measuring windows and its backoff (the essay on the machine's other
-   load, above) go on from call to call, so a batch keeps what the pool
-   learned about the machine. */
+   tasks on its own thread; who runs a task changes no result. */
 struct bp_pool {
     bp_allocator a;
     int threads;                      /* the caller's included */
@@ -1994,23 +1991,26 @@ struct bp_pool {
 #endif
 };
 
-/* A call begins on the pool: its measuring window starts afresh at the
-   call's first loop, with the early look of a new pool's first window.
-   The time between two calls is the caller's own (its file reads, its
-   other work, perhaps waiting for a disk) and says nothing about the
-   cores the machine gives; a window that spanned it would count it as a
-   crowded machine and send the next loops to the caller alone.  And a
-   call of few loops (reading a file: two) is no measure for the next
-   one: without the early look, a solve after such a call would keep that
-   call's poll until its first whole window closed, 50 ms on.  What the
-   windows decided (the poll, the backoff) carries over until then.
-   Skipped when another call is running a loop on the pool. */
+/* A call begins on the pool: the pool starts over as a new one would --
+   the short poll, no backoff, a measuring window from the call's first
+   loop with the early look -- only its threads are kept.  What one call
+   measured says little about the next: the time between two calls is the
+   caller's own (its file reads, its other work, a disk), and the last
+   window of a call can be mostly its serial end (packing, a check, the
+   writer's appends).  Carried over, such a window would send the next
+   call's loops to the caller alone for thousands of loops, or set its
+   poll; starting over keeps every call as tuned for a pool of its own
+   (performance.md 6.40).  Skipped when another call is running a loop on
+   the pool. */
 static void bp__pool_call(bp_pool *pool)
 {
 #ifdef BP_USE_PTHREADS
     if (pool->P && pthread_mutex_trylock(&pool->busy) == 0) {
-        pool->P->wjobs = 0;
-        pool->P->looked = 0;
+        bp__pool *P = pool->P;
+        P->wjobs = 0;
+        P->looked = 0;
+        P->skip = P->backoff = 0;
+        BP__STORE(&P->spin, (uint32_t)BP__SPIN_NS);
         pthread_mutex_unlock(&pool->busy);
     }
 #else

@@ -424,20 +424,24 @@ static void check_shared_pool(void)
         BPT_CHECK(O.bad == 0 && once_each(pool, 1000), "64 tasks on the pool, each running a loop of 50 to 113 tasks "
                   "on the same pool: every inner task run once (%u loops wrong), and the pool works after", O.bad);
     }
-    /* a call starts a fresh measuring window (the time between calls is
-       the caller's, not the machine's load), and keeps the poll */
+    /* a call on a kept pool starts over as a new pool would (the time
+       between calls, or a call's serial end, is no measure of the
+       machine): decisions of an earlier call (set here by hand) are
+       dropped, only the threads are kept */
     {
         bp__par par;
         void *own = NULL;
-        uint32_t spin;
         for (k = 0; k < 300; k++) once_each(pool, 4);
-        pool->P->looked = 1;                  /* as after an earlier call's look */
-        spin = pool->P->spin;
+        pool->P->looked = 1;
+        pool->P->skip = 100;
+        pool->P->backoff = BP__BACKOFF_MIN;
+        pool->P->spin = BP__SPIN_LONG_NS;
         par = bp__par_begin(&op.allocator, &op, &own);
-        BPT_CHECK(pool->P->wjobs == 0 && !pool->P->looked && spin == pool->P->spin && own == NULL &&
-                  par.threads == 2 && par.run == bp_pool_for, "a call's start on a kept pool: its window starts "
-                  "afresh (%u loops in it) with an early look, the poll kept, no pool of its own, 2 threads",
-                  pool->P->wjobs);
+        BPT_CHECK(pool->P->wjobs == 0 && !pool->P->looked && pool->P->skip == 0 && pool->P->backoff == 0 &&
+                  pool->P->spin == BP__SPIN_NS && own == NULL && par.threads == 2 && par.run == bp_pool_for,
+                  "a call's start on a kept pool: a new window (%u loops in it) with the early look, no backoff "
+                  "(%u loops to skip), the short poll (%u ns), no pool of its own, 2 threads", pool->P->wjobs,
+                  pool->P->skip, pool->P->spin);
     }
     /* two threads sharing the pool: 3 runs each, at once */
     for (k = 0; k < 2; k++) {
