@@ -2038,7 +2038,7 @@ BPDEF bp_status bp_pool_create(bp_pool **pool, int threads, const bp_allocator *
         bp__free(&a, p);
         return bp__oom(err, "creating a thread pool's lock");
     }
-    if (bp__pool_size(threads) > 1) {
+    if ((threads = bp__pool_size(threads)) > 1) {     /* 0: the cores, counted once */
         p->P = bp__pool_start(&a, threads);
         if (!p->P) {
             pthread_mutex_destroy(&p->busy);

@@ -105,18 +105,18 @@ int main(int argc, char **argv)
             c[way][r] = 1e3 * (cpu() - c0);
         }
     bp_pool_destroy(pool);
-    for (i = 0; i < nmesh; i++) {
+    for (i = 0; i < nmesh; i++) {                /* each way's output against the serial one */
         long n0 = 0, n1 = 0;
         char *s0, *s1;
+        snprintf(path, sizeof path, "%s/%d_%s.obj", argv[1], i, name[0]);
+        s0 = slurp(path, &n0);
         for (k = 1; k < WAYS; k++) {
-            snprintf(path, sizeof path, "%s/%d_%s.obj", argv[1], i, name[0]);
-            s0 = slurp(path, &n0);
             snprintf(path, sizeof path, "%s/%d_%s.obj", argv[1], i, name[k]);
             s1 = slurp(path, &n1);
             same = same && s0 && s1 && n0 == n1 && !memcmp(s0, s1, (size_t)n0);
-            free(s0);
             free(s1);
         }
+        free(s0);
     }
     printf("%d meshes, %d rounds (medians, ms per batch)\n", nmesh, runs);
     for (k = 0; k < WAYS; k++) {
