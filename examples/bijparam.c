@@ -307,13 +307,14 @@ fail:
    what is freed for the next allocation: no mmap for large blocks
    (M_MMAP_MAX 0; glibc still maps when the heap cannot grow) and no
    trimming of the heap (M_TRIM_THRESHOLD at its largest).  Measured
-   (docs/performance.md 6.41): bimba's two-thread run 1.38 -> 1.22 s, one
-   thread the same, page faults 46,000 -> 34,700, peak memory 1,730 ->
-   1,576 bytes per face; the million-face chart 811 -> 844 bytes per face,
-   and the 4,740-chart case 270 -> 366 on one thread (278 -> 293 on two:
-   a freed block stays in the heap, where later ones do not all fit).  A
-   fixed 16 MiB mmap threshold instead kept that case's peak but saved
-   less than half of the faults.  The library itself must not touch the process's malloc settings (and
+   (docs/performance.md 6.41): bimba's two-thread run 1.38 -> 1.22 s in a
+   busy hour and 1.13 -> 1.10 s in a calm one, one thread the same; page
+   faults 46,000 -> 34,700; peak memory 1,730 -> 1,576 bytes per face; the
+   million-face chart 811 -> 844 bytes per face, and the 4,740-chart case
+   270 -> 366 on one thread (278 -> 293 on two: a freed block stays in the
+   heap, where later ones do not all fit).  A fixed 16 MiB mmap threshold
+   instead kept that case's peak but saved less than half of the faults.
+   The library itself must not touch the process's malloc settings (and
    uses only the C library); a program calling it can do the same as here,
    or pass opt.allocator one that keeps its blocks.  With another C
    library nothing changes. */
