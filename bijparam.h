@@ -1865,6 +1865,17 @@ static int bp__pool_size(int threads)
 }
 
 /* A pool of `threads` (0: all cores) including the caller. */
+/* The state a new pool starts in, and a kept pool again at each call
+   (bp__pool_call): the short poll, no backoff, a measuring window from
+   the next loop with the early look. */
+static void bp__pool_fresh(bp__pool *P)
+{
+    P->wjobs = 0;
+    P->looked = 0;
+    P->skip = P->backoff = 0;
+    BP__STORE(&P->spin, (uint32_t)BP__SPIN_NS);
+}
+
 static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
 {
     bp__pool *P;
@@ -1873,7 +1884,7 @@ static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
     if (threads <= 1) return NULL;
     P = (bp__pool *)bp__calloc_array(a, 1, sizeof *P);
     if (!P) return NULL;
-    P->spin = BP__SPIN_NS;                     /* short until a window says otherwise */
+    bp__pool_fresh(P);                         /* the poll short until a window says otherwise */
     P->th = (pthread_t *)bp__alloc_array(a, (size_t)threads - 1, sizeof(pthread_t));
     P->who = (bp__worker *)bp__alloc_array(a, (size_t)threads - 1, sizeof(bp__worker));
     P->claim = (uint64_t *)bp__calloc_array(a, (size_t)threads * BP__LINE, sizeof(uint64_t));
@@ -2006,11 +2017,7 @@ static void bp__pool_call(bp_pool *pool)
 {
 #ifdef BP_USE_PTHREADS
     if (pool->P && pthread_mutex_trylock(&pool->busy) == 0) {
-        bp__pool *P = pool->P;
-        P->wjobs = 0;
-        P->looked = 0;
-        P->skip = P->backoff = 0;
-        BP__STORE(&P->spin, (uint32_t)BP__SPIN_NS);
+        bp__pool_fresh(pool->P);
         pthread_mutex_unlock(&pool->busy);
     }
 #else
