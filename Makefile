@@ -33,6 +33,10 @@
 #                     energy x 1.001 per --direction, one thread (~10 min of
 #                     CPU on an idle machine, far more on a busy one; not in
 #                     bench)
+#   make bench-direction bench/direction.py: the default direction against
+#                     Newton and the preconditioned L-BFGS on 15 charts of
+#                     22K-357K faces, near and far from an isometry, one
+#                     thread (~40 min of CPU; not in bench)
 #   make bench-threads bench/threads.py: 1 against 2 threads on face, bimba
 #                     and the 132K and 1M subdivided charts, idle then busy
 #                     (~4 min; not in bench)
@@ -76,7 +80,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-start bench-threads bench-pool clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-direction bench-start bench-threads bench-pool clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -194,6 +198,11 @@ bench-atlas: $(TOOL)
 # for SCAF_DIRECTIONS (default "precond newton"); docs/performance.md 6.2
 bench-scaf: $(TOOL)
 	python3 bench/scaf_ratio.py
+
+# issue 15's "choose the default direction by the benchmark": each chart
+# with --direction newton, precond and default (docs/performance.md 6.42)
+bench-direction: $(TOOL)
+	python3 bench/direction.py
 
 # issue 15's thread target: wall time with 1 and 2 threads above 50K faces,
 # on the machine as it is, then with two spinning processes beside it

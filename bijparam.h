@@ -281,11 +281,11 @@ typedef struct bp_pin {
 
 typedef enum bp_direction {
     BP_DIRECTION_DEFAULT = 0,        /* chosen per chart before solving (>>optimize,
-                                        bp__opt_choose_newton): NEWTON for charts of
-                                        20,000-99,999 triangles (start energy
-                                        finite), and of 1,000-19,999 triangles
-                                        whose start's mean symmetric Dirichlet
-                                        energy is 8 or more; else PRECONDITIONED */
+                                        bp__opt_choose_newton): NEWTON for the
+                                        symmetric Dirichlet energy on charts of
+                                        1,000 triangles or more whose start's
+                                        mean energy is 8 or more (finite), at
+                                        any size; else PRECONDITIONED */
     BP_DIRECTION_LBFGS,              /* the dissertation's L-BFGS, scalar initial
                                         Hessian (sec 3.5, Algorithm 1)             */
     BP_DIRECTION_GRADIENT,           /* gradient descent (for comparison)          */
@@ -15778,10 +15778,14 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
    supernodal factorization (sec 6.1) an iteration costs 7-24 L-BFGS ones,
    and on issue 15's ten meshes (sec 6.6) Newton reaches SCAF's energy
    3.4-6.7x sooner than the preconditioned L-BFGS on the charts of 22K-89K
-   triangles, but 1.3x later on the 10K-triangle shark (on lucy, 1.9x
-   sooner from the mean-value start, sec 6.10); so the default
-   (BP_DIRECTION_DEFAULT, bp__opt_choose_newton in >>optimize) takes Newton
-   for 20,000-99,999 triangles.
+   triangles, but 1.3x later on the 10K-triangle shark (1.9x sooner
+   since the faster factorizations, sec 6.36; on lucy, 1.9x sooner from
+   the mean-value start, sec 6.10), and on charts above
+   100,000 triangles far from an isometry 1.5-25x sooner (sec 6.42), while
+   from a start near an isometry, where L-BFGS needs few iterations, it is
+   later; so the default (BP_DIRECTION_DEFAULT, bp__opt_choose_newton in
+   >>optimize) takes Newton for the symmetric Dirichlet energy from 1,000
+   triangles up when the start's mean energy is at least 8.
    bench/scaf_ratio.py (make bench-scaf) repeats the comparison. */
 
 #ifndef BP__NEWTON_BARRIER
@@ -17118,71 +17122,79 @@ static void bp__opt_hold(const bp__opt *P, double *g)
 }
 
 /* The default direction (BP_DIRECTION_DEFAULT) is chosen per chart before
-   the first iteration, from what is known then: the number of triangles
-   and the start map's mean energy E0 = sum_t w_t E_t / n_t (the report's
-   energy_start).  On issue 15's ten meshes (docs/performance.md sec 6.6:
-   CPU seconds to SCAF's final energy x 1.001, one thread, medians of 3)
-   projected Newton, with the supernodal factorization, reaches it 3.4-6.7x
-   sooner than the preconditioned L-BFGS on camelhead, face and bimba
-   (22,704-89,215 triangles), 2.5x on hilbert, and ties on horse_cut; it
-   also wins on the small camel_b and cow, but loses 1.3x on the 10,192
-   triangles of mech-holes-shark, so below 20,000 triangles the
-   preconditioned L-BFGS stays (an iteration of it costs 0.7-1.6 ms there,
-   one of Newton 7-17 times as much).  Sec 6.6 also kept L-BFGS for a
-   start above E0 = 1e9, for lucy (48,275 triangles), whose Tutte start
-   (E0 = 3.9e12) clipped every Newton step; from the mean-value start that
-   is now the default (E0 = 1.2e15, sec 6.7) Newton reaches SCAF's energy
-   in 77 iterations, 1.9x sooner than L-BFGS (sec 6.10), so that threshold
-   is gone (BP__AUTO_NEWTON_E0 is infinite; a start whose energy is not
-   finite keeps L-BFGS).  Above 100,000 triangles
-   nothing was compared, and Newton's factor needs ~1.7 KB per face against
-   L-BFGS's ~0.75 (issue 15's million-face chart must stay under 1 KiB),
-   so L-BFGS stays there.  Below 20,000 triangles the comparison was
-   made again after the isotropic phase and the faster factorizations
-   (sec 6.36, symmetric Dirichlet, CPU of the whole run, one thread):
-   Newton now wins where the start is far from an isometry -- camel_b
-   (E0 870) 0.29 against 0.40 s, the cow (843) 0.43 against 0.85,
-   mech-holes-shark (27.9) 0.66 against 1.28, fertility cut open (13.2)
-   0.98 against 1.06, bishop (70.9, 1,000 triangles) 0.017 against 0.029
-   -- and ties or loses where it is near one, since L-BFGS then needs few
-   iterations and Newton's ordering and first analysis are a fixed cost:
-   torus_with_holes (E0 6.0) 0.054 against 0.053, face_holes (4.08) 0.10
-   against 0.067.  So from BP__AUTO_NEWTON_SMALL triangles a start of
-   mean symmetric Dirichlet energy at least BP__AUTO_NEWTON_SMALL_E0
-   (twice the isometry's 4) takes Newton too; the other energies keep the
-   rule above (not measured).  The sum is taken by chunks of triangles added
-   in chunk order (bp__energy_task, as bp__evaluate takes it), so the
-   choice is the same on any number of threads. */
+   the first iteration, from what is known then: the energy, the number of
+   triangles and the start map's mean energy E0 = sum_t w_t E_t / n_t (the
+   report's energy_start).  The rule:
+
+       Newton  when the energy is symmetric Dirichlet, the chart has at
+               least BP__AUTO_NEWTON_MIN (1,000) triangles, and
+               8 <= E0 < infinity (BP__AUTO_NEWTON_E0: twice an
+               isometry's 4);
+       the preconditioned L-BFGS otherwise.
+
+   Why (docs/performance.md secs 6.6, 6.10, 6.36, 6.42; `make
+   bench-direction` repeats the last).  Projected Newton converges in tens
+   of iterations where L-BFGS needs hundreds or thousands, but each of its
+   iterations costs 7-30 of L-BFGS's and it needs a fixed set-up (an
+   ordering, a symbolic analysis), so it wins where the start is far from
+   the optimum and loses where L-BFGS needs only a few iterations:
+   - Far from an isometry Newton wins at every size measured, and by more
+     the larger the chart: camel_b (3,576 triangles, E0 870) and the cow
+     (843) 1.4-2x less CPU, camelhead, face and bimba (22K-89K, E0 30-75)
+     12-30x for the whole run; above 100,000 triangles (sec 6.42: the
+     corpus subdivided, 129K-357K) mech-holes-shark 1.6x, hilbert,
+     horse_cut and lucy 2.3-3.1x, camelhead 9x, bimba 12x and face 27x
+     (to within 0.1% of the final energy 4.6-49x).  An earlier rule kept
+     L-BFGS above 100,000 triangles, where nothing had been compared.
+   - Near an isometry (E0 < 8: a developable or nearly flat chart, whose
+     start is already close) L-BFGS needs 3-400 iterations, and to the end
+     it takes 2.6x less CPU on beetle (38,656 triangles, E0 4.19), 2.3x on
+     beetle subdivided (155K, 7.4), 1.5-2x on face_holes subdivided (33K,
+     4.08); it ties on face_holes subdivided to 132K (Newton 1.06x less
+     CPU, twice the memory) and on hilbert (4.00: 0.1-0.2 s either way).
+     An earlier rule sent every chart of 20,000-99,999 triangles to
+     Newton, whatever its start.
+   - The other energies keep L-BFGS at every size.  Newton's projected
+     Hessian is a poor model of the conformal energy (invariant to scale)
+     and of the maximal isometric one (not smooth): under them face and
+     beetle took Newton 114-1,165 iterations and 3-41x the CPU of L-BFGS
+     to the end, and face's maximal isometric run stopped higher (1.969
+     against 1.889).  The isometric energy: 19x on beetle, a tie on face
+     (where Newton came within 0.1% of the end 3.2x sooner); MIPS: Newton
+     2.7x less CPU on face subdivided to 207K (a mean-value start), 1.7-3x
+     more (0.2-0.6 s) from the conformal starts of face and beetle.  The
+     earlier rule sent them all to Newton on 20,000-99,999 triangles.
+   - Below 1,000 triangles an iteration of L-BFGS costs microseconds and
+     Newton's set-up is not paid back (bishop, 1,000 triangles, is the
+     smallest chart measured with Newton ahead: 0.017 against 0.029 s).
+   Memory: Newton's factor of the 2n x 2n matrix needs 1.5-2.2 KB per face
+   at the peak, L-BFGS's single-precision Laplacian 0.7-1.2 KB, so a chart
+   of a million faces far from an isometry takes about 2 GB under the
+   default (a near-isometric one, like `make bench-scale`'s, stays under
+   1 KiB per face with L-BFGS); BP_DIRECTION_PRECONDITIONED caps it.  A
+   start whose energy is not finite (NaN or infinite) keeps L-BFGS.  The
+   sum is taken by chunks of triangles added in chunk order
+   (bp__energy_task, as bp__evaluate takes it), so the choice is the same
+   on any number of threads. */
 #ifndef BP__AUTO_NEWTON_MIN
-#define BP__AUTO_NEWTON_MIN 20000u
-#endif
-#ifndef BP__AUTO_NEWTON_SMALL
-#define BP__AUTO_NEWTON_SMALL 1000u
-#endif
-#ifndef BP__AUTO_NEWTON_SMALL_E0
-#define BP__AUTO_NEWTON_SMALL_E0 8.0
-#endif
-#ifndef BP__AUTO_NEWTON_MAX
-#define BP__AUTO_NEWTON_MAX 100000u
+#define BP__AUTO_NEWTON_MIN 1000u
 #endif
 #ifndef BP__AUTO_NEWTON_E0
-#define BP__AUTO_NEWTON_E0 HUGE_VAL   /* sec 6.6 had 1e9 (measurements) */
+#define BP__AUTO_NEWTON_E0 8.0
 #endif
 static int bp__opt_choose_newton(bp__solver *S, const double *x)
 {
     bp__eval_task T;
-    double sum = 0;
+    double sum = 0, e0;
     uint32_t c;
-    int small = S->nt < BP__AUTO_NEWTON_MIN;
-    if (S->nt < BP__AUTO_NEWTON_SMALL || S->nt >= BP__AUTO_NEWTON_MAX) return 0;
-    if (small && S->energy != BP_ENERGY_SYMMETRIC_DIRICHLET) return 0;
+    if (S->nt < BP__AUTO_NEWTON_MIN || S->energy != BP_ENERGY_SYMMETRIC_DIRICHLET) return 0;
     memset(&T, 0, sizeof T);
     T.S = S;
     T.x = x;
     S->par.run(S->par.user, bp__energy_task, &T, S->nchunk_t);   /* E_D by chunks, as bp__evaluate */
     for (c = 0; c < S->nchunk_t; c++) sum += S->part[c];
-    if (small) return sum / S->nt >= BP__AUTO_NEWTON_SMALL_E0 && sum / S->nt < HUGE_VAL;
-    return sum / S->nt < BP__AUTO_NEWTON_E0;       /* also false for a NaN or infinite start */
+    e0 = sum / S->nt;
+    return e0 >= BP__AUTO_NEWTON_E0 && e0 < HUGE_VAL;   /* false for a NaN start too */
 }
 
 /* Whether the edges of chunk c of the triangles respect the order (in

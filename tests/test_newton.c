@@ -729,51 +729,145 @@ static void test_reuse(void)
     bp_mesh_free(&mesh, NULL);
 }
 
-/* The default direction (bp__opt_choose_newton, docs/performance.md sec
-   6.6): for each chart the default's map after a few iterations must be,
-   bit for bit, the one of the direction that the documented rule names for
-   the chart's size and reported start energy (Newton for 20,000 <= F <
-   100,000 with a finite energy_start, and, for symmetric Dirichlet, for
-   1,000 <= F < 20,000 with a finite energy_start of at least 8 (sec
-   6.36); else the preconditioned L-BFGS; sec 6.10 dropped 6.6's
-   energy_start <= 1e9), and differ from the other direction's (so that
+/* The default direction (bp__opt_choose_newton, docs/performance.md secs
+   6.6, 6.36, 6.42): for each chart the default's map after a few
+   iterations must be, bit for bit, the one of the direction that the
+   documented rule names for the chart's energy, size and reported start
+   energy -- Newton for the symmetric Dirichlet energy on 1,000 triangles
+   or more with a finite energy_start of at least 8, at any size; else the
+   preconditioned L-BFGS -- and differ from the other direction's (so that
    the comparison can fail).  camel_b (E0 870) and bishop (71) are small
    charts far from an isometry, face_holes (4.08) a small one near it,
-   camel_b under MIPS a small one of another energy, camelhead inside
-   the size, lucy inside it with a crushed mean-value start (mean energy
-   1.2e15). */
-static void test_default_choice(const char *path, bp_energy energy)
+   camel_b and camelhead under MIPS charts of another energy, camelhead
+   (65) and lucy (its mean-value start at 1.2e15) mid-sized charts far
+   from an isometry, beetle (38,656 triangles, 4.19) a mid-sized one near
+   it, and camelhead subdivided 3 x 3 (204,336 triangles, its mean-value
+   start far from an isometry) a large one.  The rule of sessions 6-25
+   (Newton for every chart of 20,000-99,999 triangles, L-BFGS above) fails
+   the last four. */
+static void test_default_choice_mesh(const char *name, const bp_mesh *mesh, bp_energy energy, int iterations)
 {
-    bp_mesh mesh;
     bp_error err;
     bp_atlas at[3];
     bp_options opt;
     int r, ok = 1;
-    if (!BPT_CHECK(bp_read_mesh(path, &mesh, NULL, &err) == BP_OK, "read %s: %s", path, err.message)) return;
     for (r = 0; r < 3; r++) {
         static const bp_direction D[3] = { BP_DIRECTION_DEFAULT, BP_DIRECTION_PRECONDITIONED, BP_DIRECTION_NEWTON };
         memset(&opt, 0, sizeof opt);
         opt.threads = 1;
-        opt.max_iterations = 3;
+        opt.max_iterations = iterations;
         opt.energy = energy;
         opt.direction = D[r];
-        ok &= BPT_CHECK(bp_parameterize(&at[r], &mesh, &opt, &err) == BP_OK, "%s direction %d: %s", path, (int)D[r],
+        ok &= BPT_CHECK(bp_parameterize(&at[r], mesh, &opt, &err) == BP_OK, "%s direction %d: %s", name, (int)D[r],
                         err.message);
     }
     if (ok) {
         const bp_chart *cd = &at[0].charts[0];
         size_t n = 2 * (size_t)cd->num_vertices * sizeof(double);
-        int newton = cd->num_triangles < 100000 && cd->energy_start < HUGE_VAL &&
-                     (cd->num_triangles >= 20000 || (cd->num_triangles >= 1000 && energy == BP_ENERGY_SYMMETRIC_DIRICHLET &&
-                                                     cd->energy_start >= 8));
+        int newton = energy == BP_ENERGY_SYMMETRIC_DIRICHLET && cd->num_triangles >= 1000 &&
+                     cd->energy_start >= 8 && cd->energy_start < HUGE_VAL;
         const bp_chart *want = &at[newton ? 2 : 1].charts[0], *other = &at[newton ? 1 : 2].charts[0];
         BPT_CHECK(at[0].num_charts == 1 && memcmp(cd->uv, want->uv, n) == 0 && cd->iterations == want->iterations,
-                  "%s (%u triangles, start energy %.3g): the default is %s, bit for bit", path, cd->num_triangles,
-                  cd->energy_start, newton ? "Newton" : "the preconditioned L-BFGS");
-        BPT_CHECK(memcmp(cd->uv, other->uv, n) != 0, "%s: and not %s", path,
+                  "%s (%u triangles, energy %d, start energy %.3g): the default is %s, bit for bit", name,
+                  cd->num_triangles, (int)energy, cd->energy_start, newton ? "Newton" : "the preconditioned L-BFGS");
+        BPT_CHECK(memcmp(cd->uv, other->uv, n) != 0, "%s: and not %s", name,
                   newton ? "the preconditioned L-BFGS" : "Newton");
     }
     for (r = 0; r < 3; r++) if (ok) bp_atlas_free(&at[r]);
+}
+
+static void test_default_choice(const char *path, bp_energy energy)
+{
+    bp_mesh mesh;
+    bp_error err;
+    if (!BPT_CHECK(bp_read_mesh(path, &mesh, NULL, &err) == BP_OK, "read %s: %s", path, err.message)) return;
+    test_default_choice_mesh(path, &mesh, energy, 3);
+    bp_mesh_free(&mesh, NULL);
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Every triangle of `in` split into 3 x 3 similar ones in its own plane
+   (bench/subdivide.py's grid P(i, j) = a + i/3 (b - a) + j/3 (c - a), no
+   bump): the two points on an edge are shared by its triangles, so a disk
+   stays a disk with the same loops.  Returns 0 out of memory. */
+static int subdivide3(const bp_mesh *in, bp_mesh *out)
+{
+    uint32_t nv = in->num_vertices, nt = in->num_triangles, t, k, ne = 0, i, j;
+    uint64_t *key = (uint64_t *)malloc(3 * (size_t)nt * sizeof(uint64_t));
+    memset(out, 0, sizeof *out);
+    if (!key) return 0;
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) {
+            uint64_t u = in->triangles[3 * t + k], v = in->triangles[3 * t + (k + 1) % 3];
+            key[3 * (size_t)t + k] = u < v ? u * nv + v : v * nv + u;
+        }
+    qsort(key, 3 * (size_t)nt, sizeof(uint64_t), cmp_u64);
+    for (k = 0; k < 3 * nt; k++) if (k == 0 || key[k] != key[k - 1]) key[ne++] = key[k];
+    out->num_vertices = nv + 2 * ne + nt;
+    out->num_triangles = out->num_faces = 9 * nt;
+    out->positions = (double *)malloc(3 * (size_t)out->num_vertices * sizeof(double));
+    out->triangles = (uint32_t *)malloc(3 * (size_t)out->num_triangles * sizeof(uint32_t));
+    if (!out->positions || !out->triangles) { free(key); free(out->positions); free(out->triangles); return 0; }
+    memcpy(out->positions, in->positions, 3 * (size_t)nv * sizeof(double));
+    for (k = 0; k < ne; k++) {                       /* the edge's points at 1/3 and 2/3 from its lower end */
+        const double *lo = in->positions + 3 * (key[k] / nv), *hi = in->positions + 3 * (key[k] % nv);
+        for (i = 0; i < 3; i++) {
+            out->positions[3 * ((size_t)nv + 2 * k) + i] = lo[i] + (hi[i] - lo[i]) / 3;
+            out->positions[3 * ((size_t)nv + 2 * k + 1) + i] = lo[i] + 2 * (hi[i] - lo[i]) / 3;
+        }
+    }
+    for (t = 0; t < nt; t++) {
+        const uint32_t *c = in->triangles + 3 * (size_t)t;
+        uint32_t P[4][4], *o = out->triangles + 27 * (size_t)t, q = 0;
+        uint32_t ends[3][2] = { { c[0], c[1] }, { c[0], c[2] }, { c[1], c[2] } }, pt[3][2];
+        for (k = 0; k < 3; k++) {                    /* pt[k][s]: the point (s+1)/3 from ends[k][0] */
+            uint32_t u = ends[k][0], v = ends[k][1];
+            uint64_t want = u < v ? (uint64_t)u * nv + v : (uint64_t)v * nv + u;
+            const uint64_t *f = (const uint64_t *)bsearch(&want, key, ne, sizeof(uint64_t), cmp_u64);
+            uint32_t e = nv + 2 * (uint32_t)(f - key);
+            pt[k][0] = u < v ? e : e + 1;
+            pt[k][1] = u < v ? e + 1 : e;
+        }
+        P[0][0] = c[0]; P[3][0] = c[1]; P[0][3] = c[2];
+        P[1][0] = pt[0][0]; P[2][0] = pt[0][1];      /* a -> b */
+        P[0][1] = pt[1][0]; P[0][2] = pt[1][1];      /* a -> c */
+        P[2][1] = pt[2][0]; P[1][2] = pt[2][1];      /* b -> c: (i, j) = (3 - s, s) */
+        P[1][1] = nv + 2 * ne + t;
+        for (k = 0; k < 3; k++)
+            out->positions[3 * (size_t)P[1][1] + k] = (in->positions[3 * (size_t)c[0] + k] +
+                                                       in->positions[3 * (size_t)c[1] + k] +
+                                                       in->positions[3 * (size_t)c[2] + k]) / 3;
+        for (i = 0; i < 3; i++)
+            for (j = 0; i + j < 3; j++) {
+                o[q++] = P[i][j]; o[q++] = P[i + 1][j]; o[q++] = P[i][j + 1];
+                if (i + j < 2) { o[q++] = P[i + 1][j]; o[q++] = P[i + 1][j + 1]; o[q++] = P[i][j + 1]; }
+            }
+    }
+    free(key);
+    return 1;
+}
+
+/* The large chart of test_default_choice: camelhead 3 x 3 (204,336
+   triangles, above the 100,000 where the earlier rule stopped). */
+static void test_default_choice_large(void)
+{
+    bp_mesh mesh, big;
+    bp_error err;
+    if (!BPT_CHECK(bp_read_mesh("tests/data/camelhead.off", &mesh, NULL, &err) == BP_OK, "read camelhead: %s",
+                   err.message))
+        return;
+    if (BPT_CHECK(subdivide3(&mesh, &big), "camelhead 3 x 3 made (else out of memory)")) {
+        BPT_CHECK(big.num_triangles == 204336 && big.num_vertices == 102253, "camelhead 3 x 3: %u triangles, %u vertices",
+                  big.num_triangles, big.num_vertices);
+        test_default_choice_mesh("camelhead 3 x 3", &big, BP_ENERGY_SYMMETRIC_DIRICHLET, 2);
+        free(big.positions);
+        free(big.triangles);
+    }
     bp_mesh_free(&mesh, NULL);
 }
 
@@ -1666,5 +1760,8 @@ int main(void)
     test_default_choice("tests/data/face_holes.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
     test_default_choice("tests/data/camelhead.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
     test_default_choice("../shared/meshes/lucy_o_f48275.obj", BP_ENERGY_SYMMETRIC_DIRICHLET);
+    test_default_choice("tests/data/camelhead.off", BP_ENERGY_MIPS);
+    test_default_choice("../shared/meshes/beetle.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
+    test_default_choice_large();
     return bpt_finish();
 }
