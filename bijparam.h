@@ -246,9 +246,10 @@ typedef enum bp_energy {
 
 typedef enum bp_init {
     BP_INIT_AUTO = 0,    /* the default: conformal (>>conformal) when
-                            exactly bijective and below 100,000 triangles,
-                            else mean-value, and Tutte if that map fails
-                            its exact check (>>tutte)                        */
+                            exactly bijective, below 100,000 triangles or
+                            at any size with at most 2.5 sqrt(V) boundary
+                            vertices, else mean-value, and Tutte if that
+                            map fails its exact check (>>tutte)             */
     BP_INIT_MEAN_VALUE,  /* Floater's mean-value weights (Floater 2003)      */
     BP_INIT_INPUT,       /* the mesh's own uvs (corner_uv/uvs) when exactly
                             bijective, else AUTO; see bp_chart.init_used     */
@@ -12951,12 +12952,20 @@ static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r
    3.00 -> 2.10 s, face_holes 0.049 -> 0.035 s, hilbert's conformal map an
    isometry (no iteration left), the 4,740-chart atlas 2.6 -> 1.5 s; the
    charts whose map folds 2-6% slower.  Charts of BP__CONFORMAL_MAX
-   triangles and more skip it under BP_INIT_AUTO: the 2x2 factor needs
-   four times the memory of the barycentric map's scalar one, and the
-   million-face chart must stay under 1 KiB per face (docs/performance.md
-   sec 6.27 measures both choices: the 132K chart would be 30% faster at
-   1.27 KiB per face instead of 0.76); BP_INIT_CONFORMAL asked by name
-   tries it at any size.  The map depends only on the chart (the sums of each
+   triangles and more try it under BP_INIT_AUTO only when it will be
+   solved by the boundary's Schur complement (at most
+   BP__CONFORMAL_SCHUR_K sqrt(nv) boundary vertices, below): the 2x2
+   factor needs four times the memory of the barycentric map's scalar
+   one, and the million-face chart must stay under 1 KiB per face
+   (docs/performance.md sec 6.27 measures both choices: the 132K chart
+   would be 30% faster at 1.27 KiB per face instead of 0.76), but the
+   Schur complement's scalar Cholesky factor and dense boundary system
+   take less than the mean-value map's LU, and less time (sec 6.43, the
+   tool with --init-only: bimba subdivided to 357K triangles, 700 against
+   774 bytes per face and 3.2 against 3.5 s; face subdivided to 207K, 507
+   against 746 and 1.0 against 2.0 s), and such a chart then starts at a
+   mean energy 1.9-9x lower (its whole run under Newton 1.2-1.3x
+   shorter); BP_INIT_CONFORMAL asked by name tries it at any size.  The map depends only on the chart (the sums of each
    entry run over the corners in triangle order, gathered per vertex like
    the phases above), so it is the same bits on any number of threads. */
 
@@ -13588,9 +13597,13 @@ static int bp__conformal_begin(const bp_allocator *a, const bp__tutte *T, bp_cha
     const bp__par *par = runner ? runner : &serial;
     uint32_t nv = T->nv, n = 2 * nv, v;
     size_t i;
+    int schur;
     memset(C, 0, sizeof *C);
-    if ((!any_size && ch->num_triangles >= BP__CONFORMAL_MAX) || !bp__conformal_pins(ch, m, &J->p[0], &J->p[1], &J->d))
-        return 0;
+    if (!bp__conformal_pins(ch, m, &J->p[0], &J->p[1], &J->d)) return 0;
+    C->bxp = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    if (!C->bxp) return -1;
+    schur = bp__conformal_schur_planned(ch, J->p, nv, C->bxp);
+    if (!any_size && ch->num_triangles >= BP__CONFORMAL_MAX && !schur) return 0;   /* the size rule (above) */
     J->T = T;
     J->ch = ch;
     J->m = m;
@@ -13598,9 +13611,8 @@ static int bp__conformal_begin(const bp_allocator *a, const bp__tutte *T, bp_cha
     J->L = &C->L;
     J->glen = (uint32_t *)bp__alloc_array(a, nv, sizeof(uint32_t));
     C->L.colp = (uint32_t *)bp__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
-    C->bxp = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
     C->buf = (double *)bp__alloc_array(a, 2 * (size_t)n, sizeof(double));
-    if (!J->glen || !C->L.colp || !C->bxp || !C->buf) return -1;
+    if (!J->glen || !C->L.colp || !C->buf) return -1;
     bp__conformal_run(J, par);                               /* the columns' lengths */
     C->L.colp[0] = 0;
     for (v = 0; v < nv; v++) {
@@ -13617,7 +13629,7 @@ static int bp__conformal_begin(const bp_allocator *a, const bp__tutte *T, bp_cha
     bp__free(a, J->glen);
     J->glen = NULL;                                          /* the next pass: the columns */
     J->rhs = C->buf;
-    if (bp__conformal_schur_planned(ch, J->p, nv, C->bxp)) {
+    if (schur) {
         size_t nxy = 0;
         for (v = 0; v < nv; v++)
             if (C->bxp[v] != BP__NONE) { C->bxp[v] = (uint32_t)nxy; nxy += C->L.colp[v + 1] - C->L.colp[v]; }

@@ -741,10 +741,10 @@ static void test_reuse(void)
    camel_b and camelhead under MIPS charts of another energy, camelhead
    (65) and lucy (its mean-value start at 1.2e15) mid-sized charts far
    from an isometry, beetle (38,656 triangles, 4.19) a mid-sized one near
-   it, and camelhead subdivided 3 x 3 (204,336 triangles, its mean-value
-   start far from an isometry) a large one.  The rule of sessions 6-25
-   (Newton for every chart of 20,000-99,999 triangles, L-BFGS above) fails
-   the last four. */
+   it, and camelhead subdivided 3 x 3 (204,336 triangles, its conformal
+   start at 65, its mean-value one at 121: far from an isometry either
+   way) a large one.  The rule of sessions 6-25 (Newton for every chart of
+   20,000-99,999 triangles, L-BFGS above) fails the last three. */
 static void test_default_choice_mesh(const char *name, const bp_mesh *mesh, bp_energy energy, int iterations)
 {
     bp_error err;
