@@ -286,7 +286,10 @@ typedef enum bp_direction {
                                         symmetric Dirichlet energy on charts of
                                         1,000 triangles or more whose start's
                                         mean energy is 8 or more (finite), at
-                                        any size; else PRECONDITIONED */
+                                        any size; else PRECONDITIONED.  When
+                                        the allocator refuses Newton's memory,
+                                        PRECONDITIONED finishes the chart from
+                                        its last valid map (chart.direction) */
     BP_DIRECTION_LBFGS,              /* the dissertation's L-BFGS, scalar initial
                                         Hessian (sec 3.5, Algorithm 1)             */
     BP_DIRECTION_GRADIENT,           /* gradient descent (for comparison)          */
@@ -568,6 +571,13 @@ typedef struct bp_chart {
                                  BP_INIT_CONFORMAL, _MEAN_VALUE, _TUTTE or
                                  _INPUT, or BP_INIT_AUTO for a planar chart's
                                  own projection (>>start)                   */
+    bp_direction direction;   /* set by bp_chart_optimize, the direction it
+                                 ran: the one asked for, or for
+                                 BP_DIRECTION_DEFAULT the one chosen (NEWTON
+                                 or PRECONDITIONED); PRECONDITIONED also
+                                 when Newton's system did not fit in memory
+                                 and L-BFGS finished the chart (>>optimize,
+                                 the fallback); DEFAULT before any solve    */
 } bp_chart;
 
 /* Repairs (bp_atlas.repairs).  Outside opt.strict, bp_atlas_build mends
@@ -17183,7 +17193,9 @@ static void bp__opt_hold(const bp__opt *P, double *g)
    at the peak, L-BFGS's single-precision Laplacian 0.7-1.2 KB, so a chart
    of a million faces far from an isometry takes about 2 GB under the
    default (a near-isometric one, like `make bench-scale`'s, stays under
-   1 KiB per face with L-BFGS); BP_DIRECTION_PRECONDITIONED caps it.  A
+   1 KiB per face with L-BFGS); BP_DIRECTION_PRECONDITIONED caps it, and
+   where the allocator refuses Newton's memory the chart is finished by
+   L-BFGS (the fallback, bp__chart_optimize_pen below).  A
    start whose energy is not finite (NaN or infinite) keeps L-BFGS.  The
    sum is taken by chunks of triangles added in chunk order
    (bp__energy_task, as bp__evaluate takes it), so the choice is the same
@@ -17540,17 +17552,23 @@ static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, 
    iterations, each (1) energy and gradient (from the line search of the
    previous one), (2) direction, (3)+(4) step bound and line search, (5)
    convergence test, and phase 5.  The map in ch->uv is replaced only by
-   accepted iterates, each exactly valid; the progress callback sees each. */
-static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
-                                        const bp_options *opt, const bp__par *runner,
-                                        const struct bp__penalty *pen, bp__handoff *h, bp_error *err)
+   accepted iterates, each exactly valid; the progress callback sees each.
+   One pass of it: c0 is the solve's start (for max_seconds and the
+   report), it0 the iterations an earlier pass accepted (the fallback
+   below: the pass goes on counting from there, keeps the report's
+   energy_start, and its accepted iterations, it0 included, go to *its);
+   *newton_default is set when the default's rule chose Newton. */
+static bp_status bp__chart_optimize_pass(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+                                         const bp_options *opt, const bp__par *runner,
+                                         const struct bp__penalty *pen, bp__handoff *h, double c0, int it0,
+                                         int *its, int *newton_default, bp_error *err)
 {
     bp__opt P;
     void *pool = NULL;
     int it, small = 0;
     double f, ed;
     bp_status st;
-    double c0 = bp__seconds();
+    *its = it0;
     memset(&P, 0, sizeof P);
     P.a = bp__allocator_of(opt);
     P.pen = pen;                              /* pins (homotopy) */
@@ -17573,7 +17591,11 @@ static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, cons
         return st;
     }
     ch->threads = P.par.threads;
-    if ((st = bp__opt_setup(&P, ch, chart_index, m, err)) != BP_OK) goto done;
+    st = bp__opt_setup(&P, ch, chart_index, m, err);
+    *newton_default = P.newton && P.o.direction == BP_DIRECTION_DEFAULT;   /* also when its set-up failed */
+    if (st != BP_OK) goto done;
+    ch->direction = P.newton ? BP_DIRECTION_NEWTON : P.precond ? BP_DIRECTION_PRECONDITIONED
+                  : P.o.direction == BP_DIRECTION_GRADIENT ? BP_DIRECTION_GRADIENT : BP_DIRECTION_LBFGS;
     f = bp__objective(&P.S, P.x, P.g, &ed);
     if (P.S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
     bp__opt_hold(&P, P.g);                    /* pins */
@@ -17584,10 +17606,10 @@ static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, cons
                       "(a triangle too thin, or coordinates too large)", chart_index);
         goto done;
     }
-    ch->energy_start = ed / P.S.nt;
+    if (!it0) ch->energy_start = ed / P.S.nt;
     if (BP__START_SCALE && bp__start_scale(&P, &f, &ed) < 0) { st = bp__oom(err, "evaluating the barrier"); goto done; }
     ch->stop = BP_STOP_MAX_ITERATIONS;
-    for (it = 0; it < P.o.max_iterations; it++) {
+    for (it = it0; it < P.o.max_iterations; it++) {
         double gv = bp__opt_direction(&P), tt = 0, fn = HUGE_VAL, edn = HUGE_VAL;
         int found;
         if (P.nd < 0) { st = bp__oom(err, "factoring Newton's system"); goto done; }
@@ -17607,7 +17629,7 @@ static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, cons
         if (P.N.iso && !(f - fn >= BP__NEWTON_ISO_TAU * fabs(f))) bp__newton_iso_end(&P.N, &P.a);   /* Newton next */
         f = fn;
         ed = edn;
-        ch->iterations = it + 1;
+        ch->iterations = *its = it + 1;
         if (P.o.progress && P.o.progress(P.o.progress_user, chart_index, it + 1, ed / P.S.nt, tt)) {
             ch->stop = BP_STOP_CANCELLED;
             break;
@@ -17624,6 +17646,34 @@ static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, cons
 done:
     bp__opt_free(&P);
     bp__par_end(&P.a, pool);
+    return st;
+}
+
+/* The fallback.  Newton's factor is the largest block a solve allocates
+   (1.5-2.2 KB per face at the peak against L-BFGS's 0.6-1.2, sec 6.42),
+   so where the default chose Newton and the allocator refused memory
+   after that choice (Newton's system, its factor, or anything after),
+   the chart is not failed: everything the pass held is freed, and the
+   preconditioned L-BFGS goes on from the last valid map in ch->uv (the
+   start, or the last accepted iterate), counting iterations and time
+   from where Newton stopped; ch->direction then says PRECONDITIONED.
+   Only an out-of-memory of L-BFGS too fails the chart.  A direction asked
+   for by name is never replaced. */
+static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+                                        const bp_options *opt, const bp__par *runner,
+                                        const struct bp__penalty *pen, bp__handoff *h, bp_error *err)
+{
+    double c0 = bp__seconds();
+    int its = 0, newton_default = 0;
+    bp_status st = bp__chart_optimize_pass(ch, chart_index, m, opt, runner, pen, h, c0, 0, &its, &newton_default,
+                                           err);
+    if (st == BP_ERR_OUT_OF_MEMORY && newton_default) {
+        bp_options o;
+        if (opt) o = *opt;
+        else memset(&o, 0, sizeof o);
+        o.direction = BP_DIRECTION_PRECONDITIONED;
+        st = bp__chart_optimize_pass(ch, chart_index, m, &o, runner, pen, NULL, c0, its, &its, &newton_default, err);
+    }
     return st;
 }
 

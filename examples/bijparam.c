@@ -889,6 +889,11 @@ static void print_json(const char *input, const char *output, bp_status status, 
         else
             json_string(ch->start_map == BP_INIT_CONFORMAL ? "conformal" : ch->start_map == BP_INIT_MEAN_VALUE ? "mvc" :
                         ch->start_map == BP_INIT_TUTTE ? "tutte" : ch->start_map == BP_INIT_INPUT ? "input" : "planar");
+        printf(",\"direction\":");                /* the direction the solve ran (the default's choice) */
+        if (ch->direction == BP_DIRECTION_DEFAULT) printf("null");    /* not optimized (--init-only, a failure) */
+        else
+            json_string(ch->direction == BP_DIRECTION_NEWTON ? "newton" : ch->direction == BP_DIRECTION_PRECONDITIONED
+                        ? "precond" : ch->direction == BP_DIRECTION_GRADIENT ? "gd" : "lbfgs");
         printf(",\"pins\":%u,\"in_place\":%d,\"seconds\":", (unsigned)ch->num_pins, ch->in_place);
         json_number(ch->seconds);
         if (ch->uv)

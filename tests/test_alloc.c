@@ -5,7 +5,13 @@
    makes N allocations when nothing fails, every k = 1..N is tried (and
    k = N+1, which must succeed):
      - the call returns BP_ERR_OUT_OF_MEMORY with a message, or BP_OK once
-       k > N; never another status, never a crash;
+       k > N; never another status, never a crash; the one exception is
+       the fallback of >>optimize: where the default direction chose
+       Newton (bishop's chart) and the failure came after that choice,
+       L-BFGS finishes the chart and the call returns BP_OK with a valid
+       map and chart.direction PRECONDITIONED where the run without
+       failures had NEWTON -- the bishop sweep must see that happen, the
+       sweep with Newton asked for by name never;
      - after bp_atlas_free (harmless on the zeroed atlas a failure leaves)
        every allocation has been freed: allocator balance 0, no free of a
        pointer it did not hand out, no free(NULL) (the API promises never
@@ -195,10 +201,12 @@ typedef bp_status (*call_fn)(void *ctx, const bp_allocator *a, int *result_valid
 /* Run `call` with no failure to count N, then with the k-th allocation
    failing for every k in 1..N+1.  `ok_status` is what the call returns
    when nothing fails. */
+static long last_fallbacks;     /* runs of the last sweep that fell back (valid == 2) */
+
 static void sweep(const char *what, call_fn call, void *ctx, bp_status ok_status)
 {
     bp_allocator a = test_allocator();
-    long n, k, wrong = 0, leaks = 0, oom = 0, invalid = 0, first_wrong = 0, first_leak = 0;
+    long n, k, wrong = 0, leaks = 0, oom = 0, invalid = 0, first_wrong = 0, first_leak = 0, fallbacks = 0;
     bp_status st, wrong_st = BP_OK;
     int valid = 0;
     double t0 = now();
@@ -213,7 +221,8 @@ static void sweep(const char *what, call_fn call, void *ctx, bp_status ok_status
         counter_reset(k);
         valid = 0;
         st = call(ctx, &a, &valid);
-        if (k <= n ? st != BP_ERR_OUT_OF_MEMORY : st != ok_status) {
+        if (k <= n && st == ok_status && valid == 2) fallbacks++;     /* Newton's memory refused: L-BFGS finished */
+        else if (k <= n ? st != BP_ERR_OUT_OF_MEMORY : st != ok_status) {
             if (!wrong++) { first_wrong = k; wrong_st = st; }
         }
         if (k <= n && st == BP_ERR_OUT_OF_MEMORY) oom++;
@@ -227,16 +236,23 @@ static void sweep(const char *what, call_fn call, void *ctx, bp_status ok_status
               bp_status_string(wrong_st));
     BPT_CHECK(leaks == 0 && invalid == 0, "%s: every run frees everything it took (%ld leaking, first at k = %ld) and "
               "every returned result is valid (%ld invalid)", what, leaks, first_leak, invalid);
-    printf("     %s: %ld allocations, %ld runs, %.2f s\n", what, n, n + 1, now() - t0);
+    printf("     %s: %ld allocations, %ld runs", what, n, n + 1);
+    if (fallbacks) printf(" (%ld fell back to L-BFGS)", fallbacks);
+    printf(", %.2f s\n", now() - t0);
+    last_fallbacks = fallbacks;
     (void)oom;
 }
 
 /* bp_parameterize with the given options; the atlas is freed here. */
+#define REF_CHARTS 8
 typedef struct param_ctx {
     const bp_mesh *m;
     bp_options opt;
+    bp_direction ref[REF_CHARTS];   /* each chart's direction in the run without failures */
 } param_ctx;
 
+/* *valid: 1 a valid atlas, 2 a valid atlas where a chart that ran Newton
+   without failures ran the preconditioned L-BFGS (the fallback). */
 static bp_status call_parameterize(void *ctx, const bp_allocator *a, int *valid)
 {
     param_ctx *P = (param_ctx *)ctx;
@@ -244,11 +260,19 @@ static bp_status call_parameterize(void *ctx, const bp_allocator *a, int *valid)
     bp_atlas at;
     bp_error err;
     bp_status st;
+    uint32_t c;
     o.allocator = *a;
     memset(&err, 0, sizeof err);
     st = bp_parameterize(&at, P->m, &o, &err);
     if (st != BP_OK && !err.message[0]) return BP_ERR_INVALID_ARGUMENT;   /* no message: counted as wrong */
-    if (st == BP_OK || st == BP_ERR_CHARTS_FAILED || st == BP_ERR_CANCELLED) *valid = atlas_valid(&at);
+    if (st == BP_OK || st == BP_ERR_CHARTS_FAILED || st == BP_ERR_CANCELLED) {
+        *valid = atlas_valid(&at);
+        for (c = 0; c < at.num_charts && c < REF_CHARTS; c++) {
+            if (!C.fail_at) P->ref[c] = at.charts[c].direction;
+            else if (*valid && P->ref[c] == BP_DIRECTION_NEWTON && at.charts[c].direction == BP_DIRECTION_PRECONDITIONED)
+                *valid = 2;
+        }
+    }
     else if (at.charts || at.corner_chart || at.num_charts) return BP_ERR_INVALID_ARGUMENT;   /* not zeroed */
     bp_atlas_free(&at);
     return st;
@@ -355,6 +379,9 @@ int main(void)
     P.m = &bishop;
     P.opt.max_iterations = 20;
     sweep("bp_parameterize bishop (1000 triangles, 20 iterations)", call_parameterize, &P, BP_OK);
+    BPT_CHECK(P.ref[0] == BP_DIRECTION_NEWTON && last_fallbacks > 0,
+              "bishop: the default ran Newton (%d), and L-BFGS finished the chart after %ld of the failures",
+              (int)P.ref[0], last_fallbacks);
 
     memset(&P, 0, sizeof P);
     P.m = &holed;
@@ -389,6 +416,7 @@ int main(void)
     P.opt.max_iterations = 5;
     P.opt.direction = BP_DIRECTION_NEWTON;
     sweep("bp_parameterize disk with 2 holes, projected Newton (5 iterations)", call_parameterize, &P, BP_OK);
+    BPT_CHECK(last_fallbacks == 0, "Newton asked for by name never falls back (%ld)", last_fallbacks);
 
     /* a mesh of extreme size (2^-400): solved on a rescaled copy, one more
        allocation path; and a closed chart with a zero-area triangle:

@@ -1735,6 +1735,145 @@ static void test_iso_block(void)
     }
 }
 
+/* (j) The fallback (bp__chart_optimize_pen, >>optimize; docs/performance.md
+   sec 6.44): where the default chose Newton and the allocator refuses its
+   memory, L-BFGS finishes the chart.  An allocator that refuses every
+   block larger than the largest one a whole preconditioned L-BFGS run of
+   camelhead asks for (start map included): the default, which takes
+   Newton there (E0 65), must return BP_OK with chart.direction
+   PRECONDITIONED, a map bp_check passes, a final energy within 1e-4 of the
+   L-BFGS run's, the uncapped run's energy_start, and iterations that the
+   progress callback saw as 1, 2, ..., n with n = chart.iterations (the
+   count goes on across the fallback); the cap must have refused at least
+   once, and every block must be freed.  Newton asked for by name under
+   the same cap fails with BP_ERR_OUT_OF_MEMORY (no fallback), and the
+   uncapped default reports NEWTON. */
+typedef struct cap_alloc {
+    size_t cap, largest;
+    long refused, live;
+} cap_alloc;
+
+static void *cap_alloc_fn(void *user, size_t size)
+{
+    cap_alloc *c = (cap_alloc *)user;
+    void *p;
+    if (c->cap && size > c->cap) { c->refused++; return NULL; }
+    if (size > c->largest) c->largest = size;
+    p = malloc(size);
+    if (p) c->live++;
+    return p;
+}
+
+static void cap_free_fn(void *user, void *ptr)
+{
+    cap_alloc *c = (cap_alloc *)user;
+    if (ptr) c->live--;
+    free(ptr);
+}
+
+typedef struct iter_seq {
+    int n, gaps;
+} iter_seq;
+
+static int iter_seq_fn(void *user, uint32_t chart, int iteration, double energy, double step)
+{
+    iter_seq *q = (iter_seq *)user;
+    (void)chart; (void)energy; (void)step;
+    if (iteration != q->n + 1) q->gaps++;
+    q->n = iteration;
+    return 0;
+}
+
+static int run_capped(const bp_mesh *mesh, bp_direction d, size_t cap, cap_alloc *ca, iter_seq *q, bp_atlas *at,
+                      bp_error *err)
+{
+    bp_options opt;
+    memset(&opt, 0, sizeof opt);
+    memset(ca, 0, sizeof *ca);
+    ca->cap = cap;
+    opt.threads = 1;
+    opt.direction = d;
+    opt.allocator.alloc = cap_alloc_fn;
+    opt.allocator.free = cap_free_fn;
+    opt.allocator.user = ca;
+    if (q) { memset(q, 0, sizeof *q); opt.progress = iter_seq_fn; opt.progress_user = q; }
+    return (int)bp_parameterize(at, mesh, &opt, err);
+}
+
+static void test_fallback(void)
+{
+    bp_mesh mesh;
+    bp_error err;
+    bp_atlas lb, dn, fb, nw;
+    cap_alloc ca;
+    iter_seq q;
+    int st;
+    if (!BPT_CHECK(bp_read_mesh("tests/data/camelhead.off", &mesh, NULL, &err) == BP_OK, "read camelhead: %s",
+                   err.message))
+        return;
+    st = run_capped(&mesh, BP_DIRECTION_PRECONDITIONED, 0, &ca, NULL, &lb, &err);
+    if (BPT_CHECK(st == BP_OK, "camelhead, L-BFGS: %s", err.message)) {
+        size_t cap = ca.largest;
+        const bp_chart *cl = &lb.charts[0];
+        BPT_CHECK(cl->direction == BP_DIRECTION_PRECONDITIONED, "camelhead, L-BFGS asked: chart.direction %d",
+                  (int)cl->direction);
+        st = run_capped(&mesh, BP_DIRECTION_DEFAULT, 0, &ca, NULL, &dn, &err);
+        if (BPT_CHECK(st == BP_OK, "camelhead, default: %s", err.message)) {
+            BPT_CHECK(dn.charts[0].direction == BP_DIRECTION_NEWTON, "camelhead, default, uncapped: Newton (%d)",
+                      (int)dn.charts[0].direction);
+            st = run_capped(&mesh, BP_DIRECTION_DEFAULT, cap, &ca, &q, &fb, &err);
+            if (BPT_CHECK(st == BP_OK, "camelhead, default, blocks above %zu bytes refused: BP_OK (%s)", cap,
+                          err.message)) {
+                const bp_chart *c = &fb.charts[0];
+                bp_check_report r;
+                memset(&r, 0, sizeof r);
+                BPT_CHECK(ca.refused > 0, "the cap refused %ld blocks", ca.refused);
+                BPT_CHECK(c->direction == BP_DIRECTION_PRECONDITIONED, "the chart fell back to L-BFGS (direction %d)",
+                          (int)c->direction);
+                BPT_CHECK(bp_check(c->triangles, c->num_triangles, c->uv, c->num_vertices, NULL, &r, NULL) == BP_OK &&
+                              !r.flipped && !r.degenerate && !r.boundary_intersections,
+                          "its map is bijective (flipped %u, boundary %u)", r.flipped, r.boundary_intersections);
+                BPT_CHECK(fabs(c->energy_end - cl->energy_end) <= 1e-4 * cl->energy_end,
+                          "its final energy %.7f, L-BFGS's %.7f", c->energy_end, cl->energy_end);
+                BPT_CHECK(c->energy_start == dn.charts[0].energy_start, "energy_start %.17g, the uncapped run's %.17g",
+                          c->energy_start, dn.charts[0].energy_start);
+                BPT_CHECK(q.gaps == 0 && q.n == c->iterations && q.n > 0,
+                          "the progress callback saw iterations 1..%d without a gap (%d gaps), chart.iterations %d", q.n,
+                          q.gaps, c->iterations);
+                bp_atlas_free(&fb);
+            }
+            BPT_CHECK(ca.live == 0, "every block freed (%ld live)", ca.live);
+            /* the same below the uncapped default's largest block: refused
+               after Newton's first iterations (its isotropic phase runs on
+               a smaller scalar factor), so L-BFGS takes over mid-solve */
+            run_capped(&mesh, BP_DIRECTION_DEFAULT, 0, &ca, NULL, &fb, &err);
+            bp_atlas_free(&fb);
+            st = run_capped(&mesh, BP_DIRECTION_DEFAULT, ca.largest - 1, &ca, &q, &fb, &err);
+            if (BPT_CHECK(st == BP_OK, "camelhead, default, below Newton's largest block: BP_OK (%s)", err.message)) {
+                const bp_chart *c = &fb.charts[0];
+                BPT_CHECK(ca.refused > 0 && c->direction == BP_DIRECTION_PRECONDITIONED,
+                          "refused %ld, fell back (direction %d)", ca.refused, (int)c->direction);
+                BPT_CHECK(q.gaps == 0 && q.n == c->iterations && c->iterations != cl->iterations,
+                          "iterations 1..%d without a gap (%d gaps; Newton's first, then L-BFGS's: not L-BFGS's %d)",
+                          q.n, q.gaps, cl->iterations);
+                BPT_CHECK(c->energy_start == dn.charts[0].energy_start &&
+                              fabs(c->energy_end - cl->energy_end) <= 1e-4 * cl->energy_end,
+                          "energy_start kept, final energy %.7f (L-BFGS's %.7f)", c->energy_end, cl->energy_end);
+                bp_atlas_free(&fb);
+            }
+            BPT_CHECK(ca.live == 0, "every block freed (%ld live)", ca.live);
+            st = run_capped(&mesh, BP_DIRECTION_NEWTON, cap, &ca, NULL, &nw, &err);
+            BPT_CHECK(st == BP_ERR_OUT_OF_MEMORY && ca.live == 0,
+                      "Newton asked for by name under the cap: BP_ERR_OUT_OF_MEMORY, not a fallback (%s: %s)",
+                      bp_status_string((bp_status)st), err.message);
+            if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) bp_atlas_free(&nw);
+            bp_atlas_free(&dn);
+        }
+        bp_atlas_free(&lb);
+    }
+    bp_mesh_free(&mesh, NULL);
+}
+
 int main(void)
 {
     bpt_rng_state = 0x9E3779B97F4A7C15ull;
@@ -1763,5 +1902,6 @@ int main(void)
     test_default_choice("tests/data/camelhead.off", BP_ENERGY_MIPS);
     test_default_choice("../shared/meshes/beetle.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
     test_default_choice_large();
+    test_fallback();
     return bpt_finish();
 }
