@@ -60,9 +60,10 @@ import filecmp
 import json
 import os
 import resource
-import statistics
 import subprocess
 import sys
+
+from scaf_ratio import fmt, med   # the same medians and "-" for a missing number
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MESHDIR = os.path.join(ROOT, "..", "shared", "meshes")
@@ -142,15 +143,6 @@ def time_to(trace, target, whole_cpu):
         if len(w) >= 6 and float(w[3]) <= target:
             return float(w[5])
     return whole_cpu if not lines else None
-
-
-def med(xs):
-    xs = [x for x in xs if x is not None]
-    return statistics.median(xs) if xs else None
-
-
-def fmt(x, f="%.2f"):
-    return "-" if x is None else f % x
 
 
 def main():
