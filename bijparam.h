@@ -11430,7 +11430,8 @@ static int bp__check_verdict_status(bp_status st)
 
    The default start (BP_INIT_AUTO) is now the conformal map of
    >>conformal when it passes the exact check (below BP__CONFORMAL_MAX
-   triangles); the barycentric map is its fallback, and which weights
+   triangles, or above with a boundary short enough for its Schur
+   complement); the barycentric map is its fallback, and which weights
    that fallback takes was measured before (docs/performance.md sec 6.7):
    The uniform map ignores the geometry, so its distortion grows with the
    resolution: on the face with six holes subdivided to 133K and 298K faces
@@ -12706,7 +12707,7 @@ static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_me
 
 /* The seven phases above: the Tutte (mvc = 0) or mean-value (mvc = 1) map
    of the filled chart into ch->uv, exactly checked, or first, with
-   conformal (1: below BP__CONFORMAL_MAX triangles, 2: at any size), the
+   conformal (1: by the size rule of >>conformal, 2: at any size), the
    conformal map of >>conformal when it passes that check (its factor to
    *h when h is not NULL: bp__handoff);
    the ordering of phase 5b kept for Newton (ch->start_order), and which
@@ -12975,12 +12976,13 @@ static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r
    774 bytes per face and 3.2 against 3.5 s; face subdivided to 207K, 507
    against 746 and 1.0 against 2.0 s), and such a chart then starts at a
    mean energy 1.9-9x lower (its whole run under Newton 1.2-1.3x
-   shorter); BP_INIT_CONFORMAL asked by name tries it at any size.  The map depends only on the chart (the sums of each
-   entry run over the corners in triangle order, gathered per vertex like
-   the phases above), so it is the same bits on any number of threads. */
+   shorter); BP_INIT_CONFORMAL asked by name tries it at any size.  The
+   map depends only on the chart (the sums of each entry run over the
+   corners in triangle order, gathered per vertex like the phases above),
+   so it is the same bits on any number of threads. */
 
 #ifndef BP__CONFORMAL_MAX
-#define BP__CONFORMAL_MAX 100000u       /* triangles: larger charts start barycentric */
+#define BP__CONFORMAL_MAX 100000u       /* triangles: larger charts need a short boundary */
 #endif
 
 /* The residuals r1 = a - d and r2 = b + c of chart triangle t as rows
@@ -13593,9 +13595,9 @@ static int bp__conformal_full(const bp_allocator *a, bp__conformal *C, const bp_
 /* The conformal map of the chart into ch->uv, scaled, in the order
    (order, tree) of the chart's vertices, in two halves around the
    dissection (bp__tutte_map).  bp__conformal_begin: 0 when the map is not
-   tried (too large -- any_size: also at BP__CONFORMAL_MAX triangles and
-   more, BP_INIT_CONFORMAL asked by name --, no two boundary points, a
-   pattern too big), -1 out of memory, 1 when the system is set up: its
+   tried (too large: BP__CONFORMAL_MAX triangles or more with a boundary
+   too long for the Schur complement, unless any_size, BP_INIT_CONFORMAL
+   asked by name; no two boundary points; a pattern too big), -1 out of memory, 1 when the system is set up: its
    pattern's column lengths counted (the first pass of C->J), K's arrays
    allocated, and C->J ready for the second pass (the columns and the
    right-hand side), which the caller runs. */
