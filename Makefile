@@ -25,6 +25,13 @@
 #   make bench-scale  bench/scale.sh: one chart subdivided to 8K, 133K, 298K
 #                     and 1M faces (bench/subdivide.py), 1 and 2 threads: time,
 #                     iterations, energy, bytes per face, exact checks
+#   make bench-generated bench/generated.py: marching-cubes meshes of 150K,
+#                     400K (genus 0, and one of genus 17 with 13 floating
+#                     pieces), 1M and 4M faces made by bench/mcmesh.c into
+#                     build/bench/generated/, each through --atlas 4096
+#                     --padding 4 on 2 threads: stage times, wall and CPU,
+#                     peak memory, charts, utilization, seam length, exact
+#                     check (~15 min on a busy machine; not in bench)
 #   make bench-start  bench/start.sh: the thin strips and lucy, --start auto
 #                     against plain (~3 min; also in bench)
 #   make bench-atlas  bench/atlas.sh: every mesh through --atlas 1024
@@ -80,7 +87,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-direction bench-start bench-threads bench-pool clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-direction bench-start bench-threads bench-pool bench-generated clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -176,6 +183,15 @@ bench: $(TOOL)
 	bash bench/pack.sh
 	bash bench/scale.sh
 	bash bench/start.sh
+
+# reconstruction-like meshes at 150K-4M faces (bench/generated.py); the
+# tool is copied first so that a rebuild during the run mixes no versions
+$(BUILD)/bench/mcmesh: bench/mcmesh.c
+	@mkdir -p $(@D)
+	$(CC) -std=c99 -O2 -Wall -Wextra -pedantic -Werror $< -o $@ -lm
+bench-generated: $(TOOL) $(BUILD)/bench/mcmesh
+	cp $(TOOL) $(BUILD)/bench/bijparam-generated
+	BENCH_TOOL=$(BUILD)/bench/bijparam-generated python3 bench/generated.py
 
 # the better start: thin strips and lucy, --start auto against plain
 bench-start: $(TOOL)

@@ -56,6 +56,7 @@
 #define _XOPEN_SOURCE 700        /* realpath */
 #include <errno.h>
 #include <limits.h>
+#include <stddef.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -653,6 +654,7 @@ typedef struct run_state {
     int      drawn;            /* last percentage drawn (-1: none), and its stage */
     bp_stage drawn_stage;
     int      bar_visible;
+    double   start_done_cpu;   /* the process's CPU seconds at start_done */
     double   start_done;       /* when the chart's start map was done (the
                                   split of bp_chart_solve's time)          */
     int      together;         /* the charts solved at once (bp_atlas_solve) */
@@ -699,7 +701,7 @@ static int on_run_progress(void *user, bp_stage s, double f, uint32_t chart)
 {
     run_state *rs = (run_state *)user;
     (void)chart;
-    if (s == BP_STAGE_START && f >= 1) rs->start_done = now_seconds();
+    if (s == BP_STAGE_START && f >= 1) { rs->start_done = now_seconds(); rs->start_done_cpu = cpu_seconds(); }
     if (rs->tty) draw_bar(rs, s, f);
     return interrupted != 0;
 }
@@ -793,7 +795,27 @@ static int on_progress(void *user, uint32_t chart, int iteration,
 
 /* ---- the JSON report ---------------------------------------------------- */
 
-typedef struct timings { double read, charts, init, optimize, pack, write; } timings;
+/* Seconds per stage: "cut" is bp_atlas_build (gluing, repairs, the
+   automatic seams), "segment" bp_atlas_segment; the report's "charts" is
+   their sum. */
+typedef struct timings { double read, cut, segment, init, optimize, pack, write; } timings;
+
+/* The wall and the CPU seconds (all threads) of the stages. */
+typedef struct stage_clock { timings wall, cpu; double t0, c0; } stage_clock;
+
+static void stage_start(stage_clock *k)
+{
+    k->t0 = now_seconds();
+    k->c0 = cpu_seconds();
+}
+
+/* The time since stage_start, added to the field at byte offset `at` of
+   both tables (offsetof(timings, read) ...). */
+static void stage_add(stage_clock *k, size_t at)
+{
+    *(double *)((char *)&k->wall + at) += now_seconds() - k->t0;
+    *(double *)((char *)&k->cpu + at) += cpu_seconds() - k->c0;
+}
 
 typedef struct extra_report {
     const char *format;                /* "obj", "off", "ply"; NULL: the demo mesh */
@@ -834,9 +856,92 @@ static void print_json_repairs(const bp_repair_report *r, int written)
     printf("}");
 }
 
+static void print_timings(const timings *t)
+{
+    printf("{\"read\":");
+    json_number(t->read);
+    printf(",\"charts\":");
+    json_number(t->cut + t->segment);
+    printf(",\"cut\":");
+    json_number(t->cut);
+    printf(",\"segment\":");
+    json_number(t->segment);
+    printf(",\"init\":");
+    json_number(t->init);
+    printf(",\"optimize\":");
+    json_number(t->optimize);
+    printf(",\"pack\":");
+    json_number(t->pack);
+    printf(",\"write\":");
+    json_number(t->write);
+    printf("}");
+}
+
+/* The seams: mesh edges with a chart boundary on both sides (a boundary
+   edge of a chart is a seam when another chart boundary edge runs between
+   the same two mesh vertices; alone, it is the mesh's own boundary).
+   Their 3D length, and that over the square root of the mesh's area (a
+   measure free of the mesh's scale: the seams of a sphere of area A cut
+   into k round charts are about sqrt(k pi A)).  0 when out of memory. */
+typedef struct seam_edge { uint32_t lo, hi; } seam_edge;
+
+static int seam_edge_cmp(const void *pa, const void *pb)
+{
+    const seam_edge *a = (const seam_edge *)pa, *b = (const seam_edge *)pb;
+    if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
+    return (a->hi > b->hi) - (a->hi < b->hi);
+}
+
+static int seam_stats(const bp_mesh *m, const bp_atlas *at, double *edges, double *length, double *relative)
+{
+    size_t n = 0, i, j;
+    uint32_t c, l, k, t;
+    double area = 0;
+    seam_edge *e;
+    *edges = *length = *relative = 0;
+    for (c = 0; c < at->num_charts; c++)
+        if (at->charts[c].num_loops) n += at->charts[c].loop_start[at->charts[c].num_loops];
+    e = (seam_edge *)malloc((n ? n : 1) * sizeof *e);
+    if (!e) return 0;
+    for (c = 0, n = 0; c < at->num_charts; c++) {
+        const bp_chart *ch = &at->charts[c];
+        for (l = 0; l < ch->num_loops; l++) {
+            uint32_t a0 = ch->loop_start[l], a1 = ch->loop_start[l + 1];
+            for (k = a0; k < a1; k++) {
+                uint32_t u = ch->vertex[ch->loop_vertices[k]], v = ch->vertex[ch->loop_vertices[k + 1 < a1 ? k + 1 : a0]];
+                e[n].lo = u < v ? u : v;
+                e[n].hi = u < v ? v : u;
+                n++;
+            }
+        }
+    }
+    qsort(e, n, sizeof *e, seam_edge_cmp);
+    for (i = 0; i < n; i = j) {
+        for (j = i + 1; j < n && e[j].lo == e[i].lo && e[j].hi == e[i].hi; j++) {}
+        if (j - i >= 2) {
+            const double *p = m->positions + 3 * (size_t)e[i].lo, *q = m->positions + 3 * (size_t)e[i].hi;
+            double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+            *edges += (double)((j - i) / 2);
+            *length += (double)((j - i) / 2) * sqrt(dx * dx + dy * dy + dz * dz);
+        }
+    }
+    free(e);
+    for (t = 0; t < m->num_triangles; t++) {
+        const uint32_t *tr = m->triangles + 3 * (size_t)t;
+        const double *a = m->positions + 3 * (size_t)tr[0], *b = m->positions + 3 * (size_t)tr[1],
+                     *d = m->positions + 3 * (size_t)tr[2];
+        double u[3], v[3], x, y, z;
+        for (k = 0; k < 3; k++) { u[k] = b[k] - a[k]; v[k] = d[k] - a[k]; }
+        x = u[1] * v[2] - u[2] * v[1]; y = u[2] * v[0] - u[0] * v[2]; z = u[0] * v[1] - u[1] * v[0];
+        area += 0.5 * sqrt(x * x + y * y + z * z);
+    }
+    if (area > 0) *relative = *length / sqrt(area);
+    return 1;
+}
+
 static void print_json(const char *input, const char *output, bp_status status, const char *message,
                        const bp_mesh *mesh, const bp_atlas *atlas, const bp_options *opt,
-                       const timings *tm, const extra_report *ex)
+                       const stage_clock *sc, const extra_report *ex)
 {
     uint32_t c, l;
     printf("{\"input\":");
@@ -903,24 +1008,26 @@ static void print_json(const char *input, const char *output, bp_status status, 
         else
             printf(",\"flipped\":null,\"degenerate\":null,\"boundary_intersections\":null}");
     }
-    printf("],\"timings\":{\"read\":");
-    json_number(tm->read);
-    printf(",\"charts\":");
-    json_number(tm->charts);
-    printf(",\"init\":");
-    json_number(tm->init);
-    printf(",\"optimize\":");
-    json_number(tm->optimize);
-    printf(",\"pack\":");
-    json_number(tm->pack);
-    printf(",\"write\":");
-    json_number(tm->write);
-    printf("},\"atlas_resolution\":%d,\"padding\":%d,\"utilization\":", ex->resolution, ex->padding);
+    printf("],\"timings\":");
+    print_timings(&sc->wall);
+    printf(",\"cpu_timings\":");
+    print_timings(&sc->cpu);
+    printf(",\"atlas_resolution\":%d,\"padding\":%d,\"utilization\":", ex->resolution, ex->padding);
     json_number(atlas->utilization);
     printf(",\"threads\":%d,\"peak_rss_bytes\":", ex->threads);
     json_number(peak_rss_bytes());
     printf(",\"bytes_per_face\":");
     json_number(mesh->num_triangles ? peak_rss_bytes() / mesh->num_triangles : 0);
+    {   /* after the peak memory: this adds its own */
+        double edges, length, relative;
+        if (seam_stats(mesh, atlas, &edges, &length, &relative)) {
+            printf(",\"seams\":{\"edges\":%.0f,\"length\":", edges);
+            json_number(length);
+            printf(",\"relative\":");
+            json_number(relative);
+            printf("}");
+        }
+    }
     if (ex->density_model) {
         printf(",\"density\":{\"model\":");
         json_string(view_names[ex->density_model]);
@@ -1120,7 +1227,7 @@ int main(int argc, char **argv)
     bp_atlas atlas;
     bp_error err;
     bp_status st = BP_OK;
-    timings tm;
+    stage_clock sc;
     run_state rs;
     const char *input = NULL, *output = NULL, *trace_path = NULL, *importance_path = NULL, *pin_path = NULL, *where;
     extra_report ex;
@@ -1134,14 +1241,13 @@ int main(int argc, char **argv)
     char final_path[4096];
     int json = 0, demo = 0, have_mesh = 0, i, status = 0, segmented = 0, together = 0, force = 0, quiet = 0, wrote = 0, check = 0, repack = 0, padding_set = 0;
     uint32_t c;
-    double t0;
 
     keep_freed_memory();
     bp_options_init(&opt);
     memset(&mesh, 0, sizeof mesh);
     memset(&atlas, 0, sizeof atlas);
     memset(&err, 0, sizeof err);
-    memset(&tm, 0, sizeof tm);
+    memset(&sc, 0, sizeof sc);
     memset(&rs, 0, sizeof rs);
     memset(&ex, 0, sizeof ex);
     memset(&svg_opt, 0, sizeof svg_opt);
@@ -1400,7 +1506,7 @@ int main(int argc, char **argv)
     }
 
     /* 1. read */
-    t0 = now_seconds();
+    stage_start(&sc);
     if (demo) {
         if (!demo_mesh(&mesh)) {
             st = BP_ERR_OUT_OF_MEMORY;
@@ -1417,15 +1523,15 @@ int main(int argc, char **argv)
         ex.format = bp_mesh_format(input);
     }
     have_mesh = st == BP_OK;
-    tm.read = now_seconds() - t0;
+    stage_add(&sc, offsetof(timings, read));
 
     /* 2. charts (a chart that cannot be flattened is reported and skipped;
           the others are still solved and written, unless --strict) */
     if (st == BP_OK) {
-        t0 = now_seconds();
+        stage_start(&sc);
         st = bp_atlas_build(&atlas, &mesh, &opt, &err);
         if (st == BP_ERR_CHARTS_FAILED) st = BP_OK;
-        tm.charts = now_seconds() - t0;
+        stage_add(&sc, offsetof(timings, cut));
         rs.num_charts = atlas.num_charts;
         rs.tris_total = mesh.num_triangles;
         fs.mesh = &mesh;
@@ -1471,7 +1577,7 @@ int main(int argc, char **argv)
     /* 3a. --repack: the file's own maps, checked exactly (a chart whose map
        is not bijective is reported and not packed, unless --strict) */
     if (st == BP_OK && repack) {
-        t0 = now_seconds();
+        stage_start(&sc);
         st = bp_atlas_use_input_uvs(&atlas, &mesh, &err);
         if (st == BP_ERR_CHARTS_FAILED || (st == BP_ERR_NOT_BIJECTIVE && atlas.num_failed)) {
             if (opt.strict) {
@@ -1480,7 +1586,7 @@ int main(int argc, char **argv)
                 st = err.status;
             } else st = BP_OK;
         }
-        tm.init = now_seconds() - t0;
+        stage_add(&sc, offsetof(timings, init));
     }
     /* 3'. segmentation (bp_atlas_segment does nothing unless it is on):
           several charts, solved in parallel, then the charts still above
@@ -1488,14 +1594,14 @@ int main(int argc, char **argv)
     segmented = st == BP_OK && !repack && !fs.dir && !opt.init_only &&
                 (opt.segment > 0 || (opt.segment == 0 && (opt.atlas_resolution || opt.max_distortion > 0 || opt.max_charts)));
     if (segmented) {
-        t0 = now_seconds();
+        stage_start(&sc);
         st = bp_atlas_segment(&atlas, &mesh, &opt, &err);
-        tm.charts += now_seconds() - t0;
-        t0 = now_seconds();
+        stage_add(&sc, offsetof(timings, segment));
+        stage_start(&sc);
         if (st == BP_OK) st = bp_atlas_solve(&atlas, &mesh, &opt, &err);
         if (st == BP_ERR_CHARTS_FAILED && !opt.strict) st = BP_OK;
         if (st == BP_OK) st = bp_atlas_refine(&atlas, &mesh, &opt, &err);
-        tm.optimize += now_seconds() - t0;
+        stage_add(&sc, offsetof(timings, optimize));
         rs.num_charts = atlas.num_charts;
     }
     /* 3. start map and optimization.  Several charts (without --frames):
@@ -1507,7 +1613,7 @@ int main(int argc, char **argv)
           its start map and its optimization. */
     together = st == BP_OK && !repack && !segmented && !fs.dir && atlas.num_charts > 1;
     if (together) {
-        t0 = now_seconds();
+        stage_start(&sc);
         rs.tris_before = 0;                  /* the bar: the run's fraction of triangles */
         rs.tris_chart = rs.tris_total;
         rs.together = 1;
@@ -1516,7 +1622,7 @@ int main(int argc, char **argv)
            first chart's own) is reported below, as chart by chart */
         if (!opt.strict && atlas.num_failed && st != BP_OK && st != BP_ERR_OUT_OF_MEMORY && st != BP_ERR_CANCELLED)
             st = BP_OK;
-        tm.optimize += now_seconds() - t0;
+        stage_add(&sc, offsetof(timings, optimize));
     }
     /* chart by chart */
     for (c = 0; st == BP_OK && !repack && !segmented && !together && c < atlas.num_charts; c++) {
@@ -1524,19 +1630,22 @@ int main(int argc, char **argv)
         rs.chart = c;                        /* the progress bar's place */
         rs.tris_chart = atlas.charts[c].num_triangles;
         for (rs.tris_before = 0, i = 0; i < (int)c; i++) rs.tris_before += atlas.charts[i].num_triangles;
-        t0 = now_seconds();
+        stage_start(&sc);
         if (!fs.dir) {   /* start and optimization at once: the start's factor serves Newton */
-            double t1;
+            double t1, c1;
             rs.start_done = 0;
             st = bp_chart_solve(&atlas.charts[c], c, &mesh, &opt, &err);
             t1 = rs.start_done > 0 ? rs.start_done : now_seconds();
-            tm.init += t1 - t0;
-            tm.optimize += now_seconds() - t1;
+            c1 = rs.start_done > 0 ? rs.start_done_cpu : cpu_seconds();
+            sc.wall.init += t1 - sc.t0;
+            sc.cpu.init += c1 - sc.c0;
+            sc.wall.optimize += now_seconds() - t1;
+            sc.cpu.optimize += cpu_seconds() - c1;
             chart_failed(&atlas, c, &st, &err, opt.strict);
             continue;
         }
         st = bp_chart_init(&atlas.charts[c], &mesh, &opt, &err);
-        tm.init += now_seconds() - t0;
+        stage_add(&sc, offsetof(timings, init));
         if (chart_failed(&atlas, c, &st, &err, opt.strict)) continue;
         if (st == BP_OK && fs.dir) {     /* frame 0: the start map */
             double e0 = 0;
@@ -1545,9 +1654,9 @@ int main(int argc, char **argv)
             if (!write_frame(&fs, c, 0, e0)) st = BP_ERR_IO;
         }
         if (st != BP_OK || opt.init_only) continue;
-        t0 = now_seconds();
+        stage_start(&sc);
         st = bp_chart_optimize(&atlas.charts[c], c, &mesh, &opt, &err);
-        tm.optimize += now_seconds() - t0;
+        stage_add(&sc, offsetof(timings, optimize));
         if (chart_failed(&atlas, c, &st, &err, opt.strict)) continue;
         if (st == BP_OK && fs.dir) {     /* the last frame, whatever K */
             const bp_chart *ch = &atlas.charts[c];
@@ -1565,9 +1674,9 @@ int main(int argc, char **argv)
     }
     /* 4. pack */
     if (st == BP_OK) {
-        t0 = now_seconds();
+        stage_start(&sc);
         st = bp_atlas_pack(&atlas, &opt, &err);
-        tm.pack = now_seconds() - t0;
+        stage_add(&sc, offsetof(timings, pack));
     }
     /* 4b. texel density (sec 4.3) of this map against a plain isometric
        map of the same mesh, both under the chosen view model */
@@ -1589,7 +1698,7 @@ int main(int argc, char **argv)
           An OBJ input is streamed (every other line of the user's file
           kept); an OFF input or the demo mesh is written from the mesh. */
     if (st == BP_OK && output) {
-        t0 = now_seconds();
+        stage_start(&sc);
         where = output;
         memset(&err, 0, sizeof err);
         st = bp_write_obj_opt(temp_path, !demo && ends_with_obj(input) ? input : NULL, &mesh, &atlas, &opt, &err);
@@ -1600,7 +1709,7 @@ int main(int argc, char **argv)
                      "cannot rename the finished result onto it: %s", strerror(errno));
         }
         if (st == BP_OK) { temp_live = 0; wrote = 1; }
-        tm.write = now_seconds() - t0;
+        stage_add(&sc, offsetof(timings, write));
     }
     temp_discard();                       /* on any failure before or here */
     clear_bar(&rs);
@@ -1650,7 +1759,7 @@ int main(int argc, char **argv)
         ex.resolution = opt.atlas_resolution;
         ex.padding = opt.atlas_resolution ? opt.padding : 0;
         print_json(input, wrote ? output : NULL, js, st == BP_OK ? NULL : err.message, &mesh, &atlas,
-                   &opt, &tm, &ex);
+                   &opt, &sc, &ex);
     } else if (!quiet && wrote) {
         fprintf(stderr, "bijparam: wrote %s (%u chart%s%s)\n", output, (unsigned)atlas.num_charts,
                 atlas.num_charts == 1 ? "" : "s", atlas.num_failed ? "; failed charts without vt" : "");

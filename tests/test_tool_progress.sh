@@ -13,6 +13,9 @@
 #   here), and a PLY error names the file line.
 # - Several charts are solved together (bp_atlas_solve) on the threads: the
 #   report's thread count, the same bytes as one thread, one "solve" bar.
+# - --json's wall and CPU seconds per stage, and the seams (edges, 3D
+#   length, length over the square root of the area) of a square cut on
+#   its diagonal.
 # Prints "BPTEST <passed> <failed>" last (tests/run_all.sh).  Run from the
 # repository root.
 set -u
@@ -107,6 +110,35 @@ if command -v script > /dev/null; then
     grep -q 'bijparam: solve *\[.*13 charts' "$d/tty2"; bar=$?
     check $(( rc != 0 || bar != 0 )) "spot on a terminal: one 'solve' bar for the 13 charts solved together"
 fi
+
+# --- the report's stage times and seams ------------------------------------------------
+# A 2 x 2 square cut along its diagonal by its vt: two charts, one seam edge
+# of length 2 sqrt(2) (its four outer edges are the mesh's boundary, not
+# seams), relative to sqrt(area 4): sqrt(2).  Every stage has a wall and a
+# CPU time, and "charts" is "cut" plus "segment".
+printf 'v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/4 3/5 4/6\n' > "$d/diag.obj"
+"$tool" "$d/diag.obj" --json -q > "$d/diag.json"; rc=$?
+python3 - "$d/diag.json" <<'PY'; ok=$?
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+s = d["seams"]
+keys = ("read", "charts", "cut", "segment", "init", "optimize", "pack", "write")
+ok = d["charts"] == 2 and s["edges"] == 1 and abs(s["length"] - 2 * math.sqrt(2)) < 1e-12 \
+    and abs(s["relative"] - math.sqrt(2)) < 1e-12
+for t in (d["timings"], d["cpu_timings"]):
+    ok = ok and all(t[k] >= 0 for k in keys) and t["charts"] == t["cut"] + t["segment"]
+sys.exit(0 if ok else 1)
+PY
+check $(( rc != 0 || ok != 0 )) "--json: a square cut on its diagonal has one seam edge, 2 sqrt(2) long, sqrt(2) relative; wall and CPU per stage"
+"$tool" tests/data/spot.obj --atlas 256 --json -q > "$d/spot_seg.json"; rc=$?
+python3 - "$d/spot_seg.json" <<'PY'; ok=$?
+import json, sys
+d = json.load(open(sys.argv[1]))
+t = d["timings"]
+sys.exit(0 if d["charts"] > 13 and t["segment"] > 0 and t["charts"] == t["cut"] + t["segment"]
+         and d["seams"]["edges"] > 0 else 1)
+PY
+check $(( rc != 0 || ok != 0 )) "--json: spot segmented with --atlas: its own segment time, charts = cut + segment, seams"
 
 # --- SIGINT: cancel through the callback ---------------------------------------------
 mkfifo "$d/imp.fifo"
