@@ -18,7 +18,7 @@
 #   make demo         run the tool on its embedded mesh -> build/demo/demo.obj,
 #                     demo.svg (UV layout), demo.png (checkerboard render)
 #   make docs         regenerate the README pictures in docs/images/
-#   make bench        bench/run.sh: timings on tests/data and ../shared/meshes,
+#   make bench        bench/run.sh: timings on the meshes of tests/data,
 #                     then bench/pack.sh (make bench-pack): packing utilization,
 #                     then bench/scale.sh (make bench-scale), then
 #                     bench/start.sh (make bench-start)
@@ -228,7 +228,7 @@ bench-threads: $(TOOL)
 
 # a batch in one process (read, parameterize, write four meshes of 8K-40K
 # faces): a pool per call against one kept bp_pool (~1 min; performance.md 6.40)
-POOL_MESHES = $(addprefix ../shared/meshes/,face_holes.off mech-holes-shark.off camelhead.off horse_cut.obj)
+POOL_MESHES = $(addprefix tests/data/,face_holes.off mech-holes-shark.off camelhead.off horse_cut.obj)
 bench-pool: bijparam.h bench/pool_bench.c
 	mkdir -p $(BUILD)/bench/pool
 	$(CC) -std=c99 -O2 -Wall -Wextra -pedantic -Werror -I. -DBP_USE_PTHREADS -pthread bench/pool_bench.c \

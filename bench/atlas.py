@@ -1,8 +1,7 @@
 #!/usr/bin/env python3
 """Atlas benchmark (make bench-atlas): every mesh through --atlas 1024 --padding 4.
 
-For each mesh of tests/data and ../shared/meshes (one at a time: the machine
-is shared), run
+For each mesh of tests/data (one at a time: the machine is shared), run
 
     build/bijparam MESH --atlas RES --padding PX --json -o build/bench/atlas/NAME.obj
 
@@ -18,7 +17,7 @@ and record, per mesh:
               chart, as the atlas has; 4 is an isometry).  Computed here from
               the output OBJ, not taken from the tool.
   wall, cpu   seconds of the tool's run (cpu = user + system of the child)
-  check       ../shared/tools/uvcheck.py --compact OUT MESH: exit 0 = every
+  check       tests/uvcheck.py --json OUT MESH: exit 0 = every
               chart bijective, no cross-chart overlap, geometry matches MESH
   in01        every vt of the output in [0, 1] (read here from the file)
   gap         padding actually left, in texels: the least distance between
@@ -35,7 +34,7 @@ and record, per mesh:
               --segment off (the charts of the file and of the cut alone,
               >>segment), for comparison; "-" otherwise
 
-Besides the meshes of the two folders, build/bench/bimba_closed.obj (made
+Besides the meshes of tests/data, build/bench/bimba_closed.obj (made
 by bench/atlas.sh with bench/close_base.py: bimba_i.obj closed by a fan
 over its base, a closed genus-0 surface of 89,590 triangles) when present.
 
@@ -58,7 +57,7 @@ XATLAS = {"spot": 0.598, "cow_param_withSUV": 0.608, "torus_with_holes": 0.572, 
 
 def meshes():
     seen, out = set(), []
-    for d in ("tests/data", "../shared/meshes"):
+    for d in ("tests/data",):
         if not os.path.isdir(d):
             continue
         for f in sorted(os.listdir(d)):
@@ -203,15 +202,13 @@ def run(mesh, tool, res, pad, outdir, timeout):
     rec["border_texels"] = min(min(a, 1 - a, b, 1 - b) for a, b in vt) * res if vt else None
     rec["threads"] = j.get("threads")
     rec["timings"] = j.get("timings")      # the tool's phases: read, charts, init, optimize, pack, write
-    chk = "../shared/tools/uvcheck.py"
-    if os.path.exists(chk):
-        c = subprocess.run([sys.executable, chk, "--compact", out, mesh], capture_output=True, text=True)
-        rec["uvcheck_exit"] = c.returncode
-        try:
-            cj = json.loads(c.stdout)
-            rec["uvcheck_reasons"] = cj.get("verdict", {}).get("reasons", [])
-        except ValueError:
-            rec["uvcheck_reasons"] = [c.stdout.strip()[-200:]]
+    c = subprocess.run([sys.executable, "tests/uvcheck.py", "--json", out, mesh], capture_output=True, text=True)
+    rec["uvcheck_exit"] = c.returncode
+    try:
+        cj = json.loads(c.stdout)
+        rec["uvcheck_reasons"] = ["%d %s" % (n, k) for k, n in sorted(cj.get("counts", {}).items())]
+    except ValueError:
+        rec["uvcheck_reasons"] = [(c.stdout + c.stderr).strip()[-200:]]
     rec["xatlas"] = XATLAS.get(name)
     if os.environ.get("ATLAS_BASELINE") == "1":
         try:

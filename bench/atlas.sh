@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Atlas benchmark (make bench-atlas): every mesh of tests/data and
-# ../shared/meshes through --atlas 1024 --padding 4, one at a time, each
-# output checked by ../shared/tools/uvcheck.py; a Markdown table on stdout,
+# Atlas benchmark (make bench-atlas): every mesh of tests/data through
+# --atlas 1024 --padding 4, one at a time, each output checked by
+# tests/uvcheck.py; a Markdown table on stdout,
 # one JSON line per mesh on stderr and in build/bench/atlas.jsonl.
 # bench/atlas.py documents every column and the environment variables.
 #   bash bench/atlas.sh                          ~5 min on 2 cores
@@ -12,8 +12,8 @@ cd "$(dirname "$0")/.."
 command -v python3 >/dev/null || { echo "bench-atlas: python3 is needed" >&2; exit 1; }
 mkdir -p build/bench
 # the closed 90K-triangle genus-0 case of issue 14 (bimba closed over its base)
-[ -f build/bench/bimba_closed.obj ] || [ ! -f ../shared/meshes/bimba_i.obj ] ||
-    python3 bench/close_base.py ../shared/meshes/bimba_i.obj build/bench/bimba_closed.obj
+[ -f build/bench/bimba_closed.obj ] ||
+    python3 bench/close_base.py tests/data/bimba_i.obj build/bench/bimba_closed.obj
 if [ -z "${BENCH_TOOL:-}" ]; then     # a snapshot: a rebuild mid-bench cannot mix versions
     cp build/bijparam build/bench/bijparam-atlas
     export BENCH_TOOL=build/bench/bijparam-atlas

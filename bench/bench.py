@@ -1,8 +1,7 @@
 #!/usr/bin/env python3
 """bench/bench.py - the body of `make bench` (bench/run.sh calls it).
 
-For every mesh in tests/data, and the larger meshes in ../shared/meshes when
-that folder is present, run
+For every mesh in tests/data (the larger ones, LARGE, unless BENCH_QUICK), run
 
     build/bijparam MESH -o OUT --json --trace TRACE
 
@@ -19,7 +18,7 @@ BENCH_RUNS times (default 3) and record, per mesh:
                   by 3D area and the worst triangle, as the independent
                   checker measures them (the tool's own numbers are in the JSON
                   as tool_energy_mean / tool_energy_max)
-  bijective       python3 ../shared/tools/uvcheck.py --compact OUT MESH exits 0
+  bijective       python3 tests/uvcheck.py --json OUT MESH exits 0
   B/face          peak resident memory per face (the tool's bytes_per_face),
                   median of the runs
   t1.01, t1.001   from the trace: seconds since the tool started until the
@@ -46,7 +45,7 @@ mesh's runs: above the core count, other processes were competing.
 Default threads against one, idle and busy (issue 13: the default must
 never be slower than --threads 1).  Cases: many_charts_10000 (10,000
 separate one-triangle charts, written by the bench itself), spot and camel_b
-from tests/data, and camelhead from ../shared/meshes when present.  Each case
+from tests/data, and camelhead unless BENCH_QUICK.  Each case
 runs the default (--threads 0) and --threads 1, BENCH_RUNS times each,
 alternated: first on the machine as it is ("idle"), then with one competing
 CPU-bound process per core started by the bench, each in its own session
@@ -69,7 +68,7 @@ passes the output; "same" says whether both thread counts gave the same
 energies bit for bit.
 
 Environment:
-  BENCH_QUICK=1        only tests/data (runs default to 1); threads on camelhead
+  BENCH_QUICK=1        not the LARGE meshes (runs default to 1); threads on camelhead
   BENCH_RUNS=N         runs per configuration (default 3, quick: 1)
   BENCH_TIMEOUT=S      per-run time limit in seconds (default 600)
   BENCH_THREADS_MIN_FACES=N   (default 20000)
@@ -97,8 +96,8 @@ import time
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 TOOL = os.environ.get("BENCH_TOOL") or os.path.join(ROOT, "build", "bijparam")
-SHARED = os.path.join(ROOT, "..", "shared")
-UVCHECK = os.path.join(SHARED, "tools", "uvcheck.py")
+DATA = os.path.join(ROOT, "tests", "data")
+UVCHECK = os.path.join(ROOT, "tests", "uvcheck.py")
 LARGE = ["hilbert.obj", "beetle.off", "horse_cut.obj", "lucy_o_f48275.obj",
          "face.obj", "bimba_i.obj"]
 MUST_REJECT = set()
@@ -238,7 +237,7 @@ def uvcheck(out, mesh):
     if not os.path.isfile(UVCHECK) or not os.path.isfile(out):
         return None, None
     try:
-        p = subprocess.run([sys.executable, UVCHECK, "--compact", out, mesh],
+        p = subprocess.run([sys.executable, UVCHECK, "--json", out, mesh],
                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=TIMEOUT)
         d = json.loads(p.stdout.decode())
         return p.returncode, d
@@ -300,14 +299,14 @@ def bench_mesh(mesh):
     else:
         row["bijective"] = code == 0
         if d:
-            sd = d.get("distortion", {}).get("symmetric_dirichlet", {})
-            v = d.get("validity", {})
+            sd = d.get("symmetric_dirichlet", {})
+            v = d.get("counts", {})
             row["energy_mean"] = rnd(sd.get("mean"), 6)
             row["energy_max"] = rnd(sd.get("max"), 6)
-            row["uvcheck_boundary_intersections"] = v.get("boundary_self_intersections")
-            row["uvcheck_flipped"] = v.get("flipped_triangles")
+            row["uvcheck_boundary_intersections"] = v.get("boundary_intersections", 0)
+            row["uvcheck_flipped"] = v.get("flipped_triangles", 0)
             if code != 0:
-                row["uvcheck_reasons"] = d.get("verdict", {}).get("reasons")
+                row["uvcheck_reasons"] = sorted(v)
     if "energy_mean" not in row:
         row["energy_mean"], row["energy_max"] = row["tool_energy_mean"], row["tool_energy_max"]
     # threads 1 vs 2 on the larger charts
@@ -372,7 +371,7 @@ def busy_cases():
     cases.append(("many_charts_10000", many))
     for name in ("spot.obj", "camel_b.obj"):
         cases.append((name, os.path.join(ROOT, "tests", "data", name)))
-    cam = os.path.join(SHARED, "meshes", "camelhead.off")
+    cam = os.path.join(DATA, "camelhead.off")
     if not QUICK and os.path.isfile(cam):
         cases.append(("camelhead.off", cam))
     return [(n, p) for n, p in cases if os.path.isfile(p)]
@@ -453,14 +452,10 @@ def main():
         print("bench: %s missing: run 'make' first" % TOOL, file=sys.stderr)
         return 1
     os.makedirs(OUT, exist_ok=True)
-    data = os.path.join(ROOT, "tests", "data")
-    meshes = sorted(os.path.join(data, f) for f in os.listdir(data)
-                    if f.endswith((".obj", ".off")))
+    meshes = sorted(os.path.join(DATA, f) for f in os.listdir(DATA)
+                    if f.endswith((".obj", ".off")) and f not in LARGE)
     if not QUICK:
-        for f in LARGE:
-            p = os.path.join(SHARED, "meshes", f)
-            if os.path.isfile(p):
-                meshes.append(p)
+        meshes += [os.path.join(DATA, f) for f in LARGE]
     only = os.environ.get("BENCH_MESHES", "").split()
     if only:
         meshes = [m for m in meshes if os.path.basename(m) in only]

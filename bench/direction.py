@@ -66,7 +66,7 @@ import sys
 from scaf_ratio import fmt, med   # the same medians and "-" for a missing number
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-MESHDIR = os.path.join(ROOT, "..", "shared", "meshes")
+MESHDIR = os.path.join(ROOT, "tests", "data")
 OUT = os.path.join(ROOT, "build", "bench", "direction")
 TOOL = os.environ.get("TOOL") or os.path.join(ROOT, "build", "bijparam")
 RUNS = max(1, int(os.environ.get("BENCH_DIR_RUNS", "1") or 1))

@@ -23,8 +23,8 @@ and the dissertation comparison asks for one thread).  A "time" is the median
 wall time of EXP_RUNS runs (default 3) of the whole process; runs longer than
 EXP_LONG seconds (default 20) are timed once.  Energies are the tool's final
 values (deterministic: identical in every run); "bijective" is the exit status
-of python3 ../shared/tools/uvcheck.py --compact OUT MESH and the boundary
-intersections are the count uvcheck reports (boundary_self_intersections).
+of python3 tests/uvcheck.py --json OUT MESH and the boundary intersections
+are the pairs of boundary edges that meet as uvcheck counts them.
 """
 import json
 import os
@@ -37,8 +37,8 @@ import time
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 TOOL = os.environ.get("EXP_TOOL") or os.path.join(ROOT, "build", "bijparam")
-SHARED = os.path.join(ROOT, "..", "shared")
-UVCHECK = os.path.join(SHARED, "tools", "uvcheck.py")
+DATA = os.path.join(ROOT, "tests", "data")
+UVCHECK = os.path.join(ROOT, "tests", "uvcheck.py")
 WORK = os.environ.get("EXP_OUT") or os.path.join(ROOT, "build", "bench", "exp")
 RUNS = int(os.environ.get("EXP_RUNS", "3"))
 LONG = float(os.environ.get("EXP_LONG", "20"))
@@ -46,8 +46,8 @@ LONG = float(os.environ.get("EXP_LONG", "20"))
 CAMEL = os.path.join(ROOT, "tests", "data", "camel_b.obj")
 COW = os.path.join(ROOT, "tests", "data", "cow_param_withSUV.obj")
 FACE_HOLES = os.path.join(ROOT, "tests", "data", "face_holes.off")
-HORSE = os.path.join(SHARED, "meshes", "horse_cut.obj")
-HILBERT = os.path.join(SHARED, "meshes", "hilbert.obj")
+HORSE = os.path.join(DATA, "horse_cut.obj")
+HILBERT = os.path.join(DATA, "hilbert.obj")
 NAMES = {CAMEL: "camel_b", COW: "cow", HORSE: "horse_cut", FACE_HOLES: "face_holes",
          HILBERT: "hilbert"}
 
@@ -100,16 +100,16 @@ def run(mesh, args, runs=None, check=True, threads1=True):
         res.update(iters=sum(x["iterations"] for x in rep["per_chart"]), stop=c["stop"],
                    mean=c["energy_end"], max=c["energy_max"], opt=rep["timings"]["optimize"],
                    tool_bi=sum(x.get("boundary_intersections") or 0 for x in rep["per_chart"]))
-    if check and rc == 0 and os.path.isfile(UVCHECK):
-        p = subprocess.run([sys.executable, UVCHECK, "--compact", out, mesh],
+    if check and rc == 0:
+        p = subprocess.run([sys.executable, UVCHECK, "--json", out, mesh],
                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
         try:
             d = json.loads(p.stdout.decode())
             res["bij"] = p.returncode == 0
-            res["bi"] = d["validity"]["boundary_self_intersections"]
-            res["flipped"] = d["validity"]["flipped_triangles"]
-            res["sd_mean"] = d["distortion"]["symmetric_dirichlet"]["mean"]
-            res["sd_max"] = d["distortion"]["symmetric_dirichlet"]["max"]
+            res["bi"] = d["counts"].get("boundary_intersections", 0)
+            res["flipped"] = d["counts"].get("flipped_triangles", 0)
+            res["sd_mean"] = d["symmetric_dirichlet"]["mean"]
+            res["sd_max"] = d["symmetric_dirichlet"]["max"]
         except Exception:
             res["bij"] = None
     log("  %s %s: rc=%d %.2fs (cpu %.2fs) %s it=%s E=%s" % (NAMES.get(mesh, mesh), " ".join(args), rc,

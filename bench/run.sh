@@ -1,8 +1,7 @@
 #!/usr/bin/env bash
-# Benchmark (make bench): run build/bijparam on every mesh in tests/data, and
-# on the larger meshes in ../shared/meshes when that folder is present; print
-# a table (V, F, charts, loops, iterations, median seconds, final mean/max
-# energy, bijectivity by ../shared/tools/uvcheck.py, peak bytes per face,
+# Benchmark (make bench): run build/bijparam on every mesh in tests/data;
+# print a table (V, F, charts, loops, iterations, median seconds, final
+# mean/max energy, bijectivity by tests/uvcheck.py, peak bytes per face,
 # time to 1.01x / 1.001x of the final energy), a 1-vs-2-thread table for the
 # meshes above 20K faces, the default thread count against --threads 1 on an
 # idle and on a busy machine (one competing CPU-bound process per core,
@@ -12,7 +11,7 @@
 # per mesh and case.  bench/bench.py does the work and documents every column.
 #
 #   bash bench/run.sh                    (or: make bench)      ~20 min on 2 cores
-#   BENCH_QUICK=1 bash bench/run.sh      tests/data only, 1 run  (~15 s)
+#   BENCH_QUICK=1 bash bench/run.sh      the meshes below 30K faces, 1 run  (~15 s)
 #   BENCH_RUNS=5 BENCH_TIMEOUT=300 bash bench/run.sh
 #   BENCH_MESHES="camel_b.obj horse_cut.obj" bash bench/run.sh
 #   BENCH_BUSY=only bash bench/run.sh    only the idle/busy comparison (~2 min)

@@ -55,7 +55,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-MESHDIR = os.path.join(ROOT, "..", "shared", "meshes")
+MESHDIR = os.path.join(ROOT, "tests", "data")
 
 # (file, label, F, SCAF final E, SCAF t(1.001 E) in seconds): issue 15's table.
 SCAF = [

@@ -2,7 +2,7 @@
 """bench/scale.py - time and memory against the face count (make bench-scale,
 issue 15 "One million faces").
 
-One corpus chart (default ../shared/meshes/face_holes.off, the face with six
+One corpus chart (default tests/data/face_holes.off, the face with six
 holes: one disk, seven boundary loops, 8,288 faces) is subdivided by
 bench/subdivide.py into N x N triangles per face for each N of
 BENCH_SCALE_N (default "1 4 6 11": 8,288 / 132,608 / 298,368 / 1,002,848
@@ -32,7 +32,7 @@ Columns of the table:
   exact            the library's own exact check of the result (the
                    tool's report: status ok, flipped = degenerate =
                    boundary_intersections = 0): "yes" or what failed
-  uvcheck          python3 ../shared/tools/uvcheck.py OUT exits 0 ("yes"),
+  uvcheck          python3 tests/uvcheck.py OUT exits 0 ("yes"),
                    for charts up to BENCH_SCALE_UVCHECK_MAX faces (default
                    300000; "-" above: the pure-Python checker needs minutes)
 
@@ -64,8 +64,7 @@ import time
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 TOOL = os.environ.get("BENCH_TOOL") or os.path.join(ROOT, "build", "bijparam")
-SHARED = os.path.join(ROOT, "..", "shared")
-UVCHECK = os.path.join(SHARED, "tools", "uvcheck.py")
+UVCHECK = os.path.join(ROOT, "tests", "uvcheck.py")
 OUT = os.path.join(ROOT, "build", "bench", "scale")
 
 
@@ -74,15 +73,7 @@ def env_int(name, default):
     return int(v) if v.strip() else default
 
 
-def default_mesh():
-    for p in (os.path.join(SHARED, "meshes", "face_holes.off"),
-              os.path.join(ROOT, "tests", "data", "face_holes.off")):
-        if os.path.isfile(p):
-            return p
-    raise SystemExit("bench-scale: face_holes.off not found")
-
-
-MESH = os.environ.get("BENCH_SCALE_MESH") or default_mesh()
+MESH = os.environ.get("BENCH_SCALE_MESH") or os.path.join(ROOT, "tests", "data", "face_holes.off")
 NS = [int(w) for w in os.environ.get("BENCH_SCALE_N", "1 4 6 11").split()]
 T1_MAX = env_int("BENCH_SCALE_T1_MAX", 300000)
 UV_MAX = env_int("BENCH_SCALE_UVCHECK_MAX", 300000)
@@ -150,9 +141,9 @@ def run(chart, threads, tag):
 
 
 def uvcheck(out):
-    if not os.path.isfile(UVCHECK) or not os.path.isfile(out):
+    if not os.path.isfile(out):
         return "?"
-    p = subprocess.run([sys.executable, UVCHECK, "--compact", out],
+    p = subprocess.run([sys.executable, UVCHECK, out],
                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     return "yes" if p.returncode == 0 else "NO"
 

@@ -5,7 +5,7 @@
 # and lucy, each with the default start (--start auto) and the plain Tutte
 # start (--start plain), one thread: CPU seconds (user+sys of the process),
 # iterations of the final optimization, final mean energy, and the exact
-# check by ../shared/tools/uvcheck.py.  Prints a table and JSON lines.
+# check by tests/uvcheck.py.  Prints a table and JSON lines.
 #
 #   bash bench/start.sh                 (~3 min: lucy twice)
 #   START_MESHES="" bash bench/start.sh only the strips (~10 s)
@@ -37,18 +37,17 @@ for h, tag in ((1e-7, "1e-7"), (1e-4, "1e-4")):
     strip(h, 1, "%s/strip_%s_3d.obj" % (out, tag))
 PY
 meshes="$out/strip_1e-7.obj $out/strip_1e-7_3d.obj $out/strip_1e-4.obj $out/strip_1e-4_3d.obj"
-for m in ${START_MESHES-../shared/meshes/lucy_o_f48275.obj}; do
+for m in ${START_MESHES-tests/data/lucy_o_f48275.obj}; do
     if [ -f "$m" ]; then meshes="$meshes $m"; else echo "bench-start: $m missing, skipped" >&2; fi
 done
-check=../shared/tools/uvcheck.py
+check=tests/uvcheck.py
 printf "%-22s %-6s %9s %7s %14s %14s %8s\n" mesh start "cpu (s)" iters "E start" "E final" uvcheck
 for m in $meshes; do
     name=$(basename "$m"); name=${name%.*}
     for s in auto plain; do
         o=$out/$name.$s
         /usr/bin/time -f "%U %S" -o $o.time build/bijparam --threads 1 --json -q --start $s "$m" -o $o.obj > $o.json 2> $o.err
-        ok=n/a
-        [ -f "$check" ] && { python3 "$check" $o.obj > /dev/null 2>&1 && ok=valid || ok=INVALID; }
+        python3 "$check" $o.obj "$m" > /dev/null 2>&1 && ok=valid || ok=INVALID
         python3 - "$name" "$s" "$o" "$ok" <<'PY'
 import json, sys
 name, s, o, ok = sys.argv[1:5]

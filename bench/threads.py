@@ -43,7 +43,7 @@ import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-MESHDIR = os.path.join(ROOT, "..", "shared", "meshes")
+MESHDIR = os.path.join(ROOT, "tests", "data")
 OUT = os.path.join(ROOT, "build", "bench", "threads")
 TOOL = os.environ.get("TOOL") or os.path.join(ROOT, "build", "bijparam")
 

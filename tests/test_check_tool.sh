@@ -9,10 +9,8 @@
 #     tool's own parameterization of spot passes;
 #   - two charts side by side pass, one on top of the other fails;
 #   - usage errors exit 2; the input file is not modified;
-#   - when the independent checker /work/shared/tools/uvcheck.py (or
-#     $UVCHECK) is present, its exit status agrees on all three files
-#     (when it is absent this comparison is not run and a "note" says so;
-#     setting UVCHECK to a missing file is a failure).
+#   - the independent checker tests/uvcheck.py agrees on all three files
+#     (exit status, and spot's number of flipped triangles).
 #
 # Needs build/bijparam (make build/bijparam).  Prints ok/FAIL lines and
 # "BPTEST <passed> <failed>".
@@ -81,22 +79,16 @@ fi
 "$TOOL" --check --demo >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] && ok "--check --demo: usage error (exit 2)" || fail "--check --demo: exit $rc"
 
-UV=${UVCHECK:-/work/shared/tools/uvcheck.py}
-if [ -f "$UV" ] && command -v python3 >/dev/null 2>&1; then
-    for f in "$COW" "$TMP/broken.obj" "$SPOT"; do
-        python3 "$UV" "$f" >"$TMP/uv.out" 2>&1; urc=$?
-        "$TOOL" --check "$f" >/dev/null 2>&1; brc=$?
-        if [ "$urc" -eq "$brc" ]; then ok "$(basename "$f"): uvcheck.py and --check agree (exit $brc)"
-        else fail "$(basename "$f"): uvcheck.py exit $urc, --check exit $brc"; fi
-        if [ "$(basename "$f")" = spot.obj ]; then
-            uflips=$(sed -n 's/.*"flipped_triangles": \([0-9]*\).*/\1/p' "$TMP/uv.out" | head -n 1)
-            [ "$uflips" = "$flips" ] && ok "spot.obj: the same number of flipped triangles as uvcheck.py ($flips)" \
-                || fail "spot.obj: $flips flipped, uvcheck.py says $uflips"
-        fi
-    done
-elif [ -n "${UVCHECK:-}" ]; then
-    fail "UVCHECK=$UVCHECK is not there"
-else
-    echo "note test_check_tool.sh: $UV not found: the comparison with the independent checker is not run"
-fi
+UV=$ROOT/tests/uvcheck.py
+for f in "$COW" "$TMP/broken.obj" "$SPOT"; do
+    python3 "$UV" --json "$f" >"$TMP/uv.out" 2>&1; urc=$?
+    "$TOOL" --check "$f" >/dev/null 2>&1; brc=$?
+    if [ "$urc" -eq "$brc" ]; then ok "$(basename "$f"): uvcheck.py and --check agree (exit $brc)"
+    else fail "$(basename "$f"): uvcheck.py exit $urc, --check exit $brc"; head -c 600 "$TMP/uv.out" | sed 's/^/     | /'; fi
+    if [ "$(basename "$f")" = spot.obj ]; then
+        uflips=$(python3 -c 'import json, sys; print(json.load(sys.stdin)["counts"].get("flipped_triangles", 0))' <"$TMP/uv.out")
+        [ "$uflips" = "$flips" ] && ok "spot.obj: the same number of flipped triangles as uvcheck.py ($flips)" \
+            || fail "spot.obj: $flips flipped, uvcheck.py says $uflips"
+    fi
+done
 echo "BPTEST $passed $failed"

@@ -678,9 +678,9 @@ int main(void)
     check_start_map("tests/data/face_holes.off", BP_INIT_MEAN_VALUE, BP_INIT_MEAN_VALUE, "asked for");
     check_start_map("tests/data/face_holes.off", BP_INIT_TUTTE, BP_INIT_TUTTE, "asked for");
     check_start_map("tests/data/face_holes.off", (bp_init)99, BP_INIT_CONFORMAL, "an unknown value acts as AUTO");
-    check_start_map("../shared/meshes/beetle.off", BP_INIT_AUTO, BP_INIT_MEAN_VALUE,
+    check_start_map("tests/data/beetle.off", BP_INIT_AUTO, BP_INIT_MEAN_VALUE,
                     "above BP__CONFORMAL_MAX here, a long boundary");
-    check_start_map("../shared/meshes/beetle.off", BP_INIT_CONFORMAL, BP_INIT_CONFORMAL, "asked by name: any size");
+    check_start_map("tests/data/beetle.off", BP_INIT_CONFORMAL, BP_INIT_CONFORMAL, "asked by name: any size");
     check_start_map("tests/data/camelhead.off", BP_INIT_AUTO, BP_INIT_CONFORMAL,
                     "above BP__CONFORMAL_MAX here, a short boundary: the Schur complement");
     check_schedules("tests/data/face_holes.off");

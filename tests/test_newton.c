@@ -1898,9 +1898,9 @@ int main(void)
     test_default_choice("tests/data/bishop_part_f1000.obj", BP_ENERGY_SYMMETRIC_DIRICHLET);
     test_default_choice("tests/data/face_holes.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
     test_default_choice("tests/data/camelhead.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
-    test_default_choice("../shared/meshes/lucy_o_f48275.obj", BP_ENERGY_SYMMETRIC_DIRICHLET);
+    test_default_choice("tests/data/lucy_o_f48275.obj", BP_ENERGY_SYMMETRIC_DIRICHLET);
     test_default_choice("tests/data/camelhead.off", BP_ENERGY_MIPS);
-    test_default_choice("../shared/meshes/beetle.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
+    test_default_choice("tests/data/beetle.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
     test_default_choice_large();
     test_fallback();
     return bpt_finish();

@@ -22,7 +22,7 @@
 # - spot with every 7th face flipped: the output is the clean output byte
 #   for byte (the re-oriented faces come back in the clean file's order,
 #   with the vt of every corner right).
-# uvcheck is ../shared/tools/uvcheck.py (a failed check without it).
+# The independent checker is tests/uvcheck.py.
 # The validity of repaired maps is proven exactly in test_repair.c.
 # Prints "BPTEST <passed> <failed>" last.  Run from the repository root.
 set -u
@@ -104,7 +104,7 @@ check "$([ "$(rc)" = 1 ] && [ "$(json "j['status']")" = "two triangles use the s
          json "j['error']" | grep -q 'triangle 1 (line 10) and triangle 5 (line 14)'; echo $?)" \
     "--strict --json: the duplicate is the error, naming both faces ($(json "j.get('error')"))"
 
-uvcheck=../shared/tools/uvcheck.py
+uvcheck=tests/uvcheck.py
 # camel_b, every second face flipped
 if [ -f tests/data/camel_b.obj ]; then
     awk '/^f /{n++; if (n % 2 == 0) { print $1, $2, $4, $3; next } } {print}' tests/data/camel_b.obj >"$d/camel_flip.obj"
@@ -124,15 +124,13 @@ EOF
 echo $?)" "camel_b flipped: every output f line is a permutation of the input's v/vn, 1788 lines reordered"
     check "$([ "$(json "j['repairs']['flipped']['written_reordered']")" = 1788 ]; echo $?)" \
         "camel_b flipped, written: --json says 1788 written reordered ($(json "j['repairs']['flipped']"))"
-    if [ -f "$uvcheck" ]; then
-        python3 "$uvcheck" --compact "$d/camel_flip_out.obj" tests/data/camel_b.obj >"$d/uvc.json"
-        check "$?" "camel_b flipped: uvcheck against the consistently wound camel_b passes ($(head -c 300 "$d/uvc.json"))"
-        python3 "$uvcheck" --compact "$d/camel_flip_out.obj" "$d/camel_flip.obj" >"$d/uvc.json"
-        check "$(python3 -c "import json; j=json.load(open('$d/uvc.json')); g=j['geometry_match']; v=j['validity']; print(0 if g['mismatched_faces'] == 1788 and v['flipped_triangles'] == 0 else 1)")" \
-            "camel_b flipped: against the damaged input, uvcheck sees exactly the 1788 re-oriented faces reversed, none flipped"
-    else
-        check 1 "$uvcheck exists"
-    fi
+    python3 "$uvcheck" --json "$d/camel_flip_out.obj" tests/data/camel_b.obj >"$d/uvc.json"
+    check "$?" "camel_b flipped: uvcheck against the consistently wound camel_b passes ($(head -c 300 "$d/uvc.json"))"
+    python3 "$uvcheck" --json "$d/camel_flip_out.obj" "$d/camel_flip.obj" >"$d/uvc.json"
+    check "$(python3 -c "import json; c=json.load(open('$d/uvc.json'))['counts']; print(0 if c == {'reversed_faces': 1788} else 1)")" \
+        "camel_b flipped: against the damaged input, uvcheck sees exactly the 1788 re-oriented faces reversed and nothing else ($(head -c 200 "$d/uvc.json"))"
+    python3 "$uvcheck" --allow-reorient "$d/camel_flip_out.obj" "$d/camel_flip.obj" >/dev/null
+    check "$?" "camel_b flipped: uvcheck --allow-reorient against the damaged input passes"
     run "$d/camel_flip.obj" --json --strict --max-iters 50
     check "$([ "$(rc)" = 1 ] && json "j['error']" | grep -q 'orientations disagree'; echo $?)" \
         "camel_b flipped, --strict: rejected ($(json "j.get('error')"))"
@@ -182,10 +180,8 @@ if [ -f tests/data/cow_param_withSUV.obj ]; then
     (cat "$d/cow_novt.obj"; grep '^f ' "$d/cow_novt.obj" | sed -n '100p;2000p;4000p') >"$d/cow_dup.obj"
     run "$d/cow_dup.obj" --json --max-iters 5 -o "$d/cow_dup_out.obj"
     check "$([ "$(json "j['repairs']['duplicate']['count']")" = 3 ] && vt_owned "$d/cow_dup_out.obj"; echo $?)" "cow without vt, 3 faces repeated: 3 dropped, every vt of the output (copies too) belongs to one v"
-    if [ -f "$uvcheck" ]; then
-        python3 "$uvcheck" --compact "$d/cow_flip_out.obj" "$d/cow_novt.obj" >"$d/uvc.json"
-        check "$?" "cow flipped and cut: uvcheck against the cow without vt passes ($(head -c 300 "$d/uvc.json"))"
-    fi
+    python3 "$uvcheck" --json "$d/cow_flip_out.obj" "$d/cow_novt.obj" >"$d/uvc.json"
+    check "$?" "cow flipped and cut: uvcheck against the cow without vt passes ($(head -c 300 "$d/uvc.json"))"
 else
     check 1 "tests/data/cow_param_withSUV.obj exists"
 fi

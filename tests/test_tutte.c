@@ -12,9 +12,9 @@
        one counter-clockwise loop, holes inside it), the outer loop on the
        circle of the chart's area in counter-clockwise order, spaced by 3D
        arc length, and every interior vertex at the weighted mean of its
-       neighbours (the linear system really solved).  The larger meshes of
-       ../shared/meshes (next to the repository, present in CI) are included;
-       a missing file is a counted failure.
+       neighbours (the linear system really solved).  The larger meshes
+       (hilbert, beetle, horse_cut) are included; a missing file is a
+       counted failure.
    (c) The preconditioner of the optimizer (the rest-shape Laplacian of a
        real chart, factored and solved in phases along the dissection tree):
        the factor and the solve give the same bits under three task orders
@@ -393,8 +393,8 @@ static void check_precondition(const char *path)
     int k, same_factor = 1, same_solve = 1, nodes, same_k = 1, ok_ref;
     bp__sparse R;
     FILE *f = fopen(path, "rb");
-    if (!BPT_CHECK(f != NULL, "%s: present (tests/data is part of the repository, ../shared/meshes the shared meshes "
-                   "next to it; a missing file is a failure, not a skip)", path)) return;
+    if (!BPT_CHECK(f != NULL, "%s: present (tests/data is part of the repository; a missing file is a failure, "
+                   "not a skip)", path)) return;
     fclose(f);
     memset(&o, 0, sizeof o);
     if (!BPT_CHECK(bp_read_mesh(path, &m, NULL, &e) == BP_OK, "%s: read: %s", path, e.message)) return;
@@ -900,8 +900,8 @@ static void check_mesh(const char *path)
     FILE *f = fopen(path, "rb");
     uint32_t c;
     int mvc;
-    if (!BPT_CHECK(f != NULL, "%s: present (tests/data is part of the repository, ../shared/meshes the shared meshes "
-                   "next to it; a missing file is a failure, not a skip)", path)) return;
+    if (!BPT_CHECK(f != NULL, "%s: present (tests/data is part of the repository; a missing file is a failure, "
+                   "not a skip)", path)) return;
     fclose(f);
     if (!BPT_CHECK(bp_read_mesh(path, &m, NULL, &e) == BP_OK, "%s: read: %s", path, e.message)) return;
     memset(&o, 0, sizeof o);
@@ -938,13 +938,13 @@ int main(void)
               "relative error %.1e (20 nonsymmetric M-matrices, both right-hand sides)", krylov_worst);
     check_krylov("tests/data/camel_b.obj");
     check_krylov("tests/data/camelhead.off");
-    check_krylov("../shared/meshes/horse_cut.obj");
+    check_krylov("tests/data/horse_cut.obj");
     check_phases("tests/data/face_holes.off");
     check_phases("tests/data/camelhead.off");
-    check_phases("../shared/meshes/horse_cut.obj");
+    check_phases("tests/data/horse_cut.obj");
     check_precondition("tests/data/camel_b.obj");
     check_precondition("tests/data/camelhead.off");
-    check_precondition("../shared/meshes/horse_cut.obj");
+    check_precondition("tests/data/horse_cut.obj");
     check_mesh("tests/data/bishop_part_f1000.obj");
     check_mesh("tests/data/camel_b.obj");
     check_mesh("tests/data/cow_param_withSUV.obj");
@@ -952,8 +952,8 @@ int main(void)
     check_mesh("tests/data/face_holes.off");
     check_mesh("tests/data/mech-holes-shark.off");
     check_mesh("tests/data/camelhead.off");
-    check_mesh("../shared/meshes/hilbert.obj");
-    check_mesh("../shared/meshes/beetle.off");
-    check_mesh("../shared/meshes/horse_cut.obj");
+    check_mesh("tests/data/hilbert.obj");
+    check_mesh("tests/data/beetle.off");
+    check_mesh("tests/data/horse_cut.obj");
     return bpt_finish();
 }
