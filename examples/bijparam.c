@@ -793,6 +793,101 @@ static int on_progress(void *user, uint32_t chart, int iteration,
     return 0;
 }
 
+/* ---- extreme scales ------------------------------------------------------
+
+   The map does not depend on the mesh's scale, but the arithmetic does:
+   rest shapes and energies multiply squared lengths, which overflow above
+   about 1e77 and underflow below 1e-77.  bp_parameterize solves such a
+   mesh on a copy rescaled by a power of two; the step-by-step calls below
+   work in the mesh's own units, so the tool does the same: a mesh whose
+   size (the largest side of the box of the vertices its triangles use) is
+   beyond 2^+-100 is solved with its positions -- and the pins, the input
+   uvs and --epsilon, which are lengths in the same units -- times 2^k, k
+   bringing the size near 1.  A power of two is exact, so the copy is the
+   same shape.  The map comes back times 2^-k, exact too unless a
+   coordinate leaves the normal range (then that chart fails, saying so);
+   with --atlas or --normalize it is in [0,1]^2 and stays there.  Meshes
+   of ordinary size are solved as given, bit for bit. */
+typedef struct rescale {
+    int k;                      /* 0: the mesh is solved as given          */
+    double *pos, *uvs;          /* the user's arrays, while the mesh holds copies */
+} rescale;
+
+static int size_exponent(const bp_mesh *m)
+{
+    double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL }, size = 0;
+    uint32_t t;
+    int k, e;
+    for (t = 0; t < 3 * m->num_triangles; t++) {
+        const double *p = m->positions + 3 * (size_t)m->triangles[t];
+        if (m->triangles[t] >= m->num_vertices) return 0;     /* the library names it */
+        for (k = 0; k < 3; k++) {
+            if (!isfinite(p[k])) return 0;
+            if (p[k] < lo[k]) lo[k] = p[k];
+            if (p[k] > hi[k]) hi[k] = p[k];
+        }
+    }
+    for (k = 0; k < 3; k++)            /* halves first: hi - lo may overflow */
+        if (hi[k] >= lo[k] && 0.5 * hi[k] - 0.5 * lo[k] > size) size = 0.5 * hi[k] - 0.5 * lo[k];
+    if (!(size > 0)) return 0;
+    (void)frexp(size, &e);             /* 2^(e-1) <= size < 2^e: the whole side is below 2^(e+1) */
+    return e + 1 > 100 || e + 1 < -100 ? -(e + 1) : 0;
+}
+
+/* Positions and uvs times 2^k into copies held by the mesh (the user's
+   arrays kept in r), epsilon in place (the pins, read later, follow r->k).
+   0 if out of memory. */
+static int rescale_mesh(bp_mesh *m, bp_options *opt, rescale *r)
+{
+    size_t i;
+    double *pos, *uvs = NULL;
+    memset(r, 0, sizeof *r);
+    r->k = size_exponent(m);
+    if (!r->k) return 1;
+    pos = (double *)malloc(3 * (size_t)m->num_vertices * sizeof(double) + 1);
+    if (m->uvs && m->num_uvs) uvs = (double *)malloc(2 * (size_t)m->num_uvs * sizeof(double));
+    if (!pos || (m->uvs && m->num_uvs && !uvs)) { free(pos); free(uvs); r->k = 0; return 0; }
+    for (i = 0; i < 3 * (size_t)m->num_vertices; i++) pos[i] = ldexp(m->positions[i], r->k);
+    for (i = 0; uvs && i < 2 * (size_t)m->num_uvs; i++) uvs[i] = ldexp(m->uvs[i], r->k);
+    r->pos = m->positions;
+    m->positions = pos;
+    if (uvs) { r->uvs = m->uvs; m->uvs = uvs; }
+    if (opt->epsilon > 0) opt->epsilon = ldexp(opt->epsilon, r->k);
+    return 1;
+}
+
+/* The user's positions and uvs back in the mesh; the map (unless it is in
+   [0,1]^2), the charts' areas and repaired rest shapes times 2^-k. */
+static void unscale(bp_mesh *m, bp_atlas *at, rescale *r, int normalized)
+{
+    uint32_t c, i;
+    if (!r->k) return;
+    free(m->positions);
+    m->positions = r->pos;
+    if (r->uvs) { free(m->uvs); m->uvs = r->uvs; }
+    for (c = 0; c < at->num_charts; c++) {
+        bp_chart *ch = &at->charts[c];
+        int exact = 1;
+        ch->area3d = ldexp(ch->area3d, -2 * r->k);
+        for (i = 0; ch->rest_side && i < ch->num_triangles; i++) ch->rest_side[i] = ldexp(ch->rest_side[i], -r->k);
+        if (!ch->uv || normalized) continue;
+        for (i = 0; i < 2 * ch->num_vertices && exact; i++) exact = ldexp(ldexp(ch->uv[i], -r->k), r->k) == ch->uv[i];
+        if (exact) for (i = 0; i < 2 * ch->num_vertices; i++) ch->uv[i] = ldexp(ch->uv[i], -r->k);
+        else {
+            bp_error why;
+            memset(&why, 0, sizeof why);
+            why.status = BP_ERR_NUMERICAL;
+            why.element = BP_ELEMENT_CHART;
+            why.index = c;
+            why.index2 = -1;
+            snprintf(why.message, sizeof why.message, "chart %u: solved on the mesh rescaled by 2^%d, its map "
+                     "underflows or overflows at the mesh's size: use --atlas or --normalize", (unsigned)c, r->k);
+            bp_atlas_fail_chart(at, c, &why);
+        }
+    }
+    r->k = 0;
+}
+
 /* ---- the JSON report ---------------------------------------------------- */
 
 /* Seconds per stage: "cut" is bp_atlas_build (gluing, repairs, the
@@ -1228,6 +1323,7 @@ int main(int argc, char **argv)
     bp_error err;
     bp_status st = BP_OK;
     stage_clock sc;
+    rescale scale;
     run_state rs;
     const char *input = NULL, *output = NULL, *trace_path = NULL, *importance_path = NULL, *pin_path = NULL, *where;
     extra_report ex;
@@ -1248,6 +1344,7 @@ int main(int argc, char **argv)
     memset(&atlas, 0, sizeof atlas);
     memset(&err, 0, sizeof err);
     memset(&sc, 0, sizeof sc);
+    memset(&scale, 0, sizeof scale);
     memset(&rs, 0, sizeof rs);
     memset(&ex, 0, sizeof ex);
     memset(&svg_opt, 0, sizeof svg_opt);
@@ -1523,6 +1620,11 @@ int main(int argc, char **argv)
         ex.format = bp_mesh_format(input);
     }
     have_mesh = st == BP_OK;
+    if (st == BP_OK && !rescale_mesh(&mesh, &opt, &scale)) {
+        st = BP_ERR_OUT_OF_MEMORY;
+        memset(&err, 0, sizeof err);
+        snprintf(err.message, sizeof err.message, "out of memory rescaling the mesh");
+    }
     stage_add(&sc, offsetof(timings, read));
 
     /* 2. charts (a chart that cannot be flattened is reported and skipped;
@@ -1566,6 +1668,7 @@ int main(int argc, char **argv)
         long line;
         pins = read_pins(pin_path, &mesh, &opt.num_pins, &line, msg, sizeof msg);
         opt.pins = pins;
+        for (c = 0; pins && c < opt.num_pins; c++) { pins[c].u = ldexp(pins[c].u, scale.k); pins[c].v = ldexp(pins[c].v, scale.k); }
         if (!pins) {
             st = BP_ERR_PARSE;
             where = pin_path;
@@ -1678,6 +1781,8 @@ int main(int argc, char **argv)
         st = bp_atlas_pack(&atlas, &opt, &err);
         stage_add(&sc, offsetof(timings, pack));
     }
+    /* 4a. an extreme scale: the user's mesh back, the map at its size */
+    unscale(&mesh, &atlas, &scale, opt.atlas_resolution > 0 || opt.normalize);
     /* 4b. texel density (sec 4.3) of this map against a plain isometric
        map of the same mesh, both under the chosen view model */
     if (st == BP_OK && ex.density_model) {
