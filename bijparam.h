@@ -39,20 +39,21 @@
       >>check          exact bijectivity check (the ground truth)
       >>tutte          Tutte / Floater start with filled holes        (sec 3.4.1, 3.6)
       >>rest           isometric flattening of each triangle          (sec 3.1)
-      >>energy         distortion energies and gradients              (sec 3.2)
-      >>hessian        their projected (PSD) Hessians, closed form
-      >>barrier        boundary barrier with a spatial hash           (sec 3.3)
+      >>conformal      least squares conformal start
+      >>barrier        boundary barrier with a spatial hash, the solver (sec 3.3)
+      >>energy         distortion energies, gradients, the objective  (sec 3.2)
       >>stepbound      singularity-aware maximum step                 (sec 3.4.2)
-      >>lbfgs          search directions and the line search          (sec 3.4, 3.5)
+      >>hessian        projected (PSD) Hessians, closed form
       >>newton         projected Newton direction
+      >>lbfgs          preconditioner and L-BFGS direction            (sec 3.4, 3.5)
       >>optimize       one chart's iteration in phases                (sec 3.4, 3.5)
-      >>pack           texel density, rotation, outline packing, padding
       >>pins           pinned vertices: the homotopy to the targets
-      >>start          planar start, thin-chart barrier, progressive references
+      >>start          planar start, progressive references, the start map
+      >>pack           texel density, rotation, outline packing, padding
       >>segment        several charts: grown by normal deviation, split by distortion
-      >>driver         charts -> start -> optimize -> pack
       >>bvh            bounding volume hierarchy, watertight rays      (chap 4)
       >>visibility     view models, V_t, texel density               (sec 4.2, 4.3)
+      >>driver         charts -> start -> optimize -> pack
 
    BUILD OPTIONS  (define before including the implementation)
    -------------
@@ -1542,6 +1543,18 @@ static void bp__par_run_with(const bp__par *par, bp_task_fn fn, void *task, uint
     bp__par_run(par, bp__two_loops_run, &L, count + b->count, items);
 }
 
+/* Seconds for time limits and reports: wall time from the monotonic clock
+   when the pool is compiled in (POSIX is there anyway), otherwise clock(),
+   which for a single compute-bound thread is the same. */
+static double bp__seconds(void)
+{
+#ifdef BP_USE_PTHREADS
+    struct timespec ts;
+    if (clock_gettime(CLOCK_MONOTONIC, &ts) == 0) return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+#endif
+    return (double)clock() / CLOCKS_PER_SEC;
+}
+
 #ifdef BP_USE_PTHREADS
 #include <pthread.h>
 #include <unistd.h>
@@ -1634,8 +1647,6 @@ struct bp__pool {
 #define BP__STORE(p, v) (*(p) = (v))
 #define BP__ATOMICS 0
 #endif
-
-static double bp__seconds(void);
 
 /* Poll until *w differs from `old` (is_ne) or equals it (!is_ne), or
    P's spin time is over; returns whether the condition was met. */
@@ -1945,51 +1956,6 @@ static bp__par bp__par_serial(void)
     return par;
 }
 
-static void bp__pool_call(bp_pool *pool);
-
-/* Choose how loops run for a solve; *pool receives a pool to stop later. */
-static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void **pool)
-{
-    bp__par par = bp__par_serial();
-    *pool = NULL;
-    (void)a;
-    if (opt && opt->parallel_for) {
-        par.run = opt->parallel_for;
-        par.user = opt->parallel_user;
-        par.threads = 0;
-        if (par.run == bp_pool_for && par.user) {     /* the library's pool: its real count */
-            par.threads = bp_pool_threads((const bp_pool *)par.user);
-            if (par.threads == 1) return bp__par_serial();
-            bp__pool_call((bp_pool *)par.user);
-        }
-        return par;
-    }
-#ifdef BP_USE_PTHREADS
-    if (!opt || opt->threads != 1) {
-        bp__pool *P = bp__pool_start(a, opt ? opt->threads : 0);
-        if (P) {
-            *pool = P;
-            par.run = bp__pool_for;
-            par.user = P;
-            par.threads = P->nth + 1;
-        }
-    }
-#endif
-    return par;
-}
-
-/* Seconds for time limits and reports: wall time from the monotonic clock
-   when the pool is compiled in (POSIX is there anyway), otherwise clock(),
-   which for a single compute-bound thread is the same. */
-static double bp__seconds(void)
-{
-#ifdef BP_USE_PTHREADS
-    struct timespec ts;
-    if (clock_gettime(CLOCK_MONOTONIC, &ts) == 0) return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-#endif
-    return (double)clock() / CLOCKS_PER_SEC;
-}
-
 static void bp__par_end(const bp_allocator *a, void *pool)
 {
 #ifdef BP_USE_PTHREADS
@@ -2036,6 +2002,37 @@ static void bp__pool_call(bp_pool *pool)
 #endif
 }
 
+
+/* Choose how loops run for a solve; *pool receives a pool to stop later. */
+static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void **pool)
+{
+    bp__par par = bp__par_serial();
+    *pool = NULL;
+    (void)a;
+    if (opt && opt->parallel_for) {
+        par.run = opt->parallel_for;
+        par.user = opt->parallel_user;
+        par.threads = 0;
+        if (par.run == bp_pool_for && par.user) {     /* the library's pool: its real count */
+            par.threads = bp_pool_threads((const bp_pool *)par.user);
+            if (par.threads == 1) return bp__par_serial();
+            bp__pool_call((bp_pool *)par.user);
+        }
+        return par;
+    }
+#ifdef BP_USE_PTHREADS
+    if (!opt || opt->threads != 1) {
+        bp__pool *P = bp__pool_start(a, opt ? opt->threads : 0);
+        if (P) {
+            *pool = P;
+            par.run = bp__pool_for;
+            par.user = P;
+            par.threads = P->nth + 1;
+        }
+    }
+#endif
+    return par;
+}
 BPDEF bp_status bp_pool_create(bp_pool **pool, int threads, const bp_allocator *alloc, bp_error *err)
 {
     bp_allocator a;
@@ -2100,6 +2097,97 @@ BPDEF void bp_pool_for(void *pool, bp_task_fn fn, void *task, uint32_t count)
 #endif
     bp__serial_for(pool, fn, task, count);
 }
+
+/* The L-BFGS vector work in chunks (see >>threads).  One pass over n
+   doubles computes, on each chunk,
+       out = c0 base + c_1 w_1 + ... + c_nw w_nw     (out NULL: nothing;
+                                                     base NULL: 0)
+   term by term in that order, and then the dot products A_k . B_k
+   (k < nd) of the vectors as they are after that; the partial dots of the
+   chunks are added in chunk order.  out may be base (the update is
+   elementwise).  A pass costs one join and one sweep of its vectors, so
+   the solver asks for as much as it can in each.
+   The chunks hold whole xy pairs: for a vector of 2 nv coordinates, chunk
+   c is the x and y of the vertices of the gradient gather's chunk c, so
+   each core meets again the vertices it gathered. */
+#define BP__VEC_CHUNK 4096u
+
+static uint32_t bp__vec_nchunks(uint32_t n)
+{
+    return bp__nchunks(n / 2 + n % 2, BP__VEC_CHUNK / 2);
+}
+
+/* The first coordinate of chunk k of nc (k = nc: n). */
+static uint32_t bp__vec_chunk_at(uint32_t n, uint32_t nc, uint32_t k)
+{
+    return k < nc ? 2 * bp__chunk_at(n / 2, nc, k) : n;
+}
+
+typedef struct bp__vec_task {
+    double             *out;
+    const double       *base;
+    double              c0;
+    const double *const *w;
+    const double       *c;
+    const double *const *A, *const *B;
+    uint32_t            nw, nd, n, nc;
+    double             *part;            /* nd per chunk                     */
+} bp__vec_task;
+
+static void bp__vec_task_run(void *task, uint32_t k)
+{
+    bp__vec_task *T = (bp__vec_task *)task;
+    uint32_t i, j, i0 = bp__vec_chunk_at(T->n, T->nc, k), i1 = bp__vec_chunk_at(T->n, T->nc, k + 1);
+    if (T->out) {
+        if (T->base) for (i = i0; i < i1; i++) T->out[i] = T->c0 * T->base[i];
+        else for (i = i0; i < i1; i++) T->out[i] = 0;
+        for (j = 0; j < T->nw; j++) {
+            const double *w = T->w[j], c = T->c[j];
+            for (i = i0; i < i1; i++) T->out[i] += c * w[i];
+        }
+    }
+    for (j = 0; j < T->nd; j++) {
+        const double *a = T->A[j], *b = T->B[j];
+        double d0 = 0, d1 = 0, d2 = 0, d3 = 0;
+        for (i = i0; i + 4 <= i1; i += 4) {      /* four sums: not one long chain of dependent adds */
+            d0 += a[i] * b[i];
+            d1 += a[i + 1] * b[i + 1];
+            d2 += a[i + 2] * b[i + 2];
+            d3 += a[i + 3] * b[i + 3];
+        }
+        for (; i < i1; i++) d0 += a[i] * b[i];
+        T->part[(size_t)k * T->nd + j] = (d0 + d1) + (d2 + d3);
+    }
+}
+
+/* Runs one pass; dot[k] receives A_k . B_k.  part: nd per chunk. */
+static void bp__vec_pass(const bp__par *par, double *part, uint32_t n, double *out, double c0, const double *base,
+                         uint32_t nw, const double *const *w, const double *c,
+                         uint32_t nd, const double *const *A, const double *const *B, double *dot)
+{
+    bp__vec_task T;
+    uint32_t k, j, nc = bp__vec_nchunks(n);
+    T.nc = nc;
+    T.out = out; T.base = base; T.c0 = c0;
+    T.w = w; T.c = c; T.nw = nw;
+    T.A = A; T.B = B; T.nd = nd;
+    T.part = part;
+    T.n = n;
+    par->run(par->user, bp__vec_task_run, &T, nc);
+    for (j = 0; j < nd; j++) {
+        double s = 0;
+        for (k = 0; k < nc; k++) s += part[(size_t)k * nd + j];
+        dot[j] = s;
+    }
+}
+
+/* The common case: out = base + c w (base NULL: c w), with up to one dot. */
+static void bp__vec_axpy(const bp__par *par, double *part, uint32_t n, double *out, const double *base, double c,
+                         const double *w, const double *a, const double *b, double *dot)
+{
+    bp__vec_pass(par, part, n, out, 1, base, 1, &w, &c, a ? 1u : 0u, &a, &b, dot);
+}
+
 
 /* >>predicates =============================================================
 
@@ -3117,77 +3205,6 @@ static bp_status bp__parse_off(bp__parser *ps, bp_mesh *mesh)
 }
 
 enum { BP__FORMAT_OBJ, BP__FORMAT_OFF, BP__FORMAT_PLY };
-static bp_status bp__parse_ply(bp__parser *ps, bp_mesh *mesh);
-
-/* Parse text of a format; opt (may be NULL) gives run_progress. */
-/* Some editors and exporters on Windows start a UTF-8 text file with the
-   byte order mark EF BB BF.  It is not part of the first line: the OBJ and
-   OFF readers step over it (so that line is read, and still counted as
-   line 1), and bp_write_obj_from copies it back as it is.  A PLY file is
-   not read as text (its header is followed by binary data in the binary
-   formats) and keeps the rule of its magic "ply". */
-static size_t bp__bom_len(const char *text, size_t length)
-{
-    return length >= 3 && (unsigned char)text[0] == 0xEF && (unsigned char)text[1] == 0xBB &&
-           (unsigned char)text[2] == 0xBF ? 3 : 0;
-}
-
-static bp_status bp__parse_text(const char *text, size_t length, bp_mesh *mesh,
-                                const bp_allocator *alloc, bp_error *err, int format, const bp_options *opt)
-{
-    bp__parser ps;
-    bp_allocator a;
-    bp_status st;
-    memset(&a, 0, sizeof a);
-    if (alloc) a = *alloc;
-    if (!mesh || (!text && length))
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "mesh and text must not be NULL");
-    memset(mesh, 0, sizeof *mesh);
-    ps.p = text;
-    ps.end = text + length;
-    ps.line = 1;
-    ps.a = &a;
-    ps.err = err;
-    ps.opt = opt && opt->run_progress && length ? opt : NULL;
-    ps.begin = text;
-    ps.cancelled = 0;
-    if (format != BP__FORMAT_PLY) ps.p += bp__bom_len(text, length);   /* a text file's UTF-8 mark */
-    if (format == BP__FORMAT_OBJ && opt && length >= BP__READ_PAR_MIN) {   /* a large OBJ: on threads */
-        void *pool = NULL;
-        bp__par par = bp__par_begin(&a, opt, &pool);
-        int done = 0;
-        st = par.run != bp__serial_for ? bp__parse_obj_par(&ps, mesh, &par, &done) : BP_OK;
-        bp__par_end(&a, pool);
-        if (!done) st = bp__parse_obj(&ps, mesh);
-    } else
-        st = format == BP__FORMAT_OFF ? bp__parse_off(&ps, mesh)
-           : format == BP__FORMAT_PLY ? bp__parse_ply(&ps, mesh) : bp__parse_obj(&ps, mesh);
-    if (ps.cancelled) {                       /* whatever the parse made of it */
-        bp_mesh_free(mesh, &a);
-        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled while reading");
-    }
-    if (st == BP_OK) bp__ok(err);
-    return st;
-}
-
-BPDEF bp_status bp_parse_obj(const char *text, size_t length, bp_mesh *mesh,
-                             const bp_allocator *alloc, bp_error *err)
-{
-    return bp__parse_text(text, length, mesh, alloc, err, BP__FORMAT_OBJ, NULL);
-}
-
-BPDEF bp_status bp_parse_off(const char *text, size_t length, bp_mesh *mesh,
-                             const bp_allocator *alloc, bp_error *err)
-{
-    return bp__parse_text(text, length, mesh, alloc, err, BP__FORMAT_OFF, NULL);
-}
-
-BPDEF bp_status bp_parse_ply(const char *data, size_t length, bp_mesh *mesh,
-                             const bp_allocator *alloc, bp_error *err)
-{
-    return bp__parse_text(data, length, mesh, alloc, err, BP__FORMAT_PLY, NULL);
-}
 
 /* ---- PLY ----------------------------------------------------------------
 
@@ -3602,6 +3619,76 @@ static bp_status bp__parse_ply(bp__parser *ps, bp_mesh *mesh)
         mesh->triangle_line = NULL;
     }
     return BP_OK;
+}
+
+/* Parse text of a format; opt (may be NULL) gives run_progress. */
+/* Some editors and exporters on Windows start a UTF-8 text file with the
+   byte order mark EF BB BF.  It is not part of the first line: the OBJ and
+   OFF readers step over it (so that line is read, and still counted as
+   line 1), and bp_write_obj_from copies it back as it is.  A PLY file is
+   not read as text (its header is followed by binary data in the binary
+   formats) and keeps the rule of its magic "ply". */
+static size_t bp__bom_len(const char *text, size_t length)
+{
+    return length >= 3 && (unsigned char)text[0] == 0xEF && (unsigned char)text[1] == 0xBB &&
+           (unsigned char)text[2] == 0xBF ? 3 : 0;
+}
+
+static bp_status bp__parse_text(const char *text, size_t length, bp_mesh *mesh,
+                                const bp_allocator *alloc, bp_error *err, int format, const bp_options *opt)
+{
+    bp__parser ps;
+    bp_allocator a;
+    bp_status st;
+    memset(&a, 0, sizeof a);
+    if (alloc) a = *alloc;
+    if (!mesh || (!text && length))
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "mesh and text must not be NULL");
+    memset(mesh, 0, sizeof *mesh);
+    ps.p = text;
+    ps.end = text + length;
+    ps.line = 1;
+    ps.a = &a;
+    ps.err = err;
+    ps.opt = opt && opt->run_progress && length ? opt : NULL;
+    ps.begin = text;
+    ps.cancelled = 0;
+    if (format != BP__FORMAT_PLY) ps.p += bp__bom_len(text, length);   /* a text file's UTF-8 mark */
+    if (format == BP__FORMAT_OBJ && opt && length >= BP__READ_PAR_MIN) {   /* a large OBJ: on threads */
+        void *pool = NULL;
+        bp__par par = bp__par_begin(&a, opt, &pool);
+        int done = 0;
+        st = par.run != bp__serial_for ? bp__parse_obj_par(&ps, mesh, &par, &done) : BP_OK;
+        bp__par_end(&a, pool);
+        if (!done) st = bp__parse_obj(&ps, mesh);
+    } else
+        st = format == BP__FORMAT_OFF ? bp__parse_off(&ps, mesh)
+           : format == BP__FORMAT_PLY ? bp__parse_ply(&ps, mesh) : bp__parse_obj(&ps, mesh);
+    if (ps.cancelled) {                       /* whatever the parse made of it */
+        bp_mesh_free(mesh, &a);
+        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled while reading");
+    }
+    if (st == BP_OK) bp__ok(err);
+    return st;
+}
+
+BPDEF bp_status bp_parse_obj(const char *text, size_t length, bp_mesh *mesh,
+                             const bp_allocator *alloc, bp_error *err)
+{
+    return bp__parse_text(text, length, mesh, alloc, err, BP__FORMAT_OBJ, NULL);
+}
+
+BPDEF bp_status bp_parse_off(const char *text, size_t length, bp_mesh *mesh,
+                             const bp_allocator *alloc, bp_error *err)
+{
+    return bp__parse_text(text, length, mesh, alloc, err, BP__FORMAT_OFF, NULL);
+}
+
+BPDEF bp_status bp_parse_ply(const char *data, size_t length, bp_mesh *mesh,
+                             const bp_allocator *alloc, bp_error *err)
+{
+    return bp__parse_text(data, length, mesh, alloc, err, BP__FORMAT_PLY, NULL);
 }
 
 #ifndef BP_NO_STDIO
@@ -5111,8 +5198,6 @@ typedef struct bp__build {
 
 #define BP__CUT (BP__NONE - 1u)
 
-static void bp__repair_note(bp_repair_report *r, bp_repair_kind k, int64_t a, int64_t b2);
-
 static void bp__build_free(const bp_allocator *a, bp__build *b)
 {
     bp__free(a, b->edges); bp__free(a, b->keys); bp__free(a, b->tri_uf);
@@ -5456,6 +5541,14 @@ static void bp__dup_task(void *task, uint32_t c)
     }
 }
 
+static void bp__repair_note(bp_repair_report *r, bp_repair_kind k, int64_t a, int64_t b2)
+{
+    bp_repair *p = &r->kind[k];
+    if (p->count < BP_REPAIR_FIRST) { p->first[p->count] = a; p->first2[p->count] = b2; }
+    p->count++;
+    r->total++;
+}
+
 /* Duplicate triangles: equal sorted vertex triples, found in the order of
    the keys (the smallest vertex, the other two, the triangle). */
 static bp_status bp__find_duplicates(bp__build *b, const bp_mesh *m, bp_error *err)
@@ -5657,14 +5750,6 @@ static void bp__sort_edges(bp__build *b, const bp_mesh *m)
        triangle is glued to its neighbours as any other; one that repeats
        a vertex cannot be (two of its corners would be one chart vertex)
        and becomes a chart of its own. */
-
-static void bp__repair_note(bp_repair_report *r, bp_repair_kind k, int64_t a, int64_t b2)
-{
-    bp_repair *p = &r->kind[k];
-    if (p->count < BP_REPAIR_FIRST) { p->first[p->count] = a; p->first2[p->count] = b2; }
-    p->count++;
-    r->total++;
-}
 
 BPDEF const char *bp_repair_name(bp_repair_kind k)
 {
@@ -6087,73 +6172,6 @@ static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b, bp_atla
     return BP_OK;
 }
 
-static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t c, const bp_mesh *m,
-                               const double *importance, uint32_t *glued, uint32_t *next, uint32_t *loop_id,
-                               bp_error *err);
-
-BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
-{
-    bp_options o_;
-    bp_status ost_;
-    const bp_options *opt_ = bp__opts(opt, &o_, err, &ost_);     /* >>progress */
-    bp_allocator a = bp__allocator_of(opt_);
-    bp__build b;
-    bp_status st;
-    uint32_t c;
-    void *pool = NULL;
-    int strict = opt_ && opt_->strict;
-    if (ost_ != BP_OK) return ost_;
-    opt = opt_;
-    if (!atlas)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "atlas must not be NULL");
-    memset(atlas, 0, sizeof *atlas);
-    if (bp__report(opt, BP_STAGE_CHARTS, 0, BP_NO_CHART))
-        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before building the charts");
-    atlas->allocator = a;
-    memset(&b, 0, sizeof b);
-    bp__repair_init(&atlas->repairs);
-    if ((st = bp__validate_sizes(m, err)) != BP_OK) return st;
-    b.m = m;
-    b.par = m->num_triangles >= BP__PAR_MIN_TRIANGLES ? bp__par_begin(&a, opt, &pool) : bp__par_serial();
-    st = bp__validate_par(&b, err);
-    if (st == BP_OK && strict) st = bp__defects_par(&b, err);
-    b.repair = !strict;
-    b.rep = &atlas->repairs;
-    if (st == BP_OK) st = bp__build_alloc(&a, &b, m, err);
-    if (st == BP_OK) st = bp__defects_par(&b, err);
-    if (st == BP_OK) st = bp__find_duplicates(&b, m, err);
-    if (st == BP_OK) bp__sort_edges(&b, m);
-    if (st == BP_OK && b.repair && !bp__orient(&a, &b, m)) st = bp__oom(err, "building charts");
-    if (st == BP_OK) st = bp__glue(&b, err);
-    if (st == BP_OK) st = bp__make_charts(&a, &b, atlas, &b.fm, err);
-    for (c = 0; st == BP_OK && c < atlas->num_charts; c++) st = bp__regularize(&a, &b, &atlas->charts[c], m, err);
-    if (st == BP_OK) st = bp__count_pinches(&a, &b, atlas, err);
-    for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
-        st = bp__chart_topology(&a, &b, atlas, c, m, err);
-        if (st == BP_OK && atlas->charts[c].error.status == BP_ERR_TOPOLOGY && !(opt && opt->cut == BP_CUT_NONE))
-            st = bp__chart_cut(&a, atlas, c, m, opt ? opt->importance : NULL, b.glued, b.next, b.loop_id, err);   /* >>cut */
-        if (st != BP_OK || atlas->charts[c].error.status == BP_OK) continue;
-        atlas->num_failed++;
-        if (strict) {
-            if (err) *err = atlas->charts[c].error;
-            st = atlas->charts[c].error.status;
-        }
-    }
-    if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {
-        uint32_t t;
-        bp__corners_of_copies(&b, atlas, m);      /* the twins' charts may be cut */
-        for (t = 0; t < m->num_triangles; t++)
-            if (b.degen[t] && !b.drop[t]) bp__repair_note(&atlas->repairs, BP_REPAIR_DEGENERATE, t, -1);
-        bp__repair_messages(&atlas->repairs, m);
-    }
-    bp__build_free(&a, &b);
-    bp__par_end(&a, pool);
-    if (st == BP_OK) st = bp__charts_status(atlas, err);
-    if ((st == BP_OK || st == BP_ERR_CHARTS_FAILED) && bp__report(opt, BP_STAGE_CHARTS, 1, BP_NO_CHART))
-        st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled after building the charts");
-    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) bp_atlas_free(atlas);
-    return st;
-}
 
 /* >>cut ====================================================================
 
@@ -6960,6 +6978,71 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
                  "not a disk", c, bp__tri_name(m, ch->face[0], nm), ncut, chi, ch->num_loops);
     return BP_OK;
 }
+
+BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_options o_;
+    bp_status ost_;
+    const bp_options *opt_ = bp__opts(opt, &o_, err, &ost_);     /* >>progress */
+    bp_allocator a = bp__allocator_of(opt_);
+    bp__build b;
+    bp_status st;
+    uint32_t c;
+    void *pool = NULL;
+    int strict = opt_ && opt_->strict;
+    if (ost_ != BP_OK) return ost_;
+    opt = opt_;
+    if (!atlas)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "atlas must not be NULL");
+    memset(atlas, 0, sizeof *atlas);
+    if (bp__report(opt, BP_STAGE_CHARTS, 0, BP_NO_CHART))
+        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before building the charts");
+    atlas->allocator = a;
+    memset(&b, 0, sizeof b);
+    bp__repair_init(&atlas->repairs);
+    if ((st = bp__validate_sizes(m, err)) != BP_OK) return st;
+    b.m = m;
+    b.par = m->num_triangles >= BP__PAR_MIN_TRIANGLES ? bp__par_begin(&a, opt, &pool) : bp__par_serial();
+    st = bp__validate_par(&b, err);
+    if (st == BP_OK && strict) st = bp__defects_par(&b, err);
+    b.repair = !strict;
+    b.rep = &atlas->repairs;
+    if (st == BP_OK) st = bp__build_alloc(&a, &b, m, err);
+    if (st == BP_OK) st = bp__defects_par(&b, err);
+    if (st == BP_OK) st = bp__find_duplicates(&b, m, err);
+    if (st == BP_OK) bp__sort_edges(&b, m);
+    if (st == BP_OK && b.repair && !bp__orient(&a, &b, m)) st = bp__oom(err, "building charts");
+    if (st == BP_OK) st = bp__glue(&b, err);
+    if (st == BP_OK) st = bp__make_charts(&a, &b, atlas, &b.fm, err);
+    for (c = 0; st == BP_OK && c < atlas->num_charts; c++) st = bp__regularize(&a, &b, &atlas->charts[c], m, err);
+    if (st == BP_OK) st = bp__count_pinches(&a, &b, atlas, err);
+    for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
+        st = bp__chart_topology(&a, &b, atlas, c, m, err);
+        if (st == BP_OK && atlas->charts[c].error.status == BP_ERR_TOPOLOGY && !(opt && opt->cut == BP_CUT_NONE))
+            st = bp__chart_cut(&a, atlas, c, m, opt ? opt->importance : NULL, b.glued, b.next, b.loop_id, err);   /* >>cut */
+        if (st != BP_OK || atlas->charts[c].error.status == BP_OK) continue;
+        atlas->num_failed++;
+        if (strict) {
+            if (err) *err = atlas->charts[c].error;
+            st = atlas->charts[c].error.status;
+        }
+    }
+    if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {
+        uint32_t t;
+        bp__corners_of_copies(&b, atlas, m);      /* the twins' charts may be cut */
+        for (t = 0; t < m->num_triangles; t++)
+            if (b.degen[t] && !b.drop[t]) bp__repair_note(&atlas->repairs, BP_REPAIR_DEGENERATE, t, -1);
+        bp__repair_messages(&atlas->repairs, m);
+    }
+    bp__build_free(&a, &b);
+    bp__par_end(&a, pool);
+    if (st == BP_OK) st = bp__charts_status(atlas, err);
+    if ((st == BP_OK || st == BP_ERR_CHARTS_FAILED) && bp__report(opt, BP_STAGE_CHARTS, 1, BP_NO_CHART))
+        st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled after building the charts");
+    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) bp_atlas_free(atlas);
+    return st;
+}
+
 
 /* >>sparse =================================================================
 
@@ -9672,6 +9755,54 @@ static void bp__super_solve(const bp__factor *F, const double *b, double *x, dou
     bp__super_solve_n(F, b, x, z, par, 1);
 }
 
+/* The analysis of `like` for F->sn->bs (F->n = bs nv, F->sn and F->D
+   allocated): bp__super_analyse's result depends on the vertex graph, the
+   order and the tree alone, but for the block sizes in xp and maxcols, so
+   the same graph in the same order needs no second analysis (Newton's
+   isotropic K1 after the conformal start: face, 8 ms of one thread).
+   The tree is the caller's, as bp__super_analyse copies it.  Returns 0
+   out of memory. */
+static int bp__super_clone(const bp_allocator *a, const bp__factor *like, const bp__ndnode *tree, bp__factor *F)
+{
+    const bp__super *L = like->sn;
+    bp__super *S = F->sn;
+    uint32_t nv = L->nv, ns = L->ns, bs = S->bs, s, nup = L->up[ns];
+    S->nv = nv;
+    S->ns = ns;
+    S->ntask = L->ntask;
+    S->maxrows = L->maxrows;
+    memcpy(F->tree, tree, sizeof F->tree);
+    S->vperm = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    S->viperm = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    S->snode = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    S->first = (uint32_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(uint32_t));
+    S->rp = (uint32_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(uint32_t));
+    S->xp = (size_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(size_t));
+    S->ri = (uint32_t *)bp__alloc_array(a, L->rp[ns] ? L->rp[ns] : 1, sizeof(uint32_t));
+    S->up = (uint32_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(uint32_t));
+    S->uk = (uint32_t *)bp__alloc_array(a, nup ? nup : 1, sizeof(uint32_t));
+    S->uo = (uint32_t *)bp__alloc_array(a, nup ? nup : 1, sizeof(uint32_t));
+    if (!S->vperm || !S->viperm || !S->snode || !S->first || !S->rp || !S->xp || !S->ri || !S->up || !S->uk || !S->uo)
+        return 0;
+    memcpy(S->vperm, L->vperm, nv * sizeof(uint32_t));
+    memcpy(S->viperm, L->viperm, nv * sizeof(uint32_t));
+    memcpy(S->snode, L->snode, nv * sizeof(uint32_t));
+    memcpy(S->first, L->first, ((size_t)ns + 1) * sizeof(uint32_t));
+    memcpy(S->rp, L->rp, ((size_t)ns + 1) * sizeof(uint32_t));
+    memcpy(S->ri, L->ri, L->rp[ns] * sizeof(uint32_t));
+    memcpy(S->up, L->up, ((size_t)ns + 1) * sizeof(uint32_t));
+    memcpy(S->uk, L->uk, nup * sizeof(uint32_t));
+    memcpy(S->uo, L->uo, nup * sizeof(uint32_t));
+    S->xp[0] = 0;
+    S->maxcols = 0;
+    for (s = 0; s < ns; s++) {                 /* as bp__super_analyse sizes them */
+        uint32_t nc = S->first[s + 1] - S->first[s];
+        S->xp[s + 1] = S->xp[s] + (size_t)bs * bs * (S->rp[s + 1] - S->rp[s]) * nc;
+        if (bs * nc > S->maxcols) S->maxcols = bs * nc;
+    }
+    return 1;
+}
+
 /* bp__factorize for a symmetric matrix in whole 2x2 blocks (bs 2,
    A->blocks2) or a scalar one (bs 1, A->super1: the vertex graph is A's
    own): the analysis and the numeric factorization above.  Returns as
@@ -9681,7 +9812,6 @@ static void bp__super_solve(const bp__factor *F, const double *b, double *x, dou
    a kept vertex order, or NULL (bp__super_analyse).  like (or NULL): a
    factor analysed on A's very vertex graph in that very order, with
    another block size: its analysis is copied (bp__super_clone) instead. */
-static int bp__super_clone(const bp_allocator *a, const bp__factor *like, const bp__ndnode *tree, bp__factor *F);
 static bp_status bp__super_factorize_like(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
                                           const bp__par *par, uint32_t bs, int *fallback, const uint32_t *order,
                                           const bp__ndnode *tree, const bp__factor *like)
@@ -9732,54 +9862,6 @@ static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A,
                                      const bp__ndnode *tree)
 {
     return bp__super_factorize_like(a, A, F, bad_row, par, bs, fallback, order, tree, NULL);
-}
-
-/* The analysis of `like` for F->sn->bs (F->n = bs nv, F->sn and F->D
-   allocated): bp__super_analyse's result depends on the vertex graph, the
-   order and the tree alone, but for the block sizes in xp and maxcols, so
-   the same graph in the same order needs no second analysis (Newton's
-   isotropic K1 after the conformal start: face, 8 ms of one thread).
-   The tree is the caller's, as bp__super_analyse copies it.  Returns 0
-   out of memory. */
-static int bp__super_clone(const bp_allocator *a, const bp__factor *like, const bp__ndnode *tree, bp__factor *F)
-{
-    const bp__super *L = like->sn;
-    bp__super *S = F->sn;
-    uint32_t nv = L->nv, ns = L->ns, bs = S->bs, s, nup = L->up[ns];
-    S->nv = nv;
-    S->ns = ns;
-    S->ntask = L->ntask;
-    S->maxrows = L->maxrows;
-    memcpy(F->tree, tree, sizeof F->tree);
-    S->vperm = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
-    S->viperm = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
-    S->snode = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
-    S->first = (uint32_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(uint32_t));
-    S->rp = (uint32_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(uint32_t));
-    S->xp = (size_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(size_t));
-    S->ri = (uint32_t *)bp__alloc_array(a, L->rp[ns] ? L->rp[ns] : 1, sizeof(uint32_t));
-    S->up = (uint32_t *)bp__alloc_array(a, (size_t)ns + 1, sizeof(uint32_t));
-    S->uk = (uint32_t *)bp__alloc_array(a, nup ? nup : 1, sizeof(uint32_t));
-    S->uo = (uint32_t *)bp__alloc_array(a, nup ? nup : 1, sizeof(uint32_t));
-    if (!S->vperm || !S->viperm || !S->snode || !S->first || !S->rp || !S->xp || !S->ri || !S->up || !S->uk || !S->uo)
-        return 0;
-    memcpy(S->vperm, L->vperm, nv * sizeof(uint32_t));
-    memcpy(S->viperm, L->viperm, nv * sizeof(uint32_t));
-    memcpy(S->snode, L->snode, nv * sizeof(uint32_t));
-    memcpy(S->first, L->first, ((size_t)ns + 1) * sizeof(uint32_t));
-    memcpy(S->rp, L->rp, ((size_t)ns + 1) * sizeof(uint32_t));
-    memcpy(S->ri, L->ri, L->rp[ns] * sizeof(uint32_t));
-    memcpy(S->up, L->up, ((size_t)ns + 1) * sizeof(uint32_t));
-    memcpy(S->uk, L->uk, nup * sizeof(uint32_t));
-    memcpy(S->uo, L->uo, nup * sizeof(uint32_t));
-    S->xp[0] = 0;
-    S->maxcols = 0;
-    for (s = 0; s < ns; s++) {                 /* as bp__super_analyse sizes them */
-        uint32_t nc = S->first[s + 1] - S->first[s];
-        S->xp[s + 1] = S->xp[s] + (size_t)bs * bs * (S->rp[s + 1] - S->rp[s]) * nc;
-        if (bs * nc > S->maxcols) S->maxcols = bs * nc;
-    }
-    return 1;
 }
 
 /* The values of L, U and D, one row k at a time, in parallel phases along
@@ -9953,36 +10035,6 @@ static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const do
     for (j = 0; j < A->n; j++) x[j] += d[j];
 }
 
-/* For the preconditioner: L in single precision.  A preconditioner only
-   shapes the search direction, so float coefficients (with double
-   arithmetic) serve as well, and they halve the memory the solves stream
-   through.  The factorization itself needs double (the regularized
-   Laplacian's last pivot is 1e-8 of its diagonal), so the conversion
-   happens afterwards, in place: float p goes to bytes [4p, 4p + 4) of the
-   double array, which only overlap doubles already read.  The bytes are
-   moved with memcpy, which is exact about aliasing.
-   A supernodal factor of a scalar matrix (bs 1, A->super1) is turned into
-   the same rows instead (bp__super_to_rows, on par's threads; par NULL:
-   serially).  Returns 0 out of memory. */
-static int bp__super_to_rows(const bp_allocator *a, bp__factor *F, const bp__par *par);
-static int bp__factor_single(const bp_allocator *a, bp__factor *F, const bp__par *par)
-{
-    size_t p, nnz;
-    unsigned char *buf = (unsigned char *)F->Rx;
-    if (F->sn) return bp__super_to_rows(a, F, par);
-    nnz = F->Rp[F->n];
-    for (p = 0; p < nnz; p++) {
-        double d;
-        float f;
-        memcpy(&d, buf + sizeof d * p, sizeof d);
-        f = (float)d;
-        memcpy(buf + sizeof f * p, &f, sizeof f);
-    }
-    F->Rxf = (float *)(void *)buf;
-    F->Rx = NULL;
-    return 1;
-}
-
 /* The preconditioner's solves (bp__precondition) read a unit lower L by
    rows in single precision, and D.  From the supernodal Cholesky factor
    C C^T of a scalar matrix (bs 1) that is
@@ -10003,8 +10055,6 @@ static int bp__factor_single(const bp_allocator *a, bp__factor *F, const bp__par
    every entry lands in the serial slot with the serial value.  The counts
    cost BP__ROWS_RANGES words per vertex while the conversion runs. */
 #define BP__ROWS_RANGES 8u
-static uint32_t bp__nchunks(uint32_t n, uint32_t size);
-static uint32_t bp__chunk_at(uint32_t n, uint32_t nc, uint32_t c);
 
 typedef struct bp__rows_task {
     bp__factor *F;
@@ -10094,6 +10144,35 @@ static int bp__super_to_rows(const bp_allocator *a, bp__factor *F, const bp__par
     return 1;
 }
 
+
+/* For the preconditioner: L in single precision.  A preconditioner only
+   shapes the search direction, so float coefficients (with double
+   arithmetic) serve as well, and they halve the memory the solves stream
+   through.  The factorization itself needs double (the regularized
+   Laplacian's last pivot is 1e-8 of its diagonal), so the conversion
+   happens afterwards, in place: float p goes to bytes [4p, 4p + 4) of the
+   double array, which only overlap doubles already read.  The bytes are
+   moved with memcpy, which is exact about aliasing.
+   A supernodal factor of a scalar matrix (bs 1, A->super1) is turned into
+   the same rows instead (bp__super_to_rows, on par's threads; par NULL:
+   serially).  Returns 0 out of memory. */
+static int bp__factor_single(const bp_allocator *a, bp__factor *F, const bp__par *par)
+{
+    size_t p, nnz;
+    unsigned char *buf = (unsigned char *)F->Rx;
+    if (F->sn) return bp__super_to_rows(a, F, par);
+    nnz = F->Rp[F->n];
+    for (p = 0; p < nnz; p++) {
+        double d;
+        float f;
+        memcpy(&d, buf + sizeof d * p, sizeof d);
+        f = (float)d;
+        memcpy(buf + sizeof f * p, &f, sizeof f);
+    }
+    F->Rxf = (float *)(void *)buf;
+    F->Rx = NULL;
+    return 1;
+}
 /* The preconditioner solve r = K^-1 q for both coordinates at once (q, r
    interleaved xy), in phases along the dissection tree.  z (x then y, n
    doubles each, permuted order) and acc (the same: running sums) are
@@ -10351,6 +10430,14 @@ static void bp__precondition(const bp__factor *F, const bp__par *par, const doub
         bp__solve_run(&T, par, BP__BWD_BELOW, 0, n);
     }
 }
+
+/* Frees the arrays of a matrix (not its factor) and zeroes it. */
+static void bp__sparse_free(const bp_allocator *a, bp__sparse *A)
+{
+    bp__free(a, A->colp); bp__free(a, A->row); bp__free(a, A->val);
+    memset(A, 0, sizeof *A);
+}
+
 
 /* >>check ==================================================================
 
@@ -12585,265 +12672,6 @@ static void bp__pins_similarity(bp_chart *ch, const bp_pin *pins, const uint32_t
     }
 }
 
-/* >>pins, defined after the optimizer it uses. */
-static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
-                                     bp_error *err);
-static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
-                                const uint32_t *pidx, bp_error *err);
-static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
-                                     bp_error *err);
-
-/* The conformal start's factor handed to Newton's first factorization.
-   bp_parameterize makes a chart's start map and optimizes it at once
-   (bp__chart_task), so the factor of the conformal system, whose pattern
-   (2x2 blocks on the chart's edges) and order (the start map's
-   dissection, kept for Newton: bp__tutte_keep_order) are those of
-   Newton's first matrix when the barrier adds no pair, need not be freed
-   and analysed again: bp__conformal_end moves it here, with its matrix's
-   pattern, and bp__newton_factorize refactors it in place when H's
-   pattern is that very one (compared entry by entry), else frees it.
-   The analysis of one pattern in one order is the same, so are the bits.
-   Never held between the public bp_chart_init and bp_chart_optimize (a
-   caller may start every chart before optimizing any).  Only the
-   conformal map solved in 2x2 blocks has such a factor: one solved by
-   the boundary's Schur complement (>>conformal) hands nothing, and
-   Newton's first factorization then analyses its pattern itself. */
-typedef struct bp__handoff {
-    bp__factor F;                 /* F.sn NULL: nothing handed over         */
-    uint32_t   n, *colp, *row;    /* the factored matrix's pattern          */
-    int        used;              /* set when Newton took F (for tests)     */
-    int        checked;           /* chart->uv as the start left it passed
-                                     the exact check (bp__check_par, the
-                                     whole of bp_check): the optimizer does
-                                     not check it again                   */
-} bp__handoff;
-
-static void bp__handoff_free(const bp_allocator *a, bp__handoff *h)
-{
-    if (!h) return;
-    bp__factor_free(a, &h->F);
-    bp__free(a, h->colp);
-    bp__free(a, h->row);
-    memset(h, 0, sizeof *h);
-}
-
-/* >>conformal, defined after >>rest, whose rest shapes it uses. */
-typedef struct bp__conformal_task {
-    const bp__tutte *T;
-    const bp_chart *ch;
-    const bp_mesh *m;
-    bp__sparse *K;
-    bp__sparse *L;                /* scalar: the Laplacian's columns instead */
-    double *rhs;
-    uint32_t *glen;               /* first pass: each column vertex's count */
-    const uint32_t *bxp;          /* scalar: a boundary column's place in bxy
-                                     (BP__NONE elsewhere)                   */
-    double *bxy;                  /* ... and there its xy entries K(2u, 2v+1) */
-    uint32_t p[2], nc;
-    int scalar;                   /* fill L, bxy and rhs, not K            */
-    double d;
-} bp__conformal_task;
-
-/* The conformal start in two halves around the dissection (>>conformal):
-   bp__conformal_begin sets up the system, whose columns are then filled
-   by the loop C->J (bp__conformal_task_run, C->J.nc tasks) beside the
-   dissection's root split, and bp__conformal_end factors and solves it in
-   that order. */
-typedef struct bp__conformal {
-    bp__conformal_task J;
-    bp__sparse K;                 /* the 2x2 system (n = 2 nv always set;
-                                     its arrays only when that solve is
-                                     taken: bp__conformal_full)             */
-    bp__sparse L;                 /* the Schur complement's way: the scalar
-                                     Laplacian, K's xx entries             */
-    uint32_t *bxp;                /* its boundary columns' xy entries      */
-    double *bxy;
-    double *buf;                  /* rhs, then the solve's workspace       */
-    int how;                      /* the solve bp__conformal_end took: 1 the
-                                     boundary's Schur complement, 2 the
-                                     factor in 2x2 blocks (set to 2 before
-                                     it: that one, for tests)              */
-} bp__conformal;
-static int bp__conformal_begin(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
-                               const bp__par *runner, int any_size, bp__conformal *C);
-static void bp__conformal_task_run(void *task, uint32_t c);
-static int bp__conformal_end(const bp_allocator *a, bp__conformal *C, bp_chart *ch, const bp_mesh *m,
-                             const bp__par *runner, const uint32_t *order, const bp__ndnode *tree, bp__handoff *h);
-static void bp__conformal_free(const bp_allocator *a, bp__conformal *C);
-#ifndef BP__INIT_AUTO_CONFORMAL
-#define BP__INIT_AUTO_CONFORMAL 1       /* 0: BP_INIT_AUTO starts barycentric, as before >>conformal */
-#endif
-
-/* >>start, defined after the optimizer it uses. */
-static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const double *wxy, double *eps);
-static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *par);
-static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
-                                       bp_error *err);
-struct bp__opt;
-static int bp__start_scale(struct bp__opt *P, double *f, double *ed);
-#ifndef BP__START_SCALE
-#define BP__START_SCALE 1                /* 0: never enlarge a crushed start (>>start, 4) */
-#endif
-#ifndef BP__START_SCALE_E0
-#define BP__START_SCALE_E0 1e9           /* mean start energy that counts as crushed */
-#endif
-
-/* The pins' part of a start map: the three necessary conditions, the fit
-   (Tutte starts only) and the homotopy. */
-static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp_options *opt,
-                                const bp__par *runner, const uint32_t *pidx, bp_error *err)
-{
-    bp_status st = bp__pins_distinct(a, ch, opt->pins, pidx, ch->num_pins, err);
-    if (st == BP_OK) st = bp__pins_triangles(ch, m, opt->pins, pidx, err);
-    if (st == BP_OK) st = bp__pins_boundary(a, ch, opt->pins, pidx, err);
-    if (st != BP_OK) return st;
-    if (ch->init_used != 1) {
-        if ((st = bp__pins_relax_free(ch, m, opt, runner, err)) != BP_OK) return st;
-        bp__pins_similarity(ch, opt->pins, pidx);
-        if ((st = bp__tutte_verify(a, ch, m, runner, err)) != BP_OK) return st;
-    }
-    return bp__pins_reach(ch, m, opt, runner, pidx, err);
-}
-
-/* The seven phases above: the Tutte (mvc = 0) or mean-value (mvc = 1) map
-   of the filled chart into ch->uv, exactly checked, or first, with
-   conformal (1: by the size rule of >>conformal, 2: at any size), the
-   conformal map of >>conformal when it passes that check (its factor to
-   *h when h is not NULL: bp__handoff);
-   the ordering of phase 5b kept for Newton (ch->start_order), and which
-   map it was in ch->start_map. */
-static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *runner, int mvc,
-                               int conformal, bp__handoff *h, bp_error *err)
-{
-    bp__tutte T;
-    bp__ndnode tree[BP__ND_NODES];
-    uint32_t *order = (uint32_t *)bp__alloc_array(a, (size_t)ch->num_vertices + 6 * BP__ND_NODES, sizeof(uint32_t));
-    bp_status st = BP_OK;
-    bp__conformal C;
-    bp__loop cols;
-    bp__tutte_task WJ;
-    int done = 0, cf = 0, wpre = 0; /* cf 1: the conformal system is set up;
-                                      wpre 1: the weights beside the order */
-    memset(&T, 0, sizeof T);
-    memset(&C, 0, sizeof C);
-    if (runner) T.par = *runner;
-    bp__free(a, ch->start_order);
-    ch->start_order = NULL;
-    if (!order || !bp__tutte_fill(a, &T, ch, m) || !bp__tutte_adjacency(a, &T))
-        st = bp__oom(err, "computing the start map");
-    if (st == BP_OK && conformal && (cf = bp__conformal_begin(a, &T, ch, m, runner, conformal == 2, &C)) < 0)
-        st = bp__oom(err, "computing the start map");
-    cols.fn = bp__conformal_task_run;               /* its columns, beside the root split */
-    cols.task = &C.J;
-    cols.count = cf == 1 ? C.J.nc : 0;
-    if (st == BP_OK && cf != 1 && !(wpre = bp__tutte_weights_loop(a, &T, mvc, &WJ, &cols)))
-        st = bp__oom(err, "computing the start map");   /* no conformal try: the weights beside it */
-    if (st == BP_OK &&
-        (!bp__tutte_order(a, &T, runner, &cols) || !bp__tutte_chart_order(a, &T, order, tree)))
-        st = bp__oom(err, "computing the start map");
-    if (st == BP_OK && cf == 1 && (done = bp__conformal_end(a, &C, ch, m, runner, order, tree, h)) < 0)
-        st = bp__oom(err, "computing the start map");
-    bp__conformal_free(a, &C);
-    if (st == BP_OK && !done) {
-        if ((!wpre && !bp__tutte_weights(a, &T, mvc)) || !bp__tutte_circle(a, &T, ch) ||
-            (T.nfree > 0 && !bp__tutte_system(a, &T, ch, mvc)))
-            st = bp__oom(err, "computing the start map");
-        if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(a, &T, ch, runner, err);
-        if (st == BP_OK) st = bp__tutte_verify(a, ch, m, runner, err);
-    }
-    if (st == BP_OK) {
-        bp__tutte_keep_order(&T, order, tree, ch);
-        order = NULL;
-        ch->start_map = done ? BP_INIT_CONFORMAL : mvc ? BP_INIT_MEAN_VALUE : BP_INIT_TUTTE;
-    }
-    bp__free(a, order);
-    bp__tutte_free(a, &T);
-    return st;
-}
-
-/* The start map: the input uvs (BP_INIT_INPUT), or a planar chart's own
-   projection (>>start, 1), or the seven phases above, optionally relaxed
-   by progressive references (>>start, 3); then the pins. */
-static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
-                                bp__handoff *h, bp_error *err)
-{
-    bp_allocator a = bp__allocator_of(opt);
-    bp_status st = BP_OK;
-    uint32_t *pidx = NULL;
-    int tutte = opt && opt->init == BP_INIT_TUTTE, better = !opt || opt->start != BP_START_PLAIN, planar = 0;
-    int checked = 0;              /* the map is bp__tutte_map's, which checked it exactly */
-    int conformal = opt && opt->init == BP_INIT_CONFORMAL ? 2 :         /* by name: at any size */
-                    BP__INIT_AUTO_CONFORMAL && (!opt || (opt->init != BP_INIT_MEAN_VALUE && opt->init != BP_INIT_TUTTE));
-                                                                /* (any other value acts as AUTO) */
-    if (ch && ch->error.status != BP_OK) {
-        if (err) *err = ch->error;
-        return ch->error.status;                 /* a chart that cannot be flattened */
-    }
-    if (!ch || !m || !ch->num_loops)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "bp_chart_init needs a chart from bp_atlas_build and its mesh");
-    if (!ch->uv) ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)ch->num_vertices, sizeof(double));
-    if (!ch->uv) return bp__oom(err, "computing the start map");
-    ch->init_used = 0;
-    ch->start_map = BP_INIT_INPUT;
-    if ((st = bp__pin_map(&a, ch, m, opt, &pidx, &ch->num_pins, err)) != BP_OK) return st;
-    if (opt && opt->init == BP_INIT_INPUT) {
-        int used = bp__init_input(&a, ch, m);
-        if (used < 0) st = bp__oom(err, "checking the input map");
-        ch->init_used = used > 0 ? 1 : -1;
-    }
-    if (st == BP_OK && ch->init_used != 1 && better) {                   /* >>start, 1 */
-        planar = bp__start_planar(&a, ch, m, runner);
-        if (planar < 0) st = bp__oom(err, "checking the planar start map");
-        if (planar == 1) ch->start_map = BP_INIT_AUTO;
-    }
-    if (st == BP_OK && ch->init_used != 1 && planar != 1) {
-        st = bp__tutte_map(&a, ch, m, runner, !tutte, tutte ? 0 : conformal, h, err);
-        if (st == BP_ERR_NUMERICAL && !tutte && (!opt || opt->init != BP_INIT_MEAN_VALUE))
-            st = bp__tutte_map(&a, ch, m, runner, 0, 0, NULL, err);  /* AUTO: rounding spoiled the mean-value map */
-        checked = st == BP_OK && !pidx;   /* each way of bp__tutte_map ends with bp__check_par on the map */
-        if (st == BP_OK && opt && opt->start == BP_START_PROGRESSIVE && !pidx) {
-            st = bp__start_progressive(ch, m, opt, runner, err);                /* >>start, 3 */
-            checked = 0;
-        }
-    }
-    if (st == BP_OK && pidx) st = bp__pins_start(&a, ch, m, opt, runner, pidx, err);
-    bp__free(&a, pidx);
-    if (h) h->checked = st == BP_OK && checked;
-    if (st != BP_OK) return st;
-    ch->stop = BP_STOP_NONE;
-    ch->iterations = 0;
-    return bp__ok(err);
-}
-
-/* The public entry point: the factorization's rows run on the threads of
-   opt (a pool for this call) when the chart is large enough to gain
-   (BP__PAR_MIN_TRIANGLES, see >>threads). */
-static bp_status bp__chart_start(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp__handoff *h,
-                                 bp_error *err)
-{
-    bp_allocator a = bp__allocator_of(opt);
-    void *pool = NULL;
-    bp__par par;
-    bp_status st;
-    if (bp__report(opt, BP_STAGE_START, 0, BP_NO_CHART))
-        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before the start map");
-    par = bp__par_serial();
-    if (ch && ch->num_triangles >= BP__PAR_MIN_TRIANGLES) par = bp__par_begin(&a, opt, &pool);
-    st = bp__chart_init(ch, m, opt, &par, h, err);
-    bp__par_end(&a, pool);
-    if (st == BP_OK) bp__report(opt, BP_STAGE_START, 1, BP_NO_CHART);  /* a cancel here: the next stage sees it */
-    return st;
-}
-
-BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp_error *err)
-{
-    bp_options o_;
-    bp_status st;
-    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;     /* >>progress */
-    return bp__chart_start(ch, m, opt, NULL, err);
-}
-
 /* >>rest ===================================================================
 
    Sec 3.1: each 3D triangle (P1, P2, P3) is flattened isometrically into its
@@ -12984,6 +12812,77 @@ static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r
 #ifndef BP__CONFORMAL_MAX
 #define BP__CONFORMAL_MAX 100000u       /* triangles: larger charts need a short boundary */
 #endif
+
+/* The conformal start's factor handed to Newton's first factorization.
+   bp_parameterize makes a chart's start map and optimizes it at once
+   (bp__chart_task), so the factor of the conformal system, whose pattern
+   (2x2 blocks on the chart's edges) and order (the start map's
+   dissection, kept for Newton: bp__tutte_keep_order) are those of
+   Newton's first matrix when the barrier adds no pair, need not be freed
+   and analysed again: bp__conformal_end moves it here, with its matrix's
+   pattern, and bp__newton_factorize refactors it in place when H's
+   pattern is that very one (compared entry by entry), else frees it.
+   The analysis of one pattern in one order is the same, so are the bits.
+   Never held between the public bp_chart_init and bp_chart_optimize (a
+   caller may start every chart before optimizing any).  Only the
+   conformal map solved in 2x2 blocks has such a factor: one solved by
+   the boundary's Schur complement (>>conformal) hands nothing, and
+   Newton's first factorization then analyses its pattern itself. */
+typedef struct bp__handoff {
+    bp__factor F;                 /* F.sn NULL: nothing handed over         */
+    uint32_t   n, *colp, *row;    /* the factored matrix's pattern          */
+    int        used;              /* set when Newton took F (for tests)     */
+    int        checked;           /* chart->uv as the start left it passed
+                                     the exact check (bp__check_par, the
+                                     whole of bp_check): the optimizer does
+                                     not check it again                   */
+} bp__handoff;
+
+static void bp__handoff_free(const bp_allocator *a, bp__handoff *h)
+{
+    if (!h) return;
+    bp__factor_free(a, &h->F);
+    bp__free(a, h->colp);
+    bp__free(a, h->row);
+    memset(h, 0, sizeof *h);
+}
+
+typedef struct bp__conformal_task {
+    const bp__tutte *T;
+    const bp_chart *ch;
+    const bp_mesh *m;
+    bp__sparse *K;
+    bp__sparse *L;                /* scalar: the Laplacian's columns instead */
+    double *rhs;
+    uint32_t *glen;               /* first pass: each column vertex's count */
+    const uint32_t *bxp;          /* scalar: a boundary column's place in bxy
+                                     (BP__NONE elsewhere)                   */
+    double *bxy;                  /* ... and there its xy entries K(2u, 2v+1) */
+    uint32_t p[2], nc;
+    int scalar;                   /* fill L, bxy and rhs, not K            */
+    double d;
+} bp__conformal_task;
+
+/* The conformal start in two halves around the dissection (>>conformal):
+   bp__conformal_begin sets up the system, whose columns are then filled
+   by the loop C->J (bp__conformal_task_run, C->J.nc tasks) beside the
+   dissection's root split, and bp__conformal_end factors and solves it in
+   that order. */
+typedef struct bp__conformal {
+    bp__conformal_task J;
+    bp__sparse K;                 /* the 2x2 system (n = 2 nv always set;
+                                     its arrays only when that solve is
+                                     taken: bp__conformal_full)             */
+    bp__sparse L;                 /* the Schur complement's way: the scalar
+                                     Laplacian, K's xx entries             */
+    uint32_t *bxp;                /* its boundary columns' xy entries      */
+    double *bxy;
+    double *buf;                  /* rhs, then the solve's workspace       */
+    int how;                      /* the solve bp__conformal_end took: 1 the
+                                     boundary's Schur complement, 2 the
+                                     factor in 2x2 blocks (set to 2 before
+                                     it: that one, for tests)              */
+} bp__conformal;
 
 /* The residuals r1 = a - d and r2 = b + c of chart triangle t as rows
    g1, g2 over (U1x, U1y, U2x, U2y, U3x, U3y), from J = D M^-1 (>>rest):
@@ -13713,370 +13612,6 @@ static void bp__conformal_free(const bp_allocator *a, bp__conformal *C)
     memset(C, 0, sizeof *C);
 }
 
-/* >>energy =================================================================
-
-   Sec 3.2.  Every energy here is a function f(s_max, s_min) of the singular
-   values of J, infinite when the triangle degenerates (s_min -> 0), so a
-   descent method that never crosses a singularity never flips a triangle.
-   The dissertation's own energy (eq 3.1-3.3) is the symmetric Dirichlet
-       E_t = s_max^2 + s_min^2 + s_max^-2 + s_min^-2     (minimum 4 at a rotation),
-   and the others of fig 3.2 are the conformal s_max/s_min, MIPS
-   s_max/s_min + s_min/s_max, isometric sqrt(s_max^2 + s_min^-2) and maximal
-   isometric max(s_max, 1/s_min).
-
-   The singular values of a 2x2 J = [a b; c d] have a closed form.  With
-       E = (a+d)/2, F = (a-d)/2, G = (c+b)/2, H = (c-b)/2,
-       Q = sqrt(E^2 + H^2),   R = sqrt(F^2 + G^2),
-   s_max = Q + R and s_min = Q - R = det J / s_max (the second form is the
-   accurate one when det J is small).  So any f(s_max, s_min) has gradient
-       df/dJ = (f_a + f_b) dQ/dJ + (f_a - f_b) dR/dJ,
-       dQ/dJ = [E -H; H E] / (2Q),   dR/dJ = [F G; G -F] / (2R),
-   (f_a, f_b the partials in s_max, s_min), and by the chain rule through
-   J = D M^-1 the gradient in the UV positions is df/dD = df/dJ M^-T, whose
-   columns are the gradients for U2 and U3 (U1 gets minus their sum).  For
-   the symmetric Dirichlet energy this equals eq 3.3's closed form (area
-   term plus cotangent weights).  At R = 0 (a conformal J) dR/dJ is taken as
-   0; f_a - f_b vanishes there for the symmetric energies (symmetric
-   Dirichlet, MIPS), whose gradient is therefore continuous.  Conformal,
-   isometric and maximal isometric have a kink at s_max = s_min (and the
-   last also at s_max s_min = 1): there the code returns one of the two
-   one-sided slopes, a valid subgradient for the line search. */
-
-/* f(s_max, s_min) and its partials; returns +inf for s_min <= 0. */
-static double bp__energy_sv(bp_energy kind, double sa, double sb, double *fa, double *fb)
-{
-    double r;
-    if (!(sb > 0)) { *fa = *fb = 0; return HUGE_VAL; }
-    switch (kind) {
-    case BP_ENERGY_CONFORMAL:
-        *fa = 1 / sb; *fb = -sa / (sb * sb);
-        return sa / sb;
-    case BP_ENERGY_MIPS:
-        *fa = 1 / sb - sb / (sa * sa); *fb = 1 / sa - sa / (sb * sb);
-        return sa / sb + sb / sa;
-    case BP_ENERGY_ISOMETRIC:
-        r = sqrt(sa * sa + 1 / (sb * sb));
-        *fa = sa / r; *fb = -1 / (sb * sb * sb * r);
-        return r;
-    case BP_ENERGY_MAX_ISOMETRIC:
-        if (sa >= 1 / sb) { *fa = 1; *fb = 0; return sa; }
-        *fa = 0; *fb = -1 / (sb * sb);
-        return 1 / sb;
-    default:   /* symmetric Dirichlet */
-        *fa = 2 * sa - 2 / (sa * sa * sa);
-        *fb = 2 * sb - 2 / (sb * sb * sb);
-        return sa * sa + sb * sb + 1 / (sa * sa) + 1 / (sb * sb);
-    }
-}
-
-/* E_t of one triangle at UV corners u1, u2, u3; if g is given, adds
-   weight * dE_t/dU to g1, g2, g3. */
-static double bp__triangle_energy(bp_energy kind, const bp__rest *r, const double *u1,
-                                  const double *u2, const double *u3, double *g1, double *g2, double *g3)
-{
-    double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
-    /* J = D M^-1 with M^-1 upper triangular */
-    double a = d00 * r->m00, b = d00 * r->m01 + d01 * r->m11;
-    double c = d10 * r->m00, d = d10 * r->m01 + d11 * r->m11;
-    double E = 0.5 * (a + d), F = 0.5 * (a - d), G = 0.5 * (c + b), H = 0.5 * (c - b);
-    double Q = sqrt(E * E + H * H), R = sqrt(F * F + G * G);
-    double det = a * d - b * c, sa = Q + R, sb, fa, fb, e;
-    if (!(det > 0)) return HUGE_VAL;
-    sb = det / sa;
-    e = bp__energy_sv(kind, sa, sb, &fa, &fb);
-    if (g1) {
-        double kq = (fa + fb) / (2 * Q), kr = R > 0 ? (fa - fb) / (2 * R) : 0;
-        /* dE/dJ */
-        double ja = kq * E + kr * F, jb = -kq * H + kr * G;
-        double jc = kq * H + kr * G, jd = kq * E - kr * F;
-        /* dE/dD = dE/dJ M^-T: columns are dE/dU2, dE/dU3 */
-        double w = r->weight;
-        double gx2 = w * (ja * r->m00 + jb * r->m01), gy2 = w * (jc * r->m00 + jd * r->m01);
-        double gx3 = w * (jb * r->m11), gy3 = w * (jd * r->m11);
-        g2[0] += gx2; g2[1] += gy2;
-        g3[0] += gx3; g3[1] += gy3;
-        g1[0] -= gx2 + gx3; g1[1] -= gy2 + gy3;
-    }
-    return e;
-}
-
-/* >>hessian ================================================================
-
-   For Newton's method (>>newton) each E_t also needs its second derivative,
-   and a positive semidefinite one, since a Newton step is a descent
-   direction only when the matrix it inverts is positive definite.  These
-   energies are isotropic -- f(J) depends on J only through its singular
-   values -- and for such energies the Hessian in the 4 entries of J has a
-   closed-form eigensystem (Smith, de Goes & Kim 2019, "Analytic eigensystems
-   for isotropic distortion energies", sec 4-5 in 2D).  Write the SVD as
-   J = U diag(s_max, s_min) V^T (det J > 0 here, so no reflection).  Then,
-   with f_a, f_b the partials and f_aa, f_ab, f_bb the second partials in
-   (s_max, s_min):
-     twist   U [0 -1; 1 0] V^T / sqrt2,   lambda = (f_a + f_b) / (s_max + s_min)
-     flip    U [0  1; 1 0] V^T / sqrt2,   lambda = (f_a - f_b) / (s_max - s_min)
-     scaling U diag(1,0) V^T, U diag(0,1) V^T: the 2x2 block [f_aa f_ab; f_ab f_bb].
-   No SVD is needed: with the E, F, G, H, Q, R of >>energy,
-       U diag(1,0) V^T + U diag(0,1) V^T = [E -H; H E] / Q      (the rotation part)
-       U diag(1,0) V^T - U diag(0,1) V^T = [F G; G -F] / R      (the reflection part)
-       twist = [-H -E; E -H] / (sqrt2 Q),   flip = [-G F; F G] / (sqrt2 R),
-   four orthonormal 2x2 matrices (at R = 0 any reflection direction serves;
-   [1 0; 0 -1] is taken).  The projection onto the positive semidefinite
-   cone clamps each of the four eigenvalues (the scaling block after its
-   own 2x2 eigen-decomposition) at 0: closed form, no iteration.
-
-   The flip eigenvalue divides by s_max - s_min.  For the symmetric
-   energies the quotient has a closed form without the division:
-       symmetric Dirichlet: 2 + 2 (s_max^2 + s_max s_min + s_min^2) / (s_max s_min)^3,
-       MIPS: 1 / (s_max s_min) + (s_max^2 + s_max s_min + s_min^2) / (s_max s_min)^2.
-   Conformal, isometric and maximal isometric have a kink at s_max = s_min
-   (see >>energy): their curvature there is infinite, and the code divides
-   by max(s_max - s_min, 1e-4 s_max), a finite stand-in for the kink.  The
-   maximal isometric energy max(s_max, 1/s_min) is non-smooth also where
-   s_max s_min = 1; the Hessian used is that of the active piece (s_max
-   alone: zero scaling curvature; 1/s_min alone), exact everywhere off the
-   switching set and a generalized Hessian on it.
-
-   The Hessian in the 6 UV coordinates follows from J = D M^-1 being linear
-   in them: the x coordinates of the corners move row 0 of J, the y
-   coordinates row 1, corner k by the vector g_k (g_2 = (m00, m01),
-   g_3 = (0, m11), g_1 = -g_2 - g_3: the rows of M^-1 read as in >>energy),
-       d^2 E_t / dU_k,alpha dU_l,beta = weight sum_pq g_k[p] H4(2 alpha + p, 2 beta + q) g_l[q],
-   a congruence, so a positive semidefinite H4 gives a positive
-   semidefinite 6x6 block.  It is computed by 2x2 blocks (docs/
-   performance.md sec 6.9): with B_ab the block H4(2a + p, 2b + q) and
-   G = [g_2 g_3], the corners 2 and 3 take M_ab = G^T B_ab G, and corner 1
-   follows from g_1 = -g_2 - g_3 by linearity (its rows and columns are
-   minus the sums of the others'); M_ba = M_ab^T since H4 is symmetric, so
-   three 2x2 congruences make all 36 entries (~60 multiplications instead
-   of 288). */
-
-/* Second partials (f_aa, f_ab, f_bb) and the twist and flip eigenvalues of
-   one energy at (sa, sb) = (s_max, s_min), given its partials fa, fb. */
-static void bp__energy_sv2(bp_energy kind, double sa, double sb, double fa, double fb, double h[3],
-                           double *twist, double *flip)
-{
-    double p = sa * sb, den = sa - sb > 1e-4 * sa ? sa - sb : 1e-4 * sa, r;
-    *twist = (fa + fb) / (sa + sb);
-    *flip = (fa - fb) / den;
-    switch (kind) {
-    case BP_ENERGY_CONFORMAL:                     /* sa / sb */
-        h[0] = 0; h[1] = -1 / (sb * sb); h[2] = 2 * sa / (sb * sb * sb);
-        break;
-    case BP_ENERGY_MIPS:                          /* sa / sb + sb / sa */
-        h[0] = 2 * sb / (sa * sa * sa); h[1] = -1 / (sb * sb) - 1 / (sa * sa); h[2] = 2 * sa / (sb * sb * sb);
-        *flip = 1 / p + (sa * sa + p + sb * sb) / (p * p);
-        break;
-    case BP_ENERGY_ISOMETRIC:                     /* r = sqrt(sa^2 + sb^-2) */
-        r = sqrt(sa * sa + 1 / (sb * sb));
-        h[0] = 1 / (sb * sb * r * r * r);
-        h[1] = sa / (sb * sb * sb * r * r * r);
-        h[2] = 3 / (sb * sb * sb * sb * r) - 1 / (sb * sb * sb * sb * sb * sb * r * r * r);
-        break;
-    case BP_ENERGY_MAX_ISOMETRIC:                 /* the active piece */
-        h[0] = h[1] = 0;
-        h[2] = sa >= 1 / sb ? 0 : 2 / (sb * sb * sb);
-        break;
-    default:                                      /* symmetric Dirichlet */
-        h[0] = 2 + 6 / (sa * sa * sa * sa); h[1] = 0; h[2] = 2 + 6 / (sb * sb * sb * sb);
-        *flip = 2 + 2 * (sa * sa + p + sb * sb) / (p * p * p);
-        break;
-    }
-}
-
-/* What both Hessians below need of J (the essay above): its rotation and
-   reflection parts E, F, G, H and their norms Q, R, the twist and flip
-   eigenvalues, the scaling block hs = [f_aa f_ab; f_ab f_bb] with its
-   eigenvalues l1 >= l2 (t their half difference) and, when t > 0, the
-   better conditioned of the two unnormalized eigenvectors of l1,
-   (h1, l1 - h0) or (l1 - h2, h1), as (x, y).  Returns 0 when J is not
-   positively oriented. */
-typedef struct bp__jeig {
-    double E, F, G, H, Q, R, tw, fl, hs[3], t, l1, l2, x, y;
-} bp__jeig;
-
-static int bp__hessian_eig(bp_energy kind, const double J[4], bp__jeig *e)
-{
-    double a = J[0], b = J[1], c = J[2], d = J[3], det = a * d - b * c, sa, sb, fa, fb;
-    e->E = 0.5 * (a + d); e->F = 0.5 * (a - d); e->G = 0.5 * (c + b); e->H = 0.5 * (c - b);
-    e->Q = sqrt(e->E * e->E + e->H * e->H);
-    e->R = sqrt(e->F * e->F + e->G * e->G);
-    if (!(det > 0)) return 0;
-    sa = e->Q + e->R;
-    sb = det / sa;
-    bp__energy_sv(kind, sa, sb, &fa, &fb);
-    bp__energy_sv2(kind, sa, sb, fa, fb, e->hs, &e->tw, &e->fl);
-    e->t = sqrt(0.25 * (e->hs[0] - e->hs[2]) * (e->hs[0] - e->hs[2]) + e->hs[1] * e->hs[1]);
-    e->l1 = 0.5 * (e->hs[0] + e->hs[2]) + e->t;
-    e->l2 = 0.5 * (e->hs[0] + e->hs[2]) - e->t;
-    if (e->t > 0) {
-        double x1 = e->hs[1], y1 = e->l1 - e->hs[0], x2 = e->l1 - e->hs[2], y2 = e->hs[1];
-        if (x1 * x1 + y1 * y1 >= x2 * x2 + y2 * y2) { e->x = x1; e->y = y1; } else { e->x = x2; e->y = y2; }
-    } else { e->x = 1; e->y = 0; }
-    return 1;
-}
-
-/* The 4x4 Hessian of f(J) in J's entries (a, b, c, d) = (J00, J01, J10,
-   J11), row major into h4; with `project`, its positive semidefinite
-   projection.  Returns 0 when J is not positively oriented. */
-static int bp__hessian_j(bp_energy kind, const double J[4], int project, double h4[16])
-{
-    double rot[4], ref[4], m[4][4], lam[4], s2 = sqrt(0.5), c1, c2, hv, out[16];
-    bp__jeig e;
-    int i, j, k;
-    if (!bp__hessian_eig(kind, J, &e)) return 0;
-    rot[0] = e.E / e.Q; rot[1] = -e.H / e.Q; rot[2] = e.H / e.Q; rot[3] = e.E / e.Q;
-    if (e.R > 0) { ref[0] = e.F / e.R; ref[1] = e.G / e.R; ref[2] = e.G / e.R; ref[3] = -e.F / e.R; }
-    else { ref[0] = 1; ref[1] = 0; ref[2] = 0; ref[3] = -1; }
-    /* twist and flip: [-H -E; E -H] / Q and [-G F; F G] / R, over sqrt2 */
-    m[0][0] = -rot[2] * s2; m[0][1] = -rot[0] * s2; m[0][2] = rot[0] * s2; m[0][3] = -rot[2] * s2;
-    m[1][0] = -ref[1] * s2; m[1][1] = ref[0] * s2; m[1][2] = ref[0] * s2; m[1][3] = ref[1] * s2;
-    lam[0] = e.tw; lam[1] = e.fl;
-    /* the scaling block in the basis D1 = (rot + ref) / 2, D2 = (rot - ref) / 2:
-       eigenvalues l1 >= l2, the unit eigenvector (c1, c2) of l1 */
-    c1 = e.x; c2 = e.y;
-    if (e.t > 0) {
-        hv = sqrt(c1 * c1 + c2 * c2);
-        c1 /= hv; c2 /= hv;
-    }
-    for (k = 0; k < 4; k++) {
-        double d1 = 0.5 * (rot[k] + ref[k]), d2 = 0.5 * (rot[k] - ref[k]);
-        m[2][k] = c1 * d1 + c2 * d2;         /* eigenvector of l1 */
-        m[3][k] = -c2 * d1 + c1 * d2;        /* eigenvector of l2 */
-    }
-    lam[2] = e.l1; lam[3] = e.l2;
-    for (k = 0; k < 4; k++) if (project && !(lam[k] > 0)) lam[k] = 0;
-    for (i = 0; i < 4; i++)                  /* symmetric: the upper triangle, mirrored */
-        for (j = i; j < 4; j++) {
-            double s = 0;
-            for (k = 0; k < 4; k++) s += lam[k] * m[k][i] * m[k][j];
-            out[4 * i + j] = out[4 * j + i] = s;
-        }
-    /* Built in a local array and copied out whole: GCC 12 (at -O1 and -O2,
-       with this function out of line) rewrote the mirrored store into the
-       caller's array as a memory reference based at address 0, which its
-       mod/ref analysis then took for a null dereference ending the block:
-       the function was summarized as storing nothing, and a caller's reads
-       of a zero-initialized h4 were folded to the zeros (fixed in later
-       GCC's induction-variable pass; tests/test_newton.c (l) reads one) */
-    memcpy(h4, out, sizeof out);
-    return 1;
-}
-
-/* Block (al, be) of the 4x4 Hessian h4 in J, B_ab (rows 2 al, 2 al + 1,
-   columns 2 be, 2 be + 1), carried to the corners: M = G^T B_ab G, with
-   G the rows of J's gradient (g_2 = (m00, m01), g_3 = (0, m11), and
-   corner 1's g_1 = -g_2 - g_3). */
-static void bp__hessian_corners(const bp__rest *r, const double *h4, int al, int be, double M[3][3])
-{
-    const double *b0 = h4 + 4 * (2 * al) + 2 * be, *b1 = b0 + 4;   /* rows p = 0, 1 of B_ab */
-    double c[2][2];
-    c[0][0] = b0[0] * r->m00 + b0[1] * r->m01; c[0][1] = b0[1] * r->m11;      /* c = B_ab G */
-    c[1][0] = b1[0] * r->m00 + b1[1] * r->m01; c[1][1] = b1[1] * r->m11;
-    M[1][1] = r->m00 * c[0][0] + r->m01 * c[1][0]; M[1][2] = r->m00 * c[0][1] + r->m01 * c[1][1];
-    M[2][1] = r->m11 * c[1][0];                    M[2][2] = r->m11 * c[1][1];
-    M[0][1] = -M[1][1] - M[2][1]; M[0][2] = -M[1][2] - M[2][2];
-    M[1][0] = -M[1][1] - M[1][2]; M[2][0] = -M[2][1] - M[2][2];
-    M[0][0] = -M[0][1] - M[0][2];
-}
-
-/* J of the triangle's map; 0 when it is not positive. */
-static int bp__triangle_j(const bp__rest *r, const double *u1, const double *u2, const double *u3, double J[4])
-{
-    double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
-    J[0] = d00 * r->m00; J[1] = d00 * r->m01 + d01 * r->m11;
-    J[2] = d10 * r->m00; J[3] = d10 * r->m01 + d11 * r->m11;
-    return 1;
-}
-
-/* The 6x6 Hessian of weight * E_t in (u1x, u1y, u2x, u2y, u3x, u3y), row
-   major into h6 (projected to positive semidefinite with `project`).
-   Returns 0 (h6 untouched) for a triangle that is not positive. */
-static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double *u1, const double *u2,
-                                const double *u3, int project, double h6[36])
-{
-    double J[4], h4[16], w = r->weight, M[3][3];
-    int k, l, al, be;
-    bp__triangle_j(r, u1, u2, u3, J);
-    if (!bp__hessian_j(kind, J, project, h4)) return 0;
-    for (al = 0; al < 2; al++)
-        for (be = al; be < 2; be++) {
-            bp__hessian_corners(r, h4, al, be, M);
-            for (k = 0; k < 3; k++)
-                for (l = 0; l < 3; l++) {
-                    h6[6 * (2 * k + al) + 2 * l + be] = w * M[k][l];
-                    h6[6 * (2 * l + be) + 2 * k + al] = w * M[k][l];     /* (M_ba = M_ab^T) */
-                }
-        }
-    return 1;
-}
-
-/* Its isotropic part (Newton's isotropic phase, bp__newton_tri_task):
-   k[i] = (xx + yy) / 2 of corner block (r, q), r <= q, at i =
-   bp__ht_block[r][q] / 4.  Newton's H keeps its six 2x2 corner blocks
-   (r, q), r <= q, per triangle in that order, each row major, the block
-   (r, q) at bp__ht_block[r][q] (bp__newton_tri_task); the isotropic phase
-   keeps one number per block, at a quarter of that.
-
-   The average of the xx and yy blocks needs neither the 4x4 nor two
-   congruences.  The x coordinates move J's row 0 and the y coordinates
-   its row 1 (>>hessian), so (xx + yy) / 2 = G^T C G with
-   C = (B_00 + B_11) / 2, B_aa the diagonal 2x2 blocks of the projected
-   H4 = sum_k lambda_k vec(Q_k) vec(Q_k)^T.  Summing over J's two rows,
-       C = 1/2 sum_k lambda_k Q_k^T Q_k.
-   Twist and flip are U [0 -+1; 1 0] V^T / sqrt2, so Q^T Q = I / 2 for
-   both; a scaling eigenvector c1 U diag(1,0) V^T + c2 U diag(0,1) V^T
-   gives V diag(c1^2, c2^2) V^T, and summed with its eigenvalues the two
-   give V diag(al, be) V^T, with (al, be) the diagonal of the projected
-   scaling block (the block itself when both its eigenvalues are >= 0, as
-   for symmetric Dirichlet always).  With V diag(1, -1) V^T = rot^T ref
-   (rot = U V^T = [E -H; H E] / Q, ref = U diag(1,-1) V^T =
-   [F G; G -F] / R, as in bp__hessian_j),
-       C = (tw + fl + al + be) / 4 I + (al - be) / 4 P,
-       P = rot^T ref = [EF + HG, EG - HF; EG - HF, -(EF + HG)] / (Q R),
-   tw and fl clamped at 0; at R = 0 the reflection [1 0; 0 -1] of
-   bp__hessian_j, P = [E -H; -H -E] / Q.  Face: less than half the time
-   of the 4x4 and its two congruences (docs/performance.md sec 6.34).
-   C is written as a block of an H4 (rows at stride 4: C[0] C[1] / C[4]
-   C[5]) for bp__hessian_corners.  tests/test_newton.c (l) checks it
-   against the 4x4's blocks for every energy. */
-static int bp__hessian_iso_j(bp_energy kind, const double J[4], double C[8])
-{
-    double al, be, tw, fl, iso, dev, p0, p1;
-    bp__jeig e;
-    if (!bp__hessian_eig(kind, J, &e)) return 0;
-    if (e.l2 >= 0) { al = e.hs[0]; be = e.hs[2]; }    /* already positive semidefinite */
-    else if (!(e.l1 > 0)) al = be = 0;
-    else {                                            /* l1 e e^T, e = (x, y) / |(x, y)| */
-        double n = e.x * e.x + e.y * e.y;
-        al = e.l1 * e.x * e.x / n;
-        be = e.l1 * e.y * e.y / n;
-    }
-    tw = e.tw > 0 ? e.tw : 0;
-    fl = e.fl > 0 ? e.fl : 0;
-    iso = 0.25 * (tw + fl + al + be);
-    dev = 0.25 * (al - be);
-    if (e.R > 0) { p0 = (e.E * e.F + e.H * e.G) / (e.Q * e.R); p1 = (e.E * e.G - e.H * e.F) / (e.Q * e.R); }
-    else { p0 = e.E / e.Q; p1 = -e.H / e.Q; }
-    C[0] = iso + dev * p0;
-    C[1] = C[4] = dev * p1;
-    C[5] = iso - dev * p0;
-    return 1;
-}
-
-static const unsigned char bp__ht_block[3][3] = { { 0, 4, 8 }, { 4, 12, 16 }, { 8, 16, 20 } };
-static int bp__triangle_hessian_iso(bp_energy kind, const bp__rest *r, const double *u1, const double *u2,
-                                    const double *u3, double k6[6])
-{
-    double J[4], C[8], w = r->weight, M[3][3];
-    int k, l;
-    bp__triangle_j(r, u1, u2, u3, J);
-    if (!bp__hessian_iso_j(kind, J, C)) return 0;
-    bp__hessian_corners(r, C, 0, 0, M);
-    for (k = 0; k < 3; k++)
-        for (l = k; l < 3; l++) k6[bp__ht_block[k][l] / 4] = w * M[l][k];
-    return 1;
-}
-
 /* >>barrier ================================================================
 
    Sec 3.3.  Positive triangles make the map locally injective, not
@@ -14388,8 +13923,102 @@ static bp_status bp__solver_init(bp__solver *S, const bp_allocator *a, uint32_t 
     return BP_OK;
 }
 
-/* --- E_D over triangle chunks ---------------------------------------------- */
+/* The rows of vertex v's column in a matrix on the chart's edges: v, the
+   other two corners of every triangle around v (the solver's corner
+   lists), and the nx extra vertices xl (NULL: none), sorted, repeats
+   dropped, into col (room for 2 x v's corners + 1 + nx); returns their
+   count.  With pins (pidx not NULL) a pinned v has only itself and a
+   pinned neighbour is left out.  Newton's H (>>newton) and the
+   preconditioner's K below both take their patterns from it. */
+static uint32_t bp__vertex_col(const bp__solver *S, uint32_t v, const uint32_t *pidx, const uint32_t *xl, uint32_t nx,
+                               uint32_t *col)
+{
+    uint32_t m = 0, p, k, q;
+    col[m++] = v;
+    if (!pidx || pidx[v] == BP__NONE) {
+        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++)
+            for (k = 1; k <= 2; k++) {
+                uint32_t u = S->tri[3 * (size_t)(S->vc_list[p] / 3) + (S->vc_list[p] % 3 + k) % 3];
+                if (!pidx || pidx[u] == BP__NONE) col[m++] = u;
+            }
+        for (q = 0; q < nx; q++) col[m++] = xl[q];
+    }
+    bp__u32_sort(col, m);
+    for (k = 1, q = 1; q < m; q++)
+        if (col[q] != col[k - 1]) col[k++] = col[q];
+    return k;
+}
 
+/* The position of row r in a sorted column of m rows that holds it: the
+   count of rows below r, without branches for a short column (a binary
+   search's branches were mispredicted at every step, half of pass (2)). */
+static uint32_t bp__pattern_pos(const uint32_t *col, uint32_t m, uint32_t r)
+{
+    uint32_t q, pos = 0;
+    if (m > 64) return bp__lower_bound(col, 0, m, r);
+    for (q = 0; q < m; q++) pos += col[q] < r;
+    return pos;
+}
+
+static int bp__start_dbl_cmp(const void *pa, const void *pb)
+{
+    double x = *(const double *)pa, y = *(const double *)pb;
+    return x < y ? -1 : x > y;
+}
+
+/* Thin charts: the barrier width.  The barrier of >>barrier acts on every
+   boundary vertex within eps of a boundary edge, eps a quarter of the mean
+   boundary edge.  Across a strip thinner than that, every boundary vertex
+   is within eps of the opposite side in the rest shape itself, so the
+   barrier pushes the strip wider than its rest shape and the optimum of
+   E_D + E_B is not the isometry: a 1 x 1e-4 strip of 398 triangles
+   "converges" at mean energy 16.8, a 1 x 1e-7 one at 17,600, from any
+   start.  So eps is also at most the chart's thickness at its boundary,
+       eps <= median over boundary edges e of  h_e = 2 A_t / |e|,
+   the altitude onto e of its triangle t, in the rest shape (>>rest).  On
+   an ordinary mesh h_e is about 0.8 of an edge and the bound never acts
+   (eps stays |e| / 4: the 15 meshes of ../shared/meshes keep their eps bit
+   for bit); on a strip of width h, eps = h and the isometric map has no
+   barrier energy at all (every boundary vertex is at least h from every
+   boundary edge not its own).  The barrier's guarantee does not depend on
+   eps: any eps > 0 is infinite at contact, and the exact check accepts
+   every iterate anyway.  wxy: the rest shapes (>>rest) the solver's
+   set-up has just made, 3 per triangle; only a boundary edge's length is
+   taken.  Returns 0 when out of memory. */
+static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const double *wxy, double *eps)
+{
+    uint32_t nb = ch->loop_start[ch->num_loops], L, k, t, n = 0;
+    uint32_t *next = (uint32_t *)bp__alloc_array(a, ch->num_vertices, sizeof(uint32_t));
+    double *h = (double *)bp__alloc_array(a, (size_t)nb + 1, sizeof(double));
+    if (!next || !h) { bp__free(a, next); bp__free(a, h); return 0; }
+    for (k = 0; k < ch->num_vertices; k++) next[k] = BP__NONE;
+    for (L = 0; L < ch->num_loops; L++)
+        for (k = ch->loop_start[L]; k < ch->loop_start[L + 1]; k++)
+            next[ch->loop_vertices[k]] = ch->loop_vertices[k + 1 < ch->loop_start[L + 1] ? k + 1 : ch->loop_start[L]];
+    for (t = 0; t < ch->num_triangles && n < nb; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        double w = wxy[3 * (size_t)t], x = wxy[3 * (size_t)t + 1], y = wxy[3 * (size_t)t + 2], len;
+        int c;
+        for (c = 0; c < 3; c++) {                 /* F1 = (0,0), F2 = (w,0), F3 = (x,y) */
+            uint32_t vi = tr[c], vj = tr[(c + 1) % 3];
+            if (next[vi] != vj && next[vj] != vi) continue;
+            len = c == 0 ? w : c == 1 ? sqrt((x - w) * (x - w) + y * y) : sqrt(x * x + y * y);
+            h[n++] = w * y / len;                 /* 2 A / |e| */
+        }
+    }
+    bp__free(a, next);
+    if (n > 0) {
+        double med;
+        qsort(h, n, sizeof(double), bp__start_dbl_cmp);
+        med = h[n / 2];
+        if (med > 0 && med < *eps) *eps = med;
+    }
+    bp__free(a, h);
+    return 1;
+}
+
+/* One evaluation's task, shared by the chunks of E_B here, of E_D and the
+   exact check (>>energy) and of the step bound (>>stepbound). */
 typedef struct bp__eval_task {
     bp__solver   *S;
     const double *x;
@@ -14397,96 +14026,6 @@ typedef struct bp__eval_task {
     const double *dir;          /* step bound: direction                      */
     double        tmax;         /* step bound: the bound so far; hash: sweep  */
 } bp__eval_task;
-
-/* Several kinds of tasks as one parallel loop: the groups are laid end to
-   end and task i runs in the group that holds it.  Work that would
-   otherwise run alone between two loops (building a hash, the exact
-   boundary check) becomes one task among the chunks of another loop, and
-   two loops that do not depend on each other share one join.  Each task
-   still writes only its own slots, so the result does not depend on the
-   schedule.  A long task goes first, so that it starts at once. */
-typedef struct bp__group { bp_task_fn fn; void *task; uint32_t count; } bp__group;
-typedef struct bp__groups { bp__group g[4]; uint32_t n, total; } bp__groups;
-
-static void bp__groups_task(void *task, uint32_t i)
-{
-    const bp__groups *G = (const bp__groups *)task;
-    uint32_t k;
-    for (k = 0; k < G->n; k++) {
-        if (i < G->g[k].count) { G->g[k].fn(G->g[k].task, i); return; }
-        i -= G->g[k].count;
-    }
-}
-
-static void bp__groups_add(bp__groups *G, bp_task_fn fn, void *task, uint32_t count)
-{
-    G->g[G->n].fn = fn;
-    G->g[G->n].task = task;
-    G->g[G->n++].count = count;
-    G->total += count;
-}
-
-static void bp__groups_run(const bp__par *par, const bp__groups *G)
-{
-    if (G->total) par->run(par->user, bp__groups_task, (void *)G, G->total);
-}
-
-static void bp__energy_task(void *task, uint32_t c)
-{
-    bp__eval_task *T = (bp__eval_task *)task;
-    bp__solver *S = T->S;
-    uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
-    double sum = 0;
-    for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1; t++) {
-        const uint32_t *tr = S->tri + 3 * (size_t)t;
-        double *gc = T->g ? S->gc + 6 * (size_t)t : NULL, e;
-        if (gc) { gc[0] = gc[1] = gc[2] = gc[3] = gc[4] = gc[5] = 0; }
-        e = bp__triangle_energy(S->energy, &S->rest[t], T->x + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1],
-                                T->x + 2 * (size_t)tr[2], gc, gc ? gc + 2 : NULL, gc ? gc + 4 : NULL);
-        if (e == HUGE_VAL) { sum = HUGE_VAL; if (!gc) break; }
-        else sum += S->rest[t].weight * e;
-    }
-    S->part[c] = sum;
-}
-
-/* Exact orientation of the triangles of a chunk: part_o[c] = 1 if one is
-   not positive.  Each chunk also checks the same share of the vertices'
-   coordinates against the predicates' exact range (see >>check; never met
-   in practice, but outside it a sign would not be proven): one pass over
-   the coordinates in all, instead of six tests per triangle. */
-static void bp__orient_task(void *task, uint32_t c)
-{
-    bp__eval_task *T = (bp__eval_task *)task;
-    bp__solver *S = T->S;
-    uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
-    size_t i, i1 = 2 * (size_t)bp__chunk_at(S->nv, S->nchunk_t, c + 1);
-    int out = 0;
-    double bad = 0;
-    for (i = 2 * (size_t)bp__chunk_at(S->nv, S->nchunk_t, c); i < i1; i++) out |= !bp__exact_range(T->x[i]);
-    if (out) bad = 1;
-    for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1 && !bad; t++) {
-        const uint32_t *tr = S->tri + 3 * (size_t)t;
-        if (bp_orient2d(T->x + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1], T->x + 2 * (size_t)tr[2]) <= 0) bad = 1;
-    }
-    S->part_o[c] = bad;
-}
-
-/* g(v) = sum of its corners' gradients, in corner order. */
-static void bp__gather_task(void *task, uint32_t c)
-{
-    bp__eval_task *T = (bp__eval_task *)task;
-    bp__solver *S = T->S;
-    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p;
-    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
-        double gx = 0, gy = 0;
-        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
-            gx += S->gc[2 * (size_t)S->vc_list[p]];
-            gy += S->gc[2 * (size_t)S->vc_list[p] + 1];
-        }
-        T->g[2 * (size_t)v] = gx;
-        T->g[2 * (size_t)v + 1] = gy;
-    }
-}
 
 /* --- E_B over edge chunks ------------------------------------------------ */
 
@@ -14783,6 +14322,186 @@ static void bp__conflict_task(void *task, uint32_t c)
     if (!S->conflicts && !S->oom && bp__ccw_loops(T->x, S->edges, S->loop_start, S->nloops) != 1) S->conflicts = 1;
 }
 
+
+/* >>energy =================================================================
+
+   Sec 3.2.  Every energy here is a function f(s_max, s_min) of the singular
+   values of J, infinite when the triangle degenerates (s_min -> 0), so a
+   descent method that never crosses a singularity never flips a triangle.
+   The dissertation's own energy (eq 3.1-3.3) is the symmetric Dirichlet
+       E_t = s_max^2 + s_min^2 + s_max^-2 + s_min^-2     (minimum 4 at a rotation),
+   and the others of fig 3.2 are the conformal s_max/s_min, MIPS
+   s_max/s_min + s_min/s_max, isometric sqrt(s_max^2 + s_min^-2) and maximal
+   isometric max(s_max, 1/s_min).
+
+   The singular values of a 2x2 J = [a b; c d] have a closed form.  With
+       E = (a+d)/2, F = (a-d)/2, G = (c+b)/2, H = (c-b)/2,
+       Q = sqrt(E^2 + H^2),   R = sqrt(F^2 + G^2),
+   s_max = Q + R and s_min = Q - R = det J / s_max (the second form is the
+   accurate one when det J is small).  So any f(s_max, s_min) has gradient
+       df/dJ = (f_a + f_b) dQ/dJ + (f_a - f_b) dR/dJ,
+       dQ/dJ = [E -H; H E] / (2Q),   dR/dJ = [F G; G -F] / (2R),
+   (f_a, f_b the partials in s_max, s_min), and by the chain rule through
+   J = D M^-1 the gradient in the UV positions is df/dD = df/dJ M^-T, whose
+   columns are the gradients for U2 and U3 (U1 gets minus their sum).  For
+   the symmetric Dirichlet energy this equals eq 3.3's closed form (area
+   term plus cotangent weights).  At R = 0 (a conformal J) dR/dJ is taken as
+   0; f_a - f_b vanishes there for the symmetric energies (symmetric
+   Dirichlet, MIPS), whose gradient is therefore continuous.  Conformal,
+   isometric and maximal isometric have a kink at s_max = s_min (and the
+   last also at s_max s_min = 1): there the code returns one of the two
+   one-sided slopes, a valid subgradient for the line search. */
+
+/* f(s_max, s_min) and its partials; returns +inf for s_min <= 0. */
+static double bp__energy_sv(bp_energy kind, double sa, double sb, double *fa, double *fb)
+{
+    double r;
+    if (!(sb > 0)) { *fa = *fb = 0; return HUGE_VAL; }
+    switch (kind) {
+    case BP_ENERGY_CONFORMAL:
+        *fa = 1 / sb; *fb = -sa / (sb * sb);
+        return sa / sb;
+    case BP_ENERGY_MIPS:
+        *fa = 1 / sb - sb / (sa * sa); *fb = 1 / sa - sa / (sb * sb);
+        return sa / sb + sb / sa;
+    case BP_ENERGY_ISOMETRIC:
+        r = sqrt(sa * sa + 1 / (sb * sb));
+        *fa = sa / r; *fb = -1 / (sb * sb * sb * r);
+        return r;
+    case BP_ENERGY_MAX_ISOMETRIC:
+        if (sa >= 1 / sb) { *fa = 1; *fb = 0; return sa; }
+        *fa = 0; *fb = -1 / (sb * sb);
+        return 1 / sb;
+    default:   /* symmetric Dirichlet */
+        *fa = 2 * sa - 2 / (sa * sa * sa);
+        *fb = 2 * sb - 2 / (sb * sb * sb);
+        return sa * sa + sb * sb + 1 / (sa * sa) + 1 / (sb * sb);
+    }
+}
+
+/* E_t of one triangle at UV corners u1, u2, u3; if g is given, adds
+   weight * dE_t/dU to g1, g2, g3. */
+static double bp__triangle_energy(bp_energy kind, const bp__rest *r, const double *u1,
+                                  const double *u2, const double *u3, double *g1, double *g2, double *g3)
+{
+    double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
+    /* J = D M^-1 with M^-1 upper triangular */
+    double a = d00 * r->m00, b = d00 * r->m01 + d01 * r->m11;
+    double c = d10 * r->m00, d = d10 * r->m01 + d11 * r->m11;
+    double E = 0.5 * (a + d), F = 0.5 * (a - d), G = 0.5 * (c + b), H = 0.5 * (c - b);
+    double Q = sqrt(E * E + H * H), R = sqrt(F * F + G * G);
+    double det = a * d - b * c, sa = Q + R, sb, fa, fb, e;
+    if (!(det > 0)) return HUGE_VAL;
+    sb = det / sa;
+    e = bp__energy_sv(kind, sa, sb, &fa, &fb);
+    if (g1) {
+        double kq = (fa + fb) / (2 * Q), kr = R > 0 ? (fa - fb) / (2 * R) : 0;
+        /* dE/dJ */
+        double ja = kq * E + kr * F, jb = -kq * H + kr * G;
+        double jc = kq * H + kr * G, jd = kq * E - kr * F;
+        /* dE/dD = dE/dJ M^-T: columns are dE/dU2, dE/dU3 */
+        double w = r->weight;
+        double gx2 = w * (ja * r->m00 + jb * r->m01), gy2 = w * (jc * r->m00 + jd * r->m01);
+        double gx3 = w * (jb * r->m11), gy3 = w * (jd * r->m11);
+        g2[0] += gx2; g2[1] += gy2;
+        g3[0] += gx3; g3[1] += gy3;
+        g1[0] -= gx2 + gx3; g1[1] -= gy2 + gy3;
+    }
+    return e;
+}
+
+/* --- E_D over triangle chunks, and the whole objective --------------------- */
+
+/* Several kinds of tasks as one parallel loop: the groups are laid end to
+   end and task i runs in the group that holds it.  Work that would
+   otherwise run alone between two loops (building a hash, the exact
+   boundary check) becomes one task among the chunks of another loop, and
+   two loops that do not depend on each other share one join.  Each task
+   still writes only its own slots, so the result does not depend on the
+   schedule.  A long task goes first, so that it starts at once. */
+typedef struct bp__group { bp_task_fn fn; void *task; uint32_t count; } bp__group;
+typedef struct bp__groups { bp__group g[4]; uint32_t n, total; } bp__groups;
+
+static void bp__groups_task(void *task, uint32_t i)
+{
+    const bp__groups *G = (const bp__groups *)task;
+    uint32_t k;
+    for (k = 0; k < G->n; k++) {
+        if (i < G->g[k].count) { G->g[k].fn(G->g[k].task, i); return; }
+        i -= G->g[k].count;
+    }
+}
+
+static void bp__groups_add(bp__groups *G, bp_task_fn fn, void *task, uint32_t count)
+{
+    G->g[G->n].fn = fn;
+    G->g[G->n].task = task;
+    G->g[G->n++].count = count;
+    G->total += count;
+}
+
+static void bp__groups_run(const bp__par *par, const bp__groups *G)
+{
+    if (G->total) par->run(par->user, bp__groups_task, (void *)G, G->total);
+}
+
+static void bp__energy_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    bp__solver *S = T->S;
+    uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
+    double sum = 0;
+    for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        double *gc = T->g ? S->gc + 6 * (size_t)t : NULL, e;
+        if (gc) { gc[0] = gc[1] = gc[2] = gc[3] = gc[4] = gc[5] = 0; }
+        e = bp__triangle_energy(S->energy, &S->rest[t], T->x + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1],
+                                T->x + 2 * (size_t)tr[2], gc, gc ? gc + 2 : NULL, gc ? gc + 4 : NULL);
+        if (e == HUGE_VAL) { sum = HUGE_VAL; if (!gc) break; }
+        else sum += S->rest[t].weight * e;
+    }
+    S->part[c] = sum;
+}
+
+/* Exact orientation of the triangles of a chunk: part_o[c] = 1 if one is
+   not positive.  Each chunk also checks the same share of the vertices'
+   coordinates against the predicates' exact range (see >>check; never met
+   in practice, but outside it a sign would not be proven): one pass over
+   the coordinates in all, instead of six tests per triangle. */
+static void bp__orient_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    bp__solver *S = T->S;
+    uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
+    size_t i, i1 = 2 * (size_t)bp__chunk_at(S->nv, S->nchunk_t, c + 1);
+    int out = 0;
+    double bad = 0;
+    for (i = 2 * (size_t)bp__chunk_at(S->nv, S->nchunk_t, c); i < i1; i++) out |= !bp__exact_range(T->x[i]);
+    if (out) bad = 1;
+    for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1 && !bad; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        if (bp_orient2d(T->x + 2 * (size_t)tr[0], T->x + 2 * (size_t)tr[1], T->x + 2 * (size_t)tr[2]) <= 0) bad = 1;
+    }
+    S->part_o[c] = bad;
+}
+
+/* g(v) = sum of its corners' gradients, in corner order. */
+static void bp__gather_task(void *task, uint32_t c)
+{
+    bp__eval_task *T = (bp__eval_task *)task;
+    bp__solver *S = T->S;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p;
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
+        double gx = 0, gy = 0;
+        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
+            gx += S->gc[2 * (size_t)S->vc_list[p]];
+            gy += S->gc[2 * (size_t)S->vc_list[p] + 1];
+        }
+        T->g[2 * (size_t)v] = gx;
+        T->g[2 * (size_t)v + 1] = gy;
+    }
+}
+
 /* f = E_D + E_B at x (E_D = sum weight_t E_t); gradient into g if given.
    *ed receives E_D alone.  +inf outside the valid region.  The sums are
    taken per chunk and added in chunk order: the same bits for any number
@@ -14840,130 +14559,6 @@ static double bp__objective(bp__solver *S, const double *x, double *g, double *e
     return bp__evaluate(S, x, g, ed, HUGE_VAL, NULL);
 }
 
-/* The barrier's full curvature for one pair (for Newton, >>newton).  With
-   f(d) = (eps / d - 1)^2 and d = d(P, A, B) the distance from P to the
-   segment AB, the pair's Hessian in the six coordinates (P, A, B) is
-       K = f''(d) grad d grad d^T + f'(d) Hess d,
-   f' = -2 (eps / d - 1) eps / d^2 < 0.  The Gauss-Newton part alone (the
-   first term) sees only the relative motion along the normal n.  Where
-   the closest point is an end of the segment, d = |P - A| and Hess d =
-   (I - n n^T) / d is positive semidefinite, so the second term is negative
-   semidefinite and dropping it is the right projection.  Where the closest
-   point is inside the segment it is not: with q = P - A, e = B - A,
-   c = q x e and L = |e|, d = sigma c / L (sigma = sign c) is bilinear in q
-   and e up to the 1/L, and Hess d couples the vertex's slide along the
-   edge with the edge's rotation.  A step that slides P along AB by a
-   distance a while AB turns by an angle w brings them closer by about
-   a w, a second-order change the Gauss-Newton model calls free; near
-   contact, |f'| a w can outweigh f'' times the normal motion squared by
-   orders of magnitude (docs/performance.md sec 6.10: on hilbert, a vertex
-   at eps/170 from an edge slides 200 d per unit step while the edge turns,
-   and Newton's steps are cut to t = 0.005 for 100 iterations).  So K is
-   formed whole and projected onto the positive semidefinite cone: its 6x6
-   eigen-decomposition (cyclic Jacobi), negative eigenvalues set to 0.
-   In q, e (4 coordinates; c's Hessian has d2c/dqx dey = 1,
-   d2c/dqy dex = -1, and grad (1/L) = -e / L^3, Hess (1/L) = -I / L^3 +
-   3 e e^T / L^5 on e):
-       Hess d = sigma (Hess c / L + grad c grad(1/L)^T + grad(1/L) grad c^T
-                       + c Hess(1/L)),
-   and (P, A, B) -> (q, e) is linear: q = P - A, e = B - A.  K (row-major
-   6x6, P's x y, then A's, then B's) is written for d in (0, eps); returns
-   0 (K untouched) outside.  With project = 0 it is the whole Hessian
-   (for the tests), at an end too. */
-static void bp__sym_psd6(double *K)
-{
-    double V[36], a[36];
-    int i, j, k, sweep;
-    memcpy(a, K, sizeof a);
-    for (i = 0; i < 36; i++) V[i] = (i % 7 == 0) ? 1 : 0;
-    for (sweep = 0; sweep < 30; sweep++) {
-        double off = 0, tot = 0;
-        for (i = 0; i < 6; i++)
-            for (j = 0; j < 6; j++) { tot += a[6 * i + j] * a[6 * i + j]; if (i != j) off += a[6 * i + j] * a[6 * i + j]; }
-        if (!(off > 1e-30 * tot)) break;
-        for (i = 0; i < 5; i++)
-            for (j = i + 1; j < 6; j++) {
-                double apq = a[6 * i + j], th, t, c, sn;
-                if (apq == 0) continue;
-                th = (a[6 * j + j] - a[6 * i + i]) / (2 * apq);
-                t = (th >= 0 ? 1 : -1) / (fabs(th) + sqrt(th * th + 1));
-                c = 1 / sqrt(t * t + 1); sn = t * c;
-                for (k = 0; k < 6; k++) {                       /* columns i, j */
-                    double x = a[6 * k + i], y = a[6 * k + j];
-                    a[6 * k + i] = c * x - sn * y; a[6 * k + j] = sn * x + c * y;
-                }
-                for (k = 0; k < 6; k++) {                       /* rows i, j */
-                    double x = a[6 * i + k], y = a[6 * j + k];
-                    a[6 * i + k] = c * x - sn * y; a[6 * j + k] = sn * x + c * y;
-                }
-                for (k = 0; k < 6; k++) {
-                    double x = V[6 * k + i], y = V[6 * k + j];
-                    V[6 * k + i] = c * x - sn * y; V[6 * k + j] = sn * x + c * y;
-                }
-            }
-    }
-    for (i = 0; i < 6; i++)
-        for (j = 0; j < 6; j++) {
-            double sum = 0;
-            for (k = 0; k < 6; k++) if (a[7 * k] > 0) sum += V[6 * i + k] * a[7 * k] * V[6 * j + k];
-            K[6 * i + j] = sum;
-        }
-}
-
-static int bp__barrier_pair_hessian(const double *P, const double *A, const double *B, double eps, int project,
-                                    double *K)
-{
-    double ex = B[0] - A[0], ey = B[1] - A[1], qx = P[0] - A[0], qy = P[1] - A[1];
-    double L2 = ex * ex + ey * ey, sp = L2 > 0 ? (qx * ex + qy * ey) / L2 : 0, dx, dy, d, f1, f2, g[6];
-    int i, j;
-    if (sp < 0) sp = 0;
-    if (sp > 1) sp = 1;
-    dx = qx - sp * ex; dy = qy - sp * ey;
-    d = sqrt(dx * dx + dy * dy);
-    if (!(d < eps) || !(d > 0)) return 0;
-    f1 = -2 * (eps / d - 1) * eps / (d * d);
-    f2 = 2 * eps * eps / (d * d * d * d) + 4 * (eps / d - 1) * eps / (d * d * d);
-    g[0] = dx / d; g[1] = dy / d;
-    g[2] = -(1 - sp) * g[0]; g[3] = -(1 - sp) * g[1];
-    g[4] = -sp * g[0]; g[5] = -sp * g[1];
-    for (i = 0; i < 6; i++) for (j = 0; j < 6; j++) K[6 * i + j] = f2 * g[i] * g[j];
-    if (sp > 0 && sp < 1) {                      /* inside the segment: the whole Hessian */
-        double L = sqrt(L2), c = qx * ey - qy * ex, sg = c >= 0 ? 1 : -1, iL3 = 1 / (L * L2);
-        double gc[4], gi[4], H4[16], J[4][6];
-        memset(H4, 0, sizeof H4);
-        gc[0] = ey; gc[1] = -ex; gc[2] = -qy; gc[3] = qx;
-        gi[0] = 0; gi[1] = 0; gi[2] = -ex * iL3; gi[3] = -ey * iL3;
-        H4[0 * 4 + 3] = H4[3 * 4 + 0] = 1 / L;
-        H4[1 * 4 + 2] = H4[2 * 4 + 1] = -1 / L;
-        for (i = 0; i < 4; i++) for (j = 0; j < 4; j++) H4[4 * i + j] += gc[i] * gi[j] + gi[i] * gc[j];
-        H4[2 * 4 + 2] += c * (-iL3 + 3 * ex * ex * iL3 / L2);
-        H4[2 * 4 + 3] += c * (3 * ex * ey * iL3 / L2);
-        H4[3 * 4 + 2] += c * (3 * ex * ey * iL3 / L2);
-        H4[3 * 4 + 3] += c * (-iL3 + 3 * ey * ey * iL3 / L2);
-        memset(J, 0, sizeof J);                  /* q = P - A, e = B - A */
-        J[0][0] = 1; J[0][2] = -1; J[1][1] = 1; J[1][3] = -1;
-        J[2][4] = 1; J[2][2] = -1; J[3][5] = 1; J[3][3] = -1;
-        for (i = 0; i < 6; i++)
-            for (j = 0; j < 6; j++) {
-                double sum = 0;
-                int k, l;
-                for (k = 0; k < 4; k++) for (l = 0; l < 4; l++) sum += J[k][i] * H4[4 * k + l] * J[l][j];
-                K[6 * i + j] += f1 * sg * sum;
-            }
-        if (project) bp__sym_psd6(K);
-    } else if (!project) {                       /* at an end E: f'(d) (I - n n^T) / d on P - E (its projection: 0) */
-        int e = sp > 0 ? 2 : 1, a_, b_;
-        double t[2];
-        t[0] = -g[1]; t[1] = g[0];
-        for (a_ = 0; a_ < 2; a_++)
-            for (b_ = 0; b_ < 2; b_++) {
-                double w = f1 / d * t[a_] * t[b_];
-                K[6 * a_ + b_] += w; K[6 * (2 * e + a_) + 2 * e + b_] += w;
-                K[6 * a_ + 2 * e + b_] -= w; K[6 * (2 * e + a_) + b_] -= w;
-            }
-    }
-    return 1;
-}
 
 /* >>stepbound ==============================================================
 
@@ -15138,573 +14733,408 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
     return tmax;
 }
 
-/* >>lbfgs ==================================================================
+/* >>hessian ================================================================
 
-   Sec 3.4 and 3.5.  Each iteration: (1) energy and gradient, (2) a search
-   direction, (3) the step bound tmax, (4) a backtracking line search from
-   min(1, 0.9 tmax) that accepts the first t with sufficient decrease
-   (Armijo: f(x + t v) <= f(x) + 1e-4 t g.v) and an exactly valid map, (5)
-   the convergence test.  The direction is L-BFGS (Algorithm 1, memory m,
-   initial scaling s.y / y.y; by default with the preconditioner below),
-   plain gradient descent for comparison, or projected Newton (>>newton).
-   Floating point cannot defeat the guarantee: the step bound is computed in
-   floating point, so every accepted step is re-checked with the exact
-   predicates -- every triangle positive, no two boundary edges meeting,
-   exactly one counter-clockwise loop, which for one chart is all of
-   bp_check (see >>check for why the loop count completes it) -- and halved
-   until the check passes.  The start map itself is checked with bp_check
-   before the first iteration, whoever computed it.  The iteration itself,
-   in named phases, follows the directions (>>optimize). */
+   For Newton's method (>>newton) each E_t also needs its second derivative,
+   and a positive semidefinite one, since a Newton step is a descent
+   direction only when the matrix it inverts is positive definite.  These
+   energies are isotropic -- f(J) depends on J only through its singular
+   values -- and for such energies the Hessian in the 4 entries of J has a
+   closed-form eigensystem (Smith, de Goes & Kim 2019, "Analytic eigensystems
+   for isotropic distortion energies", sec 4-5 in 2D).  Write the SVD as
+   J = U diag(s_max, s_min) V^T (det J > 0 here, so no reflection).  Then,
+   with f_a, f_b the partials and f_aa, f_ab, f_bb the second partials in
+   (s_max, s_min):
+     twist   U [0 -1; 1 0] V^T / sqrt2,   lambda = (f_a + f_b) / (s_max + s_min)
+     flip    U [0  1; 1 0] V^T / sqrt2,   lambda = (f_a - f_b) / (s_max - s_min)
+     scaling U diag(1,0) V^T, U diag(0,1) V^T: the 2x2 block [f_aa f_ab; f_ab f_bb].
+   No SVD is needed: with the E, F, G, H, Q, R of >>energy,
+       U diag(1,0) V^T + U diag(0,1) V^T = [E -H; H E] / Q      (the rotation part)
+       U diag(1,0) V^T - U diag(0,1) V^T = [F G; G -F] / R      (the reflection part)
+       twist = [-H -E; E -H] / (sqrt2 Q),   flip = [-G F; F G] / (sqrt2 R),
+   four orthonormal 2x2 matrices (at R = 0 any reflection direction serves;
+   [1 0; 0 -1] is taken).  The projection onto the positive semidefinite
+   cone clamps each of the four eigenvalues (the scaling block after its
+   own 2x2 eigen-decomposition) at 0: closed form, no iteration.
 
-/* Preconditioning (beyond the dissertation).  Algorithm 1 starts each
-   L-BFGS direction from a scalar multiple of the identity, H0 = (s.y / y.y) I,
-   which ignores the mesh: a gradient step moves one vertex without its
-   neighbours, and thousands of iterations pass before the map relaxes.  A
-   better H0 is the inverse of the cotangent Laplacian K of the rest shape,
-   the Hessian of the Dirichlet energy sum A_t |J_t|^2 (up to a factor 2).
-   It is not the Hessian of the symmetric Dirichlet energy (near an isometry
-   that is about 4 K on stretches and 0 on rotations, see docs/math.md), but
-   it has the mesh's structure: K^-1 moves whole neighbourhoods together,
-   and the scale sigma below absorbs the constant.  The same idea drives
-   the blended quasi-Newton method of Zhu et al. (2018).  K is factored
-   once per chart with the sparse LDL^T above (regularized by 1e-8 of its
-   mean diagonal, since a free map can translate), and H0 = K^-1 / sigma
-   with the scale sigma = s.y / s.K s fitted to the latest curvature pair. */
+   The flip eigenvalue divides by s_max - s_min.  For the symmetric
+   energies the quotient has a closed form without the division:
+       symmetric Dirichlet: 2 + 2 (s_max^2 + s_max s_min + s_min^2) / (s_max s_min)^3,
+       MIPS: 1 / (s_max s_min) + (s_max^2 + s_max s_min + s_min^2) / (s_max s_min)^2.
+   Conformal, isometric and maximal isometric have a kink at s_max = s_min
+   (see >>energy): their curvature there is infinite, and the code divides
+   by max(s_max - s_min, 1e-4 s_max), a finite stand-in for the kink.  The
+   maximal isometric energy max(s_max, 1/s_min) is non-smooth also where
+   s_max s_min = 1; the Hessian used is that of the active piece (s_max
+   alone: zero scaling curvature; 1/s_min alone), exact everywhere off the
+   switching set and a generalized Hessian on it.
 
-static void bp__sparse_free(const bp_allocator *a, bp__sparse *A)
+   The Hessian in the 6 UV coordinates follows from J = D M^-1 being linear
+   in them: the x coordinates of the corners move row 0 of J, the y
+   coordinates row 1, corner k by the vector g_k (g_2 = (m00, m01),
+   g_3 = (0, m11), g_1 = -g_2 - g_3: the rows of M^-1 read as in >>energy),
+       d^2 E_t / dU_k,alpha dU_l,beta = weight sum_pq g_k[p] H4(2 alpha + p, 2 beta + q) g_l[q],
+   a congruence, so a positive semidefinite H4 gives a positive
+   semidefinite 6x6 block.  It is computed by 2x2 blocks (docs/
+   performance.md sec 6.9): with B_ab the block H4(2a + p, 2b + q) and
+   G = [g_2 g_3], the corners 2 and 3 take M_ab = G^T B_ab G, and corner 1
+   follows from g_1 = -g_2 - g_3 by linearity (its rows and columns are
+   minus the sums of the others'); M_ba = M_ab^T since H4 is symmetric, so
+   three 2x2 congruences make all 36 entries (~60 multiplications instead
+   of 288). */
+
+/* Second partials (f_aa, f_ab, f_bb) and the twist and flip eigenvalues of
+   one energy at (sa, sb) = (s_max, s_min), given its partials fa, fb. */
+static void bp__energy_sv2(bp_energy kind, double sa, double sb, double fa, double fb, double h[3],
+                           double *twist, double *flip)
 {
-    bp__free(a, A->colp); bp__free(a, A->row); bp__free(a, A->val);
-    memset(A, 0, sizeof *A);
-}
-
-/* K of the chart's rest shape: for each triangle and each corner i with
-   opposite edge (j, k), 1/2 cot(theta_i) couples j and k (the linear FEM
-   stiffness matrix, positive semi-definite for any triangle shapes):
-
-       K_jk -= w_i,   K_jj += w_i,   K_kk += w_i,   w_i = 1/2 cot(theta_i),
-
-   and every diagonal gains the regularizer below.  K is assembled
-   straight into its compressed columns, on the solver's threads, in three
-   passes (a triplet list sorted by column was 78 ms of serial work on a
-   132K-face chart's two-thread run, docs/performance.md sec 6.33):
-     1. per triangle chunk, the three weights w of each triangle;
-     2. per vertex chunk, v's rows (bp__vertex_col): v and the other
-        corners of the triangles around it (the solver's corner lists),
-        sorted, duplicates dropped;
-     3. per vertex chunk, v's values: each entry the sum of its
-        contributions in triangle order (corner order within a triangle),
-        started from -0 so that the first contribution is taken as it is.
-   Each entry's sum runs in the order the serial triplet assembly it
-   replaced summed it (triangle by triangle; tests/bpt_triplets.h keeps
-   that assembly, and test_tutte (c) compares the two bit for bit), and
-   the regularizer's mean diagonal is one serial sum over the weights in
-   that order, so K has the same bits on any number of threads. */
-/* The rows of vertex v's column in a matrix on the chart's edges: v, the
-   other two corners of every triangle around v (the solver's corner
-   lists), and the nx extra vertices xl (NULL: none), sorted, repeats
-   dropped, into col (room for 2 x v's corners + 1 + nx); returns their
-   count.  With pins (pidx not NULL) a pinned v has only itself and a
-   pinned neighbour is left out.  Newton's H (>>newton) and the
-   preconditioner's K below both take their patterns from it. */
-static uint32_t bp__vertex_col(const bp__solver *S, uint32_t v, const uint32_t *pidx, const uint32_t *xl, uint32_t nx,
-                               uint32_t *col)
-{
-    uint32_t m = 0, p, k, q;
-    col[m++] = v;
-    if (!pidx || pidx[v] == BP__NONE) {
-        for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++)
-            for (k = 1; k <= 2; k++) {
-                uint32_t u = S->tri[3 * (size_t)(S->vc_list[p] / 3) + (S->vc_list[p] % 3 + k) % 3];
-                if (!pidx || pidx[u] == BP__NONE) col[m++] = u;
-            }
-        for (q = 0; q < nx; q++) col[m++] = xl[q];
-    }
-    bp__u32_sort(col, m);
-    for (k = 1, q = 1; q < m; q++)
-        if (col[q] != col[k - 1]) col[k++] = col[q];
-    return k;
-}
-
-/* The position of row r in a sorted column of m rows that holds it: the
-   count of rows below r, without branches for a short column (a binary
-   search's branches were mispredicted at every step, half of pass (2)). */
-static uint32_t bp__pattern_pos(const uint32_t *col, uint32_t m, uint32_t r)
-{
-    uint32_t q, pos = 0;
-    if (m > 64) return bp__lower_bound(col, 0, m, r);
-    for (q = 0; q < m; q++) pos += col[q] < r;
-    return pos;
-}
-
-typedef struct bp__lap_task {
-    const bp__solver *S;
-    const double *wxy;            /* rest triangles (w, x, y)               */
-    const uint32_t *pidx;         /* pins (NULL: none)                      */
-    double *w;                    /* 3 per triangle: 1/2 cot of each corner */
-    uint32_t *gr, *glen;          /* v's rows at gr + 2 vc_start[v] + v     */
-    bp__sparse *K;
-    double diag;                  /* sum of K's diagonal, before the regularizer */
-} bp__lap_task;
-
-static void bp__lap_weights(void *task, uint32_t c)
-{
-    bp__lap_task *T = (bp__lap_task *)task;
-    uint32_t f, f1 = bp__chunk_at(T->S->nt, T->S->nchunk_t, c + 1);
-    for (f = bp__chunk_at(T->S->nt, T->S->nchunk_t, c); f < f1; f++) {
-        const double *r = T->wxy + 3 * (size_t)f;      /* F1=(0,0) F2=(w,0) F3=(x,y) */
-        double P[3][2], area2 = r[0] * r[2];
-        int i;
-        P[0][0] = 0; P[0][1] = 0; P[1][0] = r[0]; P[1][1] = 0; P[2][0] = r[1]; P[2][1] = r[2];
-        for (i = 0; i < 3; i++) {
-            int j = (i + 1) % 3, k = (i + 2) % 3;
-            double ux = P[j][0] - P[i][0], uy = P[j][1] - P[i][1], vx = P[k][0] - P[i][0], vy = P[k][1] - P[i][1];
-            T->w[3 * (size_t)f + i] = 0.5 * (ux * vx + uy * vy) / area2;      /* 1/2 cot(theta_i) */
-        }
+    double p = sa * sb, den = sa - sb > 1e-4 * sa ? sa - sb : 1e-4 * sa, r;
+    *twist = (fa + fb) / (sa + sb);
+    *flip = (fa - fb) / den;
+    switch (kind) {
+    case BP_ENERGY_CONFORMAL:                     /* sa / sb */
+        h[0] = 0; h[1] = -1 / (sb * sb); h[2] = 2 * sa / (sb * sb * sb);
+        break;
+    case BP_ENERGY_MIPS:                          /* sa / sb + sb / sa */
+        h[0] = 2 * sb / (sa * sa * sa); h[1] = -1 / (sb * sb) - 1 / (sa * sa); h[2] = 2 * sa / (sb * sb * sb);
+        *flip = 1 / p + (sa * sa + p + sb * sb) / (p * p);
+        break;
+    case BP_ENERGY_ISOMETRIC:                     /* r = sqrt(sa^2 + sb^-2) */
+        r = sqrt(sa * sa + 1 / (sb * sb));
+        h[0] = 1 / (sb * sb * r * r * r);
+        h[1] = sa / (sb * sb * sb * r * r * r);
+        h[2] = 3 / (sb * sb * sb * sb * r) - 1 / (sb * sb * sb * sb * sb * sb * r * r * r);
+        break;
+    case BP_ENERGY_MAX_ISOMETRIC:                 /* the active piece */
+        h[0] = h[1] = 0;
+        h[2] = sa >= 1 / sb ? 0 : 2 / (sb * sb * sb);
+        break;
+    default:                                      /* symmetric Dirichlet */
+        h[0] = 2 + 6 / (sa * sa * sa * sa); h[1] = 0; h[2] = 2 + 6 / (sb * sb * sb * sb);
+        *flip = 2 + 2 * (sa * sa + p + sb * sb) / (p * p * p);
+        break;
     }
 }
 
-static int bp__lap_pinned(const bp__lap_task *T, uint32_t v) { return T->pidx && T->pidx[v] != BP__NONE; }
+/* What both Hessians below need of J (the essay above): its rotation and
+   reflection parts E, F, G, H and their norms Q, R, the twist and flip
+   eigenvalues, the scaling block hs = [f_aa f_ab; f_ab f_bb] with its
+   eigenvalues l1 >= l2 (t their half difference) and, when t > 0, the
+   better conditioned of the two unnormalized eigenvectors of l1,
+   (h1, l1 - h0) or (l1 - h2, h1), as (x, y).  Returns 0 when J is not
+   positively oriented. */
+typedef struct bp__jeig {
+    double E, F, G, H, Q, R, tw, fl, hs[3], t, l1, l2, x, y;
+} bp__jeig;
 
-/* Pass 2: the rows of column v.  A pinned vertex keeps only its diagonal,
-   and a free one no coupling to a pinned one. */
-static void bp__lap_cols(void *task, uint32_t c)
+static int bp__hessian_eig(bp_energy kind, const double J[4], bp__jeig *e)
 {
-    bp__lap_task *T = (bp__lap_task *)task;
-    const bp__solver *S = T->S;
-    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1);
-    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++)
-        T->glen[v] = bp__vertex_col(S, v, T->pidx, NULL, 0, T->gr + 2 * (size_t)S->vc_start[v] + v);
-}
-
-/* Pass 3: the values of column v, each added where its row sits, then
-   the regularizer: 1e-8 of the mean diagonal (a free map can translate),
-   and on a pinned vertex the mean diagonal alone.  K is then block
-   diagonal, K_ff (free rows and columns of the Laplacian) and a diagonal
-   on the pinned ones, so K^-1 maps a vector that is zero on the pinned
-   coordinates to one that is zero there too (see >>pins). */
-static void bp__lap_values(void *task, uint32_t c)
-{
-    bp__lap_task *T = (bp__lap_task *)task;
-    const bp__solver *S = T->S;
-    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p, q, k;
-    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
-        const uint32_t *col = T->gr + 2 * (size_t)S->vc_start[v] + v;
-        uint32_t m = T->glen[v], c0 = T->K->colp[v], dpos = 0;
-        double *val = T->K->val + c0;
-        memcpy(T->K->row + c0, col, m * sizeof(uint32_t));
-        for (q = 0; q < m; q++) { val[q] = -0.0; if (col[q] == v) dpos = q; }
-        if (!bp__lap_pinned(T, v))
-            for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
-                uint32_t t = S->vc_list[p] / 3, cv = S->vc_list[p] % 3;
-                const double *w = T->w + 3 * (size_t)t;
-                for (k = 0; k < 3; k++) {                 /* corner k's weight, in corner order */
-                    uint32_t u;
-                    if (k == cv) continue;
-                    val[dpos] += w[k];                    /* v is an end of corner k's edge */
-                    u = S->tri[3 * (size_t)t + 3 - k - cv];   /* the edge's other end */
-                    if (!bp__lap_pinned(T, u)) val[bp__pattern_pos(col, m, u)] -= w[k];
-                }
-            }
-        val[dpos] += (bp__lap_pinned(T, v) ? 1 : 1e-8) * T->diag / S->nv;   /* (as the triplets had it) */
-    }
-}
-
-static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const double *rest_wxy,
-                               const uint32_t *pidx, bp__sparse *K, bp__factor *F, const uint32_t *order,
-                               const bp__ndnode *tree)
-{
-    bp__lap_task T;
-    size_t f, w = 0, nslot = 6 * (size_t)S->nt + S->nv;
-    uint32_t v, bad;
-    double diag = 0;
-    bp_status st = BP_ERR_OUT_OF_MEMORY;
-    memset(&T, 0, sizeof T);
-    T.S = S;
-    T.wxy = rest_wxy;
-    T.pidx = pidx;
-    T.K = K;
-    T.w = (double *)bp__alloc_array(a, 3 * (size_t)S->nt + 1, sizeof(double));
-    T.gr = (uint32_t *)bp__alloc_array(a, nslot + 1, sizeof(uint32_t));
-    T.glen = (uint32_t *)bp__alloc_array(a, (size_t)S->nv + 1, sizeof(uint32_t));
-    K->n = S->nv;
-    K->colp = (uint32_t *)bp__alloc_array(a, (size_t)S->nv + 1, sizeof(uint32_t));
-    if (!T.w || !T.gr || !T.glen || !K->colp || nslot > 0xfffffff0u) goto done;
-    S->par.run(S->par.user, bp__lap_weights, &T, S->nchunk_t);
-    for (f = 0; f < 3 * (size_t)S->nt; f++) diag += 2 * T.w[f];        /* the order of the serial sum */
-    T.diag = diag;
-    S->par.run(S->par.user, bp__lap_cols, &T, S->nchunk_v);
-    for (v = 0; v < S->nv; v++) { K->colp[v] = (uint32_t)w; w += T.glen[v]; }
-    K->colp[S->nv] = (uint32_t)w;
-    K->row = (uint32_t *)bp__alloc_array(a, w + 1, sizeof(uint32_t));
-    K->val = (double *)bp__alloc_array(a, w + 1, sizeof(double));
-    if (!K->row || !K->val) goto done;
-    S->par.run(S->par.user, bp__lap_values, &T, S->nchunk_v);
-    st = BP_OK;
-done:
-    bp__free(a, T.w); bp__free(a, T.gr); bp__free(a, T.glen);
-    if (st != BP_OK) return st;
-    K->symmetric = 1;
-    K->super1 = BP__SUPER_SCALAR;
-    st = bp__factorize_order(a, K, F, &bad, &S->par, order, tree);     /* order: the start map's, or NULL */
-    if (st == BP_OK && (!bp__factor_single(a, F, &S->par) || !bp__solve_plan(a, F))) st = BP_ERR_OUT_OF_MEMORY;
-    return st;
-}
-
-/* s.K s (s interleaved xy), by column chunks whose partial sums are added
-   in order (see >>threads). */
-typedef struct bp__quad_task { const bp__sparse *K; const double *s; double *part; uint32_t nc; } bp__quad_task;
-#define BP__QUAD_CHUNK 2048u
-
-static void bp__quad_task_run(void *task, uint32_t c)
-{
-    bp__quad_task *T = (bp__quad_task *)task;
-    const bp__sparse *K = T->K;
-    const double *s = T->s;
-    uint32_t j, p, j1 = bp__chunk_at(K->n, T->nc, c + 1);
-    double sum = 0;
-    for (j = bp__chunk_at(K->n, T->nc, c); j < j1; j++)
-        for (p = K->colp[j]; p < K->colp[j + 1]; p++)
-            sum += K->val[p] * (s[2 * (size_t)K->row[p]] * s[2 * (size_t)j] +
-                                s[2 * (size_t)K->row[p] + 1] * s[2 * (size_t)j + 1]);
-    T->part[c] = sum;
-}
-
-static double bp__quad_form(const bp__sparse *K, const double *s, const bp__par *par, double *part)
-{
-    bp__quad_task T;
-    uint32_t c, nc = bp__nchunks(K->n, BP__QUAD_CHUNK);
-    double sum = 0;
-    T.nc = nc;
-    T.K = K;
-    T.s = s;
-    T.part = part;
-    par->run(par->user, bp__quad_task_run, &T, nc);
-    for (c = 0; c < nc; c++) sum += part[c];
-    return sum;
-}
-
-/* The rest shapes of the triangles of chunk c: M^-1 and the weight
-   before its normalization, the flattened (w, x, y) in wxy, and in bad[c]
-   the chunk's first triangle whose importance is not positive and finite
-   (BP__NONE: none).  Each task writes its own triangles, so the chunks may
-   run on any threads (bp__solver_chart_par). */
-typedef struct bp__rest_task {
-    bp__solver      *S;
-    const bp_chart  *ch;
-    const bp_mesh   *m;
-    const double    *importance;
-    double          *wxy;
-    uint32_t        *bad;
-} bp__rest_task;
-
-static void bp__rest_task_run(void *task, uint32_t c)
-{
-    bp__rest_task *T = (bp__rest_task *)task;
-    bp__solver *S = T->S;
-    uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
-    T->bad[c] = BP__NONE;
-    for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1; t++) {
-        double w, px, py, imp = T->importance ? T->importance[T->ch->face[t]] : 1;
-        bp__chart_rest(T->ch, T->m, t, &w, &px, &py);
-        /* importance I (eq 4.1): singular values scaled by I^-1/2 (the rest
-           shape grows by sqrt(I)) and the energy weighted by I */
-        if (!(imp > 0) || !(imp < HUGE_VAL)) { T->bad[c] = t; return; }
-        bp__rest_inverse(w, px, py, 1 / sqrt(imp), &S->rest[t]);
-        S->rest[t].weight = 0.5 * w * py * imp;
-        T->wxy[3 * (size_t)t] = w; T->wxy[3 * (size_t)t + 1] = px; T->wxy[3 * (size_t)t + 2] = py;
-    }
-}
-
-/* The solver of one chart, set up as bp_chart_optimize uses it (and as the
-   tests check it): rest shapes of sec 3.1 with the importance of eq 4.1,
-   weights E_D = sum (A_t / mean area) E_t (so E_D / nt is the area-weighted
-   mean the report shows), the energy, and the barrier width eps -- a
-   quarter of the mean 3D boundary edge (sec 3.3) unless o->epsilon is set.
-   rest_wxy (3 per triangle, may be NULL) receives the flattened triangles
-   (w, x, y) for the preconditioner.  On failure the solver is freed.  The
-   rest shapes are made on par's threads, in chunks of triangles; the areas
-   are added in triangle order after them, so the weights have the same
-   bits on any threads.  bp__solver_chart: the same on the caller alone. */
-static bp_status bp__solver_chart_par(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
-                                      const bp_options *o, double *rest_wxy, const bp__par *par, bp_error *err)
-{
-    uint32_t t, L, k, c;
-    double total_area = 0, len = 0;
-    int ok;
-    bp__rest_task T;
-    if (bp__solver_init(S, a, ch->num_vertices, ch->num_triangles, ch->triangles, ch->num_loops,
-                        ch->loop_start, ch->loop_vertices) != BP_OK)
-        return bp__oom(err, "optimizing a chart");
-    S->energy = o->energy;
-    S->barrier = !o->no_barrier;
-    T.S = S; T.ch = ch; T.m = m; T.importance = o->importance;
-    T.wxy = rest_wxy ? rest_wxy : (double *)bp__alloc_array(a, 3 * (size_t)S->nt + 1, sizeof(double));
-    T.bad = (uint32_t *)bp__alloc_array(a, (size_t)S->nchunk_t + 1, sizeof(uint32_t));
-    if (!T.wxy || !T.bad) {
-        if (!rest_wxy) bp__free(a, T.wxy);
-        bp__free(a, T.bad);
-        bp__solver_free(S);
-        return bp__oom(err, "optimizing a chart");
-    }
-    par->run(par->user, bp__rest_task_run, &T, S->nchunk_t);
-    for (c = 0; c < S->nchunk_t && T.bad[c] == BP__NONE; c++) {}
-    for (t = 0; c == S->nchunk_t && t < S->nt; t++) total_area += 0.5 * T.wxy[3 * (size_t)t] * T.wxy[3 * (size_t)t + 2];
-    if (c < S->nchunk_t) {                         /* the first bad triangle, as a serial loop finds it */
-        uint32_t f = ch->face[T.bad[c]];
-        if (!rest_wxy) bp__free(a, T.wxy);
-        bp__free(a, T.bad);
-        bp__solver_free(S);
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_TRIANGLE, f, -1, 0,
-                        "importance of mesh triangle %u is %g: it must be positive and finite", f, o->importance[f]);
-    }
-    bp__free(a, T.bad);
-    for (t = 0; t < S->nt; t++) S->rest[t].weight *= S->nt / total_area;
-    for (L = 0; L < S->nloops; L++)
-        for (k = S->loop_start[L]; k < S->loop_start[L + 1]; k++) {
-            uint32_t va = S->loop_vertices[k], vb = S->loop_vertices[k + 1 < S->loop_start[L + 1] ? k + 1 : S->loop_start[L]];
-            len += bp__dist3(bp__pos(m, ch->vertex[va]), bp__pos(m, ch->vertex[vb]));
-        }
-    S->mean_edge = len / S->nb;
-    S->eps = o->epsilon > 0 ? o->epsilon : S->mean_edge / 4;
-    ok = o->epsilon > 0 || bp__start_thin_eps(a, ch, T.wxy, &S->eps);      /* thin charts, >>start */
-    if (!rest_wxy) bp__free(a, T.wxy);
-    if (!ok) {
-        bp__solver_free(S);
-        return bp__oom(err, "optimizing a chart");
-    }
-    return BP_OK;
-}
-
-static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
-                                  const bp_options *o, double *rest_wxy, bp_error *err)
-{
-    bp__par serial = bp__par_serial();
-    return bp__solver_chart_par(S, a, ch, m, o, rest_wxy, &serial, err);
-}
-
-/* The L-BFGS vector work in chunks (see >>threads).  One pass over n
-   doubles computes, on each chunk,
-       out = c0 base + c_1 w_1 + ... + c_nw w_nw     (out NULL: nothing;
-                                                     base NULL: 0)
-   term by term in that order, and then the dot products A_k . B_k
-   (k < nd) of the vectors as they are after that; the partial dots of the
-   chunks are added in chunk order.  out may be base (the update is
-   elementwise).  A pass costs one join and one sweep of its vectors, so
-   the solver asks for as much as it can in each.
-   The chunks hold whole xy pairs: for a vector of 2 nv coordinates, chunk
-   c is the x and y of the vertices of the gradient gather's chunk c, so
-   each core meets again the vertices it gathered. */
-#define BP__VEC_CHUNK 4096u
-
-static uint32_t bp__vec_nchunks(uint32_t n)
-{
-    return bp__nchunks(n / 2 + n % 2, BP__VEC_CHUNK / 2);
-}
-
-/* The first coordinate of chunk k of nc (k = nc: n). */
-static uint32_t bp__vec_chunk_at(uint32_t n, uint32_t nc, uint32_t k)
-{
-    return k < nc ? 2 * bp__chunk_at(n / 2, nc, k) : n;
-}
-
-typedef struct bp__vec_task {
-    double             *out;
-    const double       *base;
-    double              c0;
-    const double *const *w;
-    const double       *c;
-    const double *const *A, *const *B;
-    uint32_t            nw, nd, n, nc;
-    double             *part;            /* nd per chunk                     */
-} bp__vec_task;
-
-static void bp__vec_task_run(void *task, uint32_t k)
-{
-    bp__vec_task *T = (bp__vec_task *)task;
-    uint32_t i, j, i0 = bp__vec_chunk_at(T->n, T->nc, k), i1 = bp__vec_chunk_at(T->n, T->nc, k + 1);
-    if (T->out) {
-        if (T->base) for (i = i0; i < i1; i++) T->out[i] = T->c0 * T->base[i];
-        else for (i = i0; i < i1; i++) T->out[i] = 0;
-        for (j = 0; j < T->nw; j++) {
-            const double *w = T->w[j], c = T->c[j];
-            for (i = i0; i < i1; i++) T->out[i] += c * w[i];
-        }
-    }
-    for (j = 0; j < T->nd; j++) {
-        const double *a = T->A[j], *b = T->B[j];
-        double d0 = 0, d1 = 0, d2 = 0, d3 = 0;
-        for (i = i0; i + 4 <= i1; i += 4) {      /* four sums: not one long chain of dependent adds */
-            d0 += a[i] * b[i];
-            d1 += a[i + 1] * b[i + 1];
-            d2 += a[i + 2] * b[i + 2];
-            d3 += a[i + 3] * b[i + 3];
-        }
-        for (; i < i1; i++) d0 += a[i] * b[i];
-        T->part[(size_t)k * T->nd + j] = (d0 + d1) + (d2 + d3);
-    }
-}
-
-/* Runs one pass; dot[k] receives A_k . B_k.  part: nd per chunk. */
-static void bp__vec_pass(const bp__par *par, double *part, uint32_t n, double *out, double c0, const double *base,
-                         uint32_t nw, const double *const *w, const double *c,
-                         uint32_t nd, const double *const *A, const double *const *B, double *dot)
-{
-    bp__vec_task T;
-    uint32_t k, j, nc = bp__vec_nchunks(n);
-    T.nc = nc;
-    T.out = out; T.base = base; T.c0 = c0;
-    T.w = w; T.c = c; T.nw = nw;
-    T.A = A; T.B = B; T.nd = nd;
-    T.part = part;
-    T.n = n;
-    par->run(par->user, bp__vec_task_run, &T, nc);
-    for (j = 0; j < nd; j++) {
-        double s = 0;
-        for (k = 0; k < nc; k++) s += part[(size_t)k * nd + j];
-        dot[j] = s;
-    }
-}
-
-/* The common case: out = base + c w (base NULL: c w), with up to one dot. */
-static void bp__vec_axpy(const bp__par *par, double *part, uint32_t n, double *out, const double *base, double c,
-                         const double *w, const double *a, const double *b, double *dot)
-{
-    bp__vec_pass(par, part, n, out, 1, base, 1, &w, &c, a ? 1u : 0u, &a, &b, dot);
-}
-
-/* The L-BFGS memory (Algorithm 1; Nocedal & Wright, Algorithm 7.4): the
-   last m pairs s = x_new - x, y = g_new - g in a ring of slots, and the
-   search direction v = -H g by the two-loop recursion
-       q = g;  for j newest..oldest: alpha_j = rho_j s_j.q,  q -= alpha_j y_j
-       r = H0 q;  for j oldest..newest: beta_j = rho_j y_j.r,  r += (alpha_j - beta_j) s_j
-   with rho_j = 1 / s_j.y_j.  Written out, every dot product the loops take
-   is a dot with g, with p = K^-1 q, or between two stored vectors:
-       s_j.q = s_j.g - sum_{l newer than j} alpha_l s_j.y_l
-       y_j.r = scale y_j.p + sum_{l older than j} (alpha_l - beta_l) s_l.y_j
-   (H0 = scale K^-1).  The products s_i.y_j are kept in the Gram matrix SY,
-   to which each new pair adds its row and column, so the recursion takes
-   four passes over the vectors, (a) s_j.g, (b) q, (c) y_j.p, (d) v = -r
-   with g.v, instead of 2m + 2, with scalar work in between (the
-   "vector-free" form of Chen, Wang and Zhou, NIPS 2014).  The result is
-   the recursion's, up to rounding; tests/test_optimize.c compares the two. */
-typedef struct bp__lbfgs {
-    int hist, nh, head;               /* slots, pairs stored, next slot   */
-    uint32_t n;                       /* vector length                    */
-    double *s, *y;                    /* hist vectors each                */
-    double *rho, *sy, *yy, *SY;       /* per slot; SY(i, j) = s_i . y_j   */
-    double *alpha, *coef, *sg, *yr;   /* per age (0: the newest pair)     */
-    double *vc, *vd;                  /* a pass's coefficients and dots   */
-    const double **vA, **vB;          /* a pass's vectors                 */
-    double *part;                     /* partial dots: 2 hist + 2 per chunk */
-} bp__lbfgs;
-
-static void bp__lbfgs_free(const bp_allocator *a, bp__lbfgs *L)
-{
-    bp__free(a, L->s); bp__free(a, L->y); bp__free(a, L->rho); bp__free(a, (void *)L->vA); bp__free(a, L->part);
-    memset(L, 0, sizeof *L);
-}
-
-static int bp__lbfgs_init(const bp_allocator *a, bp__lbfgs *L, int hist, uint32_t n)
-{
-    size_t h1 = (size_t)hist + 1;
-    memset(L, 0, sizeof *L);
-    L->hist = hist;
-    L->n = n;
-    L->s = (double *)bp__alloc_array(a, (size_t)n * (hist ? hist : 1), sizeof(double));
-    L->y = (double *)bp__alloc_array(a, (size_t)n * (hist ? hist : 1), sizeof(double));
-    L->rho = (double *)bp__alloc_array(a, 10 * h1 + h1 * h1, sizeof(double));
-    L->vA = (const double **)bp__alloc_array(a, 4 * h1, sizeof(const double *));
-    L->part = (double *)bp__alloc_array(a, 2 * h1 * ((size_t)bp__vec_nchunks(n) + 1), sizeof(double));
-    if (!L->s || !L->y || !L->rho || !L->vA || !L->part) { bp__lbfgs_free(a, L); return 0; }
-    L->sy = L->rho + h1; L->yy = L->sy + h1; L->alpha = L->yy + h1; L->coef = L->alpha + h1;
-    L->sg = L->coef + h1; L->yr = L->sg + h1; L->vc = L->yr + h1; L->vd = L->vc + h1; L->SY = L->vd + 2 * h1;
-    L->vB = L->vA + 2 * h1;
+    double a = J[0], b = J[1], c = J[2], d = J[3], det = a * d - b * c, sa, sb, fa, fb;
+    e->E = 0.5 * (a + d); e->F = 0.5 * (a - d); e->G = 0.5 * (c + b); e->H = 0.5 * (c - b);
+    e->Q = sqrt(e->E * e->E + e->H * e->H);
+    e->R = sqrt(e->F * e->F + e->G * e->G);
+    if (!(det > 0)) return 0;
+    sa = e->Q + e->R;
+    sb = det / sa;
+    bp__energy_sv(kind, sa, sb, &fa, &fb);
+    bp__energy_sv2(kind, sa, sb, fa, fb, e->hs, &e->tw, &e->fl);
+    e->t = sqrt(0.25 * (e->hs[0] - e->hs[2]) * (e->hs[0] - e->hs[2]) + e->hs[1] * e->hs[1]);
+    e->l1 = 0.5 * (e->hs[0] + e->hs[2]) + e->t;
+    e->l2 = 0.5 * (e->hs[0] + e->hs[2]) - e->t;
+    if (e->t > 0) {
+        double x1 = e->hs[1], y1 = e->l1 - e->hs[0], x2 = e->l1 - e->hs[2], y2 = e->hs[1];
+        if (x1 * x1 + y1 * y1 >= x2 * x2 + y2 * y2) { e->x = x1; e->y = y1; } else { e->x = x2; e->y = y2; }
+    } else { e->x = 1; e->y = 0; }
     return 1;
 }
 
-#define BP__S(L, k) ((L)->s + (size_t)(k) * (L)->n)
-#define BP__Y(L, k) ((L)->y + (size_t)(k) * (L)->n)
-#define BP__SLOT(L, j) (((L)->head - 1 - (j) + (L)->hist) % (L)->hist)   /* the pair of age j */
-
-/* v = -H g (needs nh > 0); returns g.v.  K, KF: H0 = K^-1 / sigma with
-   sigma = s.y / s.K s of the newest pair (pwork: 2n doubles, qpart: the
-   quad form's partial sums); K NULL: H0 = (s.y / y.y) I. */
-static double bp__lbfgs_direction(bp__lbfgs *L, const bp__par *par, const double *g, double *v,
-                                  const bp__sparse *K, const bp__factor *KF, double *pwork, double *qpart)
+/* The 4x4 Hessian of f(J) in J's entries (a, b, c, d) = (J00, J01, J10,
+   J11), row major into h4; with `project`, its positive semidefinite
+   projection.  Returns 0 when J is not positively oriented. */
+static int bp__hessian_j(bp_energy kind, const double J[4], int project, double h4[16])
 {
-    int j, l, nh = L->nh, nw = BP__SLOT(L, 0);
-    uint32_t n = L->n;
-    double scale, gv;
-    for (j = 0; j < nh; j++) { L->vA[j] = BP__S(L, BP__SLOT(L, j)); L->vB[j] = g; }
-    bp__vec_pass(par, L->part, n, NULL, 0, NULL, 0, NULL, NULL, (uint32_t)nh, L->vA, L->vB, L->sg);      /* (a) */
-    for (j = 0; j < nh; j++) {
-        double sq = L->sg[j];
-        for (l = 0; l < j; l++) sq -= L->alpha[l] * L->SY[(size_t)BP__SLOT(L, j) * L->hist + BP__SLOT(L, l)];
-        L->alpha[j] = L->rho[BP__SLOT(L, j)] * sq;
+    double rot[4], ref[4], m[4][4], lam[4], s2 = sqrt(0.5), c1, c2, hv, out[16];
+    bp__jeig e;
+    int i, j, k;
+    if (!bp__hessian_eig(kind, J, &e)) return 0;
+    rot[0] = e.E / e.Q; rot[1] = -e.H / e.Q; rot[2] = e.H / e.Q; rot[3] = e.E / e.Q;
+    if (e.R > 0) { ref[0] = e.F / e.R; ref[1] = e.G / e.R; ref[2] = e.G / e.R; ref[3] = -e.F / e.R; }
+    else { ref[0] = 1; ref[1] = 0; ref[2] = 0; ref[3] = -1; }
+    /* twist and flip: [-H -E; E -H] / Q and [-G F; F G] / R, over sqrt2 */
+    m[0][0] = -rot[2] * s2; m[0][1] = -rot[0] * s2; m[0][2] = rot[0] * s2; m[0][3] = -rot[2] * s2;
+    m[1][0] = -ref[1] * s2; m[1][1] = ref[0] * s2; m[1][2] = ref[0] * s2; m[1][3] = ref[1] * s2;
+    lam[0] = e.tw; lam[1] = e.fl;
+    /* the scaling block in the basis D1 = (rot + ref) / 2, D2 = (rot - ref) / 2:
+       eigenvalues l1 >= l2, the unit eigenvector (c1, c2) of l1 */
+    c1 = e.x; c2 = e.y;
+    if (e.t > 0) {
+        hv = sqrt(c1 * c1 + c2 * c2);
+        c1 /= hv; c2 /= hv;
     }
-    for (j = 0; j < nh; j++) { L->vA[j] = BP__Y(L, BP__SLOT(L, j)); L->vc[j] = -L->alpha[j]; }
-    bp__vec_pass(par, L->part, n, v, 1, g, (uint32_t)nh, L->vA, L->vc, 0, NULL, NULL, NULL);              /* (b) */
-    if (K) {
-        scale = bp__quad_form(K, BP__S(L, nw), par, qpart) / L->sy[nw];
-        bp__precondition(KF, par, v, v, pwork);
-    } else {
-        scale = L->sy[nw] / L->yy[nw];
+    for (k = 0; k < 4; k++) {
+        double d1 = 0.5 * (rot[k] + ref[k]), d2 = 0.5 * (rot[k] - ref[k]);
+        m[2][k] = c1 * d1 + c2 * d2;         /* eigenvector of l1 */
+        m[3][k] = -c2 * d1 + c1 * d2;        /* eigenvector of l2 */
     }
-    for (j = 0; j < nh; j++) { L->vA[j] = BP__Y(L, BP__SLOT(L, j)); L->vB[j] = v; }
-    bp__vec_pass(par, L->part, n, NULL, 0, NULL, 0, NULL, NULL, (uint32_t)nh, L->vA, L->vB, L->yr);      /* (c) */
-    for (j = nh - 1; j >= 0; j--) {
-        double yrj = scale * L->yr[j];
-        for (l = nh - 1; l > j; l--) yrj += L->coef[l] * L->SY[(size_t)BP__SLOT(L, l) * L->hist + BP__SLOT(L, j)];
-        L->coef[j] = L->alpha[j] - L->rho[BP__SLOT(L, j)] * yrj;
-    }
-    for (j = 0; j < nh; j++) { L->vA[j] = BP__S(L, BP__SLOT(L, j)); L->vc[j] = -L->coef[j]; }
-    L->vB[0] = g; L->vB[1] = v;
-    bp__vec_pass(par, L->part, n, v, -scale, v, (uint32_t)nh, L->vA, L->vc, 1, L->vB, L->vB + 1, &gv);  /* (d) */
-    return gv;
-}
-
-/* Store s = x_new - x and y = g_new - g in the slot of the oldest pair: s
-   with s.s in one pass, then y with y.y, s.y and the new row and column of
-   SY in another.  The pair is dropped when the curvature s.y is not
-   positive; the oldest pair is then gone too (its slot was written). */
-static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, const double *xn, const double *g,
-                           const double *gn)
-{
-    double ss, *sp, *yp;
-    int j, nd = 2;
-    if (!L->hist) return;
-    sp = BP__S(L, L->head);
-    yp = BP__Y(L, L->head);
-    bp__vec_axpy(par, L->part, L->n, sp, xn, -1, x, sp, sp, &ss);
-    L->vA[0] = yp; L->vB[0] = yp;
-    L->vA[1] = sp; L->vB[1] = yp;
-    for (j = 0; j < L->nh; j++)
-        if (BP__SLOT(L, j) != L->head) {
-            L->vA[nd] = BP__S(L, BP__SLOT(L, j)); L->vB[nd++] = yp;    /* s_j . y */
-            L->vA[nd] = sp; L->vB[nd++] = BP__Y(L, BP__SLOT(L, j));    /* s . y_j */
+    lam[2] = e.l1; lam[3] = e.l2;
+    for (k = 0; k < 4; k++) if (project && !(lam[k] > 0)) lam[k] = 0;
+    for (i = 0; i < 4; i++)                  /* symmetric: the upper triangle, mirrored */
+        for (j = i; j < 4; j++) {
+            double s = 0;
+            for (k = 0; k < 4; k++) s += lam[k] * m[k][i] * m[k][j];
+            out[4 * i + j] = out[4 * j + i] = s;
         }
-    L->vc[0] = -1;
-    bp__vec_pass(par, L->part, L->n, yp, 1, gn, 1, &g, L->vc, (uint32_t)nd, L->vA, L->vB, L->vd);
-    if (L->vd[1] > 1e-12 * sqrt(ss * L->vd[0])) {
-        int h = L->head;
-        L->rho[h] = 1 / L->vd[1];
-        L->sy[h] = L->vd[1];
-        L->yy[h] = L->vd[0];
-        L->SY[(size_t)h * L->hist + h] = L->vd[1];
-        for (nd = 2, j = 0; j < L->nh; j++)
-            if (BP__SLOT(L, j) != h) {
-                L->SY[(size_t)BP__SLOT(L, j) * L->hist + h] = L->vd[nd++];
-                L->SY[(size_t)h * L->hist + BP__SLOT(L, j)] = L->vd[nd++];
-            }
-        L->head = (h + 1) % L->hist;
-        if (L->nh < L->hist) L->nh++;
-    } else if (L->nh == L->hist) {
-        L->nh--;
-    }
+    /* Built in a local array and copied out whole: GCC 12 (at -O1 and -O2,
+       with this function out of line) rewrote the mirrored store into the
+       caller's array as a memory reference based at address 0, which its
+       mod/ref analysis then took for a null dereference ending the block:
+       the function was summarized as storing nothing, and a caller's reads
+       of a zero-initialized h4 were folded to the zeros (fixed in later
+       GCC's induction-variable pass; tests/test_newton.c (l) reads one) */
+    memcpy(h4, out, sizeof out);
+    return 1;
 }
-#undef BP__S
-#undef BP__Y
-#undef BP__SLOT
+
+/* Block (al, be) of the 4x4 Hessian h4 in J, B_ab (rows 2 al, 2 al + 1,
+   columns 2 be, 2 be + 1), carried to the corners: M = G^T B_ab G, with
+   G the rows of J's gradient (g_2 = (m00, m01), g_3 = (0, m11), and
+   corner 1's g_1 = -g_2 - g_3). */
+static void bp__hessian_corners(const bp__rest *r, const double *h4, int al, int be, double M[3][3])
+{
+    const double *b0 = h4 + 4 * (2 * al) + 2 * be, *b1 = b0 + 4;   /* rows p = 0, 1 of B_ab */
+    double c[2][2];
+    c[0][0] = b0[0] * r->m00 + b0[1] * r->m01; c[0][1] = b0[1] * r->m11;      /* c = B_ab G */
+    c[1][0] = b1[0] * r->m00 + b1[1] * r->m01; c[1][1] = b1[1] * r->m11;
+    M[1][1] = r->m00 * c[0][0] + r->m01 * c[1][0]; M[1][2] = r->m00 * c[0][1] + r->m01 * c[1][1];
+    M[2][1] = r->m11 * c[1][0];                    M[2][2] = r->m11 * c[1][1];
+    M[0][1] = -M[1][1] - M[2][1]; M[0][2] = -M[1][2] - M[2][2];
+    M[1][0] = -M[1][1] - M[1][2]; M[2][0] = -M[2][1] - M[2][2];
+    M[0][0] = -M[0][1] - M[0][2];
+}
+
+/* J of the triangle's map; 0 when it is not positive. */
+static int bp__triangle_j(const bp__rest *r, const double *u1, const double *u2, const double *u3, double J[4])
+{
+    double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
+    J[0] = d00 * r->m00; J[1] = d00 * r->m01 + d01 * r->m11;
+    J[2] = d10 * r->m00; J[3] = d10 * r->m01 + d11 * r->m11;
+    return 1;
+}
+
+/* The 6x6 Hessian of weight * E_t in (u1x, u1y, u2x, u2y, u3x, u3y), row
+   major into h6 (projected to positive semidefinite with `project`).
+   Returns 0 (h6 untouched) for a triangle that is not positive. */
+static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double *u1, const double *u2,
+                                const double *u3, int project, double h6[36])
+{
+    double J[4], h4[16], w = r->weight, M[3][3];
+    int k, l, al, be;
+    bp__triangle_j(r, u1, u2, u3, J);
+    if (!bp__hessian_j(kind, J, project, h4)) return 0;
+    for (al = 0; al < 2; al++)
+        for (be = al; be < 2; be++) {
+            bp__hessian_corners(r, h4, al, be, M);
+            for (k = 0; k < 3; k++)
+                for (l = 0; l < 3; l++) {
+                    h6[6 * (2 * k + al) + 2 * l + be] = w * M[k][l];
+                    h6[6 * (2 * l + be) + 2 * k + al] = w * M[k][l];     /* (M_ba = M_ab^T) */
+                }
+        }
+    return 1;
+}
+
+/* Its isotropic part (Newton's isotropic phase, bp__newton_tri_task):
+   k[i] = (xx + yy) / 2 of corner block (r, q), r <= q, at i =
+   bp__ht_block[r][q] / 4.  Newton's H keeps its six 2x2 corner blocks
+   (r, q), r <= q, per triangle in that order, each row major, the block
+   (r, q) at bp__ht_block[r][q] (bp__newton_tri_task); the isotropic phase
+   keeps one number per block, at a quarter of that.
+
+   The average of the xx and yy blocks needs neither the 4x4 nor two
+   congruences.  The x coordinates move J's row 0 and the y coordinates
+   its row 1 (>>hessian), so (xx + yy) / 2 = G^T C G with
+   C = (B_00 + B_11) / 2, B_aa the diagonal 2x2 blocks of the projected
+   H4 = sum_k lambda_k vec(Q_k) vec(Q_k)^T.  Summing over J's two rows,
+       C = 1/2 sum_k lambda_k Q_k^T Q_k.
+   Twist and flip are U [0 -+1; 1 0] V^T / sqrt2, so Q^T Q = I / 2 for
+   both; a scaling eigenvector c1 U diag(1,0) V^T + c2 U diag(0,1) V^T
+   gives V diag(c1^2, c2^2) V^T, and summed with its eigenvalues the two
+   give V diag(al, be) V^T, with (al, be) the diagonal of the projected
+   scaling block (the block itself when both its eigenvalues are >= 0, as
+   for symmetric Dirichlet always).  With V diag(1, -1) V^T = rot^T ref
+   (rot = U V^T = [E -H; H E] / Q, ref = U diag(1,-1) V^T =
+   [F G; G -F] / R, as in bp__hessian_j),
+       C = (tw + fl + al + be) / 4 I + (al - be) / 4 P,
+       P = rot^T ref = [EF + HG, EG - HF; EG - HF, -(EF + HG)] / (Q R),
+   tw and fl clamped at 0; at R = 0 the reflection [1 0; 0 -1] of
+   bp__hessian_j, P = [E -H; -H -E] / Q.  Face: less than half the time
+   of the 4x4 and its two congruences (docs/performance.md sec 6.34).
+   C is written as a block of an H4 (rows at stride 4: C[0] C[1] / C[4]
+   C[5]) for bp__hessian_corners.  tests/test_newton.c (l) checks it
+   against the 4x4's blocks for every energy. */
+static int bp__hessian_iso_j(bp_energy kind, const double J[4], double C[8])
+{
+    double al, be, tw, fl, iso, dev, p0, p1;
+    bp__jeig e;
+    if (!bp__hessian_eig(kind, J, &e)) return 0;
+    if (e.l2 >= 0) { al = e.hs[0]; be = e.hs[2]; }    /* already positive semidefinite */
+    else if (!(e.l1 > 0)) al = be = 0;
+    else {                                            /* l1 e e^T, e = (x, y) / |(x, y)| */
+        double n = e.x * e.x + e.y * e.y;
+        al = e.l1 * e.x * e.x / n;
+        be = e.l1 * e.y * e.y / n;
+    }
+    tw = e.tw > 0 ? e.tw : 0;
+    fl = e.fl > 0 ? e.fl : 0;
+    iso = 0.25 * (tw + fl + al + be);
+    dev = 0.25 * (al - be);
+    if (e.R > 0) { p0 = (e.E * e.F + e.H * e.G) / (e.Q * e.R); p1 = (e.E * e.G - e.H * e.F) / (e.Q * e.R); }
+    else { p0 = e.E / e.Q; p1 = -e.H / e.Q; }
+    C[0] = iso + dev * p0;
+    C[1] = C[4] = dev * p1;
+    C[5] = iso - dev * p0;
+    return 1;
+}
+
+static const unsigned char bp__ht_block[3][3] = { { 0, 4, 8 }, { 4, 12, 16 }, { 8, 16, 20 } };
+static int bp__triangle_hessian_iso(bp_energy kind, const bp__rest *r, const double *u1, const double *u2,
+                                    const double *u3, double k6[6])
+{
+    double J[4], C[8], w = r->weight, M[3][3];
+    int k, l;
+    bp__triangle_j(r, u1, u2, u3, J);
+    if (!bp__hessian_iso_j(kind, J, C)) return 0;
+    bp__hessian_corners(r, C, 0, 0, M);
+    for (k = 0; k < 3; k++)
+        for (l = k; l < 3; l++) k6[bp__ht_block[k][l] / 4] = w * M[l][k];
+    return 1;
+}
+
+/* The barrier's full curvature for one pair (for Newton, >>newton).  With
+   f(d) = (eps / d - 1)^2 and d = d(P, A, B) the distance from P to the
+   segment AB, the pair's Hessian in the six coordinates (P, A, B) is
+       K = f''(d) grad d grad d^T + f'(d) Hess d,
+   f' = -2 (eps / d - 1) eps / d^2 < 0.  The Gauss-Newton part alone (the
+   first term) sees only the relative motion along the normal n.  Where
+   the closest point is an end of the segment, d = |P - A| and Hess d =
+   (I - n n^T) / d is positive semidefinite, so the second term is negative
+   semidefinite and dropping it is the right projection.  Where the closest
+   point is inside the segment it is not: with q = P - A, e = B - A,
+   c = q x e and L = |e|, d = sigma c / L (sigma = sign c) is bilinear in q
+   and e up to the 1/L, and Hess d couples the vertex's slide along the
+   edge with the edge's rotation.  A step that slides P along AB by a
+   distance a while AB turns by an angle w brings them closer by about
+   a w, a second-order change the Gauss-Newton model calls free; near
+   contact, |f'| a w can outweigh f'' times the normal motion squared by
+   orders of magnitude (docs/performance.md sec 6.10: on hilbert, a vertex
+   at eps/170 from an edge slides 200 d per unit step while the edge turns,
+   and Newton's steps are cut to t = 0.005 for 100 iterations).  So K is
+   formed whole and projected onto the positive semidefinite cone: its 6x6
+   eigen-decomposition (cyclic Jacobi), negative eigenvalues set to 0.
+   In q, e (4 coordinates; c's Hessian has d2c/dqx dey = 1,
+   d2c/dqy dex = -1, and grad (1/L) = -e / L^3, Hess (1/L) = -I / L^3 +
+   3 e e^T / L^5 on e):
+       Hess d = sigma (Hess c / L + grad c grad(1/L)^T + grad(1/L) grad c^T
+                       + c Hess(1/L)),
+   and (P, A, B) -> (q, e) is linear: q = P - A, e = B - A.  K (row-major
+   6x6, P's x y, then A's, then B's) is written for d in (0, eps); returns
+   0 (K untouched) outside.  With project = 0 it is the whole Hessian
+   (for the tests), at an end too. */
+static void bp__sym_psd6(double *K)
+{
+    double V[36], a[36];
+    int i, j, k, sweep;
+    memcpy(a, K, sizeof a);
+    for (i = 0; i < 36; i++) V[i] = (i % 7 == 0) ? 1 : 0;
+    for (sweep = 0; sweep < 30; sweep++) {
+        double off = 0, tot = 0;
+        for (i = 0; i < 6; i++)
+            for (j = 0; j < 6; j++) { tot += a[6 * i + j] * a[6 * i + j]; if (i != j) off += a[6 * i + j] * a[6 * i + j]; }
+        if (!(off > 1e-30 * tot)) break;
+        for (i = 0; i < 5; i++)
+            for (j = i + 1; j < 6; j++) {
+                double apq = a[6 * i + j], th, t, c, sn;
+                if (apq == 0) continue;
+                th = (a[6 * j + j] - a[6 * i + i]) / (2 * apq);
+                t = (th >= 0 ? 1 : -1) / (fabs(th) + sqrt(th * th + 1));
+                c = 1 / sqrt(t * t + 1); sn = t * c;
+                for (k = 0; k < 6; k++) {                       /* columns i, j */
+                    double x = a[6 * k + i], y = a[6 * k + j];
+                    a[6 * k + i] = c * x - sn * y; a[6 * k + j] = sn * x + c * y;
+                }
+                for (k = 0; k < 6; k++) {                       /* rows i, j */
+                    double x = a[6 * i + k], y = a[6 * j + k];
+                    a[6 * i + k] = c * x - sn * y; a[6 * j + k] = sn * x + c * y;
+                }
+                for (k = 0; k < 6; k++) {
+                    double x = V[6 * k + i], y = V[6 * k + j];
+                    V[6 * k + i] = c * x - sn * y; V[6 * k + j] = sn * x + c * y;
+                }
+            }
+    }
+    for (i = 0; i < 6; i++)
+        for (j = 0; j < 6; j++) {
+            double sum = 0;
+            for (k = 0; k < 6; k++) if (a[7 * k] > 0) sum += V[6 * i + k] * a[7 * k] * V[6 * j + k];
+            K[6 * i + j] = sum;
+        }
+}
+
+static int bp__barrier_pair_hessian(const double *P, const double *A, const double *B, double eps, int project,
+                                    double *K)
+{
+    double ex = B[0] - A[0], ey = B[1] - A[1], qx = P[0] - A[0], qy = P[1] - A[1];
+    double L2 = ex * ex + ey * ey, sp = L2 > 0 ? (qx * ex + qy * ey) / L2 : 0, dx, dy, d, f1, f2, g[6];
+    int i, j;
+    if (sp < 0) sp = 0;
+    if (sp > 1) sp = 1;
+    dx = qx - sp * ex; dy = qy - sp * ey;
+    d = sqrt(dx * dx + dy * dy);
+    if (!(d < eps) || !(d > 0)) return 0;
+    f1 = -2 * (eps / d - 1) * eps / (d * d);
+    f2 = 2 * eps * eps / (d * d * d * d) + 4 * (eps / d - 1) * eps / (d * d * d);
+    g[0] = dx / d; g[1] = dy / d;
+    g[2] = -(1 - sp) * g[0]; g[3] = -(1 - sp) * g[1];
+    g[4] = -sp * g[0]; g[5] = -sp * g[1];
+    for (i = 0; i < 6; i++) for (j = 0; j < 6; j++) K[6 * i + j] = f2 * g[i] * g[j];
+    if (sp > 0 && sp < 1) {                      /* inside the segment: the whole Hessian */
+        double L = sqrt(L2), c = qx * ey - qy * ex, sg = c >= 0 ? 1 : -1, iL3 = 1 / (L * L2);
+        double gc[4], gi[4], H4[16], J[4][6];
+        memset(H4, 0, sizeof H4);
+        gc[0] = ey; gc[1] = -ex; gc[2] = -qy; gc[3] = qx;
+        gi[0] = 0; gi[1] = 0; gi[2] = -ex * iL3; gi[3] = -ey * iL3;
+        H4[0 * 4 + 3] = H4[3 * 4 + 0] = 1 / L;
+        H4[1 * 4 + 2] = H4[2 * 4 + 1] = -1 / L;
+        for (i = 0; i < 4; i++) for (j = 0; j < 4; j++) H4[4 * i + j] += gc[i] * gi[j] + gi[i] * gc[j];
+        H4[2 * 4 + 2] += c * (-iL3 + 3 * ex * ex * iL3 / L2);
+        H4[2 * 4 + 3] += c * (3 * ex * ey * iL3 / L2);
+        H4[3 * 4 + 2] += c * (3 * ex * ey * iL3 / L2);
+        H4[3 * 4 + 3] += c * (-iL3 + 3 * ey * ey * iL3 / L2);
+        memset(J, 0, sizeof J);                  /* q = P - A, e = B - A */
+        J[0][0] = 1; J[0][2] = -1; J[1][1] = 1; J[1][3] = -1;
+        J[2][4] = 1; J[2][2] = -1; J[3][5] = 1; J[3][3] = -1;
+        for (i = 0; i < 6; i++)
+            for (j = 0; j < 6; j++) {
+                double sum = 0;
+                int k, l;
+                for (k = 0; k < 4; k++) for (l = 0; l < 4; l++) sum += J[k][i] * H4[4 * k + l] * J[l][j];
+                K[6 * i + j] += f1 * sg * sum;
+            }
+        if (project) bp__sym_psd6(K);
+    } else if (!project) {                       /* at an end E: f'(d) (I - n n^T) / d on P - E (its projection: 0) */
+        int e = sp > 0 ? 2 : 1, a_, b_;
+        double t[2];
+        t[0] = -g[1]; t[1] = g[0];
+        for (a_ = 0; a_ < 2; a_++)
+            for (b_ = 0; b_ < 2; b_++) {
+                double w = f1 / d * t[a_] * t[b_];
+                K[6 * a_ + b_] += w; K[6 * (2 * e + a_) + 2 * e + b_] += w;
+                K[6 * a_ + 2 * e + b_] -= w; K[6 * (2 * e + a_) + b_] -= w;
+            }
+    }
+    return 1;
+}
+
 
 /* >>newton =================================================================
 
@@ -17003,6 +16433,442 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
     return s < 0 && s > -HUGE_VAL;
 }
 
+/* >>lbfgs ==================================================================
+
+   Sec 3.4 and 3.5.  Each iteration: (1) energy and gradient, (2) a search
+   direction, (3) the step bound tmax, (4) a backtracking line search from
+   min(1, 0.9 tmax) that accepts the first t with sufficient decrease
+   (Armijo: f(x + t v) <= f(x) + 1e-4 t g.v) and an exactly valid map, (5)
+   the convergence test.  The direction is L-BFGS (Algorithm 1, memory m,
+   initial scaling s.y / y.y; by default with the preconditioner below),
+   plain gradient descent for comparison, or projected Newton (>>newton).
+   Floating point cannot defeat the guarantee: the step bound is computed in
+   floating point, so every accepted step is re-checked with the exact
+   predicates -- every triangle positive, no two boundary edges meeting,
+   exactly one counter-clockwise loop, which for one chart is all of
+   bp_check (see >>check for why the loop count completes it) -- and halved
+   until the check passes.  The start map itself is checked with bp_check
+   before the first iteration, whoever computed it.  The iteration itself,
+   in named phases, follows the directions (>>optimize). */
+
+/* Preconditioning (beyond the dissertation).  Algorithm 1 starts each
+   L-BFGS direction from a scalar multiple of the identity, H0 = (s.y / y.y) I,
+   which ignores the mesh: a gradient step moves one vertex without its
+   neighbours, and thousands of iterations pass before the map relaxes.  A
+   better H0 is the inverse of the cotangent Laplacian K of the rest shape,
+   the Hessian of the Dirichlet energy sum A_t |J_t|^2 (up to a factor 2).
+   It is not the Hessian of the symmetric Dirichlet energy (near an isometry
+   that is about 4 K on stretches and 0 on rotations, see docs/math.md), but
+   it has the mesh's structure: K^-1 moves whole neighbourhoods together,
+   and the scale sigma below absorbs the constant.  The same idea drives
+   the blended quasi-Newton method of Zhu et al. (2018).  K is factored
+   once per chart with the sparse LDL^T above (regularized by 1e-8 of its
+   mean diagonal, since a free map can translate), and H0 = K^-1 / sigma
+   with the scale sigma = s.y / s.K s fitted to the latest curvature pair. */
+
+/* K of the chart's rest shape: for each triangle and each corner i with
+   opposite edge (j, k), 1/2 cot(theta_i) couples j and k (the linear FEM
+   stiffness matrix, positive semi-definite for any triangle shapes):
+
+       K_jk -= w_i,   K_jj += w_i,   K_kk += w_i,   w_i = 1/2 cot(theta_i),
+
+   and every diagonal gains the regularizer below.  K is assembled
+   straight into its compressed columns, on the solver's threads, in three
+   passes (a triplet list sorted by column was 78 ms of serial work on a
+   132K-face chart's two-thread run, docs/performance.md sec 6.33):
+     1. per triangle chunk, the three weights w of each triangle;
+     2. per vertex chunk, v's rows (bp__vertex_col): v and the other
+        corners of the triangles around it (the solver's corner lists),
+        sorted, duplicates dropped;
+     3. per vertex chunk, v's values: each entry the sum of its
+        contributions in triangle order (corner order within a triangle),
+        started from -0 so that the first contribution is taken as it is.
+   Each entry's sum runs in the order the serial triplet assembly it
+   replaced summed it (triangle by triangle; tests/bpt_triplets.h keeps
+   that assembly, and test_tutte (c) compares the two bit for bit), and
+   the regularizer's mean diagonal is one serial sum over the weights in
+   that order, so K has the same bits on any number of threads. */
+
+typedef struct bp__lap_task {
+    const bp__solver *S;
+    const double *wxy;            /* rest triangles (w, x, y)               */
+    const uint32_t *pidx;         /* pins (NULL: none)                      */
+    double *w;                    /* 3 per triangle: 1/2 cot of each corner */
+    uint32_t *gr, *glen;          /* v's rows at gr + 2 vc_start[v] + v     */
+    bp__sparse *K;
+    double diag;                  /* sum of K's diagonal, before the regularizer */
+} bp__lap_task;
+
+static void bp__lap_weights(void *task, uint32_t c)
+{
+    bp__lap_task *T = (bp__lap_task *)task;
+    uint32_t f, f1 = bp__chunk_at(T->S->nt, T->S->nchunk_t, c + 1);
+    for (f = bp__chunk_at(T->S->nt, T->S->nchunk_t, c); f < f1; f++) {
+        const double *r = T->wxy + 3 * (size_t)f;      /* F1=(0,0) F2=(w,0) F3=(x,y) */
+        double P[3][2], area2 = r[0] * r[2];
+        int i;
+        P[0][0] = 0; P[0][1] = 0; P[1][0] = r[0]; P[1][1] = 0; P[2][0] = r[1]; P[2][1] = r[2];
+        for (i = 0; i < 3; i++) {
+            int j = (i + 1) % 3, k = (i + 2) % 3;
+            double ux = P[j][0] - P[i][0], uy = P[j][1] - P[i][1], vx = P[k][0] - P[i][0], vy = P[k][1] - P[i][1];
+            T->w[3 * (size_t)f + i] = 0.5 * (ux * vx + uy * vy) / area2;      /* 1/2 cot(theta_i) */
+        }
+    }
+}
+
+static int bp__lap_pinned(const bp__lap_task *T, uint32_t v) { return T->pidx && T->pidx[v] != BP__NONE; }
+
+/* Pass 2: the rows of column v.  A pinned vertex keeps only its diagonal,
+   and a free one no coupling to a pinned one. */
+static void bp__lap_cols(void *task, uint32_t c)
+{
+    bp__lap_task *T = (bp__lap_task *)task;
+    const bp__solver *S = T->S;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1);
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++)
+        T->glen[v] = bp__vertex_col(S, v, T->pidx, NULL, 0, T->gr + 2 * (size_t)S->vc_start[v] + v);
+}
+
+/* Pass 3: the values of column v, each added where its row sits, then
+   the regularizer: 1e-8 of the mean diagonal (a free map can translate),
+   and on a pinned vertex the mean diagonal alone.  K is then block
+   diagonal, K_ff (free rows and columns of the Laplacian) and a diagonal
+   on the pinned ones, so K^-1 maps a vector that is zero on the pinned
+   coordinates to one that is zero there too (see >>pins). */
+static void bp__lap_values(void *task, uint32_t c)
+{
+    bp__lap_task *T = (bp__lap_task *)task;
+    const bp__solver *S = T->S;
+    uint32_t v, v1 = bp__chunk_at(S->nv, S->nchunk_v, c + 1), p, q, k;
+    for (v = bp__chunk_at(S->nv, S->nchunk_v, c); v < v1; v++) {
+        const uint32_t *col = T->gr + 2 * (size_t)S->vc_start[v] + v;
+        uint32_t m = T->glen[v], c0 = T->K->colp[v], dpos = 0;
+        double *val = T->K->val + c0;
+        memcpy(T->K->row + c0, col, m * sizeof(uint32_t));
+        for (q = 0; q < m; q++) { val[q] = -0.0; if (col[q] == v) dpos = q; }
+        if (!bp__lap_pinned(T, v))
+            for (p = S->vc_start[v]; p < S->vc_start[v + 1]; p++) {
+                uint32_t t = S->vc_list[p] / 3, cv = S->vc_list[p] % 3;
+                const double *w = T->w + 3 * (size_t)t;
+                for (k = 0; k < 3; k++) {                 /* corner k's weight, in corner order */
+                    uint32_t u;
+                    if (k == cv) continue;
+                    val[dpos] += w[k];                    /* v is an end of corner k's edge */
+                    u = S->tri[3 * (size_t)t + 3 - k - cv];   /* the edge's other end */
+                    if (!bp__lap_pinned(T, u)) val[bp__pattern_pos(col, m, u)] -= w[k];
+                }
+            }
+        val[dpos] += (bp__lap_pinned(T, v) ? 1 : 1e-8) * T->diag / S->nv;   /* (as the triplets had it) */
+    }
+}
+
+static bp_status bp__laplacian(const bp_allocator *a, const bp__solver *S, const double *rest_wxy,
+                               const uint32_t *pidx, bp__sparse *K, bp__factor *F, const uint32_t *order,
+                               const bp__ndnode *tree)
+{
+    bp__lap_task T;
+    size_t f, w = 0, nslot = 6 * (size_t)S->nt + S->nv;
+    uint32_t v, bad;
+    double diag = 0;
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    memset(&T, 0, sizeof T);
+    T.S = S;
+    T.wxy = rest_wxy;
+    T.pidx = pidx;
+    T.K = K;
+    T.w = (double *)bp__alloc_array(a, 3 * (size_t)S->nt + 1, sizeof(double));
+    T.gr = (uint32_t *)bp__alloc_array(a, nslot + 1, sizeof(uint32_t));
+    T.glen = (uint32_t *)bp__alloc_array(a, (size_t)S->nv + 1, sizeof(uint32_t));
+    K->n = S->nv;
+    K->colp = (uint32_t *)bp__alloc_array(a, (size_t)S->nv + 1, sizeof(uint32_t));
+    if (!T.w || !T.gr || !T.glen || !K->colp || nslot > 0xfffffff0u) goto done;
+    S->par.run(S->par.user, bp__lap_weights, &T, S->nchunk_t);
+    for (f = 0; f < 3 * (size_t)S->nt; f++) diag += 2 * T.w[f];        /* the order of the serial sum */
+    T.diag = diag;
+    S->par.run(S->par.user, bp__lap_cols, &T, S->nchunk_v);
+    for (v = 0; v < S->nv; v++) { K->colp[v] = (uint32_t)w; w += T.glen[v]; }
+    K->colp[S->nv] = (uint32_t)w;
+    K->row = (uint32_t *)bp__alloc_array(a, w + 1, sizeof(uint32_t));
+    K->val = (double *)bp__alloc_array(a, w + 1, sizeof(double));
+    if (!K->row || !K->val) goto done;
+    S->par.run(S->par.user, bp__lap_values, &T, S->nchunk_v);
+    st = BP_OK;
+done:
+    bp__free(a, T.w); bp__free(a, T.gr); bp__free(a, T.glen);
+    if (st != BP_OK) return st;
+    K->symmetric = 1;
+    K->super1 = BP__SUPER_SCALAR;
+    st = bp__factorize_order(a, K, F, &bad, &S->par, order, tree);     /* order: the start map's, or NULL */
+    if (st == BP_OK && (!bp__factor_single(a, F, &S->par) || !bp__solve_plan(a, F))) st = BP_ERR_OUT_OF_MEMORY;
+    return st;
+}
+
+/* s.K s (s interleaved xy), by column chunks whose partial sums are added
+   in order (see >>threads). */
+typedef struct bp__quad_task { const bp__sparse *K; const double *s; double *part; uint32_t nc; } bp__quad_task;
+#define BP__QUAD_CHUNK 2048u
+
+static void bp__quad_task_run(void *task, uint32_t c)
+{
+    bp__quad_task *T = (bp__quad_task *)task;
+    const bp__sparse *K = T->K;
+    const double *s = T->s;
+    uint32_t j, p, j1 = bp__chunk_at(K->n, T->nc, c + 1);
+    double sum = 0;
+    for (j = bp__chunk_at(K->n, T->nc, c); j < j1; j++)
+        for (p = K->colp[j]; p < K->colp[j + 1]; p++)
+            sum += K->val[p] * (s[2 * (size_t)K->row[p]] * s[2 * (size_t)j] +
+                                s[2 * (size_t)K->row[p] + 1] * s[2 * (size_t)j + 1]);
+    T->part[c] = sum;
+}
+
+static double bp__quad_form(const bp__sparse *K, const double *s, const bp__par *par, double *part)
+{
+    bp__quad_task T;
+    uint32_t c, nc = bp__nchunks(K->n, BP__QUAD_CHUNK);
+    double sum = 0;
+    T.nc = nc;
+    T.K = K;
+    T.s = s;
+    T.part = part;
+    par->run(par->user, bp__quad_task_run, &T, nc);
+    for (c = 0; c < nc; c++) sum += part[c];
+    return sum;
+}
+
+/* The rest shapes of the triangles of chunk c: M^-1 and the weight
+   before its normalization, the flattened (w, x, y) in wxy, and in bad[c]
+   the chunk's first triangle whose importance is not positive and finite
+   (BP__NONE: none).  Each task writes its own triangles, so the chunks may
+   run on any threads (bp__solver_chart_par). */
+typedef struct bp__rest_task {
+    bp__solver      *S;
+    const bp_chart  *ch;
+    const bp_mesh   *m;
+    const double    *importance;
+    double          *wxy;
+    uint32_t        *bad;
+} bp__rest_task;
+
+static void bp__rest_task_run(void *task, uint32_t c)
+{
+    bp__rest_task *T = (bp__rest_task *)task;
+    bp__solver *S = T->S;
+    uint32_t t, t1 = bp__chunk_at(S->nt, S->nchunk_t, c + 1);
+    T->bad[c] = BP__NONE;
+    for (t = bp__chunk_at(S->nt, S->nchunk_t, c); t < t1; t++) {
+        double w, px, py, imp = T->importance ? T->importance[T->ch->face[t]] : 1;
+        bp__chart_rest(T->ch, T->m, t, &w, &px, &py);
+        /* importance I (eq 4.1): singular values scaled by I^-1/2 (the rest
+           shape grows by sqrt(I)) and the energy weighted by I */
+        if (!(imp > 0) || !(imp < HUGE_VAL)) { T->bad[c] = t; return; }
+        bp__rest_inverse(w, px, py, 1 / sqrt(imp), &S->rest[t]);
+        S->rest[t].weight = 0.5 * w * py * imp;
+        T->wxy[3 * (size_t)t] = w; T->wxy[3 * (size_t)t + 1] = px; T->wxy[3 * (size_t)t + 2] = py;
+    }
+}
+
+/* The solver of one chart, set up as bp_chart_optimize uses it (and as the
+   tests check it): rest shapes of sec 3.1 with the importance of eq 4.1,
+   weights E_D = sum (A_t / mean area) E_t (so E_D / nt is the area-weighted
+   mean the report shows), the energy, and the barrier width eps -- a
+   quarter of the mean 3D boundary edge (sec 3.3) unless o->epsilon is set.
+   rest_wxy (3 per triangle, may be NULL) receives the flattened triangles
+   (w, x, y) for the preconditioner.  On failure the solver is freed.  The
+   rest shapes are made on par's threads, in chunks of triangles; the areas
+   are added in triangle order after them, so the weights have the same
+   bits on any threads.  bp__solver_chart: the same on the caller alone. */
+static bp_status bp__solver_chart_par(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
+                                      const bp_options *o, double *rest_wxy, const bp__par *par, bp_error *err)
+{
+    uint32_t t, L, k, c;
+    double total_area = 0, len = 0;
+    int ok;
+    bp__rest_task T;
+    if (bp__solver_init(S, a, ch->num_vertices, ch->num_triangles, ch->triangles, ch->num_loops,
+                        ch->loop_start, ch->loop_vertices) != BP_OK)
+        return bp__oom(err, "optimizing a chart");
+    S->energy = o->energy;
+    S->barrier = !o->no_barrier;
+    T.S = S; T.ch = ch; T.m = m; T.importance = o->importance;
+    T.wxy = rest_wxy ? rest_wxy : (double *)bp__alloc_array(a, 3 * (size_t)S->nt + 1, sizeof(double));
+    T.bad = (uint32_t *)bp__alloc_array(a, (size_t)S->nchunk_t + 1, sizeof(uint32_t));
+    if (!T.wxy || !T.bad) {
+        if (!rest_wxy) bp__free(a, T.wxy);
+        bp__free(a, T.bad);
+        bp__solver_free(S);
+        return bp__oom(err, "optimizing a chart");
+    }
+    par->run(par->user, bp__rest_task_run, &T, S->nchunk_t);
+    for (c = 0; c < S->nchunk_t && T.bad[c] == BP__NONE; c++) {}
+    for (t = 0; c == S->nchunk_t && t < S->nt; t++) total_area += 0.5 * T.wxy[3 * (size_t)t] * T.wxy[3 * (size_t)t + 2];
+    if (c < S->nchunk_t) {                         /* the first bad triangle, as a serial loop finds it */
+        uint32_t f = ch->face[T.bad[c]];
+        if (!rest_wxy) bp__free(a, T.wxy);
+        bp__free(a, T.bad);
+        bp__solver_free(S);
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_TRIANGLE, f, -1, 0,
+                        "importance of mesh triangle %u is %g: it must be positive and finite", f, o->importance[f]);
+    }
+    bp__free(a, T.bad);
+    for (t = 0; t < S->nt; t++) S->rest[t].weight *= S->nt / total_area;
+    for (L = 0; L < S->nloops; L++)
+        for (k = S->loop_start[L]; k < S->loop_start[L + 1]; k++) {
+            uint32_t va = S->loop_vertices[k], vb = S->loop_vertices[k + 1 < S->loop_start[L + 1] ? k + 1 : S->loop_start[L]];
+            len += bp__dist3(bp__pos(m, ch->vertex[va]), bp__pos(m, ch->vertex[vb]));
+        }
+    S->mean_edge = len / S->nb;
+    S->eps = o->epsilon > 0 ? o->epsilon : S->mean_edge / 4;
+    ok = o->epsilon > 0 || bp__start_thin_eps(a, ch, T.wxy, &S->eps);      /* thin charts, >>start */
+    if (!rest_wxy) bp__free(a, T.wxy);
+    if (!ok) {
+        bp__solver_free(S);
+        return bp__oom(err, "optimizing a chart");
+    }
+    return BP_OK;
+}
+
+static bp_status bp__solver_chart(bp__solver *S, const bp_allocator *a, const bp_chart *ch, const bp_mesh *m,
+                                  const bp_options *o, double *rest_wxy, bp_error *err)
+{
+    bp__par serial = bp__par_serial();
+    return bp__solver_chart_par(S, a, ch, m, o, rest_wxy, &serial, err);
+}
+
+/* The L-BFGS memory (Algorithm 1; Nocedal & Wright, Algorithm 7.4): the
+   last m pairs s = x_new - x, y = g_new - g in a ring of slots, and the
+   search direction v = -H g by the two-loop recursion
+       q = g;  for j newest..oldest: alpha_j = rho_j s_j.q,  q -= alpha_j y_j
+       r = H0 q;  for j oldest..newest: beta_j = rho_j y_j.r,  r += (alpha_j - beta_j) s_j
+   with rho_j = 1 / s_j.y_j.  Written out, every dot product the loops take
+   is a dot with g, with p = K^-1 q, or between two stored vectors:
+       s_j.q = s_j.g - sum_{l newer than j} alpha_l s_j.y_l
+       y_j.r = scale y_j.p + sum_{l older than j} (alpha_l - beta_l) s_l.y_j
+   (H0 = scale K^-1).  The products s_i.y_j are kept in the Gram matrix SY,
+   to which each new pair adds its row and column, so the recursion takes
+   four passes over the vectors, (a) s_j.g, (b) q, (c) y_j.p, (d) v = -r
+   with g.v, instead of 2m + 2, with scalar work in between (the
+   "vector-free" form of Chen, Wang and Zhou, NIPS 2014).  The result is
+   the recursion's, up to rounding; tests/test_optimize.c compares the two. */
+typedef struct bp__lbfgs {
+    int hist, nh, head;               /* slots, pairs stored, next slot   */
+    uint32_t n;                       /* vector length                    */
+    double *s, *y;                    /* hist vectors each                */
+    double *rho, *sy, *yy, *SY;       /* per slot; SY(i, j) = s_i . y_j   */
+    double *alpha, *coef, *sg, *yr;   /* per age (0: the newest pair)     */
+    double *vc, *vd;                  /* a pass's coefficients and dots   */
+    const double **vA, **vB;          /* a pass's vectors                 */
+    double *part;                     /* partial dots: 2 hist + 2 per chunk */
+} bp__lbfgs;
+
+static void bp__lbfgs_free(const bp_allocator *a, bp__lbfgs *L)
+{
+    bp__free(a, L->s); bp__free(a, L->y); bp__free(a, L->rho); bp__free(a, (void *)L->vA); bp__free(a, L->part);
+    memset(L, 0, sizeof *L);
+}
+
+static int bp__lbfgs_init(const bp_allocator *a, bp__lbfgs *L, int hist, uint32_t n)
+{
+    size_t h1 = (size_t)hist + 1;
+    memset(L, 0, sizeof *L);
+    L->hist = hist;
+    L->n = n;
+    L->s = (double *)bp__alloc_array(a, (size_t)n * (hist ? hist : 1), sizeof(double));
+    L->y = (double *)bp__alloc_array(a, (size_t)n * (hist ? hist : 1), sizeof(double));
+    L->rho = (double *)bp__alloc_array(a, 10 * h1 + h1 * h1, sizeof(double));
+    L->vA = (const double **)bp__alloc_array(a, 4 * h1, sizeof(const double *));
+    L->part = (double *)bp__alloc_array(a, 2 * h1 * ((size_t)bp__vec_nchunks(n) + 1), sizeof(double));
+    if (!L->s || !L->y || !L->rho || !L->vA || !L->part) { bp__lbfgs_free(a, L); return 0; }
+    L->sy = L->rho + h1; L->yy = L->sy + h1; L->alpha = L->yy + h1; L->coef = L->alpha + h1;
+    L->sg = L->coef + h1; L->yr = L->sg + h1; L->vc = L->yr + h1; L->vd = L->vc + h1; L->SY = L->vd + 2 * h1;
+    L->vB = L->vA + 2 * h1;
+    return 1;
+}
+
+#define BP__S(L, k) ((L)->s + (size_t)(k) * (L)->n)
+#define BP__Y(L, k) ((L)->y + (size_t)(k) * (L)->n)
+#define BP__SLOT(L, j) (((L)->head - 1 - (j) + (L)->hist) % (L)->hist)   /* the pair of age j */
+
+/* v = -H g (needs nh > 0); returns g.v.  K, KF: H0 = K^-1 / sigma with
+   sigma = s.y / s.K s of the newest pair (pwork: 2n doubles, qpart: the
+   quad form's partial sums); K NULL: H0 = (s.y / y.y) I. */
+static double bp__lbfgs_direction(bp__lbfgs *L, const bp__par *par, const double *g, double *v,
+                                  const bp__sparse *K, const bp__factor *KF, double *pwork, double *qpart)
+{
+    int j, l, nh = L->nh, nw = BP__SLOT(L, 0);
+    uint32_t n = L->n;
+    double scale, gv;
+    for (j = 0; j < nh; j++) { L->vA[j] = BP__S(L, BP__SLOT(L, j)); L->vB[j] = g; }
+    bp__vec_pass(par, L->part, n, NULL, 0, NULL, 0, NULL, NULL, (uint32_t)nh, L->vA, L->vB, L->sg);      /* (a) */
+    for (j = 0; j < nh; j++) {
+        double sq = L->sg[j];
+        for (l = 0; l < j; l++) sq -= L->alpha[l] * L->SY[(size_t)BP__SLOT(L, j) * L->hist + BP__SLOT(L, l)];
+        L->alpha[j] = L->rho[BP__SLOT(L, j)] * sq;
+    }
+    for (j = 0; j < nh; j++) { L->vA[j] = BP__Y(L, BP__SLOT(L, j)); L->vc[j] = -L->alpha[j]; }
+    bp__vec_pass(par, L->part, n, v, 1, g, (uint32_t)nh, L->vA, L->vc, 0, NULL, NULL, NULL);              /* (b) */
+    if (K) {
+        scale = bp__quad_form(K, BP__S(L, nw), par, qpart) / L->sy[nw];
+        bp__precondition(KF, par, v, v, pwork);
+    } else {
+        scale = L->sy[nw] / L->yy[nw];
+    }
+    for (j = 0; j < nh; j++) { L->vA[j] = BP__Y(L, BP__SLOT(L, j)); L->vB[j] = v; }
+    bp__vec_pass(par, L->part, n, NULL, 0, NULL, 0, NULL, NULL, (uint32_t)nh, L->vA, L->vB, L->yr);      /* (c) */
+    for (j = nh - 1; j >= 0; j--) {
+        double yrj = scale * L->yr[j];
+        for (l = nh - 1; l > j; l--) yrj += L->coef[l] * L->SY[(size_t)BP__SLOT(L, l) * L->hist + BP__SLOT(L, j)];
+        L->coef[j] = L->alpha[j] - L->rho[BP__SLOT(L, j)] * yrj;
+    }
+    for (j = 0; j < nh; j++) { L->vA[j] = BP__S(L, BP__SLOT(L, j)); L->vc[j] = -L->coef[j]; }
+    L->vB[0] = g; L->vB[1] = v;
+    bp__vec_pass(par, L->part, n, v, -scale, v, (uint32_t)nh, L->vA, L->vc, 1, L->vB, L->vB + 1, &gv);  /* (d) */
+    return gv;
+}
+
+/* Store s = x_new - x and y = g_new - g in the slot of the oldest pair: s
+   with s.s in one pass, then y with y.y, s.y and the new row and column of
+   SY in another.  The pair is dropped when the curvature s.y is not
+   positive; the oldest pair is then gone too (its slot was written). */
+static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, const double *xn, const double *g,
+                           const double *gn)
+{
+    double ss, *sp, *yp;
+    int j, nd = 2;
+    if (!L->hist) return;
+    sp = BP__S(L, L->head);
+    yp = BP__Y(L, L->head);
+    bp__vec_axpy(par, L->part, L->n, sp, xn, -1, x, sp, sp, &ss);
+    L->vA[0] = yp; L->vB[0] = yp;
+    L->vA[1] = sp; L->vB[1] = yp;
+    for (j = 0; j < L->nh; j++)
+        if (BP__SLOT(L, j) != L->head) {
+            L->vA[nd] = BP__S(L, BP__SLOT(L, j)); L->vB[nd++] = yp;    /* s_j . y */
+            L->vA[nd] = sp; L->vB[nd++] = BP__Y(L, BP__SLOT(L, j));    /* s . y_j */
+        }
+    L->vc[0] = -1;
+    bp__vec_pass(par, L->part, L->n, yp, 1, gn, 1, &g, L->vc, (uint32_t)nd, L->vA, L->vB, L->vd);
+    if (L->vd[1] > 1e-12 * sqrt(ss * L->vd[0])) {
+        int h = L->head;
+        L->rho[h] = 1 / L->vd[1];
+        L->sy[h] = L->vd[1];
+        L->yy[h] = L->vd[0];
+        L->SY[(size_t)h * L->hist + h] = L->vd[1];
+        for (nd = 2, j = 0; j < L->nh; j++)
+            if (BP__SLOT(L, j) != h) {
+                L->SY[(size_t)BP__SLOT(L, j) * L->hist + h] = L->vd[nd++];
+                L->SY[(size_t)h * L->hist + BP__SLOT(L, j)] = L->vd[nd++];
+            }
+        L->head = (h + 1) % L->hist;
+        if (L->nh < L->hist) L->nh++;
+    } else if (L->nh == L->hist) {
+        L->nh--;
+    }
+}
+#undef BP__S
+#undef BP__Y
+#undef BP__SLOT
+
 /* >>optimize ===============================================================
 
    bp__chart_optimize: the iteration of >>lbfgs (sec 3.4, 3.5) with any of
@@ -17028,7 +16894,7 @@ typedef struct bp__opt {
     double      *x, *g, *xn, *gn, *v, *pwork, *vpart;
     double      *xe, *ge;        /* Newton's longer trial steps (bp__opt_extend) */
     double       tlast;          /* the last accepted step                   */
-    int          crushed;        /* the start was enlarged (>>start, 4)      */
+    int          crushed;        /* the start was enlarged (bp__start_scale) */
     uint32_t    *pidx, *held, nheld; /* pins: chart vertex -> pin, the pinned
                                     chart vertices (held fixed, >>pins)      */
     const struct bp__penalty *pen; /* the homotopy's pull toward the pins   */
@@ -17465,7 +17331,7 @@ static int bp__opt_extend(bp__opt *P, double f, double gv, double *t, double *fn
     return 1;
 }
 
-/* A chart whose start was crushed and enlarged (>>start, 4) spends its
+/* A chart whose start was crushed and enlarged (bp__start_scale) spends its
    first ~60 Newton iterations with steps clipped by the step bound at one
    to a few crushed triangles that the direction would flip; there the
    first trial goes to 0.99 tmax instead of 0.9 (the exact check and
@@ -17548,6 +17414,56 @@ static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, 
                         "chart %u: cancelled by the progress callback after %d iterations (the map is the last valid one)",
                         chart_index, ch->iterations);
     return bp__ok(err);
+}
+
+#ifndef BP__START_SCALE
+#define BP__START_SCALE 1                /* 0: never enlarge a crushed start (bp__start_scale) */
+#endif
+#ifndef BP__START_SCALE_E0
+#define BP__START_SCALE_E0 1e9           /* mean start energy that counts as crushed */
+#endif
+
+/* A crushed start, enlarged (beyond the dissertation; issue 15, lucy).
+   A start whose mean energy is astronomical (lucy's mean-value map:
+   1.2e15) has whole protrusions crushed to slivers: the symmetric
+   Dirichlet terms 1/s^2 of their singular values s dominate it, while the
+   rest of the chart sits near scale 1.  Enlarging the whole map by c
+   divides the crushed terms by c^2 and multiplies the others by c^2, so
+   the energy-optimal c is about (E0 / 2)^(1/4), lucy's ~5000.  That
+   optimum is the wrong target (measured: 287 iterations to SCAF's energy
+   against 77 unscaled, the body then shrinks back by steps clipped at
+   t ~ 0.01); the geometric middle between it and 1, c ~ E0^(1/8), took
+   65 of them (c = 10 ... 100 all between 65 and 69; 300: 83; 1000: 122;
+   docs/performance.md 6.11).  The scale is a power of two,
+   c = 2^round(log2(E0) / 8): multiplying by it is exact in floating point,
+   so every orientation and every boundary predicate keeps its exact sign
+   and the map stays bijective; it is checked again anyway (bp__evaluate),
+   and kept only if it passes and lowers the energy.  Only Newton charts
+   (>>optimize's rule) with the symmetric Dirichlet energy (the one
+   measured; conformal and MIPS do not see the scale at all) whose start
+   exceeds BP__START_SCALE_E0 and that hold no pins are enlarged (the
+   others' maps are left bit for bit as before); the energy has one
+   minimum scale, so the result is the same kind of minimum.
+   Returns k (0: not scaled), -1 when out of memory. */
+static int bp__start_scale(bp__opt *P, double *f, double *ed)
+{
+    double e0 = *ed / P->S.nt, c, fs, eds;
+    uint32_t i;
+    int k, valid;
+    if (!P->newton || P->nheld || P->pen || P->S.energy != BP_ENERGY_SYMMETRIC_DIRICHLET ||
+        !(e0 > BP__START_SCALE_E0) || !(e0 < HUGE_VAL)) return 0;
+    k = (int)floor(log(e0) / log(2.0) / 8 + 0.5);
+    if (k <= 0) return 0;
+    c = ldexp(1.0, k);
+    for (i = 0; i < P->nv2; i++) P->xn[i] = c * P->x[i];
+    fs = bp__evaluate(&P->S, P->xn, P->gn, &eds, *f, &valid);
+    if (P->S.oom) return -1;
+    if (!(fs < *f) || !valid) return 0;
+    { double *tp = P->x; P->x = P->xn; P->xn = tp; tp = P->g; P->g = P->gn; P->gn = tp; }
+    *f = fs;
+    *ed = eds;
+    P->crushed = 1;
+    return k;
 }
 
 /* The optimization of one chart (sec 3.4, 3.5): phases 1 and 2, then the
@@ -17685,6 +17601,649 @@ static bp_status bp__chart_optimize(bp_chart *ch, uint32_t chart_index, const bp
     return bp__chart_optimize_pen(ch, chart_index, m, opt, runner, NULL, NULL, err);
 }
 
+
+/* Area-weighted mean and max of E_t for a chart's current map. */
+BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_energy energy,
+                                    double *mean, double *max, double *per_triangle, bp_error *err)
+{
+    uint32_t t;
+    double sum = 0, area = 0, emax = 0;
+    if (!ch || !m || !ch->uv)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_chart_distortion needs a chart with a map (uv) and its mesh");
+    if ((int)energy < 0 || (int)energy >= (int)BP_ENERGY_COUNT)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)energy);
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        bp__rest r;
+        double w, px, py, e;
+        bp__chart_rest(ch, m, t, &w, &px, &py);
+        bp__rest_inverse(w, px, py, 1, &r);
+        r.weight = 1;
+        e = bp__triangle_energy(energy, &r, ch->uv + 2 * (size_t)tr[0], ch->uv + 2 * (size_t)tr[1],
+                                ch->uv + 2 * (size_t)tr[2], NULL, NULL, NULL);
+        if (per_triangle) per_triangle[t] = e;
+        sum += 0.5 * w * py * e;
+        area += 0.5 * w * py;
+        if (e > emax) emax = e;
+    }
+    if (mean) *mean = sum / area;
+    if (max) *max = emax;
+    return bp__ok(err);
+}
+
+/* >>pins ===================================================================
+
+   Pinned vertices (beyond the dissertation; Blender's, Maya's and SLIM's
+   pins).  What is guaranteed, precisely:
+     - every pinned chart vertex ends at its target bit for bit (the
+       final chart->uv holds the very doubles of bp_pin.u, v), and packing
+       does not move a chart that has pins (bp_atlas_pack leaves it where
+       it is and places the other charts beside it; pins together with
+       normalize or atlas_resolution are refused, since scaling would move
+       them);
+     - the map is exactly bijective at every iterate, as without pins, and
+       the optimization minimizes the same energy over the free vertices;
+     - pins that fail the necessary conditions of >>tutte are rejected
+       with the elements named, and pins that the homotopy below cannot
+       reach fail that chart with a message: never a wrong map.
+   Not guaranteed: that pins which admit a bijective map are always
+   reached.  The homotopy is a heuristic that succeeds when the targets are
+   a moderate deformation of the start (the common case: a few pins placed
+   by an artist near where the unpinned map has them); a target that needs
+   the map to turn inside out fails.
+
+   The homotopy (from the fitted start of >>tutte), in rounds k = 0, 1, ...:
+     1. snap: put every pin at its target; if that map passes the exact
+        check, done (the snapped coordinates are the targets themselves);
+     2. move: d = target - x on the pins, 0 elsewhere; the step bound of
+        >>stepbound along d (the same singularity-aware bound as the
+        optimizer's: no triangle flips, no boundary crossing), a step
+        t = min(1, 0.9 tmax) halved until the moved map passes the exact
+        check;
+     3. pull: BP__PIN_RELAX iterations of the optimizer on
+            E + w_k sum_p |x_p - t_p|^2,   w_k = 10^k nt / (n_pins L^2)
+        (L the mean 3D boundary edge; at k = 0 a pin one edge away costs
+        about the whole energy), all vertices free -- the same interior
+        point method, so every iterate is exactly bijective, and the
+        whole chart deforms toward the pins instead of the pins pushing
+        through their neighbours;
+   until the pins are at their targets, or the largest remaining distance
+   has not dropped by 1% in BP__PIN_STALL rounds, or BP__PIN_ROUNDS rounds
+   have passed (then the chart fails).  Every map on the way passed the
+   exact check. */
+
+#define BP__PIN_ROUNDS 40
+#define BP__PIN_STALL 6
+#define BP__PIN_RELAX 100
+
+/* Before the fit, a Tutte start is first optimized without its pins
+   (at most BP__PIN_FREE iterations): the fitted similarity then starts
+   from a shape like the unpinned result, which pins taken from an earlier
+   unwrap match closely, instead of from a disk. */
+#define BP__PIN_FREE 300
+
+static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                     bp_error *err)
+{
+    bp_options o = *opt;
+    o.progress = NULL;
+    o.max_seconds = 0;
+    o.pins = NULL;
+    o.num_pins = 0;
+    if (o.max_iterations <= 0 || o.max_iterations > BP__PIN_FREE) o.max_iterations = BP__PIN_FREE;
+    return bp__chart_optimize(ch, 0, m, &o, runner, err);
+}
+
+/* Step 2: move the pins along d by the largest checked step; 1 if moved. */
+static int bp__pins_move(bp__solver *S, double *x, double *xn, const double *d, uint32_t nv2)
+{
+    double tmax = bp__step_bound(S, x, d, 1 / 0.9), tt = tmax < 1 / 0.9 ? 0.9 * tmax : 1, ed;
+    uint32_t i;
+    int tries, valid;
+    for (tries = 0; tries < 50 && tt > 0; tries++, tt *= 0.5) {
+        for (i = 0; i < nv2; i++) xn[i] = d[i] != 0 ? x[i] + tt * d[i] : x[i];
+        bp__evaluate(S, xn, NULL, &ed, HUGE_VAL, &valid);
+        if (S->oom) return -1;
+        if (valid) { memcpy(x, xn, nv2 * sizeof(double)); return 1; }
+    }
+    return 0;
+}
+
+/* Step 1's snapped map into xn and d = target - x; returns the largest
+   remaining coordinate distance, *worst its chart vertex. */
+static double bp__pins_snap(const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx, double *xn, double *d,
+                            uint32_t *worst)
+{
+    uint32_t i;
+    double dist = 0;
+    for (i = 0; i < ch->num_vertices; i++) {
+        double du = 0, dv = 0;
+        xn[2 * (size_t)i] = ch->uv[2 * (size_t)i];
+        xn[2 * (size_t)i + 1] = ch->uv[2 * (size_t)i + 1];
+        if (pidx[i] != BP__NONE) {
+            du = pins[pidx[i]].u - xn[2 * (size_t)i];
+            dv = pins[pidx[i]].v - xn[2 * (size_t)i + 1];
+            xn[2 * (size_t)i] = pins[pidx[i]].u;
+            xn[2 * (size_t)i + 1] = pins[pidx[i]].v;
+            if (fabs(du) > dist || fabs(dv) > dist) { dist = fabs(du) > fabs(dv) ? fabs(du) : fabs(dv); *worst = i; }
+        }
+        d[2 * (size_t)i] = du;
+        d[2 * (size_t)i + 1] = dv;
+    }
+    return dist;
+}
+
+static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                const uint32_t *pidx, bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    bp__solver S;
+    bp__penalty pen;
+    bp_options o = *opt;
+    uint32_t nv2 = 2 * ch->num_vertices, worst = 0;
+    double *xn, *d, best = HUGE_VAL, dist = 0;
+    int round, stall = 0, valid;
+    bp_status st;
+    o.progress = NULL;
+    o.max_seconds = 0;
+    o.max_iterations = BP__PIN_RELAX;
+    o.pins = NULL;                                  /* the pull: no vertex held */
+    o.num_pins = 0;
+    memset(&S, 0, sizeof S);
+    if ((st = bp__solver_chart(&S, &a, ch, m, &o, NULL, err)) != BP_OK) return st;
+    S.par = *runner;
+    pen.pins = opt->pins;
+    pen.pidx = pidx;
+    pen.w = S.nt / (ch->num_pins * S.mean_edge * S.mean_edge);
+    xn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
+    d = (double *)bp__alloc_array(&a, nv2, sizeof(double));
+    for (round = 0; xn && d; round++, pen.w *= 10) {
+        double ed;
+        if ((dist = bp__pins_snap(ch, opt->pins, pidx, xn, d, &worst)) == 0) break;
+        bp__evaluate(&S, xn, NULL, &ed, HUGE_VAL, &valid);                     /* 1. snap */
+        if (S.oom) break;
+        if (valid) { memcpy(ch->uv, xn, nv2 * sizeof(double)); dist = 0; break; }
+        if (dist < 0.99 * best) { best = dist; stall = 0; } else stall++;
+        if (round >= BP__PIN_ROUNDS || stall >= BP__PIN_STALL) break;
+        if (bp__pins_move(&S, ch->uv, xn, d, nv2) < 0) break;                  /* 2. move */
+        st = bp__chart_optimize_pen(ch, 0, m, &o, runner, &pen, NULL, err);    /* 3. pull */
+        if (st != BP_OK) break;
+    }
+    bp__solver_free(&S);
+    bp__free(&a, xn);
+    bp__free(&a, d);
+    if (st != BP_OK) return st;
+    if (!xn || !d || S.oom) return bp__oom(err, "moving the pins");
+    if (dist > 0) {
+        char name[48];
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, ch->vertex[worst], -1, 0,
+                        "the pins of the chart with %s cannot be reached from its start map: vertex %u is still "
+                        "%g from its target after %d rounds (no bijective map through the targets was found)",
+                        bp__tri_name(m, ch->face[0], name), ch->vertex[worst] + 1, dist, round);
+    }
+    return BP_OK;
+}
+
+/* bp_chart_optimize holds the pinned vertices where the start map has
+   them; the caller's start must have them at their targets. */
+static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
+                                     bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    uint32_t *pidx, i;
+    bp_status st = bp__pin_map(&a, ch, m, opt, &pidx, &ch->num_pins, err);
+    for (i = 0; st == BP_OK && pidx && i < ch->num_vertices; i++) {
+        const bp_pin *p = pidx[i] != BP__NONE ? &opt->pins[pidx[i]] : NULL;
+        if (p && (ch->uv[2 * (size_t)i] != p->u || ch->uv[2 * (size_t)i + 1] != p->v))
+            st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
+                          "chart %u: vertex %u is pinned to (%g, %g) but the start map has it at (%g, %g)",
+                          chart_index, p->vertex + 1, p->u, p->v, ch->uv[2 * (size_t)i], ch->uv[2 * (size_t)i + 1]);
+    }
+    bp__free(&a, pidx);
+    return st;
+}
+
+/* >>start ==================================================================
+
+   A better start (issue 15).  The Tutte map of >>tutte is bijective but
+   far from the optimum where a chart is long or thin: the boundary goes on
+   a circle, and a protrusion or a strip is squeezed exponentially toward
+   its tip -- triangles a million times too small (a 1 x 1e-7 strip of 398
+   triangles starts at mean energy 9e8, lucy at 4e12) -- and every step
+   bound of the optimizer is throttled by them.  What is here, each handing
+   the optimizer a map that passed the exact check (bp_check), and each
+   measured (docs/performance.md, sec 6.3):
+
+   1. Planar charts start from themselves (bp_options.start = AUTO, the
+      default).  A chart whose triangles all face one side of a plane
+      within about 37 degrees is projected onto the plane of its
+      area-weighted normal n; when every triangle keeps at least
+      BP__START_PLANAR of its 3D area there and bp_check passes the
+      projection exactly, the projection is the start: its singular values
+      are s_max <= 1 and s_min >= BP__START_PLANAR, and for a flat chart it
+      is the optimum itself (energy 4, nothing left to do).  A nearly flat
+      chart whose projection overlaps itself (a helix band) fails the check
+      and starts from Tutte as before.  No chart of ../shared/meshes is
+      planar: their start maps are the same bits as before.
+
+   2. Thin charts: the barrier width (bp__start_thin_eps in >>barrier,
+      used by the solver's set-up).  Without it no start helps a strip: the
+      barrier itself pushes the strip wider than its rest shape.
+
+   3. Progressive references (Liu, Ye et al. 2018, "Progressive
+      parameterizations"; bp_options.start = PROGRESSIVE, not the default:
+      it cuts lucy's iterations but not its time, sec 6.3).  After Tutte,
+      in rounds, each triangle gets a reference shape between its current
+      image and its rest shape,
+          C = J^T J = V diag(s1^2, s2^2) V^T   (J the current Jacobian),
+          reference metric C^a,   a = max(0, 1 - log K / log d),
+          d = max(s1, 1/s2),
+      so that the current map is within a factor K in both singular values
+      of the reference, and a triangle already within K of its rest shape
+      gets the rest shape itself (a = 0).  The iteration of >>optimize then
+      runs up to BP__START_ITERS steps on the energy measured against the
+      references (the same interior point method: every iterate is exactly
+      bijective), preconditioned by the Laplacian of the reference
+      triangles (cotangent weights of shapes close to the current ones; the
+      rest shapes' Laplacian, tried, leaves the crushed triangles crushed).
+      The crushed triangles see a moderate distortion and grow by about K
+      per round.  The rounds stop when every triangle is within K of its
+      rest shape or after BP__START_ROUNDS; the ordinary optimization takes
+      over from there. */
+
+#define BP__START_PLANAR 0.8      /* least projected / 3D area of a planar start */
+#define BP__START_K 4.0           /* the current map within K of the references */
+#define BP__START_ITERS 30        /* optimizer iterations per round            */
+#define BP__START_ROUNDS 40
+
+/* The reference of one triangle (3 above) into out = (w', x', y'):
+   the rest triangle F1 = (0, 0), F2 = (w, 0), F3 = (x, y) (read back from
+   M^-1 = [1/w  -x/(w y); 0  1/y], importance included) mapped by a linear
+   A with A^T A = C^a:
+       w' = w sqrt(Ca_00),  x' = (Ca_00 x + Ca_01 y) / sqrt(Ca_00),
+       y' = det(A) w y / w',  det(A) = (s1 s2)^a.
+   Returns log d, the triangle's distortion (0 when not finite: the rest). */
+static double bp__start_triangle(const bp__rest *r, const double *u1, const double *u2, const double *u3,
+                                 double logk, double *out)
+{
+    double w = 1 / r->m00, y = 1 / r->m11, x = -r->m01 * w * y;
+    double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
+    double j00 = d00 * r->m00, j01 = d00 * r->m01 + d01 * r->m11, j10 = d10 * r->m00, j11 = d10 * r->m01 + d11 * r->m11;
+    double c00 = j00 * j00 + j10 * j10, c01 = j00 * j01 + j10 * j11, c11 = j01 * j01 + j11 * j11;
+    double det = j00 * j11 - j01 * j10, h = 0.5 * (c00 + c11), q = 0.5 * (c00 - c11);
+    double l1 = h + sqrt(q * q + c01 * c01), l2, s1, s2, logd, a, v[2], n1, n2, p1, p2, ca00, ca01;
+    out[0] = w; out[1] = x; out[2] = y;
+    l2 = det * det / l1;
+    s1 = sqrt(l1);
+    s2 = fabs(det) / s1;
+    logd = log(s1) > -log(s2) ? log(s1) : -log(s2);
+    if (!(logd - logd == 0) || !(det > 0)) return 0;
+    if (logd <= logk) return logd;
+    a = 1 - logk / logd;
+    /* the eigenvector of l1: the better conditioned of two candidates */
+    n1 = c01 * c01 + (l1 - c00) * (l1 - c00);
+    n2 = (l1 - c11) * (l1 - c11) + c01 * c01;
+    if (n1 >= n2 && n1 > 0) { v[0] = c01; v[1] = l1 - c00; n1 = sqrt(n1); }
+    else if (n2 > 0) { v[0] = l1 - c11; v[1] = c01; n1 = sqrt(n2); }
+    else { v[0] = 1; v[1] = 0; n1 = 1; }
+    v[0] /= n1; v[1] /= n1;
+    p1 = pow(l1, a);
+    p2 = pow(l2, a);
+    ca00 = p1 * v[0] * v[0] + p2 * v[1] * v[1];          /* C^a = p1 v v^T + p2 v' v'^T */
+    ca01 = (p1 - p2) * v[0] * v[1];
+    {
+        double wn = w * sqrt(ca00), xn = (ca00 * x + ca01 * y) / sqrt(ca00), yn = sqrt(p1 * p2) * w * y / wn;
+        if (wn > 0 && yn > 0 && wn - wn == 0 && xn - xn == 0 && yn - yn == 0) { out[0] = wn; out[1] = xn; out[2] = yn; }
+    }
+    return logd;
+}
+
+/* The references of every triangle (3 above) from the rest shapes rest0
+   and the map x: into S's rest shapes (weights kept) and wxy (3 per
+   triangle, for the preconditioner); returns the largest log d. */
+static double bp__start_references(bp__solver *S, const bp__rest *rest0, const double *x, double logk, double *wxy)
+{
+    double worst = 0;
+    uint32_t t;
+    for (t = 0; t < S->nt; t++) {
+        const uint32_t *tr = S->tri + 3 * (size_t)t;
+        double *r = wxy + 3 * (size_t)t;
+        double lg = bp__start_triangle(&rest0[t], x + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1], x + 2 * (size_t)tr[2],
+                                       logk, r);
+        if (lg > worst) worst = lg;
+        bp__rest_inverse(r[0], r[1], r[2], 1, &S->rest[t]);
+        S->rest[t].weight = rest0[t].weight;
+    }
+    return worst;
+}
+
+/* 3 above: the rounds of progressive references in one solver of
+   >>optimize (set up once), each round: the references, their Laplacian
+   factored as the preconditioner, the L-BFGS memory cleared, and at most
+   BP__START_ITERS iterations of >>optimize (direction, step bound and
+   line search with the exact check) on the energy against the references.
+   Only the last accepted, exactly valid map is kept. */
+static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                       bp_error *err)
+{
+    bp__opt P;
+    bp__rest *rest0 = NULL;
+    double *wxy = NULL, logk = log(BP__START_K);
+    int round;
+    bp_status st;
+    memset(&P, 0, sizeof P);
+    P.a = bp__allocator_of(opt);
+    P.o = *opt;
+    P.o.progress = NULL;
+    P.o.max_seconds = 0;
+    P.o.pins = NULL;
+    P.o.num_pins = 0;
+    P.tlast = 1;
+    P.precond = opt->direction == BP_DIRECTION_PRECONDITIONED;
+    P.newton = opt->direction == BP_DIRECTION_NEWTON;
+    P.par = *runner;
+    if ((st = bp__opt_setup(&P, ch, 0, m, err)) != BP_OK) goto done;
+    rest0 = (bp__rest *)bp__alloc_array(&P.a, P.S.nt, sizeof(bp__rest));
+    wxy = (double *)bp__alloc_array(&P.a, 3 * (size_t)P.S.nt, sizeof(double));
+    if (!rest0 || !wxy) { st = bp__oom(err, "computing the start map"); goto done; }
+    memcpy(rest0, P.S.rest, P.S.nt * sizeof(bp__rest));
+    for (round = 0; round < BP__START_ROUNDS; round++) {
+        double f, ed;
+        int it, small = 0;
+        double worst = bp__start_references(&P.S, rest0, P.x, logk, wxy);
+        if (worst <= logk) break;
+        if (P.precond) {                       /* the references' Laplacian */
+            bp__sparse_free(&P.a, &P.K);
+            bp__factor_free(&P.a, &P.KF);
+            memset(&P.K, 0, sizeof P.K);
+            memset(&P.KF, 0, sizeof P.KF);
+            if ((st = bp__laplacian(&P.a, &P.S, wxy, NULL, &P.K, &P.KF, NULL, NULL)) != BP_OK) {
+                if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "factoring the preconditioner");
+                else {
+                    char name[48];
+                    st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, ch->face[0], -1, 0,
+                                  "the progressive start of the chart with %s: the Laplacian of its references "
+                                  "could not be factored", bp__tri_name(m, ch->face[0], name));
+                }
+                goto done;
+            }
+        }
+        f = bp__objective(&P.S, P.x, P.g, &ed);
+        if (P.S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
+        P.L.nh = 0;
+        for (it = 0; it < BP__START_ITERS; it++) {
+            double gv = bp__opt_direction(&P), tt = 0, fn = HUGE_VAL, edn = HUGE_VAL;
+            int found;
+            if (P.nd < 0) { st = bp__oom(err, "factoring Newton's system"); goto done; }
+            if (gv == 0) break;
+            found = bp__opt_line_search(&P, f, gv, &tt, &fn, &edn);
+            if (found < 0) { st = bp__oom(err, "evaluating a step"); goto done; }
+            if (!found) break;
+            P.tlast = tt;
+            bp__lbfgs_push(&P.L, &P.par, P.x, P.xn, P.g, P.gn);
+            { double *tp = P.x; P.x = P.xn; P.xn = tp; tp = P.g; P.g = P.gn; P.gn = tp; }
+            if ((f - fn) <= P.o.tolerance * fabs(fn)) small++; else small = 0;
+            f = fn;
+            if (small >= 3) break;
+        }
+    }
+    memcpy(ch->uv, P.x, P.nv2 * sizeof(double));      /* every accepted x passed the exact check */
+done:
+    bp__free(&P.a, rest0);
+    bp__free(&P.a, wxy);
+    bp__opt_free(&P);
+    return st;
+}
+
+/* (q - p) x (r - p) */
+static void bp__start_cross(const double *p, const double *q, const double *r, double *c)
+{
+    double u[3], v[3];
+    int k;
+    for (k = 0; k < 3; k++) { u[k] = q[k] - p[k]; v[k] = r[k] - p[k]; }
+    c[0] = u[1] * v[2] - u[2] * v[1];
+    c[1] = u[2] * v[0] - u[0] * v[2];
+    c[2] = u[0] * v[1] - u[1] * v[0];
+}
+
+/* An orthonormal e1, e2 with e1 x e2 = n (unit): e1 the coordinate axis
+   least aligned with n, made orthogonal to it; e2 = n x e1. */
+static void bp__start_frame(const double *n, double *e1, double *e2)
+{
+    int k, ax = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : fabs(n[1]) <= fabs(n[2]) ? 1 : 2;
+    double len;
+    for (k = 0; k < 3; k++) e1[k] = (k == ax) - n[ax] * n[k];
+    len = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    for (k = 0; k < 3; k++) e1[k] /= len;
+    e2[0] = n[1] * e1[2] - n[2] * e1[1];
+    e2[1] = n[2] * e1[0] - n[0] * e1[2];
+    e2[2] = n[0] * e1[1] - n[1] * e1[0];
+}
+
+/* 1 above: the projection of a planar chart onto its plane (the
+   area-weighted normal n, e1 e2 n right-handed so that a triangle facing
+   n is counter-clockwise), used when every triangle keeps
+   BP__START_PLANAR of its area and the map passes bp_check: 1 used, 0
+   not, -1 out of memory.  The triangles' cross products are taken in
+   chunks on par's threads (each its own), and added in triangle order
+   after them: the serial loop's n, bit for bit. */
+typedef struct bp__cross_task { const bp_chart *ch; const bp_mesh *m; double *cr; uint32_t nc; } bp__cross_task;
+
+static void bp__cross_run(void *task, uint32_t c)
+{
+    const bp__cross_task *J = (const bp__cross_task *)task;
+    const bp_chart *ch = J->ch;
+    uint32_t t, t1 = bp__chunk_at(ch->num_triangles, J->nc, c + 1);
+    for (t = bp__chunk_at(ch->num_triangles, J->nc, c); t < t1; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        bp__start_cross(bp__pos(J->m, ch->vertex[tr[0]]), bp__pos(J->m, ch->vertex[tr[1]]),
+                        bp__pos(J->m, ch->vertex[tr[2]]), J->cr + 3 * (size_t)t);
+    }
+}
+
+static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *par)
+{
+    double n[3] = { 0, 0, 0 }, c[3] = { 0, 0, 0 }, e1[3], e2[3], len;
+    uint32_t t, i, k;
+    bp_check_report rep;
+    bp_status st;
+    bp__cross_task J;
+    bp__par serial = bp__par_serial();
+    for (t = 0; ch->rest_side && t < ch->num_triangles; t++) if (ch->rest_side[t] > 0) return 0;
+    J.ch = ch;
+    J.m = m;
+    J.nc = bp__nchunks(ch->num_triangles, BP__TRI_CHUNK);
+    if (!(J.cr = (double *)bp__alloc_array(a, 3 * (size_t)ch->num_triangles + 1, sizeof(double)))) return -1;
+    bp__par_run(par ? par : &serial, bp__cross_run, &J, J.nc, ch->num_triangles);
+    for (t = 0; t < ch->num_triangles; t++)
+        for (k = 0; k < 3; k++) n[k] += J.cr[3 * (size_t)t + k];
+    len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 0) || !(len < HUGE_VAL)) { bp__free(a, J.cr); return 0; }
+    for (k = 0; k < 3; k++) n[k] /= len;
+    bp__start_frame(n, e1, e2);
+    for (t = 0; t < ch->num_triangles; t++) {
+        const double *cr = J.cr + 3 * (size_t)t;
+        double ar = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        if (!(cr[0] * n[0] + cr[1] * n[1] + cr[2] * n[2] >= BP__START_PLANAR * ar)) break;
+    }
+    bp__free(a, J.cr);
+    if (t < ch->num_triangles) return 0;
+    for (i = 0; i < ch->num_vertices; i++)
+        for (k = 0; k < 3; k++) c[k] += bp__pos(m, ch->vertex[i])[k] / ch->num_vertices;
+    for (i = 0; i < ch->num_vertices; i++) {
+        const double *p = bp__pos(m, ch->vertex[i]);
+        double d[3];
+        for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
+        ch->uv[2 * (size_t)i] = d[0] * e1[0] + d[1] * e1[1] + d[2] * e1[2];
+        ch->uv[2 * (size_t)i + 1] = d[0] * e2[0] + d[1] * e2[1] + d[2] * e2[2];
+    }
+    st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, NULL);
+    if (st == BP_ERR_OUT_OF_MEMORY) return -1;
+    return st == BP_OK;
+}
+
+#ifndef BP__INIT_AUTO_CONFORMAL
+#define BP__INIT_AUTO_CONFORMAL 1       /* 0: BP_INIT_AUTO starts barycentric, as before >>conformal */
+#endif
+
+
+/* The pins' part of a start map: the three necessary conditions, the fit
+   (Tutte starts only) and the homotopy. */
+static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp_options *opt,
+                                const bp__par *runner, const uint32_t *pidx, bp_error *err)
+{
+    bp_status st = bp__pins_distinct(a, ch, opt->pins, pidx, ch->num_pins, err);
+    if (st == BP_OK) st = bp__pins_triangles(ch, m, opt->pins, pidx, err);
+    if (st == BP_OK) st = bp__pins_boundary(a, ch, opt->pins, pidx, err);
+    if (st != BP_OK) return st;
+    if (ch->init_used != 1) {
+        if ((st = bp__pins_relax_free(ch, m, opt, runner, err)) != BP_OK) return st;
+        bp__pins_similarity(ch, opt->pins, pidx);
+        if ((st = bp__tutte_verify(a, ch, m, runner, err)) != BP_OK) return st;
+    }
+    return bp__pins_reach(ch, m, opt, runner, pidx, err);
+}
+
+/* The seven phases above: the Tutte (mvc = 0) or mean-value (mvc = 1) map
+   of the filled chart into ch->uv, exactly checked, or first, with
+   conformal (1: by the size rule of >>conformal, 2: at any size), the
+   conformal map of >>conformal when it passes that check (its factor to
+   *h when h is not NULL: bp__handoff);
+   the ordering of phase 5b kept for Newton (ch->start_order), and which
+   map it was in ch->start_map. */
+static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *runner, int mvc,
+                               int conformal, bp__handoff *h, bp_error *err)
+{
+    bp__tutte T;
+    bp__ndnode tree[BP__ND_NODES];
+    uint32_t *order = (uint32_t *)bp__alloc_array(a, (size_t)ch->num_vertices + 6 * BP__ND_NODES, sizeof(uint32_t));
+    bp_status st = BP_OK;
+    bp__conformal C;
+    bp__loop cols;
+    bp__tutte_task WJ;
+    int done = 0, cf = 0, wpre = 0; /* cf 1: the conformal system is set up;
+                                      wpre 1: the weights beside the order */
+    memset(&T, 0, sizeof T);
+    memset(&C, 0, sizeof C);
+    if (runner) T.par = *runner;
+    bp__free(a, ch->start_order);
+    ch->start_order = NULL;
+    if (!order || !bp__tutte_fill(a, &T, ch, m) || !bp__tutte_adjacency(a, &T))
+        st = bp__oom(err, "computing the start map");
+    if (st == BP_OK && conformal && (cf = bp__conformal_begin(a, &T, ch, m, runner, conformal == 2, &C)) < 0)
+        st = bp__oom(err, "computing the start map");
+    cols.fn = bp__conformal_task_run;               /* its columns, beside the root split */
+    cols.task = &C.J;
+    cols.count = cf == 1 ? C.J.nc : 0;
+    if (st == BP_OK && cf != 1 && !(wpre = bp__tutte_weights_loop(a, &T, mvc, &WJ, &cols)))
+        st = bp__oom(err, "computing the start map");   /* no conformal try: the weights beside it */
+    if (st == BP_OK &&
+        (!bp__tutte_order(a, &T, runner, &cols) || !bp__tutte_chart_order(a, &T, order, tree)))
+        st = bp__oom(err, "computing the start map");
+    if (st == BP_OK && cf == 1 && (done = bp__conformal_end(a, &C, ch, m, runner, order, tree, h)) < 0)
+        st = bp__oom(err, "computing the start map");
+    bp__conformal_free(a, &C);
+    if (st == BP_OK && !done) {
+        if ((!wpre && !bp__tutte_weights(a, &T, mvc)) || !bp__tutte_circle(a, &T, ch) ||
+            (T.nfree > 0 && !bp__tutte_system(a, &T, ch, mvc)))
+            st = bp__oom(err, "computing the start map");
+        if (st == BP_OK && T.nfree > 0) st = bp__tutte_solve(a, &T, ch, runner, err);
+        if (st == BP_OK) st = bp__tutte_verify(a, ch, m, runner, err);
+    }
+    if (st == BP_OK) {
+        bp__tutte_keep_order(&T, order, tree, ch);
+        order = NULL;
+        ch->start_map = done ? BP_INIT_CONFORMAL : mvc ? BP_INIT_MEAN_VALUE : BP_INIT_TUTTE;
+    }
+    bp__free(a, order);
+    bp__tutte_free(a, &T);
+    return st;
+}
+
+/* The start map: the input uvs (BP_INIT_INPUT), or a planar chart's own
+   projection (>>start, 1), or the seven phases above, optionally relaxed
+   by progressive references (>>start, 3); then the pins. */
+static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+                                bp__handoff *h, bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    bp_status st = BP_OK;
+    uint32_t *pidx = NULL;
+    int tutte = opt && opt->init == BP_INIT_TUTTE, better = !opt || opt->start != BP_START_PLAIN, planar = 0;
+    int checked = 0;              /* the map is bp__tutte_map's, which checked it exactly */
+    int conformal = opt && opt->init == BP_INIT_CONFORMAL ? 2 :         /* by name: at any size */
+                    BP__INIT_AUTO_CONFORMAL && (!opt || (opt->init != BP_INIT_MEAN_VALUE && opt->init != BP_INIT_TUTTE));
+                                                                /* (any other value acts as AUTO) */
+    if (ch && ch->error.status != BP_OK) {
+        if (err) *err = ch->error;
+        return ch->error.status;                 /* a chart that cannot be flattened */
+    }
+    if (!ch || !m || !ch->num_loops)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_chart_init needs a chart from bp_atlas_build and its mesh");
+    if (!ch->uv) ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)ch->num_vertices, sizeof(double));
+    if (!ch->uv) return bp__oom(err, "computing the start map");
+    ch->init_used = 0;
+    ch->start_map = BP_INIT_INPUT;
+    if ((st = bp__pin_map(&a, ch, m, opt, &pidx, &ch->num_pins, err)) != BP_OK) return st;
+    if (opt && opt->init == BP_INIT_INPUT) {
+        int used = bp__init_input(&a, ch, m);
+        if (used < 0) st = bp__oom(err, "checking the input map");
+        ch->init_used = used > 0 ? 1 : -1;
+    }
+    if (st == BP_OK && ch->init_used != 1 && better) {                   /* >>start, 1 */
+        planar = bp__start_planar(&a, ch, m, runner);
+        if (planar < 0) st = bp__oom(err, "checking the planar start map");
+        if (planar == 1) ch->start_map = BP_INIT_AUTO;
+    }
+    if (st == BP_OK && ch->init_used != 1 && planar != 1) {
+        st = bp__tutte_map(&a, ch, m, runner, !tutte, tutte ? 0 : conformal, h, err);
+        if (st == BP_ERR_NUMERICAL && !tutte && (!opt || opt->init != BP_INIT_MEAN_VALUE))
+            st = bp__tutte_map(&a, ch, m, runner, 0, 0, NULL, err);  /* AUTO: rounding spoiled the mean-value map */
+        checked = st == BP_OK && !pidx;   /* each way of bp__tutte_map ends with bp__check_par on the map */
+        if (st == BP_OK && opt && opt->start == BP_START_PROGRESSIVE && !pidx) {
+            st = bp__start_progressive(ch, m, opt, runner, err);                /* >>start, 3 */
+            checked = 0;
+        }
+    }
+    if (st == BP_OK && pidx) st = bp__pins_start(&a, ch, m, opt, runner, pidx, err);
+    bp__free(&a, pidx);
+    if (h) h->checked = st == BP_OK && checked;
+    if (st != BP_OK) return st;
+    ch->stop = BP_STOP_NONE;
+    ch->iterations = 0;
+    return bp__ok(err);
+}
+
+/* The public entry point: the factorization's rows run on the threads of
+   opt (a pool for this call) when the chart is large enough to gain
+   (BP__PAR_MIN_TRIANGLES, see >>threads). */
+static bp_status bp__chart_start(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp__handoff *h,
+                                 bp_error *err)
+{
+    bp_allocator a = bp__allocator_of(opt);
+    void *pool = NULL;
+    bp__par par;
+    bp_status st;
+    if (bp__report(opt, BP_STAGE_START, 0, BP_NO_CHART))
+        return bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0, "cancelled before the start map");
+    par = bp__par_serial();
+    if (ch && ch->num_triangles >= BP__PAR_MIN_TRIANGLES) par = bp__par_begin(&a, opt, &pool);
+    st = bp__chart_init(ch, m, opt, &par, h, err);
+    bp__par_end(&a, pool);
+    if (st == BP_OK) bp__report(opt, BP_STAGE_START, 1, BP_NO_CHART);  /* a cancel here: the next stage sees it */
+    return st;
+}
+
+BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_options o_;
+    bp_status st;
+    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;     /* >>progress */
+    return bp__chart_start(ch, m, opt, NULL, err);
+}
+
 /* The public optimization (opt already read by bp__opts), with the start's
    factor h or NULL. */
 static bp_status bp__chart_optimize_api(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
@@ -17728,35 +18287,6 @@ BPDEF bp_status bp_chart_solve(bp_chart *ch, uint32_t chart_index, const bp_mesh
     return st;
 }
 
-/* Area-weighted mean and max of E_t for a chart's current map. */
-BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_energy energy,
-                                    double *mean, double *max, double *per_triangle, bp_error *err)
-{
-    uint32_t t;
-    double sum = 0, area = 0, emax = 0;
-    if (!ch || !m || !ch->uv)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "bp_chart_distortion needs a chart with a map (uv) and its mesh");
-    if ((int)energy < 0 || (int)energy >= (int)BP_ENERGY_COUNT)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "unknown energy %d", (int)energy);
-    for (t = 0; t < ch->num_triangles; t++) {
-        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        bp__rest r;
-        double w, px, py, e;
-        bp__chart_rest(ch, m, t, &w, &px, &py);
-        bp__rest_inverse(w, px, py, 1, &r);
-        r.weight = 1;
-        e = bp__triangle_energy(energy, &r, ch->uv + 2 * (size_t)tr[0], ch->uv + 2 * (size_t)tr[1],
-                                ch->uv + 2 * (size_t)tr[2], NULL, NULL, NULL);
-        if (per_triangle) per_triangle[t] = e;
-        sum += 0.5 * w * py * e;
-        area += 0.5 * w * py;
-        if (e > emax) emax = e;
-    }
-    if (mean) *mean = sum / area;
-    if (max) *max = emax;
-    return bp__ok(err);
-}
 
 /* >>pack ===================================================================
 
@@ -18720,556 +19250,6 @@ static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, const
     return st;
 }
 
-/* >>pins ===================================================================
-
-   Pinned vertices (beyond the dissertation; Blender's, Maya's and SLIM's
-   pins).  What is guaranteed, precisely:
-     - every pinned chart vertex ends at its target bit for bit (the
-       final chart->uv holds the very doubles of bp_pin.u, v), and packing
-       does not move a chart that has pins (bp_atlas_pack leaves it where
-       it is and places the other charts beside it; pins together with
-       normalize or atlas_resolution are refused, since scaling would move
-       them);
-     - the map is exactly bijective at every iterate, as without pins, and
-       the optimization minimizes the same energy over the free vertices;
-     - pins that fail the necessary conditions of >>tutte are rejected
-       with the elements named, and pins that the homotopy below cannot
-       reach fail that chart with a message: never a wrong map.
-   Not guaranteed: that pins which admit a bijective map are always
-   reached.  The homotopy is a heuristic that succeeds when the targets are
-   a moderate deformation of the start (the common case: a few pins placed
-   by an artist near where the unpinned map has them); a target that needs
-   the map to turn inside out fails.
-
-   The homotopy (from the fitted start of >>tutte), in rounds k = 0, 1, ...:
-     1. snap: put every pin at its target; if that map passes the exact
-        check, done (the snapped coordinates are the targets themselves);
-     2. move: d = target - x on the pins, 0 elsewhere; the step bound of
-        >>stepbound along d (the same singularity-aware bound as the
-        optimizer's: no triangle flips, no boundary crossing), a step
-        t = min(1, 0.9 tmax) halved until the moved map passes the exact
-        check;
-     3. pull: BP__PIN_RELAX iterations of the optimizer on
-            E + w_k sum_p |x_p - t_p|^2,   w_k = 10^k nt / (n_pins L^2)
-        (L the mean 3D boundary edge; at k = 0 a pin one edge away costs
-        about the whole energy), all vertices free -- the same interior
-        point method, so every iterate is exactly bijective, and the
-        whole chart deforms toward the pins instead of the pins pushing
-        through their neighbours;
-   until the pins are at their targets, or the largest remaining distance
-   has not dropped by 1% in BP__PIN_STALL rounds, or BP__PIN_ROUNDS rounds
-   have passed (then the chart fails).  Every map on the way passed the
-   exact check. */
-
-#define BP__PIN_ROUNDS 40
-#define BP__PIN_STALL 6
-#define BP__PIN_RELAX 100
-
-/* Before the fit, a Tutte start is first optimized without its pins
-   (at most BP__PIN_FREE iterations): the fitted similarity then starts
-   from a shape like the unpinned result, which pins taken from an earlier
-   unwrap match closely, instead of from a disk. */
-#define BP__PIN_FREE 300
-
-static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
-                                     bp_error *err)
-{
-    bp_options o = *opt;
-    o.progress = NULL;
-    o.max_seconds = 0;
-    o.pins = NULL;
-    o.num_pins = 0;
-    if (o.max_iterations <= 0 || o.max_iterations > BP__PIN_FREE) o.max_iterations = BP__PIN_FREE;
-    return bp__chart_optimize(ch, 0, m, &o, runner, err);
-}
-
-/* Step 2: move the pins along d by the largest checked step; 1 if moved. */
-static int bp__pins_move(bp__solver *S, double *x, double *xn, const double *d, uint32_t nv2)
-{
-    double tmax = bp__step_bound(S, x, d, 1 / 0.9), tt = tmax < 1 / 0.9 ? 0.9 * tmax : 1, ed;
-    uint32_t i;
-    int tries, valid;
-    for (tries = 0; tries < 50 && tt > 0; tries++, tt *= 0.5) {
-        for (i = 0; i < nv2; i++) xn[i] = d[i] != 0 ? x[i] + tt * d[i] : x[i];
-        bp__evaluate(S, xn, NULL, &ed, HUGE_VAL, &valid);
-        if (S->oom) return -1;
-        if (valid) { memcpy(x, xn, nv2 * sizeof(double)); return 1; }
-    }
-    return 0;
-}
-
-/* Step 1's snapped map into xn and d = target - x; returns the largest
-   remaining coordinate distance, *worst its chart vertex. */
-static double bp__pins_snap(const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx, double *xn, double *d,
-                            uint32_t *worst)
-{
-    uint32_t i;
-    double dist = 0;
-    for (i = 0; i < ch->num_vertices; i++) {
-        double du = 0, dv = 0;
-        xn[2 * (size_t)i] = ch->uv[2 * (size_t)i];
-        xn[2 * (size_t)i + 1] = ch->uv[2 * (size_t)i + 1];
-        if (pidx[i] != BP__NONE) {
-            du = pins[pidx[i]].u - xn[2 * (size_t)i];
-            dv = pins[pidx[i]].v - xn[2 * (size_t)i + 1];
-            xn[2 * (size_t)i] = pins[pidx[i]].u;
-            xn[2 * (size_t)i + 1] = pins[pidx[i]].v;
-            if (fabs(du) > dist || fabs(dv) > dist) { dist = fabs(du) > fabs(dv) ? fabs(du) : fabs(dv); *worst = i; }
-        }
-        d[2 * (size_t)i] = du;
-        d[2 * (size_t)i + 1] = dv;
-    }
-    return dist;
-}
-
-static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
-                                const uint32_t *pidx, bp_error *err)
-{
-    bp_allocator a = bp__allocator_of(opt);
-    bp__solver S;
-    bp__penalty pen;
-    bp_options o = *opt;
-    uint32_t nv2 = 2 * ch->num_vertices, worst = 0;
-    double *xn, *d, best = HUGE_VAL, dist = 0;
-    int round, stall = 0, valid;
-    bp_status st;
-    o.progress = NULL;
-    o.max_seconds = 0;
-    o.max_iterations = BP__PIN_RELAX;
-    o.pins = NULL;                                  /* the pull: no vertex held */
-    o.num_pins = 0;
-    memset(&S, 0, sizeof S);
-    if ((st = bp__solver_chart(&S, &a, ch, m, &o, NULL, err)) != BP_OK) return st;
-    S.par = *runner;
-    pen.pins = opt->pins;
-    pen.pidx = pidx;
-    pen.w = S.nt / (ch->num_pins * S.mean_edge * S.mean_edge);
-    xn = (double *)bp__alloc_array(&a, nv2, sizeof(double));
-    d = (double *)bp__alloc_array(&a, nv2, sizeof(double));
-    for (round = 0; xn && d; round++, pen.w *= 10) {
-        double ed;
-        if ((dist = bp__pins_snap(ch, opt->pins, pidx, xn, d, &worst)) == 0) break;
-        bp__evaluate(&S, xn, NULL, &ed, HUGE_VAL, &valid);                     /* 1. snap */
-        if (S.oom) break;
-        if (valid) { memcpy(ch->uv, xn, nv2 * sizeof(double)); dist = 0; break; }
-        if (dist < 0.99 * best) { best = dist; stall = 0; } else stall++;
-        if (round >= BP__PIN_ROUNDS || stall >= BP__PIN_STALL) break;
-        if (bp__pins_move(&S, ch->uv, xn, d, nv2) < 0) break;                  /* 2. move */
-        st = bp__chart_optimize_pen(ch, 0, m, &o, runner, &pen, NULL, err);    /* 3. pull */
-        if (st != BP_OK) break;
-    }
-    bp__solver_free(&S);
-    bp__free(&a, xn);
-    bp__free(&a, d);
-    if (st != BP_OK) return st;
-    if (!xn || !d || S.oom) return bp__oom(err, "moving the pins");
-    if (dist > 0) {
-        char name[48];
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, ch->vertex[worst], -1, 0,
-                        "the pins of the chart with %s cannot be reached from its start map: vertex %u is still "
-                        "%g from its target after %d rounds (no bijective map through the targets was found)",
-                        bp__tri_name(m, ch->face[0], name), ch->vertex[worst] + 1, dist, round);
-    }
-    return BP_OK;
-}
-
-/* bp_chart_optimize holds the pinned vertices where the start map has
-   them; the caller's start must have them at their targets. */
-static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
-                                     bp_error *err)
-{
-    bp_allocator a = bp__allocator_of(opt);
-    uint32_t *pidx, i;
-    bp_status st = bp__pin_map(&a, ch, m, opt, &pidx, &ch->num_pins, err);
-    for (i = 0; st == BP_OK && pidx && i < ch->num_vertices; i++) {
-        const bp_pin *p = pidx[i] != BP__NONE ? &opt->pins[pidx[i]] : NULL;
-        if (p && (ch->uv[2 * (size_t)i] != p->u || ch->uv[2 * (size_t)i + 1] != p->v))
-            st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, p->vertex, -1, 0,
-                          "chart %u: vertex %u is pinned to (%g, %g) but the start map has it at (%g, %g)",
-                          chart_index, p->vertex + 1, p->u, p->v, ch->uv[2 * (size_t)i], ch->uv[2 * (size_t)i + 1]);
-    }
-    bp__free(&a, pidx);
-    return st;
-}
-
-/* >>start ==================================================================
-
-   A better start (issue 15).  The Tutte map of >>tutte is bijective but
-   far from the optimum where a chart is long or thin: the boundary goes on
-   a circle, and a protrusion or a strip is squeezed exponentially toward
-   its tip -- triangles a million times too small (a 1 x 1e-7 strip of 398
-   triangles starts at mean energy 9e8, lucy at 4e12) -- and every step
-   bound of the optimizer is throttled by them.  What is here, each handing
-   the optimizer a map that passed the exact check (bp_check), and each
-   measured (docs/performance.md, sec 6.3):
-
-   1. Planar charts start from themselves (bp_options.start = AUTO, the
-      default).  A chart whose triangles all face one side of a plane
-      within about 37 degrees is projected onto the plane of its
-      area-weighted normal n; when every triangle keeps at least
-      BP__START_PLANAR of its 3D area there and bp_check passes the
-      projection exactly, the projection is the start: its singular values
-      are s_max <= 1 and s_min >= BP__START_PLANAR, and for a flat chart it
-      is the optimum itself (energy 4, nothing left to do).  A nearly flat
-      chart whose projection overlaps itself (a helix band) fails the check
-      and starts from Tutte as before.  No chart of ../shared/meshes is
-      planar: their start maps are the same bits as before.
-
-   2. Thin charts: the barrier width (bp__start_thin_eps below, used by
-      the solver of >>optimize).  Without it no start helps a strip: the
-      barrier itself pushes the strip wider than its rest shape.
-
-   3. Progressive references (Liu, Ye et al. 2018, "Progressive
-      parameterizations"; bp_options.start = PROGRESSIVE, not the default:
-      it cuts lucy's iterations but not its time, sec 6.3).  After Tutte,
-      in rounds, each triangle gets a reference shape between its current
-      image and its rest shape,
-          C = J^T J = V diag(s1^2, s2^2) V^T   (J the current Jacobian),
-          reference metric C^a,   a = max(0, 1 - log K / log d),
-          d = max(s1, 1/s2),
-      so that the current map is within a factor K in both singular values
-      of the reference, and a triangle already within K of its rest shape
-      gets the rest shape itself (a = 0).  The iteration of >>optimize then
-      runs up to BP__START_ITERS steps on the energy measured against the
-      references (the same interior point method: every iterate is exactly
-      bijective), preconditioned by the Laplacian of the reference
-      triangles (cotangent weights of shapes close to the current ones; the
-      rest shapes' Laplacian, tried, leaves the crushed triangles crushed).
-      The crushed triangles see a moderate distortion and grow by about K
-      per round.  The rounds stop when every triangle is within K of its
-      rest shape or after BP__START_ROUNDS; the ordinary optimization takes
-      over from there. */
-
-#define BP__START_PLANAR 0.8      /* least projected / 3D area of a planar start */
-#define BP__START_K 4.0           /* the current map within K of the references */
-#define BP__START_ITERS 30        /* optimizer iterations per round            */
-#define BP__START_ROUNDS 40
-
-/* The reference of one triangle (3 above) into out = (w', x', y'):
-   the rest triangle F1 = (0, 0), F2 = (w, 0), F3 = (x, y) (read back from
-   M^-1 = [1/w  -x/(w y); 0  1/y], importance included) mapped by a linear
-   A with A^T A = C^a:
-       w' = w sqrt(Ca_00),  x' = (Ca_00 x + Ca_01 y) / sqrt(Ca_00),
-       y' = det(A) w y / w',  det(A) = (s1 s2)^a.
-   Returns log d, the triangle's distortion (0 when not finite: the rest). */
-static double bp__start_triangle(const bp__rest *r, const double *u1, const double *u2, const double *u3,
-                                 double logk, double *out)
-{
-    double w = 1 / r->m00, y = 1 / r->m11, x = -r->m01 * w * y;
-    double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
-    double j00 = d00 * r->m00, j01 = d00 * r->m01 + d01 * r->m11, j10 = d10 * r->m00, j11 = d10 * r->m01 + d11 * r->m11;
-    double c00 = j00 * j00 + j10 * j10, c01 = j00 * j01 + j10 * j11, c11 = j01 * j01 + j11 * j11;
-    double det = j00 * j11 - j01 * j10, h = 0.5 * (c00 + c11), q = 0.5 * (c00 - c11);
-    double l1 = h + sqrt(q * q + c01 * c01), l2, s1, s2, logd, a, v[2], n1, n2, p1, p2, ca00, ca01;
-    out[0] = w; out[1] = x; out[2] = y;
-    l2 = det * det / l1;
-    s1 = sqrt(l1);
-    s2 = fabs(det) / s1;
-    logd = log(s1) > -log(s2) ? log(s1) : -log(s2);
-    if (!(logd - logd == 0) || !(det > 0)) return 0;
-    if (logd <= logk) return logd;
-    a = 1 - logk / logd;
-    /* the eigenvector of l1: the better conditioned of two candidates */
-    n1 = c01 * c01 + (l1 - c00) * (l1 - c00);
-    n2 = (l1 - c11) * (l1 - c11) + c01 * c01;
-    if (n1 >= n2 && n1 > 0) { v[0] = c01; v[1] = l1 - c00; n1 = sqrt(n1); }
-    else if (n2 > 0) { v[0] = l1 - c11; v[1] = c01; n1 = sqrt(n2); }
-    else { v[0] = 1; v[1] = 0; n1 = 1; }
-    v[0] /= n1; v[1] /= n1;
-    p1 = pow(l1, a);
-    p2 = pow(l2, a);
-    ca00 = p1 * v[0] * v[0] + p2 * v[1] * v[1];          /* C^a = p1 v v^T + p2 v' v'^T */
-    ca01 = (p1 - p2) * v[0] * v[1];
-    {
-        double wn = w * sqrt(ca00), xn = (ca00 * x + ca01 * y) / sqrt(ca00), yn = sqrt(p1 * p2) * w * y / wn;
-        if (wn > 0 && yn > 0 && wn - wn == 0 && xn - xn == 0 && yn - yn == 0) { out[0] = wn; out[1] = xn; out[2] = yn; }
-    }
-    return logd;
-}
-
-/* The references of every triangle (3 above) from the rest shapes rest0
-   and the map x: into S's rest shapes (weights kept) and wxy (3 per
-   triangle, for the preconditioner); returns the largest log d. */
-static double bp__start_references(bp__solver *S, const bp__rest *rest0, const double *x, double logk, double *wxy)
-{
-    double worst = 0;
-    uint32_t t;
-    for (t = 0; t < S->nt; t++) {
-        const uint32_t *tr = S->tri + 3 * (size_t)t;
-        double *r = wxy + 3 * (size_t)t;
-        double lg = bp__start_triangle(&rest0[t], x + 2 * (size_t)tr[0], x + 2 * (size_t)tr[1], x + 2 * (size_t)tr[2],
-                                       logk, r);
-        if (lg > worst) worst = lg;
-        bp__rest_inverse(r[0], r[1], r[2], 1, &S->rest[t]);
-        S->rest[t].weight = rest0[t].weight;
-    }
-    return worst;
-}
-
-/* 3 above: the rounds of progressive references in one solver of
-   >>optimize (set up once), each round: the references, their Laplacian
-   factored as the preconditioner, the L-BFGS memory cleared, and at most
-   BP__START_ITERS iterations of >>optimize (direction, step bound and
-   line search with the exact check) on the energy against the references.
-   Only the last accepted, exactly valid map is kept. */
-static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
-                                       bp_error *err)
-{
-    bp__opt P;
-    bp__rest *rest0 = NULL;
-    double *wxy = NULL, logk = log(BP__START_K);
-    int round;
-    bp_status st;
-    memset(&P, 0, sizeof P);
-    P.a = bp__allocator_of(opt);
-    P.o = *opt;
-    P.o.progress = NULL;
-    P.o.max_seconds = 0;
-    P.o.pins = NULL;
-    P.o.num_pins = 0;
-    P.tlast = 1;
-    P.precond = opt->direction == BP_DIRECTION_PRECONDITIONED;
-    P.newton = opt->direction == BP_DIRECTION_NEWTON;
-    P.par = *runner;
-    if ((st = bp__opt_setup(&P, ch, 0, m, err)) != BP_OK) goto done;
-    rest0 = (bp__rest *)bp__alloc_array(&P.a, P.S.nt, sizeof(bp__rest));
-    wxy = (double *)bp__alloc_array(&P.a, 3 * (size_t)P.S.nt, sizeof(double));
-    if (!rest0 || !wxy) { st = bp__oom(err, "computing the start map"); goto done; }
-    memcpy(rest0, P.S.rest, P.S.nt * sizeof(bp__rest));
-    for (round = 0; round < BP__START_ROUNDS; round++) {
-        double f, ed;
-        int it, small = 0;
-        double worst = bp__start_references(&P.S, rest0, P.x, logk, wxy);
-        if (worst <= logk) break;
-        if (P.precond) {                       /* the references' Laplacian */
-            bp__sparse_free(&P.a, &P.K);
-            bp__factor_free(&P.a, &P.KF);
-            memset(&P.K, 0, sizeof P.K);
-            memset(&P.KF, 0, sizeof P.KF);
-            if ((st = bp__laplacian(&P.a, &P.S, wxy, NULL, &P.K, &P.KF, NULL, NULL)) != BP_OK) {
-                if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "factoring the preconditioner");
-                else {
-                    char name[48];
-                    st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_TRIANGLE, ch->face[0], -1, 0,
-                                  "the progressive start of the chart with %s: the Laplacian of its references "
-                                  "could not be factored", bp__tri_name(m, ch->face[0], name));
-                }
-                goto done;
-            }
-        }
-        f = bp__objective(&P.S, P.x, P.g, &ed);
-        if (P.S.oom) { st = bp__oom(err, "evaluating the barrier"); goto done; }
-        P.L.nh = 0;
-        for (it = 0; it < BP__START_ITERS; it++) {
-            double gv = bp__opt_direction(&P), tt = 0, fn = HUGE_VAL, edn = HUGE_VAL;
-            int found;
-            if (P.nd < 0) { st = bp__oom(err, "factoring Newton's system"); goto done; }
-            if (gv == 0) break;
-            found = bp__opt_line_search(&P, f, gv, &tt, &fn, &edn);
-            if (found < 0) { st = bp__oom(err, "evaluating a step"); goto done; }
-            if (!found) break;
-            P.tlast = tt;
-            bp__lbfgs_push(&P.L, &P.par, P.x, P.xn, P.g, P.gn);
-            { double *tp = P.x; P.x = P.xn; P.xn = tp; tp = P.g; P.g = P.gn; P.gn = tp; }
-            if ((f - fn) <= P.o.tolerance * fabs(fn)) small++; else small = 0;
-            f = fn;
-            if (small >= 3) break;
-        }
-    }
-    memcpy(ch->uv, P.x, P.nv2 * sizeof(double));      /* every accepted x passed the exact check */
-done:
-    bp__free(&P.a, rest0);
-    bp__free(&P.a, wxy);
-    bp__opt_free(&P);
-    return st;
-}
-
-/* 4. A crushed start, enlarged (beyond the dissertation; issue 15, lucy).
-   A start whose mean energy is astronomical (lucy's mean-value map:
-   1.2e15) has whole protrusions crushed to slivers: the symmetric
-   Dirichlet terms 1/s^2 of their singular values s dominate it, while the
-   rest of the chart sits near scale 1.  Enlarging the whole map by c
-   divides the crushed terms by c^2 and multiplies the others by c^2, so
-   the energy-optimal c is about (E0 / 2)^(1/4), lucy's ~5000.  That
-   optimum is the wrong target (measured: 287 iterations to SCAF's energy
-   against 77 unscaled, the body then shrinks back by steps clipped at
-   t ~ 0.01); the geometric middle between it and 1, c ~ E0^(1/8), took
-   65 of them (c = 10 ... 100 all between 65 and 69; 300: 83; 1000: 122;
-   docs/performance.md 6.11).  The scale is a power of two,
-   c = 2^round(log2(E0) / 8): multiplying by it is exact in floating point,
-   so every orientation and every boundary predicate keeps its exact sign
-   and the map stays bijective; it is checked again anyway (bp__evaluate),
-   and kept only if it passes and lowers the energy.  Only Newton charts
-   (>>optimize's rule) with the symmetric Dirichlet energy (the one
-   measured; conformal and MIPS do not see the scale at all) whose start
-   exceeds BP__START_SCALE_E0 and that hold no pins are enlarged (the
-   others' maps are left bit for bit as before); the energy has one
-   minimum scale, so the result is the same kind of minimum.
-   Returns k (0: not scaled), -1 when out of memory. */
-static int bp__start_scale(bp__opt *P, double *f, double *ed)
-{
-    double e0 = *ed / P->S.nt, c, fs, eds;
-    uint32_t i;
-    int k, valid;
-    if (!P->newton || P->nheld || P->pen || P->S.energy != BP_ENERGY_SYMMETRIC_DIRICHLET ||
-        !(e0 > BP__START_SCALE_E0) || !(e0 < HUGE_VAL)) return 0;
-    k = (int)floor(log(e0) / log(2.0) / 8 + 0.5);
-    if (k <= 0) return 0;
-    c = ldexp(1.0, k);
-    for (i = 0; i < P->nv2; i++) P->xn[i] = c * P->x[i];
-    fs = bp__evaluate(&P->S, P->xn, P->gn, &eds, *f, &valid);
-    if (P->S.oom) return -1;
-    if (!(fs < *f) || !valid) return 0;
-    { double *tp = P->x; P->x = P->xn; P->xn = tp; tp = P->g; P->g = P->gn; P->gn = tp; }
-    *f = fs;
-    *ed = eds;
-    P->crushed = 1;
-    return k;
-}
-
-/* (q - p) x (r - p) */
-static void bp__start_cross(const double *p, const double *q, const double *r, double *c)
-{
-    double u[3], v[3];
-    int k;
-    for (k = 0; k < 3; k++) { u[k] = q[k] - p[k]; v[k] = r[k] - p[k]; }
-    c[0] = u[1] * v[2] - u[2] * v[1];
-    c[1] = u[2] * v[0] - u[0] * v[2];
-    c[2] = u[0] * v[1] - u[1] * v[0];
-}
-
-/* An orthonormal e1, e2 with e1 x e2 = n (unit): e1 the coordinate axis
-   least aligned with n, made orthogonal to it; e2 = n x e1. */
-static void bp__start_frame(const double *n, double *e1, double *e2)
-{
-    int k, ax = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : fabs(n[1]) <= fabs(n[2]) ? 1 : 2;
-    double len;
-    for (k = 0; k < 3; k++) e1[k] = (k == ax) - n[ax] * n[k];
-    len = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    for (k = 0; k < 3; k++) e1[k] /= len;
-    e2[0] = n[1] * e1[2] - n[2] * e1[1];
-    e2[1] = n[2] * e1[0] - n[0] * e1[2];
-    e2[2] = n[0] * e1[1] - n[1] * e1[0];
-}
-
-static int bp__start_dbl_cmp(const void *pa, const void *pb)
-{
-    double x = *(const double *)pa, y = *(const double *)pb;
-    return x < y ? -1 : x > y;
-}
-
-/* Thin charts: the barrier width.  The barrier of >>barrier acts on every
-   boundary vertex within eps of a boundary edge, eps a quarter of the mean
-   boundary edge.  Across a strip thinner than that, every boundary vertex
-   is within eps of the opposite side in the rest shape itself, so the
-   barrier pushes the strip wider than its rest shape and the optimum of
-   E_D + E_B is not the isometry: a 1 x 1e-4 strip of 398 triangles
-   "converges" at mean energy 16.8, a 1 x 1e-7 one at 17,600, from any
-   start.  So eps is also at most the chart's thickness at its boundary,
-       eps <= median over boundary edges e of  h_e = 2 A_t / |e|,
-   the altitude onto e of its triangle t, in the rest shape (>>rest).  On
-   an ordinary mesh h_e is about 0.8 of an edge and the bound never acts
-   (eps stays |e| / 4: the 15 meshes of ../shared/meshes keep their eps bit
-   for bit); on a strip of width h, eps = h and the isometric map has no
-   barrier energy at all (every boundary vertex is at least h from every
-   boundary edge not its own).  The barrier's guarantee does not depend on
-   eps: any eps > 0 is infinite at contact, and the exact check accepts
-   every iterate anyway.  wxy: the rest shapes (>>rest) the solver's
-   set-up has just made, 3 per triangle; only a boundary edge's length is
-   taken.  Returns 0 when out of memory. */
-static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const double *wxy, double *eps)
-{
-    uint32_t nb = ch->loop_start[ch->num_loops], L, k, t, n = 0;
-    uint32_t *next = (uint32_t *)bp__alloc_array(a, ch->num_vertices, sizeof(uint32_t));
-    double *h = (double *)bp__alloc_array(a, (size_t)nb + 1, sizeof(double));
-    if (!next || !h) { bp__free(a, next); bp__free(a, h); return 0; }
-    for (k = 0; k < ch->num_vertices; k++) next[k] = BP__NONE;
-    for (L = 0; L < ch->num_loops; L++)
-        for (k = ch->loop_start[L]; k < ch->loop_start[L + 1]; k++)
-            next[ch->loop_vertices[k]] = ch->loop_vertices[k + 1 < ch->loop_start[L + 1] ? k + 1 : ch->loop_start[L]];
-    for (t = 0; t < ch->num_triangles && n < nb; t++) {
-        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        double w = wxy[3 * (size_t)t], x = wxy[3 * (size_t)t + 1], y = wxy[3 * (size_t)t + 2], len;
-        int c;
-        for (c = 0; c < 3; c++) {                 /* F1 = (0,0), F2 = (w,0), F3 = (x,y) */
-            uint32_t vi = tr[c], vj = tr[(c + 1) % 3];
-            if (next[vi] != vj && next[vj] != vi) continue;
-            len = c == 0 ? w : c == 1 ? sqrt((x - w) * (x - w) + y * y) : sqrt(x * x + y * y);
-            h[n++] = w * y / len;                 /* 2 A / |e| */
-        }
-    }
-    bp__free(a, next);
-    if (n > 0) {
-        double med;
-        qsort(h, n, sizeof(double), bp__start_dbl_cmp);
-        med = h[n / 2];
-        if (med > 0 && med < *eps) *eps = med;
-    }
-    bp__free(a, h);
-    return 1;
-}
-
-/* 1 above: the projection of a planar chart onto its plane (the
-   area-weighted normal n, e1 e2 n right-handed so that a triangle facing
-   n is counter-clockwise), used when every triangle keeps
-   BP__START_PLANAR of its area and the map passes bp_check: 1 used, 0
-   not, -1 out of memory.  The triangles' cross products are taken in
-   chunks on par's threads (each its own), and added in triangle order
-   after them: the serial loop's n, bit for bit. */
-typedef struct bp__cross_task { const bp_chart *ch; const bp_mesh *m; double *cr; uint32_t nc; } bp__cross_task;
-
-static void bp__cross_run(void *task, uint32_t c)
-{
-    const bp__cross_task *J = (const bp__cross_task *)task;
-    const bp_chart *ch = J->ch;
-    uint32_t t, t1 = bp__chunk_at(ch->num_triangles, J->nc, c + 1);
-    for (t = bp__chunk_at(ch->num_triangles, J->nc, c); t < t1; t++) {
-        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        bp__start_cross(bp__pos(J->m, ch->vertex[tr[0]]), bp__pos(J->m, ch->vertex[tr[1]]),
-                        bp__pos(J->m, ch->vertex[tr[2]]), J->cr + 3 * (size_t)t);
-    }
-}
-
-static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *par)
-{
-    double n[3] = { 0, 0, 0 }, c[3] = { 0, 0, 0 }, e1[3], e2[3], len;
-    uint32_t t, i, k;
-    bp_check_report rep;
-    bp_status st;
-    bp__cross_task J;
-    bp__par serial = bp__par_serial();
-    for (t = 0; ch->rest_side && t < ch->num_triangles; t++) if (ch->rest_side[t] > 0) return 0;
-    J.ch = ch;
-    J.m = m;
-    J.nc = bp__nchunks(ch->num_triangles, BP__TRI_CHUNK);
-    if (!(J.cr = (double *)bp__alloc_array(a, 3 * (size_t)ch->num_triangles + 1, sizeof(double)))) return -1;
-    bp__par_run(par ? par : &serial, bp__cross_run, &J, J.nc, ch->num_triangles);
-    for (t = 0; t < ch->num_triangles; t++)
-        for (k = 0; k < 3; k++) n[k] += J.cr[3 * (size_t)t + k];
-    len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(len > 0) || !(len < HUGE_VAL)) { bp__free(a, J.cr); return 0; }
-    for (k = 0; k < 3; k++) n[k] /= len;
-    bp__start_frame(n, e1, e2);
-    for (t = 0; t < ch->num_triangles; t++) {
-        const double *cr = J.cr + 3 * (size_t)t;
-        double ar = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-        if (!(cr[0] * n[0] + cr[1] * n[1] + cr[2] * n[2] >= BP__START_PLANAR * ar)) break;
-    }
-    bp__free(a, J.cr);
-    if (t < ch->num_triangles) return 0;
-    for (i = 0; i < ch->num_vertices; i++)
-        for (k = 0; k < 3; k++) c[k] += bp__pos(m, ch->vertex[i])[k] / ch->num_vertices;
-    for (i = 0; i < ch->num_vertices; i++) {
-        const double *p = bp__pos(m, ch->vertex[i]);
-        double d[3];
-        for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
-        ch->uv[2 * (size_t)i] = d[0] * e1[0] + d[1] * e1[1] + d[2] * e1[2];
-        ch->uv[2 * (size_t)i + 1] = d[0] * e2[0] + d[1] * e2[1] + d[2] * e2[2];
-    }
-    st = bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, a, &rep, NULL);
-    if (st == BP_ERR_OUT_OF_MEMORY) return -1;
-    return st == BP_OK;
-}
 /* >>segment ================================================================
 
    Segmentation into several charts (issue 14).  The cut of >>cut opens a
@@ -19998,25 +19978,6 @@ BPDEF bp_status bp_atlas_segment(bp_atlas *atlas, const bp_mesh *m, const bp_opt
     return st == BP_OK ? bp__ok(err) : st;
 }
 
-static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err);
-
-/* Start map and optimization of every chart, the charts in parallel when
-   there are several (bp_parameterize's solve, >>driver). */
-BPDEF bp_status bp_atlas_solve(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
-{
-    bp_options o_, ro;
-    bp__run run;
-    uint64_t total = 0;
-    uint32_t c;
-    bp_status st;
-    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
-    if (!atlas || !atlas->charts || !m)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_solve needs an atlas and its mesh");
-    for (c = 0; c < atlas->num_charts; c++) total += atlas->charts[c].num_triangles;
-    opt = bp__run_begin(opt, &ro, &run, total);          /* >>progress: one thread in the callback */
-    st = bp__solve_charts(atlas, m, opt, err);
-    return st == BP_OK ? bp__charts_status(atlas, err) : st;
-}
 
 /* The pieces of one round of mechanism (a), optimized from their
    restricted maps: independent charts, solved in parallel. */
@@ -20126,700 +20087,6 @@ BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     return st == BP_OK ? bp__ok(err) : st;
 }
 
-
-/* >>driver =================================================================
-
-   bp_parameterize runs the whole pipeline: charts (bp_atlas_build), the
-   start map of each chart (bp_chart_init), the optimization (bp_chart_optimize)
-   and the packing (bp_atlas_pack), then one exact check of the whole atlas.
-   Without opt->atlas_resolution the packing places the charts' bounding
-   boxes on shelves (tallest first) with a gap, so no two charts can
-   overlap (bp__pack_shelf below); with it, the charts' rasterized outlines
-   go into a square texture (>>pack).  Charts with pins, and charts started
-   from their input uvs, stay where they are (bp__pack_in_place).  A
-   translation or scale rounds coordinates, which could in principle flip a
-   triangle that is within rounding of degenerate; every moved chart is
-   re-checked exactly and the move is retried with a slightly different
-   offset if it ever fails. */
-
-typedef struct bp__packbox { double w, h, ox, oy; uint32_t chart; } bp__packbox;
-
-static int bp__packbox_cmp(const void *pa, const void *pb)
-{
-    const bp__packbox *a = (const bp__packbox *)pa, *b = (const bp__packbox *)pb;
-    if (a->h != b->h) return a->h > b->h ? -1 : 1;
-    return a->chart < b->chart ? -1 : a->chart > b->chart;
-}
-
-/* uv = s * (uv - lo) + off, checked exactly: the moved chart must be as
-   valid as it was (bp__pack_check, bp__report_no_worse: a chart optimized
-   without the barrier may overlap itself, and stays so); on failure
-   restore and retry.  A moved map with no count at all is no worse than
-   any, so the map as it was is checked only when the moved one has a
-   count: one exact check per chart instead of two in the usual case. */
-static bp_status bp__move_chart(const bp_allocator *a, const bp__par *par, bp_chart *ch, const double *lo,
-                                double s, double ox, double oy)
-{
-    double *save = (double *)bp__alloc_array(a, 2 * (size_t)ch->num_vertices, sizeof(double));
-    uint32_t i;
-    int attempt;
-    bp_check_report before;
-    int checked = 0;                           /* `before` holds the map as it was */
-    bp_status st;
-    if (!save) return BP_ERR_OUT_OF_MEMORY;
-    memcpy(save, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
-    for (attempt = 0; attempt < 8; attempt++) {
-        bp_check_report rep;
-        double jig = attempt ? 1 + attempt * 1e-7 : 1;
-        for (i = 0; i < ch->num_vertices; i++) {
-            ch->uv[2 * i] = s * (save[2 * i] - lo[0]) + ox * jig;
-            ch->uv[2 * i + 1] = s * (save[2 * i + 1] - lo[1]) + oy * jig;
-        }
-        if ((st = bp__pack_check(a, par, ch, ch->uv, &rep)) != BP_OK) { bp__free(a, save); return st; }
-        if (!bp__report_valid(&rep) && !checked) {                   /* a count: what did the map have? */
-            if ((st = bp__pack_check(a, par, ch, save, &before)) != BP_OK) { bp__free(a, save); return st; }
-            checked = 1;
-        }
-        if (bp__report_valid(&rep) || bp__report_no_worse(&rep, &before)) {
-            bp__free(a, save);
-            return BP_OK;
-        }
-    }
-    memcpy(ch->uv, save, 2 * (size_t)ch->num_vertices * sizeof(double));
-    bp__free(a, save);
-    return BP_ERR_NUMERICAL;
-}
-
-/* No fixed resolution: bounding boxes on shelves (the 0.1 packing). */
-static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
-{
-    bp_allocator a;
-    bp__packbox *bx;
-    double *lo, area = 0, shelf_w, x = 0, y = 0, rowh = 0, gap = 0, W = 0, H = 0, s = 1;
-    uint32_t c, i;
-    bp_options o_;
-    bp_status ost_;
-    if ((opt = bp__opts(opt, &o_, err, &ost_)), ost_ != BP_OK) return ost_;   /* >>progress: */
-    bp__report(opt, BP_STAGE_PACK, 0, BP_NO_CHART);      /* not interrupted: see there */
-    if (!atlas || !atlas->charts)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
-    a = atlas->allocator;
-    bx = (bp__packbox *)bp__alloc_array(&a, atlas->num_charts, sizeof *bx);
-    lo = (double *)bp__alloc_array(&a, 2 * (size_t)atlas->num_charts, sizeof(double));
-    if (!bx || !lo) { bp__free(&a, bx); bp__free(&a, lo); return bp__oom(err, "packing charts"); }
-    for (c = 0; c < atlas->num_charts; c++) {
-        bp_chart *ch = &atlas->charts[c];
-        double mn[2] = { DBL_MAX, DBL_MAX }, mx[2] = { -DBL_MAX, -DBL_MAX };
-        if (!ch->uv) { mn[0] = mn[1] = mx[0] = mx[1] = 0; }   /* no map: takes no room */
-        for (i = 0; ch->uv && i < ch->num_vertices; i++) {
-            int k;
-            for (k = 0; k < 2; k++) {
-                if (ch->uv[2 * i + k] < mn[k]) mn[k] = ch->uv[2 * i + k];
-                if (ch->uv[2 * i + k] > mx[k]) mx[k] = ch->uv[2 * i + k];
-            }
-        }
-        lo[2 * c] = mn[0]; lo[2 * c + 1] = mn[1];
-        bx[c].w = mx[0] - mn[0]; bx[c].h = mx[1] - mn[1]; bx[c].chart = c;
-        area += bx[c].w * bx[c].h;
-        if (bx[c].w > gap) gap = bx[c].w;
-        if (bx[c].h > gap) gap = bx[c].h;
-    }
-    gap *= 0.02;
-    qsort(bx, atlas->num_charts, sizeof *bx, bp__packbox_cmp);
-    shelf_w = sqrt(area) * 1.3;
-    for (i = 0; i < atlas->num_charts; i++) if (bx[i].w > shelf_w) shelf_w = bx[i].w;
-    /* shelf placement: offsets of each chart's lower-left corner */
-    for (i = 0; i < atlas->num_charts; i++) {
-        if (x > 0 && x + bx[i].w > shelf_w) { x = 0; y += rowh + gap; rowh = 0; }
-        bx[i].ox = x;
-        bx[i].oy = y;
-        x += bx[i].w + gap;
-        if (bx[i].h > rowh) rowh = bx[i].h;
-        if (bx[i].ox + bx[i].w > W) W = bx[i].ox + bx[i].w;
-        if (bx[i].oy + bx[i].h > H) H = bx[i].oy + bx[i].h;
-    }
-    if (opt && opt->normalize && W > 0 && H > 0) s = 1 / (W > H ? W : H);
-    area = 0;
-    for (i = 0; i < atlas->num_charts; i++) {
-        c = bx[i].chart;
-        if (!atlas->charts[c].uv) continue;
-        bp_status ms = bp__move_chart(&a, par, &atlas->charts[c], lo + 2 * (size_t)c, s, s * bx[i].ox, s * bx[i].oy);
-        if (ms != BP_OK) {
-            bp__free(&a, bx); bp__free(&a, lo);
-            if (ms == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "packing charts");
-            return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
-                            "chart %u: placing it in the atlas would break its validity in floating point", c);
-        }
-        area += bp__chart_uv_area(&atlas->charts[c]);
-    }
-    /* the square on the longer side, the one normalize scales to [0,1]^2 */
-    W *= s; H *= s;
-    atlas->utilization = W > 0 && H > 0 ? area / ((W > H ? W : H) * (W > H ? W : H)) : 0;
-    bp__free(&a, bx);
-    bp__free(&a, lo);
-    bp__report(opt, BP_STAGE_PACK, 1, BP_NO_CHART);
-    return bp__ok(err);
-}
-
-/* Every chart that has a map, by shelves or by outlines (atlas_resolution). */
-static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
-{
-    atlas->utilization = 0;
-    if (!opt || opt->atlas_resolution == 0) return bp__pack_shelf(atlas, opt, par, err);
-    if (opt->atlas_resolution < 0 || opt->atlas_resolution > BP__PACK_MAX_RES)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "atlas resolution %d is out of range: it must be between 1 and %d texels",
-                        opt->atlas_resolution, BP__PACK_MAX_RES);
-    if (opt->padding < 0 || opt->padding >= opt->atlas_resolution)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "padding %d is out of range: it must be at least 0 and less than the resolution %d",
-                        opt->padding, opt->atlas_resolution);
-    return bp__pack_outlines(atlas, opt, par, err);
-}
-
-/* The last word before success: the whole atlas -- every mapped chart, in
-   its packed place -- passes the exact check as one triangulation, which
-   also proves that no two charts overlap.  This should never fail (every
-   step was checked); if it does, the caller gets BP_ERR_NOT_BIJECTIVE, not
-   a wrong map. */
-static bp_status bp__atlas_verify(const bp_atlas *atlas, const bp__par *par, bp_error *err)
-{
-    bp_allocator a = atlas->allocator;
-    uint32_t c, nt = 0, nv = 0, t, i, *tri, ov = 0, ot = 0;
-    double *uv;
-    bp_check_report rep;
-    bp_error why;
-    bp_status st;
-    for (c = 0; c < atlas->num_charts; c++)
-        if (atlas->charts[c].uv) { nt += atlas->charts[c].num_triangles; nv += atlas->charts[c].num_vertices; }
-    if (!nt) return BP_OK;
-    tri = (uint32_t *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof(uint32_t));
-    uv = (double *)bp__alloc_array(&a, 2 * (size_t)nv, sizeof(double));
-    if (!tri || !uv) { bp__free(&a, tri); bp__free(&a, uv); return bp__oom(err, "verifying the atlas"); }
-    for (c = 0; c < atlas->num_charts; c++) {
-        const bp_chart *ch = &atlas->charts[c];
-        if (!ch->uv) continue;
-        for (t = 0; t < 3 * ch->num_triangles; t++) tri[3 * (size_t)ot + t] = ch->triangles[t] + ov;
-        for (i = 0; i < 2 * ch->num_vertices; i++) uv[2 * (size_t)ov + i] = ch->uv[i];
-        ot += ch->num_triangles;
-        ov += ch->num_vertices;
-    }
-    st = bp__check_par(tri, nt, uv, nv, &a, par, &rep, &why);
-    bp__free(&a, tri);
-    bp__free(&a, uv);
-    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "verifying the atlas");
-    if (!bp__check_verdict_status(st)) return bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "verifying the atlas failed: %s", why.message);
-    if (st != BP_OK)
-        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
-                        "the final atlas is not bijective (%u flipped, %u degenerate, %u boundary "
-                        "intersections, %u loop-orientation and %u nesting problems; indices of the "
-                        "concatenated charts: %s): this is a bug",
-                        rep.flipped, rep.degenerate, rep.boundary_intersections, rep.loop_orientation, rep.nested,
-                        why.message);
-    return BP_OK;
-}
-
-/* Charts kept in place (>>pins): a chart with pins never moves; a chart
-   whose start was its input uvs (BP_INIT_INPUT, chart.init_used = 1) keeps
-   its placement unless normalize asks for packing -- and only when those
-   charts do not overlap each other, which the exact check of the kept
-   charts together decides (the input charts are then packed like the
-   others).  The other charts are packed as usual and then translated, as
-   one block, to the right of the kept charts' bounding box, so the kept
-   and the packed never meet; bp_parameterize's final check proves it.
-   Without the barrier nothing is verified (maps may overlap themselves). */
-static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier, const bp__par *par, bp_error *why)
-{
-    double **save;
-    uint32_t c;
-    bp_status st;
-    if (!barrier) return BP_OK;
-    save = (double **)bp__alloc_array(&atlas->allocator, atlas->num_charts, sizeof(double *));
-    if (!save) return BP_ERR_OUT_OF_MEMORY;
-    for (c = 0; c < atlas->num_charts; c++) { save[c] = atlas->charts[c].uv; if (!keep[c]) atlas->charts[c].uv = NULL; }
-    st = bp__atlas_verify(atlas, par, why);
-    for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].uv = save[c];
-    bp__free(&atlas->allocator, save);
-    return st;
-}
-
-static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
-{
-    bp_allocator a = atlas->allocator;
-    int *keep = (int *)bp__calloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(int));
-    double **save = (double **)bp__alloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(double *));
-    double kb[4] = { DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX }, pb[2] = { DBL_MAX, DBL_MAX }, gap;
-    uint32_t c, i, nkeep = 0, npin = 0;
-    int normalize = opt && (opt->normalize || opt->atlas_resolution), barrier = !(opt && opt->no_barrier);
-    bp_error why;
-    bp_status st = BP_OK;
-    if (!keep || !save) { bp__free(&a, keep); bp__free(&a, save); return bp__oom(err, "packing charts"); }
-    for (c = 0; c < atlas->num_charts; c++) {
-        const bp_chart *ch = &atlas->charts[c];
-        keep[c] = ch->uv && (ch->num_pins > 0 || (ch->init_used == 1 && !normalize));
-        npin += ch->uv && ch->num_pins > 0;
-    }
-    if (npin && normalize)
-        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                      "normalize and atlas_resolution would move the pinned charts off their pins: "
-                      "use pins without them");
-    if (st == BP_OK && (st = bp__pack_kept_ok(atlas, keep, barrier, par, &why)) == BP_ERR_NOT_BIJECTIVE) {
-        for (c = 0; c < atlas->num_charts; c++) keep[c] = keep[c] && atlas->charts[c].num_pins > 0;
-        if ((st = bp__pack_kept_ok(atlas, keep, barrier, par, &why)) == BP_ERR_NOT_BIJECTIVE)
-            st = bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
-                          "the pinned charts overlap each other at their targets (%s)", why.message);
-    }
-    if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "packing charts");
-    else if (st != BP_OK && st != BP_ERR_INVALID_ARGUMENT && st != BP_ERR_NOT_BIJECTIVE) st = bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "%s", why.message);
-    for (c = 0; c < atlas->num_charts; c++) {
-        bp_chart *ch = &atlas->charts[c];
-        save[c] = ch->uv;
-        ch->in_place = keep[c];
-        nkeep += keep[c] != 0;
-        for (i = 0; keep[c] && i < ch->num_vertices; i++) {
-            double u = ch->uv[2 * (size_t)i], v = ch->uv[2 * (size_t)i + 1];
-            if (u < kb[0]) kb[0] = u;
-            if (v < kb[1]) kb[1] = v;
-            if (u > kb[2]) kb[2] = u;
-            if (v > kb[3]) kb[3] = v;
-        }
-        if (keep[c]) ch->uv = NULL;            /* hidden from the packer: takes no room */
-    }
-    if (st == BP_OK) st = bp__pack_all(atlas, opt, par, err);
-    for (c = 0; c < atlas->num_charts; c++) if (keep[c]) atlas->charts[c].uv = save[c];
-    if (st == BP_OK && nkeep) {
-        gap = 0.02 * (kb[2] - kb[0] > kb[3] - kb[1] ? kb[2] - kb[0] : kb[3] - kb[1]);
-        for (c = 0; c < atlas->num_charts; c++)
-            for (i = 0; !keep[c] && atlas->charts[c].uv && i < atlas->charts[c].num_vertices; i++) {
-                if (atlas->charts[c].uv[2 * (size_t)i] < pb[0]) pb[0] = atlas->charts[c].uv[2 * (size_t)i];
-                if (atlas->charts[c].uv[2 * (size_t)i + 1] < pb[1]) pb[1] = atlas->charts[c].uv[2 * (size_t)i + 1];
-            }
-        for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
-            double zero[2] = { 0, 0 };
-            if (keep[c] || !atlas->charts[c].uv) continue;
-            if (bp__move_chart(&a, par, &atlas->charts[c], zero, 1, kb[2] + gap - pb[0], kb[1] - pb[1]) != BP_OK)
-                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
-                              "chart %u: placing it beside the charts kept in place would break its validity", c);
-        }
-    }
-    bp__free(&a, keep);
-    bp__free(&a, save);
-    return st;
-}
-
-/* The packer's runner, for its exact checks (one per moved chart,
-   bp__move_chart, and in bp_parameterize the final one of the whole
-   atlas): a pool from opt when the charts with a map have
-   BP__PAR_MIN_TRIANGLES triangles or more together (*pool: to stop
-   later), else serial, as for a chart's own loops (>>threads). */
-static bp__par bp__pack_par(const bp_atlas *atlas, const bp_options *opt, void **pool)
-{
-    uint32_t c, nt = 0;
-    *pool = NULL;
-    for (c = 0; c < atlas->num_charts; c++)
-        if (atlas->charts[c].uv) nt += atlas->charts[c].num_triangles;
-    if (nt < BP__PAR_MIN_TRIANGLES) return bp__par_serial();
-    return bp__par_begin(&atlas->allocator, opt, pool);
-}
-
-/* Place the charts side by side without overlap, leaving pinned charts
-   (and, without normalize, charts started from their input uvs) where
-   they are: see bp__pack_in_place. */
-BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
-{
-    void *pool;
-    bp__par par;
-    bp_status st;
-    if (!atlas || !atlas->charts)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
-    par = bp__pack_par(atlas, opt, &pool);
-    st = bp__pack_in_place(atlas, opt, &par, err);
-    bp__par_end(&atlas->allocator, pool);
-    return st;
-}
-
-BPDEF void bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *why)
-{
-    bp_chart *ch;
-    if (!atlas || chart >= atlas->num_charts) return;
-    ch = &atlas->charts[chart];
-    if (ch->error.status == BP_OK) atlas->num_failed++;
-    if (why && why->status != BP_OK) ch->error = *why;
-    else bp__fail(&ch->error, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart, -1, 0, "chart %u: failed", chart);
-    bp__free(&atlas->allocator, ch->uv);
-    ch->uv = NULL;
-}
-
-/* --repack: a chart's map is the file's own (vt) texture coordinates, taken
-   only when they are exactly bijective (the same check as every result). */
-static bp_status bp__input_map(bp_atlas *atlas, uint32_t c, const bp_mesh *m, bp_error *why)
-{
-    bp_allocator a = atlas->allocator;
-    bp_chart *ch = &atlas->charts[c];
-    bp__par serial = bp__par_serial();
-    bp_check_report rep;
-    bp_status st;
-    uint32_t i;
-    for (i = 0; i < ch->num_vertices; i++)
-        if (!ch->vertex_uv || ch->vertex_uv[i] >= m->num_uvs)
-            return bp__fail(why, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, ch->vertex[i], -1, 0,
-                            "chart %u: vertex %u has no texture coordinate to repack", c, ch->vertex[i] + 1);
-    bp__free(&a, ch->uv);
-    ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)ch->num_vertices, sizeof(double));
-    if (!ch->uv) return bp__oom(why, "repacking charts");
-    for (i = 0; i < ch->num_vertices; i++) {
-        ch->uv[2 * i] = m->uvs[2 * (size_t)ch->vertex_uv[i]];
-        ch->uv[2 * i + 1] = m->uvs[2 * (size_t)ch->vertex_uv[i] + 1];
-    }
-    st = bp__pack_check(&a, &serial, ch, ch->uv, &rep);
-    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(why, "repacking charts");
-    if (st == BP_OK && bp__report_valid(&rep)) return BP_OK;
-    if (rep.first_bad_triangle >= 0) {
-        uint32_t f = ch->face[rep.first_bad_triangle];
-        if (m->triangle_line)
-            return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, f, -1, m->triangle_line[f],
-                            "chart %u: its input texture coordinates are not bijective (%u flipped, %u degenerate, "
-                            "%u non-finite triangles; the first is triangle %u (line %u))", c, rep.flipped,
-                            rep.degenerate, rep.nonfinite, f + 1, m->triangle_line[f]);
-        return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, f, -1, 0,
-                        "chart %u: its input texture coordinates are not bijective (%u flipped, %u degenerate, "
-                        "%u non-finite triangles; the first is triangle %u)", c, rep.flipped, rep.degenerate,
-                        rep.nonfinite, f + 1);
-    }
-    if (rep.first_bad_edge[0] >= 0)
-        return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_VERTEX, ch->vertex[rep.first_bad_edge[0]], -1, 0,
-                        "chart %u: its input texture coordinates overlap themselves (%u pairs of boundary edges "
-                        "meet; the first at vertex %u)", c, rep.boundary_intersections,
-                        ch->vertex[rep.first_bad_edge[0]] + 1);
-    return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_CHART, c, -1, 0,
-                    "chart %u: its input texture coordinates are not bijective (%u loop-orientation and %u "
-                    "nesting problems)", c, rep.loop_orientation, rep.nested);
-}
-
-BPDEF bp_status bp_atlas_use_input_uvs(bp_atlas *atlas, const bp_mesh *m, bp_error *err)
-{
-    uint32_t c;
-    if (!atlas || !atlas->charts || !m)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "bp_atlas_use_input_uvs needs an atlas and its mesh");
-    if (!m->corner_uv || !m->uvs)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "the mesh has no texture coordinates to repack");
-    for (c = 0; c < atlas->num_charts; c++) {
-        bp_error why;
-        bp_status st;
-        if (atlas->charts[c].error.status != BP_OK) continue;
-        st = bp__input_map(atlas, c, m, &why);
-        if (st == BP_ERR_OUT_OF_MEMORY) { if (err) *err = why; return st; }
-        if (st != BP_OK) bp_atlas_fail_chart(atlas, c, &why);
-    }
-    return atlas->num_failed ? bp__charts_status(atlas, err) : bp__ok(err);
-}
-
-/* One chart, start map and optimization: the unit of work when charts are
-   solved in parallel. */
-typedef struct bp__chart_job {
-    bp_atlas *atlas;
-    const bp_mesh *m;
-    const bp_options *opt;
-    const bp__par *inner;         /* how a large chart's own loops run      */
-    bp_status *status;
-    bp_error *errs;
-    bp__run *run;                 /* bp_parameterize's run, or NULL (>>progress) */
-    const uint32_t *list;         /* task i solves chart list[i] (NULL: chart i) */
-} bp__chart_job;
-
-static void bp__chart_task(void *task, uint32_t i)
-{
-    bp__chart_job *J = (bp__chart_job *)task;
-    uint32_t c = J->list ? J->list[i] : i;
-    bp__par serial = bp__par_serial();
-    const bp__par *inner = J->atlas->charts[c].num_triangles >= BP__PAR_MIN_TRIANGLES ? J->inner : &serial;
-    bp_allocator a = bp__allocator_of(J->opt);
-    bp__handoff h;                                    /* start -> Newton, at once */
-    bp_status st;
-    memset(&h, 0, sizeof h);
-    if (J->atlas->charts[c].error.status != BP_OK) {   /* failed in bp_atlas_build */
-        J->status[c] = BP_OK;
-        return;
-    }
-    if (bp__report(J->opt, BP_STAGE_START, 0, c))     /* cancelled: no map (>>progress) */
-        st = bp__fail(&J->errs[c], BP_ERR_CANCELLED, BP_ELEMENT_CHART, c, -1, 0,
-                      "chart %u: cancelled before its start map", c);
-    else
-        st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, inner, &h, &J->errs[c]);
-    if (st == BP_OK && bp__report(J->opt, BP_STAGE_START, 1, c)) {   /* keeps its start map */
-        J->atlas->charts[c].stop = BP_STOP_CANCELLED;
-        st = bp__fail(&J->errs[c], BP_ERR_CANCELLED, BP_ELEMENT_CHART, c, -1, 0,
-                      "chart %u: cancelled after its start map (the map is the valid start map)", c);
-    }
-    if (st == BP_OK && !(J->opt && J->opt->init_only))
-        st = bp__chart_optimize_pen(&J->atlas->charts[c], c, J->m, J->opt, inner, NULL, &h, &J->errs[c]);
-    bp__handoff_free(&a, &h);
-    if (J->run) BP__COUNT_ADD(&J->run->done, (uint64_t)J->atlas->charts[c].num_triangles);
-    J->status[c] = st;
-}
-
-/* Every chart's state after the solve is one of two: a valid map, or a
-   reported failure (chart.error set, uv NULL).  So every chart is visited,
-   also after a cancelled one: a chart that failed loses its map
-   (bp_atlas_fail_chart), a cancelled chart keeps its last valid map.  Out
-   of memory, and in strict mode any failure, end the call (returned with
-   err).  Otherwise the result is BP_OK or BP_ERR_CANCELLED (err: the first
-   cancelled chart). */
-static bp_status bp__collect(bp_atlas *atlas, const bp__chart_job *J, int strict, bp_error *err)
-{
-    bp_status st = BP_OK;
-    uint32_t c;
-    for (c = 0; c < atlas->num_charts; c++) {
-        bp_status cs = J->status[c];
-        if (cs == BP_OK) continue;
-        if (cs == BP_ERR_OUT_OF_MEMORY || (strict && cs != BP_ERR_CANCELLED)) {
-            if (err) *err = J->errs[c];
-            return cs;
-        }
-        /* a chart cancelled before its start map has none: reported failed */
-        if (cs != BP_ERR_CANCELLED || !atlas->charts[c].uv) bp_atlas_fail_chart(atlas, c, &J->errs[c]);
-        if (cs == BP_ERR_CANCELLED && st == BP_OK) {
-            st = cs;
-            if (err) *err = J->errs[c];
-        }
-    }
-    return st;
-}
-
-/* Start map and optimization of every chart.  Charts are independent, so
-   with several threads and no dominant chart (none holds more than half of
-   the triangles) the charts themselves are the parallel tasks, each solved
-   with serial loops; otherwise the large charts (BP__PAR_MIN_TRIANGLES or
-   more) go one after the other, their loops (see >>threads) in parallel,
-   and then the small ones are the parallel tasks (until 0.2 they followed
-   one by one on the caller, the other threads idle).  Either way each
-   chart's result is bit-identical to a serial solve.  One pool serves the
-   whole call, and none is started when neither way would use it (one small
-   chart).  Returns as bp__collect. */
-static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
-{
-    bp_allocator a = atlas->allocator;
-    bp__par par, serial;
-    bp__chart_job J;
-    void *pool = NULL;
-    uint32_t c, largest = 0, *small = NULL;
-    int by_chart;
-    bp_status st;
-    bp_options linked;
-    bp__iter_link L;
-    J.run = bp__run_of(opt);                                 /* >>progress */
-    opt = bp__with_iter_link(opt, &linked, &L);
-    J.status = (bp_status *)bp__alloc_array(&a, atlas->num_charts, sizeof(bp_status));
-    J.errs = (bp_error *)bp__calloc_array(&a, atlas->num_charts, sizeof(bp_error));
-    if (!J.status || !J.errs) {
-        bp__free(&a, J.status); bp__free(&a, J.errs);
-        return bp__oom(err, "starting the solve");
-    }
-    J.atlas = atlas;
-    J.m = m;
-    J.opt = opt;
-    serial = bp__par_serial();
-    for (c = 0; c < atlas->num_charts; c++)
-        if (atlas->charts[c].num_triangles > largest) largest = atlas->charts[c].num_triangles;
-    by_chart = atlas->num_charts > 1 && 2 * (uint64_t)largest <= m->num_triangles;
-    par = by_chart || largest >= BP__PAR_MIN_TRIANGLES ? bp__par_begin(&a, opt, &pool) : serial;
-    J.list = NULL;
-    if (par.threads != 1 && by_chart) {
-        J.inner = &serial;
-        par.run(par.user, bp__chart_task, &J, atlas->num_charts);
-        for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].threads = par.threads;
-    } else if (par.threads != 1) {
-        uint32_t ns = 0;
-        if (!(small = (uint32_t *)bp__alloc_array(&a, atlas->num_charts, sizeof(uint32_t)))) {
-            bp__par_end(&a, pool);
-            bp__free(&a, J.status); bp__free(&a, J.errs);
-            return bp__oom(err, "starting the solve");
-        }
-        J.inner = &par;                                   /* the large charts, their loops on the threads */
-        for (c = 0; c < atlas->num_charts; c++)
-            if (atlas->charts[c].num_triangles >= BP__PAR_MIN_TRIANGLES) bp__chart_task(&J, c);
-            else small[ns++] = c;
-        J.inner = &serial;                                /* then the small ones as the tasks */
-        J.list = small;
-        if (ns > 1) {
-            par.run(par.user, bp__chart_task, &J, ns);
-            for (c = 0; c < ns; c++) atlas->charts[small[c]].threads = par.threads;
-        } else
-            bp__serial_for(NULL, bp__chart_task, &J, ns);
-        bp__free(&a, small);
-    } else {
-        J.inner = &par;
-        bp__serial_for(NULL, bp__chart_task, &J, atlas->num_charts);
-    }
-    bp__par_end(&a, pool);
-    st = bp__collect(atlas, &J, opt && opt->strict, err);
-    bp__free(&a, J.status);
-    bp__free(&a, J.errs);
-    return st;
-}
-
-/* Extreme scales.  The map is scale-invariant, but the arithmetic is not:
-   rest shapes and energies multiply squared lengths, which overflow above
-   ~1e77 and underflow below ~1e-77.  When the mesh's size (bp__mesh_scale:
-   about 2^(e1+e2)) is beyond 2^+-100, bp_parameterize solves a copy
-   rescaled by the power of two 2^k that brings its size near 1 -- exact,
-   so the copy is the same shape -- and scales the map back by 2^-k
-   (unless normalize or atlas_resolution put it into [0,1]^2).  That
-   is exact too unless a coordinate leaves the normal range (underflow
-   near 1e-308, overflow near 1e308); then the chart fails with
-   BP_ERR_NUMERICAL instead of carrying a map that is not the solved one.
-   Meshes of ordinary size are solved as given, bit for bit. */
-static bp_status bp__rescaled_mesh(const bp_allocator *a, const bp_mesh *m, bp_mesh *ms, int *k, bp_error *err)
-{
-    bp__mesh_scale sc;
-    size_t i;
-    bp_status st = bp__validate_global(m, &sc, err);
-    *k = 0;
-    if (st != BP_OK) return st;
-    *ms = *m;
-    if (sc.e1 + sc.e2 >= -100 && sc.e1 + sc.e2 <= 100) return BP_OK;
-    *k = -(sc.e1 + sc.e2);
-    ms->positions = (double *)bp__alloc_array(a, 3 * (size_t)m->num_vertices, sizeof(double));
-    if (!ms->positions) return bp__oom(err, "rescaling the mesh");
-    for (i = 0; i < 3 * (size_t)m->num_vertices; i++) ms->positions[i] = ldexp(m->positions[i], *k);
-    return BP_OK;
-}
-
-/* The user's uv-space inputs follow the rescaled copy: pin targets and
-   input uvs are scaled by 2^k too (exact in the normal range), so they come
-   back bit for bit with the map. */
-static bp_status bp__rescale_controls(const bp_allocator *a, bp_options *o, bp_mesh *ms, int k, bp_pin **pins,
-                                      double **uvs, bp_error *err)
-{
-    size_t i;
-    if (o->num_pins && o->pins) {
-        *pins = (bp_pin *)bp__alloc_array(a, o->num_pins, sizeof(bp_pin));
-        if (!*pins) return bp__oom(err, "rescaling the pins");
-        for (i = 0; i < o->num_pins; i++) {
-            (*pins)[i] = o->pins[i];
-            (*pins)[i].u = ldexp(o->pins[i].u, k);
-            (*pins)[i].v = ldexp(o->pins[i].v, k);
-        }
-        o->pins = *pins;
-    }
-    if (o->init == BP_INIT_INPUT && ms->uvs && ms->num_uvs) {
-        *uvs = (double *)bp__alloc_array(a, 2 * (size_t)ms->num_uvs, sizeof(double));
-        if (!*uvs) return bp__oom(err, "rescaling the input uvs");
-        for (i = 0; i < 2 * (size_t)ms->num_uvs; i++) (*uvs)[i] = ldexp(ms->uvs[i], k);
-        ms->uvs = *uvs;
-    }
-    return BP_OK;
-}
-
-/* The map of the rescaled copy, back in the mesh's units (see above). */
-static void bp__unscale_atlas(bp_atlas *atlas, int k, int normalized)
-{
-    uint32_t c, i;
-    for (c = 0; c < atlas->num_charts; c++) {
-        bp_chart *ch = &atlas->charts[c];
-        int exact = 1;
-        ch->area3d = ldexp(ch->area3d, -2 * k);
-        if (ch->rest_side)                       /* repaired degenerate triangles */
-            for (i = 0; i < ch->num_triangles; i++) ch->rest_side[i] = ldexp(ch->rest_side[i], -k);
-        if (!ch->uv || normalized) continue;     /* [0,1]^2 is its own scale */
-        for (i = 0; i < 2 * ch->num_vertices && exact; i++)
-            exact = ldexp(ldexp(ch->uv[i], -k), k) == ch->uv[i];
-        if (exact) {
-            for (i = 0; i < 2 * ch->num_vertices; i++) ch->uv[i] = ldexp(ch->uv[i], -k);
-        } else {
-            bp_error why;
-            bp__fail(&why, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
-                     "chart %u: its map was solved on the mesh rescaled by 2^%d, but a coordinate underflows "
-                     "or overflows when scaled back to the mesh's size: use normalize, or rescale the mesh",
-                     c, k);
-            bp_atlas_fail_chart(atlas, c, &why);
-        }
-    }
-}
-
-/* The whole pipeline.  Its failure rule (CONVENTIONS): BP_ERR_CHARTS_FAILED
-   and BP_ERR_CANCELLED keep the atlas -- every chart a valid map or a
-   reported failure, packed and verified -- and any other error frees it. */
-BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
-{
-    bp_status st;
-    bp_allocator a;
-    bp_options local;
-    bp_mesh ms;
-    bp_error cancel;
-    bp__run run;
-    bp_pool *pool = NULL;
-    double *imp = NULL, *uvs_k = NULL;
-    bp_pin *pins_k = NULL;
-    int k = 0;
-    uint32_t t;
-    if ((opt = bp__opts(opt, &local, err, &st)), st != BP_OK) return st;   /* >>progress */
-    a = bp__allocator_of(opt);
-    if (!atlas) return bp_atlas_build(atlas, m, opt, err);
-    memset(atlas, 0, sizeof *atlas);
-    if ((st = bp__rescaled_mesh(&a, m, &ms, &k, err)) != BP_OK) return st;
-    if (!opt) memset(&local, 0, sizeof local);
-    memset(&run, 0, sizeof run);
-    bp__run_begin(&local, &local, &run, m->num_triangles);   /* one flag for the whole run (>>progress) */
-#ifdef BP_USE_PTHREADS
-    /* one pool for every stage (bp_pool_create; a mesh this large starts
-       one in bp_atlas_build anyway), not one per stage */
-    if (!local.parallel_for && local.threads != 1 && m->num_triangles >= BP__PAR_MIN_TRIANGLES &&
-        bp_pool_create(&pool, local.threads, &a, NULL) == BP_OK) {
-        local.parallel_for = bp_pool_for;
-        local.parallel_user = pool;
-    }
-#endif
-    if (k) local.epsilon = ldexp(local.epsilon, k);     /* a barrier width is a length */
-    if (k) st = bp__rescale_controls(&a, &local, &ms, k, &pins_k, &uvs_k, err);   /* pins, input uvs */
-    if (st == BP_OK && local.views.model != BP_VIEW_NONE && !local.init_only) {
-        /* chapter 4: visibility (times the user's importance) drives eq 4.1,
-           and automatic seams (>>cut) prefer the parts seen least */
-        imp = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
-        st = imp ? bp_visibility(&ms, &local, imp, err) : bp__oom(err, "computing visibility");
-        if (st == BP_ERR_CANCELLED) {            /* bp_atlas_build sees the run's flag: no charts */
-            st = BP_OK;
-            bp__free(&a, imp);
-            imp = NULL;
-        }
-        if (st == BP_OK && imp && local.importance)
-            for (t = 0; t < m->num_triangles; t++) imp[t] *= local.importance[t];
-        if (imp) local.importance = imp;
-    }
-    if (st == BP_OK) st = bp_atlas_build(atlas, &ms, &local, err);
-    if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {           /* >>segment: (b) */
-        bp_status ss = bp_atlas_segment(atlas, &ms, &local, err);
-        if (ss != BP_OK) st = ss;
-    }
-    if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {
-        st = bp__solve_charts(atlas, &ms, &local, &cancel);
-        if (st == BP_OK) st = bp_atlas_refine(atlas, &ms, &local, &cancel);   /* >>segment: (a) */
-        if (st != BP_OK && st != BP_ERR_CANCELLED && err) *err = cancel;
-    }
-    if (st == BP_OK || (st == BP_ERR_CANCELLED && atlas->charts)) {   /* a cancel in bp_atlas_build: no charts */
-        void *pool = NULL;
-        bp__par par = atlas->charts ? bp__pack_par(atlas, &local, &pool) : bp__par_serial();
-        bp_status ps = atlas->charts ? bp__pack_in_place(atlas, &local, &par, err) : bp_atlas_pack(atlas, &local, err);
-        if (ps == BP_OK && !local.no_barrier) ps = bp__atlas_verify(atlas, &par, err);
-        bp__par_end(&atlas->allocator, pool);
-        if (ps == BP_OK && k) bp__unscale_atlas(atlas, k, local.normalize || local.atlas_resolution);
-        if (ps != BP_OK) st = ps;
-        else if (st == BP_ERR_CANCELLED) { if (err) *err = cancel; }
-        else if (run.fn && BP__FLAG_LOAD(&run.cancelled))   /* asked during the packing */
-            st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0,
-                          "cancelled; every chart was solved, packed and verified first");
-        else st = bp__charts_status(atlas, err);
-    }
-    bp_pool_destroy(pool);
-    bp__free(&a, imp);
-    bp__free(&a, pins_k);
-    bp__free(&a, uvs_k);
-    if (k) bp__free(&a, ms.positions);
-    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED && st != BP_ERR_CANCELLED) bp_atlas_free(atlas);
-    return st;
-}
 
 /* >>bvh ====================================================================
 
@@ -21409,6 +20676,719 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
     bp__free(&a, uv_area);
     bp__free(&a, sums);
     bp__free(&a, dirs);
+    return st;
+}
+
+
+/* >>driver =================================================================
+
+   bp_parameterize runs the whole pipeline: charts (bp_atlas_build), the
+   start map of each chart (bp_chart_init), the optimization (bp_chart_optimize)
+   and the packing (bp_atlas_pack), then one exact check of the whole atlas.
+   Without opt->atlas_resolution the packing places the charts' bounding
+   boxes on shelves (tallest first) with a gap, so no two charts can
+   overlap (bp__pack_shelf below); with it, the charts' rasterized outlines
+   go into a square texture (>>pack).  Charts with pins, and charts started
+   from their input uvs, stay where they are (bp__pack_in_place).  A
+   translation or scale rounds coordinates, which could in principle flip a
+   triangle that is within rounding of degenerate; every moved chart is
+   re-checked exactly and the move is retried with a slightly different
+   offset if it ever fails. */
+
+typedef struct bp__packbox { double w, h, ox, oy; uint32_t chart; } bp__packbox;
+
+static int bp__packbox_cmp(const void *pa, const void *pb)
+{
+    const bp__packbox *a = (const bp__packbox *)pa, *b = (const bp__packbox *)pb;
+    if (a->h != b->h) return a->h > b->h ? -1 : 1;
+    return a->chart < b->chart ? -1 : a->chart > b->chart;
+}
+
+/* uv = s * (uv - lo) + off, checked exactly: the moved chart must be as
+   valid as it was (bp__pack_check, bp__report_no_worse: a chart optimized
+   without the barrier may overlap itself, and stays so); on failure
+   restore and retry.  A moved map with no count at all is no worse than
+   any, so the map as it was is checked only when the moved one has a
+   count: one exact check per chart instead of two in the usual case. */
+static bp_status bp__move_chart(const bp_allocator *a, const bp__par *par, bp_chart *ch, const double *lo,
+                                double s, double ox, double oy)
+{
+    double *save = (double *)bp__alloc_array(a, 2 * (size_t)ch->num_vertices, sizeof(double));
+    uint32_t i;
+    int attempt;
+    bp_check_report before;
+    int checked = 0;                           /* `before` holds the map as it was */
+    bp_status st;
+    if (!save) return BP_ERR_OUT_OF_MEMORY;
+    memcpy(save, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
+    for (attempt = 0; attempt < 8; attempt++) {
+        bp_check_report rep;
+        double jig = attempt ? 1 + attempt * 1e-7 : 1;
+        for (i = 0; i < ch->num_vertices; i++) {
+            ch->uv[2 * i] = s * (save[2 * i] - lo[0]) + ox * jig;
+            ch->uv[2 * i + 1] = s * (save[2 * i + 1] - lo[1]) + oy * jig;
+        }
+        if ((st = bp__pack_check(a, par, ch, ch->uv, &rep)) != BP_OK) { bp__free(a, save); return st; }
+        if (!bp__report_valid(&rep) && !checked) {                   /* a count: what did the map have? */
+            if ((st = bp__pack_check(a, par, ch, save, &before)) != BP_OK) { bp__free(a, save); return st; }
+            checked = 1;
+        }
+        if (bp__report_valid(&rep) || bp__report_no_worse(&rep, &before)) {
+            bp__free(a, save);
+            return BP_OK;
+        }
+    }
+    memcpy(ch->uv, save, 2 * (size_t)ch->num_vertices * sizeof(double));
+    bp__free(a, save);
+    return BP_ERR_NUMERICAL;
+}
+
+/* No fixed resolution: bounding boxes on shelves (the 0.1 packing). */
+static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
+{
+    bp_allocator a;
+    bp__packbox *bx;
+    double *lo, area = 0, shelf_w, x = 0, y = 0, rowh = 0, gap = 0, W = 0, H = 0, s = 1;
+    uint32_t c, i;
+    bp_options o_;
+    bp_status ost_;
+    if ((opt = bp__opts(opt, &o_, err, &ost_)), ost_ != BP_OK) return ost_;   /* >>progress: */
+    bp__report(opt, BP_STAGE_PACK, 0, BP_NO_CHART);      /* not interrupted: see there */
+    if (!atlas || !atlas->charts)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
+    a = atlas->allocator;
+    bx = (bp__packbox *)bp__alloc_array(&a, atlas->num_charts, sizeof *bx);
+    lo = (double *)bp__alloc_array(&a, 2 * (size_t)atlas->num_charts, sizeof(double));
+    if (!bx || !lo) { bp__free(&a, bx); bp__free(&a, lo); return bp__oom(err, "packing charts"); }
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_chart *ch = &atlas->charts[c];
+        double mn[2] = { DBL_MAX, DBL_MAX }, mx[2] = { -DBL_MAX, -DBL_MAX };
+        if (!ch->uv) { mn[0] = mn[1] = mx[0] = mx[1] = 0; }   /* no map: takes no room */
+        for (i = 0; ch->uv && i < ch->num_vertices; i++) {
+            int k;
+            for (k = 0; k < 2; k++) {
+                if (ch->uv[2 * i + k] < mn[k]) mn[k] = ch->uv[2 * i + k];
+                if (ch->uv[2 * i + k] > mx[k]) mx[k] = ch->uv[2 * i + k];
+            }
+        }
+        lo[2 * c] = mn[0]; lo[2 * c + 1] = mn[1];
+        bx[c].w = mx[0] - mn[0]; bx[c].h = mx[1] - mn[1]; bx[c].chart = c;
+        area += bx[c].w * bx[c].h;
+        if (bx[c].w > gap) gap = bx[c].w;
+        if (bx[c].h > gap) gap = bx[c].h;
+    }
+    gap *= 0.02;
+    qsort(bx, atlas->num_charts, sizeof *bx, bp__packbox_cmp);
+    shelf_w = sqrt(area) * 1.3;
+    for (i = 0; i < atlas->num_charts; i++) if (bx[i].w > shelf_w) shelf_w = bx[i].w;
+    /* shelf placement: offsets of each chart's lower-left corner */
+    for (i = 0; i < atlas->num_charts; i++) {
+        if (x > 0 && x + bx[i].w > shelf_w) { x = 0; y += rowh + gap; rowh = 0; }
+        bx[i].ox = x;
+        bx[i].oy = y;
+        x += bx[i].w + gap;
+        if (bx[i].h > rowh) rowh = bx[i].h;
+        if (bx[i].ox + bx[i].w > W) W = bx[i].ox + bx[i].w;
+        if (bx[i].oy + bx[i].h > H) H = bx[i].oy + bx[i].h;
+    }
+    if (opt && opt->normalize && W > 0 && H > 0) s = 1 / (W > H ? W : H);
+    area = 0;
+    for (i = 0; i < atlas->num_charts; i++) {
+        c = bx[i].chart;
+        if (!atlas->charts[c].uv) continue;
+        bp_status ms = bp__move_chart(&a, par, &atlas->charts[c], lo + 2 * (size_t)c, s, s * bx[i].ox, s * bx[i].oy);
+        if (ms != BP_OK) {
+            bp__free(&a, bx); bp__free(&a, lo);
+            if (ms == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "packing charts");
+            return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
+                            "chart %u: placing it in the atlas would break its validity in floating point", c);
+        }
+        area += bp__chart_uv_area(&atlas->charts[c]);
+    }
+    /* the square on the longer side, the one normalize scales to [0,1]^2 */
+    W *= s; H *= s;
+    atlas->utilization = W > 0 && H > 0 ? area / ((W > H ? W : H) * (W > H ? W : H)) : 0;
+    bp__free(&a, bx);
+    bp__free(&a, lo);
+    bp__report(opt, BP_STAGE_PACK, 1, BP_NO_CHART);
+    return bp__ok(err);
+}
+
+/* Every chart that has a map, by shelves or by outlines (atlas_resolution). */
+static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
+{
+    atlas->utilization = 0;
+    if (!opt || opt->atlas_resolution == 0) return bp__pack_shelf(atlas, opt, par, err);
+    if (opt->atlas_resolution < 0 || opt->atlas_resolution > BP__PACK_MAX_RES)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "atlas resolution %d is out of range: it must be between 1 and %d texels",
+                        opt->atlas_resolution, BP__PACK_MAX_RES);
+    if (opt->padding < 0 || opt->padding >= opt->atlas_resolution)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "padding %d is out of range: it must be at least 0 and less than the resolution %d",
+                        opt->padding, opt->atlas_resolution);
+    return bp__pack_outlines(atlas, opt, par, err);
+}
+
+/* The last word before success: the whole atlas -- every mapped chart, in
+   its packed place -- passes the exact check as one triangulation, which
+   also proves that no two charts overlap.  This should never fail (every
+   step was checked); if it does, the caller gets BP_ERR_NOT_BIJECTIVE, not
+   a wrong map. */
+static bp_status bp__atlas_verify(const bp_atlas *atlas, const bp__par *par, bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
+    uint32_t c, nt = 0, nv = 0, t, i, *tri, ov = 0, ot = 0;
+    double *uv;
+    bp_check_report rep;
+    bp_error why;
+    bp_status st;
+    for (c = 0; c < atlas->num_charts; c++)
+        if (atlas->charts[c].uv) { nt += atlas->charts[c].num_triangles; nv += atlas->charts[c].num_vertices; }
+    if (!nt) return BP_OK;
+    tri = (uint32_t *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof(uint32_t));
+    uv = (double *)bp__alloc_array(&a, 2 * (size_t)nv, sizeof(double));
+    if (!tri || !uv) { bp__free(&a, tri); bp__free(&a, uv); return bp__oom(err, "verifying the atlas"); }
+    for (c = 0; c < atlas->num_charts; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        if (!ch->uv) continue;
+        for (t = 0; t < 3 * ch->num_triangles; t++) tri[3 * (size_t)ot + t] = ch->triangles[t] + ov;
+        for (i = 0; i < 2 * ch->num_vertices; i++) uv[2 * (size_t)ov + i] = ch->uv[i];
+        ot += ch->num_triangles;
+        ov += ch->num_vertices;
+    }
+    st = bp__check_par(tri, nt, uv, nv, &a, par, &rep, &why);
+    bp__free(&a, tri);
+    bp__free(&a, uv);
+    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "verifying the atlas");
+    if (!bp__check_verdict_status(st)) return bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "verifying the atlas failed: %s", why.message);
+    if (st != BP_OK)
+        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
+                        "the final atlas is not bijective (%u flipped, %u degenerate, %u boundary "
+                        "intersections, %u loop-orientation and %u nesting problems; indices of the "
+                        "concatenated charts: %s): this is a bug",
+                        rep.flipped, rep.degenerate, rep.boundary_intersections, rep.loop_orientation, rep.nested,
+                        why.message);
+    return BP_OK;
+}
+
+/* Charts kept in place (>>pins): a chart with pins never moves; a chart
+   whose start was its input uvs (BP_INIT_INPUT, chart.init_used = 1) keeps
+   its placement unless normalize asks for packing -- and only when those
+   charts do not overlap each other, which the exact check of the kept
+   charts together decides (the input charts are then packed like the
+   others).  The other charts are packed as usual and then translated, as
+   one block, to the right of the kept charts' bounding box, so the kept
+   and the packed never meet; bp_parameterize's final check proves it.
+   Without the barrier nothing is verified (maps may overlap themselves). */
+static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier, const bp__par *par, bp_error *why)
+{
+    double **save;
+    uint32_t c;
+    bp_status st;
+    if (!barrier) return BP_OK;
+    save = (double **)bp__alloc_array(&atlas->allocator, atlas->num_charts, sizeof(double *));
+    if (!save) return BP_ERR_OUT_OF_MEMORY;
+    for (c = 0; c < atlas->num_charts; c++) { save[c] = atlas->charts[c].uv; if (!keep[c]) atlas->charts[c].uv = NULL; }
+    st = bp__atlas_verify(atlas, par, why);
+    for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].uv = save[c];
+    bp__free(&atlas->allocator, save);
+    return st;
+}
+
+static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
+    int *keep = (int *)bp__calloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(int));
+    double **save = (double **)bp__alloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(double *));
+    double kb[4] = { DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX }, pb[2] = { DBL_MAX, DBL_MAX }, gap;
+    uint32_t c, i, nkeep = 0, npin = 0;
+    int normalize = opt && (opt->normalize || opt->atlas_resolution), barrier = !(opt && opt->no_barrier);
+    bp_error why;
+    bp_status st = BP_OK;
+    if (!keep || !save) { bp__free(&a, keep); bp__free(&a, save); return bp__oom(err, "packing charts"); }
+    for (c = 0; c < atlas->num_charts; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        keep[c] = ch->uv && (ch->num_pins > 0 || (ch->init_used == 1 && !normalize));
+        npin += ch->uv && ch->num_pins > 0;
+    }
+    if (npin && normalize)
+        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                      "normalize and atlas_resolution would move the pinned charts off their pins: "
+                      "use pins without them");
+    if (st == BP_OK && (st = bp__pack_kept_ok(atlas, keep, barrier, par, &why)) == BP_ERR_NOT_BIJECTIVE) {
+        for (c = 0; c < atlas->num_charts; c++) keep[c] = keep[c] && atlas->charts[c].num_pins > 0;
+        if ((st = bp__pack_kept_ok(atlas, keep, barrier, par, &why)) == BP_ERR_NOT_BIJECTIVE)
+            st = bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
+                          "the pinned charts overlap each other at their targets (%s)", why.message);
+    }
+    if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "packing charts");
+    else if (st != BP_OK && st != BP_ERR_INVALID_ARGUMENT && st != BP_ERR_NOT_BIJECTIVE) st = bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "%s", why.message);
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_chart *ch = &atlas->charts[c];
+        save[c] = ch->uv;
+        ch->in_place = keep[c];
+        nkeep += keep[c] != 0;
+        for (i = 0; keep[c] && i < ch->num_vertices; i++) {
+            double u = ch->uv[2 * (size_t)i], v = ch->uv[2 * (size_t)i + 1];
+            if (u < kb[0]) kb[0] = u;
+            if (v < kb[1]) kb[1] = v;
+            if (u > kb[2]) kb[2] = u;
+            if (v > kb[3]) kb[3] = v;
+        }
+        if (keep[c]) ch->uv = NULL;            /* hidden from the packer: takes no room */
+    }
+    if (st == BP_OK) st = bp__pack_all(atlas, opt, par, err);
+    for (c = 0; c < atlas->num_charts; c++) if (keep[c]) atlas->charts[c].uv = save[c];
+    if (st == BP_OK && nkeep) {
+        gap = 0.02 * (kb[2] - kb[0] > kb[3] - kb[1] ? kb[2] - kb[0] : kb[3] - kb[1]);
+        for (c = 0; c < atlas->num_charts; c++)
+            for (i = 0; !keep[c] && atlas->charts[c].uv && i < atlas->charts[c].num_vertices; i++) {
+                if (atlas->charts[c].uv[2 * (size_t)i] < pb[0]) pb[0] = atlas->charts[c].uv[2 * (size_t)i];
+                if (atlas->charts[c].uv[2 * (size_t)i + 1] < pb[1]) pb[1] = atlas->charts[c].uv[2 * (size_t)i + 1];
+            }
+        for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
+            double zero[2] = { 0, 0 };
+            if (keep[c] || !atlas->charts[c].uv) continue;
+            if (bp__move_chart(&a, par, &atlas->charts[c], zero, 1, kb[2] + gap - pb[0], kb[1] - pb[1]) != BP_OK)
+                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
+                              "chart %u: placing it beside the charts kept in place would break its validity", c);
+        }
+    }
+    bp__free(&a, keep);
+    bp__free(&a, save);
+    return st;
+}
+
+/* The packer's runner, for its exact checks (one per moved chart,
+   bp__move_chart, and in bp_parameterize the final one of the whole
+   atlas): a pool from opt when the charts with a map have
+   BP__PAR_MIN_TRIANGLES triangles or more together (*pool: to stop
+   later), else serial, as for a chart's own loops (>>threads). */
+static bp__par bp__pack_par(const bp_atlas *atlas, const bp_options *opt, void **pool)
+{
+    uint32_t c, nt = 0;
+    *pool = NULL;
+    for (c = 0; c < atlas->num_charts; c++)
+        if (atlas->charts[c].uv) nt += atlas->charts[c].num_triangles;
+    if (nt < BP__PAR_MIN_TRIANGLES) return bp__par_serial();
+    return bp__par_begin(&atlas->allocator, opt, pool);
+}
+
+/* Place the charts side by side without overlap, leaving pinned charts
+   (and, without normalize, charts started from their input uvs) where
+   they are: see bp__pack_in_place. */
+BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+{
+    void *pool;
+    bp__par par;
+    bp_status st;
+    if (!atlas || !atlas->charts)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
+    par = bp__pack_par(atlas, opt, &pool);
+    st = bp__pack_in_place(atlas, opt, &par, err);
+    bp__par_end(&atlas->allocator, pool);
+    return st;
+}
+
+BPDEF void bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *why)
+{
+    bp_chart *ch;
+    if (!atlas || chart >= atlas->num_charts) return;
+    ch = &atlas->charts[chart];
+    if (ch->error.status == BP_OK) atlas->num_failed++;
+    if (why && why->status != BP_OK) ch->error = *why;
+    else bp__fail(&ch->error, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_CHART, chart, -1, 0, "chart %u: failed", chart);
+    bp__free(&atlas->allocator, ch->uv);
+    ch->uv = NULL;
+}
+
+/* --repack: a chart's map is the file's own (vt) texture coordinates, taken
+   only when they are exactly bijective (the same check as every result). */
+static bp_status bp__input_map(bp_atlas *atlas, uint32_t c, const bp_mesh *m, bp_error *why)
+{
+    bp_allocator a = atlas->allocator;
+    bp_chart *ch = &atlas->charts[c];
+    bp__par serial = bp__par_serial();
+    bp_check_report rep;
+    bp_status st;
+    uint32_t i;
+    for (i = 0; i < ch->num_vertices; i++)
+        if (!ch->vertex_uv || ch->vertex_uv[i] >= m->num_uvs)
+            return bp__fail(why, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_VERTEX, ch->vertex[i], -1, 0,
+                            "chart %u: vertex %u has no texture coordinate to repack", c, ch->vertex[i] + 1);
+    bp__free(&a, ch->uv);
+    ch->uv = (double *)bp__alloc_array(&a, 2 * (size_t)ch->num_vertices, sizeof(double));
+    if (!ch->uv) return bp__oom(why, "repacking charts");
+    for (i = 0; i < ch->num_vertices; i++) {
+        ch->uv[2 * i] = m->uvs[2 * (size_t)ch->vertex_uv[i]];
+        ch->uv[2 * i + 1] = m->uvs[2 * (size_t)ch->vertex_uv[i] + 1];
+    }
+    st = bp__pack_check(&a, &serial, ch, ch->uv, &rep);
+    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(why, "repacking charts");
+    if (st == BP_OK && bp__report_valid(&rep)) return BP_OK;
+    if (rep.first_bad_triangle >= 0) {
+        uint32_t f = ch->face[rep.first_bad_triangle];
+        if (m->triangle_line)
+            return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, f, -1, m->triangle_line[f],
+                            "chart %u: its input texture coordinates are not bijective (%u flipped, %u degenerate, "
+                            "%u non-finite triangles; the first is triangle %u (line %u))", c, rep.flipped,
+                            rep.degenerate, rep.nonfinite, f + 1, m->triangle_line[f]);
+        return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_TRIANGLE, f, -1, 0,
+                        "chart %u: its input texture coordinates are not bijective (%u flipped, %u degenerate, "
+                        "%u non-finite triangles; the first is triangle %u)", c, rep.flipped, rep.degenerate,
+                        rep.nonfinite, f + 1);
+    }
+    if (rep.first_bad_edge[0] >= 0)
+        return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_VERTEX, ch->vertex[rep.first_bad_edge[0]], -1, 0,
+                        "chart %u: its input texture coordinates overlap themselves (%u pairs of boundary edges "
+                        "meet; the first at vertex %u)", c, rep.boundary_intersections,
+                        ch->vertex[rep.first_bad_edge[0]] + 1);
+    return bp__fail(why, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_CHART, c, -1, 0,
+                    "chart %u: its input texture coordinates are not bijective (%u loop-orientation and %u "
+                    "nesting problems)", c, rep.loop_orientation, rep.nested);
+}
+
+BPDEF bp_status bp_atlas_use_input_uvs(bp_atlas *atlas, const bp_mesh *m, bp_error *err)
+{
+    uint32_t c;
+    if (!atlas || !atlas->charts || !m)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_atlas_use_input_uvs needs an atlas and its mesh");
+    if (!m->corner_uv || !m->uvs)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "the mesh has no texture coordinates to repack");
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_error why;
+        bp_status st;
+        if (atlas->charts[c].error.status != BP_OK) continue;
+        st = bp__input_map(atlas, c, m, &why);
+        if (st == BP_ERR_OUT_OF_MEMORY) { if (err) *err = why; return st; }
+        if (st != BP_OK) bp_atlas_fail_chart(atlas, c, &why);
+    }
+    return atlas->num_failed ? bp__charts_status(atlas, err) : bp__ok(err);
+}
+
+/* One chart, start map and optimization: the unit of work when charts are
+   solved in parallel. */
+typedef struct bp__chart_job {
+    bp_atlas *atlas;
+    const bp_mesh *m;
+    const bp_options *opt;
+    const bp__par *inner;         /* how a large chart's own loops run      */
+    bp_status *status;
+    bp_error *errs;
+    bp__run *run;                 /* bp_parameterize's run, or NULL (>>progress) */
+    const uint32_t *list;         /* task i solves chart list[i] (NULL: chart i) */
+} bp__chart_job;
+
+static void bp__chart_task(void *task, uint32_t i)
+{
+    bp__chart_job *J = (bp__chart_job *)task;
+    uint32_t c = J->list ? J->list[i] : i;
+    bp__par serial = bp__par_serial();
+    const bp__par *inner = J->atlas->charts[c].num_triangles >= BP__PAR_MIN_TRIANGLES ? J->inner : &serial;
+    bp_allocator a = bp__allocator_of(J->opt);
+    bp__handoff h;                                    /* start -> Newton, at once */
+    bp_status st;
+    memset(&h, 0, sizeof h);
+    if (J->atlas->charts[c].error.status != BP_OK) {   /* failed in bp_atlas_build */
+        J->status[c] = BP_OK;
+        return;
+    }
+    if (bp__report(J->opt, BP_STAGE_START, 0, c))     /* cancelled: no map (>>progress) */
+        st = bp__fail(&J->errs[c], BP_ERR_CANCELLED, BP_ELEMENT_CHART, c, -1, 0,
+                      "chart %u: cancelled before its start map", c);
+    else
+        st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, inner, &h, &J->errs[c]);
+    if (st == BP_OK && bp__report(J->opt, BP_STAGE_START, 1, c)) {   /* keeps its start map */
+        J->atlas->charts[c].stop = BP_STOP_CANCELLED;
+        st = bp__fail(&J->errs[c], BP_ERR_CANCELLED, BP_ELEMENT_CHART, c, -1, 0,
+                      "chart %u: cancelled after its start map (the map is the valid start map)", c);
+    }
+    if (st == BP_OK && !(J->opt && J->opt->init_only))
+        st = bp__chart_optimize_pen(&J->atlas->charts[c], c, J->m, J->opt, inner, NULL, &h, &J->errs[c]);
+    bp__handoff_free(&a, &h);
+    if (J->run) BP__COUNT_ADD(&J->run->done, (uint64_t)J->atlas->charts[c].num_triangles);
+    J->status[c] = st;
+}
+
+/* Every chart's state after the solve is one of two: a valid map, or a
+   reported failure (chart.error set, uv NULL).  So every chart is visited,
+   also after a cancelled one: a chart that failed loses its map
+   (bp_atlas_fail_chart), a cancelled chart keeps its last valid map.  Out
+   of memory, and in strict mode any failure, end the call (returned with
+   err).  Otherwise the result is BP_OK or BP_ERR_CANCELLED (err: the first
+   cancelled chart). */
+static bp_status bp__collect(bp_atlas *atlas, const bp__chart_job *J, int strict, bp_error *err)
+{
+    bp_status st = BP_OK;
+    uint32_t c;
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_status cs = J->status[c];
+        if (cs == BP_OK) continue;
+        if (cs == BP_ERR_OUT_OF_MEMORY || (strict && cs != BP_ERR_CANCELLED)) {
+            if (err) *err = J->errs[c];
+            return cs;
+        }
+        /* a chart cancelled before its start map has none: reported failed */
+        if (cs != BP_ERR_CANCELLED || !atlas->charts[c].uv) bp_atlas_fail_chart(atlas, c, &J->errs[c]);
+        if (cs == BP_ERR_CANCELLED && st == BP_OK) {
+            st = cs;
+            if (err) *err = J->errs[c];
+        }
+    }
+    return st;
+}
+
+/* Start map and optimization of every chart.  Charts are independent, so
+   with several threads and no dominant chart (none holds more than half of
+   the triangles) the charts themselves are the parallel tasks, each solved
+   with serial loops; otherwise the large charts (BP__PAR_MIN_TRIANGLES or
+   more) go one after the other, their loops (see >>threads) in parallel,
+   and then the small ones are the parallel tasks (until 0.2 they followed
+   one by one on the caller, the other threads idle).  Either way each
+   chart's result is bit-identical to a serial solve.  One pool serves the
+   whole call, and none is started when neither way would use it (one small
+   chart).  Returns as bp__collect. */
+static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
+    bp__par par, serial;
+    bp__chart_job J;
+    void *pool = NULL;
+    uint32_t c, largest = 0, *small = NULL;
+    int by_chart;
+    bp_status st;
+    bp_options linked;
+    bp__iter_link L;
+    J.run = bp__run_of(opt);                                 /* >>progress */
+    opt = bp__with_iter_link(opt, &linked, &L);
+    J.status = (bp_status *)bp__alloc_array(&a, atlas->num_charts, sizeof(bp_status));
+    J.errs = (bp_error *)bp__calloc_array(&a, atlas->num_charts, sizeof(bp_error));
+    if (!J.status || !J.errs) {
+        bp__free(&a, J.status); bp__free(&a, J.errs);
+        return bp__oom(err, "starting the solve");
+    }
+    J.atlas = atlas;
+    J.m = m;
+    J.opt = opt;
+    serial = bp__par_serial();
+    for (c = 0; c < atlas->num_charts; c++)
+        if (atlas->charts[c].num_triangles > largest) largest = atlas->charts[c].num_triangles;
+    by_chart = atlas->num_charts > 1 && 2 * (uint64_t)largest <= m->num_triangles;
+    par = by_chart || largest >= BP__PAR_MIN_TRIANGLES ? bp__par_begin(&a, opt, &pool) : serial;
+    J.list = NULL;
+    if (par.threads != 1 && by_chart) {
+        J.inner = &serial;
+        par.run(par.user, bp__chart_task, &J, atlas->num_charts);
+        for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].threads = par.threads;
+    } else if (par.threads != 1) {
+        uint32_t ns = 0;
+        if (!(small = (uint32_t *)bp__alloc_array(&a, atlas->num_charts, sizeof(uint32_t)))) {
+            bp__par_end(&a, pool);
+            bp__free(&a, J.status); bp__free(&a, J.errs);
+            return bp__oom(err, "starting the solve");
+        }
+        J.inner = &par;                                   /* the large charts, their loops on the threads */
+        for (c = 0; c < atlas->num_charts; c++)
+            if (atlas->charts[c].num_triangles >= BP__PAR_MIN_TRIANGLES) bp__chart_task(&J, c);
+            else small[ns++] = c;
+        J.inner = &serial;                                /* then the small ones as the tasks */
+        J.list = small;
+        if (ns > 1) {
+            par.run(par.user, bp__chart_task, &J, ns);
+            for (c = 0; c < ns; c++) atlas->charts[small[c]].threads = par.threads;
+        } else
+            bp__serial_for(NULL, bp__chart_task, &J, ns);
+        bp__free(&a, small);
+    } else {
+        J.inner = &par;
+        bp__serial_for(NULL, bp__chart_task, &J, atlas->num_charts);
+    }
+    bp__par_end(&a, pool);
+    st = bp__collect(atlas, &J, opt && opt->strict, err);
+    bp__free(&a, J.status);
+    bp__free(&a, J.errs);
+    return st;
+}
+
+/* Start map and optimization of every chart, the charts in parallel when
+   there are several (bp_parameterize's solve, >>driver). */
+BPDEF bp_status bp_atlas_solve(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_options o_, ro;
+    bp__run run;
+    uint64_t total = 0;
+    uint32_t c;
+    bp_status st;
+    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
+    if (!atlas || !atlas->charts || !m)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_solve needs an atlas and its mesh");
+    for (c = 0; c < atlas->num_charts; c++) total += atlas->charts[c].num_triangles;
+    opt = bp__run_begin(opt, &ro, &run, total);          /* >>progress: one thread in the callback */
+    st = bp__solve_charts(atlas, m, opt, err);
+    return st == BP_OK ? bp__charts_status(atlas, err) : st;
+}
+
+/* Extreme scales.  The map is scale-invariant, but the arithmetic is not:
+   rest shapes and energies multiply squared lengths, which overflow above
+   ~1e77 and underflow below ~1e-77.  When the mesh's size (bp__mesh_scale:
+   about 2^(e1+e2)) is beyond 2^+-100, bp_parameterize solves a copy
+   rescaled by the power of two 2^k that brings its size near 1 -- exact,
+   so the copy is the same shape -- and scales the map back by 2^-k
+   (unless normalize or atlas_resolution put it into [0,1]^2).  That
+   is exact too unless a coordinate leaves the normal range (underflow
+   near 1e-308, overflow near 1e308); then the chart fails with
+   BP_ERR_NUMERICAL instead of carrying a map that is not the solved one.
+   Meshes of ordinary size are solved as given, bit for bit. */
+static bp_status bp__rescaled_mesh(const bp_allocator *a, const bp_mesh *m, bp_mesh *ms, int *k, bp_error *err)
+{
+    bp__mesh_scale sc;
+    size_t i;
+    bp_status st = bp__validate_global(m, &sc, err);
+    *k = 0;
+    if (st != BP_OK) return st;
+    *ms = *m;
+    if (sc.e1 + sc.e2 >= -100 && sc.e1 + sc.e2 <= 100) return BP_OK;
+    *k = -(sc.e1 + sc.e2);
+    ms->positions = (double *)bp__alloc_array(a, 3 * (size_t)m->num_vertices, sizeof(double));
+    if (!ms->positions) return bp__oom(err, "rescaling the mesh");
+    for (i = 0; i < 3 * (size_t)m->num_vertices; i++) ms->positions[i] = ldexp(m->positions[i], *k);
+    return BP_OK;
+}
+
+/* The user's uv-space inputs follow the rescaled copy: pin targets and
+   input uvs are scaled by 2^k too (exact in the normal range), so they come
+   back bit for bit with the map. */
+static bp_status bp__rescale_controls(const bp_allocator *a, bp_options *o, bp_mesh *ms, int k, bp_pin **pins,
+                                      double **uvs, bp_error *err)
+{
+    size_t i;
+    if (o->num_pins && o->pins) {
+        *pins = (bp_pin *)bp__alloc_array(a, o->num_pins, sizeof(bp_pin));
+        if (!*pins) return bp__oom(err, "rescaling the pins");
+        for (i = 0; i < o->num_pins; i++) {
+            (*pins)[i] = o->pins[i];
+            (*pins)[i].u = ldexp(o->pins[i].u, k);
+            (*pins)[i].v = ldexp(o->pins[i].v, k);
+        }
+        o->pins = *pins;
+    }
+    if (o->init == BP_INIT_INPUT && ms->uvs && ms->num_uvs) {
+        *uvs = (double *)bp__alloc_array(a, 2 * (size_t)ms->num_uvs, sizeof(double));
+        if (!*uvs) return bp__oom(err, "rescaling the input uvs");
+        for (i = 0; i < 2 * (size_t)ms->num_uvs; i++) (*uvs)[i] = ldexp(ms->uvs[i], k);
+        ms->uvs = *uvs;
+    }
+    return BP_OK;
+}
+
+/* The map of the rescaled copy, back in the mesh's units (see above). */
+static void bp__unscale_atlas(bp_atlas *atlas, int k, int normalized)
+{
+    uint32_t c, i;
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_chart *ch = &atlas->charts[c];
+        int exact = 1;
+        ch->area3d = ldexp(ch->area3d, -2 * k);
+        if (ch->rest_side)                       /* repaired degenerate triangles */
+            for (i = 0; i < ch->num_triangles; i++) ch->rest_side[i] = ldexp(ch->rest_side[i], -k);
+        if (!ch->uv || normalized) continue;     /* [0,1]^2 is its own scale */
+        for (i = 0; i < 2 * ch->num_vertices && exact; i++)
+            exact = ldexp(ldexp(ch->uv[i], -k), k) == ch->uv[i];
+        if (exact) {
+            for (i = 0; i < 2 * ch->num_vertices; i++) ch->uv[i] = ldexp(ch->uv[i], -k);
+        } else {
+            bp_error why;
+            bp__fail(&why, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
+                     "chart %u: its map was solved on the mesh rescaled by 2^%d, but a coordinate underflows "
+                     "or overflows when scaled back to the mesh's size: use normalize, or rescale the mesh",
+                     c, k);
+            bp_atlas_fail_chart(atlas, c, &why);
+        }
+    }
+}
+
+/* The whole pipeline.  Its failure rule (CONVENTIONS): BP_ERR_CHARTS_FAILED
+   and BP_ERR_CANCELLED keep the atlas -- every chart a valid map or a
+   reported failure, packed and verified -- and any other error frees it. */
+BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+{
+    bp_status st;
+    bp_allocator a;
+    bp_options local;
+    bp_mesh ms;
+    bp_error cancel;
+    bp__run run;
+    bp_pool *pool = NULL;
+    double *imp = NULL, *uvs_k = NULL;
+    bp_pin *pins_k = NULL;
+    int k = 0;
+    uint32_t t;
+    if ((opt = bp__opts(opt, &local, err, &st)), st != BP_OK) return st;   /* >>progress */
+    a = bp__allocator_of(opt);
+    if (!atlas) return bp_atlas_build(atlas, m, opt, err);
+    memset(atlas, 0, sizeof *atlas);
+    if ((st = bp__rescaled_mesh(&a, m, &ms, &k, err)) != BP_OK) return st;
+    if (!opt) memset(&local, 0, sizeof local);
+    memset(&run, 0, sizeof run);
+    bp__run_begin(&local, &local, &run, m->num_triangles);   /* one flag for the whole run (>>progress) */
+#ifdef BP_USE_PTHREADS
+    /* one pool for every stage (bp_pool_create; a mesh this large starts
+       one in bp_atlas_build anyway), not one per stage */
+    if (!local.parallel_for && local.threads != 1 && m->num_triangles >= BP__PAR_MIN_TRIANGLES &&
+        bp_pool_create(&pool, local.threads, &a, NULL) == BP_OK) {
+        local.parallel_for = bp_pool_for;
+        local.parallel_user = pool;
+    }
+#endif
+    if (k) local.epsilon = ldexp(local.epsilon, k);     /* a barrier width is a length */
+    if (k) st = bp__rescale_controls(&a, &local, &ms, k, &pins_k, &uvs_k, err);   /* pins, input uvs */
+    if (st == BP_OK && local.views.model != BP_VIEW_NONE && !local.init_only) {
+        /* chapter 4: visibility (times the user's importance) drives eq 4.1,
+           and automatic seams (>>cut) prefer the parts seen least */
+        imp = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
+        st = imp ? bp_visibility(&ms, &local, imp, err) : bp__oom(err, "computing visibility");
+        if (st == BP_ERR_CANCELLED) {            /* bp_atlas_build sees the run's flag: no charts */
+            st = BP_OK;
+            bp__free(&a, imp);
+            imp = NULL;
+        }
+        if (st == BP_OK && imp && local.importance)
+            for (t = 0; t < m->num_triangles; t++) imp[t] *= local.importance[t];
+        if (imp) local.importance = imp;
+    }
+    if (st == BP_OK) st = bp_atlas_build(atlas, &ms, &local, err);
+    if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {           /* >>segment: (b) */
+        bp_status ss = bp_atlas_segment(atlas, &ms, &local, err);
+        if (ss != BP_OK) st = ss;
+    }
+    if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {
+        st = bp__solve_charts(atlas, &ms, &local, &cancel);
+        if (st == BP_OK) st = bp_atlas_refine(atlas, &ms, &local, &cancel);   /* >>segment: (a) */
+        if (st != BP_OK && st != BP_ERR_CANCELLED && err) *err = cancel;
+    }
+    if (st == BP_OK || (st == BP_ERR_CANCELLED && atlas->charts)) {   /* a cancel in bp_atlas_build: no charts */
+        void *pool = NULL;
+        bp__par par = atlas->charts ? bp__pack_par(atlas, &local, &pool) : bp__par_serial();
+        bp_status ps = atlas->charts ? bp__pack_in_place(atlas, &local, &par, err) : bp_atlas_pack(atlas, &local, err);
+        if (ps == BP_OK && !local.no_barrier) ps = bp__atlas_verify(atlas, &par, err);
+        bp__par_end(&atlas->allocator, pool);
+        if (ps == BP_OK && k) bp__unscale_atlas(atlas, k, local.normalize || local.atlas_resolution);
+        if (ps != BP_OK) st = ps;
+        else if (st == BP_ERR_CANCELLED) { if (err) *err = cancel; }
+        else if (run.fn && BP__FLAG_LOAD(&run.cancelled))   /* asked during the packing */
+            st = bp__fail(err, BP_ERR_CANCELLED, BP_ELEMENT_NONE, -1, -1, 0,
+                          "cancelled; every chart was solved, packed and verified first");
+        else st = bp__charts_status(atlas, err);
+    }
+    bp_pool_destroy(pool);
+    bp__free(&a, imp);
+    bp__free(&a, pins_k);
+    bp__free(&a, uvs_k);
+    if (k) bp__free(&a, ms.positions);
+    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED && st != BP_ERR_CANCELLED) bp_atlas_free(atlas);
     return st;
 }
 
