@@ -50,6 +50,11 @@
 #   make bench-pool   bench/pool_bench.c: a batch of four meshes read,
 #                     parameterized and written in one process, a pool per
 #                     call against one kept bp_pool (~1 min; not in bench)
+#   make python       the Python package's extension built in place
+#                     (python/bijparam/_native*.so; python/README.md)
+#   make bench-python bench/python_bench.py: the Python call against the
+#                     tool on the bench meshes, wall and CPU (~3 min; not
+#                     in bench)
 #   make clean        remove build/
 #
 # Every program includes bijparam.h, so every program depends on it.
@@ -82,12 +87,12 @@ C_TESTS   := $(patsubst tests/%.c,$(BUILD)/tests/%,$(wildcard tests/test_*.c))
 CXX_TESTS := $(patsubst tests/%.cpp,$(BUILD)/tests/%,$(wildcard tests/test_*.cpp))
 # The long scripts run in make check (fuzzing, the sanitizer builds, the
 # install and CMake consumers: about a minute of builds), the others in make test.
-CHECK_SH  := tests/test_fuzz.sh tests/test_sanitizers.sh tests/test_install.sh
+CHECK_SH  := tests/test_fuzz.sh tests/test_sanitizers.sh tests/test_install.sh tests/test_python_long.sh
 SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-direction bench-start bench-threads bench-pool bench-generated clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-direction bench-start bench-threads bench-pool bench-generated python bench-python clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -118,7 +123,7 @@ deps-test:
 deps-check:
 	@bash tests/ensure_deps.sh check check
 
-tests: $(C_TESTS) $(CXX_TESTS) $(TEST_TOOL)
+tests: $(C_TESTS) $(CXX_TESTS) $(TEST_TOOL) $(TEST_PY)
 
 # Dependencies first (the C++ tests need OpenMesh to compile), then build
 # (its output in build/logs/build.log, shown only when it fails), then run,
@@ -236,7 +241,25 @@ bench-pool: bijparam.h bench/pool_bench.c
 	$(BUILD)/bench/pool_bench $(BUILD)/bench/pool 7 $(POOL_MESHES)
 
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) python/bijparam/_native*.so
+
+# ---- the Python package (python/, python/README.md) -------------------------
+#
+# setuptools builds bijparam.h into the extension bijparam._native, in place
+# (python/bijparam/), its objects in $(BUILD)/python.  PYTHON is Debian's
+# interpreter, which has numpy (a python3 earlier on PATH may not).
+PYTHON ?= $(firstword $(wildcard /usr/bin/python3) python3)
+PY_EXT := python/bijparam/_native$(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_config_var("EXT_SUFFIX"))' 2>/dev/null)
+TEST_PY := $(if $(wildcard python/setup.py),$(PY_EXT))
+
+python: $(PY_EXT)
+
+$(PY_EXT): python/bijparam/_native.c python/setup.py bijparam.h
+	cd python && BIJPARAM_CFLAGS="-Wall -Wextra -Werror" $(PYTHON) setup.py -q build_ext --inplace --force \
+	    --build-temp ../$(BUILD)/python/temp --build-lib ../$(BUILD)/python/lib
+
+bench-python: $(TOOL) $(PY_EXT)
+	PYTHONPATH=python $(PYTHON) bench/python_bench.py
 
 # ---- reliability: fuzzing and sanitizers (docs/reliability.md) -------------
 #

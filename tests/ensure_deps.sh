@@ -15,7 +15,12 @@
 #          OpenMesh [libopenmesh-dev] (tests/test_openmesh.cpp cross-checks
 #          against it); cmake [cmake], pkg-config [pkgconf] and python3
 #          [python3] only when a tests/test_*.sh script uses them.
-#   check: the above, plus the sanitizer runtimes of gcc (AddressSanitizer,
+#   test:  also, for the Python package, Debian's python3 with its headers,
+#          numpy, setuptools, pytest and Dask distributed [python3-dev,
+#          python3-numpy, python3-setuptools, python3-pytest,
+#          python3-distributed];
+#   check: the above, plus venv, pip and wheel [python3-venv, python3-pip,
+#          python3-wheel] for the install test, plus the sanitizer runtimes of gcc (AddressSanitizer,
 #          UndefinedBehaviorSanitizer, ThreadSanitizer) [libgcc-N-dev, part of
 #          build-essential] for make asan / make tsan, and clang's libFuzzer
 #          [libclang-rt-N-dev, only a Recommends of clang] for tests/test_fuzz.sh.
@@ -60,8 +65,29 @@ if grep -qlw python3 tests/test_*.sh 2>/dev/null && ! command -v python3 >/dev/n
     need python3 "$(grep -lw python3 tests/test_*.sh | tr '\n' ' ')runs the independent checker (python3)"
 fi
 
+# ---- the Python package (python/; tests/test_python.sh, test_python_long.sh) ----
+# Debian's own interpreter: the extension is built on its C API and numpy's.
+PY=${PYTHON:-/usr/bin/python3}
+if [ -f tests/test_python.sh ]; then
+    if ! command -v "$PY" >/dev/null 2>&1; then
+        need python3 "tests/test_python.sh builds and tests the Python package with $PY"
+    else
+        pyinc=$("$PY" -c 'import sysconfig; print(sysconfig.get_paths()["include"])' 2>/dev/null)
+        [ -f "$pyinc/Python.h" ] || need python3-dev "make python compiles the extension against Python.h"
+        "$PY" -c 'import numpy' >/dev/null 2>&1 || need python3-numpy "the extension is built on numpy's C API"
+        "$PY" -c 'import setuptools' >/dev/null 2>&1 || need python3-setuptools "make python builds the extension with setuptools"
+        "$PY" -c 'import pytest' >/dev/null 2>&1 || need python3-pytest "tests/test_python.sh runs python/tests with pytest"
+        "$PY" -c 'import distributed' >/dev/null 2>&1 || need python3-distributed "python -m bijparam.batch runs on Dask distributed (tested on a LocalCluster)"
+    fi
+fi
+
 # ---- make check ----
 if [ "$level" = check ] || [ "$mode" = install ]; then
+    if [ -f tests/test_python_long.sh ] && command -v "$PY" >/dev/null 2>&1; then
+        "$PY" -c 'import ensurepip' >/dev/null 2>&1 || need python3-venv "tests/test_python_long.sh installs the package into a fresh virtual environment"
+        "$PY" -m pip --version >/dev/null 2>&1 || need python3-pip "tests/test_python_long.sh runs pip install --no-build-isolation ./python"
+        "$PY" -c 'import wheel' >/dev/null 2>&1 || need python3-wheel "pip builds the package's wheel with it (--no-build-isolation)"
+    fi
     if command -v "$CC" >/dev/null 2>&1; then
         if ! compiles "$CC" -fsanitize=address,undefined || ! compiles "$CC" -fsanitize=thread; then
             need "libgcc-$(major "$CC")-dev" "make asan / make tsan (in make check) link gcc's AddressSanitizer, UBSan and ThreadSanitizer runtimes"

@@ -1,0 +1,79 @@
+"""Build of the bijparam Python package: one C extension, bijparam._native,
+compiled from bijparam.h (the library is the header) on the CPython and
+numpy C APIs.  The build needs a C compiler and numpy's headers, nothing
+else.
+
+The header is taken from this folder's parent (the repository, where the
+package lives in python/) or from this folder (an sdist carries a copy:
+see sdist below)."""
+import os
+import shutil
+
+from setuptools import Extension, setup
+from setuptools.command.sdist import sdist
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def header_dir():
+    for d in (HERE, os.path.dirname(HERE)):
+        if os.path.isfile(os.path.join(d, "bijparam.h")):
+            return d
+    raise SystemExit("bijparam: bijparam.h not found next to setup.py or in its parent folder")
+
+
+def version():
+    with open(os.path.join(header_dir(), "bijparam.h"), encoding="utf-8") as f:
+        for line in f:
+            if line.startswith("#define BP_VERSION_STRING"):
+                return line.split('"')[1]
+    raise SystemExit("bijparam: no BP_VERSION_STRING in bijparam.h")
+
+
+class Sdist(sdist):
+    """An sdist stands alone: it carries the header beside setup.py."""
+
+    def make_release_tree(self, base_dir, files):
+        super().make_release_tree(base_dir, files)
+        shutil.copy(os.path.join(header_dir(), "bijparam.h"), os.path.join(base_dir, "bijparam.h"))
+
+
+class NumpyInclude:
+    """numpy's include folder, asked for only when the compiler needs it."""
+
+    def __str__(self):
+        import numpy
+        return numpy.get_include()
+
+    def __fspath__(self):
+        return str(self)
+
+
+# -g0: Python's own flags ask for debug information, which makes the
+# 21,000-line header a fifth slower to compile; BIJPARAM_CFLAGS adds flags
+# after it (make python adds -Wextra -Werror, make check builds the
+# extension with -g -fsanitize=address through it).
+extra = os.environ.get("BIJPARAM_CFLAGS", "").split()
+
+setup(
+    name="bijparam",
+    version=version(),
+    description="Bijective free-boundary UV parameterization (bijparam.h) for numpy",
+    long_description=open(os.path.join(HERE, "README.md"), encoding="utf-8").read(),
+    long_description_content_type="text/markdown",
+    license="MIT",
+    packages=["bijparam"],
+    python_requires=">=3.8",
+    install_requires=["numpy"],
+    ext_modules=[
+        Extension(
+            "bijparam._native",
+            sources=["bijparam/_native.c"],
+            include_dirs=[header_dir(), str(NumpyInclude())],
+            extra_compile_args=["-O2", "-g0", "-pthread"] + extra,
+            extra_link_args=["-pthread"] + extra,
+            libraries=["m"],
+        )
+    ],
+    cmdclass={"sdist": Sdist},
+)
