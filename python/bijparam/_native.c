@@ -397,6 +397,7 @@ typedef struct {
     bp_mesh mesh;              /* malloc'd copies of the arrays           */
     bp_atlas atlas;
     int has_atlas;
+    int writing;               /* writes under way (release waits for none) */
     budget *budget;            /* memory_limit: the allocator the atlas records */
 } AtlasObject;
 
@@ -425,6 +426,10 @@ static void Atlas_dealloc(AtlasObject *self)
 static PyObject *Atlas_release(PyObject *self, PyObject *noargs)
 {
     (void)noargs;
+    if (((AtlasObject *)self)->writing) {       /* another thread's write reads them */
+        PyErr_SetString(PyExc_RuntimeError, "the result is being written: release it after the write");
+        return NULL;
+    }
     Atlas_clear((AtlasObject *)self);
     Py_RETURN_NONE;
 }
@@ -1090,6 +1095,7 @@ static PyObject *py_parametrize(PyObject *self, PyObject *args)
     memset(&handle->mesh, 0, sizeof handle->mesh);
     memset(&handle->atlas, 0, sizeof handle->atlas);
     handle->has_atlas = 0;
+    handle->writing = 0;
     handle->budget = NULL;
     if (memory_limit) {
         if (!(handle->budget = (budget *)calloc(1, sizeof *handle->budget))) { PyErr_NoMemory(); goto done; }
@@ -1167,14 +1173,12 @@ static PyObject *Atlas_write(PyObject *obj, PyObject *args)
 {
     AtlasObject *self = (AtlasObject *)obj;
     PyObject *path = NULL, *source = NULL, *progress;
-    int threads;
+    int threads, rc;
     job J;
     PyObject *result = NULL;
     if (!PyArg_ParseTuple(args, "O&O&iO", PyUnicode_FSConverter, &path, PyUnicode_FSConverter, &source,
-                          &threads, &progress)) {
-        Py_XDECREF(path);
-        return NULL;
-    }
+                          &threads, &progress))
+        goto done;
     if (!self->has_atlas) {
         PyErr_SetString(PyExc_ValueError, "this result's atlas was released: nothing to write");
         goto done;
@@ -1189,7 +1193,10 @@ static PyObject *Atlas_write(PyObject *obj, PyObject *args)
     J.atlas = &self->atlas;
     J.path = PyBytes_AS_STRING(path);
     J.source = PyBytes_GET_SIZE(source) ? PyBytes_AS_STRING(source) : NULL;
-    if (job_run(&J, progress) < 0) goto done;
+    self->writing++;
+    rc = job_run(&J, progress);
+    self->writing--;
+    if (rc < 0) goto done;
     result = J.st == BP_OK ? Py_BuildValue("(sdd)", "ok", J.t_end - J.t_begin, J.cpu_end - J.cpu.begin)
                            : error_tuple(J.st, &J.err);
 done:
@@ -1212,7 +1219,7 @@ static PyObject *py_read_mesh(PyObject *self, PyObject *args)
     job J;
     npy_intp dims[2];
     (void)self;
-    if (!PyArg_ParseTuple(args, "O&iO", PyUnicode_FSConverter, &path, &threads, &progress)) return NULL;
+    if (!PyArg_ParseTuple(args, "O&iO", PyUnicode_FSConverter, &path, &threads, &progress)) goto done;
     if (threads < 0 || threads > 256) { PyErr_SetString(PyExc_ValueError, "threads must be in [0, 256]"); goto done; }
     if (progress != Py_None && !PyCallable_Check(progress)) {
         PyErr_SetString(PyExc_TypeError, "progress must be callable");
