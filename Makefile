@@ -36,14 +36,13 @@
 #                     against plain (~3 min; also in bench)
 #   make bench-atlas  bench/atlas.sh: every mesh through --atlas 1024
 #                     --padding 4, checked by uvcheck (~5 min; not in bench)
-#   make bench-scaf   bench/scaf_ratio.py: issue 15's table, time to SCAF's
-#                     energy x 1.001 per --direction, one thread (~10 min of
-#                     CPU on an idle machine, far more on a busy one; not in
-#                     bench)
+#   make bench-scaf   bench/scaf_ratio.py: time to SCAF's energy x 1.001 with
+#                     the default direction, one thread, medians of 3 (~2 min;
+#                     not in bench)
 #   make bench-direction bench/direction.py: the default direction against
 #                     Newton and the preconditioned L-BFGS on 15 charts of
 #                     22K-357K faces, near and far from an isometry, one
-#                     thread (~40 min of CPU; not in bench)
+#                     thread (~25 min of CPU; not in bench)
 #   make bench-threads bench/threads.py: 1 against 2 threads on face, bimba
 #                     and the 132K and 1M subdivided charts, idle then busy
 #                     (~4 min; not in bench)
@@ -198,41 +197,49 @@ bench-generated: $(TOOL) $(BUILD)/bench/mcmesh
 	cp $(TOOL) $(BUILD)/bench/bijparam-generated
 	BENCH_TOOL=$(BUILD)/bench/bijparam-generated python3 bench/generated.py
 
-# the better start: thin strips and lucy, --start auto against plain
+# the start maps: thin strips and lucy, --start auto against plain
+# (docs/performance.md, "Start maps")
 bench-start: $(TOOL)
 	bash bench/start.sh
 
 # utilization of the outline packer and the time to pack 5,000 charts
+# (docs/performance.md, "Packing")
 bench-pack: $(TOOL)
 	bash bench/pack.sh
 
-# time and memory against the face count, up to a million faces (~1 h)
+# time and memory against the face count, up to a million faces (~2 min;
+# docs/performance.md, "One chart from 8K to a million faces")
 bench-scale: $(TOOL)
 	bash bench/scale.sh
 
 # every mesh through --atlas 1024 --padding 4: charts, seams, utilization,
-# energy, time, exact check, padding (docs/results.md, "Atlas")
+# energy, time, exact check, padding (docs/performance.md, "Atlases")
 bench-atlas: $(TOOL)
 	bash bench/atlas.sh
 
-# issue 15's table: CPU seconds to SCAF's final energy x 1.001, one thread,
-# for SCAF_DIRECTIONS (default "precond newton"); docs/performance.md 6.2
+# CPU seconds to SCAF's final energy x 1.001, one thread, medians of
+# SCAF_RUNS (default 3) for each of SCAF_DIRECTIONS (default: the default
+# direction; "precond newton" compares those two); docs/performance.md,
+# "Against SCAF"
 bench-scaf: $(TOOL)
-	python3 bench/scaf_ratio.py
+	SCAF_DIRECTIONS="$(or $(SCAF_DIRECTIONS),default)" SCAF_RUNS="$(or $(SCAF_RUNS),3)" python3 bench/scaf_ratio.py
 
-# issue 15's "choose the default direction by the benchmark": each chart
-# with --direction newton, precond and default (docs/performance.md 6.42)
+# the default direction against its two choices: each chart with
+# --direction newton, precond and default (docs/performance.md, "The
+# default direction")
 bench-direction: $(TOOL)
 	python3 bench/direction.py
 
-# issue 15's thread target: wall time with 1 and 2 threads above 50K faces,
-# on the machine as it is, then with two spinning processes beside it
+# wall time with 1 and 2 threads on the charts above 50K faces, on the
+# machine as it is, then with two spinning processes beside it
+# (docs/performance.md, "Threads")
 bench-threads: $(TOOL)
 	python3 bench/threads.py 3 idle
 	python3 bench/threads.py 3 busy face,bimba,n4_132K
 
 # a batch in one process (read, parameterize, write four meshes of 8K-40K
-# faces): a pool per call against one kept bp_pool (~1 min; performance.md 6.40)
+# faces): a pool per call against one kept bp_pool (~1 min; docs/performance.md,
+# "Many small charts, and batches")
 POOL_MESHES = $(addprefix tests/data/,face_holes.off mech-holes-shark.off camelhead.off horse_cut.obj)
 bench-pool: bijparam.h bench/pool_bench.c
 	mkdir -p $(BUILD)/bench/pool

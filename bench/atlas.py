@@ -28,8 +28,8 @@ and record, per mesh:
               (read from the file's vt, exact in double).  Must be >=
               ceil(PX / 2): the packer keeps half the padding at the edge, so
               the atlas tiled with wrap-around keeps PX texels across it.
-  xatlas      xatlas's utilization at 1024 px / 4 px padding where measured
-              (issue 14): spot, cow, torus_with_holes, fertility
+  xatlas      xatlas's utilization at 1024 px / 4 px padding (its own
+              charts) where measured: spot, cow, torus_with_holes, fertility
   unseg       with ATLAS_BASELINE=1: the utilization of a second run with
               --segment off (the charts of the file and of the cut alone,
               >>segment), for comparison; "-" otherwise

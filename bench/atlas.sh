@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 [ -x build/bijparam ] || { echo "bench-atlas: build/bijparam missing: run 'make' first" >&2; exit 1; }
 command -v python3 >/dev/null || { echo "bench-atlas: python3 is needed" >&2; exit 1; }
 mkdir -p build/bench
-# the closed 90K-triangle genus-0 case of issue 14 (bimba closed over its base)
+# a closed 90K-triangle genus-0 scan (bimba closed over its base)
 [ -f build/bench/bimba_closed.obj ] ||
     python3 bench/close_base.py tests/data/bimba_i.obj build/bench/bimba_closed.obj
 if [ -z "${BENCH_TOOL:-}" ]; then     # a snapshot: a rebuild mid-bench cannot mix versions

@@ -42,8 +42,8 @@ a busy spell of a shared machine hits both alike.  "same" says whether 1 and
 loadavg_1min in the JSON is the 1-minute load average before and after the
 mesh's runs: above the core count, other processes were competing.
 
-Default threads against one, idle and busy (issue 13: the default must
-never be slower than --threads 1).  Cases: many_charts_10000 (10,000
+Default threads against one, idle and busy (the default must never be
+slower than --threads 1).  Cases: many_charts_10000 (10,000
 separate one-triangle charts, written by the bench itself), spot and camel_b
 from tests/data, and camelhead unless BENCH_QUICK.  Each case
 runs the default (--threads 0) and --threads 1, BENCH_RUNS times each,
@@ -56,7 +56,7 @@ medians (below 1: the default is faster); the JSON line of each case holds
 every run.  Measured in the same bench run, so both sides of a ratio saw
 the same machine.
 
-Many charts, many holes (issue 15): bench/photogrammetry.py writes a
+Many charts, many holes: bench/photogrammetry.py writes a
 photogrammetry-like atlas (4,740 charts: 4,739 small curved pieces of 2-200
 faces, some thin, some with a hole or two, and one of 4,601 faces with 50
 holes; 226,273 faces in all; the same bytes on every machine) and the tool
@@ -353,7 +353,7 @@ def start_competitors(n):
     code = "import time\nt = time.time() + %d\nwhile time.time() < t:\n    pass\n" % BUSY_LIMIT
     # in a session of their own, like work started from another terminal
     # or job: Linux's autogroup scheduler then shares the cores between
-    # them and the tool's session (docs/performance.md, session 5)
+    # them and the tool's session
     return [subprocess.Popen([sys.executable, "-c", code], start_new_session=True) for _ in range(n)]
 
 

@@ -1,5 +1,5 @@
 #define _POSIX_C_SOURCE 199309L
-/* bp_atlas_build alone (docs/performance.md sec 6.24).
+/* bp_atlas_build alone.
 
      build_bench MESH THREADS RUNS
 

@@ -1,8 +1,7 @@
 #!/usr/bin/env python3
 """bench/direction.py - the default direction against both of its choices
 on charts of every size, near an isometry and far from one (make
-bench-direction; issue 15 "Choose the default direction by the
-benchmark"; docs/performance.md 6.42).
+bench-direction; docs/performance.md, "The default direction").
 
     python3 bench/direction.py [NAMES]
 
@@ -37,9 +36,8 @@ would be.  Runs are single (the solver is deterministic; BENCH_DIR_RUNS
 repeats them and takes medians).  One JSON line per run goes to stderr.
 Never asserts times: it records them.
 
-The charts: the corpus's charts of 20,000-99,999 triangles that the rule
-before session 26 sent to Newton whatever their start (camelhead, hilbert,
-beetle, face, bimba), face_holes subdivided 2 x 2 (33K, near an isometry),
+The charts: the corpus's charts of 20,000-99,999 triangles (camelhead,
+hilbert, beetle, face, bimba), face_holes subdivided 2 x 2 (33K, near an isometry),
 and charts above 100,000 triangles made by bench/subdivide.py (N x N
 triangles per face, a small bump along the normals) from the corpus:
 face_holes 4 x 4 (132K; the bench-scale chart), hilbert, beetle, horse_cut,

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""bench/experiments.py - the experiments of docs/results.md, each printing a
+"""bench/experiments.py - the dissertation's chapter 3 experiments (docs/performance.md), each printing a
 Markdown table (bench/experiments.sh is the entry point).
 
     python3 bench/experiments.py SECTION [SECTION ...]
@@ -11,8 +11,8 @@ SECTION is one of
     metrics     figs 3.2 / 3.7: the five energies with and without E_B on the cow
     directions  gradient descent vs L-BFGS vs preconditioned L-BFGS (camel_b, cow)
     history     fig 3.11: L-BFGS memory m = 1..20 (camel_b, cow), time / time(m=1)
-    targets     the issue's targets: final energies, hilbert bijective, times
-                against the dissertation's
+    targets     final energies, hilbert bijective, times against the
+                dissertation's
     bench       the `make bench` tables as Markdown (reads build/bench/bench.jsonl)
     all         every section above, in this order
 
@@ -216,8 +216,8 @@ def metrics():
                          yn(r.get("bij")), "%s / %s" % (r.get("tool_bi", "-"), r.get("bi", "-")),
                          "%.2f" % DISS_T[e][1 if barrier else 0]])
     table(head, rows)
-    print("Cow (`tests/data/cow_param_withSUV.obj`), `--threads 1`, default direction "
-          "(precond), median of %d runs (runs over %g s once).  \"mean of the energy\" is "
+    print("Cow (`tests/data/cow_param_withSUV.obj`), `--threads 1`, default direction, "
+          "median of %d runs (runs over %g s once).  \"mean of the energy\" is "
           "the tool's final area-weighted mean of the optimized energy (minima: sd 4, "
           "conformal 1, mips 2, iso sqrt 2, maxiso 1); \"E_D (sd) mean\" is the symmetric "
           "Dirichlet mean of the same map as uvcheck measures it (not scale-normalized, so it "

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The experiments of docs/results.md; each section prints a Markdown table.
+# The dissertation's chapter 3 experiments (docs/performance.md); each section
+# prints a Markdown table.
 #
 #   bash bench/experiments.sh                  every section (~15 min on 2 cores)
 #   bash bench/experiments.sh table31 history  only these sections

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""bench/photogrammetry.py - a photogrammetry-like atlas case (issue 15).
+"""bench/photogrammetry.py - a photogrammetry-like atlas case.
 
     python3 bench/photogrammetry.py OUT.obj [CHARTS]
 

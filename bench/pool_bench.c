@@ -1,6 +1,6 @@
 #define _POSIX_C_SOURCE 199309L
 /* A batch in one process: a pool per call against one kept bp_pool
-   (docs/performance.md sec 6.40).
+   (make bench-pool; docs/performance.md, "Many small charts, and batches").
 
      pool_bench OUT_DIR RUNS MESH...
 

@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""bench/scaf_ratio.py - issue 15's table: bijparam's time to SCAF's energy.
+"""bench/scaf_ratio.py - bijparam's time to SCAF's energy (make bench-scaf;
+docs/performance.md, "Against SCAF").
 
-The reference numbers are the issue's (issue 15, "Second-order speed under
-the same guarantee"): libigl's igl::triangle::scaf with Eigen's simplicial
-LDL^T, started from Tutte, tolerance 1e-6, one thread, measured once on an
-idle machine of this kind.  For each mesh they give SCAF's final mean
+The reference numbers are cited: libigl's igl::triangle::scaf with Eigen's
+simplicial LDL^T, started from Tutte, tolerance 1e-6, one thread, measured
+once on an idle machine of this kind.  For each mesh they give SCAF's final mean
 energy E and the seconds from the start of its process until its energy
 first came within E x 1.001.  SCAF is not run here: those are cited.
 
@@ -22,7 +22,7 @@ and reports
               on are shared, and with --threads 1 the process's CPU time is
               what an idle machine's wall time would be (SCAF's reference
               times are wall seconds on an idle machine, one thread)
-  ratio       t / SCAF's t(1.001 E) (the issue's target: <= 0.2)
+  ratio       t / SCAF's t(1.001 E)
   wall        the same moment in wall seconds since the tool started
   iters       iterations (summed over charts)
   E end       the tool's final mean energy (per_chart energy_end; every
@@ -57,7 +57,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 MESHDIR = os.path.join(ROOT, "tests", "data")
 
-# (file, label, F, SCAF final E, SCAF t(1.001 E) in seconds): issue 15's table.
+# (file, label, F, SCAF final E, SCAF t(1.001 E) in seconds): SCAF's, cited.
 SCAF = [
     ("camel_b.obj", "camel_b", 3576, 4.0900, 3.81),
     ("cow_param_withSUV.obj", "cow (seams)", 5804, 4.0862, 1.62),
@@ -169,7 +169,7 @@ def main():
                 res.setdefault(name, []).append(r)
         rows.append((label, F, E, T, res))
     names = [c[0] for c in cfgs]
-    print("one thread; SCAF's E and t are issue 15's reference numbers (not run here);")
+    print("one thread; SCAF's E and t are cited reference numbers (not run here);")
     print("t = CPU seconds of the tool's process (the trace's cpu column: reading included)")
     print("until its mean energy first reached 1.001 x SCAF's E (wall: the same in wall")
     print("seconds, inflated on a busy machine); ratio = t / SCAF's t; cpu = the whole")

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""bench/scale.py - time and memory against the face count (make bench-scale,
-issue 15 "One million faces").
+"""bench/scale.py - time and memory against the face count (make bench-scale;
+docs/performance.md, "One chart from 8K to a million faces").
 
 One corpus chart (default tests/data/face_holes.off, the face with six
 holes: one disk, seven boundary loops, 8,288 faces) is subdivided by
 bench/subdivide.py into N x N triangles per face for each N of
 BENCH_SCALE_N (default "1 4 6 11": 8,288 / 132,608 / 298,368 / 1,002,848
-faces, the issue's "10K, 100K, 250K and 1M"), written once to
+faces), written once to
 build/bench/scale/ (the generator is deterministic: the same bytes on every
 run), and each is parameterized by the tool
 

@@ -1,5 +1,5 @@
 /* sparse_bench.c - the Newton system's factorization on a real chart
-   (>>sparse, >>newton; docs/performance.md sec 6.1).
+   (>>sparse, >>newton).
 
    Build: cc -std=c99 -O2 -I. bench/sparse_bench.c -o build/bench/sparse_bench -lm -pthread
    Usage: build/bench/sparse_bench MESH [repeats [laplacian | meanvalue | numeric]]
@@ -12,10 +12,10 @@
    dissection phase and a two-thread bound (every task timed alone, the
    tasks of each parallel loop dealt in order to the less loaded of two
    threads), and the same for the solve: one thread's time (median of
-   `repeats`) and the dissection phases' two-thread bound (sec 6.14).
-   One thread, but for the ordering's line (sec 6.15): bp__nd_order alone
+   `repeats`) and the dissection phases' two-thread bound.
+   One thread, but for the ordering's line: bp__nd_order alone
    on one thread and on a pool of two, wall and CPU, medians of `repeats`.
-   With `laplacian` as the third argument (docs/performance.md sec 6.8):
+   With `laplacian` as the third argument:
    the L-BFGS preconditioner's scalar Laplacian instead (bp__laplacian's K,
    from the Tutte start, which is faster to reach on big charts), factored
    by the scalar rows and by the supernodal Cholesky with blocks of 1
@@ -27,7 +27,7 @@
    (bp__factorize + bp__solve_refined per coordinate, the fallback) and
    phase 6a (the symmetrized Laplacian's supernodal Cholesky and
    BiCGSTAB, bp__tutte_krylov): CPU seconds, iterations, residuals.
-   With `numeric` (docs/performance.md 6.28): Newton's matrix factored
+   With `numeric`: Newton's matrix factored
    once by the supernodal Cholesky, then refactored `repeats` times on one
    thread (bp__fact_numeric): the median and the least CPU time of one
    refactorization, and a checksum of L (sum of x_i (1 + i mod 7) over the

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The better start (make bench-start, part of make bench; docs/performance.md
-# sec 6.3): the issue-15 thin strips (1 x 1e-7 and 1 x 1e-4, 398 triangles,
+# The start maps (make bench-start, part of make bench; docs/performance.md,
+# "Start maps"): thin strips (1 x 1e-7 and 1 x 1e-4, 398 triangles,
 # flat and rotated into 3D; their optimum is the isometry, mean energy 4)
 # and lucy, each with the default start (--start auto) and the plain Tutte
 # start (--start plain), one thread: CPU seconds (user+sys of the process),

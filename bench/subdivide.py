@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Large charts for the scaling benchmark (make bench-scale, issue 15).
+"""Large charts for the scaling benchmark (make bench-scale).
 
     python3 bench/subdivide.py IN.(obj|off) N OUT.obj [--bump A]
 

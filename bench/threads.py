@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""bench/threads.py - two threads against one on the large charts (issue 15:
-"2 threads at least 1.7x faster than 1 on charts above 50K faces on an idle
-machine, and never slower on a busy one"; docs/performance.md 6.12).
+"""bench/threads.py - two threads against one on the charts above 50K faces,
+on an idle machine and on a busy one (make bench-threads; docs/performance.md,
+"Threads").
 
     python3 bench/threads.py [RUNS] [idle|busy] [MESHES]
 
@@ -28,8 +28,7 @@ on a virtual machine, the host's other guests share it too), so each of
 the pair may run slower than alone; a two-thread run that split its work
 perfectly, with no serial part and no waiting, would take wp / 2, so
 2 w1 / wp is the most two threads can gain on this machine in these
-minutes.  "share" is the speed-up divided by it (docs/performance.md
-6.37).
+minutes.  "share" is the speed-up divided by it.
 "busy" starts two processes that spin on the two cores for the whole
 run. MESHES: a comma-separated subset of face,bimba,n4_132K,n11_1M.
 TOOL (environment) defaults to build/bijparam. Never asserts times.

@@ -308,14 +308,13 @@ fail:
    threads' faults contend in the kernel.  So the tool asks glibc to keep
    what is freed for the next allocation: no mmap for large blocks
    (M_MMAP_MAX 0; glibc still maps when the heap cannot grow) and no
-   trimming of the heap (M_TRIM_THRESHOLD at its largest).  Measured
-   (docs/performance.md 6.41): bimba's two-thread run 1.38 -> 1.22 s in a
-   busy hour and 1.13 -> 1.10 s in a calm one, one thread the same; page
-   faults 46,000 -> 34,700; peak memory 1,730 -> 1,576 bytes per face; the
-   million-face chart 811 -> 844 bytes per face, and the 4,740-chart case
-   270 -> 366 on one thread (278 -> 293 on two: a freed block stays in the
-   heap, where later ones do not all fit).  A fixed 16 MiB mmap threshold
-   instead kept that case's peak but saved less than half of the faults.
+   trimming of the heap (M_TRIM_THRESHOLD at its largest).  On bimba this
+   saves a quarter of the page faults and 2-12% of the two-thread run
+   (docs/performance.md, "Threads"); the price is a higher peak where a
+   freed block stays in the heap and later ones do not all fit (the
+   4,740-chart case: 366 instead of 270 bytes per face on one thread, a
+   third of the million-face budget).  A fixed 16 MiB mmap threshold saved
+   less than half of the faults.
    The library itself must not touch the process's malloc settings (and
    uses only the C library); a program calling it can do the same as here,
    or pass opt.allocator one that keeps its blocks.  With another C
@@ -581,8 +580,8 @@ static int demo_mesh(bp_mesh *m)
    library's topology, it does not repeat it).  The corner edges are
    bucketed by their smaller vertex (a counting sort) and each bucket's
    larger ends counted once, marked with the bucket's vertex: linear in
-   the corners.  (A qsort of the edge keys took 8 ms of face's 0.37 s
-   two-thread run, all of it serial; docs/performance.md 6.30.) */
+   the corners, where a qsort of the edge keys would be serial and cost 2%
+   of face's two-thread run. */
 static long chart_euler(const bp_chart *c)
 {
     size_t n = 3 * (size_t)c->num_triangles, k, i, edges = 0;

@@ -28,8 +28,7 @@
        eleven loops: more than 2.5 sqrt(V), no Schur complement) starts
        from the mean-value map, while face_holes (8,288) starts conformal
        in (a), and so does camelhead (22,704 triangles but 56 boundary
-       vertices: the Schur complement, at any size, docs/performance.md
-       sec 6.43); asked for by name (BP_INIT_CONFORMAL, no size limit)
+       vertices: the Schur complement, at any size); asked for by name (BP_INIT_CONFORMAL, no size limit)
        beetle starts conformal, so its map is bijective and only the rule
        kept it out.
    (e) A planar chart asked for BP_START_PLAIN with BP_INIT_CONFORMAL: the

@@ -1,11 +1,11 @@
 /* test_limits.c - a chart beyond the sparse factor's size limit fails with
    BP_ERR_TOO_LARGE, naming the chart, its size and the limit, and not with
-   BP_ERR_OUT_OF_MEMORY (issue 13).
+   BP_ERR_OUT_OF_MEMORY.
 
    The real limit (2^32 - 16 entries of L) needs a chart of hundreds of
    millions of triangles, so this test lowers it before including the
    header: BP__FACTOR_MAX_NNZ is 20000 here.  camel_b (3576 triangles) has
-   about 35 000 entries in its preconditioner's L (docs/performance.md) and
+   about 35 000 entries in its preconditioner's L and
    fails; the one-triangle charts and the small grid below stay under the
    limit and succeed, so the limit is a threshold on the size and not a
    failure of every factorization.  The sizes in the message are checked

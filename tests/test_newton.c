@@ -729,8 +729,8 @@ static void test_reuse(void)
     bp_mesh_free(&mesh, NULL);
 }
 
-/* The default direction (bp__opt_choose_newton, docs/performance.md secs
-   6.6, 6.36, 6.42): for each chart the default's map after a few
+/* The default direction (bp__opt_choose_newton, docs/performance.md, "The
+   default direction"): for each chart the default's map after a few
    iterations must be, bit for bit, the one of the direction that the
    documented rule names for the chart's energy, size and reported start
    energy -- Newton for the symmetric Dirichlet energy on 1,000 triangles
@@ -743,7 +743,7 @@ static void test_reuse(void)
    from an isometry, beetle (38,656 triangles, 4.19) a mid-sized one near
    it, and camelhead subdivided 3 x 3 (204,336 triangles, its conformal
    start at 65, its mean-value one at 121: far from an isometry either
-   way) a large one.  The rule of sessions 6-25 (Newton for every chart of
+   way) a large one.  A rule by size alone (Newton for every chart of
    20,000-99,999 triangles, L-BFGS above) fails the last three. */
 static void test_default_choice_mesh(const char *name, const bp_mesh *mesh, bp_energy energy, int iterations)
 {
@@ -871,7 +871,7 @@ static void test_default_choice_large(void)
     bp_mesh_free(&mesh, NULL);
 }
 
-/* (i) the model's wider barrier (>>newton, docs/performance.md sec 6.9):
+/* (i) the model's wider barrier (>>newton):
    after a step clipped by the boundary's step bound, the matrix takes the
    Gauss-Newton terms of a barrier of width em = BP__NEWTON_WIDE eps.  On
    camel_b (eps = one mean edge, so that many pairs lie within 3 eps), the
@@ -1443,7 +1443,7 @@ static void check_iso_like(const bp_allocator *a, bp__newton *N, const bp__newto
     bp__factor_free(a, &F2);
 }
 
-/* (m) the isotropic phase (>>newton, docs/performance.md sec 6.29). */
+/* (m) the isotropic phase (>>newton). */
 static double iso_entry(const bp__sparse *H, uint32_t u, uint32_t v)   /* (H(2u,2v) + H(2u+1,2v+1)) / 2 */
 {
     uint32_t p, xx = BP__NONE, yy = BP__NONE;
@@ -1735,8 +1735,7 @@ static void test_iso_block(void)
     }
 }
 
-/* (j) The fallback (bp__chart_optimize_pen, >>optimize; docs/performance.md
-   sec 6.44): where the default chose Newton and the allocator refuses its
+/* (j) The fallback (bp__chart_optimize_pen, >>optimize): where the default chose Newton and the allocator refuses its
    memory, L-BFGS finishes the chart.  An allocator that refuses every
    block larger than the largest one a whole preconditioned L-BFGS run of
    camelhead asks for (start map included): the default, which takes
