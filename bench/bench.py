@@ -48,7 +48,7 @@ separate one-triangle charts, written by the bench itself), spot and camel_b
 from tests/data, and camelhead unless BENCH_QUICK.  Each case
 runs the default (--threads 0) and --threads 1, BENCH_RUNS times each,
 alternated: first on the machine as it is ("idle"), then with one competing
-CPU-bound process per core started by the bench, each in its own session
+CPU-bound process per core started by the bench, each with setsid
 ("busy": each is a python loop that stops by itself after BENCH_BUSY_LIMIT seconds, default 600, and
 the bench kills them when the busy runs end).  The table gives the median
 wall and CPU seconds of both and the ratio default / 1 thread of the wall
@@ -351,9 +351,9 @@ def write_many_charts(path, n):
 def start_competitors(n):
     """n CPU-bound processes, each ending by itself after BUSY_LIMIT s."""
     code = "import time\nt = time.time() + %d\nwhile time.time() < t:\n    pass\n" % BUSY_LIMIT
-    # in a session of their own, like work started from another terminal
-    # or job: Linux's autogroup scheduler then shares the cores between
-    # them and the tool's session
+    # started with setsid, like work started from another terminal or job:
+    # Linux's autogroup scheduler then shares the cores between them and
+    # the tool's group
     return [subprocess.Popen([sys.executable, "-c", code], start_new_session=True) for _ in range(n)]
 
 
@@ -523,7 +523,7 @@ def main():
                         fmt(r["default_seconds"], "%.3f"), fmt(r["t1_seconds"], "%.3f"),
                         fmt(r["ratio_default_over_t1"], "%.2f"),
                         fmt(r["default_cpu"], "%.3f"), fmt(r["t1_cpu"], "%.3f")))
-        print("(busy: %d competing CPU-bound processes, each in its own session; ratio = median wall default / median wall 1 thread)"
+        print("(busy: %d competing CPU-bound processes, each with setsid; ratio = median wall default / median wall 1 thread)"
               % (os.cpu_count() or 1))
     print()
     for r in rows + photo + busy:

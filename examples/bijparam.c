@@ -1,7 +1,7 @@
 /* bijparam.c - the command-line front end of bijparam.h.
 
-   It reads a triangle mesh (OBJ or OFF), splits it into charts, gives each
-   chart a bijective start map (Tutte or Floater), minimizes its distortion
+   It reads a triangle mesh (OBJ, OFF or PLY), splits it into charts, gives
+   each chart a bijective start map, minimizes its distortion
    while keeping the map bijective at every step, packs the charts side by
    side and, when asked, writes the mesh back as OBJ with the new `vt`
    coordinates: an OBJ input is streamed through bp_write_obj_from, so every

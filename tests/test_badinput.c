@@ -199,7 +199,7 @@ static long long named(bp_element el, int64_t i)
    file line of the offending triangle in err.line (the message itself
    does not repeat the line; the tool prints FILE:LINE from err.line).
    Runs with opt.strict: the defects that are repaired by default (see
-   test_repair.c) are errors there, as every one of them was before. */
+   test_repair.c) are errors there. */
 static void expect_obj_el(const char *what, const char *text, bp_status want, int want_parsed, long long line,
                           bp_element el, int64_t index, int64_t index2)
 {

@@ -317,7 +317,7 @@ static int ref_dedge_cmp(const void *pa, const void *pb)
     return x->a < y->a ? -1 : x->a > y->a;
 }
 
-/* The serial classification of bp_check as it was (qsort of the directed
+/* A serial classification of bp_check's edges (qsort of the directed
    edges by (smaller end, larger end, start), then each group): the
    boundary edges in order into the returned array (*nb of them), the
    nonmanifold and misoriented groups counted into r, the first bad group
@@ -345,14 +345,14 @@ static bp__dedge *ref_edges(const uint32_t *tri, uint32_t nt, bp_check_report *r
     return de;
 }
 
-/* ---- the check in tasks against the serial check as it was ----------------
+/* ---- the check in tasks against a serial check ---------------------------
 
    bp_check's work runs in tasks (bp__check_par: triangle chunks, key ranges
    of the directed edges, the pieces' union-find) on the library's runners,
    and must give the serial result for any runner and task order.  Its
-   reference here is bp_check as it was written before the tasks, rebuilt
-   from its parts that did not change (the scaling, (b), (c) and (d), the
-   verdict) and the loops that did, written out serially: the index check,
+   reference here is bp_check written serially: the library's parts that
+   have no tasks (the scaling, (b), (c) and (d), the verdict) and, written
+   out serially here, the index check,
    the finiteness pass, (a) in triangle order, the directed edges by qsort
    (ref_edges) and a union-find of three unions per triangle.  The reports
    (every count and first element), the status and the message must be the

@@ -425,7 +425,7 @@ static void expect_rejected(const char *what, const bp_mesh *m, long long genus)
     sprintf(g, genus ? "genus %lld" : "closed", genus);
     BPT_CHECK(st == BP_ERR_TOPOLOGY && err.element == BP_ELEMENT_CHART && err.index == 0 && strstr(err.message, g) &&
                   at.charts == NULL,
-              "%s, BP_CUT_NONE: rejected as before (BP_ERR_TOPOLOGY, chart 0, says '%s'): %s \"%s\"", what, g,
+              "%s, BP_CUT_NONE: rejected (BP_ERR_TOPOLOGY, chart 0, says '%s'): %s \"%s\"", what, g,
               bp_status_string(st), err.message);
     bp_atlas_free(&at);
 }

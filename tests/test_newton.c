@@ -1226,7 +1226,7 @@ static void test_kept_order(void)
    bp__nd_restrict on camelhead's vertex graph and a random subset of its
    vertices: the kept vertices in a permutation, and every edge between
    two of them on one side of each split (keeps_brute), each kept vertex
-   in the same part of every node as before.  Then face_holes (six holes:
+   in the same part of every node as in the full order.  Then face_holes (six holes:
    the filled chart's hole centres are dropped) and bishop: bp_chart_init
    leaves an order of the chart's vertices that separates every chart
    edge; bp_chart_optimize takes it (NULL after).  On bishop, where the

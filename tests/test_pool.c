@@ -1,4 +1,4 @@
-/* test_pool.c - small work runs on the calling thread (issue 13).
+/* test_pool.c - small work runs on the calling thread.
 
    With the default thresholds of >>threads (BP__PAR_MIN_TRIANGLES = 8192):
      - a chart below 8192 triangles is solved with serial loops and no pool:
@@ -193,8 +193,8 @@ static void check_many_charts(void)
 /* A dominant chart (the 8192-triangle grid, more than half the
    triangles) and 200 one-triangle charts, bp_parameterize: on 2 threads
    the grid's loops use the threads and then the small charts are the
-   parallel tasks (every chart.threads 2; they used to follow one by one on
-   the caller), with the same bits as 1 thread. */
+   parallel tasks (every chart.threads 2, not one by one on the caller),
+   with the same bits as 1 thread. */
 static void check_dominant_chart(void)
 {
     enum { N = 200 };

@@ -11,7 +11,7 @@
      - corner_chart / corner_vertex still give every mesh corner a chart
        vertex of its own mesh vertex, and a chart triangle runs the same
        way as its mesh triangle exactly when that triangle was not flipped;
-   and with opt.strict the call fails naming the element, as before.
+   and with opt.strict the call fails naming the element.
    Where the repair leaves the glued surface unchanged (a tie in the
    orientation vote, dropped duplicates) the map must be bit-identical to
    the clean mesh's.  The energies of repaired against clean meshes are

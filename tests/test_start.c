@@ -1,6 +1,6 @@
-/* test_start.c - the better start of >>start (issue 15).
+/* test_start.c - the start maps of >>start.
 
-   (a) Thin strips, the issue's two cases: a 1 x 1e-7 and a 1 x 1e-4 strip
+   (a) Thin strips, a 1 x 1e-7 and a 1 x 1e-4 strip
        of 398 triangles (two rows of 200 vertices), flat in z = 0 and
        rotated into a general 3D plane, through bp_parameterize with the
        default options: the result passes bp_check and its area-weighted
@@ -14,7 +14,7 @@
        triangle's corners turned once and twice, so that the boundary
        edges lie in each place of their triangles);
        on every chart of the meshes of tests/data it is a quarter of the
-       mean boundary edge exactly, as before (the bound never acts there).
+       mean boundary edge exactly (the bound never acts there).
    (c) A planar chart (a rotated grid with a hole) starts from its own
        projection: bp_chart_init's map already has energy 4.
    (d) A nearly planar chart whose projection overlaps itself (a band

@@ -797,7 +797,7 @@ static long double pair_energy(const double *x, double eps)
    on random vectors and K_proj - K PSD too (only negative eigenvalues were
    raised), and where the closest point is inside the segment the whole
    Hessian differs from the Gauss-Newton part (the slide-rotate coupling
-   that part misses: a test of this change that the old code fails). */
+   that part misses: the Gauss-Newton part alone fails this test). */
 static void test_barrier_pair_hessian(void)
 {
     int trial, fd_bad = 0, psd_bad = 0, raise_bad = 0, inside = 0, inside_differs = 0, far_ok = 1, n = 0;

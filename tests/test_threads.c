@@ -430,8 +430,8 @@ static void check_importance_error(void)
     bp_mesh_free(&m, NULL);
 }
 
-/* A mesh of n separate triangles, each its own chart (the "10,000 charts"
-   case of issue 13, smaller), solved by bp_parameterize on 1, 2 and 3
+/* A mesh of n separate triangles, each its own chart (the bench's
+   10,000-chart case, smaller), solved by bp_parameterize on 1, 2 and 3
    threads (charts as parallel tasks: the same bits as 1 thread), and
    chart by chart with bp_chart_init / bp_chart_optimize on 2 threads (the
    same bits as chart by chart on 1; bp_parameterize also packs). */

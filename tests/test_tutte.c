@@ -27,13 +27,13 @@
        residual recomputed here, the LU's solution, the same bits when the
        tasks run backwards.
    (e) Phases 2, 3 and 5 (adjacency, weights, system), gathers per vertex
-       chunk, against the triangle-order scatters they replaced (written
+       chunk, against triangle-order scatters (written
        here), bit for bit, with the chunks run serially, backwards and odd
        then even.
    (f) BiCGSTAB on real charts: its products by A (a gather over A's
-       rows) against the column scatter they replaced, the scaling D^-1 A
-       and the symmetrized M (column chunks) against the serial loops they
-       replaced, and the whole iteration against the old serial one (all
+       rows) against a column scatter, the scaling D^-1 A and the
+       symmetrized M (column chunks) against serial loops, and the whole
+       iteration against a serial reference (all
        written here), bit for bit, with the tasks run backwards and odd
        then even. */
 #define BP_IMPLEMENTATION
@@ -475,8 +475,8 @@ static void check_precondition(const char *path)
    tasks run backwards. */
 /* (f) BiCGSTAB's products by A are gathers over A's rows in row chunks,
    its vector updates run in chunks, its dot products share passes: here
-   the column scatter it replaced and the whole old serial iteration,
-   written out as the header had them, against the header's, bit for bit,
+   a column scatter and a whole serial iteration, written out in plain
+   loops, against the header's, bit for bit,
    with the tasks run backwards and odd then even. */
 static void ref_spmv2(const bp__sparse *A, const double *x, double *y)
 {
@@ -557,7 +557,7 @@ done:
     return ok;
 }
 
-/* The symmetrized M of phase 6a as it was computed serially: the row
+/* The symmetrized M of phase 6a computed serially: the row
    sums scattered column by column, the transposes by a cursor per row. */
 static int ref_symmetric(const bp__sparse *A, bp__sparse *M)
 {
@@ -678,7 +678,7 @@ static void check_bicgstab(const char *path, bp__tutte *T)
         par.run = order ? bpt_odd_even_for : bpt_backwards_for;
         it1 = bp__tutte_bicgstab(&a, &As, &K, &par, b, y1, &rel);
         BPT_CHECK(it0 > 0 && it1 == it0 && !memcmp(y0, y1, 2 * (size_t)n * sizeof(double)), "%s: BiCGSTAB (tasks %s, "
-                  "%d iterations) has the old serial iteration's bits (%d iterations)", path,
+                  "%d iterations) has the serial reference's bits (%d iterations)", path,
                   order ? "odd then even" : "backwards", it1, it0);
     }
 out2:
@@ -767,7 +767,7 @@ static uint32_t ref_find(const uint32_t *adjp, const uint32_t *adj, uint32_t i, 
     return BP__NONE;
 }
 
-/* the old phases 2, 3, 5 on T (after phase 1 and 4's circle: idx, uv) */
+/* a serial reference of phases 2, 3, 5 on T (after phase 1 and 4's circle: idx, uv) */
 static void ref_phases(bp__tutte *T, const bp_chart *ch, int mvc, uint32_t **adjp_, uint32_t **adj_, double **w_,
                        uint32_t **colp_, uint32_t **row_, double **val_, double **rhs_)
 {

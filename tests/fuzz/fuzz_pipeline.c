@@ -77,7 +77,7 @@ static void check_atlas(const bp_atlas *at, bp_status st, const bp_mesh *m)
    1e308 gets a map of that size (bp_parameterize solves a rescaled copy
    and scales the map back), valid but not checkable in place: check it
    scaled by the power of two that brings it near 1, when every coordinate
-   survives the scaling exactly (else in place, as before). */
+   survives the scaling exactly (else in place). */
 static void check_atlas_at_unit_scale(const bp_atlas *at, bp_status st, const bp_mesh *m)
 {
     bp_atlas s = *at;
