@@ -1,14 +1,14 @@
 # bijparam - GNU make
 #
 #   make / make all   build/bijparam (the CLI tool) and build/examples/<name>
-#   make test         the developer's suite (6 min of CPU): check the dependencies
+#   make test         the developer's suite: check the dependencies
 #                     (tests/ensure_deps.sh: prints what is missing and stops,
 #                     never installs), build tests/test_*.c and tests/test_*.cpp
 #                     into build/tests/ and run them and tests/test_*.sh with
 #                     tests/run_all.sh: one line per program, a failing
 #                     program's output in full, every output in build/logs/,
 #                     last line "N passed, M failed"
-#   make check        the long suite (21 min wall, busy): test_threads in full, the fuzz
+#   make check        the long suite: test_threads in full, the fuzz
 #                     harnesses (tests/test_fuzz.sh) and every test and the
 #                     tool under ASan+UBSan and TSan (tests/test_sanitizers.sh:
 #                     make asan, make tsan); logs in build/logs/check/, last
