@@ -145,6 +145,7 @@ check: deps-check
 
 # The tool and the examples draw their pictures with examples/bp_draw.h.
 $(TOOL) $(EXAMPLES): examples/bp_draw.h
+$(TOOL) $(BUILD)/tests/test_gltf: examples/bp_gltf.h
 
 # examples/thread_pool.c brings its own POSIX thread pool.
 $(BUILD)/examples/thread_pool: examples/thread_pool.c $(HEADERS)
@@ -291,7 +292,8 @@ bench-python: $(TOOL) $(PY_EXT)
 FUZZ_SECONDS ?= 300
 FUZZ_CC ?= clang
 FUZZ_CFLAGS ?= -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
-FUZZERS := $(BUILD)/fuzz/fuzz_obj $(BUILD)/fuzz/fuzz_off $(BUILD)/fuzz/fuzz_ply $(BUILD)/fuzz/fuzz_pipeline
+FUZZERS := $(BUILD)/fuzz/fuzz_obj $(BUILD)/fuzz/fuzz_off $(BUILD)/fuzz/fuzz_ply $(BUILD)/fuzz/fuzz_pipeline $(BUILD)/fuzz/fuzz_gltf
+$(BUILD)/fuzz/fuzz_gltf: examples/bp_gltf.h
 
 $(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_common.h $(HEADERS)
 	@mkdir -p $(@D)
@@ -319,6 +321,8 @@ asan: deps-check
 	    $(SAN_ENV) $(BUILD)/asan/bijparam $$m --threads 2 --max-iters 200 -o $(BUILD)/asan/out/$$(basename $$m).obj || exit 1; \
 	done
 	$(SAN_ENV) $(BUILD)/asan/bijparam --demo -o $(BUILD)/asan/out/demo.obj
+	$(SAN_ENV) $(BUILD)/asan/bijparam tests/data/gltf/BoxTextured.glb --threads 2 --atlas 256 -o $(BUILD)/asan/out/BoxTextured.glb
+	$(SAN_ENV) $(BUILD)/asan/bijparam tests/data/gltf/MorphPrimitivesTest/MorphPrimitivesTest.gltf --threads 2 -o $(BUILD)/asan/out/MorphPrimitivesTest.gltf
 	@echo "asan: the tests and the tool ran clean under ASan+UBSan"
 
 TSAN_FLAGS ?= -O1 -g -fno-omit-frame-pointer -fsanitize=thread
@@ -333,6 +337,7 @@ tsan:
 	    $(TSAN_ENV) $(BUILD)/tsan/bijparam $$m --threads 2 --max-iters 100 -o $(BUILD)/tsan/out/$$(basename $$m).obj || exit 1; \
 	done
 	$(if $(wildcard examples/thread_pool.c),$(TSAN_ENV) $(BUILD)/tsan/thread_pool tests/data/spot.obj 2)
+	$(TSAN_ENV) $(BUILD)/tsan/bijparam tests/data/gltf/BoxTextured.glb --threads 2 --atlas 256 -o $(BUILD)/tsan/out/BoxTextured.glb
 	$(CC) $(CPPFLAGS) -std=c99 -Wall -Wextra -pedantic $(TSAN_FLAGS) tests/test_threads.c -o $(BUILD)/tsan/test_threads $(LDLIBS)
 	@mkdir -p $(BUILD)/tests   # test_threads writes its scratch OBJ files there
 	BP_TEST_QUICK=1 $(TSAN_ENV) $(BUILD)/tsan/test_threads > $(BUILD)/tsan/test_threads.log || { grep -v '^ok ' $(BUILD)/tsan/test_threads.log | tail -40; exit 1; }

@@ -6,7 +6,9 @@
    side and, when asked, writes the mesh back as OBJ with the new `vt`
    coordinates: an OBJ input is streamed through bp_write_obj_from, so every
    other line of the user's file (normals, materials, groups, comments)
-   comes back unchanged; an OFF input is written by bp_write_obj.  It shows
+   comes back unchanged; an OFF input is written by bp_write_obj; a glTF
+   input (.gltf, .glb: examples/bp_gltf.h) may also be written back as
+   glTF with a new TEXCOORD_0 and everything else of the file kept.  It shows
    every public step of the library in the order a program calls them
    (bp_read_mesh, bp_atlas_build, bp_atlas_solve for several charts -- the
    charts themselves on the threads -- or bp_chart_solve chart by chart --
@@ -74,12 +76,17 @@
 #include "bijparam.h"
 #define BPD_IMPLEMENTATION
 #include "bp_draw.h"
+#define BPG_IMPLEMENTATION
+#include "bp_gltf.h"
 
 static const char usage_text[] =
-    "usage: bijparam [options] INPUT.(obj|off|ply) [-o OUT.obj]\n"
+    "usage: bijparam [options] INPUT.(obj|off|ply|gltf|glb) [-o OUT.(obj|gltf|glb)]\n"
     "       bijparam [options] --demo [-o OUT.obj]\n"
     "  -o FILE            write the mesh with the new uv map (OBJ); an OBJ input\n"
-    "                     keeps every other line of its file (vn, usemtl, g, ...)\n"
+    "                     keeps every other line of its file (vn, usemtl, g, ...);\n"
+    "                     a glTF input may be written as .glb or .gltf: the new\n"
+    "                     TEXCOORD_0, everything else of the file kept\n"
+    "  --texcoord N       glTF: read and write TEXCOORD_N (default 0)\n"
     "  --force            allow -o (or --svg, --png, --trace) to replace the input\n"
     "  -q, --quiet        no progress bar, no line saying where the result went\n"
     "  --json             print a one-line JSON report on stdout\n"
@@ -390,10 +397,14 @@ static int same_file(const char *a, const char *b)
    globals; this program may.) */
 static char temp_path[4096];
 static volatile sig_atomic_t temp_live = 0;
+/* A .gltf output's .bin file has a temporary of its own. */
+static char temp_bin[4096];
+static volatile sig_atomic_t temp_bin_live = 0;
 
 static void on_signal(int sig)
 {
     if (temp_live) unlink(temp_path);          /* async-signal-safe */
+    if (temp_bin_live) unlink(temp_bin);
     signal(sig, SIG_DFL);
     raise(sig);
 }
@@ -414,8 +425,9 @@ static void on_interrupt(int sig)
 /* Create DIR/.NAME.bijparam-XXXXXX next to `target` (a symlink is followed,
    so the link keeps pointing at the replaced file), with the mode the
    target has or, for a new file, 0666 minus the umask.  `final` gets the
-   path to rename onto.  Returns 0 and sets *why to errno on failure. */
-static int temp_create(const char *target, char *final, size_t final_size, int *why)
+   path to rename onto, `tp` (4096 bytes) the temporary's and *live is set
+   while it exists.  Returns 0 and sets *why to errno on failure. */
+static int temp_create(char *tp, volatile sig_atomic_t *live, const char *target, char *final, size_t final_size, int *why)
 {
     char *real = realpath(target, NULL);
     const char *t = real ? real : target, *slash = strrchr(t, '/');
@@ -423,21 +435,21 @@ static int temp_create(const char *target, char *final, size_t final_size, int *
     struct stat st;
     mode_t mode, mask;
     int fd;
-    if (strlen(t) + 24 >= sizeof temp_path || strlen(t) >= final_size) {
+    if (strlen(t) + 24 >= 4096 || strlen(t) >= final_size) {
         free(real);
         *why = ENAMETOOLONG;
         return 0;
     }
     snprintf(final, final_size, "%s", t);
-    snprintf(temp_path, sizeof temp_path, "%.*s.%s.bijparam-XXXXXX", (int)dir, t, t + dir);
+    snprintf(tp, 4096, "%.*s.%s.bijparam-XXXXXX", (int)dir, t, t + dir);
     free(real);
     mask = umask(0);
     umask(mask);
     mode = stat(final, &st) == 0 ? (mode_t)(st.st_mode & 07777) : (mode_t)(0666 & ~mask);
-    fd = mkstemp(temp_path);
+    fd = mkstemp(tp);
     if (fd < 0) { *why = errno; return 0; }
-    temp_live = 1;
-    if (fchmod(fd, mode) != 0) { *why = errno; close(fd); unlink(temp_path); temp_live = 0; return 0; }
+    *live = 1;
+    if (fchmod(fd, mode) != 0) { *why = errno; close(fd); unlink(tp); *live = 0; return 0; }
     close(fd);
     return 1;
 }
@@ -445,7 +457,8 @@ static int temp_create(const char *target, char *final, size_t final_size, int *
 static void temp_discard(void)
 {
     if (temp_live) unlink(temp_path);
-    temp_live = 0;
+    if (temp_bin_live) unlink(temp_bin);
+    temp_live = temp_bin_live = 0;
 }
 
 static int ends_with_obj(const char *s)
@@ -454,19 +467,201 @@ static int ends_with_obj(const char *s)
     return n >= 4 && s[n - 4] == '.' && (s[n - 3] | 32) == 'o' && (s[n - 2] | 32) == 'b' && (s[n - 1] | 32) == 'j';
 }
 
+/* The glTF file read, when the input is one (examples/bp_gltf.h): its mesh
+   welds the file's vertices, so a library message's vertex and triangle
+   numbers are the mesh's; the messages add the file's own names. */
+static const bpg_file *gltf_names = NULL;
+
+/* " [mesh 0 primitive 1 triangle 5 (vertices 3 4 9)]" for an element of a
+   glTF input (a triangle, a vertex, the two vertices of an edge), else "". */
+static void gltf_element(bp_element kind, int64_t index, int64_t index2, char *buf, size_t n)
+{
+    char a[200] = "", b[200] = "";
+    buf[0] = 0;
+    if (!gltf_names || index < 0 || index > 0xffffffffLL) return;
+    if (kind == BP_ELEMENT_TRIANGLE) bpg_name_triangle(gltf_names, (uint32_t)index, a, sizeof a);
+    else if (kind == BP_ELEMENT_VERTEX || kind == BP_ELEMENT_EDGE) bpg_name_vertex(gltf_names, (uint32_t)index, a, sizeof a);
+    if (kind == BP_ELEMENT_EDGE && index2 >= 0 && index2 <= 0xffffffffLL) bpg_name_vertex(gltf_names, (uint32_t)index2, b, sizeof b);
+    if (a[0]) snprintf(buf, n, " [%s%s%s]", a, b[0] ? " - " : "", b);
+}
+
 /* "file:line: message" when the library knows the line, else "file: message".
    The library's messages already start with "line N: ", which the
    file:line prefix makes redundant. */
 static void report_error(const char *file, const bp_error *err)
 {
+    char names[420];
+    gltf_element(err->element, err->index, err->index2, names, sizeof names);
     if (err->line > 0) {
         char prefix[40];
         const char *msg = err->message;
         size_t n = (size_t)snprintf(prefix, sizeof prefix, "line %lld: ", (long long)err->line);
         if (strncmp(msg, prefix, n) == 0) msg += n;
-        fprintf(stderr, "bijparam: error: %s:%lld: %s\n", file, (long long)err->line, msg);
+        fprintf(stderr, "bijparam: error: %s:%lld: %s%s\n", file, (long long)err->line, msg, names);
     } else
-        fprintf(stderr, "bijparam: error: %s: %s\n", file, err->message);
+        fprintf(stderr, "bijparam: error: %s: %s%s\n", file, err->message, names);
+}
+
+/* ---- glTF input and output (examples/bp_gltf.h) ---------------------------
+
+   A .gltf or .glb input is read by bpg_read: its triangle primitives
+   become one mesh (vertices welded by position, seams where TEXCOORD_n
+   differs), so every option works on it as on an OBJ.  -o FILE.glb or
+   FILE.gltf writes it back with the new TEXCOORD_n and everything else of
+   the file kept (bpg_encode).  A .gltf output whose input kept its bytes
+   in files (a .bin next to a .gltf, or a .glb's BIN chunk) gets its new
+   bytes in OUT's name with .bin, written through a temporary of its own
+   and renamed before OUT; otherwise they go into a data: URI.  Written in
+   another folder than the input's, the output's relative uris (buffers,
+   images) are rewritten to reach the same files. */
+
+/* The mesh of INPUT: glTF through bp_gltf.h (gltf_names set), else the
+   library's readers. */
+static bp_status read_input(const char *input, bp_mesh *mesh, bpg_file *gltf, int texcoord, const bp_options *opt,
+                            bp_error *err)
+{
+    if (bpg_is_gltf_path(input)) {
+        bpg_options go;
+        bp_status st;
+        memset(&go, 0, sizeof go);
+        go.texcoord = texcoord;
+        st = bpg_read(gltf, input, &go, err);
+        if (st == BP_OK) { *mesh = gltf->mesh; gltf_names = gltf; }
+        return st;
+    }
+    return bp_read_mesh_opt(input, mesh, opt, err);
+}
+
+static void free_input(bp_mesh *mesh, bpg_file *gltf)
+{
+    if (gltf_names) bpg_free(gltf);
+    else bp_mesh_free(mesh, NULL);
+    gltf_names = NULL;
+    memset(mesh, 0, sizeof *mesh);
+}
+
+/* The folder part of path ("" for none, "dir/" with its slash). */
+static void dir_of(const char *path, char *buf, size_t n)
+{
+    const char *slash = strrchr(path, '/');
+    size_t k = slash ? (size_t)(slash - path) + 1 : 0;
+    if (k >= n) k = 0;
+    memcpy(buf, path, k);
+    buf[k] = 0;
+}
+
+/* The relative path from the output's folder to the input's ("../in/"), ""
+   when they are one folder; 0 when a folder cannot be resolved. */
+static int relative_dir(const char *input, const char *output, char *buf, size_t n)
+{
+    char a[4096], b[4096], *ra, *rb;
+    size_t i, common = 0, k = 0;
+    int ok = 1;
+    dir_of(input, a, sizeof a);
+    dir_of(output, b, sizeof b);
+    ra = realpath(a[0] ? a : ".", NULL);
+    rb = realpath(b[0] ? b : ".", NULL);
+    buf[0] = 0;
+    if (!ra || !rb) { free(ra); free(rb); return 0; }
+    if (strcmp(ra, rb) != 0) {
+        size_t la = strlen(ra), lb = strlen(rb);
+        /* the longest common prefix that ends at a folder boundary */
+        for (i = 0; i <= la && i <= lb; i++) {
+            int end_a = i == la || ra[i] == '/', end_b = i == lb || rb[i] == '/';
+            if (end_a && end_b) common = i;
+            if (i == la || i == lb || ra[i] != rb[i]) break;
+        }
+        for (i = common; i < lb; i++)                    /* up from the output's folder */
+            if (rb[i] == '/' && (i + 1 < lb || i == common)) {
+                if (k + 4 >= n) { ok = 0; break; }
+                memcpy(buf + k, "../", 3); k += 3; buf[k] = 0;
+            }
+        if (ok && common < la) {                         /* then down to the input's */
+            const char *rest = ra + common + (ra[common] == '/');
+            if (k + strlen(rest) + 2 >= n) ok = 0;
+            else { k += (size_t)snprintf(buf + k, n - k, "%s/", rest); }
+        }
+    }
+    free(ra);
+    free(rb);
+    return ok;
+}
+
+/* n bytes into the file at path: 0, or the errno of the failure. */
+static int write_all(const char *path, const unsigned char *d, size_t n)
+{
+    FILE *fp = fopen(path, "wb");
+    int bad;
+    if (!fp) return errno ? errno : EIO;
+    bad = fwrite(d, 1, n, fp) != n;
+    if (bad) bad = errno ? errno : EIO;
+    if (fclose(fp) != 0 && !bad) bad = errno ? errno : EIO;
+    return bad;
+}
+
+/* -o FILE.glb / FILE.gltf: encode, the .bin and the file into their
+   temporaries, then the .bin renamed, then the file.  *where names what
+   failed. */
+static bp_status write_gltf(const bpg_file *g, const bp_atlas *atlas, const char *input, const char *output,
+                            const char *final, const bp_options *opt, bpg_output *info, const char **where, bp_error *err)
+{
+    bpg_write_options wo;
+    bpg_output out;
+    char bin_uri[1024] = "", bin_target[4096], bin_final[4096], prefix[4096];
+    size_t n = strlen(output);
+    bp_status st;
+    int why = 0;
+    uint32_t i;
+    const char *base = strrchr(output, '/'), *x;
+    memset(&wo, 0, sizeof wo);
+    memset(err, 0, sizeof *err);
+    wo.glb = n >= 4 && (output[n - 1] | 32) == 'b';
+    wo.check = opt;
+    base = base ? base + 1 : output;
+    if (!wo.glb && (g->glb || g->num_buffer_files)) {     /* the new bytes go into OUT's name .bin */
+        size_t stem = strlen(base) - 5;
+        snprintf(bin_uri, sizeof bin_uri, "%.*s.bin", (int)stem, base);
+        dir_of(output, bin_target, sizeof bin_target);
+        snprintf(bin_target + strlen(bin_target), sizeof bin_target - strlen(bin_target), "%s", bin_uri);
+        for (i = 0; (x = bpg_external_file(g, i)) != NULL; i++)
+            if (same_file(x, bin_target) || same_file(input, bin_target)) {
+                *where = output;
+                snprintf(err->message, sizeof err->message,
+                         "its new data would go into %s, which the input reads; choose another output name", bin_target);
+                return BP_ERR_INVALID_ARGUMENT;
+            }
+        wo.bin_uri = bin_uri;
+    }
+    if (relative_dir(input, output, prefix, sizeof prefix) && prefix[0]) wo.uri_prefix = prefix;
+    *where = output;
+    if ((st = bpg_encode(g, atlas, &wo, &out, err)) != BP_OK) { *where = input; return st; }
+    *info = out;
+    info->data = info->bin = NULL;
+    if (out.bin && !temp_create(temp_bin, &temp_bin_live, bin_target, bin_final, sizeof bin_final, &why)) {
+        *where = bin_target;
+        snprintf(err->message, sizeof err->message, "cannot create a file next to it: %s", strerror(why));
+        bpg_output_free(&out);
+        return BP_ERR_IO;
+    }
+    if (out.bin && (why = write_all(temp_bin, out.bin, out.bin_size)) != 0) *where = bin_target;
+    else if ((why = write_all(temp_path, out.data, out.size)) != 0) *where = output;
+    bpg_output_free(&out);
+    if (why) {
+        snprintf(err->message, sizeof err->message, "cannot write: %s", strerror(why));
+        return BP_ERR_IO;
+    }
+    if (temp_bin_live && rename(temp_bin, bin_final) != 0) {
+        *where = bin_target;
+        snprintf(err->message, sizeof err->message, "cannot rename the finished result onto it: %s", strerror(errno));
+        return BP_ERR_IO;
+    }
+    temp_bin_live = 0;
+    if (rename(temp_path, final) != 0) {
+        snprintf(err->message, sizeof err->message, "cannot rename the finished result onto it: %s", strerror(errno));
+        return BP_ERR_IO;
+    }
+    temp_live = 0;
+    return BP_OK;
 }
 
 /* Strict number parsing: the whole argument must be a finite number. */
@@ -912,7 +1107,8 @@ static void stage_add(stage_clock *k, size_t at)
 }
 
 typedef struct extra_report {
-    const char *format;                /* "obj", "off", "ply"; NULL: the demo mesh */
+    const char *format;                /* "obj", "off", "ply", "gltf", "glb"; NULL: the demo mesh */
+    const bpg_output *gltf;            /* a glTF written: its vertices, NULL else */
     int threads;
     int resolution, padding;           /* --atlas, --padding (0, 0 without --atlas) */
     int density_model;                 /* 0: no density report */
@@ -1122,6 +1318,10 @@ static void print_json(const char *input, const char *output, bp_status status, 
             printf("}");
         }
     }
+    if (ex->gltf)
+        printf(",\"gltf\":{\"primitives\":%u,\"vertices_in\":%u,\"vertices_out\":%u,\"rounding_fixed\":%u}",
+               gltf_names ? (unsigned)gltf_names->num_primitives : 0u, (unsigned)ex->gltf->vertices_in,
+               (unsigned)ex->gltf->vertices_out, (unsigned)ex->gltf->rounding_fixed);
     if (ex->density_model) {
         printf(",\"density\":{\"model\":");
         json_string(view_names[ex->density_model]);
@@ -1156,6 +1356,7 @@ typedef struct check_names {
 static void name_vertex(const check_names *N, uint32_t c, uint32_t i, char *out, size_t cap)
 {
     const bp_chart *ch = &N->at->charts[c];
+    if (gltf_names) { bpg_name_vertex(gltf_names, ch->vertex[i], out, cap); return; }
     snprintf(out, cap, "vertex %lu (vt %lu)", (unsigned long)ch->vertex[i] + 1, (unsigned long)ch->vertex_uv[i] + 1);
 }
 
@@ -1166,6 +1367,7 @@ static void name_face(const check_names *N, uint32_t c, uint32_t t, char *out, s
     const uint32_t *tr = ch->triangles + 3 * (size_t)t;
     uint32_t f = ch->face[t], face = N->m->triangle_face ? N->m->triangle_face[f] : f;
     char line[32] = "";
+    if (gltf_names) { bpg_name_triangle(gltf_names, f, out, cap); return; }
     if (N->m->triangle_line) snprintf(line, sizeof line, " (line %lu)", (unsigned long)N->m->triangle_line[f]);
     snprintf(out, cap, "face %lu%s, vertices %lu %lu %lu (vt %lu %lu %lu)", (unsigned long)face + 1, line,
              (unsigned long)ch->vertex[tr[0]] + 1, (unsigned long)ch->vertex[tr[1]] + 1,
@@ -1220,9 +1422,10 @@ static void explain(const check_names *N, uint32_t c, const double *uv, const ui
         printf("    at %s: the boundary is pinched, or the piece is mirrored or wraps around twice\n", a);
 }
 
-static int run_check(const char *input)
+static int run_check(const char *input, int texcoord)
 {
     bp_mesh mesh;
+    bpg_file gltf;
     bp_atlas at;
     bp_options opt;
     bp_error err;
@@ -1233,15 +1436,16 @@ static int run_check(const char *input)
     int overlap = 0;
     bp_options_init(&opt);             /* threads 0: the checks on all cores */
     memset(&at, 0, sizeof at);
-    st = bp_read_mesh(input, &mesh, NULL, &err);
+    st = read_input(input, &mesh, &gltf, texcoord, &opt, &err);
     if (st != BP_OK) { report_error(input, &err); return 1; }
-    if (!mesh.corner_uv || !mesh.uvs) {
-        fprintf(stderr, "bijparam: error: %s: --check needs texture coordinates (vt in every face)\n", input);
-        bp_mesh_free(&mesh, NULL);
+    if (!mesh.corner_uv || !mesh.uvs || (gltf_names && !gltf.has_uv)) {
+        fprintf(stderr, "bijparam: error: %s: --check needs texture coordinates (%s)\n", input,
+                gltf_names ? "TEXCOORD_n in every triangle primitive" : "vt in every face");
+        free_input(&mesh, &gltf);
         return 1;
     }
     st = bp_atlas_build(&at, &mesh, &opt, &err);
-    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) { report_error(input, &err); bp_mesh_free(&mesh, NULL); return 1; }
+    if (st != BP_OK && st != BP_ERR_CHARTS_FAILED) { report_error(input, &err); free_input(&mesh, &gltf); return 1; }
     N.m = &mesh; N.at = &at; N.first = NULL;
     printf("%s: %u charts from its vt, %u faces\n", input, (unsigned)at.num_charts, (unsigned)mesh.num_faces);
     first = (uint32_t *)calloc((size_t)at.num_charts + 1, sizeof *first);
@@ -1309,7 +1513,7 @@ static int run_check(const char *input)
 done:
     free(first); free(tri); free(all);
     bp_atlas_free(&at);
-    bp_mesh_free(&mesh, NULL);
+    free_input(&mesh, &gltf);
     return bad || overlap ? 1 : 0;
 }
 
@@ -1334,6 +1538,9 @@ int main(int argc, char **argv)
     bpd_render_options png_opt;
     frames_state fs;
     char final_path[4096];
+    bpg_file gltf;                     /* a glTF input (examples/bp_gltf.h) */
+    bpg_output gltf_out;               /* what writing it reports            */
+    int texcoord = 0;
     int json = 0, demo = 0, have_mesh = 0, i, status = 0, segmented = 0, together = 0, force = 0, quiet = 0, wrote = 0, check = 0, repack = 0, padding_set = 0;
     uint32_t c;
 
@@ -1349,6 +1556,8 @@ int main(int argc, char **argv)
     memset(&svg_opt, 0, sizeof svg_opt);
     memset(&png_opt, 0, sizeof png_opt);
     memset(&fs, 0, sizeof fs);
+    memset(&gltf, 0, sizeof gltf);
+    memset(&gltf_out, 0, sizeof gltf_out);
     fs.every = 10;
 
     for (i = 1; i < argc; i++) {
@@ -1366,7 +1575,8 @@ int main(int argc, char **argv)
             !strcmp(a, "--png-size") || !strcmp(a, "--png-views") || !strcmp(a, "--checker") ||
             !strcmp(a, "--frames") || !strcmp(a, "--frames-every") || !strcmp(a, "--atlas") ||
             !strcmp(a, "--padding") || !strcmp(a, "--pin") || !strcmp(a, "--segment") ||
-            !strcmp(a, "--max-distortion") || !strcmp(a, "--max-charts") || !strcmp(a, "--start")) {
+            !strcmp(a, "--max-distortion") || !strcmp(a, "--max-charts") || !strcmp(a, "--start") ||
+            !strcmp(a, "--texcoord")) {
             const char *v;
             if (i + 1 >= argc) return usage_error("option %s needs a value", a);
             v = argv[++i];
@@ -1377,6 +1587,10 @@ int main(int argc, char **argv)
             else if (!strcmp(a, "--svg")) svg_path = v;
             else if (!strcmp(a, "--png")) png_path = v;
             else if (!strcmp(a, "--frames")) fs.dir = v;
+            else if (!strcmp(a, "--texcoord")) {
+                if (!parse_int(v, 0, &texcoord) || texcoord > 99)
+                    return usage_error("--texcoord needs a set from 0 to 99, not '%s'", v);
+            }
             else if (!strcmp(a, "--svg-color")) {
                 if (!strcmp(v, "energy")) svg_opt.color = BPD_COLOR_ENERGY;
                 else if (!strcmp(v, "area")) svg_opt.color = BPD_COLOR_AREA;
@@ -1513,7 +1727,11 @@ int main(int argc, char **argv)
     if (demo && input) return usage_error("--demo takes no input file ('%s')", input);
     if (!demo && !input) return usage_error("%s", "no input file");
     if (check && demo) return usage_error("%s", "--check takes an input file, not --demo");
-    if (check) return run_check(input);
+    if (check) return run_check(input, texcoord);
+    if (output && bpg_is_gltf_path(output) && (demo || !bpg_is_gltf_path(input)))
+        return usage_error("-o '%s' needs a .gltf or .glb input (write OBJ from other inputs)", output);
+    if (pin_path && !demo && bpg_is_gltf_path(input))
+        return usage_error("%s", "--pin takes an OBJ, OFF or PLY input (it numbers vertices as the file does)");
     if (!force) {           /* an output that would replace an input file */
         const char *outs[4], *flags[4] = { "-o", "--svg", "--png", "--trace" };
         int k;
@@ -1590,7 +1808,7 @@ int main(int argc, char **argv)
            any error or signal */
     if (output) {
         int why = 0;
-        if (!temp_create(output, final_path, sizeof final_path, &why)) {
+        if (!temp_create(temp_path, &temp_live, output, final_path, sizeof final_path, &why)) {
             fprintf(stderr, "bijparam: error: %s: cannot create a file next to it: %s\n",
                     output, strerror(why));
             if (rs.trace) fclose(rs.trace);
@@ -1615,8 +1833,8 @@ int main(int argc, char **argv)
             memset(&err, 0, sizeof err);
             snprintf(err.message, sizeof err.message, "is a directory, not an .obj or .off file");
         } else
-            st = bp_read_mesh_opt(input, &mesh, &opt, &err);
-        ex.format = bp_mesh_format(input);
+            st = read_input(input, &mesh, &gltf, texcoord, &opt, &err);
+        ex.format = gltf_names ? (gltf.glb ? "glb" : "gltf") : bp_mesh_format(input);
     }
     have_mesh = st == BP_OK;
     if (st == BP_OK && !rescale_mesh(&mesh, &opt, &scale)) {
@@ -1805,8 +2023,12 @@ int main(int argc, char **argv)
         stage_start(&sc);
         where = output;
         memset(&err, 0, sizeof err);
-        st = bp_write_obj_opt(temp_path, !demo && ends_with_obj(input) ? input : NULL, &mesh, &atlas, &opt, &err);
-        if (st == BP_OK && rename(temp_path, final_path) != 0) {
+        if (bpg_is_gltf_path(output)) {
+            st = write_gltf(&gltf, &atlas, input, output, final_path, &opt, &gltf_out, &where, &err);
+            if (st == BP_OK) ex.gltf = &gltf_out;
+        } else
+            st = bp_write_obj_opt(temp_path, !demo && ends_with_obj(input) ? input : NULL, &mesh, &atlas, &opt, &err);
+        if (st == BP_OK && temp_live && rename(temp_path, final_path) != 0) {
             st = BP_ERR_IO;
             err.line = 0;
             snprintf(err.message, sizeof err.message,
@@ -1852,8 +2074,12 @@ int main(int argc, char **argv)
     if (!json && !quiet) {
         int k;
         for (k = 0; k < BP_REPAIR_KINDS; k++)
-            if (atlas.repairs.kind[k].count)
-                fprintf(stderr, "bijparam: repaired: %s: %s\n", input ? input : "demo", atlas.repairs.kind[k].message);
+            if (atlas.repairs.kind[k].count) {
+                const bp_repair *r = &atlas.repairs.kind[k];
+                char names[420];
+                gltf_element(r->element, r->first[0], r->first2[0], names, sizeof names);
+                fprintf(stderr, "bijparam: repaired: %s: %s%s\n", input ? input : "demo", r->message, names);
+            }
     }
     if (json)
     {
@@ -1879,7 +2105,7 @@ int main(int argc, char **argv)
     bp_atlas_free(&atlas);
     if (have_mesh) {
         if (demo) { free(mesh.positions); free(mesh.triangles); }
-        else bp_mesh_free(&mesh, NULL);
+        else free_input(&mesh, &gltf);
     }
     return status;
 }

@@ -43,14 +43,14 @@ elapsed() { awk -v a="$1" -v b="$(date +%s%N)" 'BEGIN { printf "%.2f", (b - a) /
 # and linked into each harness; the gcc and clang builds run side by side.
 build_gcc() {
     $cc -std=c99 -Wall -Wextra -pedantic -Werror $san -I. -c tests/fuzz/bp_impl.c -o "$out/impl_gcc.o" || return 1
-    for h in obj off ply pipeline; do
+    for h in obj off ply pipeline gltf; do
         $cc -std=c99 -Wall -Wextra -pedantic -Werror $san -DBP_FUZZ_EXTERNAL_IMPL -I. -Itests/fuzz \
             tests/fuzz/fuzz_$h.c tests/fuzz/standalone_main.c "$out/impl_gcc.o" -o "$out/standalone_$h" -lm || return 1
     done
 }
 build_clang() {
     clang $san -fsanitize=fuzzer-no-link -I. -c tests/fuzz/bp_impl.c -o "$out/impl_clang.o" || return 1
-    for h in obj off ply pipeline; do
+    for h in obj off ply pipeline gltf; do
         clang $san -fsanitize=fuzzer -DBP_FUZZ_EXTERNAL_IMPL -I. -Itests/fuzz tests/fuzz/fuzz_$h.c \
             "$out/impl_clang.o" -o "$out/fuzz_$h" -lm || return 1
     done
@@ -61,17 +61,17 @@ gpid=$!
 if [ "$have_libfuzzer" -eq 1 ]; then build_clang > "$out/build_clang.log" 2>&1 & cpid=$!; fi
 wait "$gpid"; grc=$?
 [ "$grc" -ne 0 ] && cat "$out/build_gcc.log"
-check "$grc" "$cc builds the 3 harnesses with standalone_main.c under ASan+UBSan"
+check "$grc" "$cc builds the 5 harnesses with standalone_main.c under ASan+UBSan"
 if [ "$have_libfuzzer" -eq 1 ]; then
     wait "$cpid"; crc=$?
     [ "$crc" -ne 0 ] && cat "$out/build_clang.log"
-    check "$crc" "clang builds the 3 libFuzzer harnesses (ASan+UBSan)"
+    check "$crc" "clang builds the 5 libFuzzer harnesses (ASan+UBSan)"
     [ "$crc" -eq 0 ] || have_libfuzzer=0
 fi
 echo "     builds: $(elapsed "$t0") s"
 
 if [ "$grc" -eq 0 ]; then
-    for h in obj off ply pipeline; do
+    for h in obj off ply pipeline gltf; do
         t0=$(date +%s%N)
         timeout 600 "$out/standalone_$h" -m "$mutations" "tests/fuzz/corpus/$h" > "$out/standalone_$h.log" 2>&1
         rc=$?
@@ -83,7 +83,7 @@ fi
 
 if [ "$have_libfuzzer" -eq 1 ]; then
     pids=()
-    for h in obj off ply pipeline; do
+    for h in obj off ply pipeline gltf; do
         bin="$out/fuzz_$h"
         # the seed corpus, every file once (libFuzzer runs file arguments and exits)
         timeout 300 "$bin" -timeout=30 tests/fuzz/corpus/$h/* > "$out/fuzz_$h.corpus.log" 2>&1
@@ -91,7 +91,8 @@ if [ "$have_libfuzzer" -eq 1 ]; then
         [ "$rc" -ne 0 ] && tail -n 30 "$out/fuzz_$h.corpus.log"
         check "$rc" "libFuzzer fuzz_$h: the $(ls tests/fuzz/corpus/$h | wc -l) seed files pass"
         rm -rf "$out/corpus_$h" "$out/artifacts_$h"; mkdir -p "$out/corpus_$h" "$out/artifacts_$h"
-        timeout $((secs + 120)) "$bin" -max_total_time="$secs" -max_len=4096 -timeout=30 -rss_limit_mb=2048 \
+        maxlen=4096; [ "$h" = gltf ] && maxlen=8192       # a .glb of two meshes is 6 KB
+        timeout $((secs + 120)) "$bin" -max_total_time="$secs" -max_len=$maxlen -timeout=30 -rss_limit_mb=2048 \
             -seed=1 -print_final_stats=1 -artifact_prefix="$out/artifacts_$h/" \
             "$out/corpus_$h" "tests/fuzz/corpus/$h" > "$out/fuzz_$h.log" 2>&1 &
         pids+=("$!:$h")
