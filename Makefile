@@ -143,6 +143,9 @@ check: deps-check
 	@$(MAKE) --no-print-directory -j2 tests > $(BUILD)/logs/check/build.log 2>&1 || { cat $(BUILD)/logs/check/build.log; echo "make check: the build failed"; echo "0 passed, 1 failed"; exit 1; }
 	@BP_TEST_LOGDIR=$(BUILD)/logs/check BP_TEST_TIMEOUT=1800 BP_TEST_JOBS=1 bash tests/run_all.sh $(BUILD)/tests/test_threads $(CHECK_SH)
 
+# test_pack_grid.c is test_pack.c compiled with a small packing grid.
+$(BUILD)/tests/test_pack_grid: tests/test_pack.c
+
 # The tool and the examples draw their pictures with examples/bp_draw.h.
 $(TOOL) $(EXAMPLES): examples/bp_draw.h
 $(TOOL) $(BUILD)/tests/test_gltf: examples/bp_gltf.h
