@@ -20859,8 +20859,7 @@ static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, const bp
     uint32_t c, i;
     bp_options o_;
     bp_status ost_;
-    if ((opt = bp__opts(opt, &o_, err, &ost_)), ost_ != BP_OK) return ost_;   /* >>progress: */
-    bp__report(opt, BP_STAGE_PACK, 0, BP_NO_CHART);      /* not interrupted: see there */
+    if ((opt = bp__opts(opt, &o_, err, &ost_)), ost_ != BP_OK) return ost_;
     if (!atlas || !atlas->charts)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
     a = atlas->allocator;
@@ -20917,24 +20916,32 @@ static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, const bp
     atlas->utilization = W > 0 && H > 0 ? area / ((W > H ? W : H) * (W > H ? W : H)) : 0;
     bp__free(&a, bx);
     bp__free(&a, lo);
-    bp__report(opt, BP_STAGE_PACK, 1, BP_NO_CHART);
     return bp__ok(err);
 }
 
-/* Every chart that has a map, by shelves or by outlines (atlas_resolution). */
+/* Every chart that has a map, by shelves or by outlines (atlas_resolution).
+   The pack stage is reported here, for either packer: at its start and,
+   when it succeeded, at its end (>>progress: a cancel does not interrupt
+   it). */
 static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
 {
+    bp_options o_;
+    bp_status st;
+    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
     atlas->utilization = 0;
-    if (!opt || opt->atlas_resolution == 0) return bp__pack_shelf(atlas, opt, par, err);
-    if (opt->atlas_resolution < 0 || opt->atlas_resolution > BP__PACK_MAX_RES)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "atlas resolution %d is out of range: it must be between 1 and %d texels",
-                        opt->atlas_resolution, BP__PACK_MAX_RES);
-    if (opt->padding < 0 || opt->padding >= opt->atlas_resolution)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "padding %d is out of range: it must be at least 0 and less than the resolution %d",
-                        opt->padding, opt->atlas_resolution);
-    return bp__pack_outlines(atlas, opt, par, err);
+    bp__report(opt, BP_STAGE_PACK, 0, BP_NO_CHART);
+    if (!opt || opt->atlas_resolution == 0) st = bp__pack_shelf(atlas, opt, par, err);
+    else if (opt->atlas_resolution < 0 || opt->atlas_resolution > BP__PACK_MAX_RES)
+        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                      "atlas resolution %d is out of range: it must be between 1 and %d texels",
+                      opt->atlas_resolution, BP__PACK_MAX_RES);
+    else if (opt->padding < 0 || opt->padding >= opt->atlas_resolution)
+        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                      "padding %d is out of range: it must be at least 0 and less than the resolution %d",
+                      opt->padding, opt->atlas_resolution);
+    else st = bp__pack_outlines(atlas, opt, par, err);
+    if (st == BP_OK) bp__report(opt, BP_STAGE_PACK, 1, BP_NO_CHART);
+    return st;
 }
 
 /* The last word before success: the whole atlas -- every mapped chart, in

@@ -207,6 +207,54 @@ static void cancel_in_run(bp_stage stage, int nth, double from, int views)
     bp_atlas_free(&at);
 }
 
+/* The pack stage is reported by both packers, the shelves and the
+   outlines of atlas_resolution: once at 0 and once at 1, after the last
+   start and optimize report; and a cancel there still ends with every
+   chart packed. */
+typedef struct pack_order { int pack0, pack1, solve_after_pack, other; } pack_order;
+
+static int on_pack(void *user, bp_stage s, double f, uint32_t chart)
+{
+    pack_order *o = (pack_order *)user;
+    (void)chart;
+    if (s == BP_STAGE_PACK && f == 0 && !o->pack1) o->pack0++;
+    else if (s == BP_STAGE_PACK && f == 1 && o->pack0) o->pack1++;
+    else if (s == BP_STAGE_PACK) o->other++;
+    else if ((s == BP_STAGE_START || s == BP_STAGE_OPTIMIZE) && o->pack0) o->solve_after_pack++;
+    return 0;
+}
+
+static void pack_reports(int resolution)
+{
+    pack_order o;
+    recorder r;
+    bp_options opt;
+    bp_atlas at;
+    bp_error err;
+    bp_status st;
+    memset(&o, 0, sizeof o);
+    bp_options_init(&opt);
+    opt.threads = 2;
+    opt.atlas_resolution = resolution;
+    opt.normalize = 1;
+    opt.run_progress = on_pack;
+    opt.run_progress_user = &o;
+    st = bp_parameterize(&at, &grids, &opt, &err);
+    BPT_CHECK(st == BP_OK && o.pack0 == 1 && o.pack1 == 1 && o.other == 0 && o.solve_after_pack == 0,
+              "atlas_resolution %d: the pack stage reported once at 0 and once at 1, after the solve "
+              "(%s; %d, %d, %d other, %d solve reports after it)", resolution, bp_status_string(st), o.pack0, o.pack1,
+              o.other, o.solve_after_pack);
+    bp_atlas_free(&at);
+    rec_init(&r, BP_STAGE_PACK, 1);
+    opt.run_progress = on_run;
+    opt.run_progress_user = &r;
+    st = bp_parameterize(&at, &grids, &opt, &err);
+    BPT_CHECK(st == BP_ERR_CANCELLED && r.cancelled && r.calls_after == 0 && valid_or_none(&at, BP_OK) == 6,
+              "atlas_resolution %d: a cancel at pack: every chart packed and valid, BP_ERR_CANCELLED (%s)",
+              resolution, bp_status_string(st));
+    bp_atlas_free(&at);
+}
+
 /* The 0.1 per-iteration cancel stops one chart; the others are solved. */
 static int cancel_chart2(void *user, uint32_t chart, int it, double e, double step)
 {
@@ -426,6 +474,8 @@ int main(void)
     cancel_in_run(BP_STAGE_OPTIMIZE, 1, 0.5, 0);    /* half the triangles done: the last chart reports alone */
     cancel_in_run(BP_STAGE_PACK, 1, 0, 0);
     cancel_in_run(BP_STAGE_PACK, 2, 0, 0);
+    pack_reports(0);
+    pack_reports(256);
     per_chart_cancel();
     slow_callback(BP_STAGE_START, 3, 0, 0);
     slow_callback(BP_STAGE_OPTIMIZE, 1, 0.5, 0);

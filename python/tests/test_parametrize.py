@@ -250,7 +250,7 @@ def test_progress_on_the_calling_thread(data):
     bijparam.parametrize(m.positions, m.indices, progress=lambda s, f: seen.append((s, f, threading.get_ident())))
     assert seen and all(t == threading.get_ident() for _, _, t in seen)
     stages = [s for s, _, _ in seen]
-    assert stages[0] == "charts" and "optimize" in stages
+    assert stages[0] == "charts" and "optimize" in stages and stages[-1] == "pack" and seen[-1][1] == 1
     assert all(0 <= f <= 1 for _, f, _ in seen)
     order = ["read", "charts", "start", "visibility", "optimize", "pack", "write"]
     firsts = sorted(set(stages), key=stages.index)
