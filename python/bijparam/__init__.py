@@ -178,12 +178,16 @@ _INITS = {"auto": 0, "mvc": 1, "mean_value": 1, "input": 2, "tutte": 3, "conform
 _STARTS = {"auto": 0, "plain": 1, "progressive": 2}
 _DIRECTIONS = {"default": 0, "lbfgs": 1, "gd": 2, "gradient": 2, "newton": 3, "precond": 4}
 _CUTS = {"auto": 0, "none": 1}
-_SEGMENTS = {"auto": 0, "on": 1, "off": -1, True: 1, False: -1}
+_SEGMENTS = {"auto": 0, "on": 1, "off": -1}
 _VIEWS = {None: 0, "none": 0, "uniform": 1, "front": 2, "ring": 3, "side": 4}
 
 
 def _choice(table, value, name):
+    if table is _SEGMENTS and isinstance(value, (bool, np.bool_)):
+        value = "on" if value else "off"
     try:
+        if not isinstance(value, str) and value is not None:
+            raise KeyError(value)
         return table[value.lower() if isinstance(value, str) else value]
     except (KeyError, TypeError):
         names = ", ".join(repr(k) for k in table if isinstance(k, str))
@@ -686,6 +690,9 @@ def export(path, positions, indices=None, uvs=None, normals=None):
     lines whose corners use one index for all three, written whole or not
     at all.  For a file that keeps everything of the input, use
     Result.write."""
+    def digits(a):      # enough to read back the same float32 or float64
+        return 9 if a is not None and np.asarray(a).dtype.itemsize <= 4 else 17
+    dp, du, dn = digits(positions), digits(uvs), digits(normals)
     pos = _float_array(positions, "positions", 3)
     tri = _index_array(indices, "indices") if indices is not None else None
     uv = _float_array(uvs, "uvs", 2) if uvs is not None else None
@@ -700,11 +707,11 @@ def export(path, positions, indices=None, uvs=None, normals=None):
 
     def write(tmp):
         with open(tmp, "w", encoding="ascii") as f:
-            np.savetxt(f, pos, fmt="v %.9g %.9g %.9g")
+            np.savetxt(f, pos, fmt=f"v %.{dp}g %.{dp}g %.{dp}g")
             if nrm is not None:
-                np.savetxt(f, nrm, fmt="vn %.9g %.9g %.9g")
+                np.savetxt(f, nrm, fmt=f"vn %.{dn}g %.{dn}g %.{dn}g")
             if uv is not None:
-                np.savetxt(f, uv, fmt="vt %.9g %.9g")
+                np.savetxt(f, uv, fmt=f"vt %.{du}g %.{du}g")
             if tri is not None:
                 one = tri.astype(np.int64) + 1
                 corner = "{0}/{0}/{0}" if uv is not None and nrm is not None else \

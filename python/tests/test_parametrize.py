@@ -208,6 +208,7 @@ def test_options_take_effect(data):
     tp, tf = torus(24, 12)
     s = [bijparam.parametrize(tp, tf, resolution=256, max_charts=k).charts for k in (3, 0)]
     assert 1 < s[0] <= 3 < s[1]
+    assert [bijparam.parametrize(tp, tf, resolution=256, segment=v).charts for v in ("off", False)] == [1, 1]
     # importance: the heavy half of the faces gets more of the uv area
     imp = np.where(np.arange(len(faces)) < len(faces) // 2, 8.0, 1.0)
     w = bijparam.parametrize(pos, faces, resolution=0, importance=imp, uv_dtype=np.float64)
@@ -348,3 +349,4 @@ def test_export_is_xatlas_export(spot, tmp_path):
     back = bijparam.read_mesh(str(path))
     assert np.array_equal(back.indices, r.indices)
     assert np.array_equal(back.uvs.astype(np.float32), r.uvs)
+    assert np.array_equal(back.positions, m.positions[r.vmapping])        # float64 read back exactly
