@@ -1857,7 +1857,7 @@ BPDEF void bpg_free(bpg_file *file)
 
 /* Takes `data` (allocated with the allocator of opt) whatever happens. */
 static bp_status bpg__parse_owned(bpg_file *file, unsigned char *data, size_t size, const char *dir,
-                                  const bpg_options *opt, bp_error *err, int *dir_bad)
+                                  const bpg_options *opt, bp_error *err)
 {
     struct bpg__file *f;
     bp_allocator a;
@@ -1881,7 +1881,6 @@ static bp_status bpg__parse_owned(bpg_file *file, unsigned char *data, size_t si
     f->buffers = f->views = f->accessors = f->meshes = f->images = BPG__NONE;
     f->texcoord = opt ? opt->texcoord : 0;
     file->p = f;
-    (void)dir_bad;
     if (f->texcoord < 0 || f->texcoord > 99) {
         bpg__fail(f, BP_ERR_INVALID_ARGUMENT, "texcoord %d is not a set from 0 to 99", f->texcoord);
     } else if (dir && !(f->dir = (char *)bpg__alloc(f, strlen(dir) + 1))) bpg__oom(f, "reading");
@@ -1916,7 +1915,7 @@ BPDEF bp_status bpg_parse(bpg_file *file, const void *data, size_t size, const c
         return BP_ERR_OUT_OF_MEMORY;
     }
     if (size) memcpy(copy, data, size);
-    return bpg__parse_owned(file, copy, size, dir, opt, err, NULL);
+    return bpg__parse_owned(file, copy, size, dir, opt, err);
 }
 
 BPDEF bp_status bpg_read(bpg_file *file, const char *path, const bpg_options *opt, bp_error *err)
@@ -1975,7 +1974,7 @@ BPDEF bp_status bpg_read(bpg_file *file, const char *path, const bpg_options *op
         return BP_ERR_OUT_OF_MEMORY;
     }
     if (slash) { memcpy(dir, path, (size_t)(slash - path + 1)); dir[slash - path + 1] = 0; } else dir[0] = 0;
-    st = bpg__parse_owned(file, data, n, dir, opt, err, NULL);
+    st = bpg__parse_owned(file, data, n, dir, opt, err);
     bpg__free_p(&a, dir);
     return st;
 }
