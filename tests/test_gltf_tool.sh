@@ -24,6 +24,8 @@
 # - --repack and --init input keep the file's own map: the written
 #   TEXCOORD_0 is that map moved and scaled (--repack), or the start the
 #   report names (--init input).
+# - --texcoord 1 writes a second set beside the file's TEXCOORD_0, which
+#   comes back byte for byte.
 # - Bad files give one error line naming the element and write nothing;
 #   -o .glb from an OBJ is a usage error; --check names glTF triangles.
 # Prints "BPTEST <passed> <failed>" last (tests/run_all.sh).  Run from the
@@ -142,7 +144,7 @@ check $? "and the input's .bin is unchanged"
 # --- the file's own map: --repack, --init input ----------------------------
 run "$d/gen/external.gltf" --repack --atlas 256 -o "$d/gen/repack.gltf"
 check $(( $(rc) != 0 )) "external.gltf --repack --atlas 256: runs"
-$py - "$d/gen/external.gltf" "$d/gen/repack.gltf" <<'EOF'
+fit=$($py - "$d/gen/external.gltf" "$d/gen/repack.gltf" <<'EOF'
 import sys
 sys.path.insert(0, 'tests')
 import gltf_check as g
@@ -160,12 +162,23 @@ err = max(abs(b[i][0] + c * (p[0] - a[i][0]) - s * (p[1] - a[i][1]) - q[0]) + ab
 print('largest misfit', err, 'scale', (c * c + s * s) ** 0.5)
 sys.exit(0 if err < 1e-5 and len(a) <= len(b) else 1)
 EOF
-check $? "--repack: the written TEXCOORD_0 is the file's map moved and scaled"
+)
+check $? "--repack: the written TEXCOORD_0 is the file's map moved and scaled ($fit)"
 run "$d/gen/external.gltf" --init input --json -o "$d/gen/init.glb"
 check $(( $(rc) != 0 )) "external.gltf --init input: runs"
 $py -c "import json,sys; j=json.load(open('$d/stdout')); sys.exit(0 if all(c['init_used'] == 1 and c['start_map'] == 'input' for c in j['per_chart']) else 1)"
 check $? "--init input: every chart started from the file's TEXCOORD_0"
 compare "$d/gen/external.gltf" "$d/gen/init.glb" "external.gltf --init input -> .glb"
+
+# --- a second set: --texcoord 1 keeps TEXCOORD_0 and writes TEXCOORD_1 ------
+run "$d/gen/external.gltf" --texcoord 1 --atlas 256 -o "$d/gen/lightmap.glb"
+check $(( $(rc) != 0 )) "external.gltf --texcoord 1: runs"
+$py tests/gltf_check.py compare "$d/gen/external.gltf" "$d/gen/lightmap.glb" --texcoord 1 >"$d/cmp.log" 2>&1
+r=$?
+[ "$r" -ne 0 ] && grep -v '^ok' "$d/cmp.log" | head
+check "$r" "--texcoord 1: every corner keeps its TEXCOORD_0 (and all else) byte for byte, TEXCOORD_1 added"
+$py tests/gltf_check.py obj "$d/gen/lightmap.glb" "$d/lm.obj" --texcoord 1 >/dev/null && $py tests/uvcheck.py "$d/lm.obj" >/dev/null 2>&1
+check $? "--texcoord 1: TEXCOORD_1 is bijective (tests/uvcheck.py)"
 
 # --- the real models (tests/data/gltf) --------------------------------------
 cp -r tests/data/gltf "$d/data_before"
