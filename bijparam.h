@@ -8163,29 +8163,16 @@ static int bp__super_graph(const bp_allocator *a, const bp__sparse *A, bp__spars
    CHOLMOD's, in vertices = 2 columns): a supernode of nc vertices whose
    lower trapezoid would hold a fraction z of explicit zeros is accepted
    when nc <= 2, or nc <= 8 and z < 0.8, or nc <= 24 and z < 0.1, or
-   z < 0.05.  On by default since session 10 (BP__SUPER_RELAX 0 turns it
-   off): on face it makes the supernodes 6.5 vertices long instead of 1.55
-   (3,993 instead of 16,676) for 12% more stored values, and the kernels
-   of sec 6.16 (panels, the update by 4 x 2 blocks) then pay less per
-   supernode: a whole one-thread run 7% faster (docs/performance.md sec
-   6.23).  When it was first measured (sec 6.1), with the older kernels,
-   it gained nothing. */
-#ifndef BP__SUPER_ORDER
+   z < 0.05.  The explicit zeros cost a little memory (on face 12% more
+   stored values) and buy long supernodes (6.5 vertices instead of 1.55,
+   4 times fewer), and the blocked kernels (panels, the update by 4 x 2
+   blocks) pay per supernode, so the factorization is faster. */
 #define BP__SUPER_ORDER 1           /* bp__nd_order's mode for the supernodal factor */
-#endif
-#ifndef BP__SCALAR_ORDER
 #define BP__SCALAR_ORDER 0          /* ... and for the scalar one */
-#endif
-#ifndef BP__SUPER_SCALAR
-#define BP__SUPER_SCALAR 1          /* the scalar SPD systems (A->super1) go supernodal */
-#endif
-#ifndef BP__SUPER_RELAX
-#define BP__SUPER_RELAX 1           /* relaxed supernodes (sec 6.23) */
-#endif
 static int bp__super_relax(uint32_t nc, double nz, double size)
 {
     double z = 1 - nz / size;
-    return BP__SUPER_RELAX && (nc <= 2 || (nc <= 8 && z < 0.8) || (nc <= 24 && z < 0.1) || z < 0.05);
+    return nc <= 2 || (nc <= 8 && z < 0.8) || (nc <= 24 && z < 0.1) || z < 0.05;
 }
 
 /* The supernodes: fundamental ones (column k-1 joins k's run when k is
@@ -11849,7 +11836,7 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
     bp__tutte_task J;
     A->n = nfree;
     A->symmetric = !mvc;
-    A->super1 = !mvc && BP__SUPER_SCALAR;
+    A->super1 = !mvc;
     A->colp = (uint32_t *)bp__alloc_array(a, (size_t)nfree + 1, sizeof(uint32_t));
     A->row = (uint32_t *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(uint32_t));
     A->val = (double *)bp__alloc_array(a, (size_t)T->ne + nfree, sizeof(double));
@@ -11897,9 +11884,6 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
    products by A as gathers by rows, see bp__krylov_task) and
    bp__precondition's bits do not depend on the schedule, so x is the same
    on any thread count. */
-#ifndef BP__TUTTE_KRYLOV
-#define BP__TUTTE_KRYLOV 1
-#endif
 #define BP__KRYLOV_TOL 1e-13
 #define BP__KRYLOV_ITERS 200
 
@@ -12310,7 +12294,7 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
     memset(&K, 0, sizeof K);
     memset(&M, 0, sizeof M);
     T->krylov_iters = -1;
-    if (!BP__TUTTE_KRYLOV || T->A.symmetric) return 0;
+    if (T->A.symmetric) return 0;
     b = (double *)bp__alloc_array(a, 2 * (size_t)nfree, sizeof(double));
     x = (double *)bp__alloc_array(a, 2 * (size_t)nfree, sizeof(double));
     dg = (double *)bp__alloc_array(a, nfree ? nfree : 1, sizeof(double));
@@ -13160,9 +13144,6 @@ static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, co
    pass writes just those when it will be taken (bp__conformal_scalar_col,
    the same values), and K itself is built only for the 2x2 solve
    (bp__conformal_full). */
-#ifndef BP__CONFORMAL_SCHUR
-#define BP__CONFORMAL_SCHUR 1           /* 0: always the factorization in 2x2 blocks */
-#endif
 #ifndef BP__CONFORMAL_SCHUR_K
 #define BP__CONFORMAL_SCHUR_K 2.5       /* boundary vertices at most this times sqrt(nv) */
 #endif
@@ -13406,7 +13387,7 @@ static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp
     int fallback = 0, ok = -1;
     bp_status st;
     bp__ndnode one[BP__ND_NODES];
-    if (!BP__CONFORMAL_SCHUR || !order || !tree) return 0;
+    if (!order || !tree) return 0;
     memset(&Z, 0, sizeof Z);
     Z.nv = nv;
     Z.bidx = (uint32_t *)bp__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
@@ -13474,7 +13455,7 @@ static int bp__conformal_schur_planned(const bp_chart *ch, const uint32_t *held,
         v = ch->loop_vertices[j];
         if (v != held[0] && v != held[1] && bxp[v] == BP__NONE) { bxp[v] = 0; nb++; }
     }
-    return BP__CONFORMAL_SCHUR && nb > 0 && (double)nb <= BP__CONFORMAL_SCHUR_K * sqrt((double)nv);
+    return nb > 0 && (double)nb <= BP__CONFORMAL_SCHUR_K * sqrt((double)nv);
 }
 
 /* The 2x2 system after all (asked for, or the Schur complement refused
@@ -15161,24 +15142,21 @@ static int bp__barrier_pair_hessian(const double *P, const double *A, const doub
    >= 0, with grad d = c_i n on the vertex (c = 1) and the edge's ends
    (c = -(1 - s), -s; n the unit direction from the closest point); the
    other part, f'(d) times the Hessian of the distance, couples a vertex's
-   slide along its edge with the edge's turn, so in mode 3 each pair gives
-   its whole 6x6 Hessian projected to PSD instead (bp__barrier_pair_hessian,
-   >>barrier; BP__BARRIER_FULL 0: the Gauss-Newton part alone).  Its pairs join a vertex to an edge anywhere on the boundary,
-   outside the mesh's pattern, and they come and go as the map moves.
-   Four treatments were measured (BP__NEWTON_BARRIER; docs/performance.md
-   sec 5):
-     0  none: the barrier is left to the line search;
-     1  the three diagonal 2x2 blocks f'' c_i^2 n n^T of each pair (each
-        positive semidefinite, pattern fixed), which also penalize moving
-        the vertex and its edge together: camel_b stalls at 4.4;
-     2  those blocks in the factored matrix and the full terms through
-        conjugate gradients preconditioned by it (30 solves an iteration);
-     3  (default) the full terms in the pattern: the vertex couplings of
-        every pair closer than 3 eps join the pattern, which is then
-        analysed again (bp__newton_grow); the pattern only grows, at most
-        once every 8 factorizations, and until a pair's couplings are in it
-        the pair gives its diagonal blocks.  Every term is positive
-        semidefinite either way.
+   slide along its edge with the edge's turn, so each pair gives its whole
+   6x6 Hessian projected to PSD instead (bp__barrier_pair_hessian,
+   >>hessian).  The pairs join a vertex to an edge anywhere on the
+   boundary, outside the mesh's pattern, and they come and go as the map
+   moves.  So the vertex couplings of every pair closer than 3 eps join
+   the pattern, which is then analysed again (bp__newton_grow); the
+   pattern only grows, at most once every 8 factorizations, and until a
+   pair's couplings are in it the pair gives its diagonal blocks.  Every
+   term is positive semidefinite either way.  The cheaper treatments fall
+   short: left to the line search alone, or given only each pair's
+   diagonal blocks (which also penalize moving the vertex and its edge
+   together), the barrier stalls a chart whose boundary runs close to
+   itself (camel_b at energy 4.4); reached through conjugate gradients
+   preconditioned by a factor of the fixed pattern, it costs about 30
+   solves an iteration.
 
    A wider barrier in the model (docs/performance.md sec 6.9).  The
    barrier is 0 beyond eps, so the model cannot see two parts of the
@@ -15242,20 +15220,8 @@ static int bp__barrier_pair_hessian(const double *P, const double *A, const doub
    triangles up when the start's mean energy is at least 8.
    bench/scaf_ratio.py (make bench-scaf) repeats the comparison. */
 
-#ifndef BP__NEWTON_BARRIER
-#define BP__NEWTON_BARRIER 3
-#endif
-#ifndef BP__BARRIER_FULL
-#define BP__BARRIER_FULL 1            /* 0: the Gauss-Newton part only (measurements) */
-#endif
 #ifndef BP__NEWTON_WIDE
-#define BP__NEWTON_WIDE 3.0       /* the model's barrier width after a boundary clip, in eps (1: off) */
-#endif
-#ifndef BP__NEWTON_CG_MAX
-#define BP__NEWTON_CG_MAX 30
-#endif
-#ifndef BP__NEWTON_CG_TOL
-#define BP__NEWTON_CG_TOL 1e-8
+#define BP__NEWTON_WIDE 3.0       /* the model's barrier width after a boundary clip, in eps */
 #endif
 
 /* One barrier pair's Gauss-Newton term f'' w w^T: w = c_i n on vertices
@@ -15275,12 +15241,11 @@ typedef struct bp__newton {
     uint32_t  *dpos;              /* 4 per vertex: its 2x2 diagonal block   */
     double    *ht;                /* BP__HT per triangle: its Hessian's
                                      blocks (bp__newton_tri_task)          */
-    double    *bd;                /* 3 per vertex: barrier block xx, xy, yy */
     double    *dg;                /* per vertex: its diagonal's part of the
                                      trace, written by the gather tasks   */
     double     delta;             /* the shift of the diagonal (assembly)   */
     double    *rhs, *z;
-    double    *r, *p, *q;         /* conjugate gradients (the barrier pairs) */
+    double    *r, *p, *q;         /* conjugate gradients (factor reuse)      */
     bp__vec    pairs;             /* bp__bpair: the barrier's pairs at x     */
     bp__vec    extra;             /* vertex couplings added to the pattern   */
     bp__vec    near;              /* bp__bnear: pairs within 3 eps at x      */
@@ -15323,7 +15288,7 @@ static void bp__newton_free(const bp_allocator *a, bp__newton *N)
     bp__sparse_free(a, &N->K1);
     bp__factor_free(a, &N->F1);
     bp__free(a, N->b1);
-    bp__free(a, N->tpos); bp__free(a, N->dpos); bp__free(a, N->ht); bp__free(a, N->bd); bp__free(a, N->dg);
+    bp__free(a, N->tpos); bp__free(a, N->dpos); bp__free(a, N->ht); bp__free(a, N->dg);
     bp__free(a, N->rhs); bp__free(a, N->z);
     bp__free(a, N->r); bp__free(a, N->p); bp__free(a, N->q); bp__free(a, N->w); bp__free(a, N->part);
     bp__free(a, N->kperm); bp__free(a, N->kiperm);
@@ -15551,7 +15516,6 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
     N->ht = (double *)bp__alloc_array(a, BP__HT * (size_t)S->nt, sizeof(double));   /* written whole by
                                                  bp__newton_tri_task before any read: not zeroed, so its pages are
                                                  first touched on the threads */
-    N->bd = (double *)bp__alloc_array(a, 3 * (size_t)S->nv, sizeof(double));
     N->dg = (double *)bp__alloc_array(a, (size_t)S->nv + 1, sizeof(double));
     N->rhs = (double *)bp__alloc_array(a, n, sizeof(double));
     N->z = (double *)bp__alloc_array(a, n, sizeof(double));
@@ -15561,7 +15525,7 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
     N->w = (double *)bp__alloc_array(a, n, sizeof(double));
     N->part = (double *)bp__alloc_array(a, (size_t)bp__vec_nchunks(n) + 1, sizeof(double));
     N->b1 = (double *)bp__alloc_array(a, 2 * (size_t)n + 1, sizeof(double));
-    if (!N->tpos || !N->dpos || !N->ht || !N->bd || !N->dg || !N->rhs || !N->z || !N->r || !N->p || !N->q || !N->w || !N->part || !N->b1 ||
+    if (!N->tpos || !N->dpos || !N->ht || !N->dg || !N->rhs || !N->z || !N->r || !N->p || !N->q || !N->w || !N->part || !N->b1 ||
         bp__newton_pattern(N, a, S) != BP_OK) {
         bp__newton_free(a, N);
         return BP_ERR_OUT_OF_MEMORY;
@@ -15675,12 +15639,11 @@ static void bp__newton_shift_task(void *task, uint32_t c)
     }
 }
 
-/* The barrier's diagonal blocks for the pairs of one edge query. */
+/* The barrier's pairs of one edge query. */
 typedef struct bp__bhess_query {
     const bp__solver *S;
     const double *x;
-    double *bd;
-    bp__vec *pairs, *near;      /* pairs within eps; within 3 eps (mode 3) */
+    bp__vec *pairs, *near;      /* pairs within em; within 3 eps           */
     int oom;
     double em;                  /* the model's barrier width (>= eps)     */
     uint32_t s0, n, i;
@@ -15693,7 +15656,6 @@ static void bp__barrier_hess_visit(void *user, uint32_t k)
     uint32_t kk = k - Q->s0, i1 = (Q->i + 1) % Q->n, vv[3];
     const double *A, *B, *P;
     double ex, ey, len2, sp, dx, dy, d, r, f2, nx, ny, cc[3];
-    int j;
     if (kk == Q->i || kk == i1) return;
     vv[0] = S->loop_vertices[k]; vv[1] = S->loop_vertices[Q->s0 + Q->i]; vv[2] = S->loop_vertices[Q->s0 + i1];
     P = Q->x + 2 * (size_t)vv[0]; A = Q->x + 2 * (size_t)vv[1]; B = Q->x + 2 * (size_t)vv[2];
@@ -15704,7 +15666,7 @@ static void bp__barrier_hess_visit(void *user, uint32_t k)
     if (sp > 1) sp = 1;
     dx = P[0] - (A[0] + sp * ex); dy = P[1] - (A[1] + sp * ey);
     d = sqrt(dx * dx + dy * dy);
-    if (Q->near && d < 3 * S->eps) {
+    if (d < 3 * S->eps) {
         bp__bnear nb;
         nb.v[0] = vv[0]; nb.v[1] = vv[1]; nb.v[2] = vv[2];
         if (!bp__vec_push(S->a, Q->near, &nb)) Q->oom = 1;
@@ -15718,7 +15680,7 @@ static void bp__barrier_hess_visit(void *user, uint32_t k)
         bp__bpair bp;
         bp.v[0] = vv[0]; bp.v[1] = vv[1]; bp.v[2] = vv[2];
         bp.s = sp; bp.nx = nx; bp.ny = ny; bp.f2 = f2;
-        if (!BP__BARRIER_FULL || !bp__barrier_pair_hessian(P, A, B, Q->em, 1, bp.K)) {
+        if (!bp__barrier_pair_hessian(P, A, B, Q->em, 1, bp.K)) {   /* at an end: f'' c c n n^T */
             int a_, b_;
             for (a_ = 0; a_ < 6; a_++)
                 for (b_ = 0; b_ < 6; b_++)
@@ -15726,30 +15688,23 @@ static void bp__barrier_hess_visit(void *user, uint32_t k)
         }
         if (!bp__vec_push(S->a, Q->pairs, &bp)) Q->oom = 1;
     }
-    for (j = 0; j < 3; j++) {
-        double w = f2 * cc[j] * cc[j];
-        Q->bd[3 * (size_t)vv[j]] += w * nx * nx;
-        Q->bd[3 * (size_t)vv[j] + 1] += w * nx * ny;
-        Q->bd[3 * (size_t)vv[j] + 2] += w * ny * ny;
-    }
 }
 
-/* bd = the barrier's diagonal blocks at x: every boundary edge queries the
-   hash (filled here with x), serially, in edge order. */
+/* The barrier's pairs at x (N->pairs) and those within 3 eps (N->near):
+   every boundary edge queries the hash (filled here with x), serially, in
+   edge order. */
 static void bp__newton_barrier(bp__newton *N, bp__solver *S, const double *x)
 {
     uint32_t e;
     bp__bhess_query Q;
-    double rad = (BP__NEWTON_BARRIER == 3 ? 3 : 1) * S->eps;
-    memset(N->bd, 0, 3 * (size_t)S->nv * sizeof(double));
+    double rad = 3 * S->eps;
     N->pairs.count = 0;
-    if (!S->barrier || !BP__NEWTON_BARRIER) return;
+    if (!S->barrier) return;
     bp__hash_fill(S, x, NULL, 0);
     Q.S = S;
     Q.x = x;
-    Q.bd = N->bd;
     Q.pairs = &N->pairs;
-    Q.near = BP__NEWTON_BARRIER == 3 ? &N->near : NULL;
+    Q.near = &N->near;
     N->near.count = 0;
     Q.oom = 0;
     Q.em = N->wide ? BP__NEWTON_WIDE * S->eps : S->eps;
@@ -15822,9 +15777,6 @@ static void bp__newton_pins(bp__newton *N, const bp__solver *S)
    Newton's own iterations follow, starting with the handed-over or kept
    analysis as before.  Symmetric Dirichlet only (the energy it was
    measured on), and not under the pins' homotopy. */
-#ifndef BP__NEWTON_ISO
-#define BP__NEWTON_ISO 1              /* 0: Newton from the first iteration */
-#endif
 #ifndef BP__NEWTON_ISO_TAU
 #define BP__NEWTON_ISO_TAU 1e-3
 #endif
@@ -15920,28 +15872,21 @@ static void bp__newton_iso_assemble(bp__newton *N, bp__solver *S)
 {
     uint32_t v, j, p;
     double trace = 0, delta, *val = N->K1.val;
+    const bp__bpair *pr = (const bp__bpair *)N->pairs.data;
+    size_t q;
     S->par.run(S->par.user, bp__newton_iso_gather_task, N, S->nchunk_v);
-    if (BP__NEWTON_BARRIER == 3) {
-        const bp__bpair *pr = (const bp__bpair *)N->pairs.data;
-        size_t q;
-        for (q = 0; q < N->pairs.count; q++) {
-            uint32_t pos[3][3];
-            int i, k, full = bp__newton_pair_places(N, pr + q, pos);
-            for (i = 0; i < 3; i++)
-                for (k = 0; k < 3; k++)
-                    if (full || i == k)
-                        val[bp__newton_iso_at(N, pr[q].v[k], pos[i][k])] +=
-                            0.5 * (pr[q].K[6 * (2 * i) + 2 * k] + pr[q].K[6 * (2 * i + 1) + 2 * k + 1]);
-        }
-        for (q = 0; q < N->pairs.count; q++)           /* the diagonals the pairs changed */
-            for (v = 0; v < 3; v++)
-                N->dg[pr[q].v[v]] = 2 * val[bp__newton_iso_at(N, pr[q].v[v], N->dpos[4 * (size_t)pr[q].v[v]])];
-    } else
-        for (v = 0; v < S->nv; v++) {
-            double *d = val + bp__newton_iso_at(N, v, N->dpos[4 * (size_t)v]);
-            *d += 0.5 * (N->bd[3 * (size_t)v] + N->bd[3 * (size_t)v + 2]);
-            N->dg[v] = 2 * *d;
-        }
+    for (q = 0; q < N->pairs.count; q++) {
+        uint32_t pos[3][3];
+        int i, k, full = bp__newton_pair_places(N, pr + q, pos);
+        for (i = 0; i < 3; i++)
+            for (k = 0; k < 3; k++)
+                if (full || i == k)
+                    val[bp__newton_iso_at(N, pr[q].v[k], pos[i][k])] +=
+                        0.5 * (pr[q].K[6 * (2 * i) + 2 * k] + pr[q].K[6 * (2 * i + 1) + 2 * k + 1]);
+    }
+    for (q = 0; q < N->pairs.count; q++)           /* the diagonals the pairs changed */
+        for (v = 0; v < 3; v++)
+            N->dg[pr[q].v[v]] = 2 * val[bp__newton_iso_at(N, pr[q].v[v], N->dpos[4 * (size_t)pr[q].v[v]])];
     for (v = 0; v < S->nv; v++) trace += N->dg[v];    /* in vertex order: the same sum on any threads */
     delta = 1e-8 * trace / (2 * (double)S->nv);
     N->delta = delta;
@@ -15958,11 +15903,13 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
 {
     uint32_t v, n = N->H.n;
     double trace = 0, delta;
+    const bp__bpair *pr;
+    size_t q;
     N->S = S;
     N->x = x;
     S->par.run(S->par.user, bp__newton_tri_task, N, S->nchunk_t);
     bp__newton_barrier(N, S, x);
-    if (BP__NEWTON_BARRIER == 3 && !bp__newton_grow(N, S)) { N->oom = 1; return; }
+    if (!bp__newton_grow(N, S)) { N->oom = 1; return; }
     if (N->iso) {                                   /* the isotropic phase: K1 alone */
         if (!N->K1.colp && !bp__newton_iso_pattern(N, S->a)) { N->oom = 1; return; }
         bp__newton_iso_assemble(N, S);
@@ -15970,33 +15917,24 @@ static void bp__newton_assemble(bp__newton *N, bp__solver *S, const double *x)
     }
     n = N->H.n;
     S->par.run(S->par.user, bp__newton_gather_task, N, S->nchunk_v);
-    if (BP__NEWTON_BARRIER == 3) {                  /* the pairs' full terms */
-        const bp__bpair *pr = (const bp__bpair *)N->pairs.data;
-        size_t q;
-        for (q = 0; q < N->pairs.count; q++) {
-            uint32_t pos[3][3];                /* block (v_i, v_j): its (2 v_i, 2 v_j) entry */
-            int i, j, al, be, full = bp__newton_pair_places(N, pr + q, pos);   /* else only the blocks */
-            for (i = 0; i < 3; i++)
-                for (j = 0; j < 3; j++) {
-                    uint32_t col = 2 * pr[q].v[j], len = N->H.colp[col + 1] - N->H.colp[col];
-                    if (!full && i != j) continue;
-                    for (al = 0; al < 2; al++)    /* entry (2 v_i + al, 2 v_j + be): al + be len further */
-                        for (be = 0; be < 2; be++)
-                            N->H.val[pos[i][j] + al + be * len] +=
-                                pr[q].K[6 * (2 * i + al) + 2 * j + be];   /* >>barrier: f'' c c n n^T, or whole */
-                }
-        }
-        for (q = 0; q < N->pairs.count; q++)           /* the diagonals the pairs changed */
-            for (v = 0; v < 3; v++) {
-                const uint32_t *dp = N->dpos + 4 * (size_t)pr[q].v[v];
-                N->dg[pr[q].v[v]] = N->H.val[dp[0]] + N->H.val[dp[3]];
+    pr = (const bp__bpair *)N->pairs.data;             /* the pairs' full terms */
+    for (q = 0; q < N->pairs.count; q++) {
+        uint32_t pos[3][3];                /* block (v_i, v_j): its (2 v_i, 2 v_j) entry */
+        int i, j, al, be, full = bp__newton_pair_places(N, pr + q, pos);   /* else only the blocks */
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++) {
+                uint32_t col = 2 * pr[q].v[j], len = N->H.colp[col + 1] - N->H.colp[col];
+                if (!full && i != j) continue;
+                for (al = 0; al < 2; al++)    /* entry (2 v_i + al, 2 v_j + be): al + be len further */
+                    for (be = 0; be < 2; be++)
+                        N->H.val[pos[i][j] + al + be * len] +=
+                            pr[q].K[6 * (2 * i + al) + 2 * j + be];   /* >>hessian: whole, or f'' c c n n^T */
             }
-    } else
-        for (v = 0; v < S->nv; v++) {
-            const uint32_t *dp = N->dpos + 4 * (size_t)v;
-            const double *b = N->bd + 3 * (size_t)v;
-            N->H.val[dp[0]] += b[0]; N->H.val[dp[1]] += b[1]; N->H.val[dp[2]] += b[1]; N->H.val[dp[3]] += b[2];
-            N->dg[v] = N->H.val[dp[0]] + N->H.val[dp[3]];
+    }
+    for (q = 0; q < N->pairs.count; q++)           /* the diagonals the pairs changed */
+        for (v = 0; v < 3; v++) {
+            const uint32_t *dp = N->dpos + 4 * (size_t)pr[q].v[v];
+            N->dg[pr[q].v[v]] = N->H.val[dp[0]] + N->H.val[dp[3]];
         }
     for (v = 0; v < S->nv; v++) trace += N->dg[v];    /* in vertex order: the same sum on any threads */
     delta = 1e-8 * trace / n;
@@ -16023,63 +15961,6 @@ static int bp__newton_refactor(bp__newton *N, const bp_allocator *a, const bp__p
 {
     if (!bp__fact_numeric(a, &N->H, &N->F, NULL, par)) return -1;
     return bp__newton_pivots_ok(&N->F);
-}
-
-/* y = A x with A = M - blocks(B) + B: M the factored matrix, blocks(B)
-   the barrier's diagonal blocks in it, B the barrier's full Gauss-Newton
-   terms.  Serial, in a fixed order. */
-static void bp__newton_apply(const bp__newton *N, uint32_t nv, const double *x, double *y)
-{
-    const bp__sparse *H = &N->H;
-    const bp__bpair *pr = (const bp__bpair *)N->pairs.data;
-    uint32_t j, p, v;
-    size_t k;
-    for (j = 0; j < H->n; j++) y[j] = 0;
-    for (j = 0; j < H->n; j++)
-        for (p = H->colp[j]; p < H->colp[j + 1]; p++) y[H->row[p]] += H->val[p] * x[j];
-    for (v = 0; v < nv; v++) {
-        const double *b = N->bd + 3 * (size_t)v;
-        y[2 * v] -= b[0] * x[2 * v] + b[1] * x[2 * v + 1];
-        y[2 * v + 1] -= b[1] * x[2 * v] + b[2] * x[2 * v + 1];
-    }
-    for (k = 0; k < N->pairs.count; k++) {
-        const bp__bpair *q = pr + k;
-        double c[3], t = 0;
-        int i;
-        c[0] = 1; c[1] = -(1 - q->s); c[2] = -q->s;
-        for (i = 0; i < 3; i++) t += c[i] * (q->nx * x[2 * q->v[i]] + q->ny * x[2 * q->v[i] + 1]);
-        t *= q->f2;
-        for (i = 0; i < 3; i++) { y[2 * q->v[i]] += c[i] * t * q->nx; y[2 * q->v[i] + 1] += c[i] * t * q->ny; }
-    }
-}
-
-/* The barrier's pairs couple vertices that H's pattern does not: solve
-   A v = b (A above) by conjugate gradients preconditioned with the
-   factored M, starting from v = M^-1 b, until r.M^-1 r falls below 1e-8
-   of b.M^-1 b (at most 30 steps, each one solve with the factor). */
-static void bp__newton_pcg(bp__newton *N, uint32_t nv, const double *b, double *v)
-{
-    uint32_t n = N->H.n, i;
-    double rz = 0, rz0 = 0, pq, alpha, rzn;
-    int k;
-    double *r = N->r, *p = N->p, *q = N->q;
-    bp__newton_apply(N, nv, v, q);
-    for (i = 0; i < n; i++) { r[i] = b[i] - q[i]; rz0 += b[i] * v[i]; }
-    bp__factor_solve_par(&N->F, r, p, N->z, N->par);
-    for (i = 0; i < n; i++) rz += r[i] * p[i];
-    for (k = 0; k < BP__NEWTON_CG_MAX && rz > BP__NEWTON_CG_TOL * rz0; k++) {
-        bp__newton_apply(N, nv, p, q);
-        pq = 0;
-        for (i = 0; i < n; i++) pq += p[i] * q[i];
-        if (!(pq > 0)) break;
-        alpha = rz / pq;
-        for (i = 0; i < n; i++) { v[i] += alpha * p[i]; r[i] -= alpha * q[i]; }
-        bp__factor_solve_par(&N->F, r, q, N->z, N->par);              /* q = M^-1 r */
-        rzn = 0;
-        for (i = 0; i < n; i++) rzn += r[i] * q[i];
-        for (i = 0; i < n; i++) p[i] = q[i] + (rzn / rz) * p[i];
-        rz = rzn;
-    }
 }
 
 /* Factor reuse.  The factorization is most of an iteration's cost, and
@@ -16113,7 +15994,7 @@ static void bp__newton_pcg(bp__newton *N, uint32_t nv, const double *b, double *
    BP__NEWTON_REUSE times running, H is factored afresh.  Serial, in a
    fixed order: the same bits on any number of threads. */
 #ifndef BP__NEWTON_REUSE
-#define BP__NEWTON_REUSE 4            /* reuses of one factor in a row (0: never) */
+#define BP__NEWTON_REUSE 4            /* reuses of one factor in a row */
 #endif
 #ifndef BP__NEWTON_REUSE_CG
 #define BP__NEWTON_REUSE_CG 20
@@ -16405,7 +16286,7 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
         bp__newton_assemble(N, S, x);             /* on H itself */
         if (N->oom) return -1;
     }
-    if (N->factored && N->fvalid && BP__NEWTON_BARRIER != 2 && !N->cut && N->reused < BP__NEWTON_REUSE &&
+    if (N->factored && N->fvalid && !N->cut && N->reused < BP__NEWTON_REUSE &&
         bp__newton_reuse_solve(N, N->rhs, v)) {
         N->reused++;
         N->nreuse++;
@@ -16426,7 +16307,6 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
         N->nfact++;
         N->reused = 0;
         bp__factor_solve_par(&N->F, N->rhs, v, N->z, N->par);
-        if (BP__NEWTON_BARRIER == 2 && N->pairs.count) bp__newton_pcg(N, S->nv, N->rhs, v);
     }
     for (i = 0; i < n; i++) s += g[i] * v[i];
     *gv = s;
@@ -16597,7 +16477,7 @@ done:
     bp__free(a, T.w); bp__free(a, T.gr); bp__free(a, T.glen);
     if (st != BP_OK) return st;
     K->symmetric = 1;
-    K->super1 = BP__SUPER_SCALAR;
+    K->super1 = 1;
     st = bp__factorize_order(a, K, F, &bad, &S->par, order, tree);     /* order: the start map's, or NULL */
     if (st == BP_OK && (!bp__factor_single(a, F, &S->par) || !bp__solve_plan(a, F))) st = BP_ERR_OUT_OF_MEMORY;
     return st;
@@ -17190,7 +17070,7 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
         P->N.hold = P->pidx;
         if (P->pen) { P->N.pull = P->pen->pidx; P->N.pull_w = P->pen->w; }
         P->N.given = P->handoff;              /* for the first factorization */
-        P->N.iso = BP__NEWTON_ISO && P->S.energy == BP_ENERGY_SYMMETRIC_DIRICHLET && !P->pen;   /* (>>newton) */
+        P->N.iso = P->S.energy == BP_ENERGY_SYMMETRIC_DIRICHLET && !P->pen;   /* (>>newton) */
     } else
         bp__handoff_free(&P->a, P->handoff);  /* not Newton: freed before the preconditioner */
     if (!bp__opt_start_order(P, ch)) {
@@ -17295,9 +17175,6 @@ static double bp__opt_direction(bp__opt *P)
    face's isotropic iterations 3 to 6, 20 ms of one thread), and the two
    that gained were at 0.966 and 0.991, on horse_cut's crushed start; so
    the doubling is tried from a share of BP__NEWTON_EXTEND_RATIO on. */
-#ifndef BP__NEWTON_EXTEND
-#define BP__NEWTON_EXTEND 1           /* 0: stop at the full step (measurements) */
-#endif
 #ifndef BP__NEWTON_EXTEND_MAX
 #define BP__NEWTON_EXTEND_MAX 40      /* doublings: t up to 2^40 */
 #endif
@@ -17370,7 +17247,7 @@ static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, doubl
         P->N.cut = !(tries == 0 && tt == 1 && f - *fn >= -0.5 * BP__NEWTON_REUSE_RHO * gv &&
                      f - *fn <= -0.5 * gv / BP__NEWTON_REUSE_RHO && f - *fn <= BP__NEWTON_REUSE_DF * fabs(f));
         P->N.wide = tries == 0 && tt < 1 && P->S.bclip;   /* clipped by the boundary (>>newton) */
-        if (P->nd && tries == 0 && tt == 1 && BP__NEWTON_EXTEND && f - *fn >= -0.5 * BP__NEWTON_EXTEND_RATIO * gv)
+        if (P->nd && tries == 0 && tt == 1 && f - *fn >= -0.5 * BP__NEWTON_EXTEND_RATIO * gv)
             return bp__opt_extend(P, f, gv, t, fn, edn);
         return 1;
     }
@@ -17416,9 +17293,6 @@ static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, 
     return bp__ok(err);
 }
 
-#ifndef BP__START_SCALE
-#define BP__START_SCALE 1                /* 0: never enlarge a crushed start (bp__start_scale) */
-#endif
 #ifndef BP__START_SCALE_E0
 #define BP__START_SCALE_E0 1e9           /* mean start energy that counts as crushed */
 #endif
@@ -17525,7 +17399,7 @@ static bp_status bp__chart_optimize_pass(bp_chart *ch, uint32_t chart_index, con
         goto done;
     }
     if (!it0) ch->energy_start = ed / P.S.nt;
-    if (BP__START_SCALE && bp__start_scale(&P, &f, &ed) < 0) { st = bp__oom(err, "evaluating the barrier"); goto done; }
+    if (bp__start_scale(&P, &f, &ed) < 0) { st = bp__oom(err, "evaluating the barrier"); goto done; }
     ch->stop = BP_STOP_MAX_ITERATIONS;
     for (it = it0; it < P.o.max_iterations; it++) {
         double gv = bp__opt_direction(&P), tt = 0, fn = HUGE_VAL, edn = HUGE_VAL;
@@ -18083,9 +17957,6 @@ static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *
     return st == BP_OK;
 }
 
-#ifndef BP__INIT_AUTO_CONFORMAL
-#define BP__INIT_AUTO_CONFORMAL 1       /* 0: BP_INIT_AUTO starts barycentric, as before >>conformal */
-#endif
 
 
 /* The pins' part of a start map: the three necessary conditions, the fit
@@ -18173,7 +18044,7 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     int tutte = opt && opt->init == BP_INIT_TUTTE, better = !opt || opt->start != BP_START_PLAIN, planar = 0;
     int checked = 0;              /* the map is bp__tutte_map's, which checked it exactly */
     int conformal = opt && opt->init == BP_INIT_CONFORMAL ? 2 :         /* by name: at any size */
-                    BP__INIT_AUTO_CONFORMAL && (!opt || (opt->init != BP_INIT_MEAN_VALUE && opt->init != BP_INIT_TUTTE));
+                    (!opt || (opt->init != BP_INIT_MEAN_VALUE && opt->init != BP_INIT_TUTTE));
                                                                 /* (any other value acts as AUTO) */
     if (ch && ch->error.status != BP_OK) {
         if (err) *err = ch->error;

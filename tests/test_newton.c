@@ -378,10 +378,11 @@ static void test_assembled(void)
         {
             double tr = 0, bsum = 0;
             for (i = 0; i < S.nv; i++) tr += N.H.val[N.dpos[4 * i]] + N.H.val[N.dpos[4 * i + 3]];
-            for (i = 0; i < 3 * S.nv; i++) bsum += fabs(N.bd[i]);
+            for (i = 0; i < N.pairs.count; i++)
+                for (j = 0; j < 36; j++) bsum += fabs(((const bp__bpair *)N.pairs.data)[i].K[j]);
             delta = 1e-8 * (tr / (1 + 1e-8)) / nv2;
             if (withb) BPT_CHECK(bsum > 0 && N.pairs.count > 0, "camel_b, eps = 4 mean edges: the barrier adds to H (sum "
-                                 "|blocks| %.3g, %u pairs)", bsum, (unsigned)N.pairs.count);
+                                 "|pair Hessians| %.3g, %u pairs)", bsum, (unsigned)N.pairs.count);
             /* the shift the library took (summed from its gather tasks' and
                the pairs' diagonals) against the one recovered from H's own
                diagonal: a diagonal left out of the trace, or taken before

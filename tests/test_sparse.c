@@ -1076,7 +1076,7 @@ static void check_against_brute(const bp__sparse *G, const bp__super *S, const c
     }
     BPT_CHECK(bad == 0 && S->ns > 0, "%s: the supernodes' rows hold the brute-force pattern of L, and each relaxed one "
               "(%u of %u) the explicit zeros bp__super_relax allows (%u wrong)", what, nrelax, S->ns, bad);
-    BPT_CHECK(!BP__SUPER_RELAX || nrelax > 0, "%s: relaxed supernodes in the analysis (%u)", what, nrelax);
+    BPT_CHECK(nrelax > 0, "%s: relaxed supernodes in the analysis (%u)", what, nrelax);
     {   /* the update lists: under each J, every K with rows in J once, by
            increasing K, at K's first row in J; as many as the (K, J) pairs */
         uint32_t J, e, pairs = 0, wrong = 0;
