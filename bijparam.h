@@ -60,6 +60,16 @@
       BP_IMPLEMENTATION     emit the implementation in this translation unit
       BP_STATIC             make every function static (private copy per file)
       BP_NO_STDIO           leave out file reading/writing (no <stdio.h>)
+      BP_NO_IO              leave out every reader and writer, the in-memory
+                            parsers too (implies BP_NO_STDIO); the embedder
+                            fills a bp_mesh or uses bp_mesh_from_view
+      BP_NO_VISIBILITY      leave out chapter 4: the BVH, the view models,
+                            bp_visibility and bp_texture_to_screen; options
+                            with a view model fail with BP_ERR_UNSUPPORTED
+                            (opt.importance, the caller's own weights, stays)
+   Each BP_NO_ part is left out whole: its public functions are not declared,
+   and an option that would need it fails with BP_ERR_UNSUPPORTED and a
+   message naming the macro, never silently does something else.
       BP_MALLOC(sz,u)       default allocator (both or neither):
       BP_FREE(p,u)          defaults are malloc/free; u is the user pointer
       BP_ASSERT(x)          internal invariant check, default: nothing
@@ -138,6 +148,12 @@
 #ifndef BIJPARAM_H
 #define BIJPARAM_H
 
+/* BP_NO_IO leaves out every reader and writer, of files and of text in
+   memory alike, so it includes BP_NO_STDIO. */
+#if defined(BP_NO_IO) && !defined(BP_NO_STDIO)
+#define BP_NO_STDIO
+#endif
+
 /* The version of this header (semantic versioning: a MINOR step adds, a
    MAJOR step may break; CHANGELOG.md lists what changed). */
 #define BP_VERSION_MAJOR 0
@@ -181,7 +197,8 @@ extern "C" {
     X(BP_ERR_NOT_BIJECTIVE,  "map is not bijective")                            \
     X(BP_ERR_CANCELLED,      "cancelled by the progress callback")              \
     X(BP_ERR_CHARTS_FAILED,  "some charts failed; the others are valid")      \
-    X(BP_ERR_TOO_LARGE,      "input exceeds a size limit of the library")
+    X(BP_ERR_TOO_LARGE,      "input exceeds a size limit of the library")  \
+    X(BP_ERR_UNSUPPORTED,    "needs a part this build leaves out (BP_NO_...)")
 
 typedef enum bp_status {
 #define BP__ENUM(name, text) name,
@@ -783,6 +800,7 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *chart, const bp_mesh *mesh,
                                     bp_energy energy, double *mean, double *max,
                                     double *per_triangle, bp_error *err);
 
+#ifndef BP_NO_VISIBILITY
 /* Chapter 4.  Visibility V_t of each mesh triangle under opt->views (eq
    4.2), normalized to an area-weighted mean of 1 and floored at
    opt->views.floor; `out` has num_triangles entries. */
@@ -795,6 +813,7 @@ BPDEF bp_status bp_visibility(const bp_mesh *mesh, const bp_options *opt, double
    reference / map. */
 BPDEF bp_status bp_texture_to_screen(const bp_mesh *mesh, const bp_atlas *atlas,
                                      const bp_options *opt, double *mean_det, bp_error *err);
+#endif
 
 /* Exact sign of the orientation of (a, b, c): +1 counter-clockwise, -1
    clockwise, 0 collinear.  Exact whenever every nonzero coordinate has a
@@ -867,6 +886,7 @@ BPDEF bp_status bp_write_obj_from(const char *path, const char *source, const bp
 BPDEF bp_status bp_write_obj_opt(const char *path, const char *source, const bp_mesh *mesh,
                                  const bp_atlas *atlas, const bp_options *opt, bp_error *err);
 #endif
+#ifndef BP_NO_IO
 /* "obj", "off" or "ply" for a path's extension (case-insensitive), else NULL. */
 BPDEF const char *bp_mesh_format(const char *path);
 /* The same parsers on text in memory (used by the fuzzers). */
@@ -876,6 +896,7 @@ BPDEF bp_status bp_parse_off(const char *text, size_t length, bp_mesh *mesh,
                              const bp_allocator *alloc, bp_error *err);
 BPDEF bp_status bp_parse_ply(const char *data, size_t length, bp_mesh *mesh,
                              const bp_allocator *alloc, bp_error *err);
+#endif
 BPDEF void      bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc);
 
 /* Positions from the caller's vertex buffer (0.2): float or double x y z
@@ -2335,6 +2356,75 @@ BPDEF int bp_segments_intersect(const double a[2], const double b[2],
    synthetic uv index (number of vt) + v, so those faces are glued to each
    other along shared vertices and cut from the faces that have `vt`. */
 
+BPDEF void bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc)
+{
+    bp_allocator a;
+    if (!mesh) return;
+    memset(&a, 0, sizeof a);
+    if (alloc) a = *alloc;
+    bp__free(&a, mesh->positions);
+    bp__free(&a, mesh->triangles);
+    bp__free(&a, mesh->corner_uv);
+    bp__free(&a, mesh->uvs);
+    bp__free(&a, mesh->triangle_line);
+    bp__free(&a, mesh->triangle_face);
+    memset(mesh, 0, sizeof *mesh);
+}
+
+/* Views (see bp_mesh_view in >>api): a packed double array is used in
+   place; anything else is converted once, vertex by vertex, reading each
+   coordinate with memcpy (a stride need not be a multiple of the scalar's
+   alignment). */
+BPDEF bp_status bp_mesh_from_view(bp_mesh *mesh, const bp_mesh_view *view, const bp_allocator *alloc, bp_error *err)
+{
+    bp_allocator a;
+    size_t size, stride, i;
+    double *pos;
+    if (mesh) memset(mesh, 0, sizeof *mesh);
+    if (!mesh || !view || !view->positions || !view->triangles || (int)view->position_type < 0 ||
+        (int)view->position_type > (int)BP_SCALAR_F32)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "bp_mesh_from_view needs a mesh, positions, triangles and a known position_type");
+    size = view->position_type == BP_SCALAR_F32 ? sizeof(float) : sizeof(double);
+    stride = view->position_stride ? view->position_stride : 3 * size;
+    if (stride < 3 * size)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                        "position_stride %D is less than the %D bytes of x y z", (int64_t)stride, (int64_t)(3 * size));
+    mesh->num_vertices = view->num_vertices;
+    mesh->triangles = (uint32_t *)(uintptr_t)view->triangles;     /* borrowed, never written */
+    mesh->num_triangles = view->num_triangles;
+    mesh->num_faces = view->num_triangles;
+    if (size == sizeof(double) && stride == 3 * sizeof(double)) {
+        mesh->positions = (double *)(uintptr_t)view->positions;   /* borrowed, never written */
+        return bp__ok(err);
+    }
+    memset(&a, 0, sizeof a);
+    if (alloc) a = *alloc;
+    pos = (double *)bp__alloc_array(&a, 3 * (size_t)view->num_vertices, sizeof(double));
+    if (!pos) { memset(mesh, 0, sizeof *mesh); return bp__oom(err, "converting the positions"); }
+    for (i = 0; i < view->num_vertices; i++) {
+        const unsigned char *p = (const unsigned char *)view->positions + i * stride;
+        int k;
+        for (k = 0; k < 3; k++) {
+            if (size == sizeof(float)) { float f; memcpy(&f, p + k * sizeof f, sizeof f); pos[3 * i + k] = f; }
+            else memcpy(&pos[3 * i + k], p + k * sizeof(double), sizeof(double));
+        }
+    }
+    mesh->positions = pos;
+    return bp__ok(err);
+}
+
+BPDEF void bp_mesh_view_free(bp_mesh *mesh, const bp_mesh_view *view, const bp_allocator *alloc)
+{
+    bp_allocator a;
+    if (!mesh) return;
+    memset(&a, 0, sizeof a);
+    if (alloc) a = *alloc;
+    if (!view || (const void *)mesh->positions != view->positions) bp__free(&a, mesh->positions);
+    memset(mesh, 0, sizeof *mesh);
+}
+
+#ifndef BP_NO_IO
 typedef struct bp__parser {
     const char *p, *end;       /* cursor in the text                        */
     int64_t     line;          /* 1-based line of the cursor                */
@@ -2503,74 +2593,6 @@ static int bp__keyword(bp__parser *ps, const char *kw)
     if ((size_t)(ps->end - ps->p) < n || memcmp(ps->p, kw, n) != 0 || !bp__word_ends(ps->p + n, ps->end)) return 0;
     ps->p += n;
     return 1;
-}
-
-BPDEF void bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc)
-{
-    bp_allocator a;
-    if (!mesh) return;
-    memset(&a, 0, sizeof a);
-    if (alloc) a = *alloc;
-    bp__free(&a, mesh->positions);
-    bp__free(&a, mesh->triangles);
-    bp__free(&a, mesh->corner_uv);
-    bp__free(&a, mesh->uvs);
-    bp__free(&a, mesh->triangle_line);
-    bp__free(&a, mesh->triangle_face);
-    memset(mesh, 0, sizeof *mesh);
-}
-
-/* Views (see bp_mesh_view in >>api): a packed double array is used in
-   place; anything else is converted once, vertex by vertex, reading each
-   coordinate with memcpy (a stride need not be a multiple of the scalar's
-   alignment). */
-BPDEF bp_status bp_mesh_from_view(bp_mesh *mesh, const bp_mesh_view *view, const bp_allocator *alloc, bp_error *err)
-{
-    bp_allocator a;
-    size_t size, stride, i;
-    double *pos;
-    if (mesh) memset(mesh, 0, sizeof *mesh);
-    if (!mesh || !view || !view->positions || !view->triangles || (int)view->position_type < 0 ||
-        (int)view->position_type > (int)BP_SCALAR_F32)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "bp_mesh_from_view needs a mesh, positions, triangles and a known position_type");
-    size = view->position_type == BP_SCALAR_F32 ? sizeof(float) : sizeof(double);
-    stride = view->position_stride ? view->position_stride : 3 * size;
-    if (stride < 3 * size)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                        "position_stride %D is less than the %D bytes of x y z", (int64_t)stride, (int64_t)(3 * size));
-    mesh->num_vertices = view->num_vertices;
-    mesh->triangles = (uint32_t *)(uintptr_t)view->triangles;     /* borrowed, never written */
-    mesh->num_triangles = view->num_triangles;
-    mesh->num_faces = view->num_triangles;
-    if (size == sizeof(double) && stride == 3 * sizeof(double)) {
-        mesh->positions = (double *)(uintptr_t)view->positions;   /* borrowed, never written */
-        return bp__ok(err);
-    }
-    memset(&a, 0, sizeof a);
-    if (alloc) a = *alloc;
-    pos = (double *)bp__alloc_array(&a, 3 * (size_t)view->num_vertices, sizeof(double));
-    if (!pos) { memset(mesh, 0, sizeof *mesh); return bp__oom(err, "converting the positions"); }
-    for (i = 0; i < view->num_vertices; i++) {
-        const unsigned char *p = (const unsigned char *)view->positions + i * stride;
-        int k;
-        for (k = 0; k < 3; k++) {
-            if (size == sizeof(float)) { float f; memcpy(&f, p + k * sizeof f, sizeof f); pos[3 * i + k] = f; }
-            else memcpy(&pos[3 * i + k], p + k * sizeof(double), sizeof(double));
-        }
-    }
-    mesh->positions = pos;
-    return bp__ok(err);
-}
-
-BPDEF void bp_mesh_view_free(bp_mesh *mesh, const bp_mesh_view *view, const bp_allocator *alloc)
-{
-    bp_allocator a;
-    if (!mesh) return;
-    memset(&a, 0, sizeof a);
-    if (alloc) a = *alloc;
-    if (!view || (const void *)mesh->positions != view->positions) bp__free(&a, mesh->positions);
-    memset(mesh, 0, sizeof *mesh);
 }
 
 /* The arrays a parser fills, turned into a bp_mesh at the end. */
@@ -4826,6 +4848,7 @@ BPDEF bp_status bp_write_obj_opt(const char *path, const char *source, const bp_
                   : bp__write_obj(path, mesh, atlas, opt, err);
 }
 #endif /* BP_NO_STDIO */
+#endif /* BP_NO_IO */
 
 /* >>charts =================================================================
 
@@ -5135,6 +5158,7 @@ static bp_status bp__tri_defect_error(const bp_mesh *m, uint32_t t, const bp__me
                     tri[1] + 1, tri[2] + 1, bp__area2_scaled(m, t, sc) / sc->diag2);
 }
 
+#ifndef BP_NO_VISIBILITY
 /* The local defects: with bad == NULL the first one is an error (strict);
    otherwise bad[t] is set to the defect of each triangle. */
 static bp_status bp__find_defects(const bp_mesh *m, const bp__mesh_scale *sc, unsigned char *bad, bp_error *err)
@@ -5147,14 +5171,7 @@ static bp_status bp__find_defects(const bp_mesh *m, const bp__mesh_scale *sc, un
     }
     return BP_OK;
 }
-
-/* The whole validation with every defect an error (bp_visibility). */
-static bp_status bp__validate_mesh(const bp_mesh *m, bp_error *err)
-{
-    bp__mesh_scale sc;
-    bp_status st = bp__validate_global(m, &sc, err);
-    return st != BP_OK ? st : bp__find_defects(m, &sc, NULL, err);
-}
+#endif
 
 #define BP__BUILD_TASKS 64u       /* at most, per pass (below)              */
 
@@ -20066,6 +20083,7 @@ BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *m, const bp_opti
 }
 
 
+#ifndef BP_NO_VISIBILITY
 /* >>bvh ====================================================================
 
    Chapter 4 needs occlusion queries: is the segment from a surface point
@@ -20510,6 +20528,14 @@ static void bp__vis_task_run(void *task, uint32_t chunk)
     }
 }
 
+/* The whole validation with every defect an error (bp_visibility). */
+static bp_status bp__validate_mesh(const bp_mesh *m, bp_error *err)
+{
+    bp__mesh_scale sc;
+    bp_status st = bp__validate_global(m, &sc, err);
+    return st != BP_OK ? st : bp__find_defects(m, &sc, NULL, err);
+}
+
 static bp_status bp__vis_run(const bp_mesh *m, const bp_options *opt, const double *uv_area, const double *dirs,
                              uint32_t ndirs, double *out, bp_error *err)
 {
@@ -20656,7 +20682,7 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
     bp__free(&a, dirs);
     return st;
 }
-
+#endif /* BP_NO_VISIBILITY */
 
 /* >>driver =================================================================
 
@@ -21310,7 +21336,6 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     double *imp = NULL, *uvs_k = NULL;
     bp_pin *pins_k = NULL;
     int k = 0;
-    uint32_t t;
     if ((opt = bp__opts(opt, &local, err, &st)), st != BP_OK) return st;   /* >>progress */
     a = bp__allocator_of(opt);
     if (!atlas) return bp_atlas_build(atlas, m, opt, err);
@@ -21330,9 +21355,15 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
 #endif
     if (k) local.epsilon = ldexp(local.epsilon, k);     /* a barrier width is a length */
     if (k) st = bp__rescale_controls(&a, &local, &ms, k, &pins_k, &uvs_k, err);   /* pins, input uvs */
+#ifdef BP_NO_VISIBILITY
+    if (st == BP_OK && local.views.model != BP_VIEW_NONE)
+        st = bp__fail(err, BP_ERR_UNSUPPORTED, BP_ELEMENT_NONE, -1, -1, 0,
+                      "opt.views needs the visibility code, which BP_NO_VISIBILITY leaves out");
+#else
     if (st == BP_OK && local.views.model != BP_VIEW_NONE && !local.init_only) {
         /* chapter 4: visibility (times the user's importance) drives eq 4.1,
            and automatic seams (>>cut) prefer the parts seen least */
+        uint32_t t;
         imp = (double *)bp__alloc_array(&a, m->num_triangles, sizeof(double));
         st = imp ? bp_visibility(&ms, &local, imp, err) : bp__oom(err, "computing visibility");
         if (st == BP_ERR_CANCELLED) {            /* bp_atlas_build sees the run's flag: no charts */
@@ -21344,6 +21375,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
             for (t = 0; t < m->num_triangles; t++) imp[t] *= local.importance[t];
         if (imp) local.importance = imp;
     }
+#endif
     if (st == BP_OK) st = bp_atlas_build(atlas, &ms, &local, err);
     if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {           /* >>segment: (b) */
         bp_status ss = bp_atlas_segment(atlas, &ms, &local, err);

@@ -90,6 +90,7 @@ static inline void bpt_mesh_free(bp_mesh *m)
     memset(m, 0, sizeof *m);
 }
 
+#ifndef BP_NO_STDIO
 /* Read a mesh that must be one chart, build its atlas and, with init, its
    start map; on failure report it, free what was made and return 0. */
 static inline int bpt_one_chart(const char *path, bp_mesh *mesh, bp_atlas *atlas, const bp_options *opt, int init)
@@ -109,6 +110,7 @@ static inline int bpt_one_chart(const char *path, bp_mesh *mesh, bp_atlas *atlas
     }
     return 1;
 }
+#endif
 
 /* A 3D triangle (p0, p1, p2) in its own frame, the test's own rest shape:
    p0 at the origin, p1 at (w, 0), p2 at (x, y), y >= 0; returns its area. */
