@@ -282,7 +282,7 @@ typedef enum bp_init {
 typedef enum bp_start {
     BP_START_AUTO = 0,   /* a planar chart: its own projection when exactly
                             bijective; any other: the map of opt.init (>>start) */
-    BP_START_PLAIN,      /* the map of opt.init, unchanged (as before 0.3)  */
+    BP_START_PLAIN,      /* the map of opt.init, unchanged                  */
     BP_START_PROGRESSIVE /* AUTO, then a Tutte start relaxed by rounds of
                             progressive references (>>start)              */
 } bp_start;
@@ -315,8 +315,8 @@ typedef enum bp_direction {
                                         projected to PSD, sparse LDL^T (>>newton)  */
     BP_DIRECTION_PRECONDITIONED      /* L-BFGS with the rest-shape Laplacian as
                                         initial Hessian (far fewer iterations);
-                                        every chart's default, as the value 0,
-                                        until docs/performance.md sec 6.6          */
+                                        the default's choice for the charts
+                                        that do not go to Newton                */
 } bp_direction;
 
 typedef enum bp_stop {
@@ -1478,7 +1478,7 @@ static void bp__serial_for(void *user, bp_task_fn fn, void *task, uint32_t count
    pool, a wake-up of tens of microseconds when a thread slept, a
    scheduler time slice when the other core is taken by another process),
    so it pays only when its tasks are much longer than that.  Two
-   thresholds, measured on the 2-core test machine (docs/performance.md):
+   thresholds, measured on a 2-core machine:
 
    - a chart below BP__PAR_MIN_TRIANGLES triangles is solved with serial
      loops (its whole iteration takes less than a millisecond, of which
@@ -1611,11 +1611,10 @@ struct bp__pool {
    than many of the solver's tasks (a vector chunk takes a few), and an
    iteration has dozens of parallel loops, so a thread that waits (a worker
    for the next job, the caller for the last task of one) first polls for a
-   short while.  Short is the point: an earlier version polled up to 200000
-   iterations (about a millisecond), and on a machine whose cores were all
-   busy with other processes a polling thread took the core from the very
-   thread it waited for: the default was 5 to 200 times slower than
-   --threads 1 (issue 13).  Now a thread polls at most BP__SPIN_NS
+   short while.  Short is the point: on a machine whose cores are all busy
+   with other processes a thread that polls for long (a millisecond) takes
+   the core from the very thread it waits for, and two threads run 5 to
+   200 times slower than one.  So a thread polls at most BP__SPIN_NS
    nanoseconds, with the processor's pause hint between reads, then sleeps
    on a condition variable.  The bound is on the clock, not on a count of
    iterations, whose length varies tenfold between processors.  Without
@@ -1629,7 +1628,7 @@ struct bp__pool {
    last task: some 17 ms of a 0.37 s run with one thread working or none.
    A 100 us poll (BP__SPIN_LONG_NS) cut that to 99 and 26 sleeps and the
    run by 10 ms (the median of 25 paired runs).  But a long poll is exactly
-   what hurt on the crowded machine of issue 13, so the pool polls long
+   what hurts on a crowded machine, so the pool polls long
    only while it gets the cores it asked for: it starts short, looks
    early in its first measuring window (after BP__SPIN_WINDOW_JOBS loops
    and BP__SPIN_WINDOW_S seconds; bp__pool_window, below), then at the end
@@ -2008,8 +2007,8 @@ struct bp_pool {
    window of a call can be mostly its serial end (packing, a check, the
    writer's appends).  Carried over, such a window would send the next
    call's loops to the caller alone for thousands of loops, or set its
-   poll; starting over keeps every call as tuned for a pool of its own
-   (performance.md 6.40).  Skipped when another call is running a loop on
+   poll; starting over keeps every call as tuned for a pool of its own.
+   Skipped when another call is running a loop on
    the pool. */
 static void bp__pool_call(bp_pool *pool)
 {
@@ -3917,8 +3916,7 @@ BPDEF bp_status bp_read_mesh(const char *path, bp_mesh *mesh, const bp_allocator
 /* The output goes through a buffer of our own (BP__OUT_CAP bytes) and
    reaches the FILE in large fwrite calls: a face line is a dozen small
    pieces (the corners' text, "/", the new index), and one fwrite per piece
-   cost more than the rest of the writer together (docs/performance.md
-   6.18).  The bytes and their order are exactly those the pieces make.
+   cost more than the rest of the writer together.  The bytes and their order are exactly those the pieces make.
 
    The vt lines (and bp_write_obj's v lines) are most of the formatting
    work: each holds two (three) doubles printed "%.17g", which the C
@@ -5111,8 +5109,8 @@ static bp_status bp__validate_global(const bp_mesh *m, bp__mesh_scale *sc, bp_er
    ldexp(a, -e1), -e2).  A product by a power of two 2^s that is itself a
    double (s in [-1074, 1023]) is x 2^s rounded once, exactly what ldexp
    gives, so the products give the same bits at a fraction of the cost
-   (ldexp was a fifth of bp_atlas_build's time, docs/performance.md 6.18);
-   ldexp stays for scales beyond that range. */
+   (ldexp is slow: a call per coordinate would be a fifth of
+   bp_atlas_build's time); ldexp stays for scales beyond that range. */
 static void bp__scaled_diff(const double *a, const double *b, const bp__mesh_scale *sc, double *d)
 {
     int k;
@@ -7308,7 +7306,7 @@ static uint32_t bp__nd_key_diff(const uint32_t *queue, uint32_t cnt, const uint3
    is full, and rolls back to that best state; passes repeat while they
    improve, at most BP__ND_FM_PASSES.  On face, bimba_i, camelhead and
    lucy this halved the supernodal factorization's flops (1.26e8 ->
-   6.5e7 on face's vertex graph; docs/performance.md sec 6.19).  Every
+   6.5e7 on face's vertex graph).  Every
    choice is a fixed function of the piece (candidates in a fixed order,
    ties broken by it), so the order is the same on any schedule.
    Scratch: side and lock in W's dv and dw (own vertices only, no longer
@@ -8128,10 +8126,9 @@ done:
    This is Cholesky, L L^T, not L D L^T: H + delta I is positive definite
    (>>newton) and a pivot d_i that is not positive stops the factorization
    with BP_ERR_NUMERICAL; the pivots d_i = L(i,i)^2 stay in F->D, where
-   the Newton code checks them.  docs/performance.md sec 6.1 has the
-   measurements.
+   the Newton code checks them.
 
-   Blocks of 1 (bp__super.bs; docs/performance.md sec 6.8).  A scalar SPD
+   Blocks of 1 (bp__super.bs).  A scalar SPD
    matrix (A->super1: the L-BFGS preconditioner's Laplacian, the uniform
    Tutte system, the symmetrized mean-value Laplacian of >>tutte phase 6a)
    is the same computation with 1x1 blocks: the vertex graph is the
@@ -8624,7 +8621,7 @@ done:
    instructions.  The odd last term goes to the even lane after the
    registers, as in the plain loops.  On face's Newton matrix (5.4e8
    multiply-adds) one numeric factorization takes 0.050 s instead of
-   0.074 (the least of 9 runs; docs/performance.md 6.28).  A build that
+   0.074 (the least of 9 runs).  A build that
    lets the compiler fuse the plain loops' multiply-adds (FMA enabled by
    -mfma or -march, with GCC's -ffp-contract=fast or Clang's default)
    gets other bits in those loops; the default target has no FMA. */
@@ -11523,7 +11520,7 @@ static int bp__check_verdict_status(bp_status st)
    >>conformal when it passes the exact check (below BP__CONFORMAL_MAX
    triangles, or above with a boundary short enough for its Schur
    complement); the barycentric map is its fallback, and which weights
-   that fallback takes was measured before (docs/performance.md sec 6.7):
+   that fallback takes is the mean-value one, for these reasons.
    The uniform map ignores the geometry, so its distortion grows with the
    resolution: on the face with six holes subdivided to 133K and 298K faces
    the optimizer needs 447 and 623 iterations from Tutte, 42 and 52 from
@@ -11875,8 +11872,7 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
 
 /* Phase 6a, the mean-value system without its LU.  The mean-value matrix
    A is not symmetric, and its LU by the scalar up-looking rows (>>sparse)
-   was half of a million-face chart's whole run (docs/performance.md sec
-   6.5: 40 s of 79).  First each row is divided by its diagonal, so the
+   was half of a million-face chart's whole run.  First each row is divided by its diagonal, so the
    system reads u_i - sum_j lambda_ij u_j = rhs_i with Floater's
    normalized weights lambda_ij = w_ij / sum_k w_ik (the same solution;
    measured, this made the iteration below 2.5x shorter on 132K faces than
@@ -11906,7 +11902,7 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
 
 /* The set-up of phase 6a in column chunks on the runner's threads (it was
    serial: 25-45 ms of a two-thread run on the 132K-face chart, while the
-   other thread waited; docs/performance.md sec 6.33).  Each pass writes
+   other thread waited).  Each pass writes
    only its own columns and each sum runs in the serial order, so the bits
    do not depend on the schedule:
      pass 0: dg_j, A's positive diagonal (1 if none), and the transposes
@@ -12204,8 +12200,7 @@ done:
 /* Phase 5b, one ordering for two factorizations.  The start map's system
    and Newton's (>>newton) are both factored after a nested dissection of
    the chart's vertex graph, and that ordering is a third of either's
-   analysis (face: about 60 ms of the one-thread run each, docs/
-   performance.md sec 6.23).  So the dissection is computed once, here, on
+   analysis (face: about 60 ms of the one-thread run each).  So the dissection is computed once, here, on
    the filled chart's graph (all N vertices: hole centres and the fixed
    outer loop too), and restricted (bp__nd_restrict) twice: to the free
    vertices, for this system, whose graph is the filled graph's induced
@@ -16371,8 +16366,8 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
 
    and every diagonal gains the regularizer below.  K is assembled
    straight into its compressed columns, on the solver's threads, in three
-   passes (a triplet list sorted by column was 78 ms of serial work on a
-   132K-face chart's two-thread run, docs/performance.md sec 6.33):
+   passes, with no serial sort of a triplet list (the largest serial step
+   of a chart's set-up otherwise):
      1. per triangle chunk, the three weights w of each triangle;
      2. per vertex chunk, v's rows (bp__vertex_col): v and the other
         corners of the triangles around it (the solver's corner lists),
@@ -16919,41 +16914,24 @@ static void bp__opt_hold(const bp__opt *P, double *g)
                isometry's 4);
        the preconditioned L-BFGS otherwise.
 
-   Why (docs/performance.md secs 6.6, 6.10, 6.36, 6.42; `make
-   bench-direction` repeats the last).  Projected Newton converges in tens
-   of iterations where L-BFGS needs hundreds or thousands, but each of its
-   iterations costs 7-30 of L-BFGS's and it needs a fixed set-up (an
-   ordering, a symbolic analysis), so it wins where the start is far from
-   the optimum and loses where L-BFGS needs only a few iterations:
-   - Far from an isometry Newton wins at every size measured, and by more
-     the larger the chart: camel_b (3,576 triangles, E0 870) and the cow
-     (843) 1.4-2x less CPU, camelhead, face and bimba (22K-89K, E0 30-75)
-     12-30x for the whole run; above 100,000 triangles (sec 6.42: the
-     corpus subdivided, 129K-357K) mech-holes-shark 1.6x, hilbert,
-     horse_cut and lucy 2.3-3.1x, camelhead 9x, bimba 12x and face 27x
-     (to within 0.1% of the final energy 4.6-49x).  An earlier rule kept
-     L-BFGS above 100,000 triangles, where nothing had been compared.
+   Why.  Projected Newton converges in tens of iterations where L-BFGS
+   needs hundreds or thousands, but each of its iterations costs 7-30 of
+   L-BFGS's and it needs a fixed set-up (an ordering, a symbolic analysis),
+   so it wins where the start is far from the optimum and loses where
+   L-BFGS needs only a few iterations (`make bench-direction` measures it):
+   - Far from an isometry Newton wins at every size, and by more the
+     larger the chart: 1.4-2x less CPU on a few thousand triangles, 10-30x
+     on tens or hundreds of thousands.
    - Near an isometry (E0 < 8: a developable or nearly flat chart, whose
-     start is already close) L-BFGS needs 3-400 iterations, and to the end
-     it takes 2.6x less CPU on beetle (38,656 triangles, E0 4.19), 2.3x on
-     beetle subdivided (155K, 7.4), 1.5-2x on face_holes subdivided (33K,
-     4.08); it ties on face_holes subdivided to 132K (Newton 1.06x less
-     CPU, twice the memory) and on hilbert (4.00: 0.1-0.2 s either way).
-     An earlier rule sent every chart of 20,000-99,999 triangles to
-     Newton, whatever its start.
-   - The other energies keep L-BFGS at every size.  Newton's projected
-     Hessian is a poor model of the conformal energy (invariant to scale)
-     and of the maximal isometric one (not smooth): under them face and
-     beetle took Newton 114-1,165 iterations and 3-41x the CPU of L-BFGS
-     to the end, and face's maximal isometric run stopped higher (1.969
-     against 1.889).  The isometric energy: 19x on beetle, a tie on face
-     (where Newton came within 0.1% of the end 3.2x sooner); MIPS: Newton
-     2.7x less CPU on face subdivided to 207K (a mean-value start), 1.7-3x
-     more (0.2-0.6 s) from the conformal starts of face and beetle.  The
-     earlier rule sent them all to Newton on 20,000-99,999 triangles.
+     start is already close) L-BFGS needs a few hundred iterations at most
+     and takes up to 2.6x less CPU; Newton at best ties.
+   - The other energies keep L-BFGS.  Newton's projected Hessian is a poor
+     model of the conformal energy (invariant to scale) and of the maximal
+     isometric one (not smooth): they take it hundreds of iterations and
+     several times the CPU of L-BFGS; under the isometric energy and MIPS
+     it is ahead on some charts and behind on others.
    - Below 1,000 triangles an iteration of L-BFGS costs microseconds and
-     Newton's set-up is not paid back (bishop, 1,000 triangles, is the
-     smallest chart measured with Newton ahead: 0.017 against 0.029 s).
+     Newton's set-up is not paid back.
    Memory: Newton's factor of the 2n x 2n matrix needs 1.5-2.2 KB per face
    at the peak, L-BFGS's single-precision Laplacian 0.7-1.2 KB, so a chart
    of a million faces far from an isometry takes about 2 GB under the
@@ -17697,7 +17675,7 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
 
 /* >>start ==================================================================
 
-   A better start (issue 15).  The Tutte map of >>tutte is bijective but
+   A better start.  The Tutte map of >>tutte is bijective but
    far from the optimum where a chart is long or thin: the boundary goes on
    a circle, and a protrusion or a strip is squeezed exponentially toward
    its tip -- triangles a million times too small (a 1 x 1e-7 strip of 398
@@ -17715,8 +17693,7 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
       are s_max <= 1 and s_min >= BP__START_PLANAR, and for a flat chart it
       is the optimum itself (energy 4, nothing left to do).  A nearly flat
       chart whose projection overlaps itself (a helix band) fails the check
-      and starts from Tutte as before.  No chart of ../shared/meshes is
-      planar: their start maps are the same bits as before.
+      and starts from Tutte.
 
    2. Thin charts: the barrier width (bp__start_thin_eps in >>barrier,
       used by the solver's set-up).  Without it no start helps a strip: the
