@@ -46,6 +46,9 @@
 #   make bench-threads bench/threads.py: 1 against 2 threads on face, bimba
 #                     and the 132K and 1M subdivided charts, idle then busy
 #                     (~4 min; not in bench)
+#   make bench-build  bench/build.sh: compile time (CPU and wall, median of 3)
+#                     and bytes of text of the implementation per BP_NO_
+#                     configuration, gcc and clang -O2 (~2 min; not in bench)
 #   make bench-pool   bench/pool_bench.c: a batch of four meshes read,
 #                     parameterized and written in one process, a pool per
 #                     call against one kept bp_pool (~1 min; not in bench)
@@ -91,7 +94,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-pack bench-scale bench-atlas bench-scaf bench-direction bench-start bench-threads bench-pool bench-generated python bench-python clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-build bench-pack bench-scale bench-atlas bench-scaf bench-direction bench-start bench-threads bench-pool bench-generated python bench-python clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -245,6 +248,11 @@ bench-threads: $(TOOL)
 # faces): a pool per call against one kept bp_pool (~1 min; docs/performance.md,
 # "Many small charts, and batches")
 POOL_MESHES = $(addprefix tests/data/,face_holes.off mech-holes-shark.off camelhead.off horse_cut.obj)
+# compile time and text size of the implementation per build configuration
+# (BP_NO_ macros), gcc and clang -O2: a table and build/bench/build.json
+bench-build: bijparam.h bench/build.sh
+	bash bench/build.sh
+
 bench-pool: bijparam.h bench/pool_bench.c
 	mkdir -p $(BUILD)/bench/pool
 	$(CC) -std=c99 -O2 -Wall -Wextra -pedantic -Werror -I. -DBP_USE_PTHREADS -pthread bench/pool_bench.c \
