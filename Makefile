@@ -125,6 +125,12 @@ deps-test:
 deps-check:
 	@bash tests/ensure_deps.sh check check
 
+# The Python extension (python/, built by make python below) is part of the
+# tests once python/setup.py exists; defined before the tests rule uses it.
+PYTHON ?= $(firstword $(wildcard /usr/bin/python3) python3)
+PY_EXT := python/bijparam/_native$(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_config_var("EXT_SUFFIX"))' 2>/dev/null)
+TEST_PY := $(if $(wildcard python/setup.py),$(PY_EXT))
+
 tests: $(C_TESTS) $(CXX_TESTS) $(TEST_TOOL) $(TEST_PY)
 
 # Dependencies first (the C++ tests need OpenMesh to compile), then build
@@ -267,10 +273,6 @@ clean:
 # setuptools builds bijparam.h into the extension bijparam._native, in place
 # (python/bijparam/), its objects in $(BUILD)/python.  PYTHON is Debian's
 # interpreter, which has numpy (a python3 earlier on PATH may not).
-PYTHON ?= $(firstword $(wildcard /usr/bin/python3) python3)
-PY_EXT := python/bijparam/_native$(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_config_var("EXT_SUFFIX"))' 2>/dev/null)
-TEST_PY := $(if $(wildcard python/setup.py),$(PY_EXT))
-
 python: $(PY_EXT)
 
 $(PY_EXT): python/bijparam/_native.c python/setup.py bijparam.h
