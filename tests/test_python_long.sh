@@ -4,6 +4,8 @@
 #      (build/python-asan), its tests run with gcc's libasan preloaded into
 #      the interpreter (ASAN_OPTIONS=detect_leaks=0: the interpreter keeps
 #      its own memory to the end);
+#   1b. the same with ThreadSanitizer, on the tests of progress, Ctrl-C,
+#      two threads and writing;
 #   2. the `long` tests: the batch restarted over damaged outputs, a worker
 #      killed mid-run, more random and adversarial arrays;
 #   3. a fresh virtual environment of Debian's python3 with the system's
@@ -51,6 +53,23 @@ if (cd python && BIJPARAM_CFLAGS="-g -O1 -fno-omit-frame-pointer -fsanitize=addr
         "$PYTHON" -m pytest -q -p no:cacheprovider python/tests/test_parametrize.py python/tests/test_robust.py
 else
     cat "$TMP/asan_build.log"; fail "the AddressSanitizer build of the extension"
+fi
+
+# 1b. ThreadSanitizer: the worker thread, the calling thread's wait and the
+#     progress handed between them (atomics), two calls on two threads;
+#     any report ends the run (no BPTEST line: a failure)
+TSAN_DIR=$BUILD/python-tsan
+mkdir -p "$TSAN_DIR/bijparam"
+if (cd python && BIJPARAM_CFLAGS="-g -O1 -fno-omit-frame-pointer -fsanitize=thread" \
+        "$PYTHON" setup.py -q build_ext --build-temp "$ROOT/$TSAN_DIR/temp" --build-lib "$ROOT/$TSAN_DIR/lib") >"$TMP/tsan_build.log" 2>&1 &&
+   cp python/bijparam/*.py "$TSAN_DIR/bijparam/" && cp "$TSAN_DIR"/lib/bijparam/_native*.so "$TSAN_DIR/bijparam/"; then
+    ok "the extension built with -fsanitize=thread"
+    run_pytest "progress, Ctrl-C and two threads under ThreadSanitizer" "$TMP/tsan.log" \
+        env PYTHONPATH="$TSAN_DIR" LD_PRELOAD="$(gcc -print-file-name=libtsan.so)" TSAN_OPTIONS=halt_on_error=1:exitcode=66 \
+        "$PYTHON" -m pytest -s -q -p no:cacheprovider python/tests/test_parametrize.py python/tests/test_robust.py \
+        -k "progress or threads or ctrl_c or write"
+else
+    cat "$TMP/tsan_build.log"; fail "the ThreadSanitizer build of the extension"
 fi
 
 # 2. the long tests
