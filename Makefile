@@ -8,11 +8,13 @@
 #                     tests/run_all.sh: one line per program, a failing
 #                     program's output in full, every output in build/logs/,
 #                     last line "N passed, M failed"
-#   make check        the long suite: test_threads in full, the fuzz
-#                     harnesses (tests/test_fuzz.sh) and every test and the
-#                     tool under ASan+UBSan and TSan (tests/test_sanitizers.sh:
-#                     make asan, make tsan); logs in build/logs/check/, last
-#                     line "N passed, M failed".  Run make test first.
+#   make check        the long suite: the tests with a short form in make test
+#                     in full (test_threads, test_newton, test_start,
+#                     test_readme.sh), the compile matrix (tests/test_compile.sh),
+#                     the fuzz harnesses (tests/test_fuzz.sh) and every test
+#                     and the tool under ASan+UBSan and TSan
+#                     (tests/test_sanitizers.sh: make asan, make tsan); logs
+#                     in build/logs/check/, last line "N passed, M failed".
 #   make deps         install what make test and make check need (apt-get,
 #                     as root), saying what and why first
 #   make demo         run the tool on its embedded mesh -> build/demo/demo.obj,
@@ -87,10 +89,18 @@ TOOL     := $(BUILD)/bijparam
 EXAMPLES := $(patsubst examples/%.c,$(BUILD)/examples/%,$(filter-out examples/bijparam.c,$(wildcard examples/*.c)))
 C_TESTS   := $(patsubst tests/%.c,$(BUILD)/tests/%,$(wildcard tests/test_*.c))
 CXX_TESTS := $(patsubst tests/%.cpp,$(BUILD)/tests/%,$(wildcard tests/test_*.cpp))
-# The long scripts run in make check (fuzzing, the sanitizer builds, the
-# install and CMake consumers: about a minute of builds), the others in make test.
-CHECK_SH  := tests/test_fuzz.sh tests/test_sanitizers.sh tests/test_install.sh tests/test_python_long.sh
+# The long scripts run in make check (the compile matrix, fuzzing, the
+# sanitizer builds, the install and CMake consumers), the others in make test.
+CHECK_SH  := tests/test_compile.sh tests/test_fuzz.sh tests/test_sanitizers.sh tests/test_install.sh tests/test_python_long.sh
 SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
+ALL_TESTS := $(SH_TESTS) $(C_TESTS) $(CXX_TESTS)
+# The programs of make test that take longest (about 5-15 s of CPU each).
+LONG_FIRST := tests/test_python.sh $(addprefix $(BUILD)/tests/,test_visibility test_segment test_tutte) \
+              tests/test_readme.sh $(addprefix $(BUILD)/tests/,test_pins test_newton test_start test_sparse test_energy) \
+              tests/test_tool_scale.sh tests/test_repair_tool.sh
+# Tests with a short form under BP_TEST_QUICK (make test) and their full
+# form in make check.
+FULL_IN_CHECK := $(BUILD)/tests/test_threads $(BUILD)/tests/test_newton $(BUILD)/tests/test_start tests/test_readme.sh
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
@@ -108,9 +118,14 @@ $(BUILD)/examples/%: examples/%.c $(HEADERS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(LDLIBS)
 
+# The C tests: -DBP_STATIC, so that what a test never calls is not
+# compiled, and -Og instead of -O2: a third of the compile time, about -O1's
+# run time.  The tool (C) and test_openmesh.cpp (C++) build the whole
+# header at CFLAGS / CXXFLAGS.
+TEST_CFLAGS ?= $(patsubst -O2,-Og,$(CFLAGS))
 $(BUILD)/tests/%: tests/%.c $(HEADERS)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(LDLIBS)
+	$(CC) $(CPPFLAGS) -DBP_STATIC $(TEST_CFLAGS) $< -o $@ $(LDLIBS)
 
 $(BUILD)/tests/%: tests/%.cpp $(HEADERS)
 	@mkdir -p $(@D)
@@ -135,22 +150,26 @@ tests: $(C_TESTS) $(CXX_TESTS) $(TEST_TOOL) $(TEST_PY)
 
 # Dependencies first (the C++ tests need OpenMesh to compile), then build
 # (its output in build/logs/build.log, shown only when it fails), then run,
-# two programs at a time on two cores (the longest, test_compile.sh, first).
+# two programs at a time on two cores, the longest first so that both cores
+# finish together.
 test: deps-test
 	@mkdir -p $(BUILD)/logs
 	@echo "make test: building the tests (log: $(BUILD)/logs/build.log)"
 	@$(MAKE) --no-print-directory -j2 tests > $(BUILD)/logs/build.log 2>&1 || { cat $(BUILD)/logs/build.log; echo "make test: the build failed"; echo "0 passed, 1 failed"; exit 1; }
-	@BP_TEST_QUICK=1 bash tests/run_all.sh $(SH_TESTS) $(C_TESTS) $(CXX_TESTS)
+	@BP_TEST_QUICK=1 bash tests/run_all.sh $(filter $(ALL_TESTS),$(LONG_FIRST)) $(filter-out $(LONG_FIRST),$(ALL_TESTS))
 
-# The long suite: fuzzing, the sanitizer builds (each a script printing
-# BPTEST, so run_all.sh adds them up the same way) and the long runs:
-# test_threads without BP_TEST_QUICK (five meshes, 300 iterations, 1-8
-# threads, visibility; make test runs its quick form, bishop and spot).
+# The long suite: the compile matrix, fuzzing, the sanitizer builds (each a
+# script printing BPTEST, so run_all.sh adds them up the same way) and the
+# full forms of the tests make test runs short (BP_TEST_QUICK): test_threads
+# (five meshes, 300 iterations, 1-8 threads, visibility; quick: bishop and
+# spot), test_newton (lucy, beetle, camelhead 3 x 3, camelhead's allocator
+# fallback), test_start (camelhead's progressive start) and test_readme.sh
+# (the example built six ways).
 check: deps-check
 	@mkdir -p $(BUILD)/logs/check
 	@echo "make check: building the tests (log: $(BUILD)/logs/check/build.log)"
 	@$(MAKE) --no-print-directory -j2 tests > $(BUILD)/logs/check/build.log 2>&1 || { cat $(BUILD)/logs/check/build.log; echo "make check: the build failed"; echo "0 passed, 1 failed"; exit 1; }
-	@BP_TEST_LOGDIR=$(BUILD)/logs/check BP_TEST_TIMEOUT=1800 BP_TEST_JOBS=1 bash tests/run_all.sh $(BUILD)/tests/test_threads $(CHECK_SH)
+	@BP_TEST_LOGDIR=$(BUILD)/logs/check BP_TEST_TIMEOUT=1800 BP_TEST_JOBS=1 bash tests/run_all.sh $(FULL_IN_CHECK) $(CHECK_SH)
 
 # test_pack_grid.c is test_pack.c compiled with a small packing grid.
 $(BUILD)/tests/test_pack_grid: tests/test_pack.c

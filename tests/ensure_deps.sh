@@ -10,8 +10,7 @@
 #                                 non-root user it prints the command instead.
 #
 # What each level needs (Debian package in brackets):
-#   test:  a C and a C++ compiler [build-essential]; clang [clang] (the
-#          compile checks of tests/test_compile.sh use gcc and clang);
+#   test:  a C and a C++ compiler [build-essential];
 #          OpenMesh [libopenmesh-dev] (tests/test_openmesh.cpp cross-checks
 #          against it); cmake [cmake], pkg-config [pkgconf] and python3
 #          [python3] only when a tests/test_*.sh script uses them.
@@ -19,7 +18,9 @@
 #          numpy, setuptools, pytest and Dask distributed [python3-dev,
 #          python3-numpy, python3-setuptools, python3-pytest,
 #          python3-distributed];
-#   check: the above, plus venv, pip and wheel [python3-venv, python3-pip,
+#   check: the above, plus clang [clang] (the compile matrix of
+#          tests/test_compile.sh and the README example's builds use gcc
+#          and clang), venv, pip and wheel [python3-venv, python3-pip,
 #          python3-wheel] for the install test, plus the sanitizer runtimes of gcc (AddressSanitizer,
 #          UndefinedBehaviorSanitizer, ThreadSanitizer) [libgcc-N-dev, part of
 #          build-essential] for make asan / make tsan, and clang's libFuzzer
@@ -51,7 +52,6 @@ major() { "$1" -dumpversion 2>/dev/null | cut -d. -f1; }
 # ---- make test ----
 command -v "$CC" >/dev/null 2>&1 || need build-essential "the C compiler ($CC) builds the library, the tool and the tests"
 command -v "$CXX" >/dev/null 2>&1 || need build-essential "the C++ compiler ($CXX) builds tests/test_openmesh.cpp and the C++11 compile checks"
-command -v clang >/dev/null 2>&1 || need clang "tests/test_compile.sh checks that bijparam.h compiles warning-free with clang as well as gcc"
 if [ ! -f /usr/include/OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh ]; then
     need libopenmesh-dev "tests/test_openmesh.cpp cross-checks the mesh topology against OpenMesh (headers and libOpenMeshCore)"
 fi
@@ -83,6 +83,7 @@ fi
 
 # ---- make check ----
 if [ "$level" = check ] || [ "$mode" = install ]; then
+    command -v clang >/dev/null 2>&1 || need clang "tests/test_compile.sh (in make check) checks that bijparam.h compiles warning-free with clang as well as gcc"
     if [ -f tests/test_python_long.sh ] && command -v "$PY" >/dev/null 2>&1; then
         "$PY" -c 'import ensurepip' >/dev/null 2>&1 || need python3-venv "tests/test_python_long.sh installs the package into a fresh virtual environment"
         "$PY" -m pip --version >/dev/null 2>&1 || need python3-pip "tests/test_python_long.sh runs pip install --no-build-isolation ./python"

@@ -111,7 +111,10 @@
          value and pivot of a fresh factorization in that order.  A whole default solve of camelhead (Newton,
          isotropic first): every accepted map exactly bijective by
          bp_check, the energy never up, the same bits on one thread and on
-         two with the tasks run backwards. */
+         two with the tasks run backwards.
+   With BP_TEST_QUICK set (make test) the default's choice leaves out lucy,
+   beetle and camelhead 3 x 3, and the allocator fallback runs on camel_b
+   instead of camelhead; make check runs it all. */
 /* every loop through the job system, even on these small charts (as in
    test_threads.c), so that (e)'s reversed task order is a real test */
 #define BP__PAR_MIN_TRIANGLES 1u
@@ -128,6 +131,8 @@ static double bpt_extend_ratio = 0.9;
 #include <math.h>
 #include <string.h>
 #include <stdlib.h>
+
+static int quick;   /* BP_TEST_QUICK: the short form (make test) */
 
 static const char *const ENAME[] = { "symmetric Dirichlet", "conformal", "MIPS", "isometric", "max isometric" };
 
@@ -1800,7 +1805,7 @@ static int run_capped(const bp_mesh *mesh, bp_direction d, size_t cap, cap_alloc
     return (int)bp_parameterize(at, mesh, &opt, err);
 }
 
-static void test_fallback(void)
+static void test_fallback(const char *path, const char *name)
 {
     bp_mesh mesh;
     bp_error err;
@@ -1808,21 +1813,20 @@ static void test_fallback(void)
     cap_alloc ca;
     iter_seq q;
     int st;
-    if (!BPT_CHECK(bp_read_mesh("tests/data/camelhead.off", &mesh, NULL, &err) == BP_OK, "read camelhead: %s",
-                   err.message))
+    if (!BPT_CHECK(bp_read_mesh(path, &mesh, NULL, &err) == BP_OK, "read %s: %s", name, err.message))
         return;
     st = run_capped(&mesh, BP_DIRECTION_PRECONDITIONED, 0, &ca, NULL, &lb, &err);
-    if (BPT_CHECK(st == BP_OK, "camelhead, L-BFGS: %s", err.message)) {
+    if (BPT_CHECK(st == BP_OK, "%s, L-BFGS: %s", name, err.message)) {
         size_t cap = ca.largest;
         const bp_chart *cl = &lb.charts[0];
-        BPT_CHECK(cl->direction == BP_DIRECTION_PRECONDITIONED, "camelhead, L-BFGS asked: chart.direction %d",
+        BPT_CHECK(cl->direction == BP_DIRECTION_PRECONDITIONED, "%s, L-BFGS asked: chart.direction %d", name,
                   (int)cl->direction);
         st = run_capped(&mesh, BP_DIRECTION_DEFAULT, 0, &ca, NULL, &dn, &err);
-        if (BPT_CHECK(st == BP_OK, "camelhead, default: %s", err.message)) {
-            BPT_CHECK(dn.charts[0].direction == BP_DIRECTION_NEWTON, "camelhead, default, uncapped: Newton (%d)",
+        if (BPT_CHECK(st == BP_OK, "%s, default: %s", name, err.message)) {
+            BPT_CHECK(dn.charts[0].direction == BP_DIRECTION_NEWTON, "%s, default, uncapped: Newton (%d)", name,
                       (int)dn.charts[0].direction);
             st = run_capped(&mesh, BP_DIRECTION_DEFAULT, cap, &ca, &q, &fb, &err);
-            if (BPT_CHECK(st == BP_OK, "camelhead, default, blocks above %zu bytes refused: BP_OK (%s)", cap,
+            if (BPT_CHECK(st == BP_OK, "%s, default, blocks above %zu bytes refused: BP_OK (%s)", name, cap,
                           err.message)) {
                 const bp_chart *c = &fb.charts[0];
                 bp_check_report r;
@@ -1849,7 +1853,7 @@ static void test_fallback(void)
             run_capped(&mesh, BP_DIRECTION_DEFAULT, 0, &ca, NULL, &fb, &err);
             bp_atlas_free(&fb);
             st = run_capped(&mesh, BP_DIRECTION_DEFAULT, ca.largest - 1, &ca, &q, &fb, &err);
-            if (BPT_CHECK(st == BP_OK, "camelhead, default, below Newton's largest block: BP_OK (%s)", err.message)) {
+            if (BPT_CHECK(st == BP_OK, "%s, default, below Newton's largest block: BP_OK (%s)", name, err.message)) {
                 const bp_chart *c = &fb.charts[0];
                 BPT_CHECK(ca.refused > 0 && c->direction == BP_DIRECTION_PRECONDITIONED,
                           "refused %ld, fell back (direction %d)", ca.refused, (int)c->direction);
@@ -1876,6 +1880,7 @@ static void test_fallback(void)
 
 int main(void)
 {
+    quick = getenv("BP_TEST_QUICK") != NULL;
     bpt_rng_state = 0x9E3779B97F4A7C15ull;
     test_triangle_hessians();
     test_iso_block();
@@ -1898,10 +1903,11 @@ int main(void)
     test_default_choice("tests/data/bishop_part_f1000.obj", BP_ENERGY_SYMMETRIC_DIRICHLET);
     test_default_choice("tests/data/face_holes.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
     test_default_choice("tests/data/camelhead.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
-    test_default_choice("tests/data/lucy_o_f48275.obj", BP_ENERGY_SYMMETRIC_DIRICHLET);
+    if (!quick) test_default_choice("tests/data/lucy_o_f48275.obj", BP_ENERGY_SYMMETRIC_DIRICHLET);
     test_default_choice("tests/data/camelhead.off", BP_ENERGY_MIPS);
-    test_default_choice("tests/data/beetle.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
-    test_default_choice_large();
-    test_fallback();
+    if (!quick) test_default_choice("tests/data/beetle.off", BP_ENERGY_SYMMETRIC_DIRICHLET);
+    if (!quick) test_default_choice_large();
+    if (quick) test_fallback("tests/data/camel_b.obj", "camel_b");
+    else test_fallback("tests/data/camelhead.off", "camelhead");
     return bpt_finish();
 }
