@@ -32,6 +32,7 @@
       >>progress       whole-run progress and cancel, growing bp_options
       >>threads        deterministic parallel loops, optional pool    (sec 3.5)
       >>predicates     exact orientation and segment tests           (robustness)
+      >>math           log, exp, pow, sin, cos, tan, atan2: the same bits everywhere
       >>io             OBJ / OFF / PLY reading, OBJ writing           (BP_NO_STDIO)
       >>charts         seams, components, repairs, pinches, loops     (sec 3.1, 3.6)
       >>cut            automatic seams: closed / genus > 0 charts to disks
@@ -950,6 +951,15 @@ BPDEF void      bp_mesh_view_free(bp_mesh *mesh, const bp_mesh_view *view, const
 #ifndef BP_NO_STDIO
 #include <stdio.h>
 #include <errno.h>      /* the reason of a failed file operation (strerror) */
+#endif
+/* No a * b + c fused into one fma anywhere in the implementation, whatever
+   the compiler's default: the same bits with and without an fma
+   instruction (>>math).  Restored at the end of the implementation. */
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
+#elif defined(__GNUC__)
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
 #endif
 /* The dense kernels of the supernodal factorization on AVX registers
    (>>sparse), x86-64 with GCC or Clang only, the processor asked at run
@@ -1900,7 +1910,11 @@ static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
 static int bp__pool_size(int threads)
 {
     if (threads <= 0) {
+#if defined(_WIN32)
+        long n = pthread_num_processors_np();   /* Windows' POSIX threads (winpthreads) */
+#else
         long n = sysconf(_SC_NPROCESSORS_ONLN);
+#endif
         threads = n > 0 ? (int)(n < 256 ? n : 256) : 1;
     }
     return threads;
@@ -2337,6 +2351,296 @@ BPDEF int bp_segments_intersect(const double a[2], const double b[2],
         return bp__in_box(a, b, c) || bp__in_box(a, b, d) ||
                bp__in_box(c, d, a) || bp__in_box(c, d, b);
     return 1;
+}
+
+/* >>math ===================================================================
+
+   The same bits on every machine.  +, -, *, / and sqrt are correctly
+   rounded (IEEE 754), so arithmetic made of them alone gives the same bits
+   on x86-64, aarch64 and Windows, provided each operation is rounded once
+   to double (FLT_EVAL_METHOD 0, >>predicates) and the compiler neither
+   reassociates (-ffast-math, refused there) nor fuses a * b + c into one
+   fma.  Fusing ("contraction") is GCC's default in its GNU modes (e.g.
+   -std=gnu99) and Clang's on any target with an fma instruction (aarch64,
+   or x86-64 with -mfma), so the implementation switches it off: GCC's
+   optimize("fp-contract=off") and the standard STDC FP_CONTRACT OFF for
+   Clang, set at its start and the caller's setting restored at its end.
+   Clang's -ffp-contract=fast overrides the pragma: do not pass it.
+
+   The C library's log, sin, cos, tan, pow and atan2 are accurate to about
+   an ulp but free in their last bit, and they differ between glibc, the
+   Windows runtime and others.  So these are the library's own, made of
+   correctly rounded operations only (and floor, ldexp, frexp, which are
+   exact):
+
+     log x    x = m 2^e, m in [sqrt(1/2), sqrt(2)), s = (m - 1) / (m + 1):
+              log x = e ln 2 + 2 atanh s = e ln 2 + 2s + 2s^3/3 + ... + 2s^23/23
+              (|s| < 0.172);
+     e^x      k = round(x / ln 2), r = x - k ln 2 in [-0.35, 0.35]:
+              e^x = 2^k (1 + r + r^2/2! + ... + r^13/13!);
+     x^y      e^(y log x), log x and y log x carried in two doubles;
+     sin, cos x = k pi/2 + r, |r| <= pi/4 (Cody and Waite: pi/2 in three
+              parts, the first two of 33 bits, so k times them is exact
+              for |k| < 2^20, |x| < 1.6e6; beyond, the reduction loses
+              accuracy, not determinism), the Taylor series of sin r to
+              r^19 and of cos r to r^20, chosen and signed by k mod 4;
+     tan x    sin r / cos r, or -cos r / sin r for odd k;
+     atan2    t = min(|x|, |y|) / max(|x|, |y|) in [0, 1], j = round(16 t):
+              atan t = atan(j/16) + atan((t - j/16) / (1 + t j/16)), the
+              second argument at most 1/32, by its series to the 13th
+              power; then pi/2 - . when |y| > |x|, pi - . when x < 0, and
+              the sign of y.
+
+   The reduced argument, the leading terms and the last sums are carried in
+   two doubles (Knuth's exact sum; Dekker's exact product with Veltkamp's
+   split, which needs no fma), so each result is within 0.62 ulp of the
+   true value (tests/test_math.c measures them against long double libm).
+   Their coefficients are exact quotients (1.0 / 120) or double literals
+   printed with 17 digits, which every compiler reads the same. */
+
+/* p + *e = a * b exactly, for |a|, |b| < 2^995 and products far from
+   underflow: a = ah + al with ah holding the upper 26 bits (Veltkamp). */
+static double bp__two_prod(double a, double b, double *e)
+{
+    double c = 134217729.0 * a, ah = c - (c - a), al = a - ah, p = a * b;
+    double d = 134217729.0 * b, bh = d - (d - b), bl = b - bh;
+    *e = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+    return p;
+}
+
+/* ln 2 = BP__LN2_HI + BP__LN2_LO, the first with 42 bits (k BP__LN2_HI is
+   exact for |k| < 2^11); pi/2 = BP__PIO2_1 + BP__PIO2_2 + BP__PIO2_3 (33,
+   33 and 53 bits), and pi/2, pi as two doubles. */
+#define BP__LN2_HI 0.6931471805598903
+#define BP__LN2_LO 5.497923018708371e-14
+#define BP__PIO2_1 1.5707963267341256
+#define BP__PIO2_2 6.077100506303966e-11
+#define BP__PIO2_3 2.0222662487959506e-21
+#define BP__PIO2_HI 1.5707963267948966
+#define BP__PIO2_LO 6.123233995736766e-17
+#define BP__PI_HI 3.141592653589793
+#define BP__PI_LO 1.2246467991473532e-16
+
+/* log x = result + *lo for finite x > 0, to about 2^-62 relative.  With
+   f = m - 1 (exact) and s = f / (2 + f) as sh + sl:  log m = 2s + 2s^3/3
+   + s^5 (2/5 + 2s^2/7 + ...), the first two terms in two doubles. */
+static double bp__log2d(double x, double *lo)
+{
+    int e;
+    double m = frexp(x, &e), f, dh, dl, sh, sl, p, pe, z, zl, u, ul, t1, t1l, t2, h, l, l2;
+    if (m < 0.70710678118654752) { m *= 2; e--; }
+    f = m - 1;
+    dh = 2 + f; dl = (2 - dh) + f;                       /* 2 + f = dh + dl */
+    sh = f / dh;
+    p = bp__two_prod(sh, dh, &pe);
+    sl = (((f - p) - pe) - sh * dl) / dh;
+    z = bp__two_prod(sh, sh, &zl);
+    u = bp__two_prod(sh, z, &ul);
+    ul += sh * zl + 3 * z * sl;                          /* s^3 = u + ul */
+    t1 = bp__two_prod(u, 0.6666666666666666, &t1l);
+    t1l += u * 3.700743415417188e-17 + ul * 0.6666666666666666;   /* 2s^3/3 = t1 + t1l */
+    t2 = u * z * (2.0 / 5 + z * (2.0 / 7 + z * (2.0 / 9 + z * (2.0 / 11 + z * (2.0 / 13 + z * (2.0 / 15
+         + z * (2.0 / 17 + z * (2.0 / 19 + z * (2.0 / 21 + z * (2.0 / 23))))))))));
+    h = bp__two_sum(e * BP__LN2_HI, 2 * sh, &l);
+    h = bp__two_sum(h, t1, &l2);
+    l += l2 + (((2 * sl + t1l) + t2) + e * BP__LN2_LO);
+    p = h + l;
+    *lo = l - (p - h);
+    return p;
+}
+
+static double bp__log(double x)
+{
+    double lo;
+    if (x == 0) return -HUGE_VAL;
+    if (!(x > 0)) return (x - x) / (x - x);              /* NaN, x < 0 */
+    if (x - x != 0) return x;                            /* +inf */
+    return bp__log2d(x, &lo);
+}
+
+/* e^(xh + xl) for |xl| <= ulp(xh); a subnormal result is rounded once. */
+static double bp__exp2d(double xh, double xl)
+{
+    double kd, r, rl, p, s, se, hi;
+    int k;
+    if (xh != xh) return xh;
+    if (xh > 709.8) return HUGE_VAL;
+    if (xh < -745.2) return 0;
+    kd = floor(xh * 1.4426950408889634 + 0.5);
+    k = (int)kd;
+    r = bp__two_sum(xh - kd * BP__LN2_HI, xl - kd * BP__LN2_LO, &rl);   /* the first difference is exact */
+    p = r * r * (1.0 / 2 + r * (1.0 / 6 + r * (1.0 / 24 + r * (1.0 / 120 + r * (1.0 / 720 + r * (1.0 / 5040
+        + r * (1.0 / 40320 + r * (1.0 / 362880 + r * (1.0 / 3628800 + r * (1.0 / 39916800 + r * (1.0 / 479001600
+        + r * (1.0 / 6227020800.0)))))))))))) + rl * (1 + r);
+    s = bp__two_sum(r, p, &se);
+    hi = 1 + s;
+    s = hi + (((1 - hi) + s) + se);
+    if (k < -1020) return ldexp(s, k + 600) * 2.409919865102884e-181;   /* 2^-600 */
+    return ldexp(s, k);
+}
+
+/* x^y: e^(y log x); x < 0 only for an integer y. */
+static double bp__pow(double x, double y)
+{
+    double lh, ll, ph, pe, s;
+    if (y == 0 || x == 1) return 1;
+    if (x != x || y != y) return x + y;
+    if (!(x > 0)) {
+        if (x == 0) return y > 0 ? 0 : HUGE_VAL;
+        if (floor(y) != y) return (x - x) / (x - x);
+        return (floor(y * 0.5) * 2 != y ? -1 : 1) * bp__pow(-x, y);
+    }
+    if (x - x != 0) return y > 0 ? HUGE_VAL : 0;
+    if (y - y != 0 || fabs(y) > 1e300) return (x > 1) == (y > 0) ? HUGE_VAL : 0;
+    lh = bp__log2d(x, &ll);
+    ph = bp__two_prod(y, lh, &pe);
+    if (ph > 709.8) return HUGE_VAL;
+    if (ph < -745.2) return 0;
+    pe += y * ll;
+    s = ph + pe;
+    return bp__exp2d(s, pe - (s - ph));
+}
+
+/* sin r and cos r for r = rh + rl, |r| <= pi/4 (a little more), as the
+   result + *lo; the leading terms r^3/6 and r^2/2 in two doubles. */
+static double bp__sin2d(double rh, double rl, double *lo)
+{
+    double zl, z = bp__two_prod(rh, rh, &zl), ul, u = bp__two_prod(rh, z, &ul), t1, t1l, t2, h, l;
+    ul += rh * zl + 3 * z * rl;                          /* r^3 = u + ul */
+    t1 = bp__two_prod(u, 0.16666666666666666, &t1l);
+    t1l += u * 9.25185853854297e-18 + ul * 0.16666666666666666;   /* r^3/6 = t1 + t1l */
+    t2 = u * z * (1.0 / 120 + z * (-1.0 / 5040 + z * (1.0 / 362880 + z * (-1.0 / 39916800
+         + z * (1.0 / 6227020800.0 + z * (-1.0 / 1307674368000.0 + z * (1.0 / 355687428096000.0
+         + z * (-1.0 / 121645100408832000.0))))))));
+    h = bp__two_sum(rh, -t1, &l);
+    l += (rl - t1l) + t2;
+    *lo = l - ((h + l) - h);
+    return h + l;
+}
+
+static double bp__cos2d(double rh, double rl, double *lo)
+{
+    double ze, z = bp__two_prod(rh, rh, &ze), hz = 0.5 * z, w = 1 - hz, t, h;
+    t = ((1 - w) - hz) - 0.5 * ze - rh * rl                          /* 1 - r^2/2 = w + t */
+        + z * z * (1.0 / 24 + z * (-1.0 / 720 + z * (1.0 / 40320 + z * (-1.0 / 3628800 + z * (1.0 / 479001600
+        + z * (-1.0 / 87178291200.0 + z * (1.0 / 20922789888000.0 + z * (-1.0 / 6402373705728000.0
+        + z * (1.0 / 2432902008176640000.0)))))))));
+    h = w + t;
+    *lo = (w - h) + t;
+    return h;
+}
+
+/* x = k pi/2 + rh + rl; returns k mod 4. */
+static int bp__reduce(double x, double *rh, double *rl)
+{
+    double kd = floor(x * 0.6366197723675814 + 0.5), t, e;
+    t = bp__two_sum(x - kd * BP__PIO2_1, -kd * BP__PIO2_2, &e);   /* x - k PIO2_1 is exact */
+    e -= kd * BP__PIO2_3;
+    *rh = t + e;
+    *rl = e - (*rh - t);
+    return (int)(kd - 4 * floor(kd * 0.25));
+}
+
+static double bp__sin(double x)
+{
+    double rh, rl, lo, h;
+    int q;
+    if (x - x != 0) return (x - x) / (x - x);
+    if (fabs(x) < 1e-150) return x;
+    q = bp__reduce(x, &rh, &rl);
+    h = q & 1 ? bp__cos2d(rh, rl, &lo) : bp__sin2d(rh, rl, &lo);
+    h += lo;
+    return q & 2 ? -h : h;
+}
+
+static double bp__cos(double x)
+{
+    double rh, rl, lo, h;
+    int q;
+    if (x - x != 0) return (x - x) / (x - x);
+    q = bp__reduce(x, &rh, &rl);
+    h = q & 1 ? bp__sin2d(rh, rl, &lo) : bp__cos2d(rh, rl, &lo);
+    h += lo;
+    return q == 1 || q == 2 ? -h : h;
+}
+
+/* tan = n / d with n, d in two doubles: q = nh / dh, corrected by the
+   remainder n - q d (exact through bp__two_prod). */
+static double bp__tan(double x)
+{
+    double rh, rl, sl, cl, sh, ch, n, nl, d, dl, q, p, pe;
+    if (x - x != 0) return (x - x) / (x - x);
+    if (fabs(x) < 1e-150) return x;
+    if (bp__reduce(x, &rh, &rl) & 1) {
+        sh = bp__sin2d(rh, rl, &sl);
+        ch = bp__cos2d(rh, rl, &cl);
+        n = -ch; nl = -cl; d = sh; dl = sl;
+    } else {
+        n = bp__sin2d(rh, rl, &nl);
+        d = bp__cos2d(rh, rl, &dl);
+    }
+    q = n / d;
+    p = bp__two_prod(q, d, &pe);
+    return q + (((n - p) - pe) + nl - q * dl) / d;
+}
+
+/* atan(j/16) for j = 0..16, as hi + lo. */
+static const double bp__atan_hi[17] = {
+    0.0, 0.06241880999595735, 0.12435499454676144, 0.18534794999569476, 0.24497866312686414,
+    0.3028848683749714, 0.35877067027057225, 0.4124104415973873, 0.4636476090008061,
+    0.5123894603107377, 0.5585993153435624, 0.6022873461349642, 0.6435011087932844,
+    0.6823165548747481, 0.7188299996216245, 0.7531512809621944, 0.7853981633974483 };
+static const double bp__atan_lo[17] = {
+    0.0, -1.5490756308295046e-18, -3.1253241424539383e-18, 4.180692268843079e-18, 1.0698755618734451e-17,
+    -1.1010827903001369e-17, -2.4623815582638635e-17, -1.587652227770689e-17, 2.2698777452961687e-17,
+    -2.5462781472855804e-17, -5.4556305485916264e-18, 2.950430737228402e-17, 1.5834785051444286e-17,
+    6.943223671560008e-18, -2.1478388444456983e-17, -2.4256934659182068e-17, 3.061616997868383e-17 };
+
+/* atan(small / big) for 0 <= small <= big, finite, big > 0, as h + *l. */
+static double bp__atan_ratio(double small, double big, double *l)
+{
+    double th = small / big, tl = 0, c, nh, q, qe, bh, bl, d, dl, p, pe, z, ad, h;
+    int j;
+    if (th > 1e-150) {                                  /* t = th + tl, scaled for Dekker */
+        int eb;
+        double bs, ss;
+        frexp(big, &eb);
+        bs = ldexp(big, -eb); ss = ldexp(small, -eb);
+        p = bp__two_prod(th, bs, &pe);
+        tl = ((ss - p) - pe) / bs;
+    }
+    j = (int)(th * 16 + 0.5);
+    c = j * 0.0625;
+    nh = th - c;                                        /* exact */
+    q = bp__two_prod(th, c, &qe);
+    bh = bp__two_sum(1, q, &bl);
+    bl += qe + tl * c;                                  /* 1 + t c = bh + bl */
+    d = (nh + tl) / bh;
+    p = bp__two_prod(d, bh, &pe);
+    dl = (((nh - p) - pe) + tl - d * bl) / bh;          /* d = (t - c) / (1 + t c) in two doubles */
+    z = d * d;
+    ad = d * z * (-1.0 / 3 + z * (1.0 / 5 + z * (-1.0 / 7 + z * (1.0 / 9 + z * (-1.0 / 11 + z * (1.0 / 13))))));
+    h = bp__two_sum(bp__atan_hi[j], d, l);
+    *l += bp__atan_lo[j] + (dl + ad);
+    return h;
+}
+
+static double bp__atan2(double y, double x)
+{
+    double ax = fabs(x), ay = fabs(y), big = ay > ax ? ay : ax, small = ay > ax ? ax : ay, h, l, e;
+    if (x != x || y != y) return x + y;
+    if (big - big != 0) {                               /* an infinity */
+        h = small - small != 0 ? BP__PI_HI / 4 : 0;
+        l = small - small != 0 ? BP__PI_LO / 4 : 0;
+    } else if (big == 0) {
+        h = l = 0;
+    } else {
+        h = bp__atan_ratio(small, big, &l);
+    }
+    if (ay > ax) { h = bp__two_sum(BP__PIO2_HI, -h, &e); l = e + (BP__PIO2_LO - l); }
+    if (x < 0 || (x == 0 && 1 / x < 0)) { h = bp__two_sum(BP__PI_HI, -h, &e); l = e + (BP__PI_LO - l); }
+    h += l;
+    return y < 0 || (y == 0 && 1 / y < 0) ? -h : h;
 }
 
 /* >>io =====================================================================
@@ -6309,7 +6613,8 @@ typedef struct bp__face_pos { uint32_t face, t; } bp__face_pos;
 static int bp__face_pos_cmp(const void *pa, const void *pb)
 {
     const bp__face_pos *x = (const bp__face_pos *)pa, *y = (const bp__face_pos *)pb;
-    return x->face < y->face ? -1 : x->face > y->face;
+    if (x->face != y->face) return x->face < y->face ? -1 : 1;
+    return x->t < y->t ? -1 : x->t > y->t;   /* a polygon's triangles: qsort is not stable */
 }
 
 /* The importance of chart triangle t relative to `mean`; 1 where the
@@ -11550,7 +11855,7 @@ static double bp__angle3(const double *p, const double *q, const double *r)
     c[1] = u[2] * v[0] - u[0] * v[2];
     c[2] = u[0] * v[1] - u[1] * v[0];
     cr = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    return atan2(cr, dot);
+    return bp__atan2(cr, dot);
 }
 
 /* Position of j in the sorted neighbour list of i (binary search). */
@@ -11723,7 +12028,7 @@ static void bp__tutte_weights_task(void *task, uint32_t c)
                 T->w[ej] = T->w[ek] = 1;
             } else {
                 const double *pi = T->pos + 3 * (size_t)vi, *pj = T->pos + 3 * (size_t)vj, *pk = T->pos + 3 * (size_t)vk;
-                double th = tan(0.5 * bp__angle3(pi, pj, pk));
+                double th = bp__tan(0.5 * bp__angle3(pi, pj, pk));
                 T->w[ej] += th / bp__dist3(pi, pj);
                 T->w[ek] += th / bp__dist3(pi, pk);
             }
@@ -11788,8 +12093,8 @@ static int bp__tutte_circle(const bp_allocator *a, bp__tutte *T, bp_chart *ch)
     for (j = l0; j < l1; j++) {
         uint32_t va = ch->loop_vertices[j], vb = ch->loop_vertices[j + 1 < l1 ? j + 1 : 0];
         double ang = 2 * 3.14159265358979323846 * acc / total, d;
-        ch->uv[2 * (size_t)va] = R * cos(ang);
-        ch->uv[2 * (size_t)va + 1] = R * sin(ang);
+        ch->uv[2 * (size_t)va] = R * bp__cos(ang);
+        ch->uv[2 * (size_t)va + 1] = R * bp__sin(ang);
         d = bp__dist3(T->pos + 3 * (size_t)va, T->pos + 3 * (size_t)vb);
         acc += d > floor_len ? d : floor_len;
     }
@@ -17321,7 +17626,7 @@ static int bp__start_scale(bp__opt *P, double *f, double *ed)
     int k, valid;
     if (!P->newton || P->nheld || P->pen || P->S.energy != BP_ENERGY_SYMMETRIC_DIRICHLET ||
         !(e0 > BP__START_SCALE_E0) || !(e0 < HUGE_VAL)) return 0;
-    k = (int)floor(log(e0) / log(2.0) / 8 + 0.5);
+    k = (int)floor(bp__log(e0) / bp__log(2.0) / 8 + 0.5);
     if (k <= 0) return 0;
     c = ldexp(1.0, k);
     for (i = 0; i < P->nv2; i++) P->xn[i] = c * P->x[i];
@@ -17745,7 +18050,7 @@ static double bp__start_triangle(const bp__rest *r, const double *u1, const doub
     l2 = det * det / l1;
     s1 = sqrt(l1);
     s2 = fabs(det) / s1;
-    logd = log(s1) > -log(s2) ? log(s1) : -log(s2);
+    logd = bp__log(s1) > -bp__log(s2) ? bp__log(s1) : -bp__log(s2);
     if (!(logd - logd == 0) || !(det > 0)) return 0;
     if (logd <= logk) return logd;
     a = 1 - logk / logd;
@@ -17756,8 +18061,8 @@ static double bp__start_triangle(const bp__rest *r, const double *u1, const doub
     else if (n2 > 0) { v[0] = l1 - c11; v[1] = c01; n1 = sqrt(n2); }
     else { v[0] = 1; v[1] = 0; n1 = 1; }
     v[0] /= n1; v[1] /= n1;
-    p1 = pow(l1, a);
-    p2 = pow(l2, a);
+    p1 = bp__pow(l1, a);
+    p2 = bp__pow(l2, a);
     ca00 = p1 * v[0] * v[0] + p2 * v[1] * v[1];          /* C^a = p1 v v^T + p2 v' v'^T */
     ca01 = (p1 - p2) * v[0] * v[1];
     {
@@ -17797,7 +18102,7 @@ static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_
 {
     bp__opt P;
     bp__rest *rest0 = NULL;
-    double *wxy = NULL, logk = log(BP__START_K);
+    double *wxy = NULL, logk = bp__log(BP__START_K);
     int round;
     bp_status st;
     memset(&P, 0, sizeof P);
@@ -18937,7 +19242,7 @@ static bp_status bp__min_box_rotation(const bp_allocator *a, const double *uv, u
        atlas on its own. */
     *cs2 = *cs; *sn2 = *sn;
     for (pass = 0, best = HUGE_VAL; n >= 3 && pass < 180; pass++) {
-        double ang = pass * (3.14159265358979323846 / 360), c = cos(ang), s = sin(ang), side;
+        double ang = pass * (3.14159265358979323846 / 360), c = bp__cos(ang), s = bp__sin(ang), side;
         double lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
         for (i = 0; i < n; i++) {
             double x = c * h[i].p[0] + s * h[i].p[1], y = c * h[i].p[1] - s * h[i].p[0];
@@ -20386,22 +20691,22 @@ static void bp__view_direction(const bp_views *V, bp__rng *rng, double *r)
         z = V->model == BP_VIEW_FRONT ? u : 2 * u - 1;
         rad = sqrt(1 - z * z > 0 ? 1 - z * z : 0);
         phi = 2 * 3.14159265358979323846 * w;
-        if (V->model == BP_VIEW_UNIFORM) { r[0] = rad * cos(phi); r[1] = rad * sin(phi); r[2] = z; return; }
+        if (V->model == BP_VIEW_UNIFORM) { r[0] = rad * bp__cos(phi); r[1] = rad * bp__sin(phi); r[2] = z; return; }
         memcpy(axis, V->direction, sizeof axis);
         if (axis[0] == 0 && axis[1] == 0 && axis[2] == 0) axis[2] = 1;
         bp__normalize3(axis);
         bp__frame(axis, e1, e2);
-        for (k = 0; k < 3; k++) r[k] = z * axis[k] + rad * (cos(phi) * e1[k] + sin(phi) * e2[k]);
+        for (k = 0; k < 3; k++) r[k] = z * axis[k] + rad * (bp__cos(phi) * e1[k] + bp__sin(phi) * e2[k]);
         return;
     case BP_VIEW_RING:                   /* turntable: fixed elevation around up */
         memcpy(axis, V->up, sizeof axis);
         if (axis[0] == 0 && axis[1] == 0 && axis[2] == 0) axis[1] = 1;
         bp__normalize3(axis);
         bp__frame(axis, e1, e2);
-        z = sin(V->elevation * 3.14159265358979323846 / 180);
-        rad = cos(V->elevation * 3.14159265358979323846 / 180);
+        z = bp__sin(V->elevation * 3.14159265358979323846 / 180);
+        rad = bp__cos(V->elevation * 3.14159265358979323846 / 180);
         phi = 2 * 3.14159265358979323846 * u;
-        for (k = 0; k < 3; k++) r[k] = z * axis[k] + rad * (cos(phi) * e1[k] + sin(phi) * e2[k]);
+        for (k = 0; k < 3; k++) r[k] = z * axis[k] + rad * (bp__cos(phi) * e1[k] + bp__sin(phi) * e2[k]);
         return;
     case BP_VIEW_LIST: {                 /* weighted list: inverse CDF */
         double total = 0, acc = 0;
@@ -21385,6 +21690,12 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     if (st != BP_OK && st != BP_ERR_CHARTS_FAILED && st != BP_ERR_CANCELLED) bp_atlas_free(atlas);
     return st;
 }
+
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT DEFAULT
+#elif defined(__GNUC__)
+#pragma GCC pop_options
+#endif
 
 #endif /* BP_IMPLEMENTATION */
 

@@ -800,7 +800,7 @@ static void ref_phases(bp__tutte *T, const bp_chart *ch, int mvc, uint32_t **adj
             if (!mvc) w[ej] = w[ek] = 1;
             else {
                 const double *pi = T->pos + 3 * (size_t)vi, *pj = T->pos + 3 * (size_t)vj, *pk = T->pos + 3 * (size_t)vk;
-                double th = tan(0.5 * bp__angle3(pi, pj, pk));
+                double th = bp__tan(0.5 * bp__angle3(pi, pj, pk));   /* the library's own tan (>>math) */
                 w[ej] += th / bp__dist3(pi, pj);
                 w[ek] += th / bp__dist3(pi, pk);
             }
