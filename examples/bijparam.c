@@ -65,9 +65,11 @@
 #include <string.h>
 #include <signal.h>
 #include <time.h>
+#include <sys/stat.h>
+#ifndef _WIN32
 #include <unistd.h>
 #include <sys/resource.h>
-#include <sys/stat.h>
+#endif
 #if defined(__GLIBC__)
 #include <malloc.h>              /* mallopt: keep_freed_memory */
 #endif
@@ -78,6 +80,55 @@
 #include "bp_draw.h"
 #define BPG_IMPLEMENTATION
 #include "bp_gltf.h"
+
+/* Windows (mingw-w64): the few POSIX calls of this program have Windows
+   equivalents, defined here; <windows.h> comes after the libraries, whose
+   names it must not touch.  Files keep Windows' default permissions (no
+   mode to copy), and there is no SIGHUP. */
+#ifdef _WIN32
+#define WIN32_LEAN_AND_MEAN
+#define NOMINMAX
+#define PSAPI_VERSION 2                 /* GetProcessMemoryInfo in kernel32 */
+#include <windows.h>
+#include <psapi.h>
+#include <io.h>
+#include <direct.h>
+/* An absolute path with '/' separators (Windows accepts them), which the
+   path arithmetic below expects; it need not exist, as realpath's must. */
+static char *win_realpath(const char *p)
+{
+    char *r = _fullpath(NULL, p, 0), *q;
+    if (r) for (q = r; *q; q++) if (*q == '\\') *q = '/';
+    return r;
+}
+#define realpath(p, buf) win_realpath(p)
+#define mkdir(dir, mode) _mkdir(dir)
+#define isatty _isatty
+#define unlink _unlink
+#define close _close
+#endif
+
+/* Rename `from` over `to`, replacing it (POSIX rename does; Windows' needs
+   MoveFileEx to). */
+static int replace_file(const char *from, const char *to)
+{
+#ifdef _WIN32
+    return MoveFileExA(from, to, MOVEFILE_REPLACE_EXISTING | MOVEFILE_WRITE_THROUGH) ? 0 : (errno = EACCES, -1);
+#else
+    return rename(from, to);
+#endif
+}
+
+/* The last path separator of s ('/', and '\\' on Windows), or NULL. */
+static const char *last_separator(const char *s)
+{
+    const char *r = strrchr(s, '/');
+#ifdef _WIN32
+    const char *b = strrchr(s, '\\');
+    if (b && (!r || b > r)) r = b;
+#endif
+    return r;
+}
 
 static const char usage_text[] =
     "usage: bijparam [options] INPUT.(obj|off|ply|gltf|glb) [-o OUT.(obj|gltf|glb)]\n"
@@ -340,6 +391,11 @@ static void keep_freed_memory(void)
    benchmark's Python) would report the parent's size at fork time. */
 static double peak_rss_bytes(void)
 {
+#ifdef _WIN32
+    PROCESS_MEMORY_COUNTERS pmc;
+    if (!GetProcessMemoryInfo(GetCurrentProcess(), &pmc, sizeof pmc)) return 0;
+    return (double)pmc.PeakWorkingSetSize;
+#else
     struct rusage ru;
     FILE *f = fopen("/proc/self/status", "r");
     if (f) {
@@ -352,6 +408,7 @@ static double peak_rss_bytes(void)
     }
     if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;
     return (double)ru.ru_maxrss * 1024.0;      /* Linux reports KiB */
+#endif
 }
 
 /* ---- small helpers ------------------------------------------------------ */
@@ -387,9 +444,27 @@ static int usage_error(const char *fmt, const char *arg)
    "a.obj", "./a.obj" and a symlink to it all match)? */
 static int same_file(const char *a, const char *b)
 {
+#ifdef _WIN32   /* no inode in stat: the volume and file index of an open handle */
+    BY_HANDLE_FILE_INFORMATION ia, ib;
+    HANDLE ha, hb;
+    int same = 0;
+    if (!a || !b) return 0;
+    ha = CreateFileA(a, 0, FILE_SHARE_READ | FILE_SHARE_WRITE | FILE_SHARE_DELETE, NULL, OPEN_EXISTING,
+                     FILE_FLAG_BACKUP_SEMANTICS, NULL);
+    hb = CreateFileA(b, 0, FILE_SHARE_READ | FILE_SHARE_WRITE | FILE_SHARE_DELETE, NULL, OPEN_EXISTING,
+                     FILE_FLAG_BACKUP_SEMANTICS, NULL);
+    if (ha != INVALID_HANDLE_VALUE && hb != INVALID_HANDLE_VALUE && GetFileInformationByHandle(ha, &ia) &&
+        GetFileInformationByHandle(hb, &ib))
+        same = ia.dwVolumeSerialNumber == ib.dwVolumeSerialNumber && ia.nFileIndexHigh == ib.nFileIndexHigh &&
+               ia.nFileIndexLow == ib.nFileIndexLow;
+    if (ha != INVALID_HANDLE_VALUE) CloseHandle(ha);
+    if (hb != INVALID_HANDLE_VALUE) CloseHandle(hb);
+    return same;
+#else
     struct stat sa, sb;
     if (!a || !b || stat(a, &sa) != 0 || stat(b, &sb) != 0) return 0;
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+#endif
 }
 
 /* The temporary file the result is written to, known to the signal handler
@@ -420,6 +495,9 @@ static void on_interrupt(int sig)
 {
     if (interrupted) { on_signal(sig); return; }
     interrupted = 1;
+#ifdef _WIN32
+    signal(SIGINT, on_interrupt);        /* Windows resets a handler when it runs */
+#endif
 }
 
 /* Create DIR/.NAME.bijparam-XXXXXX next to `target` (a symlink is followed,
@@ -430,10 +508,12 @@ static void on_interrupt(int sig)
 static int temp_create(char *tp, volatile sig_atomic_t *live, const char *target, char *final, size_t final_size, int *why)
 {
     char *real = realpath(target, NULL);
-    const char *t = real ? real : target, *slash = strrchr(t, '/');
+    const char *t = real ? real : target, *slash = last_separator(t);
     size_t dir = slash ? (size_t)(slash - t) + 1 : 0;
+#ifndef _WIN32
     struct stat st;
     mode_t mode, mask;
+#endif
     int fd;
     if (strlen(t) + 24 >= 4096 || strlen(t) >= final_size) {
         free(real);
@@ -443,13 +523,17 @@ static int temp_create(char *tp, volatile sig_atomic_t *live, const char *target
     snprintf(final, final_size, "%s", t);
     snprintf(tp, 4096, "%.*s.%s.bijparam-XXXXXX", (int)dir, t, t + dir);
     free(real);
+#ifndef _WIN32
     mask = umask(0);
     umask(mask);
     mode = stat(final, &st) == 0 ? (mode_t)(st.st_mode & 07777) : (mode_t)(0666 & ~mask);
+#endif
     fd = mkstemp(tp);
     if (fd < 0) { *why = errno; return 0; }
     *live = 1;
+#ifndef _WIN32
     if (fchmod(fd, mode) != 0) { *why = errno; close(fd); unlink(tp); *live = 0; return 0; }
+#endif
     close(fd);
     return 1;
 }
@@ -543,7 +627,7 @@ static void free_input(bp_mesh *mesh, bpg_file *gltf)
 /* The folder part of path ("" for none, "dir/" with its slash). */
 static void dir_of(const char *path, char *buf, size_t n)
 {
-    const char *slash = strrchr(path, '/');
+    const char *slash = last_separator(path);
     size_t k = slash ? (size_t)(slash - path) + 1 : 0;
     if (k >= n) k = 0;
     memcpy(buf, path, k);
@@ -612,7 +696,7 @@ static bp_status write_gltf(const bpg_file *g, const bp_atlas *atlas, const char
     bp_status st;
     int why = 0;
     uint32_t i;
-    const char *base = strrchr(output, '/'), *x;
+    const char *base = last_separator(output), *x;
     memset(&wo, 0, sizeof wo);
     memset(err, 0, sizeof *err);
     wo.glb = n >= 4 && (output[n - 1] | 32) == 'b';
@@ -650,13 +734,13 @@ static bp_status write_gltf(const bpg_file *g, const bp_atlas *atlas, const char
         snprintf(err->message, sizeof err->message, "cannot write: %s", strerror(why));
         return BP_ERR_IO;
     }
-    if (temp_bin_live && rename(temp_bin, bin_final) != 0) {
+    if (temp_bin_live && replace_file(temp_bin, bin_final) != 0) {
         *where = bin_target;
         snprintf(err->message, sizeof err->message, "cannot rename the finished result onto it: %s", strerror(errno));
         return BP_ERR_IO;
     }
     temp_bin_live = 0;
-    if (rename(temp_path, final) != 0) {
+    if (replace_file(temp_path, final) != 0) {
         snprintf(err->message, sizeof err->message, "cannot rename the finished result onto it: %s", strerror(errno));
         return BP_ERR_IO;
     }
@@ -1764,12 +1848,16 @@ int main(int argc, char **argv)
     opt.run_progress = on_run_progress;
     opt.run_progress_user = &rs;
     {   /* SIGINT: cancel (sigaction: a blocked read is resumed, the handler stays) */
+#ifdef _WIN32
+        signal(SIGINT, on_interrupt);
+#else
         struct sigaction sa;
         memset(&sa, 0, sizeof sa);
         sa.sa_handler = on_interrupt;
         sigemptyset(&sa.sa_mask);
         sa.sa_flags = SA_RESTART;
         sigaction(SIGINT, &sa, NULL);
+#endif
     }
     rs.start = now_seconds();
     opt.progress = on_progress;
@@ -1816,7 +1904,9 @@ int main(int argc, char **argv)
             return 1;
         }
         signal(SIGTERM, on_signal);
+#ifdef SIGHUP
         signal(SIGHUP, on_signal);
+#endif
     }
 
     /* 1. read */
@@ -2028,7 +2118,7 @@ int main(int argc, char **argv)
             if (st == BP_OK) ex.gltf = &gltf_out;
         } else
             st = bp_write_obj_opt(temp_path, !demo && ends_with_obj(input) ? input : NULL, &mesh, &atlas, &opt, &err);
-        if (st == BP_OK && temp_live && rename(temp_path, final_path) != 0) {
+        if (st == BP_OK && temp_live && replace_file(temp_path, final_path) != 0) {
             st = BP_ERR_IO;
             err.line = 0;
             snprintf(err.message, sizeof err.message,

@@ -23,8 +23,11 @@
 #          and clang), venv, pip and wheel [python3-venv, python3-pip,
 #          python3-wheel] for the install test, plus the sanitizer runtimes of gcc (AddressSanitizer,
 #          UndefinedBehaviorSanitizer, ThreadSanitizer) [libgcc-N-dev, part of
-#          build-essential] for make asan / make tsan, and clang's libFuzzer
-#          [libclang-rt-N-dev, only a Recommends of clang] for tests/test_fuzz.sh.
+#          build-essential] for make asan / make tsan, clang's libFuzzer
+#          [libclang-rt-N-dev, only a Recommends of clang] for tests/test_fuzz.sh,
+#          and for tests/test_cross.sh the Windows and aarch64 cross
+#          compilers and their runners [gcc-mingw-w64-x86-64, wine64,
+#          gcc-aarch64-linux-gnu, libc6-dev-arm64-cross, qemu-user].
 set -u
 cd "$(dirname "$0")/.." || exit 1
 
@@ -89,6 +92,17 @@ if [ "$level" = check ] || [ "$mode" = install ]; then
         "$PY" -m pip --version >/dev/null 2>&1 || need python3-pip "tests/test_python_long.sh runs pip install --no-build-isolation ./python"
         "$PY" -c 'import wheel' >/dev/null 2>&1 || need python3-wheel "pip builds the package's wheel with it (--no-build-isolation)"
     fi
+    command -v x86_64-w64-mingw32-gcc >/dev/null 2>&1 ||
+        need gcc-mingw-w64-x86-64 "tests/test_cross.sh (in make check) builds the tool for Windows with mingw-w64"
+    [ -x /usr/lib/wine/wine64 ] || command -v wine64 >/dev/null 2>&1 ||
+        need wine64 "tests/test_cross.sh runs the Windows build under wine"
+    command -v aarch64-linux-gnu-gcc >/dev/null 2>&1 ||
+        need gcc-aarch64-linux-gnu "tests/test_cross.sh builds the tool for aarch64"
+    if command -v aarch64-linux-gnu-gcc >/dev/null 2>&1 && ! aarch64-linux-gnu-gcc -static -x c - -o "$tmp/a" \
+        >/dev/null 2>&1 <<<'int main(void) { return 0; }'; then
+        need libc6-dev-arm64-cross "tests/test_cross.sh links the aarch64 build against the aarch64 C library"
+    fi
+    command -v qemu-aarch64 >/dev/null 2>&1 || need qemu-user "tests/test_cross.sh runs the aarch64 build under qemu-aarch64"
     if command -v "$CC" >/dev/null 2>&1; then
         if ! compiles "$CC" -fsanitize=address,undefined || ! compiles "$CC" -fsanitize=thread; then
             need "libgcc-$(major "$CC")-dev" "make asan / make tsan (in make check) link gcc's AddressSanitizer, UBSan and ThreadSanitizer runtimes"
