@@ -11,6 +11,8 @@
 #   make check        the long suite: the tests with a short form in make test
 #                     in full (test_threads, test_newton, test_start,
 #                     test_readme.sh), the compile matrix (tests/test_compile.sh),
+#                     every combination of the opt-out macros
+#                     (tests/test_build_options.sh),
 #                     the tool cross-built for Windows (run under wine) and
 #                     aarch64 (under qemu) writing the native bytes
 #                     (tests/test_cross.sh),
@@ -92,11 +94,12 @@ TOOL     := $(BUILD)/bijparam
 EXAMPLES := $(patsubst examples/%.c,$(BUILD)/examples/%,$(filter-out examples/bijparam.c,$(wildcard examples/*.c)))
 C_TESTS   := $(patsubst tests/%.c,$(BUILD)/tests/%,$(wildcard tests/test_*.c))
 CXX_TESTS := $(patsubst tests/%.cpp,$(BUILD)/tests/%,$(wildcard tests/test_*.cpp))
-# The long scripts run in make check (the compile matrix, the Windows and
-# aarch64 builds' bytes against the native ones, fuzzing, the sanitizer
-# builds, the install and CMake consumers), the others in make test.
-CHECK_SH  := tests/test_compile.sh tests/test_cross.sh tests/test_fuzz.sh tests/test_sanitizers.sh tests/test_install.sh \
-             tests/test_python_long.sh
+# The long scripts run in make check (the compile matrix, every combination
+# of the opt-out macros, the Windows and aarch64 builds' bytes against the
+# native ones, fuzzing, the sanitizer builds, the install and CMake
+# consumers), the others in make test.
+CHECK_SH  := tests/test_compile.sh tests/test_build_options.sh tests/test_cross.sh tests/test_fuzz.sh \
+             tests/test_sanitizers.sh tests/test_install.sh tests/test_python_long.sh
 SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 ALL_TESTS := $(SH_TESTS) $(C_TESTS) $(CXX_TESTS)
 # The programs of make test that take longest (about 5-15 s of CPU each).
