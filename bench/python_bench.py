@@ -1,8 +1,8 @@
 """make bench-python: the Python package against the command-line tool.
 
-For every bench mesh (tests/data, and the larger meshes of
-../shared/meshes when present, or of BENCH_MESH_DIR), the same work both
-ways, at --atlas 1024 --padding 4 with THREADS threads (default "2 1"):
+For every bench mesh (tests/data, and those of BENCH_MESH_DIR when set),
+the same work both ways, at --atlas 1024 --padding 4 with THREADS threads
+(default "2 1"):
 
   tool    build/bijparam MESH --atlas 1024 --padding 4 --threads T -q -o OUT
           (a process: read, solve, pack, write), wall and CPU of the child;
@@ -35,7 +35,7 @@ import bijparam
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 TOOL = os.path.join(ROOT, "build", "bijparam")
 DATA = os.path.join(ROOT, "tests", "data")
-SHARED = os.environ.get("BENCH_MESH_DIR") or os.path.join(ROOT, "..", "shared", "meshes")
+EXTRA = os.environ.get("BENCH_MESH_DIR", "")
 RUNS = int(os.environ.get("BENCH_RUNS", "5"))
 THREADS = [int(t) for t in os.environ.get("THREADS", "2 1").split()]
 EXT = (".obj", ".off", ".ply")
@@ -44,8 +44,8 @@ EXT = (".obj", ".off", ".ply")
 def meshes():
     names = os.environ.get("BENCH_MESHES", "").split()
     found = {}
-    for d in (DATA, SHARED):
-        if os.path.isdir(d):
+    for d in (DATA, EXTRA):
+        if d and os.path.isdir(d):
             for n in sorted(os.listdir(d)):
                 if n.lower().endswith(EXT) and n not in found:
                     found[n] = os.path.join(d, n)
