@@ -684,6 +684,56 @@ static void test_junction_moves(const bp_mesh *m)
     bp_atlas_free(&at);
 }
 
+/* How often each mesh vertex of chart 0 lies on its boundary loops: the
+   largest count, and how many vertices are there once. */
+static void loop_counts(const bp_atlas *at, uint32_t nv, uint32_t *most, uint32_t *once)
+{
+    const bp_chart *ch = &at->charts[0];
+    uint32_t *n = (uint32_t *)calloc(nv, sizeof(uint32_t)), i;
+    for (i = 0; i < ch->loop_start[ch->num_loops]; i++) n[ch->vertex[ch->loop_vertices[i]]]++;
+    *most = *once = 0;
+    for (i = 0; i < nv; i++) {
+        if (n[i] > *most) *most = n[i];
+        *once += n[i] == 1;
+    }
+    free(n);
+}
+
+/* With segmentation to follow (an atlas: bp__cut_whole false) a closed
+   genus-0 chart is only opened, along one path: each cut vertex lies on
+   the boundary loop at most twice, the path's two ends once.  Cut to be
+   flattened whole (no atlas) the same chart gets extremity branches: a
+   junction lies on the loop three times or more.  The atlas grown on the
+   opened chart is bijective (brute force). */
+static void test_opening_cut(const bp_mesh *m)
+{
+    bp_atlas at;
+    bp_error err;
+    bp_options o;
+    uint32_t most, once;
+    char why[200] = "";
+    memset(&o, 0, sizeof o);
+    o.threads = 1;
+    if (BPT_CHECK(bp_atlas_build(&at, m, &o, &err) == BP_OK && at.num_charts == 1, "whole cut built (%s)", err.message)) {
+        loop_counts(&at, m->num_vertices, &most, &once);
+        BPT_CHECK(most >= 3, "cut to be flattened whole: branches (a vertex %u times on the loop)", most);
+        bp_atlas_free(&at);
+    }
+    o.atlas_resolution = 512;
+    if (BPT_CHECK(bp_atlas_build(&at, m, &o, &err) == BP_OK && at.num_charts == 1, "opening cut built (%s)", err.message)) {
+        loop_counts(&at, m->num_vertices, &most, &once);
+        BPT_CHECK(most == 2 && once == 2 && at.charts[0].num_loops == 1,
+                  "cut to be segmented: one path (vertices at most %u times on the loop, %u once, %u loop)", most, once,
+                  at.charts[0].num_loops);
+        bp_atlas_free(&at);
+    }
+    if (BPT_CHECK(bp_parameterize(&at, m, &o, &err) == BP_OK, "atlas on the opened chart (%s)", err.message)) {
+        BPT_CHECK(at.num_charts > 1 && atlas_bijective(&at, why), "atlas on the opened chart: %u charts, bijective %s",
+                  at.num_charts, why);
+        bp_atlas_free(&at);
+    }
+}
+
 static int read_mesh(const char *path, bp_mesh *m)
 {
     bp_error err;
@@ -758,6 +808,7 @@ int main(void)
         run("cow without vt (closed, genus 0)", &m, 2, 100000);
         test_importance(&m);
         test_junction_moves(&m);
+        test_opening_cut(&m);
         m.corner_uv = keep;
         run_iters("cow with its vt seam (one disk)", &m, 0, 0, 100);
         bp_mesh_free(&m, NULL);
