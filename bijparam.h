@@ -19664,6 +19664,10 @@ typedef struct bp__seg {
     uint32_t *count;      /* cap: its triangles                                */
     bp__seg_item *heap;   /* 3nt + cap                                         */
     double    area, r2;
+    /* the coarse level (patches of triangles, below): */
+    int       coarse;     /* items are patches: normals are area-weighted means */
+    uint32_t *adj_start, *adj; /* nt + 1, and each patch's neighbours           */
+    uint32_t *ntri;       /* nt: triangles of each patch                       */
 } bp__seg;
 
 typedef struct bp__seg_edge { uint32_t lo, hi, ce; } bp__seg_edge;
@@ -19679,20 +19683,36 @@ static int bp__seg_edge_cmp(const void *pa, const void *pb)
 /* Twins inside a chart: the two corner edges of an interior edge run
    between the same two chart vertices in opposite directions.  An edge
    met once, or more than twice, or twice in one direction, is boundary.
-   0 if out of memory. */
+   The corner edges are bucketed by their smaller end
+   (a counting sort) and each bucket -- a vertex's few edges -- sorted by
+   the other end and the corner edge, the order a sort of the triples
+   would give.  0 if out of memory. */
 static int bp__seg_twins(const bp_allocator *a, const bp_chart *ch, uint32_t *twin)
 {
-    uint32_t nc = 3 * ch->num_triangles, ce, i, j;
+    uint32_t nc = 3 * ch->num_triangles, ce, i, j, nkey = ch->num_vertices;
+    uint32_t *start = (uint32_t *)bp__calloc_array(a, (size_t)nkey + 2, sizeof(uint32_t));
     bp__seg_edge *e = (bp__seg_edge *)bp__alloc_array(a, nc ? nc : 1, sizeof *e);
-    if (!e) return 0;
+    if (!start || !e) { bp__free(a, start); bp__free(a, e); return 0; }
     for (ce = 0; ce < nc; ce++) {
         uint32_t u = bp__ce_from(ch, ce), v = bp__ce_to(ch, ce);
-        e[ce].lo = u < v ? u : v;
-        e[ce].hi = u < v ? v : u;
-        e[ce].ce = ce;
+        start[(u < v ? u : v) + 2]++;
         twin[ce] = BP__NONE;
     }
-    qsort(e, nc, sizeof *e, bp__seg_edge_cmp);
+    for (i = 0; i < nkey; i++) start[i + 2] += start[i + 1];
+    for (ce = 0; ce < nc; ce++) {
+        uint32_t u = bp__ce_from(ch, ce), v = bp__ce_to(ch, ce), k;
+        k = start[(u < v ? u : v) + 1]++;
+        e[k].lo = u < v ? u : v;
+        e[k].hi = u < v ? v : u;
+        e[k].ce = ce;
+    }
+    for (i = 0; i < nkey; i++)                   /* each bucket: by (hi, ce), insertion sort */
+        for (j = start[i] + 1; j < start[i + 1]; j++) {
+            bp__seg_edge x = e[j];
+            uint32_t k = j;
+            for (; k > start[i] && bp__seg_edge_cmp(&e[k - 1], &x) > 0; k--) e[k] = e[k - 1];
+            e[k] = x;
+        }
     for (i = 0; i < nc; i = j) {
         for (j = i + 1; j < nc && e[j].lo == e[i].lo && e[j].hi == e[i].hi; j++) {}
         if (j - i == 2 && bp__ce_from(ch, e[i].ce) != bp__ce_from(ch, e[i + 1].ce)) {
@@ -19701,6 +19721,7 @@ static int bp__seg_twins(const bp_allocator *a, const bp_chart *ch, uint32_t *tw
         }
     }
     bp__free(a, e);
+    bp__free(a, start);
     return 1;
 }
 
@@ -19709,6 +19730,7 @@ static void bp__seg_free(const bp_allocator *a, bp__seg *S)
     bp__free(a, S->twin); bp__free(a, S->geo); bp__free(a, S->w); bp__free(a, S->label); bp__free(a, S->dist);
     bp__free(a, S->seed); bp__free(a, S->prox); bp__free(a, S->ctr); bp__free(a, S->nsum); bp__free(a, S->worst);
     bp__free(a, S->worst_t); bp__free(a, S->count); bp__free(a, S->heap);
+    bp__free(a, S->adj_start); bp__free(a, S->adj); bp__free(a, S->ntri);
     memset(S, 0, sizeof *S);
 }
 
@@ -19765,11 +19787,15 @@ static int bp__seg_setup(const bp_allocator *a, bp__seg *S, const bp_chart *ch, 
     return 1;
 }
 
-/* Deviation |n_t - N_k|^2 = 2 (1 - n_t . N_k) for unit vectors. */
+/* Deviation |n_t - N_k|^2 = 2 (1 - n_t . N_k) for unit vectors.  A patch
+   (the coarse level) has the area-weighted mean n of its triangles' unit
+   normals, and 2 (1 - n . N_k) is the area-weighted mean of their
+   deviations. */
 static double bp__seg_dev(const bp__seg *S, uint32_t t, uint32_t k)
 {
     const double *n = S->geo + 7 * (size_t)t, *p = S->prox + 3 * (size_t)k;
     double dx = n[0] - p[0], dy = n[1] - p[1], dz = n[2] - p[2];
+    if (S->coarse) return 2 * (1 - (n[0] * p[0] + n[1] * p[1] + n[2] * p[2]));
     return dx * dx + dy * dy + dz * dz;
 }
 
@@ -19815,7 +19841,7 @@ static bp__seg_item bp__seg_pop(bp__seg *S, uint32_t *n)
    most 3 nt + K entries are ever pushed. */
 static void bp__seg_flood(bp__seg *S)
 {
-    uint32_t n = 0, t, k, j;
+    uint32_t n = 0, t, k, j, j0, j1;
     S->r2 = S->area / (3.141592653589793 * S->K);
     for (t = 0; t < S->nt; t++) S->label[t] = BP__NONE;
     for (k = 0; k < S->K; k++) {
@@ -19829,8 +19855,10 @@ static void bp__seg_flood(bp__seg *S)
         if (S->label[it.t] != BP__NONE) continue;
         S->label[it.t] = it.k;
         S->dist[it.t] = it.d;
-        for (j = 0; j < 3; j++) {
-            uint32_t tw = S->twin[3 * it.t + j], u;
+        j0 = S->adj_start ? S->adj_start[it.t] : 3 * it.t;
+        j1 = S->adj_start ? S->adj_start[it.t + 1] : 3 * it.t + 3;
+        for (j = j0; j < j1; j++) {
+            uint32_t tw = S->adj_start ? 3 * S->adj[j] : S->twin[j], u;
             const double *c1;
             bp__seg_item nx;
             if (tw == BP__NONE || S->label[u = tw / 3] != BP__NONE) continue;
@@ -19886,7 +19914,7 @@ static void bp__seg_fit(bp__seg *S, int reseed)
         double dv, mx = -1;
         k = S->label[t];
         if (k == BP__NONE) continue;
-        S->count[k]++;
+        S->count[k] += S->ntri ? S->ntri[t] : 1;
         if (!(S->geo[7 * (size_t)t + 6] > 0)) continue;
         dv = 0.5 * bp__seg_dev(S, t, k);                  /* 1 - n . N */
         S->worst[k] += S->geo[7 * (size_t)t + 6] * dv;    /* area-weighted, divided below */
@@ -19896,13 +19924,18 @@ static void bp__seg_fit(bp__seg *S, int reseed)
     for (k = 0; k < S->K; k++) S->worst[k] = S->ctr[4 * k + 3] > 0 ? S->worst[k] / S->ctr[4 * k + 3] : 0;
 }
 
-/* Seed k at triangle t, its proxy normal t's. */
+/* Seed k at triangle (or patch) t, its proxy normal t's, of unit length
+   (a patch's mean normal is shorter; a zero one is kept: the next fit
+   gives the proxy its region's). */
 static void bp__seg_seed(bp__seg *S, uint32_t k, uint32_t t)
 {
+    const double *n = S->geo + 7 * (size_t)t;
+    double len = S->coarse ? sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) : 1;
+    if (!(len > 0)) len = 1;
     S->seed[k] = t;
-    S->prox[3 * k] = S->geo[7 * (size_t)t];
-    S->prox[3 * k + 1] = S->geo[7 * (size_t)t + 1];
-    S->prox[3 * k + 2] = S->geo[7 * (size_t)t + 2];
+    S->prox[3 * k] = n[0] / len;
+    S->prox[3 * k + 1] = n[1] / len;
+    S->prox[3 * k + 2] = n[2] / len;
 }
 
 /* The triangle the flood from one seed reached by the longest path (the
@@ -19944,8 +19977,7 @@ static void bp__seg_label(bp__seg *S, uint32_t kmax, double dev, uint32_t least)
     uint32_t k, it, round;
     if (kmax > S->cap) kmax = S->cap;
     S->K = 1;
-    S->seed[0] = 0;
-    S->prox[0] = S->geo[0]; S->prox[1] = S->geo[1]; S->prox[2] = S->geo[2];
+    bp__seg_seed(S, 0, 0);
     for (round = 0; round < 64; round++) {
         uint32_t K0 = S->K;
         bp__seg_flood(S);                 /* one Lloyd step per round ... */
@@ -19953,11 +19985,7 @@ static void bp__seg_label(bp__seg *S, uint32_t kmax, double dev, uint32_t least)
         for (k = 0; k < K0 && S->K < kmax; k++)
             if (S->worst_t[k] != BP__NONE && S->worst[k] > dev && S->count[k] >= least &&
                 S->worst_t[k] != S->seed[k]) {
-                uint32_t t = S->worst_t[k];
-                S->seed[S->K] = t;
-                S->prox[3 * S->K] = S->geo[7 * (size_t)t];
-                S->prox[3 * S->K + 1] = S->geo[7 * (size_t)t + 1];
-                S->prox[3 * S->K + 2] = S->geo[7 * (size_t)t + 2];
+                bp__seg_seed(S, S->K, S->worst_t[k]);
                 S->K++;
             }
         if (S->K == K0) break;
@@ -19966,6 +19994,174 @@ static void bp__seg_label(bp__seg *S, uint32_t kmax, double dev, uint32_t least)
         bp__seg_flood(S);
         bp__seg_fit(S, it + 1 < BP__SEG_LLOYD);
     }
+}
+
+/* The coarse level.  Each insertion round above floods the whole chart,
+   and a chart that needs K charts needs about log2 K rounds and more
+   (every round seeds each bad region once): on a 400,000-triangle
+   marching-cubes surface, 13-24 floods of the whole chart.  A chart of
+   BP__SEG_COARSE_MIN triangles or more is therefore labelled first on
+   patches -- pieces of at most BP__SEG_PATCH triangles grown breadth-first
+   across its interior edges, each with its triangles' area, area-weighted
+   centroid and area-weighted mean normal n (the mean of the deviations
+   |n_t - N|^2 over a patch is 2 (1 - n . N), so the cost of a patch is
+   the mean cost of its triangles), adjacent where their triangles are --
+   by the same rounds, Lloyd steps and insertion rule (counting triangles,
+   not patches, against BP__SEG_LEAST).  The proxies found there, each
+   seeded at the triangle of its seed patch nearest the patch's centroid,
+   then take the BP__SEG_LLOYD final steps on the triangles themselves, so
+   the fronts -- the seams -- are drawn triangle by triangle as before.
+   The rounds cost a patch graph 1/BP__SEG_PATCH the size; the whole costs
+   three floods of the chart and linear work besides. */
+#ifndef BP__SEG_COARSE_MIN
+#define BP__SEG_COARSE_MIN 32768u
+#endif
+#define BP__SEG_PATCH 64u
+
+/* Patch of each triangle: breadth-first from each triangle not yet in
+   one, in index order, across interior edges.  Returns their number. */
+static uint32_t bp__seg_patches(const bp__seg *F, uint32_t *patch, uint32_t *queue)
+{
+    uint32_t t, np = 0;
+    for (t = 0; t < F->nt; t++) patch[t] = BP__NONE;
+    for (t = 0; t < F->nt; t++) {
+        uint32_t head = 0, tail = 0;
+        if (patch[t] != BP__NONE) continue;
+        patch[t] = np;
+        queue[tail++] = t;
+        while (head < tail) {
+            uint32_t u = queue[head++], j;
+            for (j = 0; j < 3 && tail < BP__SEG_PATCH; j++) {
+                uint32_t tw = F->twin[3 * u + j], w;
+                if (tw == BP__NONE || patch[w = tw / 3] != BP__NONE) continue;
+                patch[w] = np;
+                queue[tail++] = w;
+            }
+        }
+        np++;
+    }
+    return np;
+}
+
+static int bp__u64_cmp(const void *pa, const void *pb)
+{
+    uint64_t x = *(const uint64_t *)pa, y = *(const uint64_t *)pb;
+    return (x > y) - (x < y);
+}
+
+/* The patch graph C of the chart F: geometry, weights, adjacency, and the
+   scratch of a segmentation with up to cap proxies.  0 if out of memory. */
+static int bp__seg_coarse_setup(const bp_allocator *a, const bp__seg *F, bp__seg *C, const uint32_t *patch,
+                                uint32_t np, uint32_t cap)
+{
+    uint32_t t, j, p, n = 0, i;
+    uint64_t *pairs;
+    memset(C, 0, sizeof *C);
+    C->nt = np;
+    C->cap = cap;
+    C->coarse = 1;
+    C->area = F->area;
+    C->geo = (double *)bp__calloc_array(a, 7 * (size_t)np, sizeof(double));
+    C->w = (double *)bp__calloc_array(a, np, sizeof(double));
+    C->ntri = (uint32_t *)bp__calloc_array(a, np, sizeof(uint32_t));
+    C->label = (uint32_t *)bp__alloc_array(a, np, sizeof(uint32_t));
+    C->dist = (double *)bp__alloc_array(a, np, sizeof(double));
+    C->seed = (uint32_t *)bp__alloc_array(a, cap, sizeof(uint32_t));
+    C->prox = (double *)bp__alloc_array(a, 3 * (size_t)cap, sizeof(double));
+    C->ctr = (double *)bp__alloc_array(a, 4 * (size_t)cap, sizeof(double));
+    C->nsum = (double *)bp__alloc_array(a, 3 * (size_t)cap, sizeof(double));
+    C->worst = (double *)bp__alloc_array(a, cap, sizeof(double));
+    C->worst_t = (uint32_t *)bp__alloc_array(a, cap, sizeof(uint32_t));
+    C->count = (uint32_t *)bp__alloc_array(a, cap, sizeof(uint32_t));
+    C->adj_start = (uint32_t *)bp__calloc_array(a, (size_t)np + 1, sizeof(uint32_t));
+    if (!C->geo || !C->w || !C->ntri || !C->label || !C->dist || !C->seed || !C->prox || !C->ctr || !C->nsum ||
+        !C->worst || !C->worst_t || !C->count || !C->adj_start)
+        return 0;
+    for (t = 0; t < F->nt; t++) {               /* area-weighted sums */
+        const double *g = F->geo + 7 * (size_t)t;
+        double *q = C->geo + 7 * (size_t)patch[t];
+        for (j = 0; j < 3; j++) { q[j] += g[6] * g[j]; q[3 + j] += g[6] * g[3 + j]; }
+        q[6] += g[6];
+        C->w[patch[t]] += g[6] * F->w[t];
+        C->ntri[patch[t]]++;
+    }
+    for (t = 0; t < F->nt; t++) {               /* a patch without area: plain means */
+        const double *g = F->geo + 7 * (size_t)t;
+        double *q = C->geo + 7 * (size_t)patch[t];
+        if (q[6] > 0) continue;
+        for (j = 0; j < 3; j++) q[3 + j] += g[3 + j] / C->ntri[patch[t]];
+        C->w[patch[t]] += F->w[t] / C->ntri[patch[t]];
+    }
+    for (p = 0; p < np; p++) {
+        double *q = C->geo + 7 * (size_t)p;
+        if (!(q[6] > 0)) continue;
+        for (j = 0; j < 6; j++) q[j] /= q[6];
+        C->w[p] /= q[6];
+    }
+    for (t = 0; t < F->nt; t++)                 /* adjacency: sorted, unique pairs */
+        for (j = 0; j < 3; j++) n += F->twin[3 * t + j] != BP__NONE && patch[F->twin[3 * t + j] / 3] != patch[t];
+    pairs = (uint64_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint64_t));
+    if (!pairs) return 0;
+    for (t = 0, n = 0; t < F->nt; t++)
+        for (j = 0; j < 3; j++) {
+            uint32_t tw = F->twin[3 * t + j];
+            if (tw != BP__NONE && patch[tw / 3] != patch[t]) pairs[n++] = (uint64_t)patch[t] << 32 | patch[tw / 3];
+        }
+    qsort(pairs, n, sizeof *pairs, bp__u64_cmp);
+    for (i = 0, j = 0; i < n; i++)
+        if (i == 0 || pairs[i] != pairs[i - 1]) pairs[j++] = pairs[i];
+    n = j;
+    C->adj = (uint32_t *)bp__alloc_array(a, n ? n : 1, sizeof(uint32_t));
+    C->heap = (bp__seg_item *)bp__alloc_array(a, (size_t)n + cap, sizeof(bp__seg_item));
+    if (!C->adj || !C->heap) { bp__free(a, pairs); return 0; }
+    for (i = 0; i < n; i++) {
+        C->adj[i] = (uint32_t)(pairs[i] & 0xffffffffu);
+        C->adj_start[(pairs[i] >> 32) + 1]++;
+    }
+    for (p = 0; p < np; p++) C->adj_start[p + 1] += C->adj_start[p];
+    bp__free(a, pairs);
+    return 1;
+}
+
+/* bp__seg_label on the patches, then the final Lloyd steps on the
+   triangles (the essay above).  0 if out of memory. */
+static int bp__seg_label_coarse(const bp_allocator *a, bp__seg *F, uint32_t kmax, double dev, uint32_t least)
+{
+    bp__seg C;
+    uint32_t *patch = F->label, *queue, np, k, t, it, *seedk;
+    double *best;
+    int ok;
+    queue = (uint32_t *)bp__alloc_array(a, BP__SEG_PATCH, sizeof(uint32_t));
+    if (!queue) return 0;
+    np = bp__seg_patches(F, patch, queue);
+    bp__free(a, queue);
+    ok = bp__seg_coarse_setup(a, F, &C, patch, np, kmax < np ? kmax : np);
+    if (ok) bp__seg_label(&C, kmax, dev, least);
+    seedk = ok ? (uint32_t *)bp__alloc_array(a, np, sizeof(uint32_t)) : NULL;
+    best = ok ? (double *)bp__alloc_array(a, C.K, sizeof(double)) : NULL;
+    if (!seedk || !best) { bp__free(a, seedk); bp__free(a, best); bp__seg_free(a, &C); return 0; }
+    for (t = 0; t < np; t++) seedk[t] = BP__NONE;
+    F->K = C.K;
+    for (k = 0; k < C.K; k++) {
+        seedk[C.seed[k]] = k;
+        best[k] = HUGE_VAL;
+        F->seed[k] = BP__NONE;
+        F->prox[3 * k] = C.prox[3 * k]; F->prox[3 * k + 1] = C.prox[3 * k + 1]; F->prox[3 * k + 2] = C.prox[3 * k + 2];
+    }
+    for (t = 0; t < F->nt; t++) {               /* each seed patch's triangle nearest its centroid */
+        double d;
+        if ((k = seedk[patch[t]]) == BP__NONE) continue;
+        d = bp__dist3(F->geo + 7 * (size_t)t + 3, C.geo + 7 * (size_t)patch[t] + 3);
+        if (d < best[k]) { best[k] = d; F->seed[k] = t; }
+    }
+    bp__free(a, seedk);
+    bp__free(a, best);
+    bp__seg_free(a, &C);
+    for (it = 0; it < BP__SEG_LLOYD; it++) {
+        bp__seg_flood(F);
+        bp__seg_fit(F, it + 1 < BP__SEG_LLOYD);
+    }
+    return 1;
 }
 
 /* Mesh-size scratch shared by the splits of one call. */
@@ -20239,7 +20435,11 @@ static bp_status bp__seg_chart(bp_atlas *atlas, uint32_t c, const bp_mesh *m, co
         return bp__oom(err, "segmenting charts");
     }
     if (dev < 0) bp__seg_label_two(&S);
-    else bp__seg_label(&S, kmax, dev, least);
+    else if (S.nt < BP__SEG_COARSE_MIN) bp__seg_label(&S, kmax, dev, least);
+    else if (!bp__seg_label_coarse(&a, &S, kmax, dev, least)) {
+        bp__seg_free(&a, &S);
+        return bp__oom(err, "segmenting charts");
+    }
     st = S.K > 1 ? bp__seg_split(atlas, c, m, S.twin, S.label, G, pieces, err) : BP_OK;
     bp__seg_free(&a, &S);
     return st;

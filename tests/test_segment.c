@@ -34,7 +34,12 @@
        segmentation adds is lower than without importance;
      - out of memory at each allocation of bp_atlas_segment and of
        bp_atlas_refine (a cube of 108 triangles on a sphere): the status says so, no
-       leak, and every chart is still a valid disk with a valid map. */
+       leak, and every chart is still a valid disk with a valid map;
+     - a chart of 65,712 triangles (a cube of 74 x 74 squares a face, on a
+       sphere) is labelled on patches first (>>segment, the coarse level):
+       the same properties as above, 1 and 2 threads alike;
+     - the chart's twins (bp__seg_twins, a counting sort) against a sort of
+       all its edges done here, on the cow and that sphere. */
 #define _POSIX_C_SOURCE 200809L
 #define BP_IMPLEMENTATION
 #define BP_USE_PTHREADS
@@ -480,17 +485,74 @@ static void out_of_memory(const bp_mesh *m)
     }
 }
 
-int main(void)
+/* A cube of n x n squares a face, on the unit sphere: not developable. */
+static bp_mesh sphere(uint32_t n)
 {
-    bp_mesh m = cube(3);
+    bp_mesh m = cube(n);
     uint32_t v;
-    for (v = 0; v < m.num_vertices; v++) {     /* onto the unit sphere: not developable */
+    for (v = 0; v < m.num_vertices; v++) {
         double *p = m.positions + 3 * v, r;
         p[0] -= 0.5; p[1] -= 0.5; p[2] -= 0.5;
         r = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
         p[0] /= r; p[1] /= r; p[2] /= r;
     }
+    return m;
+}
+
+static int pair_cmp(const void *pa, const void *pb)
+{
+    const uint32_t *a = (const uint32_t *)pa, *b = (const uint32_t *)pb;
+    int k;
+    for (k = 0; k < 3; k++) if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
+    return 0;
+}
+
+/* bp__seg_twins of every chart of m's atlas (as bp_atlas_build makes it)
+   against twins found here: the corner edges sorted by (smaller end,
+   larger end, corner edge), a pair of opposite directions twinned. */
+static void twins_by_sort(const char *what, const bp_mesh *m)
+{
+    bp_atlas at;
+    bp_error err;
+    bp_options o = seg_options(1, 0, 0, 1024);
+    uint32_t c, bad = 0, pairs = 0;
+    if (!BPT_CHECK(bp_atlas_build(&at, m, &o, &err) == BP_OK, "%s: built (%s)", what, err.message)) return;
+    for (c = 0; c < at.num_charts; c++) {
+        const bp_chart *ch = &at.charts[c];
+        uint32_t nc = 3 * ch->num_triangles, ce, i, j;
+        uint32_t *tw = (uint32_t *)malloc(nc * sizeof(uint32_t)), *ref = (uint32_t *)malloc(nc * sizeof(uint32_t));
+        uint32_t *e = (uint32_t *)malloc(3 * (size_t)nc * sizeof(uint32_t));
+        for (ce = 0; ce < nc; ce++) {
+            uint32_t u = ch->triangles[ce], v = ch->triangles[ce - ce % 3 + (ce % 3 + 1) % 3];
+            e[3 * ce] = u < v ? u : v; e[3 * ce + 1] = u < v ? v : u; e[3 * ce + 2] = ce;
+            ref[ce] = BP__NONE;
+        }
+        qsort(e, nc, 3 * sizeof(uint32_t), pair_cmp);
+        for (i = 0; i < nc; i = j) {
+            for (j = i + 1; j < nc && e[3 * j] == e[3 * i] && e[3 * j + 1] == e[3 * i + 1]; j++) {}
+            if (j - i == 2 && ch->triangles[e[3 * i + 2]] != ch->triangles[e[3 * i + 5]]) {
+                ref[e[3 * i + 2]] = e[3 * i + 5];
+                ref[e[3 * i + 5]] = e[3 * i + 2];
+                pairs++;
+            }
+        }
+        if (!bp__seg_twins(&at.allocator, ch, tw)) bad++;
+        else for (ce = 0; ce < nc; ce++) bad += tw[ce] != ref[ce];
+        free(tw); free(ref); free(e);
+    }
+    BPT_CHECK(bad == 0 && pairs > 0, "%s: bp__seg_twins = the twins of a sort of the chart's edges (%u pairs, %u differ)",
+              what, pairs, bad);
+    bp_atlas_free(&at);
+}
+
+int main(void)
+{
+    bp_mesh m = sphere(3);
     out_of_memory(&m);
+    bpt_mesh_free(&m);
+    m = sphere(74);
+    twins_by_sort("sphere of 65,712 triangles", &m);
+    run("sphere of 65,712 triangles (the coarse level)", &m, 400, 4.1, 1);
     bpt_mesh_free(&m);
     if (read_mesh("tests/data/cow_param_withSUV.obj", &m)) {
         uint32_t *keep = m.corner_uv;
@@ -498,6 +560,7 @@ int main(void)
         run("cow without vt (closed, genus 0)", &m, 60, 4.1, 1);
         run("cow without vt (closed, genus 0)", &m, 6, 4.1, 1);
         defaults("cow without vt", &m, 4.2);
+        twins_by_sort("cow without vt", &m);
         m.corner_uv = keep;
         importance_steers("cow with its vt (one chart)", &m);
         bp_mesh_free(&m, NULL);
