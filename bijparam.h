@@ -20412,6 +20412,7 @@ static bp_status bp__seg_mesh_alloc(const bp_allocator *a, bp__seg_mesh *G, cons
     G->facepos = (uint32_t *)bp__alloc_array(a, m->num_triangles, sizeof(uint32_t));
     if (!G->glued || !G->facepos) {
         bp__free(a, G->glued); bp__free(a, G->facepos);
+        G->glued = G->facepos = NULL;
         return bp__oom(err, "segmenting charts");
     }
     for (t = 0; t < m->num_triangles; t++) G->facepos[t] = BP__NONE;
@@ -21598,7 +21599,44 @@ typedef struct bp__chart_job {
     bp_error *errs;
     bp__run *run;                 /* bp_parameterize's run, or NULL (>>progress) */
     const uint32_t *list;         /* task i solves chart list[i] (NULL: chart i) */
+    unsigned char *split;         /* NULL, or per chart: 1 when its start was too
+                                     far from an isometry (the chart is left
+                                     without a map, to be split and solved
+                                     again), 2 when it is to be solved whole */
 } bp__chart_job;
+
+/* Splitting before the solve.  With segmentation on (bp_atlas_segment's
+   condition), a chart of BP__SPLIT_MIN triangles or more whose start map
+   has a mean symmetric Dirichlet energy above BP__SPLIT_E0 (four times an
+   isometry's 4) is split in two before it is optimized, and each piece
+   starts again.  A start that far from an isometry is what a conformal
+   map does to a part joined to the rest by a narrow neck (its scale falls
+   exponentially along the neck), or to a chart curved too much to lie
+   flat: the optimization then spends most of its time pulling the map
+   back toward an isometry (Newton's steps are clipped by the step bound,
+   >>stepbound), where the pieces start near it.  On a million-face
+   marching-cubes surface the segmentation left six such charts among 68
+   (E0 51-4,639, the others at most 4.4), and they took most of the solve:
+   the one of 33,850 triangles at E0 4,639 took Newton 45 iterations.
+   The split is >>segment's mechanism (a) split (two floods from the ends
+   of an approximate diameter), made without a map; pieces are tried again
+   for BP__SPLIT_ROUNDS rounds, and with opt.max_charts the splits stop at
+   the budget.  The decision is taken on the start map, whose bits and
+   energy are the same on any number of threads, and the splits are made
+   in chart order, so the atlas is too. */
+#ifndef BP__SPLIT_E0
+#define BP__SPLIT_E0 16.0
+#endif
+#define BP__SPLIT_MIN 1000u
+#define BP__SPLIT_ROUNDS 4
+
+static int bp__split_start(const bp__chart_job *J, const bp_chart *ch)
+{
+    double mean = 0;
+    if (!J->split || J->split[ch - J->atlas->charts] || ch->num_triangles < BP__SPLIT_MIN || ch->num_pins) return 0;
+    if (bp_chart_distortion(ch, J->m, BP_ENERGY_SYMMETRIC_DIRICHLET, &mean, NULL, NULL, NULL) != BP_OK) return 0;
+    return mean > BP__SPLIT_E0;
+}
 
 static void bp__chart_task(void *task, uint32_t i)
 {
@@ -21619,6 +21657,17 @@ static void bp__chart_task(void *task, uint32_t i)
                       "chart %u: cancelled before its start map", c);
     else
         st = bp__chart_init(&J->atlas->charts[c], J->m, J->opt, inner, &h, &J->errs[c]);
+    if (st == BP_OK && bp__split_start(J, &J->atlas->charts[c])) {   /* split and solved again */
+        bp_chart *ch = &J->atlas->charts[c];
+        bp__free(&a, ch->uv);
+        ch->uv = NULL;
+        bp__free(&a, ch->start_order);
+        ch->start_order = NULL;
+        bp__handoff_free(&a, &h);
+        J->split[c] = 1;
+        J->status[c] = BP_OK;
+        return;
+    }
     if (st == BP_OK && bp__report(J->opt, BP_STAGE_START, 1, c)) {   /* keeps its start map */
         J->atlas->charts[c].stop = BP_STOP_CANCELLED;
         st = bp__fail(&J->errs[c], BP_ERR_CANCELLED, BP_ELEMENT_CHART, c, -1, 0,
@@ -21659,73 +21708,154 @@ static bp_status bp__collect(bp_atlas *atlas, const bp__chart_job *J, int strict
     return st;
 }
 
-/* Start map and optimization of every chart.  Charts are independent, so
-   with several threads and no dominant chart (none holds more than half of
-   the triangles) the charts themselves are the parallel tasks, each solved
-   with serial loops; otherwise the large charts (BP__PAR_MIN_TRIANGLES or
-   more) go one after the other, their loops (see >>threads) in parallel,
-   and then the small ones are the parallel tasks (until 0.2 they followed
-   one by one on the caller, the other threads idle).  Either way each
-   chart's result is bit-identical to a serial solve.  One pool serves the
-   whole call, and none is started when neither way would use it (one small
-   chart).  Returns as bp__collect. */
+/* Start map and optimization of the charts list[0, n) (n triangles in all).
+   Charts are independent, so with several threads and no dominant chart
+   (none holds more than half of the triangles) the charts themselves are
+   the parallel tasks, each solved with serial loops, the largest first (a
+   large chart started last would finish alone); otherwise the large charts
+   (BP__PAR_MIN_TRIANGLES or more) go one after the other, their loops (see
+   >>threads) in parallel, and then the small ones are the parallel tasks.
+   Either way each chart's result is bit-identical to a serial solve. */
+static void bp__solve_list(bp__chart_job *J, const bp__par *par, uint32_t *list, uint32_t n, uint64_t total)
+{
+    bp__par serial = bp__par_serial();
+    uint32_t i, j, largest = 0, ns = 0;
+    bp_chart *ch = J->atlas->charts;
+    for (i = 0; i < n; i++) if (ch[list[i]].num_triangles > largest) largest = ch[list[i]].num_triangles;
+    J->list = list;
+    if (par->threads != 1 && n > 1 && 2 * (uint64_t)largest <= total) {
+        for (i = 1; i < n; i++) {                         /* largest first, ties by index */
+            uint32_t c = list[i];
+            for (j = i; j > 0 && (ch[list[j - 1]].num_triangles < ch[c].num_triangles ||
+                                  (ch[list[j - 1]].num_triangles == ch[c].num_triangles && list[j - 1] > c)); j--)
+                list[j] = list[j - 1];
+            list[j] = c;
+        }
+        J->inner = &serial;
+        par->run(par->user, bp__chart_task, J, n);
+        for (i = 0; i < n; i++) ch[list[i]].threads = par->threads;
+        return;
+    }
+    if (par->threads == 1) {
+        J->inner = par;
+        bp__serial_for(NULL, bp__chart_task, J, n);
+        return;
+    }
+    J->inner = par;                                       /* the large charts, their loops on the threads */
+    for (i = 0; i < n; i++)
+        if (ch[list[i]].num_triangles >= BP__PAR_MIN_TRIANGLES) bp__chart_task(J, i);
+        else list[ns++] = list[i];
+    J->inner = &serial;                                   /* then the small ones as the tasks */
+    if (ns > 1) {
+        par->run(par->user, bp__chart_task, J, ns);
+        for (i = 0; i < ns; i++) ch[list[i]].threads = par->threads;
+    } else
+        bp__serial_for(NULL, bp__chart_task, J, ns);
+}
+
+/* The charts J marked to split (see above), split in chart order; the
+   list becomes them and their new pieces.  Returns the list's length, or
+   BP__NONE when out of memory (err set). */
+static uint32_t bp__split_marked(bp__chart_job *J, const bp_options *opt, bp__seg_mesh *G, uint32_t **list,
+                                 uint64_t *total, bp_error *err)
+{
+    bp_atlas *at = J->atlas;
+    bp_allocator a = at->allocator;
+    uint32_t c, n0 = at->num_charts, n = 0, pieces;
+    for (c = 0; c < n0; c++) {
+        bp_status st;
+        if (J->split[c] != 1) continue;
+        pieces = 1;
+        if (!(opt->max_charts && at->num_charts >= opt->max_charts)) {
+            st = bp__seg_chart(at, c, J->m, opt->importance, 2, -1.0, 1, G, &pieces, err);
+            if (st == BP_ERR_OUT_OF_MEMORY) return BP__NONE;
+        }
+        if (pieces == 1) J->split[c] = 3;            /* not split: solved whole (2, below) */
+    }
+    *total = 0;
+    bp__free(&a, *list);
+    *list = (uint32_t *)bp__alloc_array(&a, at->num_charts, sizeof(uint32_t));
+    if (!*list) { bp__oom(err, "splitting charts"); return BP__NONE; }
+    for (c = 0; c < at->num_charts; c++)
+        if ((c < n0 && (J->split[c] & 1)) || c >= n0) { (*list)[n++] = c; *total += at->charts[c].num_triangles; }
+    for (c = 0; c < n0; c++) J->split[c] = J->split[c] >= 2 ? 2 : 0;
+    return n;
+}
+
+/* Every chart's start map and optimization (the two functions above), with
+   the splits before the solve when segmentation is on: rounds of solving,
+   splitting the charts marked, and solving their pieces.  One pool serves
+   the whole call, and none is started when neither way would use it (one
+   small chart).  Returns as bp__collect. */
 static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_allocator a = atlas->allocator;
-    bp__par par, serial;
+    bp__par par;
     bp__chart_job J;
+    bp__seg_mesh G;
     void *pool = NULL;
-    uint32_t c, largest = 0, *small = NULL;
-    int by_chart;
-    bp_status st;
+    uint32_t c, largest = 0, *list = NULL, n = atlas->num_charts, round;
+    uint64_t total = 0;
+    bp_status st = BP_OK;
     bp_options linked;
     bp__iter_link L;
+    int splits = opt && bp__seg_enabled(opt) && !opt->init_only && !opt->no_barrier &&
+                 (opt->segment > 0 || opt->atlas_resolution > 0 || opt->max_charts > 0);
+    memset(&J, 0, sizeof J);
+    memset(&G, 0, sizeof G);
     J.run = bp__run_of(opt);                                 /* >>progress */
     opt = bp__with_iter_link(opt, &linked, &L);
-    J.status = (bp_status *)bp__alloc_array(&a, atlas->num_charts, sizeof(bp_status));
-    J.errs = (bp_error *)bp__calloc_array(&a, atlas->num_charts, sizeof(bp_error));
-    if (!J.status || !J.errs) {
-        bp__free(&a, J.status); bp__free(&a, J.errs);
-        return bp__oom(err, "starting the solve");
-    }
     J.atlas = atlas;
     J.m = m;
     J.opt = opt;
-    serial = bp__par_serial();
-    for (c = 0; c < atlas->num_charts; c++)
+    J.status = (bp_status *)bp__alloc_array(&a, n ? n : 1, sizeof(bp_status));
+    J.errs = (bp_error *)bp__calloc_array(&a, n ? n : 1, sizeof(bp_error));
+    list = (uint32_t *)bp__alloc_array(&a, n ? n : 1, sizeof(uint32_t));
+    if (splits) J.split = (unsigned char *)bp__calloc_array(&a, n ? n : 1, 1);
+    if (!J.status || !J.errs || !list || (splits && !J.split)) {
+        bp__free(&a, J.status); bp__free(&a, J.errs); bp__free(&a, list); bp__free(&a, J.split);
+        return bp__oom(err, "starting the solve");
+    }
+    for (c = 0; c < n; c++) {
+        list[c] = c;
+        total += atlas->charts[c].num_triangles;
         if (atlas->charts[c].num_triangles > largest) largest = atlas->charts[c].num_triangles;
-    by_chart = atlas->num_charts > 1 && 2 * (uint64_t)largest <= m->num_triangles;
-    par = by_chart || largest >= BP__PAR_MIN_TRIANGLES ? bp__par_begin(&a, opt, &pool) : serial;
-    J.list = NULL;
-    if (par.threads != 1 && by_chart) {
-        J.inner = &serial;
-        par.run(par.user, bp__chart_task, &J, atlas->num_charts);
-        for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].threads = par.threads;
-    } else if (par.threads != 1) {
-        uint32_t ns = 0;
-        if (!(small = (uint32_t *)bp__alloc_array(&a, atlas->num_charts, sizeof(uint32_t)))) {
-            bp__par_end(&a, pool);
-            bp__free(&a, J.status); bp__free(&a, J.errs);
-            return bp__oom(err, "starting the solve");
+    }
+    par = (n > 1 && 2 * (uint64_t)largest <= total) || largest >= BP__PAR_MIN_TRIANGLES
+          ? bp__par_begin(&a, opt, &pool) : bp__par_serial();
+    for (round = 0; st == BP_OK && n > 0; round++) {
+        if (J.split && round == BP__SPLIT_ROUNDS) { bp__free(&a, J.split); J.split = NULL; }
+        bp__solve_list(&J, &par, list, n, total);
+        if (!J.split) break;
+        for (c = 0; c < atlas->num_charts && J.split[c] != 1; c++) {}
+        if (c == atlas->num_charts) break;
+        if (!G.glued && bp__seg_mesh_alloc(&a, &G, m, err) != BP_OK) { st = BP_ERR_OUT_OF_MEMORY; break; }
+        {   /* the marks, statuses and errors grow with the pieces */
+            uint32_t n0 = atlas->num_charts;
+            if ((n = bp__split_marked(&J, opt, &G, &list, &total, err)) == BP__NONE) { st = BP_ERR_OUT_OF_MEMORY; break; }
+            if (atlas->num_charts > n0) {
+                bp_status *s2 = (bp_status *)bp__alloc_array(&a, atlas->num_charts, sizeof(bp_status));
+                bp_error *e2 = (bp_error *)bp__calloc_array(&a, atlas->num_charts, sizeof(bp_error));
+                unsigned char *m2 = (unsigned char *)bp__calloc_array(&a, atlas->num_charts, 1);
+                if (!s2 || !e2 || !m2) {
+                    bp__free(&a, s2); bp__free(&a, e2); bp__free(&a, m2);
+                    st = bp__oom(err, "splitting charts");
+                    break;
+                }
+                memcpy(s2, J.status, n0 * sizeof(bp_status));
+                memcpy(e2, J.errs, n0 * sizeof(bp_error));
+                memcpy(m2, J.split, n0);
+                bp__free(&a, J.status); bp__free(&a, J.errs); bp__free(&a, J.split);
+                J.status = s2; J.errs = e2; J.split = m2;
+            }
         }
-        J.inner = &par;                                   /* the large charts, their loops on the threads */
-        for (c = 0; c < atlas->num_charts; c++)
-            if (atlas->charts[c].num_triangles >= BP__PAR_MIN_TRIANGLES) bp__chart_task(&J, c);
-            else small[ns++] = c;
-        J.inner = &serial;                                /* then the small ones as the tasks */
-        J.list = small;
-        if (ns > 1) {
-            par.run(par.user, bp__chart_task, &J, ns);
-            for (c = 0; c < ns; c++) atlas->charts[small[c]].threads = par.threads;
-        } else
-            bp__serial_for(NULL, bp__chart_task, &J, ns);
-        bp__free(&a, small);
-    } else {
-        J.inner = &par;
-        bp__serial_for(NULL, bp__chart_task, &J, atlas->num_charts);
     }
     bp__par_end(&a, pool);
-    st = bp__collect(atlas, &J, opt && opt->strict, err);
+    if (st == BP_OK) st = bp__collect(atlas, &J, opt && opt->strict, err);   /* else out of memory, as there */
+    bp__free(&a, G.glued);
+    bp__free(&a, G.facepos);
+    bp__free(&a, list);
+    bp__free(&a, J.split);
     bp__free(&a, J.status);
     bp__free(&a, J.errs);
     return st;
