@@ -302,7 +302,7 @@ clean:
 # interpreter, which has numpy (a python3 earlier on PATH may not).
 python: $(PY_EXT)
 
-$(PY_EXT): python/bijparam/_native.c python/setup.py bijparam.h
+$(PY_EXT): python/bijparam/_native.c python/setup.py bijparam.h examples/bp_gltf.h
 	cd python && BIJPARAM_CFLAGS="-Wall -Wextra -Werror" $(PYTHON) setup.py -q build_ext --inplace --force \
 	    --build-temp ../$(BUILD)/python/temp --build-lib ../$(BUILD)/python/lib
 

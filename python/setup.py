@@ -1,11 +1,11 @@
 """Build of the bijparam Python package: one C extension, bijparam._native,
-compiled from bijparam.h (the library is the header) on the CPython and
-numpy C APIs.  The build needs a C compiler and numpy's headers, nothing
+compiled from bijparam.h (the library is the header) and examples/bp_gltf.h
+(its glTF reader and writer) on the CPython and numpy C APIs.  The build needs a C compiler and numpy's headers, nothing
 else.
 
-The header is taken from this folder's parent (the repository, where the
-package lives in python/) or from this folder (an sdist carries a copy:
-see sdist below)."""
+The headers are taken from the repository (this folder's parent, and its
+examples/) or from this folder (an sdist carries copies: see sdist
+below)."""
 import os
 import shutil
 
@@ -22,6 +22,14 @@ def header_dir():
     raise SystemExit("bijparam: bijparam.h not found next to setup.py or in its parent folder")
 
 
+def gltf_dir():
+    """examples/bp_gltf.h, the glTF reader and writer beside the library."""
+    for d in (HERE, os.path.join(os.path.dirname(HERE), "examples")):
+        if os.path.isfile(os.path.join(d, "bp_gltf.h")):
+            return d
+    raise SystemExit("bijparam: bp_gltf.h not found next to setup.py or in ../examples")
+
+
 def version():
     with open(os.path.join(header_dir(), "bijparam.h"), encoding="utf-8") as f:
         for line in f:
@@ -31,11 +39,12 @@ def version():
 
 
 class Sdist(sdist):
-    """An sdist stands alone: it carries the header beside setup.py."""
+    """An sdist stands alone: it carries the headers beside setup.py."""
 
     def make_release_tree(self, base_dir, files):
         super().make_release_tree(base_dir, files)
         shutil.copy(os.path.join(header_dir(), "bijparam.h"), os.path.join(base_dir, "bijparam.h"))
+        shutil.copy(os.path.join(gltf_dir(), "bp_gltf.h"), os.path.join(base_dir, "bp_gltf.h"))
 
 
 class NumpyInclude:
@@ -69,7 +78,7 @@ setup(
         Extension(
             "bijparam._native",
             sources=["bijparam/_native.c"],
-            include_dirs=[header_dir(), str(NumpyInclude())],
+            include_dirs=[header_dir(), gltf_dir(), str(NumpyInclude())],
             extra_compile_args=["-O2", "-g0", "-pthread"] + extra,
             extra_link_args=["-pthread"] + extra,
             libraries=["m"],

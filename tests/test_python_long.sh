@@ -77,6 +77,7 @@ run_pytest "the long tests" "$TMP/long.log" env PYTHONPATH=python "$PYTHON" -m p
 
 # 3. pip install into a fresh virtual environment, offline
 mkdir -p "$TMP/repo"
+mkdir -p "$TMP/repo/examples" && cp examples/bp_gltf.h "$TMP/repo/examples/" &&
 cp bijparam.h "$TMP/repo/" && cp -r python "$TMP/repo/python" && rm -rf "$TMP/repo/python/build" "$TMP/repo/python"/*.egg-info \
     "$TMP/repo/python/bijparam"/*.so
 if "$PYTHON" -m venv --system-site-packages "$TMP/venv" >"$TMP/venv.log" 2>&1; then

@@ -16,6 +16,7 @@ README beside this package is the reference.
 import os
 import stat
 import tempfile
+import urllib.parse
 import warnings
 
 import numpy as np
@@ -106,10 +107,16 @@ def _locator(element, index, index2, arrays):
     return ""
 
 
-def _raise(t, arrays=False, path=None):
-    """Raise the exception for a failure tuple of _native."""
+def _raise(t, arrays=False, path=None, gltf=None):
+    """Raise the exception for a failure tuple of _native (a glTF file's
+    elements named as the file numbers them)."""
     _, status, status_text, message, element, index, index2, line = t
     text = message + _locator(element, index, index2, arrays)
+    if gltf is not None and element in ("triangle", "vertex", "edge") and index >= 0:
+        names = [gltf.name("triangle" if element == "triangle" else "vertex", index)]
+        if element == "edge" and index2 >= 0:
+            names.append(gltf.name("vertex", index2))
+        text += " [" + "; ".join(n for n in names if n) + "]"
     if path is not None:
         text = f"{path}: {text}"
     kw = dict(status=status, element=element, index=index, index2=index2, line=line)
@@ -347,11 +354,14 @@ class Mesh:
     faces       (M,) uint32 or None: the file's polygon of each triangle
     lines       (M,) uint32 or None: the file's line of each triangle
     path        the file it was read from, or None; format "obj", "off",
-                "ply" or None
+                "ply", "gltf", "glb" or None
+    info        glTF: meshes, primitives, buffer_files, has_uv
+    A glTF file's arrays are read-only views of what the writer keeps.
     """
 
     def __init__(self, positions, indices, uvs=None, uv_indices=None, *, faces=None, lines=None,
-                 num_faces=0, path=None, format=None, read_seconds=0.0, read_cpu_seconds=0.0):
+                 num_faces=0, path=None, format=None, read_seconds=0.0, read_cpu_seconds=0.0, gltf=None,
+                 info=None):
         self.positions = positions
         self.indices = indices
         self.uvs = uvs
@@ -363,6 +373,8 @@ class Mesh:
         self.format = format
         self.read_seconds = read_seconds
         self.read_cpu_seconds = read_cpu_seconds
+        self._gltf = gltf
+        self.info = info or {}
 
     def __repr__(self):
         src = f" from {self.path!r}" if self.path else ""
@@ -370,21 +382,32 @@ class Mesh:
                 f"{', with uvs' if self.uvs is not None else ''}>")
 
 
-def read_mesh(path, *, threads=0, progress=None):
-    """Read an OBJ, OFF or PLY file (by its extension) with the library's
-    readers: polygons split into fans, the file's texture coordinates and
-    seams kept, every error naming the file's line.  threads: 0 = all
-    cores (a large OBJ file is parsed in chunks); progress as in
-    parametrize (stage "read")."""
+def read_mesh(path, *, threads=0, progress=None, texcoord=0):
+    """Read an OBJ, OFF, PLY (the library's readers) or glTF file (.gltf,
+    .glb: examples/bp_gltf.h) by its extension: polygons split into fans,
+    the file's texture coordinates and seams kept (glTF: TEXCOORD_n, n =
+    `texcoord`; vertices welded by position), every error naming the
+    file's line or glTF element.  threads: 0 = all cores (a large OBJ file
+    is parsed in chunks); progress as in parametrize (stage "read")."""
     path = os.fspath(path)
     _int(threads, "threads", 0, 256)
+    _int(texcoord, "texcoord", 0, 2**31 - 1)
     if os.path.isdir(path):
-        raise FileError(f"{path}: is a directory, not an .obj, .off or .ply file", status="BP_ERR_IO")
+        raise FileError(f"{path}: is a directory, not an .obj, .off, .ply, .gltf or .glb file", status="BP_ERR_IO")
+    ext = os.path.splitext(path)[1].lower().lstrip(".")
+    if ext in ("gltf", "glb"):
+        t = _native.read_gltf(path, texcoord)
+        if t[0] != "ok":
+            _raise(t, path=path)
+        _, handle, d = t
+        return Mesh(d["positions"], d["indices"], d["uvs"] if d["uv_indices"] is not None else None, d["uv_indices"],
+                    faces=d["faces"], num_faces=d["num_faces"], path=path, format="glb" if d["glb"] else "gltf",
+                    read_seconds=d["seconds"], read_cpu_seconds=d["cpu_seconds"], gltf=handle,
+                    info={k: d[k] for k in ("meshes", "primitives", "buffer_files", "has_uv")})
     t = _native.read_mesh(path, threads, progress)
     if t[0] != "ok":
         _raise(t, path=path)
     d = t[1]
-    ext = os.path.splitext(path)[1].lower().lstrip(".")
     return Mesh(d["positions"], d["indices"], d["uvs"] if d["uv_indices"] is not None else None, d["uv_indices"],
                 faces=d["faces"], lines=d["lines"], num_faces=d["num_faces"], path=path, format=ext,
                 read_seconds=d["seconds"], read_cpu_seconds=d["cpu_seconds"])
@@ -463,13 +486,12 @@ class Result(tuple):
                   an OBJ input keeps every other line of its file)
     """
 
-    def __new__(cls, vmapping, indices, uvs, report, failed_faces=None, handle=None, source=None, meta=None):
+    def __new__(cls, vmapping, indices, uvs, report, failed_faces=None, handle=None, mesh=None):
         self = super().__new__(cls, (vmapping, indices, uvs))
         self.report = report
         self.failed_faces = failed_faces
         self._handle = handle
-        self._source = source
-        self._meta = meta or {}
+        self._mesh = mesh
         return self
 
     vmapping = property(lambda self: self[0])
@@ -492,38 +514,100 @@ class Result(tuple):
             self._handle = None
 
     def write(self, path, *, source=None, force=False, threads=0, progress=None):
-        """Write the mesh with its new map as an OBJ file, whole or not at
-        all (a temporary file renamed over `path`), with the library's
-        writers, as the tool's -o does.
+        """Write the mesh with its new map, whole or not at all (temporary
+        files next to `path` renamed over it when complete), with the
+        library's writers, as the tool's -o does.
 
-        source  None: the OBJ file the mesh was read from (read_mesh), if
-                any, whose every other line (normals, materials, groups,
+        path    .obj; or .glb / .gltf for a mesh read from a glTF file:
+                the file written back with the new TEXCOORD_n and all else
+                of it kept (examples/bp_gltf.h; a .gltf whose input kept
+                its bytes in files gets them in <name>.bin beside it)
+        source  (OBJ) None: the OBJ file the mesh was read from, if any,
+                whose every other line (normals, materials, groups,
                 comments, spacing) comes back unchanged; a path: that OBJ
                 file, whose faces must be the mesh's; False: written from
                 the mesh alone (v, vt and f lines).
-        force   allow `path` to be the source file itself.
+        force   allow `path` to be an input file.
         """
         if self._handle is None:
             raise ValueError("this result has no atlas to write (released, or unpickled)")
         _int(threads, "threads", 0, 256)
-        src = self._source if source is None else (os.fspath(source) if source is not False else None)
+        path = os.fspath(path)
+        mesh = self._mesh
+        ext = os.path.splitext(path)[1].lower()
+        if ext in (".gltf", ".glb"):
+            if mesh is None or mesh._gltf is None:
+                raise MeshError(f"{path}: a .gltf or .glb is written back from a mesh read from one (write .obj)",
+                                status="BP_ERR_INVALID_ARGUMENT")
+            return self._write_gltf(path, ext == ".glb", force, threads)
+        if source is None:
+            src = mesh.path if mesh is not None and mesh.format == "obj" else None
+        else:
+            src = os.fspath(source) if source is not False else None
+        if not force and mesh is not None and mesh.path and _same_file(path, mesh.path):
+            raise FileError(f"{path}: is the input file; pass force=True to replace it", status="BP_ERR_INVALID_ARGUMENT")
         if src is not None and not force and _same_file(path, src):
-            raise FileError(f"{os.fspath(path)}: is the input file; pass force=True to replace it",
-                            status="BP_ERR_INVALID_ARGUMENT")
+            raise FileError(f"{path}: is the input file; pass force=True to replace it", status="BP_ERR_INVALID_ARGUMENT")
         seconds = []
 
         def write(tmp):
             t = self._handle.write(tmp, src or "", threads, progress)
             if t[0] != "ok":
-                _raise(t, path=os.fspath(path))
+                _raise(t, path=path)
             seconds.append(t[1:])
 
-        _write_atomic(os.fspath(path), write)
-        self.report["output"] = os.fspath(path)
-        self.report["timings"]["write"], self.report["cpu_timings"]["write"] = seconds[0]
+        _write_atomic(path, write)
+        self._written(path, *seconds[0])
+        return path
+
+    def _written(self, path, wall, cpu):
+        self.report["output"] = path
+        self.report["timings"]["write"], self.report["cpu_timings"]["write"] = wall, cpu
         flipped = self.report["repairs"]["flipped"]
         flipped["written_reordered"] = flipped["count"]
-        return os.fspath(path)
+
+    def _write_gltf(self, path, glb, force, threads):
+        """bpg_encode's bytes into their files, as the tool's -o: a .gltf
+        whose input kept its bytes in files (a .glb's BIN chunk, a .bin)
+        gets the new bytes in <name>.bin next to it, written and renamed
+        first; relative uris are rewritten when the folder changes."""
+        mesh = self._mesh
+        g = mesh._gltf
+        inputs = [mesh.path] + g.external_files()
+        if not force and any(_same_file(path, x) for x in inputs):
+            raise FileError(f"{path}: is an input file; pass force=True to replace it", status="BP_ERR_INVALID_ARGUMENT")
+        bin_uri = bin_path = None
+        if not glb and (mesh.format == "glb" or g.external_files()):
+            base = os.path.basename(path)
+            bin_uri = base[: -len(".gltf")] + ".bin"
+            bin_path = os.path.join(os.path.dirname(path), bin_uri)
+            if any(_same_file(bin_path, x) for x in inputs):
+                raise FileError(f"{path}: its new data would go into {bin_path}, which the input reads; choose "
+                                f"another output name", status="BP_ERR_INVALID_ARGUMENT")
+            bin_uri = urllib.parse.quote(bin_uri)
+        src_dir = os.path.dirname(os.path.realpath(mesh.path))
+        out_dir = os.path.dirname(os.path.realpath(path))
+        prefix = None
+        if src_dir != out_dir:
+            prefix = urllib.parse.quote(os.path.relpath(src_dir, out_dir).replace(os.sep, "/")) + "/"
+        t = _native.encode_gltf(g, self._handle, glb, bin_uri, prefix, threads)
+        if t[0] != "ok":
+            _raise(t, path=path, gltf=g)
+        _, data, bin_bytes, vin, vout, fixed, wall, cpu = t
+
+        def put(data):
+            def write(tmp):
+                with open(tmp, "wb") as f:
+                    f.write(data)
+            return write
+
+        if bin_bytes is not None:
+            _write_atomic(bin_path, put(bin_bytes))
+        _write_atomic(path, put(data))
+        self._written(path, wall, cpu)
+        self.report["gltf"] = {"primitives": mesh.info.get("primitives", 0), "vertices_in": vin,
+                               "vertices_out": vout, "rounding_fixed": fixed}
+        return path
 
 
 def _rebuild_result(arrays, report, failed_faces):
@@ -600,7 +684,7 @@ def parametrize(positions, indices=None, normals=None, uvs=None, *, uv_indices=N
     t = _native.parametrize(pos, tri, corner_uv, uv, lines, faces, int(num_faces), o, importance, pin_arrays,
                             view_list, np.dtype(uv_dtype) == np.float64, progress)
     if t[0] == "error":
-        _raise(t, arrays=mesh is None)
+        _raise(t, arrays=mesh is None, gltf=mesh._gltf if mesh is not None else None)
     _, handle, vmapping, out_indices, out_uvs, failed, report, round_status, round_message = t
     if mesh is not None:
         report["input"] = mesh.path
@@ -608,8 +692,7 @@ def parametrize(positions, indices=None, normals=None, uvs=None, *, uv_indices=N
         report["timings"]["read"] = mesh.read_seconds
         report["cpu_timings"]["read"] = mesh.read_cpu_seconds
     report["uvs_check"] = "ok" if round_status == "BP_OK" else round_message
-    source = mesh.path if mesh is not None and mesh.format == "obj" else None
-    result = Result(vmapping, out_indices, out_uvs, report, failed, handle, source)
+    result = Result(vmapping, out_indices, out_uvs, report, failed, handle, mesh)
     if round_status != "BP_OK":
         warnings.warn(f"the float32 uvs are not bijective ({round_message}); ask for uv_dtype=numpy.float64",
                       BijectivityWarning, stacklevel=2)

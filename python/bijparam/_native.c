@@ -40,6 +40,8 @@
 #define BP_STATIC
 #define BP_USE_PTHREADS
 #include "bijparam.h"
+#define BPG_IMPLEMENTATION
+#include "bp_gltf.h"
 
 static double now_seconds(void)
 {
@@ -109,7 +111,7 @@ static void budget_free(void *user, void *ptr)
 
 /* ---- the worker thread and the calling thread's wait ---------------------- */
 
-enum { JOB_PARAMETERIZE, JOB_READ, JOB_WRITE, JOB_CHECK };
+enum { JOB_PARAMETERIZE, JOB_READ, JOB_WRITE, JOB_CHECK, JOB_GLTF_READ, JOB_GLTF_ENCODE };
 
 typedef struct job {
     int kind;
@@ -120,6 +122,11 @@ typedef struct job {
     const char *path, *source;
     /* JOB_CHECK */
     struct check_job *check;
+    /* JOB_GLTF_READ, JOB_GLTF_ENCODE (examples/bp_gltf.h) */
+    bpg_file *gltf;
+    bpg_options gltf_read;
+    bpg_write_options gltf_write;
+    bpg_output gltf_out;
     /* the outcome */
     bp_status st;
     bp_error err;
@@ -214,6 +221,13 @@ static void *job_main(void *arg)
         break;
     case JOB_CHECK:
         run_check_job(J);
+        break;
+    case JOB_GLTF_READ:
+        J->st = bpg_read(J->gltf, J->path, &J->gltf_read, &J->err);
+        break;
+    case JOB_GLTF_ENCODE:
+        J->gltf_write.check = &J->opt;             /* the rounded map's check on the call's threads */
+        J->st = bpg_encode(J->gltf, J->atlas, &J->gltf_write, &J->gltf_out, &J->err);
         break;
     }
     bp_pool_destroy(pool);
@@ -1498,6 +1512,192 @@ done:
     return result;
 }
 
+/* ---- glTF (examples/bp_gltf.h) ---------------------------------------------------
+
+   A .gltf or .glb is read by bpg_read into a GltfFile, which keeps what the
+   writer needs; its mesh's arrays are handed to Python as read-only views
+   that keep the GltfFile alive.  A result of that mesh is written back by
+   bpg_encode (every vertex attribute, node, material and byte of the file
+   kept, the new TEXCOORD_n added, the float map checked exactly and
+   repaired by a few floats where rounding broke it); the Python layer
+   writes the bytes it returns, whole or not at all. */
+
+typedef struct {
+    PyObject_HEAD
+    bpg_file file;
+    int encoding;              /* bpg_encode reports through the file's state:
+                                  one at a time */
+} GltfObject;
+
+static void Gltf_dealloc(GltfObject *self)
+{
+    bpg_free(&self->file);
+    Py_TYPE(self)->tp_free((PyObject *)self);
+}
+
+/* name(kind, index): "mesh 1 ('Body') primitive 0 triangle 17 (vertices 4 5
+   9)" for kind "triangle", "accessor 3 vertex 12 (...)" for "vertex": the
+   element as the file numbers it ("" out of range). */
+static PyObject *Gltf_name(PyObject *obj, PyObject *args)
+{
+    GltfObject *self = (GltfObject *)obj;
+    const char *kind;
+    long long index;
+    char buf[512] = "";
+    if (!PyArg_ParseTuple(args, "sL", &kind, &index)) return NULL;
+    if (index >= 0 && index <= (long long)UINT32_MAX) {
+        if (!strcmp(kind, "triangle")) bpg_name_triangle(&self->file, (uint32_t)index, buf, sizeof buf);
+        else if (!strcmp(kind, "vertex")) bpg_name_vertex(&self->file, (uint32_t)index, buf, sizeof buf);
+    }
+    return PyUnicode_DecodeUTF8(buf, (Py_ssize_t)strlen(buf), "replace");
+}
+
+/* external_files(): the files the input reads (buffers, images) */
+static PyObject *Gltf_external_files(PyObject *obj, PyObject *noargs)
+{
+    GltfObject *self = (GltfObject *)obj;
+    PyObject *list = PyList_New(0);
+    const char *x;
+    uint32_t i;
+    (void)noargs;
+    if (!list) return NULL;
+    for (i = 0; (x = bpg_external_file(&self->file, i)) != NULL; i++) {
+        PyObject *p = PyUnicode_DecodeFSDefault(x);
+        if (!p || PyList_Append(list, p) < 0) { Py_XDECREF(p); Py_DECREF(list); return NULL; }
+        Py_DECREF(p);
+    }
+    return list;
+}
+
+static PyMethodDef Gltf_methods[] = {
+    {"name", Gltf_name, METH_VARARGS, "name(kind, index): a mesh triangle or vertex as the file numbers it"},
+    {"external_files", Gltf_external_files, METH_NOARGS, "the files the input reads"},
+    {NULL, NULL, 0, NULL}
+};
+
+static PyTypeObject GltfType = {
+    PyVarObject_HEAD_INIT(NULL, 0)
+    .tp_name = "bijparam._native.GltfFile",
+    .tp_basicsize = sizeof(GltfObject),
+    .tp_flags = Py_TPFLAGS_DEFAULT,
+    .tp_doc = "a glTF file read by examples/bp_gltf.h, kept for writing it back",
+    .tp_dealloc = (destructor)Gltf_dealloc,
+    .tp_methods = Gltf_methods,
+};
+
+/* A read-only numpy view of memory the GltfFile owns (None for NULL). */
+static PyObject *gltf_view(GltfObject *owner, void *data, int nd, npy_intp *dims, int type)
+{
+    PyObject *a;
+    if (!data) Py_RETURN_NONE;
+    if (!(a = PyArray_New(&PyArray_Type, nd, dims, type, NULL, data, 0, NPY_ARRAY_CARRAY_RO, NULL))) return NULL;
+    Py_INCREF(owner);
+    if (PyArray_SetBaseObject((PyArrayObject *)a, (PyObject *)owner) < 0) { Py_DECREF(a); return NULL; }
+    return a;
+}
+
+/* _read_gltf(path, texcoord) -> ("ok", GltfFile, dict) | error tuple */
+static PyObject *py_read_gltf(PyObject *self, PyObject *args)
+{
+    PyObject *path = NULL, *d = NULL, *result = NULL;
+    GltfObject *g = NULL;
+    int texcoord;
+    job J;
+    npy_intp dims[2];
+    (void)self;
+    if (!PyArg_ParseTuple(args, "O&i", PyUnicode_FSConverter, &path, &texcoord)) goto done;
+    if (texcoord < 0) { PyErr_SetString(PyExc_ValueError, "texcoord must be 0 or more"); goto done; }
+    if (!(g = PyObject_New(GltfObject, &GltfType))) goto done;
+    memset(&g->file, 0, sizeof g->file);
+    g->encoding = 0;
+    job_init(&J, JOB_GLTF_READ, 1, Py_None);
+    J.gltf = &g->file;
+    J.gltf_read.texcoord = texcoord;
+    J.path = PyBytes_AS_STRING(path);
+    if (job_run(&J, Py_None) < 0) goto done;
+    if (J.st != BP_OK) { result = error_tuple(J.st, &J.err); goto done; }
+    {
+        bp_mesh *m = &g->file.mesh;
+        int ok = (d = PyDict_New()) != NULL;
+        dims[0] = m->num_vertices; dims[1] = 3;
+        ok = ok && put(d, "positions", gltf_view(g, m->positions, 2, dims, NPY_DOUBLE)) == 0;
+        dims[0] = m->num_triangles;
+        ok = ok && put(d, "indices", gltf_view(g, m->triangles, 2, dims, NPY_UINT32)) == 0;
+        ok = ok && put(d, "uv_indices", gltf_view(g, m->corner_uv, 2, dims, NPY_UINT32)) == 0;
+        ok = ok && put(d, "faces", gltf_view(g, m->triangle_face, 1, dims, NPY_UINT32)) == 0;
+        dims[0] = m->num_uvs; dims[1] = 2;
+        ok = ok && put(d, "uvs", gltf_view(g, m->uvs, 2, dims, NPY_DOUBLE)) == 0;
+        ok = ok && put(d, "num_faces", PyLong_FromUnsignedLong(m->num_faces)) == 0;
+        ok = ok && put(d, "has_uv", PyBool_FromLong(g->file.has_uv)) == 0;
+        ok = ok && put(d, "glb", PyBool_FromLong(g->file.glb)) == 0;
+        ok = ok && put(d, "meshes", PyLong_FromUnsignedLong(g->file.num_meshes)) == 0;
+        ok = ok && put(d, "primitives", PyLong_FromUnsignedLong(g->file.num_primitives)) == 0;
+        ok = ok && put(d, "buffer_files", PyLong_FromUnsignedLong(g->file.num_buffer_files)) == 0;
+        ok = ok && put(d, "seconds", PyFloat_FromDouble(J.t_end - J.t_begin)) == 0;
+        ok = ok && put(d, "cpu_seconds", PyFloat_FromDouble(J.cpu_end - J.cpu.begin)) == 0;
+        if (!ok) goto done;
+    }
+    result = Py_BuildValue("(sOO)", "ok", (PyObject *)g, d);
+done:
+    Py_XDECREF(d);
+    Py_XDECREF((PyObject *)g);
+    Py_XDECREF(path);
+    return result;
+}
+
+/* _encode_gltf(gltf, atlas, glb, bin_uri, uri_prefix, threads) ->
+   ("ok", data, bin | None, vertices_in, vertices_out, rounding_fixed,
+    seconds, cpu_seconds) | error tuple.  The atlas must be the result of
+   this file's mesh (the Python layer keeps them together). */
+static PyObject *py_encode_gltf(PyObject *self, PyObject *args)
+{
+    PyObject *gobj, *aobj, *bin_uri, *prefix, *result = NULL;
+    GltfObject *g;
+    AtlasObject *at;
+    int glb, threads, rc;
+    job J;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "O!O!pOOi", &GltfType, &gobj, &AtlasType, &aobj, &glb, &bin_uri, &prefix, &threads))
+        return NULL;
+    g = (GltfObject *)gobj;
+    at = (AtlasObject *)aobj;
+    if ((bin_uri != Py_None && !PyUnicode_Check(bin_uri)) || (prefix != Py_None && !PyUnicode_Check(prefix))) {
+        PyErr_SetString(PyExc_TypeError, "bin_uri and uri_prefix must be str or None");
+        return NULL;
+    }
+    if (threads < 0 || threads > 256) { PyErr_SetString(PyExc_ValueError, "threads must be in [0, 256]"); return NULL; }
+    if (!at->has_atlas) { PyErr_SetString(PyExc_ValueError, "this result's atlas was released: nothing to write"); return NULL; }
+    if (at->atlas.num_corners != 3 * (uint64_t)g->file.mesh.num_triangles) {
+        PyErr_SetString(PyExc_ValueError, "the result is not of this glTF file's mesh");
+        return NULL;
+    }
+    if (g->encoding) { PyErr_SetString(PyExc_RuntimeError, "this glTF file is being written by another thread"); return NULL; }
+    job_init(&J, JOB_GLTF_ENCODE, threads, Py_None);
+    J.gltf = &g->file;
+    J.atlas = &at->atlas;
+    J.gltf_write.glb = glb;
+    J.gltf_write.bin_uri = bin_uri == Py_None ? NULL : PyUnicode_AsUTF8(bin_uri);
+    J.gltf_write.uri_prefix = prefix == Py_None ? NULL : PyUnicode_AsUTF8(prefix);
+    if ((bin_uri != Py_None && !J.gltf_write.bin_uri) || (prefix != Py_None && !J.gltf_write.uri_prefix)) return NULL;
+    g->encoding = 1;
+    at->writing++;
+    rc = job_run(&J, Py_None);
+    at->writing--;
+    g->encoding = 0;
+    if (rc < 0) { bpg_output_free(&J.gltf_out); return NULL; }
+    if (J.st != BP_OK) return error_tuple(J.st, &J.err);
+    result = Py_BuildValue("(sy#Okkkdd)", "ok", (const char *)J.gltf_out.data, (Py_ssize_t)J.gltf_out.size, Py_None,
+                           (unsigned long)J.gltf_out.vertices_in, (unsigned long)J.gltf_out.vertices_out,
+                           (unsigned long)J.gltf_out.rounding_fixed, J.t_end - J.t_begin, J.cpu_end - J.cpu.begin);
+    if (result && J.gltf_out.bin) {
+        PyObject *b = PyBytes_FromStringAndSize((const char *)J.gltf_out.bin, (Py_ssize_t)J.gltf_out.bin_size);
+        if (!b) Py_CLEAR(result);
+        else PyTuple_SetItem(result, 2, b);
+    }
+    bpg_output_free(&J.gltf_out);
+    return result;
+}
+
 /* ---- the module ----------------------------------------------------------------------- */
 
 static PyObject *py_status_strings(PyObject *self, PyObject *noargs)
@@ -1518,6 +1718,8 @@ static PyMethodDef module_methods[] = {
     {"parametrize", py_parametrize, METH_VARARGS, "the library's bp_parameterize on exact arrays (see __init__.py)"},
     {"read_mesh", py_read_mesh, METH_VARARGS, "bp_read_mesh_opt(path) into arrays"},
     {"check", py_check, METH_VARARGS, "the exact check of a map given as arrays"},
+    {"read_gltf", py_read_gltf, METH_VARARGS, "bpg_read(path) into a GltfFile and its mesh's arrays"},
+    {"encode_gltf", py_encode_gltf, METH_VARARGS, "bpg_encode: a result written back into its glTF file's bytes"},
     {"status_strings", py_status_strings, METH_NOARGS, "status name -> bp_status_string"},
     {NULL, NULL, 0, NULL}
 };
@@ -1531,7 +1733,7 @@ PyMODINIT_FUNC PyInit__native(void)
 {
     PyObject *m;
     import_array();
-    if (PyType_Ready(&AtlasType) < 0) return NULL;
+    if (PyType_Ready(&AtlasType) < 0 || PyType_Ready(&GltfType) < 0) return NULL;
     if (!(m = PyModule_Create(&module_def))) return NULL;
     Py_INCREF(&AtlasType);
     if (PyModule_AddObject(m, "Atlas", (PyObject *)&AtlasType) < 0 ||

@@ -1,13 +1,14 @@
 """python -m bijparam.batch IN_DIR OUT_DIR [--scheduler ADDRESS | --workers N]
 
-Every mesh of IN_DIR (.obj, .off, .ply) unwrapped into OUT_DIR/<name>.obj
-by tasks on a Dask distributed cluster: an existing scheduler (ADDRESS,
+Every mesh of IN_DIR (.obj, .off, .ply, .gltf, .glb) unwrapped into
+OUT_DIR/<name>.obj (a glTF file into OUT_DIR/<name>.glb or .gltf, written
+back with a new TEXCOORD_0) by tasks on a Dask distributed cluster: an existing scheduler (ADDRESS,
 e.g. tcp://10.0.0.5:8786, whose workers see IN_DIR and OUT_DIR at the same
 paths), or by default a LocalCluster of N worker processes on this machine.
 
   - Each output is written whole or not at all (a temporary file next to
-    it, renamed when complete); an OBJ input keeps every other line of its
-    file, as the command-line tool's -o does.
+    it, renamed when complete); an OBJ or glTF input keeps everything else
+    of its file, as the command-line tool's -o does.
   - A restarted run skips a mesh whose output exists, is this mesh (the
     same vertices and faces) and passes the exact check; any other output
     is made again.
@@ -29,25 +30,30 @@ import numpy as np
 
 import bijparam
 
-EXTENSIONS = (".obj", ".off", ".ply")
+EXTENSIONS = (".obj", ".off", ".ply", ".gltf", ".glb")
 
 
 def outputs_for(inputs):
-    """OUT names: <stem>.obj; stems shared by two inputs (a.obj, a.off) get
-    their extension too (a.obj.obj, a.off.obj)."""
+    """OUT names: <stem>.obj, or <stem>.glb / <stem>.gltf for glTF; stems
+    shared by two inputs (a.obj, a.off) get their extension too (a.obj.obj,
+    a.off.obj)."""
     stems = {}
     for p in inputs:
         stems.setdefault(os.path.splitext(os.path.basename(p))[0], []).append(p)
     out = {}
     for stem, ps in stems.items():
         for p in ps:
-            out[p] = stem + ".obj" if len(ps) == 1 else os.path.basename(p) + ".obj"
+            ext = os.path.splitext(p)[1].lower()
+            ext = ext if ext in (".gltf", ".glb") else ".obj"
+            out[p] = stem + ext if len(ps) == 1 else os.path.basename(p) + ext
     return out
 
 
 def finished(src, dst, threads=0):
-    """The output exists, holds this input's vertices and faces, and every
-    face's uv map passes the exact check (bijparam.check)."""
+    """The output exists, holds this input's triangles (the same corner
+    positions, in order; a triangle the repair re-oriented with its last
+    two corners swapped, as the writers list it), and its uv map passes
+    the exact check (bijparam.check)."""
     if not os.path.exists(dst):
         return False
     try:
@@ -55,12 +61,13 @@ def finished(src, dst, threads=0):
         b = bijparam.read_mesh(dst, threads=threads)
     except (bijparam.Error, MemoryError):
         return False
-    if b.uvs is None or a.positions.shape != b.positions.shape or not np.array_equal(a.positions, b.positions):
+    if b.uvs is None or a.indices.shape != b.indices.shape:
         return False
-    if a.indices.shape != b.indices.shape:
-        return False
-    # the writer lists re-oriented faces with two corners swapped: the same set
-    if not np.array_equal(np.sort(a.indices, axis=1), np.sort(b.indices, axis=1)):
+    pa, pb = a.positions[a.indices], b.positions[b.indices]          # (M, 3 corners, xyz)
+    same = (pa == pb).all(axis=(1, 2))
+    swapped = (pa[:, 0] == pb[:, 0]).all(axis=1) & (pa[:, 1] == pb[:, 2]).all(axis=1) & \
+        (pa[:, 2] == pb[:, 1]).all(axis=1)
+    if not (same | swapped).all():
         return False
     return bool(bijparam.check(b.positions, b.indices, b.uvs, b.uv_indices, threads=threads))
 

@@ -1,5 +1,5 @@
 """python -m bijparam.batch on a LocalCluster of 2 worker processes: six
-meshes, six bijective outputs; a restart skips what is done and redoes
+meshes (OBJ, OFF and a .glb), six bijective outputs; a restart skips what is done and redoes
 what is not; a worker killed mid-run loses nothing."""
 import glob
 import json
@@ -16,8 +16,8 @@ import pytest
 import bijparam
 import independent
 
-MESHES = ("camel_b.obj", "spot.obj", "torus_with_holes.obj", "fertility.off", "bishop_part_f1000.obj",
-          "face_holes.off")
+GLB = "BoxTextured.glb"      # tests/data/gltf: glTF in and out
+MESHES = ("camel_b.obj", "spot.obj", "torus_with_holes.obj", "fertility.off", "face_holes.off", GLB)
 
 
 def run_batch(in_dir, out_dir, *extra, wait=True):
@@ -35,14 +35,19 @@ def reports_of(stdout):
     return [json.loads(x) for x in lines[:-1]], lines[-1]
 
 
+def out_name(n):
+    stem, ext = os.path.splitext(n)
+    return stem + (ext if ext in (".glb", ".gltf") else ".obj")
+
+
 def assert_outputs(in_dir, out_dir, names):
-    """Each input has its output: the same vertices and faces, every face
-    mapped, bijective by tests/uvcheck.py; no temporary file left."""
-    assert sorted(os.listdir(out_dir)) == sorted(os.path.splitext(n)[0] + ".obj" for n in names)
+    """Each input has its output: the same triangles, every face mapped,
+    bijective by tests/uvcheck.py; no temporary file left."""
+    assert sorted(os.listdir(out_dir)) == sorted(out_name(n) for n in names)
     for n in names:
         a = bijparam.read_mesh(os.path.join(in_dir, n))
-        b = bijparam.read_mesh(os.path.join(out_dir, os.path.splitext(n)[0] + ".obj"))
-        assert np.array_equal(a.positions, b.positions) and np.array_equal(a.indices, b.indices), n
+        b = bijparam.read_mesh(os.path.join(out_dir, out_name(n)))
+        assert np.array_equal(a.positions[a.indices], b.positions[b.indices]), n
         assert b.uvs is not None and len(b.uv_indices) == len(b.indices)
         assert b.uvs.min() >= 0 and b.uvs.max() <= 1
         ok, why = independent.bijective(b.uvs, b.uv_indices)
@@ -54,7 +59,7 @@ def folder(tmp_path, data):
     src = tmp_path / "in"
     src.mkdir()
     for n in MESHES:
-        shutil.copy(data(n), src / n)
+        shutil.copy(data(os.path.join("gltf", n) if n == GLB else n), src / n)
     (src / "notes.txt").write_text("not a mesh\n")
     return src, tmp_path / "out"
 
@@ -88,9 +93,9 @@ def test_restart_skips_what_is_done(folder):
     reports, summary = reports_of(p.stdout)
     by = {os.path.basename(r["input"]): r["status"] for r in reports}
     assert by == {"camel_b.obj": "ok", "spot.obj": "ok", "torus_with_holes.obj": "skipped", "fertility.off": "skipped",
-                  "bishop_part_f1000.obj": "skipped", "face_holes.off": "skipped"}
+                  "face_holes.off": "skipped", GLB: "skipped"}
     assert "2 written, 4 skipped" in summary
-    for n in ("torus_with_holes.obj", "fertility.obj", "bishop_part_f1000.obj", "face_holes.obj"):
+    for n in ("torus_with_holes.obj", "fertility.obj", "face_holes.obj", GLB):
         assert os.stat(out / n).st_mtime_ns == stamp[n], "a finished output was rewritten"
     assert_outputs(src, out, MESHES)
 
