@@ -1,7 +1,8 @@
 /* _native.c - the C extension behind the bijparam Python package.
 
-   It compiles bijparam.h (the whole library, with its thread pool) into one
-   module on the CPython and numpy C APIs.  The Python layer (__init__.py)
+   It compiles bijparam.h (the whole library, with its thread pool) and
+   examples/bp_gltf.h (its glTF reader and writer) into one module on the
+   CPython and numpy C APIs.  The Python layer (__init__.py)
    turns the user's arrays and keywords into exact types -- float64 (N,3)
    positions, uint32 (M,3) indices, option numbers -- and this file checks
    them again (a direct call with anything else raises, never crashes), copies
@@ -368,11 +369,18 @@ static const char *element_name(bp_element e)
     }
 }
 
+/* A message of the library as str: it may quote a file's bytes, which need
+   not be UTF-8 (replaced, never an error). */
+static PyObject *message_str(const char *m)
+{
+    return PyUnicode_DecodeUTF8(m, (Py_ssize_t)strlen(m), "replace");
+}
+
 /* ("error", status, message, element, index, index2, line) */
 static PyObject *error_tuple(bp_status st, const bp_error *err)
 {
-    return Py_BuildValue("(sssssLLL)", "error", status_name(st), bp_status_string(st),
-                         err->message[0] ? err->message : bp_status_string(st), element_name(err->element),
+    return Py_BuildValue("(sssNsLLL)", "error", status_name(st), bp_status_string(st),
+                         message_str(err->message[0] ? err->message : bp_status_string(st)), element_name(err->element),
                          (long long)err->index, (long long)err->index2, (long long)err->line);
 }
 
@@ -1499,11 +1507,11 @@ static PyObject *py_check(PyObject *self, PyObject *args)
     if (J.st != BP_OK) { result = error_tuple(J.st, &J.err); goto done; }
     msg[0] = 0;
     if (K.st != BP_OK) check_message(&K, &m, msg, sizeof msg);
-    result = Py_BuildValue("(s{s:O,s:k,s:k,s:O,s:s,s:s,s:N,s:L})", "ok",
+    result = Py_BuildValue("(s{s:O,s:k,s:k,s:O,s:s,s:N,s:N,s:L})", "ok",
                            "bijective", K.st == BP_OK ? Py_True : Py_False,
                            "charts", (unsigned long)K.atlas.num_charts, "bad_charts", (unsigned long)K.bad_charts,
                            "overlap", K.overlap ? Py_True : Py_False,
-                           "status", status_name(K.st), "message", msg,
+                           "status", status_name(K.st), "message", message_str(msg),
                            "counts", check_report_dict(&K.rep), "chart", (long long)K.chart);
 done:
     bp_atlas_free(&K.atlas);

@@ -285,3 +285,29 @@ def test_ctrl_c_cancels(data):
     lines = out.split("\n")
     assert lines[0].startswith("interrupted"), out
     assert lines[1] == "again ok"
+
+
+def test_random_files_never_crash(tmp_path, data):
+    """Random bytes, and real files cut short or with bytes flipped, under
+    every extension the readers take: MeshError or FileError, or a mesh."""
+    rng = np.random.default_rng(41)
+    seeds = [open(data("spot.obj"), "rb").read(), open(data("fertility.off"), "rb").read(),
+             open(data(os.path.join("gltf", "BoxTextured.glb")), "rb").read()]
+    for trial in range(80):
+        ext = [".obj", ".off", ".ply", ".glb", ".gltf"][trial % 5]
+        if trial % 3 == 0:
+            blob = rng.integers(0, 256, size=int(rng.integers(0, 400)), dtype=np.uint8).tobytes()
+        else:
+            b = bytearray(seeds[trial % 3])
+            b = b[: int(rng.integers(1, len(b) + 1))]
+            for _ in range(int(rng.integers(0, 8))):
+                if b:
+                    b[int(rng.integers(0, len(b)))] = int(rng.integers(0, 256))
+            blob = bytes(b)
+        path = tmp_path / f"f{trial}{ext}"
+        path.write_bytes(blob)
+        try:
+            m = bijparam.read_mesh(str(path))
+        except (bijparam.MeshError, bijparam.FileError, MemoryError):
+            continue
+        assert m.indices.shape[1] == 3 and (m.indices < max(len(m.positions), 1)).all()
