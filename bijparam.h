@@ -18640,6 +18640,12 @@ typedef struct bp__shape {
     int *rowrun;                /* longest run of marked texels in each row */
     int *span;                  /* first and last nonzero word of each row  */
     int rstar;                  /* the row with the longest run              */
+    int nf;                     /* filter rows (step 3's bit-parallel test): */
+    int frow[7];                /* r* first, then the ends, quarters, eighth */
+    int fn[7];                  /* runs of marked texels of each (at most    */
+    int fst[7][BP__PACK_PREFILTER_RUNS], fln[7][BP__PACK_PREFILTER_RUNS];
+                                /* BP__PACK_PREFILTER_RUNS), start, length;
+                                   row r*'s first entry is its longest run */
 } bp__shape;
 
 /* The atlas being filled. */
@@ -18934,6 +18940,34 @@ static int bp__raster_outline(const bp_allocator *a, bp__bits *B, const bp_chart
     return 1;
 }
 
+/* The rows the search filters its candidate origins by, and their runs:
+   r* first, then the first and last rows, and for a tall chart the
+   quarters and an eighth (bit-parallel filtering beats testing many
+   candidates one by one; at 4096 px it makes spot's packing 6x faster).
+   They depend on the shape alone, so they are found once per raster, not
+   once per candidate row of the atlas. */
+static void bp__shape_filters(bp__shape *S)
+{
+    int k, i, h = S->r.h;
+    S->nf = 0;
+    for (k = 0; k < (h >= 16 ? 7 : 3); k++) {
+        int cand = k == 0 ? S->rstar : k == 1 ? 0 : k == 2 ? h - 1 : k == 3 ? h / 2 :
+                   k == 4 ? h / 4 : k == 5 ? 3 * h / 4 : h / 8, dup = 0;
+        for (i = 0; i < S->nf; i++) dup |= S->frow[i] == cand;
+        if (dup) continue;
+        S->frow[S->nf] = cand;
+        S->fn[S->nf] = bp__bits_runs(S->r.b + (size_t)cand * S->r.words, S->r.w, S->fst[S->nf], S->fln[S->nf],
+                                     BP__PACK_PREFILTER_RUNS);
+        S->nf++;
+    }
+    {   /* row r*: its longest run first (ties: the leftmost) */
+        int xs = 0, t;
+        for (k = 1; k < S->fn[0]; k++) if (S->fln[0][k] > S->fln[0][xs]) xs = k;
+        t = S->fst[0][0]; S->fst[0][0] = S->fst[0][xs]; S->fst[0][xs] = t;
+        t = S->fln[0][0]; S->fln[0][0] = S->fln[0][xs]; S->fln[0][xs] = t;
+    }
+}
+
 /* The raster of a chart whose local coordinates L are >= BP__PACK_SHIFT:
    from its outline when `outline` (its map is exactly bijective), else
    triangle by triangle.  BP_ERR_NUMERICAL (not an error: the caller skips
@@ -18974,6 +19008,7 @@ static bp_status bp__shape_make(const bp_allocator *a, const bp_chart *ch, const
         while (hi > lo && !row[hi]) hi--;
         S->span[2 * r] = lo; S->span[2 * r + 1] = hi;
     }
+    bp__shape_filters(S);
     return BP_OK;
 }
 
@@ -19090,25 +19125,34 @@ static int bp__occ_fits(const bp__occ *O, const bp__shape *S, int x, int y)
     return 1;
 }
 
-/* V &= the origins x at which the runs of chart row `crow` avoid atlas row
-   `orow`: a run [s, s+len) needs texels x+s .. x+s+len-1 free, i.e. x+s
-   must start a free run of length len (computed for 64 x at a time by
-   doubling: F_{a+b} = F_a & (F_b >> a)). */
-static void bp__occ_filter_row(bp__occ *O, const uint64_t *orow, const uint64_t *crow, int w)
+/* V &= the origins x at which the runs of filter row f of the chart avoid
+   atlas row `orow`: a run [s, s+len) needs texels x+s .. x+s+len-1 free,
+   i.e. x+s must start a free run of length len (computed for 64 x at a
+   time by doubling: F_{a+b} = F_a & (F_b >> a)).  Only V's words w0..w1
+   can hold candidates, so only they are computed: a bit of F at word i
+   reads texels up to s+len-1 beyond it, so words w0..e with e that far
+   past w1 suffice (texels past e read as taken, which reaches no bit of
+   w0..w1).  Returns 0 when no candidate is left. */
+static int bp__occ_filter_row(bp__occ *O, const uint64_t *orow, const bp__shape *S, int f, int w0, int w1)
 {
-    int st[BP__PACK_PREFILTER_RUNS], ln[BP__PACK_PREFILTER_RUNS], n, k, i, have;
-    n = bp__bits_runs(crow, w, st, ln, BP__PACK_PREFILTER_RUNS);
-    for (k = 0; k < n; k++) {
-        for (i = 0; i < O->aw; i++) O->t0[i] = ~orow[i];
-        for (have = 1; have < ln[k];) {
-            int step = have < ln[k] - have ? have : ln[k] - have;
-            bp__bits_shr(O->t0, O->aw, step, O->t1);
-            for (i = 0; i < O->aw; i++) O->t0[i] &= O->t1[i];
+    int k, i, have, any = 0;
+    for (k = 0; k < S->fn[f]; k++) {
+        int st = S->fst[f][k], ln = S->fln[f][k], e = w1 + ((st + ln + 63) >> 6) + 1, n;
+        if (e > O->aw - 1) e = O->aw - 1;
+        n = e - w0 + 1;
+        for (i = w0; i <= e; i++) O->t0[i] = ~orow[i];
+        for (have = 1; have < ln;) {
+            int step = have < ln - have ? have : ln - have;
+            bp__bits_shr(O->t0 + w0, n, step, O->t1 + w0);
+            for (i = w0; i <= e; i++) O->t0[i] &= O->t1[i];
             have += step;
         }
-        bp__bits_shr(O->t0, O->aw, st[k], O->t1);
-        for (i = 0; i < O->aw; i++) O->v[i] &= O->t1[i];
+        bp__bits_shr(O->t0 + w0, n, st, O->t1 + w0);
+        for (i = w0, any = 0; i <= w1; i++) any |= (O->v[i] &= O->t1[i]) != 0;
+        if (!any) return 0;
     }
+    for (i = w0; i <= w1; i++) any |= O->v[i] != 0;
+    return any;
 }
 
 /* O->v = the origins x in [0, res - w] at which the longest run [s, s+len)
@@ -19116,15 +19160,9 @@ static void bp__occ_filter_row(bp__occ *O, const uint64_t *orow, const uint64_t 
    f0 - s <= x <= f1 - len - s.  Returns 0 when there is none. */
 static int bp__occ_candidates(bp__occ *O, const bp__shape *S, int y)
 {
-    const uint64_t *orow = O->b + (size_t)(y + S->rstar) * O->aw, *crow = S->r.b + (size_t)S->rstar * S->r.words;
-    int st, ln, x = 0, any = 0, i;
+    const uint64_t *orow = O->b + (size_t)(y + S->rstar) * O->aw;
+    int st = S->fst[0][0], ln = S->fln[0][0], x = 0, any = 0, i;
     for (i = 0; i < O->aw; i++) O->v[i] = 0;
-    {   /* the longest run of the row, not the first */
-        int xs = 0, n, k, sts[BP__PACK_PREFILTER_RUNS], lns[BP__PACK_PREFILTER_RUNS];
-        n = bp__bits_runs(crow, S->r.w, sts, lns, BP__PACK_PREFILTER_RUNS);
-        for (k = 0; k < n; k++) if (lns[k] > lns[xs]) xs = k;
-        st = sts[xs]; ln = lns[xs];
-    }
     while (x < O->res) {                /* free runs of the atlas row */
         int f0, f1, lo, hi;
         while (x < O->res && (orow[x >> 6] >> (x & 63) & 1)) {
@@ -19151,22 +19189,13 @@ static int bp__occ_candidates(bp__occ *O, const bp__shape *S, int y)
 static int bp__occ_find(bp__occ *O, const bp__shape *S, int ylim, int xlim, int *ox, int *oy)
 {
     const bp__bits *R = &S->r;
-    int y, y0, r, i, k, rows[7], nrows = 0;
+    int y, y0, r, i, w0, w1;
     if (R->w > O->res || R->h > O->res) return 0;
     y0 = bp__occ_ylow(O, S->rowrun[0]);
     r = bp__occ_ylow(O, S->rowrun[S->rstar]) - S->rstar;
     if (r > y0) y0 = r;
     if (R->w <= BP__PACK_MEMO && R->h <= BP__PACK_MEMO && O->floor_[R->w - 1][R->h - 1] > y0)
         y0 = O->floor_[R->w - 1][R->h - 1];
-    /* the filter rows: r* first, then the ends, and for a tall chart the
-       quarters and an eighth (bit-parallel filtering beats testing many
-       candidates one by one; at 4096 px it makes spot's packing 6x faster) */
-    for (k = 0; k < (R->h >= 16 ? 7 : 3); k++) {
-        int cand = k == 0 ? S->rstar : k == 1 ? 0 : k == 2 ? R->h - 1 : k == 3 ? R->h / 2 :
-                   k == 4 ? R->h / 4 : k == 5 ? 3 * R->h / 4 : R->h / 8, dup = 0;
-        for (i = 0; i < nrows; i++) dup |= rows[i] == cand;
-        if (!dup) rows[nrows++] = cand;
-    }
     for (y = y0; y <= O->res - R->h && y <= ylim; y++) {
         if (O->maxfree[y + S->rstar] < S->rowrun[S->rstar]) continue;
         for (r = 0; r < R->h; r++)
@@ -19176,12 +19205,13 @@ static int bp__occ_find(bp__occ *O, const bp__shape *S, int ylim, int xlim, int 
            run of the atlas, then filtered by the chart's first and last rows
            and its quarters */
         if (!bp__occ_candidates(O, S, y)) continue;
-        for (i = 1; i < nrows; i++) {
-            int any = 0, q;
-            bp__occ_filter_row(O, O->b + (size_t)(y + rows[i]) * O->aw, R->b + (size_t)rows[i] * R->words, R->w);
-            for (q = 0; q < O->aw; q++) any |= O->v[q] != 0;
-            if (!any) break;
+        w0 = 0; w1 = O->aw - 1;
+        for (i = 1; i < S->nf; i++) {
+            while (!O->v[w0]) w0++;                  /* the words that hold candidates */
+            while (!O->v[w1]) w1--;
+            if (!bp__occ_filter_row(O, O->b + (size_t)(y + S->frow[i]) * O->aw, S, i, w0, w1)) break;
         }
+        if (i < S->nf) continue;
         for (i = 0; i < O->aw; i++) {
             uint64_t v = O->v[i];
             while (v) {
