@@ -1235,6 +1235,80 @@ static void test_extreme_scales(void)
     bp_mesh_free(&base, NULL);
 }
 
+/* camel_b without its texture coordinates (3,576 faces, one disk) scaled
+   by 1e100, 1e200, 1e300, 1e-100, 1e-200 and 1e-300 (one rounding per
+   coordinate): bp_parameterize must give BP_OK, the same charts, a map
+   that is exactly valid at its own scale (checked after an exact rescale
+   by a power of two), and that map divided by the factor must be the map
+   at scale 1 to 1e-7 of its diameter (the copies differ from the original
+   by the rounding of the scaled coordinates, which the solve carries). */
+static void test_camel_scales(void)
+{
+    static const double factors[6] = { 1e100, 1e200, 1e300, 1e-100, 1e-200, 1e-300 };
+    bp_mesh base, m;
+    bp_error err;
+    bp_atlas ref;
+    uint32_t *cuv;
+    double *uvs, diam = 0, lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
+    uint32_t i, c;
+    int f;
+    bp_options o = defaults();
+    o.max_iterations = 30;
+    if (!BPT_CHECK(bp_read_obj("tests/data/camel_b.obj", &base, NULL, &err) == BP_OK, "read camel_b")) return;
+    cuv = base.corner_uv; uvs = base.uvs;                 /* flattened from scratch, as without its vt */
+    base.corner_uv = NULL; base.uvs = NULL;
+    if (!BPT_CHECK(bp_parameterize(&ref, &base, &o, &err) == BP_OK && ref.num_failed == 0,
+                   "camel_b at scale 1 (%s)", err.message)) {
+        base.corner_uv = cuv; base.uvs = uvs;
+        bp_mesh_free(&base, NULL);
+        return;
+    }
+    for (c = 0; c < ref.num_charts; c++)
+        for (i = 0; i < ref.charts[c].num_vertices; i++) {
+            int k;
+            for (k = 0; k < 2; k++) {
+                double u = ref.charts[c].uv[2 * i + k];
+                if (u < lo[k]) lo[k] = u;
+                if (u > hi[k]) hi[k] = u;
+            }
+        }
+    diam = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]));
+    for (f = 0; f < 6; f++) {
+        bp_atlas at;
+        bp_status st;
+        double worst = 0;
+        int e, same = 1, valid = 1;
+        (void)frexp(factors[f], &e);
+        e -= 1;
+        m = base;
+        m.positions = (double *)malloc(3 * base.num_vertices * sizeof(double));
+        for (i = 0; i < 3 * base.num_vertices; i++) m.positions[i] = base.positions[i] * factors[f];
+        st = bp_parameterize(&at, &m, &o, &err);
+        if (BPT_CHECK(st == BP_OK && at.num_failed == 0 && at.num_charts == ref.num_charts,
+                      "camel_b x %g: bp_parameterize BP_OK, %u charts as at scale 1 (%s: %s)", factors[f],
+                      ref.num_charts, bp_status_string(st), err.message)) {
+            for (c = 0; c < at.num_charts; c++) {
+                const bp_chart *a = &at.charts[c], *r = &ref.charts[c];
+                valid &= chart_valid_at(a, e);
+                same &= a->num_vertices == r->num_vertices;
+                for (i = 0; same && i < 2 * a->num_vertices; i++) {
+                    double d = fabs(a->uv[i] / factors[f] - r->uv[i]);
+                    if (!(d <= worst)) worst = d;
+                }
+            }
+            BPT_CHECK(valid, "camel_b x %g: every chart's map exactly valid (/ 2^%d)", factors[f], e);
+            BPT_CHECK(same && worst <= 1e-7 * diam,
+                      "camel_b x %g: the map / %g is the map at scale 1 (farthest vertex %.3g of the diameter)",
+                      factors[f], factors[f], worst / diam);
+        }
+        bp_atlas_free(&at);
+        free(m.positions);
+    }
+    bp_atlas_free(&ref);
+    base.corner_uv = cuv; base.uvs = uvs;
+    bp_mesh_free(&base, NULL);
+}
+
 /* The outline packer puts the charts into [0,1]^2 (atlas_resolution), so
    the map of a mesh solved on a rescaled copy must not be scaled back:
    bishop x 2^200 and x 2^-200 with atlas_resolution 256 give an atlas in
@@ -1343,6 +1417,7 @@ int main(void)
     test_cancel_states();
     test_local_defects();
     test_extreme_scales();
+    test_camel_scales();
     test_extreme_scale_atlas();
     test_limits();
     test_many_holes();
