@@ -11,8 +11,8 @@
 #   make check        the long suite: the tests with a short form in make test
 #                     in full (test_threads, test_newton, test_start,
 #                     test_readme.sh), the compile matrix (tests/test_compile.sh),
-#                     every combination of the opt-out macros
-#                     (tests/test_build_options.sh),
+#                     every combination of the opt-out macros built as C
+#                     and C++ (tests/test_build_matrix.sh),
 #                     the tool cross-built for Windows (run under wine) and
 #                     aarch64 (under qemu) writing the native bytes
 #                     (tests/test_cross.sh),
@@ -98,7 +98,7 @@ CXX_TESTS := $(patsubst tests/%.cpp,$(BUILD)/tests/%,$(wildcard tests/test_*.cpp
 # of the opt-out macros, the Windows and aarch64 builds' bytes against the
 # native ones, fuzzing, the sanitizer builds, the install and CMake
 # consumers), the others in make test.
-CHECK_SH  := tests/test_compile.sh tests/test_build_options.sh tests/test_cross.sh tests/test_fuzz.sh \
+CHECK_SH  := tests/test_compile.sh tests/test_build_matrix.sh tests/test_cross.sh tests/test_fuzz.sh \
              tests/test_sanitizers.sh tests/test_install.sh tests/test_python_long.sh
 SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 ALL_TESTS := $(SH_TESTS) $(C_TESTS) $(CXX_TESTS)

@@ -60,17 +60,6 @@
    -------------
       BP_IMPLEMENTATION     emit the implementation in this translation unit
       BP_STATIC             make every function static (private copy per file)
-      BP_NO_STDIO           leave out file reading/writing (no <stdio.h>)
-      BP_NO_IO              leave out every reader and writer, the in-memory
-                            parsers too (implies BP_NO_STDIO); the embedder
-                            fills a bp_mesh or uses bp_mesh_from_view
-      BP_NO_VISIBILITY      leave out chapter 4: the BVH, the view models,
-                            bp_visibility and bp_texture_to_screen; options
-                            with a view model fail with BP_ERR_UNSUPPORTED
-                            (opt.importance, the caller's own weights, stays)
-   Each BP_NO_ part is left out whole: its public functions are not declared,
-   and an option that would need it fails with BP_ERR_UNSUPPORTED and a
-   message naming the macro, never silently does something else.
       BP_MALLOC(sz,u)       default allocator (both or neither):
       BP_FREE(p,u)          defaults are malloc/free; u is the user pointer
       BP_ASSERT(x)          internal invariant check, default: nothing
@@ -81,6 +70,37 @@
       BP_NO_SIMD            leave out the AVX kernels of the sparse factorization
                             (x86-64, GCC/Clang, chosen at run time; they give
                             the same bits as the plain C loops, >>sparse)
+      BP_NO_STDIO           leave out file reading/writing (no <stdio.h>)
+
+   Opt-out parts.  Each removes its code and its public declarations whole;
+   an option that needs a left-out part fails with BP_ERR_UNSUPPORTED and a
+   message naming the option and the macro, never does something else.
+
+      macro             leaves out                        refused options
+      ----------------  --------------------------------  -------------------
+      BP_NO_NEWTON      projected Newton (>>hessian,      opt.direction =
+                        >>newton), the supernodal         BP_DIRECTION_NEWTON
+                        Cholesky (>>sparse), the
+                        mean-value start's BiCGSTAB and
+                        the conformal start's Schur
+                        complement (their scalar
+                        factorizations serve instead)
+      BP_NO_ATLAS       segmentation (>>segment:          opt.atlas_resolution,
+                        bp_atlas_segment,                 opt.segment = 1,
+                        bp_atlas_refine) and the          opt.max_distortion,
+                        outline packer (>>pack); charts   opt.max_charts
+                        are still cut and shelf-packed
+      BP_NO_VISIBILITY  chapter 4: the BVH, view models,  opt.views
+                        bp_visibility,
+                        bp_texture_to_screen
+      BP_NO_IO          the OBJ/OFF/PLY readers, writers  (none: the embedder
+                        and in-memory parsers (implies    fills a bp_mesh or
+                        BP_NO_STDIO)                      uses bp_mesh_from_view)
+
+   Without Newton every chart takes the preconditioned L-BFGS, and
+   BP_INIT_AUTO tries the conformal start below 100,000 triangles only.
+   BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY is the core library;
+   `make bench-build` measures each configuration's compile time and size.
 
    CONVENTIONS
    -----------
@@ -308,12 +328,14 @@ typedef enum bp_direction {
                                         any size; else PRECONDITIONED.  When
                                         the allocator refuses Newton's memory,
                                         PRECONDITIONED finishes the chart from
-                                        its last valid map (chart.direction) */
+                                        its last valid map (chart.direction).
+                                        With BP_NO_NEWTON: PRECONDITIONED   */
     BP_DIRECTION_LBFGS,              /* the dissertation's L-BFGS, scalar initial
                                         Hessian (sec 3.5, Algorithm 1)             */
     BP_DIRECTION_GRADIENT,           /* gradient descent (for comparison)          */
     BP_DIRECTION_NEWTON,             /* projected Newton: per-triangle Hessians
-                                        projected to PSD, sparse LDL^T (>>newton)  */
+                                        projected to PSD, sparse LDL^T (>>newton);
+                                        BP_NO_NEWTON leaves it out              */
     BP_DIRECTION_PRECONDITIONED      /* L-BFGS with the rest-shape Laplacian as
                                         initial Hessian (far fewer iterations);
                                         the default's choice for the charts
@@ -737,10 +759,13 @@ BPDEF bp_status bp_atlas_use_input_uvs(bp_atlas *atlas, const bp_mesh *mesh, bp_
    again from their part of the map.  Each keeps every map valid and the
    result bit-identical for any number of threads; with segmentation off
    (opt->segment -1, or no atlas_resolution / max_distortion / max_charts,
-   or input uvs or pins) bp_atlas_segment and bp_atlas_refine do nothing. */
+   or input uvs or pins) bp_atlas_segment and bp_atlas_refine do nothing.
+   BP_NO_ATLAS leaves both out. */
+#ifndef BP_NO_ATLAS
 BPDEF bp_status bp_atlas_segment(bp_atlas *atlas, const bp_mesh *mesh, const bp_options *opt, bp_error *err);
-BPDEF bp_status bp_atlas_solve(bp_atlas *atlas, const bp_mesh *mesh, const bp_options *opt, bp_error *err);
 BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *mesh, const bp_options *opt, bp_error *err);
+#endif
+BPDEF bp_status bp_atlas_solve(bp_atlas *atlas, const bp_mesh *mesh, const bp_options *opt, bp_error *err);
 /* Everything: build, init, optimize, pack, and an exact check of the packed
    atlas.  BP_OK: every chart mapped.  BP_ERR_CHARTS_FAILED (not strict) and
    BP_ERR_CANCELLED: the atlas is kept, every chart valid or reported failed,
@@ -963,8 +988,9 @@ BPDEF void      bp_mesh_view_free(bp_mesh *mesh, const bp_mesh_view *view, const
 #endif
 /* The dense kernels of the supernodal factorization on AVX registers
    (>>sparse), x86-64 with GCC or Clang only, the processor asked at run
-   time; the same bits as the plain loops.  BP_NO_SIMD leaves them out. */
-#if !defined(BP_NO_SIMD) && (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
+   time; the same bits as the plain loops.  BP_NO_SIMD leaves them out,
+   and so does BP_NO_NEWTON, which leaves out that factorization. */
+#if !defined(BP_NO_SIMD) && !defined(BP_NO_NEWTON) && (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
 #define BP__AVX 1
 #include <immintrin.h>
 #ifndef BP__HAVE_AVX
@@ -1424,9 +1450,40 @@ BPDEF void bp_options_init(bp_options *opt)
     opt->struct_size = sizeof *opt;
 }
 
+/* An option that needs a part this build leaves out (BP_NO_NEWTON,
+   BP_NO_ATLAS, BP_NO_VISIBILITY): BP_ERR_UNSUPPORTED with a message naming
+   the option and the macro, checked where every public call reads its
+   options (bp__opts), so no call silently does something else. */
+static bp_status bp__unsupported(const bp_options *o, bp_error *err)
+{
+#ifdef BP_NO_NEWTON
+    if (o->direction == BP_DIRECTION_NEWTON)
+        return bp__fail(err, BP_ERR_UNSUPPORTED, BP_ELEMENT_NONE, -1, -1, 0,
+                        "opt.direction BP_DIRECTION_NEWTON needs projected Newton, which BP_NO_NEWTON leaves out");
+#endif
+#ifdef BP_NO_ATLAS
+    if (o->atlas_resolution != 0)
+        return bp__fail(err, BP_ERR_UNSUPPORTED, BP_ELEMENT_NONE, -1, -1, 0,
+                        "opt.atlas_resolution needs the outline packer, which BP_NO_ATLAS leaves out");
+    if (o->segment > 0 || o->max_distortion != 0 || o->max_charts != 0)
+        return bp__fail(err, BP_ERR_UNSUPPORTED, BP_ELEMENT_NONE, -1, -1, 0,
+                        "opt.%s needs the segmentation, which BP_NO_ATLAS leaves out",
+                        o->segment > 0 ? "segment = 1" : o->max_distortion != 0 ? "max_distortion" : "max_charts");
+#endif
+#ifdef BP_NO_VISIBILITY
+    if (o->views.model != BP_VIEW_NONE)
+        return bp__fail(err, BP_ERR_UNSUPPORTED, BP_ELEMENT_NONE, -1, -1, 0,
+                        "opt.views needs the visibility code, which BP_NO_VISIBILITY leaves out");
+#endif
+    (void)o;
+    (void)err;
+    return BP_OK;
+}
+
 /* The caller's options as this version's struct in *out (NULL stays NULL).
    *st: BP_ERR_INVALID_ARGUMENT for a size below 0.2.0's, or a field beyond
-   this version's struct that is set. */
+   this version's struct that is set; BP_ERR_UNSUPPORTED for an option this
+   build leaves out (bp__unsupported). */
 static const bp_options *bp__opts(const bp_options *in, bp_options *out, bp_error *err, bp_status *st)
 {
     size_t n, i;
@@ -1449,6 +1506,7 @@ static const bp_options *bp__opts(const bp_options *in, bp_options *out, bp_erro
     memset(out, 0, sizeof *out);
     memcpy(out, in, n < sizeof *out ? n : sizeof *out);
     out->struct_size = sizeof *out;
+    if ((*st = bp__unsupported(out, err)) != BP_OK) return NULL;
     return out;
 }
 
@@ -7342,7 +7400,10 @@ BPDEF bp_status bp_atlas_build(bp_atlas *atlas, const bp_mesh *m, const bp_optio
     uint32_t c;
     void *pool = NULL;
     int strict = opt_ && opt_->strict;
-    if (ost_ != BP_OK) return ost_;
+    if (ost_ != BP_OK) {                       /* the atlas zeroed, as for every failure */
+        if (atlas) memset(atlas, 0, sizeof *atlas);
+        return ost_;
+    }
     opt = opt_;
     if (!atlas)
         return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "atlas must not be NULL");
@@ -7475,6 +7536,7 @@ typedef struct bp__ndnode {
                                      plan, and where its rows' cuts start */
 } bp__ndnode;
 
+#ifndef BP_NO_NEWTON
 /* The supernodal factor of a matrix in 2x2 blocks (the essay before
    bp__super_graph below).  Supernode s is the run of vertices
    [first[s], first[s+1]) of the new order; its rows are the vertices
@@ -7513,6 +7575,7 @@ static void bp__super_free(const bp_allocator *a, bp__super *S)
     bp__free(a, S->up); bp__free(a, S->uk); bp__free(a, S->uo); bp__free(a, S->amap);
     bp__free(a, S);
 }
+#endif /* BP_NO_NEWTON */
 
 /* L is stored once, by rows, each row sorted by column: the row k computed
    by the up-looking step is exactly what is stored, and both triangular
@@ -7528,9 +7591,11 @@ typedef struct bp__factor {
                                      precision (it reuses Rx's storage)   */
     uint32_t *cutp;               /* the solve plan (bp__solve_plan)      */
     bp__ndnode tree[BP__ND_NODES];
+#ifndef BP_NO_NEWTON
     bp__super *sn;                /* the supernodal factor (A->blocks2;
                                      then only n, symmetric, D, tree and sn
                                      are used)                            */
+#endif
 } bp__factor;
 
 static void bp__factor_free(const bp_allocator *a, bp__factor *f)
@@ -7538,8 +7603,31 @@ static void bp__factor_free(const bp_allocator *a, bp__factor *f)
     bp__free(a, f->perm); bp__free(a, f->iperm); bp__free(a, f->Rp); bp__free(a, f->Ri);
     bp__free(a, f->Rx); bp__free(a, f->Ux); bp__free(a, f->D); bp__free(a, f->Rxf);
     bp__free(a, f->cutp);
+#ifndef BP_NO_NEWTON
     bp__super_free(a, f->sn);
+#endif
     memset(f, 0, sizeof *f);
+}
+
+static int bp__u32_cmp(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Sort a few vertex numbers: by insertion for the short lists meshes give
+   (a vertex's neighbours, a dozen; a supernode's rows, 16 on average on
+   face), by qsort beyond 32 (a hole centre's neighbours, a separator's
+   rows). */
+static void bp__u32_sort(uint32_t *v, uint32_t n)
+{
+    uint32_t k, m;
+    if (n > 32) { qsort(v, n, sizeof(uint32_t), bp__u32_cmp); return; }
+    for (k = 1; k < n; k++) {
+        uint32_t x = v[k];
+        for (m = k; m > 0 && v[m - 1] > x; m--) v[m] = v[m - 1];
+        v[m] = x;
+    }
 }
 
 /* BFS inside the subset marked owner[v] == id, from `start`.  Writes the
@@ -8033,6 +8121,9 @@ static void bp__nd_par_level(bp__nd_par *P, const bp__par *par, uint32_t n, cons
     P->npiece = k;
 }
 
+#define BP__SUPER_ORDER 1           /* bp__nd_order's mode: the best of three cuts, refined */
+#define BP__SCALAR_ORDER 0          /* ... and the plain level-set cut */
+
 /* The nested-dissection order of A's graph (order: new -> old) and the
    top of its tree; on par's threads when par is given (any thread count,
    any task order: the same order and tree).  with (or NULL): a loop
@@ -8122,6 +8213,24 @@ static void bp__nd_restrict(const uint32_t *order, const bp__ndnode *tree, uint3
         rtree[k].lo = pre[tree[k].lo]; rtree[k].a = pre[tree[k].a];
         rtree[k].b = pre[tree[k].b]; rtree[k].hi = pre[tree[k].hi];
     }
+}
+
+/* Whether the dissection tree (in the positions iperm gives) still
+   separates the graph after adding the count vertex pairs: each pair,
+   followed down from the root, must end with one vertex in a node's
+   separator [b, hi) or both in an unsplit node, never one in each half. */
+static int bp__nd_keeps(const bp__ndnode *tree, const uint32_t *iperm, const uint32_t *pairs, size_t count)
+{
+    size_t e;
+    for (e = 0; e < count; e++) {
+        uint32_t pu = iperm[pairs[2 * e]], pw = iperm[pairs[2 * e + 1]], k = 0;
+        if (pu < tree[0].lo || pu >= tree[0].hi || pw < tree[0].lo || pw >= tree[0].hi) return 0;
+        while (k < BP__ND_NODES && tree[k].used && tree[k].split && pu < tree[k].b && pw < tree[k].b) {
+            if ((pu < tree[k].a) != (pw < tree[k].a)) return 0;
+            k = 2 * k + (pu < tree[k].a ? 1 : 2);
+        }
+    }
+    return 1;
 }
 
 /* The nodes of the recorded top of the nested-dissection tree, in the order
@@ -8403,6 +8512,8 @@ done:
     return st;
 }
 
+#ifndef BP_NO_NEWTON /* (to the end of bp__super_factorize) */
+
 /* ---- The supernodal Cholesky factorization of a 2x2-block matrix ---------
 
    Projected Newton (>>newton) solves (H + delta I) v = -g every iteration
@@ -8519,8 +8630,6 @@ static int bp__super_graph(const bp_allocator *a, const bp__sparse *A, bp__spars
    stored values) and buy long supernodes (6.5 vertices instead of 1.55,
    4 times fewer), and the blocked kernels (panels, the update by 4 x 2
    blocks) pay per supernode, so the factorization is faster. */
-#define BP__SUPER_ORDER 1           /* bp__nd_order's mode for the supernodal factor */
-#define BP__SCALAR_ORDER 0          /* ... and for the scalar one */
 static int bp__super_relax(uint32_t nc, double nz, double size)
 {
     double z = 1 - nz / size;
@@ -8561,27 +8670,6 @@ static uint32_t bp__super_partition(const uint32_t *parent, const uint32_t *cnt,
     if (nv > 0) { first[ns] = f; msz[ns++] = m; }
     first[ns] = nv;
     return ns;
-}
-
-static int bp__u32_cmp(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* Sort a few vertex numbers: by insertion for the short lists meshes give
-   (a vertex's neighbours, a dozen; a supernode's rows, 16 on average on
-   face), by qsort beyond 32 (a hole centre's neighbours, a separator's
-   rows). */
-static void bp__u32_sort(uint32_t *v, uint32_t n)
-{
-    uint32_t k, m;
-    if (n > 32) { qsort(v, n, sizeof(uint32_t), bp__u32_cmp); return; }
-    for (k = 1; k < n; k++) {
-        uint32_t x = v[k];
-        for (m = k; m > 0 && v[m - 1] > x; m--) v[m] = v[m - 1];
-        v[m] = x;
-    }
 }
 
 /* Who updates whom: supernode K's rows below its columns fall in runs,
@@ -10202,6 +10290,7 @@ static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A,
 {
     return bp__super_factorize_like(a, A, F, bad_row, par, bs, fallback, order, tree, NULL);
 }
+#endif /* BP_NO_NEWTON: the supernodal Cholesky */
 
 /* The values of L, U and D, one row k at a time, in parallel phases along
    the dissection tree (see bp__fact_rows).  Arrays already allocated are
@@ -10213,7 +10302,9 @@ static int bp__fact_numeric(const bp_allocator *a, const bp__sparse *A, bp__fact
     uint32_t n = A->n, nnzL;
     bp__fact_task T;
     int phase, ok = 0;
+#ifndef BP_NO_NEWTON
     if (F->sn) return bp__super_numeric(a, A, F, par);
+#endif
     nnzL = F->Rp[n];
     memset(&T, 0, sizeof T);
     if (!F->Rx) F->Rx = (double *)bp__alloc_array(a, nnzL, sizeof(double));
@@ -10259,12 +10350,17 @@ static bp_status bp__factorize_order(const bp_allocator *a, const bp__sparse *A,
     uint32_t *parent = NULL, *mark = NULL, *tpos = NULL;
     bp__par serial = bp__par_serial();
     bp_status st = BP_ERR_OUT_OF_MEMORY;
+#ifndef BP_NO_NEWTON
     if (A->blocks2 || A->super1) {
         int fallback;
         st = bp__super_factorize(a, A, F, bad_row, par, A->blocks2 ? 2 : 1, &fallback, order, tree);
         if (!fallback && (st != BP_ERR_NUMERICAL || A->blocks2)) return st;
         st = BP_ERR_OUT_OF_MEMORY;
     }
+#else
+    (void)order;
+    (void)tree;
+#endif
     memset(F, 0, sizeof *F);
     F->n = n;
     F->symmetric = A->symmetric;
@@ -10329,11 +10425,15 @@ static bp_status bp__factor_too_large(bp_error *err, uint32_t chart, uint32_t nt
 static void bp__factor_solve_par(const bp__factor *F, const double *b, double *x, double *z, const bp__par *par)
 {
     uint32_t n = F->n, i, q;
+#ifndef BP_NO_NEWTON
     if (F->sn) {
         bp__par serial = bp__par_serial();
         bp__super_solve(F, b, x, z, par ? par : &serial);
         return;
     }
+#else
+    (void)par;
+#endif
     for (i = 0; i < n; i++) z[i] = b[F->perm[i]];
     for (i = 0; i < n; i++) {                        /* L z = b (unit)   */
         double s = z[i];
@@ -10374,6 +10474,7 @@ static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const do
     for (j = 0; j < A->n; j++) x[j] += d[j];
 }
 
+#ifndef BP_NO_NEWTON
 /* The preconditioner's solves (bp__precondition) read a unit lower L by
    rows in single precision, and D.  From the supernodal Cholesky factor
    C C^T of a scalar matrix (bs 1) that is
@@ -10482,6 +10583,7 @@ static int bp__super_to_rows(const bp_allocator *a, bp__factor *F, const bp__par
     F->sn = NULL;
     return 1;
 }
+#endif /* BP_NO_NEWTON */
 
 
 /* For the preconditioner: L in single precision.  A preconditioner only
@@ -10499,7 +10601,12 @@ static int bp__factor_single(const bp_allocator *a, bp__factor *F, const bp__par
 {
     size_t p, nnz;
     unsigned char *buf = (unsigned char *)F->Rx;
+#ifndef BP_NO_NEWTON
     if (F->sn) return bp__super_to_rows(a, F, par);
+#else
+    (void)a;
+    (void)par;
+#endif
     nnz = F->Rp[F->n];
     for (p = 0; p < nnz; p++) {
         double d;
@@ -12208,6 +12315,100 @@ static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart 
     return 1;
 }
 
+/* Phase 5b, one ordering for two factorizations.  The start map's system
+   and Newton's (>>newton) are both factored after a nested dissection of
+   the chart's vertex graph, and that ordering is a third of either's
+   analysis (face: about 60 ms of the one-thread run each).  So the dissection is computed once, here, on
+   the filled chart's graph (all N vertices: hole centres and the fixed
+   outer loop too), and restricted (bp__nd_restrict) twice: to the free
+   vertices, for this system, whose graph is the filled graph's induced
+   subgraph on them; and to the chart's own vertices, for Newton's first
+   factorization, whose pattern is the chart's edges (a subgraph of the
+   filled graph's on them) plus the barrier's pairs, which bp__nd_keeps
+   checks there before the order is used (else Newton orders anew).  The
+   order is computed on the runner's threads with the same result on any
+   number (>>sparse); with (or NULL) is a loop run beside the dissection's
+   root split (bp__nd_order_with): the conformal start's matrix, or
+   without it phase 3's weights. */
+static int bp__tutte_order(const bp_allocator *a, bp__tutte *T, const bp__par *runner, const bp__loop *with)
+{
+    bp__sparse G;
+    uint32_t v, e, w = 0;
+    int ok;
+    memset(&G, 0, sizeof G);
+    G.n = T->N;
+    G.symmetric = 1;
+    G.colp = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
+    G.row = (uint32_t *)bp__alloc_array(a, (size_t)T->ne + T->N + 1, sizeof(uint32_t));
+    T->nd = (uint32_t *)bp__alloc_array(a, T->N ? T->N : 1, sizeof(uint32_t));
+    if (G.colp && G.row && T->nd) {
+        for (v = 0; v < T->N; v++) {               /* the sorted neighbours with v itself, as in H's graph */
+            G.colp[v] = w;
+            for (e = T->adjp[v]; e < T->adjp[v + 1] && T->adj[e] < v; e++) G.row[w++] = T->adj[e];
+            G.row[w++] = v;
+            for (; e < T->adjp[v + 1]; e++) G.row[w++] = T->adj[e];
+        }
+        G.colp[T->N] = w;
+    }
+    ok = G.colp && G.row && T->nd && bp__nd_order_with(a, &G, T->nd, T->ndtree, BP__SUPER_ORDER, runner, with);
+    bp__free(a, G.colp);
+    bp__free(a, G.row);
+    return ok;
+}
+
+/* A's factor (the free vertices' system, or its symmetric part) in the
+   order of phase 5b restricted to the free vertices (without phase 5b,
+   T->nd NULL, in its own order). */
+static bp_status bp__tutte_factorize(const bp_allocator *a, const bp__tutte *T, const bp__sparse *A, bp__factor *F,
+                                     uint32_t *bad, const bp__par *runner)
+{
+    uint32_t *order = (uint32_t *)bp__alloc_array(a, T->nfree ? T->nfree : 1, sizeof(uint32_t));
+    uint32_t *pre = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
+    bp__ndnode tree[BP__ND_NODES];
+    bp_status st = BP_ERR_OUT_OF_MEMORY;
+    if (!T->nd) st = bp__factorize(a, A, F, bad, runner);
+    else if (order && pre) {
+        bp__nd_restrict(T->nd, T->ndtree, T->N, T->idx, order, tree, pre);
+        st = bp__factorize_order(a, A, F, bad, runner, order, tree);
+    }
+    bp__free(a, order);
+    bp__free(a, pre);
+    return st;
+}
+
+/* The order restricted to the chart's vertices (hole centres dropped):
+   order (nv words) and its tree.  Returns 0 out of memory. */
+static int bp__tutte_chart_order(const bp_allocator *a, const bp__tutte *T, uint32_t *order, bp__ndnode *tree)
+{
+    uint32_t *keep = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
+    uint32_t *pre = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
+    uint32_t v;
+    int ok = keep && pre;
+    if (ok) {
+        for (v = 0; v < T->N; v++) keep[v] = v < T->nv ? v : BP__NONE;
+        bp__nd_restrict(T->nd, T->ndtree, T->N, keep, order, tree, pre);
+    }
+    bp__free(a, keep);
+    bp__free(a, pre);
+    return ok;
+}
+
+/* That order (allocated with room for the tree: nv + 6 BP__ND_NODES
+   words), handed to the chart for Newton and the preconditioner: nv words
+   of the order, then six per tree node (lo, a, b, hi, used, split), read
+   back by bp__opt_start_order. */
+static void bp__tutte_keep_order(const bp__tutte *T, uint32_t *order, const bp__ndnode *tree, bp_chart *ch)
+{
+    uint32_t k;
+    for (k = 0; k < BP__ND_NODES; k++) {
+        uint32_t *w = order + T->nv + 6 * k;
+        w[0] = tree[k].lo; w[1] = tree[k].a; w[2] = tree[k].b; w[3] = tree[k].hi;
+        w[4] = (uint32_t)tree[k].used; w[5] = (uint32_t)tree[k].split;
+    }
+    ch->start_order = order;
+}
+
+#ifndef BP_NO_NEWTON /* (phase 6a, to the end of bp__tutte_krylov) */
 /* Phase 6a, the mean-value system without its LU.  The mean-value matrix
    A is not symmetric, and its LU by the scalar up-looking rows (>>sparse)
    was half of a million-face chart's whole run.  First each row is divided by its diagonal, so the
@@ -12535,99 +12736,6 @@ done:
     return ok;
 }
 
-/* Phase 5b, one ordering for two factorizations.  The start map's system
-   and Newton's (>>newton) are both factored after a nested dissection of
-   the chart's vertex graph, and that ordering is a third of either's
-   analysis (face: about 60 ms of the one-thread run each).  So the dissection is computed once, here, on
-   the filled chart's graph (all N vertices: hole centres and the fixed
-   outer loop too), and restricted (bp__nd_restrict) twice: to the free
-   vertices, for this system, whose graph is the filled graph's induced
-   subgraph on them; and to the chart's own vertices, for Newton's first
-   factorization, whose pattern is the chart's edges (a subgraph of the
-   filled graph's on them) plus the barrier's pairs, which bp__nd_keeps
-   checks there before the order is used (else Newton orders anew).  The
-   order is computed on the runner's threads with the same result on any
-   number (>>sparse); with (or NULL) is a loop run beside the dissection's
-   root split (bp__nd_order_with): the conformal start's matrix, or
-   without it phase 3's weights. */
-static int bp__tutte_order(const bp_allocator *a, bp__tutte *T, const bp__par *runner, const bp__loop *with)
-{
-    bp__sparse G;
-    uint32_t v, e, w = 0;
-    int ok;
-    memset(&G, 0, sizeof G);
-    G.n = T->N;
-    G.symmetric = 1;
-    G.colp = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
-    G.row = (uint32_t *)bp__alloc_array(a, (size_t)T->ne + T->N + 1, sizeof(uint32_t));
-    T->nd = (uint32_t *)bp__alloc_array(a, T->N ? T->N : 1, sizeof(uint32_t));
-    if (G.colp && G.row && T->nd) {
-        for (v = 0; v < T->N; v++) {               /* the sorted neighbours with v itself, as in H's graph */
-            G.colp[v] = w;
-            for (e = T->adjp[v]; e < T->adjp[v + 1] && T->adj[e] < v; e++) G.row[w++] = T->adj[e];
-            G.row[w++] = v;
-            for (; e < T->adjp[v + 1]; e++) G.row[w++] = T->adj[e];
-        }
-        G.colp[T->N] = w;
-    }
-    ok = G.colp && G.row && T->nd && bp__nd_order_with(a, &G, T->nd, T->ndtree, BP__SUPER_ORDER, runner, with);
-    bp__free(a, G.colp);
-    bp__free(a, G.row);
-    return ok;
-}
-
-/* A's factor (the free vertices' system, or its symmetric part) in the
-   order of phase 5b restricted to the free vertices (without phase 5b,
-   T->nd NULL, in its own order). */
-static bp_status bp__tutte_factorize(const bp_allocator *a, const bp__tutte *T, const bp__sparse *A, bp__factor *F,
-                                     uint32_t *bad, const bp__par *runner)
-{
-    uint32_t *order = (uint32_t *)bp__alloc_array(a, T->nfree ? T->nfree : 1, sizeof(uint32_t));
-    uint32_t *pre = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
-    bp__ndnode tree[BP__ND_NODES];
-    bp_status st = BP_ERR_OUT_OF_MEMORY;
-    if (!T->nd) st = bp__factorize(a, A, F, bad, runner);
-    else if (order && pre) {
-        bp__nd_restrict(T->nd, T->ndtree, T->N, T->idx, order, tree, pre);
-        st = bp__factorize_order(a, A, F, bad, runner, order, tree);
-    }
-    bp__free(a, order);
-    bp__free(a, pre);
-    return st;
-}
-
-/* The order restricted to the chart's vertices (hole centres dropped):
-   order (nv words) and its tree.  Returns 0 out of memory. */
-static int bp__tutte_chart_order(const bp_allocator *a, const bp__tutte *T, uint32_t *order, bp__ndnode *tree)
-{
-    uint32_t *keep = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
-    uint32_t *pre = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
-    uint32_t v;
-    int ok = keep && pre;
-    if (ok) {
-        for (v = 0; v < T->N; v++) keep[v] = v < T->nv ? v : BP__NONE;
-        bp__nd_restrict(T->nd, T->ndtree, T->N, keep, order, tree, pre);
-    }
-    bp__free(a, keep);
-    bp__free(a, pre);
-    return ok;
-}
-
-/* That order (allocated with room for the tree: nv + 6 BP__ND_NODES
-   words), handed to the chart for Newton and the preconditioner: nv words
-   of the order, then six per tree node (lo, a, b, hi, used, split), read
-   back by bp__opt_start_order. */
-static void bp__tutte_keep_order(const bp__tutte *T, uint32_t *order, const bp__ndnode *tree, bp_chart *ch)
-{
-    uint32_t k;
-    for (k = 0; k < BP__ND_NODES; k++) {
-        uint32_t *w = order + T->nv + 6 * k;
-        w[0] = tree[k].lo; w[1] = tree[k].a; w[2] = tree[k].b; w[3] = tree[k].hi;
-        w[4] = (uint32_t)tree[k].used; w[5] = (uint32_t)tree[k].split;
-    }
-    ch->start_order = order;
-}
-
 /* Phase 6a as a whole: M, its factor, the iteration; the solution in
    T->sol (x then y).  Returns 1 when it converged, 0 when it did not (the
    LU serves), -1 out of memory (reported as such: a failed allocation is
@@ -12672,6 +12780,16 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
     bp__free(a, x);
     return ok;
 }
+
+#else
+/* Phase 6a needs the supernodal Cholesky, which BP_NO_NEWTON leaves out:
+   the LU solves the mean-value system. */
+static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *runner)
+{
+    (void)a; (void)T; (void)runner;
+    return 0;
+}
+#endif /* BP_NO_NEWTON: phase 6a */
 
 /* Phase 6, factor and solve (with iterative refinement); the free
    vertices' uv from the solution.  BP_ERR_NUMERICAL names the vertex of a
@@ -13458,6 +13576,7 @@ static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, co
     return s > 0 && s < HUGE_VAL ? s : 0;
 }
 
+#ifndef BP_NO_NEWTON /* (the Schur complement, to bp__conformal_schur_planned) */
 /* The boundary's Schur complement (beyond Levy et al.; issue 15, a
    cheaper start).  Expand a triangle's residuals:
        (a - d)^2 + (b + c)^2 = |J|^2 - 2 det J,
@@ -13771,6 +13890,40 @@ done:
     return ok;
 }
 
+/* Whether bp__conformal_schur will be tried: the free boundary B (the
+   loops' vertices but the held two) is not empty and has at most
+   BP__CONFORMAL_SCHUR_K sqrt(nv) vertices, the test it makes itself.
+   Marks B in bxp (0 there, BP__NONE elsewhere). */
+static int bp__conformal_schur_planned(const bp_chart *ch, const uint32_t *held, uint32_t nv, uint32_t *bxp)
+{
+    uint32_t j, v, nb = 0;
+    for (v = 0; v < nv; v++) bxp[v] = BP__NONE;
+    for (j = ch->loop_start[0]; j < ch->loop_start[ch->num_loops]; j++) {
+        v = ch->loop_vertices[j];
+        if (v != held[0] && v != held[1] && bxp[v] == BP__NONE) { bxp[v] = 0; nb++; }
+    }
+    return nb > 0 && (double)nb <= BP__CONFORMAL_SCHUR_K * sqrt((double)nv);
+}
+
+#else
+/* The Schur complement reads the supernodal factor, which BP_NO_NEWTON
+   leaves out: the 2x2 system is solved by the scalar rows (>>sparse), and
+   BP_INIT_AUTO tries the conformal map below BP__CONFORMAL_MAX triangles
+   only. */
+static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp_chart *ch, const bp__par *par,
+                               const uint32_t *order, const bp__ndnode *tree)
+{
+    (void)a; (void)C; (void)ch; (void)par; (void)order; (void)tree;
+    return 0;
+}
+
+static int bp__conformal_schur_planned(const bp_chart *ch, const uint32_t *held, uint32_t nv, uint32_t *bxp)
+{
+    (void)ch; (void)held; (void)nv; (void)bxp;
+    return 0;
+}
+#endif /* BP_NO_NEWTON: the Schur complement */
+
 /* K's arrays in 2x2 blocks from L's column lengths (4 entries per
    block, columns 2v and 2v+1 each 2 |column v|).  Returns 0 out of
    memory. */
@@ -13791,21 +13944,6 @@ static int bp__conformal_alloc_k(const bp_allocator *a, bp__conformal *C)
     K->row = (uint32_t *)bp__alloc_array(a, w + 1, sizeof(uint32_t));
     K->val = (double *)bp__alloc_array(a, w + 1, sizeof(double));
     return K->row && K->val;
-}
-
-/* Whether bp__conformal_schur will be tried: the free boundary B (the
-   loops' vertices but the held two) is not empty and has at most
-   BP__CONFORMAL_SCHUR_K sqrt(nv) vertices, the test it makes itself.
-   Marks B in bxp (0 there, BP__NONE elsewhere). */
-static int bp__conformal_schur_planned(const bp_chart *ch, const uint32_t *held, uint32_t nv, uint32_t *bxp)
-{
-    uint32_t j, v, nb = 0;
-    for (v = 0; v < nv; v++) bxp[v] = BP__NONE;
-    for (j = ch->loop_start[0]; j < ch->loop_start[ch->num_loops]; j++) {
-        v = ch->loop_vertices[j];
-        if (v != held[0] && v != held[1] && bxp[v] == BP__NONE) { bxp[v] = 0; nb++; }
-    }
-    return nb > 0 && (double)nb <= BP__CONFORMAL_SCHUR_K * sqrt((double)nv);
 }
 
 /* The 2x2 system after all (asked for, or the Schur complement refused
@@ -13922,12 +14060,16 @@ static int bp__conformal_end(const bp_allocator *a, bp__conformal *C, bp_chart *
     for (i = 0; i < n; i++) ch->uv[i] *= s;
     st = bp__check_par(ch->triangles, ch->num_triangles, ch->uv, n / 2, a, par, &rep, NULL);
     ok = st == BP_ERR_OUT_OF_MEMORY ? -1 : bp__check_verdict_status(st) && bp__report_valid(&rep);
+#ifndef BP_NO_NEWTON
     if (ok == 1 && h && F.sn) {                              /* to Newton (bp__handoff) */
         bp__handoff_free(a, h);
         h->F = F; h->n = n; h->colp = K->colp; h->row = K->row;
         memset(&F, 0, sizeof F);
         K->colp = K->row = NULL;
     }
+#else
+    (void)h;
+#endif
 done:
     bp__factor_free(a, &F);
     return ok;
@@ -15064,6 +15206,8 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
     return tmax;
 }
 
+#ifndef BP_NO_NEWTON /* (>>hessian and >>newton) */
+
 /* >>hessian ================================================================
 
    For Newton's method (>>newton) each E_t also needs its second derivative,
@@ -15768,24 +15912,6 @@ static void bp__newton_keep_order(bp__newton *N, const bp_allocator *a)
     N->kiperm = N->F.sn->viperm;
     N->F.sn->vperm = N->F.sn->viperm = NULL;
     memcpy(N->ktree, N->F.tree, sizeof N->ktree);
-}
-
-/* Whether the dissection tree (in the positions iperm gives) still
-   separates the graph after adding the count vertex pairs: each pair,
-   followed down from the root, must end with one vertex in a node's
-   separator [b, hi) or both in an unsplit node, never one in each half. */
-static int bp__nd_keeps(const bp__ndnode *tree, const uint32_t *iperm, const uint32_t *pairs, size_t count)
-{
-    size_t e;
-    for (e = 0; e < count; e++) {
-        uint32_t pu = iperm[pairs[2 * e]], pw = iperm[pairs[2 * e + 1]], k = 0;
-        if (pu < tree[0].lo || pu >= tree[0].hi || pw < tree[0].lo || pw >= tree[0].hi) return 0;
-        while (k < BP__ND_NODES && tree[k].used && tree[k].split && pu < tree[k].b && pw < tree[k].b) {
-            if ((pu < tree[k].a) != (pw < tree[k].a)) return 0;
-            k = 2 * k + (pu < tree[k].a ? 1 : 2);
-        }
-    }
-    return 1;
 }
 
 /* The extra pairs by vertex: xp[v] .. xp[v+1] index v's other ends in xl
@@ -16663,6 +16789,8 @@ static int bp__newton_direction(bp__newton *N, bp__solver *S, const double *x, c
     return s < 0 && s > -HUGE_VAL;
 }
 
+#endif /* BP_NO_NEWTON: >>hessian and >>newton */
+
 /* >>lbfgs ==================================================================
 
    Sec 3.4 and 3.5.  Each iteration: (1) energy and gradient, (2) a search
@@ -17119,7 +17247,11 @@ typedef struct bp__opt {
     int          precond, hist, gd_scale_set;
     int          newton, nd;     /* BP_DIRECTION_NEWTON; this iteration's
                                     direction is Newton's (1), out of memory (-1) */
+#ifndef BP_NO_NEWTON
     bp__newton   N;
+#endif
+    uint32_t    *sperm, *siperm; /* the start map's order, its inverse and */
+    bp__ndnode   stree[BP__ND_NODES]; /* tree (bp__opt_start_order), or NULL */
     uint32_t     nv2;
     double      *x, *g, *xn, *gn, *v, *pwork, *vpart;
     double      *xe, *ge;        /* Newton's longer trial steps (bp__opt_extend) */
@@ -17139,7 +17271,10 @@ static void bp__opt_free(bp__opt *P)
     bp__free(&P->a, P->xe); bp__free(&P->a, P->ge);
     bp__free(&P->a, P->pidx); bp__free(&P->a, P->held);
     bp__lbfgs_free(&P->a, &P->L);
+#ifndef BP_NO_NEWTON
     bp__newton_free(&P->a, &P->N);
+#endif
+    bp__free(&P->a, P->sperm); bp__free(&P->a, P->siperm);
     bp__sparse_free(&P->a, &P->K);
     bp__factor_free(&P->a, &P->KF);
 }
@@ -17287,6 +17422,7 @@ static void bp__opt_hold(const bp__opt *P, double *g)
 #ifndef BP__AUTO_NEWTON_E0
 #define BP__AUTO_NEWTON_E0 8.0
 #endif
+#ifndef BP_NO_NEWTON
 static int bp__opt_choose_newton(bp__solver *S, const double *x)
 {
     bp__eval_task T;
@@ -17301,6 +17437,14 @@ static int bp__opt_choose_newton(bp__solver *S, const double *x)
     e0 = sum / S->nt;
     return e0 >= BP__AUTO_NEWTON_E0 && e0 < HUGE_VAL;   /* false for a NaN start too */
 }
+#else
+/* BP_NO_NEWTON: the preconditioned L-BFGS for every chart. */
+static int bp__opt_choose_newton(bp__solver *S, const double *x)
+{
+    (void)S; (void)x;
+    return 0;
+}
+#endif
 
 /* Whether the edges of chunk c of the triangles respect the order (in
    ok[c]). */
@@ -17339,26 +17483,26 @@ static int bp__opt_start_order(bp__opt *P, bp_chart *ch)
 {
     uint32_t nv = P->S.nv, k, j, *o = ch->start_order, *iv;
     ch->start_order = NULL;
-    if (!o || !(P->newton || P->precond) || P->N.kperm || nv != ch->num_vertices) { bp__free(&P->a, o); return 1; }
+    if (!o || !(P->newton || P->precond) || P->sperm || nv != ch->num_vertices) { bp__free(&P->a, o); return 1; }
     if (!(iv = (uint32_t *)bp__alloc_array(&P->a, nv ? nv : 1, sizeof(uint32_t)))) { bp__free(&P->a, o); return 0; }
     for (k = 0; k < nv; k++) iv[k] = BP__NONE;
     for (k = 0; k < nv && o[k] < nv && iv[o[k]] == BP__NONE; k++) iv[o[k]] = k;
     for (j = 0; j < BP__ND_NODES; j++) {
         const uint32_t *w = o + nv + 6 * j;
-        bp__ndnode *N = &P->N.ktree[j];
+        bp__ndnode *N = &P->stree[j];
         memset(N, 0, sizeof *N);
         N->lo = w[0]; N->a = w[1]; N->b = w[2]; N->hi = w[3]; N->used = w[4] != 0; N->split = w[5] != 0;
         if (N->used && !(N->lo <= N->a && N->a <= N->b && N->b <= N->hi && N->hi <= nv)) k = 0;
         if (N->used && j > 0) {                   /* inside its half of a split parent */
-            const bp__ndnode *U = &P->N.ktree[(j - 1) / 2];
+            const bp__ndnode *U = &P->stree[(j - 1) / 2];
             uint32_t lo = j % 2 ? U->lo : U->a, hi = j % 2 ? U->a : U->b;
             if (!U->used || !U->split || N->lo < lo || N->hi > hi) k = 0;
         }
     }
-    if (k != nv || !P->N.ktree[0].used || P->N.ktree[0].lo != 0 || P->N.ktree[0].hi != nv) k = 0;
+    if (k != nv || !P->stree[0].used || P->stree[0].lo != 0 || P->stree[0].hi != nv) k = 0;
     if (k == nv) {                                            /* every edge of the chart, by chunks */
         bp__keeps_task T;
-        T.S = &P->S; T.tree = P->N.ktree; T.iperm = iv;
+        T.S = &P->S; T.tree = P->stree; T.iperm = iv;
         T.ok = (uint32_t *)bp__alloc_array(&P->a, (size_t)P->S.nchunk_t + 1, sizeof(uint32_t));
         if (!T.ok) { bp__free(&P->a, o); bp__free(&P->a, iv); return 0; }
         P->par.run(P->par.user, bp__keeps_task_run, &T, P->S.nchunk_t);
@@ -17366,8 +17510,8 @@ static int bp__opt_start_order(bp__opt *P, bp_chart *ch)
         bp__free(&P->a, T.ok);
     }
     if (k != nv) { bp__free(&P->a, o); bp__free(&P->a, iv); return 1; }
-    P->N.kperm = o;                               /* nv words and more: freed as one */
-    P->N.kiperm = iv;
+    P->sperm = o;                                 /* nv words and more: freed as one */
+    P->siperm = iv;
     return 1;
 }
 
@@ -17395,6 +17539,7 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
     }
     P->hist = P->o.history > 0 ? P->o.history : 5;
     if (P->o.direction == BP_DIRECTION_GRADIENT || P->newton) P->hist = 0;   /* Newton falls back to -g */
+#ifndef BP_NO_NEWTON
     if (P->newton) {                          /* >>newton; pins held or pulled */
         if (bp__newton_init(&P->N, &P->a, &P->S) != BP_OK) {
             bp__free(&P->a, rest_wxy);
@@ -17405,6 +17550,7 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
         P->N.given = P->handoff;              /* for the first factorization */
         P->N.iso = P->S.energy == BP_ENERGY_SYMMETRIC_DIRICHLET && !P->pen;   /* (>>newton) */
     } else
+#endif
         bp__handoff_free(&P->a, P->handoff);  /* not Newton: freed before the preconditioner */
     if (!bp__opt_start_order(P, ch)) {
         bp__free(&P->a, rest_wxy);
@@ -17412,7 +17558,7 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
     }
     /* the preconditioner first: its factorization is the memory peak, and
        the flattened rest triangles are not needed after it */
-    if (P->precond && (st = bp__laplacian(&P->a, &P->S, rest_wxy, P->pidx, &P->K, &P->KF, P->N.kperm, P->N.ktree)) != BP_OK) {
+    if (P->precond && (st = bp__laplacian(&P->a, &P->S, rest_wxy, P->pidx, &P->K, &P->KF, P->sperm, P->stree)) != BP_OK) {
         bp__free(&P->a, rest_wxy);
         if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "factoring the preconditioner");
         if (st == BP_ERR_TOO_LARGE)
@@ -17421,11 +17567,17 @@ static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, c
                         "chart %u: the Laplacian preconditioner could not be factored", chart_index);
     }
     bp__free(&P->a, rest_wxy);
-    if (!P->newton) {                          /* the start order served the preconditioner */
-        bp__free(&P->a, P->N.kperm);
-        bp__free(&P->a, P->N.kiperm);
-        P->N.kperm = P->N.kiperm = NULL;
+#ifndef BP_NO_NEWTON
+    if (P->newton) {                           /* Newton's first order (a kept one) */
+        P->N.kperm = P->sperm;
+        P->N.kiperm = P->siperm;
+        memcpy(P->N.ktree, P->stree, sizeof P->N.ktree);
+        P->sperm = P->siperm = NULL;
     }
+#endif
+    bp__free(&P->a, P->sperm);                 /* the start order served the preconditioner */
+    bp__free(&P->a, P->siperm);
+    P->sperm = P->siperm = NULL;
     nv2 = P->nv2 = 2 * P->S.nv;
     P->x = (double *)bp__alloc_array(&P->a, nv2, sizeof(double));
     P->g = (double *)bp__alloc_array(&P->a, nv2, sizeof(double));
@@ -17457,7 +17609,9 @@ static double bp__opt_direction(bp__opt *P)
 {
     double gv = 0, *g = P->g, *v = P->v;
     uint32_t i, nv2 = P->nv2;
+#ifndef BP_NO_NEWTON
     P->nd = P->newton ? bp__newton_direction(&P->N, &P->S, P->x, g, v, &gv) : 0;
+#endif
     if (P->nd < 0) return 0;
     if (P->nd) {
         /* v = -(H + delta I)^-1 g, computed above */
@@ -17486,6 +17640,7 @@ static double bp__opt_direction(bp__opt *P)
     return gv;
 }
 
+#ifndef BP_NO_NEWTON
 /* Longer Newton steps (beyond the dissertation).  A full Newton step that
    is accepted at once says little about how far the line goes down: the
    quadratic model of a term 1/s^2 (a triangle crushed by the start map,
@@ -17540,6 +17695,7 @@ static int bp__opt_extend(bp__opt *P, double f, double gv, double *t, double *fn
     }
     return 1;
 }
+#endif /* BP_NO_NEWTON */
 
 /* A chart whose start was crushed and enlarged (bp__start_scale) spends its
    first ~60 Newton iterations with steps clipped by the step bound at one
@@ -17575,6 +17731,7 @@ static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, doubl
         if (!(*fn <= f + 1e-4 * tt * gv)) continue;
         if (!valid) continue;                 /* floating point was wrong: shrink */
         *t = tt;
+#ifndef BP_NO_NEWTON
         /* Newton: the factor may serve the next iteration only when this
            step behaved as the quadratic model said (>>newton) */
         P->N.cut = !(tries == 0 && tt == 1 && f - *fn >= -0.5 * BP__NEWTON_REUSE_RHO * gv &&
@@ -17582,6 +17739,7 @@ static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, doubl
         P->N.wide = tries == 0 && tt < 1 && P->S.bclip;   /* clipped by the boundary (>>newton) */
         if (P->nd && tries == 0 && tt == 1 && f - *fn >= -0.5 * BP__NEWTON_EXTEND_RATIO * gv)
             return bp__opt_extend(P, f, gv, t, fn, edn);
+#endif
         return 1;
     }
     return 0;
@@ -17626,6 +17784,7 @@ static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, 
     return bp__ok(err);
 }
 
+#ifndef BP_NO_NEWTON
 #ifndef BP__START_SCALE_E0
 #define BP__START_SCALE_E0 1e9           /* mean start energy that counts as crushed */
 #endif
@@ -17672,6 +17831,14 @@ static int bp__start_scale(bp__opt *P, double *f, double *ed)
     P->crushed = 1;
     return k;
 }
+#else
+/* BP_NO_NEWTON: no chart goes to Newton, so none is enlarged. */
+static int bp__start_scale(bp__opt *P, double *f, double *ed)
+{
+    (void)P; (void)f; (void)ed;
+    return 0;
+}
+#endif
 
 /* The optimization of one chart (sec 3.4, 3.5): phases 1 and 2, then the
    iterations, each (1) energy and gradient (from the line search of the
@@ -17739,8 +17906,10 @@ static bp_status bp__chart_optimize_pass(bp_chart *ch, uint32_t chart_index, con
         int found;
         if (P.nd < 0) { st = bp__oom(err, "factoring Newton's system"); goto done; }
         if (gv == 0) { ch->stop = BP_STOP_CONVERGED; break; }
+#ifndef BP_NO_NEWTON
         /* Newton: the decrement -g.v / 2 predicts the decrease left */
         if (P.nd && !P.N.iso && -gv <= 2 * P.o.tolerance * fabs(f)) { ch->stop = BP_STOP_CONVERGED; break; }
+#endif
         found = bp__opt_line_search(&P, f, gv, &tt, &fn, &edn);
         if (found < 0) { st = bp__oom(err, "evaluating a step"); goto done; }
         if (!found) { ch->stop = BP_STOP_NO_PROGRESS; break; }
@@ -17751,7 +17920,9 @@ static bp_status bp__chart_optimize_pass(bp_chart *ch, uint32_t chart_index, con
         bp__vec_pass(&P.par, P.vpart, P.nv2, ch->uv, 1, P.x, 0, NULL, NULL, 0, NULL, NULL, NULL);
         /* (5) convergence: relative decrease below tol three times running */
         if ((f - fn) <= P.o.tolerance * fabs(fn)) small++; else small = 0;
+#ifndef BP_NO_NEWTON
         if (P.N.iso && !(f - fn >= BP__NEWTON_ISO_TAU * fabs(f))) bp__newton_iso_end(&P.N, &P.a);   /* Newton next */
+#endif
         f = fn;
         ed = edn;
         ch->iterations = *its = it + 1;
@@ -18494,8 +18665,16 @@ BPDEF bp_status bp_chart_solve(bp_chart *ch, uint32_t chart_index, const bp_mesh
 /* >>pack ===================================================================
 
    Without opt->atlas_resolution (0, the default) the charts' bounding
-   boxes go on shelves (bp__pack_shelf, >>driver).  With atlas_resolution =
-   RES the charts go into the square [0,1]^2 as a texture of RES x RES
+   boxes go on shelves, tallest first, with a gap, so no two charts can
+   overlap (bp__pack_shelf).  Charts with pins, and charts started from
+   their input uvs, stay where they are (bp__pack_in_place).  A translation
+   or scale rounds coordinates, which could in principle flip a triangle
+   that is within rounding of degenerate; every moved chart is re-checked
+   exactly and the move is retried with a slightly different offset if it
+   ever fails (bp__move_chart).
+
+   With atlas_resolution = RES (the outline packer; BP_NO_ATLAS leaves it
+   out) the charts go into the square [0,1]^2 as a texture of RES x RES
    texels, with opt->padding = P texels between any two of them and
    ceil(P/2) between each of them and the edge of the square.  Four
    steps:
@@ -18622,9 +18801,168 @@ BPDEF bp_status bp_chart_solve(bp_chart *ch, uint32_t chart_index, const bp_mesh
    The packer is serial and uses no floating-point state that depends on the
    thread count, so the atlas is bit-identical for any number of threads. */
 
+#define BP__PACK_MAX_RES 32768
+
+/* Signed area of the UV triangle (p0, p1, p2), in floating point (the sign
+   is decided exactly only by bp_orient2d). */
+static double bp__uv_tri_area(const double *p0, const double *p1, const double *p2)
+{
+    return 0.5 * ((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]));
+}
+
+/* Total signed UV area of a chart's map (shoelace over its triangles). */
+static double bp__chart_uv_area(const bp_chart *ch)
+{
+    double area = 0;
+    uint32_t t;
+    for (t = 0; t < ch->num_triangles; t++) {
+        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
+        area += bp__uv_tri_area(ch->uv + 2 * (size_t)tr[0], ch->uv + 2 * (size_t)tr[1], ch->uv + 2 * (size_t)tr[2]);
+    }
+    return area;
+}
+
+/* All calls to the exact check from the packer go through here, on the
+   packer's runner (bp_atlas_pack's).  BP_OK when bp_check gave a verdict
+   (valid or not: the report says which, and the packer compares reports),
+   else bp_check's failure. */
+static bp_status bp__pack_check(const bp_allocator *a, const bp__par *par, const bp_chart *ch, const double *uv,
+                                bp_check_report *rep)
+{
+    bp_status st = bp__check_par(ch->triangles, ch->num_triangles, uv, ch->num_vertices, a, par, rep, NULL);
+    return bp__check_verdict_status(st) ? BP_OK : st;
+}
+
+/* Not worse than `before` on any count (a chart optimized without the
+   barrier may overlap itself, and stays so). */
+static int bp__report_no_worse(const bp_check_report *r, const bp_check_report *before)
+{
+    return r->flipped <= before->flipped && r->degenerate <= before->degenerate &&
+           r->nonfinite <= before->nonfinite && r->boundary_intersections <= before->boundary_intersections &&
+           r->loop_orientation <= before->loop_orientation && r->nested <= before->nested;
+}
+
+typedef struct bp__packbox { double w, h, ox, oy; uint32_t chart; } bp__packbox;
+
+static int bp__packbox_cmp(const void *pa, const void *pb)
+{
+    const bp__packbox *a = (const bp__packbox *)pa, *b = (const bp__packbox *)pb;
+    if (a->h != b->h) return a->h > b->h ? -1 : 1;
+    return a->chart < b->chart ? -1 : a->chart > b->chart;
+}
+
+/* uv = s * (uv - lo) + off, checked exactly: the moved chart must be as
+   valid as it was (bp__pack_check, bp__report_no_worse: a chart optimized
+   without the barrier may overlap itself, and stays so); on failure
+   restore and retry.  A moved map with no count at all is no worse than
+   any, so the map as it was is checked only when the moved one has a
+   count: one exact check per chart instead of two in the usual case. */
+static bp_status bp__move_chart(const bp_allocator *a, const bp__par *par, bp_chart *ch, const double *lo,
+                                double s, double ox, double oy)
+{
+    double *save = (double *)bp__alloc_array(a, 2 * (size_t)ch->num_vertices, sizeof(double));
+    uint32_t i;
+    int attempt;
+    bp_check_report before;
+    int checked = 0;                           /* `before` holds the map as it was */
+    bp_status st;
+    if (!save) return BP_ERR_OUT_OF_MEMORY;
+    memcpy(save, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
+    for (attempt = 0; attempt < 8; attempt++) {
+        bp_check_report rep;
+        double jig = attempt ? 1 + attempt * 1e-7 : 1;
+        for (i = 0; i < ch->num_vertices; i++) {
+            ch->uv[2 * i] = s * (save[2 * i] - lo[0]) + ox * jig;
+            ch->uv[2 * i + 1] = s * (save[2 * i + 1] - lo[1]) + oy * jig;
+        }
+        if ((st = bp__pack_check(a, par, ch, ch->uv, &rep)) != BP_OK) { bp__free(a, save); return st; }
+        if (!bp__report_valid(&rep) && !checked) {                   /* a count: what did the map have? */
+            if ((st = bp__pack_check(a, par, ch, save, &before)) != BP_OK) { bp__free(a, save); return st; }
+            checked = 1;
+        }
+        if (bp__report_valid(&rep) || bp__report_no_worse(&rep, &before)) {
+            bp__free(a, save);
+            return BP_OK;
+        }
+    }
+    memcpy(ch->uv, save, 2 * (size_t)ch->num_vertices * sizeof(double));
+    bp__free(a, save);
+    return BP_ERR_NUMERICAL;
+}
+
+/* No fixed resolution: bounding boxes on shelves (the 0.1 packing). */
+static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
+{
+    bp_allocator a;
+    bp__packbox *bx;
+    double *lo, area = 0, shelf_w, x = 0, y = 0, rowh = 0, gap = 0, W = 0, H = 0, s = 1;
+    uint32_t c, i;
+    bp_options o_;
+    bp_status ost_;
+    if ((opt = bp__opts(opt, &o_, err, &ost_)), ost_ != BP_OK) return ost_;
+    if (!atlas || !atlas->charts)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
+    a = atlas->allocator;
+    bx = (bp__packbox *)bp__alloc_array(&a, atlas->num_charts, sizeof *bx);
+    lo = (double *)bp__alloc_array(&a, 2 * (size_t)atlas->num_charts, sizeof(double));
+    if (!bx || !lo) { bp__free(&a, bx); bp__free(&a, lo); return bp__oom(err, "packing charts"); }
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_chart *ch = &atlas->charts[c];
+        double mn[2] = { DBL_MAX, DBL_MAX }, mx[2] = { -DBL_MAX, -DBL_MAX };
+        if (!ch->uv) { mn[0] = mn[1] = mx[0] = mx[1] = 0; }   /* no map: takes no room */
+        for (i = 0; ch->uv && i < ch->num_vertices; i++) {
+            int k;
+            for (k = 0; k < 2; k++) {
+                if (ch->uv[2 * i + k] < mn[k]) mn[k] = ch->uv[2 * i + k];
+                if (ch->uv[2 * i + k] > mx[k]) mx[k] = ch->uv[2 * i + k];
+            }
+        }
+        lo[2 * c] = mn[0]; lo[2 * c + 1] = mn[1];
+        bx[c].w = mx[0] - mn[0]; bx[c].h = mx[1] - mn[1]; bx[c].chart = c;
+        area += bx[c].w * bx[c].h;
+        if (bx[c].w > gap) gap = bx[c].w;
+        if (bx[c].h > gap) gap = bx[c].h;
+    }
+    gap *= 0.02;
+    qsort(bx, atlas->num_charts, sizeof *bx, bp__packbox_cmp);
+    shelf_w = sqrt(area) * 1.3;
+    for (i = 0; i < atlas->num_charts; i++) if (bx[i].w > shelf_w) shelf_w = bx[i].w;
+    /* shelf placement: offsets of each chart's lower-left corner */
+    for (i = 0; i < atlas->num_charts; i++) {
+        if (x > 0 && x + bx[i].w > shelf_w) { x = 0; y += rowh + gap; rowh = 0; }
+        bx[i].ox = x;
+        bx[i].oy = y;
+        x += bx[i].w + gap;
+        if (bx[i].h > rowh) rowh = bx[i].h;
+        if (bx[i].ox + bx[i].w > W) W = bx[i].ox + bx[i].w;
+        if (bx[i].oy + bx[i].h > H) H = bx[i].oy + bx[i].h;
+    }
+    if (opt && opt->normalize && W > 0 && H > 0) s = 1 / (W > H ? W : H);
+    area = 0;
+    for (i = 0; i < atlas->num_charts; i++) {
+        c = bx[i].chart;
+        if (!atlas->charts[c].uv) continue;
+        bp_status ms = bp__move_chart(&a, par, &atlas->charts[c], lo + 2 * (size_t)c, s, s * bx[i].ox, s * bx[i].oy);
+        if (ms != BP_OK) {
+            bp__free(&a, bx); bp__free(&a, lo);
+            if (ms == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "packing charts");
+            return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
+                            "chart %u: placing it in the atlas would break its validity in floating point", c);
+        }
+        area += bp__chart_uv_area(&atlas->charts[c]);
+    }
+    /* the square on the longer side, the one normalize scales to [0,1]^2 */
+    W *= s; H *= s;
+    atlas->utilization = W > 0 && H > 0 ? area / ((W > H ? W : H) * (W > H ? W : H)) : 0;
+    bp__free(&a, bx);
+    bp__free(&a, lo);
+    return bp__ok(err);
+}
+
+#ifndef BP_NO_ATLAS /* (the outline packer, to the end of bp__pack_outlines) */
+
 #define BP__PACK_MARGIN 1e-6      /* texels the rasterized triangles grow by */
 #define BP__PACK_SHIFT  4e-6      /* texels between a raster's edge and its chart */
-#define BP__PACK_MAX_RES 32768
 #ifndef BP__PACK_GRID             /* cells a side of the grid the packer searches */
 #define BP__PACK_GRID 2048
 #endif
@@ -18678,45 +19016,6 @@ typedef struct bp__pchart {
     int outline;                /* rasterized by its outline (a bijective map
                                    with boundary loops), else by triangles  */
 } bp__pchart;
-
-/* Signed area of the UV triangle (p0, p1, p2), in floating point (the sign
-   is decided exactly only by bp_orient2d). */
-static double bp__uv_tri_area(const double *p0, const double *p1, const double *p2)
-{
-    return 0.5 * ((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]));
-}
-
-/* Total signed UV area of a chart's map (shoelace over its triangles). */
-static double bp__chart_uv_area(const bp_chart *ch)
-{
-    double area = 0;
-    uint32_t t;
-    for (t = 0; t < ch->num_triangles; t++) {
-        const uint32_t *tr = ch->triangles + 3 * (size_t)t;
-        area += bp__uv_tri_area(ch->uv + 2 * (size_t)tr[0], ch->uv + 2 * (size_t)tr[1], ch->uv + 2 * (size_t)tr[2]);
-    }
-    return area;
-}
-
-/* All calls to the exact check from the packer go through here, on the
-   packer's runner (bp_atlas_pack's).  BP_OK when bp_check gave a verdict
-   (valid or not: the report says which, and the packer compares reports),
-   else bp_check's failure. */
-static bp_status bp__pack_check(const bp_allocator *a, const bp__par *par, const bp_chart *ch, const double *uv,
-                                bp_check_report *rep)
-{
-    bp_status st = bp__check_par(ch->triangles, ch->num_triangles, uv, ch->num_vertices, a, par, rep, NULL);
-    return bp__check_verdict_status(st) ? BP_OK : st;
-}
-
-/* Not worse than `before` on any count (a chart optimized without the
-   barrier may overlap itself, and stays so). */
-static int bp__report_no_worse(const bp_check_report *r, const bp_check_report *before)
-{
-    return r->flipped <= before->flipped && r->degenerate <= before->degenerate &&
-           r->nonfinite <= before->nonfinite && r->boundary_intersections <= before->boundary_intersections &&
-           r->loop_orientation <= before->loop_orientation && r->nested <= before->nested;
-}
 
 /* ---- bit rows ---- */
 
@@ -19590,6 +19889,197 @@ static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, const
     return st;
 }
 
+#endif /* BP_NO_ATLAS: the outline packer */
+
+/* Every chart that has a map, by shelves or by outlines (atlas_resolution).
+   The pack stage is reported here, for either packer: at its start and,
+   when it succeeded, at its end (>>progress: a cancel does not interrupt
+   it). */
+static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
+{
+    bp_options o_;
+    bp_status st;
+    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
+    atlas->utilization = 0;
+    bp__report(opt, BP_STAGE_PACK, 0, BP_NO_CHART);
+    if (!opt || opt->atlas_resolution == 0) st = bp__pack_shelf(atlas, opt, par, err);
+    else if (opt->atlas_resolution < 0 || opt->atlas_resolution > BP__PACK_MAX_RES)
+        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                      "atlas resolution %d is out of range: it must be between 1 and %d texels",
+                      opt->atlas_resolution, BP__PACK_MAX_RES);
+    else if (opt->padding < 0 || opt->padding >= opt->atlas_resolution)
+        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                      "padding %d is out of range: it must be at least 0 and less than the resolution %d",
+                      opt->padding, opt->atlas_resolution);
+#ifndef BP_NO_ATLAS
+    else st = bp__pack_outlines(atlas, opt, par, err);
+#endif
+    if (st == BP_OK) bp__report(opt, BP_STAGE_PACK, 1, BP_NO_CHART);
+    return st;
+}
+
+/* The last word before success: the whole atlas -- every mapped chart, in
+   its packed place -- passes the exact check as one triangulation, which
+   also proves that no two charts overlap.  This should never fail (every
+   step was checked); if it does, the caller gets BP_ERR_NOT_BIJECTIVE, not
+   a wrong map. */
+static bp_status bp__atlas_verify(const bp_atlas *atlas, const bp__par *par, bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
+    uint32_t c, nt = 0, nv = 0, t, i, *tri, ov = 0, ot = 0;
+    double *uv;
+    bp_check_report rep;
+    bp_error why;
+    bp_status st;
+    for (c = 0; c < atlas->num_charts; c++)
+        if (atlas->charts[c].uv) { nt += atlas->charts[c].num_triangles; nv += atlas->charts[c].num_vertices; }
+    if (!nt) return BP_OK;
+    tri = (uint32_t *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof(uint32_t));
+    uv = (double *)bp__alloc_array(&a, 2 * (size_t)nv, sizeof(double));
+    if (!tri || !uv) { bp__free(&a, tri); bp__free(&a, uv); return bp__oom(err, "verifying the atlas"); }
+    for (c = 0; c < atlas->num_charts; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        if (!ch->uv) continue;
+        for (t = 0; t < 3 * ch->num_triangles; t++) tri[3 * (size_t)ot + t] = ch->triangles[t] + ov;
+        for (i = 0; i < 2 * ch->num_vertices; i++) uv[2 * (size_t)ov + i] = ch->uv[i];
+        ot += ch->num_triangles;
+        ov += ch->num_vertices;
+    }
+    st = bp__check_par(tri, nt, uv, nv, &a, par, &rep, &why);
+    bp__free(&a, tri);
+    bp__free(&a, uv);
+    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "verifying the atlas");
+    if (!bp__check_verdict_status(st)) return bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "verifying the atlas failed: %s", why.message);
+    if (st != BP_OK)
+        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
+                        "the final atlas is not bijective (%u flipped, %u degenerate, %u boundary "
+                        "intersections, %u loop-orientation and %u nesting problems; indices of the "
+                        "concatenated charts: %s): this is a bug",
+                        rep.flipped, rep.degenerate, rep.boundary_intersections, rep.loop_orientation, rep.nested,
+                        why.message);
+    return BP_OK;
+}
+
+/* Charts kept in place (>>pins): a chart with pins never moves; a chart
+   whose start was its input uvs (BP_INIT_INPUT, chart.init_used = 1) keeps
+   its placement unless normalize asks for packing -- and only when those
+   charts do not overlap each other, which the exact check of the kept
+   charts together decides (the input charts are then packed like the
+   others).  The other charts are packed as usual and then translated, as
+   one block, to the right of the kept charts' bounding box, so the kept
+   and the packed never meet; bp_parameterize's final check proves it.
+   Without the barrier nothing is verified (maps may overlap themselves). */
+static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier, const bp__par *par, bp_error *why)
+{
+    double **save;
+    uint32_t c;
+    bp_status st;
+    if (!barrier) return BP_OK;
+    save = (double **)bp__alloc_array(&atlas->allocator, atlas->num_charts, sizeof(double *));
+    if (!save) return BP_ERR_OUT_OF_MEMORY;
+    for (c = 0; c < atlas->num_charts; c++) { save[c] = atlas->charts[c].uv; if (!keep[c]) atlas->charts[c].uv = NULL; }
+    st = bp__atlas_verify(atlas, par, why);
+    for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].uv = save[c];
+    bp__free(&atlas->allocator, save);
+    return st;
+}
+
+static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
+{
+    bp_allocator a = atlas->allocator;
+    int *keep = (int *)bp__calloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(int));
+    double **save = (double **)bp__alloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(double *));
+    double kb[4] = { DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX }, pb[2] = { DBL_MAX, DBL_MAX }, gap;
+    uint32_t c, i, nkeep = 0, npin = 0;
+    int normalize = opt && (opt->normalize || opt->atlas_resolution), barrier = !(opt && opt->no_barrier);
+    bp_error why;
+    bp_status st = BP_OK;
+    if (!keep || !save) { bp__free(&a, keep); bp__free(&a, save); return bp__oom(err, "packing charts"); }
+    for (c = 0; c < atlas->num_charts; c++) {
+        const bp_chart *ch = &atlas->charts[c];
+        keep[c] = ch->uv && (ch->num_pins > 0 || (ch->init_used == 1 && !normalize));
+        npin += ch->uv && ch->num_pins > 0;
+    }
+    if (npin && normalize)
+        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
+                      "normalize and atlas_resolution would move the pinned charts off their pins: "
+                      "use pins without them");
+    if (st == BP_OK && (st = bp__pack_kept_ok(atlas, keep, barrier, par, &why)) == BP_ERR_NOT_BIJECTIVE) {
+        for (c = 0; c < atlas->num_charts; c++) keep[c] = keep[c] && atlas->charts[c].num_pins > 0;
+        if ((st = bp__pack_kept_ok(atlas, keep, barrier, par, &why)) == BP_ERR_NOT_BIJECTIVE)
+            st = bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
+                          "the pinned charts overlap each other at their targets (%s)", why.message);
+    }
+    if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "packing charts");
+    else if (st != BP_OK && st != BP_ERR_INVALID_ARGUMENT && st != BP_ERR_NOT_BIJECTIVE) st = bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "%s", why.message);
+    for (c = 0; c < atlas->num_charts; c++) {
+        bp_chart *ch = &atlas->charts[c];
+        save[c] = ch->uv;
+        ch->in_place = keep[c];
+        nkeep += keep[c] != 0;
+        for (i = 0; keep[c] && i < ch->num_vertices; i++) {
+            double u = ch->uv[2 * (size_t)i], v = ch->uv[2 * (size_t)i + 1];
+            if (u < kb[0]) kb[0] = u;
+            if (v < kb[1]) kb[1] = v;
+            if (u > kb[2]) kb[2] = u;
+            if (v > kb[3]) kb[3] = v;
+        }
+        if (keep[c]) ch->uv = NULL;            /* hidden from the packer: takes no room */
+    }
+    if (st == BP_OK) st = bp__pack_all(atlas, opt, par, err);
+    for (c = 0; c < atlas->num_charts; c++) if (keep[c]) atlas->charts[c].uv = save[c];
+    if (st == BP_OK && nkeep) {
+        gap = 0.02 * (kb[2] - kb[0] > kb[3] - kb[1] ? kb[2] - kb[0] : kb[3] - kb[1]);
+        for (c = 0; c < atlas->num_charts; c++)
+            for (i = 0; !keep[c] && atlas->charts[c].uv && i < atlas->charts[c].num_vertices; i++) {
+                if (atlas->charts[c].uv[2 * (size_t)i] < pb[0]) pb[0] = atlas->charts[c].uv[2 * (size_t)i];
+                if (atlas->charts[c].uv[2 * (size_t)i + 1] < pb[1]) pb[1] = atlas->charts[c].uv[2 * (size_t)i + 1];
+            }
+        for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
+            double zero[2] = { 0, 0 };
+            if (keep[c] || !atlas->charts[c].uv) continue;
+            if (bp__move_chart(&a, par, &atlas->charts[c], zero, 1, kb[2] + gap - pb[0], kb[1] - pb[1]) != BP_OK)
+                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
+                              "chart %u: placing it beside the charts kept in place would break its validity", c);
+        }
+    }
+    bp__free(&a, keep);
+    bp__free(&a, save);
+    return st;
+}
+
+/* The packer's runner, for its exact checks (one per moved chart,
+   bp__move_chart, and in bp_parameterize the final one of the whole
+   atlas): a pool from opt when the charts with a map have
+   BP__PAR_MIN_TRIANGLES triangles or more together (*pool: to stop
+   later), else serial, as for a chart's own loops (>>threads). */
+static bp__par bp__pack_par(const bp_atlas *atlas, const bp_options *opt, void **pool)
+{
+    uint32_t c, nt = 0;
+    *pool = NULL;
+    for (c = 0; c < atlas->num_charts; c++)
+        if (atlas->charts[c].uv) nt += atlas->charts[c].num_triangles;
+    if (nt < BP__PAR_MIN_TRIANGLES) return bp__par_serial();
+    return bp__par_begin(&atlas->allocator, opt, pool);
+}
+
+/* Place the charts side by side without overlap, leaving pinned charts
+   (and, without normalize, charts started from their input uvs) where
+   they are: see bp__pack_in_place. */
+BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+{
+    void *pool;
+    bp__par par;
+    bp_status st;
+    if (!atlas || !atlas->charts)
+        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
+    par = bp__pack_par(atlas, opt, &pool);
+    st = bp__pack_in_place(atlas, opt, &par, err);
+    bp__par_end(&atlas->allocator, pool);
+    return st;
+}
+
+#ifndef BP_NO_ATLAS /* (>>segment) */
 /* >>segment ================================================================
 
    Segmentation into several charts (issue 14).  The cut of >>cut opens a
@@ -20619,7 +21109,7 @@ BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     bp__free(&a, G.facepos);
     return st == BP_OK ? bp__ok(err) : st;
 }
-
+#endif /* BP_NO_ATLAS: >>segment */
 
 #ifndef BP_NO_VISIBILITY
 /* >>bvh ====================================================================
@@ -21226,319 +21716,8 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
 
    bp_parameterize runs the whole pipeline: charts (bp_atlas_build), the
    start map of each chart (bp_chart_init), the optimization (bp_chart_optimize)
-   and the packing (bp_atlas_pack), then one exact check of the whole atlas.
-   Without opt->atlas_resolution the packing places the charts' bounding
-   boxes on shelves (tallest first) with a gap, so no two charts can
-   overlap (bp__pack_shelf below); with it, the charts' rasterized outlines
-   go into a square texture (>>pack).  Charts with pins, and charts started
-   from their input uvs, stay where they are (bp__pack_in_place).  A
-   translation or scale rounds coordinates, which could in principle flip a
-   triangle that is within rounding of degenerate; every moved chart is
-   re-checked exactly and the move is retried with a slightly different
-   offset if it ever fails. */
-
-typedef struct bp__packbox { double w, h, ox, oy; uint32_t chart; } bp__packbox;
-
-static int bp__packbox_cmp(const void *pa, const void *pb)
-{
-    const bp__packbox *a = (const bp__packbox *)pa, *b = (const bp__packbox *)pb;
-    if (a->h != b->h) return a->h > b->h ? -1 : 1;
-    return a->chart < b->chart ? -1 : a->chart > b->chart;
-}
-
-/* uv = s * (uv - lo) + off, checked exactly: the moved chart must be as
-   valid as it was (bp__pack_check, bp__report_no_worse: a chart optimized
-   without the barrier may overlap itself, and stays so); on failure
-   restore and retry.  A moved map with no count at all is no worse than
-   any, so the map as it was is checked only when the moved one has a
-   count: one exact check per chart instead of two in the usual case. */
-static bp_status bp__move_chart(const bp_allocator *a, const bp__par *par, bp_chart *ch, const double *lo,
-                                double s, double ox, double oy)
-{
-    double *save = (double *)bp__alloc_array(a, 2 * (size_t)ch->num_vertices, sizeof(double));
-    uint32_t i;
-    int attempt;
-    bp_check_report before;
-    int checked = 0;                           /* `before` holds the map as it was */
-    bp_status st;
-    if (!save) return BP_ERR_OUT_OF_MEMORY;
-    memcpy(save, ch->uv, 2 * (size_t)ch->num_vertices * sizeof(double));
-    for (attempt = 0; attempt < 8; attempt++) {
-        bp_check_report rep;
-        double jig = attempt ? 1 + attempt * 1e-7 : 1;
-        for (i = 0; i < ch->num_vertices; i++) {
-            ch->uv[2 * i] = s * (save[2 * i] - lo[0]) + ox * jig;
-            ch->uv[2 * i + 1] = s * (save[2 * i + 1] - lo[1]) + oy * jig;
-        }
-        if ((st = bp__pack_check(a, par, ch, ch->uv, &rep)) != BP_OK) { bp__free(a, save); return st; }
-        if (!bp__report_valid(&rep) && !checked) {                   /* a count: what did the map have? */
-            if ((st = bp__pack_check(a, par, ch, save, &before)) != BP_OK) { bp__free(a, save); return st; }
-            checked = 1;
-        }
-        if (bp__report_valid(&rep) || bp__report_no_worse(&rep, &before)) {
-            bp__free(a, save);
-            return BP_OK;
-        }
-    }
-    memcpy(ch->uv, save, 2 * (size_t)ch->num_vertices * sizeof(double));
-    bp__free(a, save);
-    return BP_ERR_NUMERICAL;
-}
-
-/* No fixed resolution: bounding boxes on shelves (the 0.1 packing). */
-static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
-{
-    bp_allocator a;
-    bp__packbox *bx;
-    double *lo, area = 0, shelf_w, x = 0, y = 0, rowh = 0, gap = 0, W = 0, H = 0, s = 1;
-    uint32_t c, i;
-    bp_options o_;
-    bp_status ost_;
-    if ((opt = bp__opts(opt, &o_, err, &ost_)), ost_ != BP_OK) return ost_;
-    if (!atlas || !atlas->charts)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
-    a = atlas->allocator;
-    bx = (bp__packbox *)bp__alloc_array(&a, atlas->num_charts, sizeof *bx);
-    lo = (double *)bp__alloc_array(&a, 2 * (size_t)atlas->num_charts, sizeof(double));
-    if (!bx || !lo) { bp__free(&a, bx); bp__free(&a, lo); return bp__oom(err, "packing charts"); }
-    for (c = 0; c < atlas->num_charts; c++) {
-        bp_chart *ch = &atlas->charts[c];
-        double mn[2] = { DBL_MAX, DBL_MAX }, mx[2] = { -DBL_MAX, -DBL_MAX };
-        if (!ch->uv) { mn[0] = mn[1] = mx[0] = mx[1] = 0; }   /* no map: takes no room */
-        for (i = 0; ch->uv && i < ch->num_vertices; i++) {
-            int k;
-            for (k = 0; k < 2; k++) {
-                if (ch->uv[2 * i + k] < mn[k]) mn[k] = ch->uv[2 * i + k];
-                if (ch->uv[2 * i + k] > mx[k]) mx[k] = ch->uv[2 * i + k];
-            }
-        }
-        lo[2 * c] = mn[0]; lo[2 * c + 1] = mn[1];
-        bx[c].w = mx[0] - mn[0]; bx[c].h = mx[1] - mn[1]; bx[c].chart = c;
-        area += bx[c].w * bx[c].h;
-        if (bx[c].w > gap) gap = bx[c].w;
-        if (bx[c].h > gap) gap = bx[c].h;
-    }
-    gap *= 0.02;
-    qsort(bx, atlas->num_charts, sizeof *bx, bp__packbox_cmp);
-    shelf_w = sqrt(area) * 1.3;
-    for (i = 0; i < atlas->num_charts; i++) if (bx[i].w > shelf_w) shelf_w = bx[i].w;
-    /* shelf placement: offsets of each chart's lower-left corner */
-    for (i = 0; i < atlas->num_charts; i++) {
-        if (x > 0 && x + bx[i].w > shelf_w) { x = 0; y += rowh + gap; rowh = 0; }
-        bx[i].ox = x;
-        bx[i].oy = y;
-        x += bx[i].w + gap;
-        if (bx[i].h > rowh) rowh = bx[i].h;
-        if (bx[i].ox + bx[i].w > W) W = bx[i].ox + bx[i].w;
-        if (bx[i].oy + bx[i].h > H) H = bx[i].oy + bx[i].h;
-    }
-    if (opt && opt->normalize && W > 0 && H > 0) s = 1 / (W > H ? W : H);
-    area = 0;
-    for (i = 0; i < atlas->num_charts; i++) {
-        c = bx[i].chart;
-        if (!atlas->charts[c].uv) continue;
-        bp_status ms = bp__move_chart(&a, par, &atlas->charts[c], lo + 2 * (size_t)c, s, s * bx[i].ox, s * bx[i].oy);
-        if (ms != BP_OK) {
-            bp__free(&a, bx); bp__free(&a, lo);
-            if (ms == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "packing charts");
-            return bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
-                            "chart %u: placing it in the atlas would break its validity in floating point", c);
-        }
-        area += bp__chart_uv_area(&atlas->charts[c]);
-    }
-    /* the square on the longer side, the one normalize scales to [0,1]^2 */
-    W *= s; H *= s;
-    atlas->utilization = W > 0 && H > 0 ? area / ((W > H ? W : H) * (W > H ? W : H)) : 0;
-    bp__free(&a, bx);
-    bp__free(&a, lo);
-    return bp__ok(err);
-}
-
-/* Every chart that has a map, by shelves or by outlines (atlas_resolution).
-   The pack stage is reported here, for either packer: at its start and,
-   when it succeeded, at its end (>>progress: a cancel does not interrupt
-   it). */
-static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
-{
-    bp_options o_;
-    bp_status st;
-    if ((opt = bp__opts(opt, &o_, err, &st)), st != BP_OK) return st;
-    atlas->utilization = 0;
-    bp__report(opt, BP_STAGE_PACK, 0, BP_NO_CHART);
-    if (!opt || opt->atlas_resolution == 0) st = bp__pack_shelf(atlas, opt, par, err);
-    else if (opt->atlas_resolution < 0 || opt->atlas_resolution > BP__PACK_MAX_RES)
-        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                      "atlas resolution %d is out of range: it must be between 1 and %d texels",
-                      opt->atlas_resolution, BP__PACK_MAX_RES);
-    else if (opt->padding < 0 || opt->padding >= opt->atlas_resolution)
-        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                      "padding %d is out of range: it must be at least 0 and less than the resolution %d",
-                      opt->padding, opt->atlas_resolution);
-    else st = bp__pack_outlines(atlas, opt, par, err);
-    if (st == BP_OK) bp__report(opt, BP_STAGE_PACK, 1, BP_NO_CHART);
-    return st;
-}
-
-/* The last word before success: the whole atlas -- every mapped chart, in
-   its packed place -- passes the exact check as one triangulation, which
-   also proves that no two charts overlap.  This should never fail (every
-   step was checked); if it does, the caller gets BP_ERR_NOT_BIJECTIVE, not
-   a wrong map. */
-static bp_status bp__atlas_verify(const bp_atlas *atlas, const bp__par *par, bp_error *err)
-{
-    bp_allocator a = atlas->allocator;
-    uint32_t c, nt = 0, nv = 0, t, i, *tri, ov = 0, ot = 0;
-    double *uv;
-    bp_check_report rep;
-    bp_error why;
-    bp_status st;
-    for (c = 0; c < atlas->num_charts; c++)
-        if (atlas->charts[c].uv) { nt += atlas->charts[c].num_triangles; nv += atlas->charts[c].num_vertices; }
-    if (!nt) return BP_OK;
-    tri = (uint32_t *)bp__alloc_array(&a, 3 * (size_t)nt, sizeof(uint32_t));
-    uv = (double *)bp__alloc_array(&a, 2 * (size_t)nv, sizeof(double));
-    if (!tri || !uv) { bp__free(&a, tri); bp__free(&a, uv); return bp__oom(err, "verifying the atlas"); }
-    for (c = 0; c < atlas->num_charts; c++) {
-        const bp_chart *ch = &atlas->charts[c];
-        if (!ch->uv) continue;
-        for (t = 0; t < 3 * ch->num_triangles; t++) tri[3 * (size_t)ot + t] = ch->triangles[t] + ov;
-        for (i = 0; i < 2 * ch->num_vertices; i++) uv[2 * (size_t)ov + i] = ch->uv[i];
-        ot += ch->num_triangles;
-        ov += ch->num_vertices;
-    }
-    st = bp__check_par(tri, nt, uv, nv, &a, par, &rep, &why);
-    bp__free(&a, tri);
-    bp__free(&a, uv);
-    if (st == BP_ERR_OUT_OF_MEMORY) return bp__oom(err, "verifying the atlas");
-    if (!bp__check_verdict_status(st)) return bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "verifying the atlas failed: %s", why.message);
-    if (st != BP_OK)
-        return bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
-                        "the final atlas is not bijective (%u flipped, %u degenerate, %u boundary "
-                        "intersections, %u loop-orientation and %u nesting problems; indices of the "
-                        "concatenated charts: %s): this is a bug",
-                        rep.flipped, rep.degenerate, rep.boundary_intersections, rep.loop_orientation, rep.nested,
-                        why.message);
-    return BP_OK;
-}
-
-/* Charts kept in place (>>pins): a chart with pins never moves; a chart
-   whose start was its input uvs (BP_INIT_INPUT, chart.init_used = 1) keeps
-   its placement unless normalize asks for packing -- and only when those
-   charts do not overlap each other, which the exact check of the kept
-   charts together decides (the input charts are then packed like the
-   others).  The other charts are packed as usual and then translated, as
-   one block, to the right of the kept charts' bounding box, so the kept
-   and the packed never meet; bp_parameterize's final check proves it.
-   Without the barrier nothing is verified (maps may overlap themselves). */
-static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier, const bp__par *par, bp_error *why)
-{
-    double **save;
-    uint32_t c;
-    bp_status st;
-    if (!barrier) return BP_OK;
-    save = (double **)bp__alloc_array(&atlas->allocator, atlas->num_charts, sizeof(double *));
-    if (!save) return BP_ERR_OUT_OF_MEMORY;
-    for (c = 0; c < atlas->num_charts; c++) { save[c] = atlas->charts[c].uv; if (!keep[c]) atlas->charts[c].uv = NULL; }
-    st = bp__atlas_verify(atlas, par, why);
-    for (c = 0; c < atlas->num_charts; c++) atlas->charts[c].uv = save[c];
-    bp__free(&atlas->allocator, save);
-    return st;
-}
-
-static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
-{
-    bp_allocator a = atlas->allocator;
-    int *keep = (int *)bp__calloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(int));
-    double **save = (double **)bp__alloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(double *));
-    double kb[4] = { DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX }, pb[2] = { DBL_MAX, DBL_MAX }, gap;
-    uint32_t c, i, nkeep = 0, npin = 0;
-    int normalize = opt && (opt->normalize || opt->atlas_resolution), barrier = !(opt && opt->no_barrier);
-    bp_error why;
-    bp_status st = BP_OK;
-    if (!keep || !save) { bp__free(&a, keep); bp__free(&a, save); return bp__oom(err, "packing charts"); }
-    for (c = 0; c < atlas->num_charts; c++) {
-        const bp_chart *ch = &atlas->charts[c];
-        keep[c] = ch->uv && (ch->num_pins > 0 || (ch->init_used == 1 && !normalize));
-        npin += ch->uv && ch->num_pins > 0;
-    }
-    if (npin && normalize)
-        st = bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0,
-                      "normalize and atlas_resolution would move the pinned charts off their pins: "
-                      "use pins without them");
-    if (st == BP_OK && (st = bp__pack_kept_ok(atlas, keep, barrier, par, &why)) == BP_ERR_NOT_BIJECTIVE) {
-        for (c = 0; c < atlas->num_charts; c++) keep[c] = keep[c] && atlas->charts[c].num_pins > 0;
-        if ((st = bp__pack_kept_ok(atlas, keep, barrier, par, &why)) == BP_ERR_NOT_BIJECTIVE)
-            st = bp__fail(err, BP_ERR_NOT_BIJECTIVE, BP_ELEMENT_NONE, -1, -1, 0,
-                          "the pinned charts overlap each other at their targets (%s)", why.message);
-    }
-    if (st == BP_ERR_OUT_OF_MEMORY) st = bp__oom(err, "packing charts");
-    else if (st != BP_OK && st != BP_ERR_INVALID_ARGUMENT && st != BP_ERR_NOT_BIJECTIVE) st = bp__fail(err, st, BP_ELEMENT_NONE, -1, -1, 0, "%s", why.message);
-    for (c = 0; c < atlas->num_charts; c++) {
-        bp_chart *ch = &atlas->charts[c];
-        save[c] = ch->uv;
-        ch->in_place = keep[c];
-        nkeep += keep[c] != 0;
-        for (i = 0; keep[c] && i < ch->num_vertices; i++) {
-            double u = ch->uv[2 * (size_t)i], v = ch->uv[2 * (size_t)i + 1];
-            if (u < kb[0]) kb[0] = u;
-            if (v < kb[1]) kb[1] = v;
-            if (u > kb[2]) kb[2] = u;
-            if (v > kb[3]) kb[3] = v;
-        }
-        if (keep[c]) ch->uv = NULL;            /* hidden from the packer: takes no room */
-    }
-    if (st == BP_OK) st = bp__pack_all(atlas, opt, par, err);
-    for (c = 0; c < atlas->num_charts; c++) if (keep[c]) atlas->charts[c].uv = save[c];
-    if (st == BP_OK && nkeep) {
-        gap = 0.02 * (kb[2] - kb[0] > kb[3] - kb[1] ? kb[2] - kb[0] : kb[3] - kb[1]);
-        for (c = 0; c < atlas->num_charts; c++)
-            for (i = 0; !keep[c] && atlas->charts[c].uv && i < atlas->charts[c].num_vertices; i++) {
-                if (atlas->charts[c].uv[2 * (size_t)i] < pb[0]) pb[0] = atlas->charts[c].uv[2 * (size_t)i];
-                if (atlas->charts[c].uv[2 * (size_t)i + 1] < pb[1]) pb[1] = atlas->charts[c].uv[2 * (size_t)i + 1];
-            }
-        for (c = 0; st == BP_OK && c < atlas->num_charts; c++) {
-            double zero[2] = { 0, 0 };
-            if (keep[c] || !atlas->charts[c].uv) continue;
-            if (bp__move_chart(&a, par, &atlas->charts[c], zero, 1, kb[2] + gap - pb[0], kb[1] - pb[1]) != BP_OK)
-                st = bp__fail(err, BP_ERR_NUMERICAL, BP_ELEMENT_CHART, c, -1, 0,
-                              "chart %u: placing it beside the charts kept in place would break its validity", c);
-        }
-    }
-    bp__free(&a, keep);
-    bp__free(&a, save);
-    return st;
-}
-
-/* The packer's runner, for its exact checks (one per moved chart,
-   bp__move_chart, and in bp_parameterize the final one of the whole
-   atlas): a pool from opt when the charts with a map have
-   BP__PAR_MIN_TRIANGLES triangles or more together (*pool: to stop
-   later), else serial, as for a chart's own loops (>>threads). */
-static bp__par bp__pack_par(const bp_atlas *atlas, const bp_options *opt, void **pool)
-{
-    uint32_t c, nt = 0;
-    *pool = NULL;
-    for (c = 0; c < atlas->num_charts; c++)
-        if (atlas->charts[c].uv) nt += atlas->charts[c].num_triangles;
-    if (nt < BP__PAR_MIN_TRIANGLES) return bp__par_serial();
-    return bp__par_begin(&atlas->allocator, opt, pool);
-}
-
-/* Place the charts side by side without overlap, leaving pinned charts
-   (and, without normalize, charts started from their input uvs) where
-   they are: see bp__pack_in_place. */
-BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
-{
-    void *pool;
-    bp__par par;
-    bp_status st;
-    if (!atlas || !atlas->charts)
-        return bp__fail(err, BP_ERR_INVALID_ARGUMENT, BP_ELEMENT_NONE, -1, -1, 0, "bp_atlas_pack needs an atlas");
-    par = bp__pack_par(atlas, opt, &pool);
-    st = bp__pack_in_place(atlas, opt, &par, err);
-    bp__par_end(&atlas->allocator, pool);
-    return st;
-}
+   and the packing (bp_atlas_pack, >>pack), then one exact check of the
+   whole atlas (bp__atlas_verify). */
 
 BPDEF void bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *why)
 {
@@ -21783,6 +21962,7 @@ static void bp__solve_list(bp__chart_job *J, const bp__par *par, uint32_t *list,
         bp__serial_for(NULL, bp__chart_task, J, ns);
 }
 
+#ifndef BP_NO_ATLAS /* (the splits before the solve: segmentation) */
 /* The charts J marked to split (see above), split in chart order; the
    list becomes them and their new pieces.  Returns the list's length, or
    BP__NONE when out of memory (err set). */
@@ -21812,6 +21992,39 @@ static uint32_t bp__split_marked(bp__chart_job *J, const bp_options *opt, bp__se
     return n;
 }
 
+/* One round of splits: the charts marked (none: *n = 0, the rounds end)
+   split, the marks, statuses and errors grown with the pieces, and the
+   list to solve next in *list, *n. */
+static bp_status bp__split_round(bp__chart_job *J, const bp_options *opt, const bp_mesh *m, bp__seg_mesh *G,
+                                 uint32_t **list, uint32_t *n, uint64_t *total, bp_error *err)
+{
+    bp_atlas *atlas = J->atlas;
+    bp_allocator a = atlas->allocator;
+    uint32_t c, n0 = atlas->num_charts;
+    bp_status *s2;
+    bp_error *e2;
+    unsigned char *m2;
+    for (c = 0; c < n0 && J->split[c] != 1; c++) {}
+    if (c == n0) { *n = 0; return BP_OK; }
+    if (!G->glued && bp__seg_mesh_alloc(&a, G, m, err) != BP_OK) return BP_ERR_OUT_OF_MEMORY;
+    if ((*n = bp__split_marked(J, opt, G, list, total, err)) == BP__NONE) return BP_ERR_OUT_OF_MEMORY;
+    if (atlas->num_charts == n0) return BP_OK;
+    s2 = (bp_status *)bp__alloc_array(&a, atlas->num_charts, sizeof(bp_status));
+    e2 = (bp_error *)bp__calloc_array(&a, atlas->num_charts, sizeof(bp_error));
+    m2 = (unsigned char *)bp__calloc_array(&a, atlas->num_charts, 1);
+    if (!s2 || !e2 || !m2) {
+        bp__free(&a, s2); bp__free(&a, e2); bp__free(&a, m2);
+        return bp__oom(err, "splitting charts");
+    }
+    memcpy(s2, J->status, n0 * sizeof(bp_status));
+    memcpy(e2, J->errs, n0 * sizeof(bp_error));
+    memcpy(m2, J->split, n0);
+    bp__free(&a, J->status); bp__free(&a, J->errs); bp__free(&a, J->split);
+    J->status = s2; J->errs = e2; J->split = m2;
+    return BP_OK;
+}
+#endif /* BP_NO_ATLAS: the splits */
+
 /* Every chart's start map and optimization (the two functions above), with
    the splits before the solve when segmentation is on: rounds of solving,
    splitting the charts marked, and solving their pieces.  One pool serves
@@ -21822,7 +22035,9 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
     bp_allocator a = atlas->allocator;
     bp__par par;
     bp__chart_job J;
+#ifndef BP_NO_ATLAS
     bp__seg_mesh G;
+#endif
     void *pool = NULL;
     uint32_t c, largest = 0, *list = NULL, n = atlas->num_charts, round;
     uint64_t total = 0;
@@ -21832,7 +22047,9 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
     int splits = opt && bp__seg_enabled(opt) && !opt->init_only && !opt->no_barrier &&
                  (opt->segment > 0 || opt->atlas_resolution > 0 || opt->max_charts > 0);
     memset(&J, 0, sizeof J);
+#ifndef BP_NO_ATLAS
     memset(&G, 0, sizeof G);
+#endif
     J.run = bp__run_of(opt);                                 /* >>progress */
     opt = bp__with_iter_link(opt, &linked, &L);
     J.atlas = atlas;
@@ -21857,33 +22074,16 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
         if (J.split && round == BP__SPLIT_ROUNDS) { bp__free(&a, J.split); J.split = NULL; }
         bp__solve_list(&J, &par, list, n, total);
         if (!J.split) break;
-        for (c = 0; c < atlas->num_charts && J.split[c] != 1; c++) {}
-        if (c == atlas->num_charts) break;
-        if (!G.glued && bp__seg_mesh_alloc(&a, &G, m, err) != BP_OK) { st = BP_ERR_OUT_OF_MEMORY; break; }
-        {   /* the marks, statuses and errors grow with the pieces */
-            uint32_t n0 = atlas->num_charts;
-            if ((n = bp__split_marked(&J, opt, &G, &list, &total, err)) == BP__NONE) { st = BP_ERR_OUT_OF_MEMORY; break; }
-            if (atlas->num_charts > n0) {
-                bp_status *s2 = (bp_status *)bp__alloc_array(&a, atlas->num_charts, sizeof(bp_status));
-                bp_error *e2 = (bp_error *)bp__calloc_array(&a, atlas->num_charts, sizeof(bp_error));
-                unsigned char *m2 = (unsigned char *)bp__calloc_array(&a, atlas->num_charts, 1);
-                if (!s2 || !e2 || !m2) {
-                    bp__free(&a, s2); bp__free(&a, e2); bp__free(&a, m2);
-                    st = bp__oom(err, "splitting charts");
-                    break;
-                }
-                memcpy(s2, J.status, n0 * sizeof(bp_status));
-                memcpy(e2, J.errs, n0 * sizeof(bp_error));
-                memcpy(m2, J.split, n0);
-                bp__free(&a, J.status); bp__free(&a, J.errs); bp__free(&a, J.split);
-                J.status = s2; J.errs = e2; J.split = m2;
-            }
-        }
+#ifndef BP_NO_ATLAS
+        if ((st = bp__split_round(&J, opt, m, &G, &list, &n, &total, err)) != BP_OK) break;
+#endif
     }
     bp__par_end(&a, pool);
     if (st == BP_OK) st = bp__collect(atlas, &J, opt && opt->strict, err);   /* else out of memory, as there */
+#ifndef BP_NO_ATLAS
     bp__free(&a, G.glued);
     bp__free(&a, G.facepos);
+#endif
     bp__free(&a, list);
     bp__free(&a, J.split);
     bp__free(&a, J.status);
@@ -22003,10 +22203,10 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     double *imp = NULL, *uvs_k = NULL;
     bp_pin *pins_k = NULL;
     int k = 0;
+    if (atlas) memset(atlas, 0, sizeof *atlas);                          /* zeroed on every failure */
     if ((opt = bp__opts(opt, &local, err, &st)), st != BP_OK) return st;   /* >>progress */
     a = bp__allocator_of(opt);
     if (!atlas) return bp_atlas_build(atlas, m, opt, err);
-    memset(atlas, 0, sizeof *atlas);
     if ((st = bp__rescaled_mesh(&a, m, &ms, &k, err)) != BP_OK) return st;
     if (!opt) memset(&local, 0, sizeof local);
     memset(&run, 0, sizeof run);
@@ -22022,11 +22222,7 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
 #endif
     if (k) local.epsilon = ldexp(local.epsilon, k);     /* a barrier width is a length */
     if (k) st = bp__rescale_controls(&a, &local, &ms, k, &pins_k, &uvs_k, err);   /* pins, input uvs */
-#ifdef BP_NO_VISIBILITY
-    if (st == BP_OK && local.views.model != BP_VIEW_NONE)
-        st = bp__fail(err, BP_ERR_UNSUPPORTED, BP_ELEMENT_NONE, -1, -1, 0,
-                      "opt.views needs the visibility code, which BP_NO_VISIBILITY leaves out");
-#else
+#ifndef BP_NO_VISIBILITY   /* (a view model is refused by bp__opts without it) */
     if (st == BP_OK && local.views.model != BP_VIEW_NONE && !local.init_only) {
         /* chapter 4: visibility (times the user's importance) drives eq 4.1,
            and automatic seams (>>cut) prefer the parts seen least */
@@ -22044,13 +22240,17 @@ BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_opti
     }
 #endif
     if (st == BP_OK) st = bp_atlas_build(atlas, &ms, &local, err);
+#ifndef BP_NO_ATLAS
     if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {           /* >>segment: (b) */
         bp_status ss = bp_atlas_segment(atlas, &ms, &local, err);
         if (ss != BP_OK) st = ss;
     }
+#endif
     if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) {
         st = bp__solve_charts(atlas, &ms, &local, &cancel);
+#ifndef BP_NO_ATLAS
         if (st == BP_OK) st = bp_atlas_refine(atlas, &ms, &local, &cancel);   /* >>segment: (a) */
+#endif
         if (st != BP_OK && st != BP_ERR_CANCELLED && err) *err = cancel;
     }
     if (st == BP_OK || (st == BP_ERR_CANCELLED && atlas->charts)) {   /* a cancel in bp_atlas_build: no charts */

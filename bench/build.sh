@@ -2,8 +2,9 @@
 # bench/build.sh (make bench-build) - the implementation's compile time and
 # code size per build configuration.
 #
-# For each configuration (the full header, each BP_NO_ macro alone, and
-# their combinations below) and each compiler (gcc and clang, -std=c99
+# For each configuration (the full header, each BP_NO_ macro alone, the
+# core library -- BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY -- with and
+# without BP_NO_IO) and each compiler (gcc and clang, -std=c99
 # -O2 -c of a file holding only `#define BP_IMPLEMENTATION` and
 # `#include "bijparam.h"`): user CPU seconds (median of ROUNDS runs, 3 by
 # default; the rounds alternate between configurations so that a change in
@@ -23,9 +24,12 @@ printf '#define BP_IMPLEMENTATION\n#include "bijparam.h"\n' >"$TMP/impl.c"
 
 # name|macros (the configurations a BP_NO_ macro of this header defines)
 CONFIGS="full|
-no_io|BP_NO_IO
+no_newton|BP_NO_NEWTON
+no_atlas|BP_NO_ATLAS
 no_visibility|BP_NO_VISIBILITY
-no_io_visibility|BP_NO_IO BP_NO_VISIBILITY"
+no_io|BP_NO_IO
+core|BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY
+core_no_io|BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY BP_NO_IO"
 
 : >"$TMP/raw"
 for r in $(seq "$ROUNDS"); do

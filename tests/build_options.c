@@ -1,6 +1,8 @@
 /* build_options.c - the library built without some of its parts
-   (BP_NO_VISIBILITY, BP_NO_IO, ...: tests/test_build_options.sh compiles
-   this file once per combination).  What it proves in each build:
+   (BP_NO_NEWTON, BP_NO_ATLAS, BP_NO_VISIBILITY, BP_NO_IO: make test builds
+   it with all four, make check with each of their 16 combinations, see
+   tests/test_build_options.sh and tests/test_build_matrix.sh).  What it
+   proves in each build:
      (a) the rest still works: camel_b, read by this file's own OBJ reader
          (the library's may be left out), is flattened by bp_parameterize
          with the defaults, every chart passes bp_check, and the map is
@@ -8,7 +10,14 @@
          checker, to check again;
      (b) every option that needs a left-out part fails with
          BP_ERR_UNSUPPORTED and a message naming the macro, and leaves the
-         atlas zeroed -- never does something else. */
+         atlas zeroed -- never does something else;
+     (c) without Newton (BP_NO_NEWTON): the default direction is the
+         preconditioned L-BFGS on every chart (chart.direction), and the
+         conformal start asked by name is still made, by the scalar
+         factorization, on a chart where it is bijective (argv[3], the
+         bishop, whose conformal map is: start_map says so) and the map is
+         valid; a chart whose conformal map folds (camel_b) falls to the
+         mean-value map, as in the full build. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -84,8 +93,22 @@ static int write_obj(const char *path, const bp_mesh *m, const bp_atlas *at)
     return fclose(f) == 0;
 }
 
+/* Every chart of at passes bp_check; the count of those that fail. */
+static uint32_t failing(const bp_atlas *at)
+{
+    uint32_t c, bad = 0;
+    for (c = 0; c < at->num_charts; c++) {
+        const bp_chart *ch = &at->charts[c];
+        bp_check_report rep;
+        if (!ch->uv || bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &rep, NULL) != BP_OK)
+            bad++;
+    }
+    return bad;
+}
+
 #if defined(BP_NO_VISIBILITY) || defined(BP_NO_NEWTON) || defined(BP_NO_ATLAS)
-/* (b): opt fails with BP_ERR_UNSUPPORTED naming macro, the atlas zeroed. */
+/* (b): opt fails with BP_ERR_UNSUPPORTED, its message naming the option
+   (what) and the macro, the atlas zeroed. */
 static void refused(const bp_mesh *m, const bp_options *opt, const char *macro, const char *what)
 {
     bp_atlas at;
@@ -93,7 +116,8 @@ static void refused(const bp_mesh *m, const bp_options *opt, const char *macro, 
     bp_status st;
     memset(&at, 0xAB, sizeof at);
     st = bp_parameterize(&at, m, opt, &err);
-    BPT_CHECK(st == BP_ERR_UNSUPPORTED && strstr(err.message, macro) != NULL && at.num_charts == 0 && !at.charts,
+    BPT_CHECK(st == BP_ERR_UNSUPPORTED && strstr(err.message, macro) != NULL && strstr(err.message, what) != NULL &&
+              at.num_charts == 0 && !at.charts,
               "%s: %s is refused (%s: \"%s\")", macro, what, bp_status_string(st), err.message);
     bp_atlas_free(&at);
 }
@@ -106,29 +130,104 @@ int main(int argc, char **argv)
     bp_options opt;
     bp_error err;
     bp_status st;
-    uint32_t c, bad = 0;
-    if (argc < 3) { fprintf(stderr, "usage: %s MESH.obj OUT.obj\n", argv[0]); return 2; }
+    uint32_t bad = 0;
+    int ok;
+    if (argc < 4) { fprintf(stderr, "usage: %s camel_b.obj OUT.obj bishop_part_f1000.obj\n", argv[0]); return 2; }
     memset(&m, 0, sizeof m);
-    if (!BPT_CHECK(read_obj(argv[1], &m), "%s read (%u vertices, %u triangles)", argv[1], m.num_vertices,
-                   m.num_triangles))
+    ok = read_obj(argv[1], &m);
+    if (!BPT_CHECK(ok, "%s read (%u vertices, %u triangles)", argv[1], m.num_vertices, m.num_triangles))
         return bpt_finish();
     memset(&opt, 0, sizeof opt);
     memset(&at, 0, sizeof at);
     st = bp_parameterize(&at, &m, &opt, &err);                                   /* (a) */
     BPT_CHECK(st == BP_OK, "camel_b flattened with the defaults (%s)", st == BP_OK ? "ok" : err.message);
-    for (c = 0; st == BP_OK && c < at.num_charts; c++) {
-        const bp_chart *ch = &at.charts[c];
-        bp_check_report rep;
-        if (bp_check(ch->triangles, ch->num_triangles, ch->uv, ch->num_vertices, NULL, &rep, NULL) != BP_OK) bad++;
-    }
+    if (st == BP_OK) bad = failing(&at);
     BPT_CHECK(st == BP_OK && at.num_charts > 0 && bad == 0, "every one of its %u charts passes bp_check (%u fail)",
               at.num_charts, bad);
     BPT_CHECK(st == BP_OK && write_obj(argv[2], &m, &at), "the map written to %s", argv[2]);
+#ifdef BP_NO_NEWTON
+    uint32_t c;
+    for (c = 0, bad = 0; st == BP_OK && c < at.num_charts; c++)                   /* (c) */
+        bad += at.charts[c].direction != BP_DIRECTION_PRECONDITIONED;
+    BPT_CHECK(st == BP_OK && bad == 0, "BP_NO_NEWTON: the default direction is the preconditioned L-BFGS on every "
+              "chart (%u charts, %u other)", at.num_charts, bad);
+#endif
+#if defined(BP_NO_NEWTON) || defined(BP_NO_ATLAS)
+    if (st == BP_OK) {                            /* (b) through the calls that take one step */
+        bp_options o2 = opt;
+        double u0 = at.charts[0].uv[0];
+#ifdef BP_NO_NEWTON
+        o2.direction = BP_DIRECTION_NEWTON;
+        st = bp_atlas_solve(&at, &m, &o2, &err);
+        BPT_CHECK(st == BP_ERR_UNSUPPORTED && strstr(err.message, "BP_NO_NEWTON") && at.charts[0].uv[0] == u0,
+                  "BP_NO_NEWTON: bp_atlas_solve with BP_DIRECTION_NEWTON is refused, the map untouched (%s)",
+                  err.message);
+        o2.direction = BP_DIRECTION_DEFAULT;
+#endif
+#ifdef BP_NO_ATLAS
+        o2.atlas_resolution = 512;
+        st = bp_atlas_pack(&at, &o2, &err);
+        BPT_CHECK(st == BP_ERR_UNSUPPORTED && strstr(err.message, "BP_NO_ATLAS") &&
+                  strstr(err.message, "opt.atlas_resolution") && at.charts[0].uv[0] == u0,
+                  "BP_NO_ATLAS: bp_atlas_pack at a resolution is refused, the map untouched (%s)", err.message);
+#endif
+        st = BP_OK;
+    }
+#endif
     bp_atlas_free(&at);
 #ifdef BP_NO_VISIBILITY
     opt.views.model = BP_VIEW_FRONT;
-    refused(&m, &opt, "BP_NO_VISIBILITY", "a view model (opt.views)");
+    refused(&m, &opt, "BP_NO_VISIBILITY", "opt.views");
     opt.views.model = BP_VIEW_NONE;
+#endif
+#ifdef BP_NO_NEWTON
+    opt.direction = BP_DIRECTION_NEWTON;
+    refused(&m, &opt, "BP_NO_NEWTON", "opt.direction BP_DIRECTION_NEWTON");
+    opt.direction = BP_DIRECTION_DEFAULT;
+    {                                           /* (c): the conformal start by name */
+        bp_mesh b;
+        memset(&b, 0, sizeof b);
+        opt.init = BP_INIT_CONFORMAL;
+        st = bp_parameterize(&at, &m, &opt, &err);
+        BPT_CHECK(st == BP_OK && at.num_charts > 0 && failing(&at) == 0 &&
+                  at.charts[0].start_map == BP_INIT_MEAN_VALUE,
+                  "BP_NO_NEWTON: BP_INIT_CONFORMAL on camel_b, whose conformal map folds: the mean-value start, "
+                  "the map valid (%s, start %d)", st == BP_OK ? "ok" : err.message, st == BP_OK ? at.charts[0].start_map : -1);
+        bp_atlas_free(&at);
+        ok = read_obj(argv[3], &b);
+        if (BPT_CHECK(ok, "%s read (%u triangles)", argv[3], b.num_triangles)) {
+            st = bp_parameterize(&at, &b, &opt, &err);
+            BPT_CHECK(st == BP_OK && at.num_charts == 1 && failing(&at) == 0 &&
+                      at.charts[0].start_map == BP_INIT_CONFORMAL,
+                      "BP_NO_NEWTON: BP_INIT_CONFORMAL on the bishop: the conformal start (by the scalar "
+                      "factorization), the map valid (%s, start %d)", st == BP_OK ? "ok" : err.message,
+                      st == BP_OK ? at.charts[0].start_map : -1);
+            bp_atlas_free(&at);
+        }
+        free((void *)b.positions);
+        free((void *)b.triangles);
+        opt.init = BP_INIT_AUTO;
+    }
+#endif
+#ifdef BP_NO_ATLAS
+    opt.atlas_resolution = 1024;
+    refused(&m, &opt, "BP_NO_ATLAS", "opt.atlas_resolution");
+    opt.atlas_resolution = 0;
+    opt.segment = 1;
+    refused(&m, &opt, "BP_NO_ATLAS", "opt.segment = 1");
+    opt.segment = 0;
+    opt.max_distortion = 5;
+    refused(&m, &opt, "BP_NO_ATLAS", "opt.max_distortion");
+    opt.max_distortion = 0;
+    opt.max_charts = 4;
+    refused(&m, &opt, "BP_NO_ATLAS", "opt.max_charts");
+    opt.max_charts = 0;
+    opt.segment = -1;                           /* "never": needs nothing left out */
+    st = bp_parameterize(&at, &m, &opt, &err);
+    BPT_CHECK(st == BP_OK && failing(&at) == 0, "BP_NO_ATLAS: opt.segment = -1 is accepted (%s)",
+              st == BP_OK ? "ok" : err.message);
+    bp_atlas_free(&at);
+    opt.segment = 0;
 #endif
     free((void *)m.positions);
     free((void *)m.triangles);

@@ -1,56 +1,75 @@
 #!/usr/bin/env bash
-# test_build_options.sh - the library built without some of its parts.
+# test_build_options.sh - the library built without some of its parts
+# (make test; every combination of the macros is built by
+# tests/test_build_matrix.sh in make check).
 #
-# tests/build_options.c is compiled (gcc -std=c99 -O1, warnings as errors)
-# once per combination of the opt-out macros below and run on
-# tests/data/camel_b.obj: in each build camel_b is flattened with the
-# defaults, every chart passes bp_check, and tests/uvcheck.py (an
-# independent exact checker) accepts the written map; every option that
-# needs a left-out part fails with BP_ERR_UNSUPPORTED naming the macro.
-# Also: a left-out part's public functions are not declared (a call does
-# not compile), and BP_NO_IO never includes <stdio.h>.
+#   - tests/build_options.c built with all four opt-out macros (BP_NO_NEWTON
+#     BP_NO_ATLAS BP_NO_VISIBILITY BP_NO_IO; gcc -std=c99 -O1, warnings as
+#     errors) and run on tests/data/camel_b.obj: camel_b flattened with the
+#     defaults, every chart through bp_check and the written map through
+#     tests/uvcheck.py (an independent exact checker); every option that
+#     needs a left-out part fails with BP_ERR_UNSUPPORTED naming the macro;
+#     the conformal start by name on tests/data/bishop_part_f1000.obj;
+#   - the README's example built as the core library (BP_NO_NEWTON
+#     BP_NO_ATLAS BP_NO_VISIBILITY) flattens camel_b, and tests/uvcheck.py
+#     finds the written file bijective;
+#   - a left-out part's public functions are not declared (a call does not
+#     compile), and BP_NO_IO never includes <stdio.h>.
 # Prints one "ok"/"FAIL" line per check and a final "BPTEST <passed> <failed>".
 set -u
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 CC=${CC:-gcc}
 PY=${PYTHON:-python3}
 WARN="-Wall -Wextra -pedantic -Werror"
+ALL="BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY BP_NO_IO"
+CORE="BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY"
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/bp_options.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 passed=0
 failed=0
 ok()   { echo "ok   test_build_options.sh: $*"; passed=$((passed + 1)); }
 fail() { echo "FAIL test_build_options.sh: $*"; failed=$((failed + 1)); }
+defs() { for m in "$@"; do printf ' -D%s' "$m"; done; }
 
-n=0
-for macros in "BP_NO_VISIBILITY" "BP_NO_IO" "BP_NO_IO BP_NO_VISIBILITY"; do
-    n=$((n + 1))
-    defs=$(for m in $macros; do printf ' -D%s' "$m"; done)
-    exe="$TMP/options$n"
-    if $CC -std=c99 -O1 $WARN $defs -I"$ROOT" -I"$ROOT/tests" "$ROOT/tests/build_options.c" -o "$exe" -lm \
-            2>"$TMP/cc$n.log"; then
-        ok "$macros: compiles warning-free"
+# tests/build_options.c with every part left out
+if $CC -std=c99 -O1 $WARN $(defs $ALL) -I"$ROOT" -I"$ROOT/tests" "$ROOT/tests/build_options.c" -o "$TMP/options" -lm \
+        2>"$TMP/cc.log"; then
+    ok "$ALL: compiles warning-free"
+    if "$TMP/options" "$ROOT/tests/data/camel_b.obj" "$TMP/out.obj" "$ROOT/tests/data/bishop_part_f1000.obj" \
+            >"$TMP/run.log" 2>&1; then
+        ok "$ALL: $(tail -1 "$TMP/run.log") (camel_b flattened, checked, refusals, the conformal start)"
     else
-        fail "$macros: does not compile"; cat "$TMP/cc$n.log"; continue
+        fail "$ALL: the program failed"; cat "$TMP/run.log"
     fi
-    if "$exe" "$ROOT/tests/data/camel_b.obj" "$TMP/out$n.obj" >"$TMP/run$n.log" 2>&1; then
-        ok "$macros: $(tail -1 "$TMP/run$n.log") (camel_b flattened, checked, refusals)"
+    if $PY "$ROOT/tests/uvcheck.py" "$TMP/out.obj" >"$TMP/uv.log" 2>&1; then
+        ok "$ALL: tests/uvcheck.py finds camel_b's map bijective"
     else
-        fail "$macros: the program failed"; cat "$TMP/run$n.log"
+        fail "$ALL: tests/uvcheck.py rejects camel_b's map"; cat "$TMP/uv.log"
     fi
-    if $PY "$ROOT/tests/uvcheck.py" "$TMP/out$n.obj" >"$TMP/uv$n.log" 2>&1; then
-        ok "$macros: tests/uvcheck.py finds camel_b's map bijective"
+else
+    fail "$ALL: does not compile"; cat "$TMP/cc.log"
+fi
+
+# the README example as the core library
+awk '/^```c$/ { if (!done) { on = 1; next } } /^```$/ { if (on) { on = 0; done = 1 } } on' "$ROOT/README.md" >"$TMP/example.c"
+if $CC -std=c99 -O2 $WARN $(defs $CORE) -I"$ROOT" "$TMP/example.c" -o "$TMP/example" -lm 2>"$TMP/ex.log"; then
+    ok "the README example compiles warning-free with $CORE"
+    if "$TMP/example" "$ROOT/tests/data/camel_b.obj" "$TMP/example.obj" >"$TMP/exrun.log" 2>&1 &&
+       $PY "$ROOT/tests/uvcheck.py" "$TMP/example.obj" >"$TMP/exuv.log" 2>&1; then
+        ok "the README example built with $CORE flattens camel_b bijectively ($(tail -1 "$TMP/exuv.log"))"
     else
-        fail "$macros: tests/uvcheck.py rejects camel_b's map"; cat "$TMP/uv$n.log"
+        fail "the README example built with $CORE on camel_b"; cat "$TMP/exrun.log" "$TMP/exuv.log" 2>/dev/null
     fi
-done
+else
+    fail "the README example does not compile with $CORE"; cat "$TMP/ex.log"
+fi
 
 # a left-out part's functions are not declared
 nodecl() {   # macro, call
     printf '#define BP_IMPLEMENTATION\n#include "bijparam.h"\nint main(void) { %s; return 0; }\n' "$2" >"$TMP/call.c"
-    if $CC -std=c99 $WARN -D"$1" -I"$ROOT" -c "$TMP/call.c" -o "$TMP/call.o" 2>/dev/null; then
+    if $CC -std=c99 $WARN -D"$1" -I"$ROOT" -fsyntax-only "$TMP/call.c" 2>/dev/null; then
         fail "$1: '$2' still compiles"
-    elif $CC -std=c99 $WARN -I"$ROOT" -c "$TMP/call.c" -o "$TMP/call.o" 2>/dev/null; then
+    elif $CC -std=c99 $WARN -I"$ROOT" -fsyntax-only "$TMP/call.c" 2>/dev/null; then
         ok "$1: '$2' does not compile (it does without $1)"
     else
         fail "$1: '$2' does not compile even without $1 (the check is broken)"
@@ -59,6 +78,8 @@ nodecl() {   # macro, call
 nodecl BP_NO_IO "bp_mesh m; (void)bp_parse_obj(\"v 0 0 0\", 7, &m, 0, 0)"
 nodecl BP_NO_IO "(void)bp_mesh_format(\"a.obj\")"
 nodecl BP_NO_VISIBILITY "bp_mesh m = {0}; double v; (void)bp_visibility(&m, 0, &v, 0)"
+nodecl BP_NO_ATLAS "bp_atlas at = {0}; bp_mesh m = {0}; (void)bp_atlas_segment(&at, &m, 0, 0)"
+nodecl BP_NO_ATLAS "bp_atlas at = {0}; bp_mesh m = {0}; (void)bp_atlas_refine(&at, &m, 0, 0)"
 
 printf '#define BP_IMPLEMENTATION\n#include "bijparam.h"\n' >"$TMP/impl.c"
 if $CC -std=c99 -DBP_NO_IO -I"$ROOT" -E "$TMP/impl.c" 2>/dev/null | grep -q 'stdio\.h'; then
