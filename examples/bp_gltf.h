@@ -45,14 +45,16 @@
        Vertex k of the input stays vertex k (its bytes unchanged); the
        copies follow, so a vertex that no seam cuts keeps its index.
      - The new attribute and index accessors, their bufferViews and their
-       data are appended; nothing of the input is renumbered or removed.
-       The input's accessors, bufferViews and buffer bytes stay as they
-       were (the replaced ones no longer referenced by the written
-       primitives), and so do nodes, materials, textures, images, skins,
-       animations, cameras, extras, extensions and the non-triangle
-       primitives.  The JSON is the input's text with the few values that
-       must change replaced in place: key order, spacing, number and
-       string text come back byte for byte.
+       data are appended.  The accessors the written primitives used
+       before, which nothing else references, go with their bufferViews
+       and, in a .glb, their bytes ("what the rewrite leaves unused"
+       below); every other accessor and bufferView keeps its JSON and its
+       bytes, renumbered where one before it went.  Nodes, materials,
+       textures, images, skins, animations, cameras, extras, extensions
+       and the non-triangle primitives stay as they were.  The JSON is
+       the input's text with the few values that must change replaced in
+       place: key order, spacing, number and string text come back byte
+       for byte.
      - Where the new bytes go: a .glb appends them to its BIN chunk
        (buffer 0); a .gltf to a new buffer, in a data: URI or in a .bin
        file of its own (bpg_write_options.bin_uri).  A .glb input written
@@ -155,6 +157,9 @@ typedef struct bpg_output {
                                  primitives before and after the split      */
     uint32_t       rounding_fixed; /* corners moved by a few floats to keep
                                  the rounded map bijective                 */
+    uint32_t       accessors_removed, views_removed; /* the input's, left
+                                 unreferenced by the rewrite (the essay)   */
+    size_t         bytes_removed; /* of a .glb's BIN chunk, with them      */
     bp_allocator   allocator;
 } bpg_output;
 
@@ -2113,6 +2118,15 @@ typedef struct bpg__enc {
     unsigned char *flip;        /* per mesh triangle: written (0, 2, 1)       */
     char     texkey[16];
     uint32_t vertices_in, vertices_out, fixed;
+    uint32_t acc_base, view_base; /* the first new accessor and bufferView    */
+    uint32_t *acc_new, *view_new; /* per input accessor, bufferView: its index
+                                     in the output, BPG__NONE: removed        */
+    uint64_t *cut;              /* buffer 0's removed 4-byte units [a, b)    */
+    uint32_t num_cuts;
+    const unsigned char *bin;   /* buffer 0 (the BIN chunk) as written       */
+    unsigned char *bin_owned;
+    size_t   bin_len;
+    uint32_t accessors_removed, views_removed;
 } bpg__enc;
 
 /* An edit: text (already in e->text from `from`) replaces [at, end). */
@@ -2165,7 +2179,7 @@ static uint32_t bpg__new_view(bpg__enc *e, size_t off, size_t len, size_t stride
     bpg__o_str(o, ",\"target\":");
     bpg__o_uint(o, (uint64_t)target);
     bpg__o_str(o, "}");
-    return e->f->num_views + e->num_new_views++;
+    return e->view_base + e->num_new_views++;
 }
 
 /* A new accessor: `old` (an accessor node) with its bufferView and count
@@ -2205,7 +2219,7 @@ static uint32_t bpg__new_accessor(bpg__enc *e, uint32_t old, uint32_t view, uint
             else bpg__o_put(o, f->doc + m->start, m->end - m->start);
         }
     bpg__o_str(o, "}");
-    return f->num_accessors + e->num_new_acc++;
+    return e->acc_base + e->num_new_acc++;
 }
 
 /* ---- writing: the map -------------------------------------------------------
@@ -2773,6 +2787,342 @@ done:
     return ok;
 }
 
+/* ---- writing: what the rewrite leaves unused ----------------------------------
+
+   A written primitive gets new accessors for every attribute and for its
+   indices, so the accessors it used before -- and their bufferViews and
+   bytes -- may be referenced by nothing any more: kept, they would double
+   a .glb whose every primitive is written.  They are removed when nothing
+   else of the file names them, and everything the file still references
+   comes back with the same JSON text and the same bytes, renumbered:
+
+     - an accessor goes when only written primitives referenced it (their
+       attributes, morph targets and indices); one the input itself left
+       unreferenced stays, as does one that another primitive (points,
+       lines), a skin, an animation sampler or EXT_mesh_gpu_instancing
+       names;
+     - a bufferView goes when only accessors that go referenced it;
+     - in a .glb's BIN chunk (buffer 0), the bytes of the bufferViews that
+       go are cut out where no kept bufferView overlaps them, whole 4-byte
+       units only, so every offset keeps its alignment; bytes of a buffer
+       in a file or a data: URI stay where they are (only the JSON entries
+       go);
+     - every reference to a kept accessor or bufferView is renumbered
+       (bufferView, sparse indices and values, image bufferView, and the
+       references above) and a kept bufferView's byteOffset moves with the
+       bytes cut before it.
+
+   Extensions may hold indices this writer cannot know about.  Those that
+   never name an accessor or bufferView (materials, texture transforms
+   and formats, lights, quantization, variants, XMP) are read past; any
+   other extension object holding a whole number, or a reference that is
+   not a whole number in range, leaves the file's accessors and
+   bufferViews all in place, as the file had them. */
+
+static int bpg__ext_known(const struct bpg__file *f, size_t key)
+{
+    static const char *const safe[] = { "KHR_texture_transform", "KHR_lights_punctual", "KHR_mesh_quantization",
+                                        "KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif", "KHR_xmp_json_ld",
+                                        "KHR_materials_variants", "MSFT_texture_dds", "EXT_lights_image_based" };
+    char name[64];
+    size_t i, n = bpg__str_decode(f, key, name, sizeof name);
+    if (n >= sizeof name) return 0;
+    if (strncmp(name, "KHR_materials_", 14) == 0) return 1;
+    for (i = 0; i < sizeof safe / sizeof *safe; i++) if (strcmp(name, safe[i]) == 0) return 1;
+    return 0;
+}
+
+/* 1 when the subtree of node id holds a number written as a whole number. */
+static int bpg__has_integer(const struct bpg__file *f, uint32_t id)
+{
+    uint32_t c;
+    if (f->node[id].type == BPG__NUMBER) return f->node[id].integer;
+    for (c = f->node[id].first; c != BPG__NONE; c = f->node[c].next) if (bpg__has_integer(f, c)) return 1;
+    return 0;
+}
+
+/* A JSON value that is an index: digits only, below `limit`. */
+static int bpg__index_of(const struct bpg__file *f, uint32_t id, uint32_t limit, uint32_t *out)
+{
+    const bpg__node *n = &f->node[id];
+    uint64_t v = 0;
+    size_t i;
+    if (n->type != BPG__NUMBER || n->end - n->start > 10) return 0;
+    for (i = n->start; i < n->end; i++) {
+        if (f->doc[i] < '0' || f->doc[i] > '9') return 0;
+        v = 10 * v + (uint64_t)(f->doc[i] - '0');
+    }
+    if (v >= limit) return 0;
+    *out = (uint32_t)v;
+    return 1;
+}
+
+/* A reference the compaction renumbers: the JSON number `node`, naming
+   accessor (kind 0) or bufferView (kind 1) `old`. */
+typedef struct bpg__ref { uint32_t node, old; int kind; } bpg__ref;
+
+typedef struct bpg__plan {
+    unsigned char *acc_use;     /* per input accessor: 0 none, 1 written
+                                   primitives only, 2 anything else          */
+    unsigned char *view_use;    /* per input bufferView: the same by accessor */
+    bpg__ref *ref;
+    uint32_t num_refs, cap_refs;
+    int refused;                /* an index this writer cannot renumber      */
+} bpg__plan;
+
+static int bpg__plan_ref(struct bpg__file *f, bpg__plan *p, uint32_t node, int kind, unsigned char use)
+{
+    uint32_t idx, limit = kind ? f->num_views : f->num_accessors;
+    unsigned char *u = kind ? p->view_use : p->acc_use;
+    if (node == BPG__NONE) return 1;
+    if (!bpg__index_of(f, node, limit, &idx)) { p->refused = 1; return 1; }
+    if (u[idx] < use) u[idx] = use;
+    if (use == 1) return 1;                      /* a written primitive's: edited there */
+    if (p->num_refs == p->cap_refs) {
+        uint32_t cap = p->cap_refs ? 2 * p->cap_refs : 64;
+        bpg__ref *q = (bpg__ref *)bpg__alloc_n(f, cap, sizeof *q);
+        if (!q) return 0;
+        if (p->num_refs) memcpy(q, p->ref, p->num_refs * sizeof *q);
+        bpg__freef(f, p->ref);
+        p->ref = q;
+        p->cap_refs = cap;
+    }
+    p->ref[p->num_refs].node = node; p->ref[p->num_refs].old = idx; p->ref[p->num_refs].kind = kind;
+    p->num_refs++;
+    return 1;
+}
+
+/* Every member value of object obj as a reference (attributes, targets). */
+static int bpg__plan_members(struct bpg__file *f, bpg__plan *p, uint32_t obj, unsigned char use)
+{
+    uint32_t c;
+    if (obj == BPG__NONE || f->node[obj].type != BPG__OBJECT) return 1;
+    for (c = f->node[obj].first; c != BPG__NONE; c = f->node[c].next) if (!bpg__plan_ref(f, p, c, 0, use)) return 0;
+    return 1;
+}
+
+/* Member `key` of every element of array `arr` of objects, or of each
+   element's `sub` array (animations' samplers). */
+static int bpg__plan_each(struct bpg__file *f, bpg__plan *p, uint32_t arr, const char *sub, const char *key, int kind)
+{
+    uint32_t c, s;
+    if (arr == BPG__NONE || f->node[arr].type != BPG__ARRAY) return 1;
+    for (c = f->node[arr].first; c != BPG__NONE; c = f->node[c].next) {
+        if (!sub) { if (!bpg__plan_ref(f, p, bpg__get(f, c, key, "an object"), kind, 2)) return 0; continue; }
+        s = bpg__get(f, c, sub, "an object");
+        if (s == BPG__NONE || f->node[s].type != BPG__ARRAY) continue;
+        for (s = f->node[s].first; s != BPG__NONE; s = f->node[s].next) {
+            if (!bpg__plan_ref(f, p, bpg__get(f, s, "input", "a sampler"), 0, 2) ||
+                !bpg__plan_ref(f, p, bpg__get(f, s, "output", "a sampler"), 0, 2))
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* A JSON number of digits only (a byte offset or length), up to 2^53. */
+static int bpg__u64_of(const struct bpg__file *f, uint32_t id, uint64_t *out)
+{
+    const bpg__node *n;
+    uint64_t v = 0;
+    size_t i;
+    if (id == BPG__NONE) { *out = 0; return 1; }
+    n = &f->node[id];
+    if (n->type != BPG__NUMBER || n->end - n->start > 16) return 0;
+    for (i = n->start; i < n->end; i++) {
+        if (f->doc[i] < '0' || f->doc[i] > '9') return 0;
+        v = 10 * v + (uint64_t)(f->doc[i] - '0');
+    }
+    *out = v;
+    return 1;
+}
+
+static int bpg__range_cmp(const void *a, const void *b)
+{
+    const uint64_t *x = (const uint64_t *)a, *y = (const uint64_t *)b;
+    return x[0] < y[0] ? -1 : x[0] > y[0];
+}
+
+/* Sort the n ranges r[2k], r[2k+1] and merge those that touch; returns
+   how many remain. */
+static uint32_t bpg__merge_ranges(uint64_t *r, uint32_t n)
+{
+    uint32_t i, m = 0;
+    qsort(r, n, 2 * sizeof *r, bpg__range_cmp);
+    for (i = 0; i < n; i++) {
+        if (m && r[2 * i] <= r[2 * m - 1]) { if (r[2 * i + 1] > r[2 * m - 1]) r[2 * m - 1] = r[2 * i + 1]; continue; }
+        r[2 * m] = r[2 * i]; r[2 * m + 1] = r[2 * i + 1]; m++;
+    }
+    return m;
+}
+
+/* Remove the elements k of array arr whose renum[k] is BPG__NONE: one
+   before the first kept element with the text up to the next element's
+   start, any other with the text from the previous element's end (its
+   comma), so that the removed texts never overlap. */
+static int bpg__remove_elements(bpg__enc *e, uint32_t arr, const uint32_t *renum)
+{
+    struct bpg__file *f = e->f;
+    uint32_t c, prev = BPG__NONE, k;
+    int seen_kept = 0;
+    if (arr == BPG__NONE) return 1;
+    for (k = 0, c = f->node[arr].first; c != BPG__NONE; k++, prev = c, c = f->node[c].next) {
+        uint32_t next = f->node[c].next;
+        size_t at, end;
+        if (renum[k] != BPG__NONE) { seen_kept = 1; continue; }
+        if (seen_kept) { at = f->node[prev].end; end = f->node[c].end; }
+        else { at = f->node[c].start; end = next != BPG__NONE ? f->node[next].start : f->node[c].end; }
+        if (!bpg__edit_add(e, at, end, e->text.n)) return 0;
+    }
+    return 1;
+}
+
+/* The numbering of kept elements: renum[k] its new index, or BPG__NONE. */
+static uint32_t bpg__renumber(const unsigned char *use, uint32_t n, uint32_t *renum)
+{
+    uint32_t k, kept = 0;
+    for (k = 0; k < n; k++) renum[k] = use[k] == 1 ? BPG__NONE : kept++;
+    return kept;
+}
+
+/* Plan and edit the compaction (the essay above); glb_buf0: buffer 0 is
+   the BIN chunk, whose bytes may be cut.  Sets e->acc_base, e->view_base
+   and e->bin, e->bin_len (the BIN chunk as written). */
+static int bpg__compact(bpg__enc *e, int glb_buf0)
+{
+    struct bpg__file *f = e->f;
+    bpg__plan p;
+    unsigned char *written = NULL;
+    uint64_t *drop = NULL, *keep = NULL, *voff = NULL;
+    uint32_t i, c, m, q, nd = 0, nk = 0;
+    int ok = 0;
+    memset(&p, 0, sizeof p);
+    e->acc_base = f->num_accessors;
+    e->view_base = f->num_views;
+    e->bin = f->bin;
+    e->bin_len = glb_buf0 ? (size_t)f->buf[0].length : 0;
+    p.acc_use = (unsigned char *)bpg__calloc_n(f, (size_t)f->num_accessors + 1, 1);
+    p.view_use = (unsigned char *)bpg__calloc_n(f, (size_t)f->num_views + 1, 1);
+    written = (unsigned char *)bpg__calloc_n(f, f->num_nodes, 1);
+    e->acc_new = (uint32_t *)bpg__alloc_n(f, (size_t)f->num_accessors + 1, sizeof(uint32_t));
+    e->view_new = (uint32_t *)bpg__alloc_n(f, (size_t)f->num_views + 1, sizeof(uint32_t));
+    voff = (uint64_t *)bpg__alloc_n(f, 3 * (size_t)f->num_views + 1, sizeof(uint64_t));
+    drop = (uint64_t *)bpg__alloc_n(f, 2 * (size_t)f->num_views + 1, sizeof(uint64_t));
+    keep = (uint64_t *)bpg__alloc_n(f, 2 * (size_t)f->num_views + 1, sizeof(uint64_t));
+    if (!p.acc_use || !p.view_use || !written || !e->acc_new || !e->view_new || !voff || !drop || !keep) goto done;
+    for (i = 0; i < f->num_prims; i++) if (f->prim[i].num) written[f->prim[i].node] = 1;
+    /* 1. who references each accessor */
+    for (c = f->meshes == BPG__NONE ? BPG__NONE : f->node[f->meshes].first; c != BPG__NONE; c = f->node[c].next)
+        for (q = f->node[bpg__get(f, c, "primitives", "a mesh")].first; q != BPG__NONE; q = f->node[q].next) {
+            unsigned char use = written[q] ? 1 : 2;
+            uint32_t tg = bpg__get(f, q, "targets", "a primitive");
+            if (!bpg__plan_members(f, &p, bpg__get(f, q, "attributes", "a primitive"), use) ||
+                !bpg__plan_ref(f, &p, bpg__get(f, q, "indices", "a primitive"), 0, use))
+                goto done;
+            if (tg != BPG__NONE && f->node[tg].type == BPG__ARRAY)
+                for (m = f->node[tg].first; m != BPG__NONE; m = f->node[m].next)
+                    if (!bpg__plan_members(f, &p, m, use)) goto done;
+        }
+    if (!bpg__plan_each(f, &p, bpg__get(f, 0, "skins", "the glTF object"), NULL, "inverseBindMatrices", 0) ||
+        !bpg__plan_each(f, &p, bpg__get(f, 0, "animations", "the glTF object"), "samplers", NULL, 0) ||
+        !bpg__plan_each(f, &p, f->images, NULL, "bufferView", 1))
+        goto done;
+    for (c = 0; c < f->num_nodes; c++) {
+        const bpg__node *n = &f->node[c];
+        if (n->type != BPG__OBJECT || n->key == (size_t)-1 || !bpg__str_eq(f, n->key, "extensions")) continue;
+        for (m = n->first; m != BPG__NONE; m = f->node[m].next) {
+            if (bpg__str_eq(f, f->node[m].key, "EXT_mesh_gpu_instancing")) {
+                if (!bpg__plan_members(f, &p, bpg__get(f, m, "attributes", "EXT_mesh_gpu_instancing"), 2)) goto done;
+            } else if (!bpg__ext_known(f, f->node[m].key) && bpg__has_integer(f, m)) p.refused = 1;
+        }
+    }
+    if (f->err->status != BP_OK) goto fail_quietly;
+    /* 2. which bufferViews the kept accessors (and images) reference */
+    for (i = 0, c = f->accessors == BPG__NONE ? BPG__NONE : f->node[f->accessors].first; c != BPG__NONE; i++, c = f->node[c].next) {
+        unsigned char use = p.acc_use[i] == 1 ? 1 : 2;
+        uint32_t sp = bpg__get(f, c, "sparse", "an accessor");
+        if (!bpg__plan_ref(f, &p, bpg__get(f, c, "bufferView", "an accessor"), 1, use) ||
+            !bpg__plan_ref(f, &p, bpg__get(f, bpg__get(f, sp, "indices", "sparse"), "bufferView", "sparse indices"), 1, use) ||
+            !bpg__plan_ref(f, &p, bpg__get(f, bpg__get(f, sp, "values", "sparse"), "bufferView", "sparse values"), 1, use))
+            goto done;
+    }
+    if (f->err->status != BP_OK) goto fail_quietly;
+    /* 3. the bytes of buffer 0 that go */
+    for (i = 0, c = f->views == BPG__NONE ? BPG__NONE : f->node[f->views].first; c != BPG__NONE && !p.refused; i++, c = f->node[c].next) {
+        uint64_t buf = 0, off = 0, len = 0;
+        if (!bpg__u64_of(f, bpg__get(f, c, "buffer", "a bufferView"), &buf) ||
+            !bpg__u64_of(f, bpg__get(f, c, "byteOffset", "a bufferView"), &off) ||
+            !bpg__u64_of(f, bpg__get(f, c, "byteLength", "a bufferView"), &len) || bpg__get(f, c, "buffer", "") == BPG__NONE)
+            { p.refused = 1; break; }
+        voff[3 * i] = buf; voff[3 * i + 1] = off; voff[3 * i + 2] = len;
+        if (!glb_buf0 || buf != 0) continue;
+        if (off + len > e->bin_len) { p.refused = 1; break; }
+        if (p.view_use[i] == 1) { drop[2 * nd] = (off + 3) / 4; drop[2 * nd + 1] = (off + len) / 4; nd += drop[2 * nd] < drop[2 * nd + 1]; }
+        else { keep[2 * nk] = off / 4; keep[2 * nk + 1] = (off + len + 3) / 4; nk++; }
+    }
+    if (f->err->status != BP_OK) goto fail_quietly;
+    if (p.refused) { ok = 1; goto done; }         /* nothing removed, nothing renumbered */
+    nd = bpg__merge_ranges(drop, nd);
+    nk = bpg__merge_ranges(keep, nk);
+    {
+        /* cuts = drop minus keep, in 4-byte units, into drop (m of them) */
+        uint32_t a, b = 0;
+        uint64_t removed = 0;
+        uint64_t *cut = (uint64_t *)bpg__alloc_n(f, 2 * ((size_t)nd + nk) + 2, sizeof(uint64_t));
+        if (!cut) goto done;
+        for (a = 0, m = 0; a < nd; a++) {
+            uint64_t lo = drop[2 * a], hi = drop[2 * a + 1];
+            while (b < nk && keep[2 * b + 1] <= lo) b++;
+            for (q = b; lo < hi; q++) {
+                uint64_t end = q < nk && keep[2 * q] < hi ? keep[2 * q] : hi;
+                if (end > lo) { cut[2 * m] = lo; cut[2 * m + 1] = end; m++; removed += 4 * (end - lo); }
+                if (q >= nk || keep[2 * q] >= hi) break;
+                lo = keep[2 * q + 1];
+            }
+        }
+        e->cut = cut;
+        e->num_cuts = m;
+        if (removed) {
+            unsigned char *nb = (unsigned char *)bpg__alloc(f, e->bin_len - (size_t)removed + 1);
+            size_t at = 0, to = 0;
+            if (!nb) goto done;
+            for (a = 0; a < m; a++) {
+                memcpy(nb + to, f->bin + at, (size_t)(4 * cut[2 * a]) - at);
+                to += (size_t)(4 * cut[2 * a]) - at;
+                at = (size_t)(4 * cut[2 * a + 1]);
+            }
+            memcpy(nb + to, f->bin + at, e->bin_len - at);
+            e->bin_owned = nb;
+            e->bin = nb;
+            e->bin_len -= (size_t)removed;
+        }
+    }
+    /* 4. the edits: references renumbered, offsets moved, elements removed */
+    e->acc_base = bpg__renumber(p.acc_use, f->num_accessors, e->acc_new);
+    e->view_base = bpg__renumber(p.view_use, f->num_views, e->view_new);
+    for (i = 0; i < p.num_refs; i++) {
+        const bpg__ref *r = &p.ref[i];
+        uint32_t to = r->kind ? e->view_new[r->old] : e->acc_new[r->old];
+        if (to != r->old && !bpg__edit_uint(e, r->node, to)) goto done;
+    }
+    for (i = 0, c = f->views == BPG__NONE ? BPG__NONE : f->node[f->views].first; c != BPG__NONE; i++, c = f->node[c].next) {
+        uint64_t shift = 0;
+        if (!glb_buf0 || voff[3 * i] != 0 || e->view_new[i] == BPG__NONE) continue;
+        for (m = 0; m < e->num_cuts && 4 * e->cut[2 * m + 1] <= voff[3 * i + 1]; m++) shift += 4 * (e->cut[2 * m + 1] - e->cut[2 * m]);
+        if (shift && !bpg__edit_uint(e, bpg__get(f, c, "byteOffset", "a bufferView"), voff[3 * i + 1] - shift)) goto done;
+    }
+    if (!bpg__remove_elements(e, f->accessors, e->acc_new) || !bpg__remove_elements(e, f->views, e->view_new)) goto done;
+    e->accessors_removed = f->num_accessors - e->acc_base;
+    e->views_removed = f->num_views - e->view_base;
+    ok = 1;
+done:
+    if (!ok && f->err->status == BP_OK) bpg__oom(f, "writing");
+fail_quietly:
+    bpg__freef(f, p.acc_use); bpg__freef(f, p.view_use); bpg__freef(f, p.ref);
+    bpg__freef(f, written); bpg__freef(f, drop); bpg__freef(f, keep); bpg__freef(f, voff);
+    return ok && f->err->status == BP_OK;
+}
+
 /* ---- writing: the file -------------------------------------------------------
 
    Where the new bytes go (the essay at the top): appended to a .glb's
@@ -2820,8 +3170,9 @@ static void bpg__o_uri_value(bpg__enc *e, const unsigned char *head, size_t head
 }
 
 /* Append the texts in `items` (comma-separated elements) to the top-level
-   array `name` (node arr, BPG__NONE: create it). */
-static int bpg__append_array(bpg__enc *e, uint32_t root, uint32_t arr, const char *name, const bpg__out *items)
+   array `name` (node arr, BPG__NONE: create it) that keeps `kept` of its
+   elements. */
+static int bpg__append_array(bpg__enc *e, uint32_t root, uint32_t arr, const char *name, const bpg__out *items, uint32_t kept)
 {
     struct bpg__file *f = e->f;
     size_t from = e->text.n, at;
@@ -2834,7 +3185,7 @@ static int bpg__append_array(bpg__enc *e, uint32_t root, uint32_t arr, const cha
         bpg__o_str(&e->text, "]");
         at = f->node[root].end - 1;
     } else {
-        if (f->node[arr].count) bpg__o_str(&e->text, ",");
+        if (kept) bpg__o_str(&e->text, ",");
         bpg__o_put(&e->text, items->d, items->n);
         at = f->node[arr].end - 1;
     }
@@ -2889,6 +3240,7 @@ static void bpg__enc_free(bpg__enc *e)
     struct bpg__file *f = e->f;
     bpg__freef(f, e->text.d); bpg__freef(f, e->data.d); bpg__freef(f, e->acc.d); bpg__freef(f, e->views.d);
     bpg__freef(f, e->edit); bpg__freef(f, e->chart_base); bpg__freef(f, e->uv); bpg__freef(f, e->flip);
+    bpg__freef(f, e->acc_new); bpg__freef(f, e->view_new); bpg__freef(f, e->cut); bpg__freef(f, e->bin_owned);
 }
 
 BPDEF void bpg_output_free(bpg_output *out)
@@ -2948,7 +3300,8 @@ BPDEF bp_status bpg_encode(const bpg_file *file, const bp_atlas *atlas, const bp
     snprintf(e.texkey, sizeof e.texkey, "TEXCOORD_%d", f->texcoord);
     glb_out = wo->glb != 0;
     glb_buf0 = f->glb && f->num_buffers > 0 && f->buf[0].kind == 0;
-    if (glb_buf0) { e.new_buffer = 0; bin_len = (size_t)f->buf[0].length; e.data_base = (bin_len + 3) / 4 * 4; bin_pad = (size_t)e.data_base - bin_len; }
+    if (!bpg__compact(&e, glb_buf0)) goto fail;
+    if (glb_buf0) { e.new_buffer = 0; bin_len = e.bin_len; e.data_base = (bin_len + 3) / 4 * 4; bin_pad = (size_t)e.data_base - bin_len; }
     else if (glb_out && f->num_buffers == 0) e.new_buffer = 0;
     else e.new_buffer = f->num_buffers;
     if (glb_out && !glb_buf0 && f->num_buffers > 0 && f->buf[0].uri == BPG__NONE) {
@@ -2958,8 +3311,8 @@ BPDEF bp_status bpg_encode(const bpg_file *file, const bp_atlas *atlas, const bp
     }
     /* root: the JSON's outermost object (node 0: the parser made it first) */
     if ((st = bpg__prepare_map(&e)) != BP_OK || !bpg__write_groups(&e)) goto fail;
-    if (!bpg__append_array(&e, root, f->accessors, "accessors", &e.acc) ||
-        !bpg__append_array(&e, root, f->views, "bufferViews", &e.views))
+    if (!bpg__append_array(&e, root, f->accessors, "accessors", &e.acc, e.acc_base) ||
+        !bpg__append_array(&e, root, f->views, "bufferViews", &e.views, e.view_base))
         goto fail;
     /* the buffer of the new bytes */
     if (glb_buf0) {
@@ -2969,7 +3322,7 @@ BPDEF bp_status bpg_encode(const bpg_file *file, const bp_atlas *atlas, const bp
         if (!glb_out) {
             from = e.text.n;
             bpg__o_str(&e.text, "\"uri\":");
-            bpg__o_uri_value(&e, f->bin, bin_len, bin_pad);
+            bpg__o_uri_value(&e, e.bin, bin_len, bin_pad);
             bpg__o_str(&e.text, ",");
             if (!bpg__edit_add(&e, f->node[f->buf[0].node].start + 1, f->node[f->buf[0].node].start + 1, from)) goto fail;
         }
@@ -2992,7 +3345,7 @@ BPDEF bp_status bpg_encode(const bpg_file *file, const bp_atlas *atlas, const bp
         /* move the item's text out of e.text into its own array element */
         bpg__o_put(&item, e.text.d + from, e.text.n - from);
         e.text.n = from;
-        if (item.failed || !bpg__append_array(&e, root, f->buffers, "buffers", &item)) { bpg__freef(f, item.d); goto fail; }
+        if (item.failed || !bpg__append_array(&e, root, f->buffers, "buffers", &item, f->num_buffers)) { bpg__freef(f, item.d); goto fail; }
         bpg__freef(f, item.d);
     }
     if (wo->uri_prefix && wo->uri_prefix[0] && !bpg__prefix_uris(&e)) goto fail;
@@ -3028,7 +3381,7 @@ BPDEF bp_status bpg_encode(const bpg_file *file, const bp_atlas *atlas, const bp
                 bpg__put32(h, (uint32_t)binsz); bpg__put32(h + 4, 0x004E4942u);
                 bpg__o_put(&o, h, 8);
                 start = o.n;
-                if (glb_buf0) { bpg__o_put(&o, f->bin, bin_len); bpg__o_zeros(&o, bin_pad, 0); bpg__o_put(&o, e.data.d, e.data.n); }
+                if (glb_buf0) { bpg__o_put(&o, e.bin, bin_len); bpg__o_zeros(&o, bin_pad, 0); bpg__o_put(&o, e.data.d, e.data.n); }
                 else if (e.new_buffer == 0) bpg__o_put(&o, e.data.d, e.data.n);
                 else bpg__o_put(&o, f->bin, f->bin_size);
                 bpg__o_zeros(&o, binsz - (o.n - start), 0);
@@ -3047,7 +3400,7 @@ BPDEF bp_status bpg_encode(const bpg_file *file, const bp_atlas *atlas, const bp
             bpg__out b;
             memset(&b, 0, sizeof b);
             b.f = f;
-            if (glb_buf0) { bpg__o_put(&b, f->bin, bin_len); bpg__o_zeros(&b, bin_pad, 0); }
+            if (glb_buf0) { bpg__o_put(&b, e.bin, bin_len); bpg__o_zeros(&b, bin_pad, 0); }
             bpg__o_put(&b, e.data.d, e.data.n);
             if (b.failed) { bpg__freef(f, b.d); bpg__oom(f, "writing"); goto fail; }
             out->bin = b.d; out->bin_size = b.n;
@@ -3056,6 +3409,9 @@ BPDEF bp_status bpg_encode(const bpg_file *file, const bp_atlas *atlas, const bp
     out->vertices_in = e.vertices_in;
     out->vertices_out = e.vertices_out;
     out->rounding_fixed = e.fixed;
+    out->accessors_removed = e.accessors_removed;
+    out->views_removed = e.views_removed;
+    out->bytes_removed = glb_buf0 ? (size_t)f->buf[0].length - e.bin_len : 0;
     bpg__enc_free(&e);
     f->err = &f->scratch;
     return BP_OK;

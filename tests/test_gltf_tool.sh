@@ -12,7 +12,11 @@
 #   as .gltf, and tests/gltf_check.py, which reads glTF without the
 #   project's code, proves that everything but what the new map must change
 #   came back: every JSON value, the input's bytes, every corner's
-#   attributes and morph target attributes byte for byte; the new
+#   attributes and morph target attributes byte for byte, while the
+#   accessors, bufferViews and .glb bytes only the rewritten primitives
+#   used are gone (every one left is referenced, the file valid glTF, no
+#   bigger than the input scaled by the split plus the new uvs and
+#   indices; an unknown extension holding whole numbers keeps them); the new
 #   TEXCOORD_0, read by it and written as OBJ, passes the exact checkers
 #   (bijparam --check, tests/uvcheck.py), and so does the output read by
 #   the tool itself.
@@ -100,6 +104,40 @@ print('ok' if ok else 'bad', j['format'], g)
 sys.exit(0 if ok else 1)
 EOF
 check $? "two_meshes.glb: --json says format glb, 3 triangle primitives, vertices split at the seams"
+# the size: the input's vertex data scaled by the split, 8 bytes of uv per
+# vertex, 4 per corner index, and the JSON of the new accessors -- the old
+# vertex data of the written primitives is gone
+$py - "$d/stdout" "$d/gen/two_meshes.glb" "$d/gen/two_out.glb" >"$d/size.log" <<'EOF'
+import json, os, sys
+sys.path.insert(0, 'tests')
+import gltf_check as g
+j = json.load(open(sys.argv[1]))['gltf']
+doc, bufs, _ = g.load(sys.argv[3])
+tris = sum(len(g.triangles(doc, bufs, p)) for m in doc['meshes'] for p in m['primitives'] if p.get('mode', 4) == 4)
+size_in, size_out = os.path.getsize(sys.argv[2]), os.path.getsize(sys.argv[3])
+bound = size_in * j['vertices_out'] / j['vertices_in'] + 8 * j['vertices_out'] + 12 * tris + 4096 + 512 * j['primitives']
+print('in %d bytes, out %d, bound %d' % (size_in, size_out, bound))
+sys.exit(0 if size_out <= bound else 1)
+EOF
+check $? "two_meshes.glb -> .glb: no bigger than the input scaled by the split plus the new uvs and indices ($(cat "$d/size.log"))"
+# an extension this writer does not know, holding whole numbers (they may
+# be accessor or bufferView indices): nothing is removed or renumbered
+$py - "$d/gen/two_meshes.glb" "$d/gen/refs.glb" <<'EOF'
+import json, struct, sys
+data = open(sys.argv[1], 'rb').read()
+n = struct.unpack_from('<I', data, 12)[0]
+doc = json.loads(data[20:20 + n])
+doc['nodes'][0].setdefault('extensions', {})['EXT_example_refs'] = {'accessor': 3, 'bufferView': 2}
+text = json.dumps(doc).encode()
+text += b' ' * (-len(text) % 4)
+rest = data[20 + n:]
+open(sys.argv[2], 'wb').write(b'glTF' + struct.pack('<II', 2, 12 + 8 + len(text) + len(rest)) +
+                              struct.pack('<II', len(text), 0x4E4F534A) + text + rest)
+EOF
+run "$d/gen/refs.glb" --atlas 512 -o "$d/gen/refs_out.glb"
+[ "$(rc)" = 0 ] && $py tests/gltf_check.py compare "$d/gen/refs.glb" "$d/gen/refs_out.glb" >"$d/cmp.log" 2>&1 &&
+    grep -q 'kept: an extension holds indices' "$d/cmp.log" && grep -q "the input's 17 kept accessors come first" "$d/cmp.log"
+check $? "an unknown extension holding whole numbers: every accessor and bufferView kept in place ($(grep -c '^ok' "$d/cmp.log") properties)"
 # the text of numbers and strings the writer did not change
 for s in '1.50e0' '-0.0e+0' '"\u00e9t\u00e9 \/ \"q\""'; do
     n_in=$(grep -aoF -- "$s" "$d/gen/two_meshes.glb" | wc -l); n_out=$(grep -aoF -- "$s" "$d/gen/two_out.glb" | wc -l)
