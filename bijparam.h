@@ -25,6 +25,25 @@
        if (st == BP_OK || st == BP_ERR_CHARTS_FAILED) bp_write_obj("cow_uv.obj", &mesh, &atlas, &err);
        bp_atlas_free(&atlas);  bp_mesh_free(&mesh, NULL);   -- a zeroed atlas frees harmlessly
 
+   READING ORDER  (one optimizer iteration, top down; docs/math.md derives
+   -------------   each equation in the section named)
+      1. rest shape   >>rest: each triangle flattened isometrically, its
+                      Jacobian J = D M^-1                 (sec 3.1; math 1, 2)
+      2. energy       >>energy: E_t from J's singular values, its gradient,
+                      the objective with the weights and E_B (>>barrier);
+                      bp__evaluate sums it     (sec 3.2, 3.3; math 3, 4, 5)
+      3. step bound   >>stepbound: the largest step before a triangle
+                      flips or the boundary meets itself
+                                                    (sec 3.4.2; math 7)
+      4. L-BFGS       >>lbfgs: the direction, Algorithm 1, with the
+                      Laplacian preconditioner     (sec 3.4, 3.5; math 9, 10)
+      5. the loop     >>optimize: bp__chart_optimize_pass -- direction,
+                      step bound, line search with the exact re-check
+                                                    (sec 3.4; math 8)
+   Around it: >>tutte and >>conformal make the start map (math 11), >>check
+   is the exact bijectivity test (math 12, 13), >>newton the other
+   direction (math 15), and >>driver runs a whole mesh.
+
    CONTENTS  (search for the banner text, e.g. ">>predicates")
    --------
       >>api            public declarations
@@ -1862,14 +1881,14 @@ static void *bp__pool_worker(void *arg)
 }
 
 /* When the other cores are taken.  Threads help only if the system gives
-   them cores.  Linux groups the threads of a session (a terminal, a job
+   them cores.  Linux groups threads by terminal or job (a job
    started by make) and shares the processors fairly between the groups
-   ("autogroup"): while another session keeps both cores busy, the two
+   ("autogroup"): while another group keeps both cores busy, the two
    threads of this process get one core between them, no more than one
    thread would, and then the second thread only adds its costs (the joins,
    a task stalled while the system runs another process in the middle of
    it, the second cache: camelhead takes 12% more CPU time on 2 threads).
-   Measured with the load average at 6-8 from other sessions: camelhead
+   With the load average at 6-8 from other processes: camelhead
    8.3 s with 1 thread, 8.6-12.0 s with 2.
 
    So the pool measures what it gets: over a window of at least
@@ -1882,7 +1901,7 @@ static void *bp__pool_worker(void *arg)
    50 iterations of a large chart, doubling up to 32768 while the machine
    stays crowded); then a parallel window measures again.  Camelhead's
    windows on a nearly idle machine used 1.3-2.0 cores; with the load
-   average at 10 from other sessions, 0.28.  Who runs the tasks changes no
+   average at 10 from other processes, 0.28.  Who runs the tasks changes no
    result. */
 #define BP__WINDOW_JOBS 256u
 #define BP__WINDOW_S    0.05
@@ -8519,7 +8538,7 @@ done:
    Projected Newton (>>newton) solves (H + delta I) v = -g every iteration
    with H the 2nv x 2nv matrix of a chart's vertices' x and y.  Factored by
    the scalar up-looking rows above, each entry of L is one sparse gather
-   through an index, and the factorization was 85% of a Newton iteration
+   through an index, and the factorization takes 85% of a Newton iteration
    (face, 51,712 faces: 1.4 s of 1.45 s).  Three things make it cheaper;
    Davis, "Direct Methods for Sparse Linear Systems" (SIAM 2006), ch. 4
    and 9, is the reference for all of them.
@@ -8699,7 +8718,7 @@ static int bp__super_updates(const bp_allocator *a, bp__super *S)
     return 1;
 }
 
-/* The analysis on several threads (issue 15).  Three of its loops cost
+/* The analysis on several threads.  Three of its loops cost
    about 20 ms per call on bimba, serial, three calls per chart: the
    elimination tree, the column counts by row subtrees and the supernodes'
    rows.  Each is a loop in increasing k (or s) that reads only what
@@ -10483,7 +10502,7 @@ static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const do
    row comes out sorted.  The ordering and the dissection tree stay (vertex
    = unknown), and the supernodal blocks are freed.
 
-   On several threads (issue 15: 20 ms serial per factor on a 132K-face
+   On several threads (20 ms serial per factor on a 132K-face
    chart, twice per run).  The supernodes are cut into BP__ROWS_RANGES
    consecutive ranges holding about the same number of block entries (the
    cut depends on the factor alone).  Serially, an entry of row i goes to
@@ -12064,8 +12083,8 @@ static int bp__tutte_fill(const bp_allocator *a, bp__tutte *T, const bp_chart *c
     return 1;
 }
 
-/* The phases on several threads (issue 15).  Phases 2, 3 and 5 were
-   scatters over the triangles (and a qsort per vertex): serial set-up of
+/* The phases on several threads.  Phases 2, 3 and 5 as scatters
+   over the triangles (and a qsort per vertex) would be serial set-up of
    tens of milliseconds on a 132K-face chart, while the iterations after
    them run on every thread.  They are gathers per vertex instead, run by
    vertex chunks (>>threads: chunk boundaries depend on the count alone),
@@ -12411,7 +12430,7 @@ static void bp__tutte_keep_order(const bp__tutte *T, uint32_t *order, const bp__
 #ifndef BP_NO_NEWTON /* (phase 6a, to the end of bp__tutte_krylov) */
 /* Phase 6a, the mean-value system without its LU.  The mean-value matrix
    A is not symmetric, and its LU by the scalar up-looking rows (>>sparse)
-   was half of a million-face chart's whole run.  First each row is divided by its diagonal, so the
+   takes half of a million-face chart's whole run.  First each row is divided by its diagonal, so the
    system reads u_i - sum_j lambda_ij u_j = rhs_i with Floater's
    normalized weights lambda_ij = w_ij / sum_k w_ik (the same solution;
    measured, this made the iteration below 2.5x shorter on 132K faces than
@@ -12562,10 +12581,10 @@ static void bp__dot2x2(const double *u, const double *v, const double *w, size_t
     }
 }
 
-/* BiCGSTAB on several threads (issue 15).  Between its two preconditioner
-   solves (parallel, >>sparse) an iteration multiplies by A twice, takes
-   five dot products and updates four vectors, all serial before: on a
-   132K-face chart a tenth of the start map's solve.  Now:
+/* BiCGSTAB on several threads.  Between its two preconditioner solves
+   (parallel, >>sparse) an iteration multiplies by A twice, takes five
+   dot products and updates four vectors: serially, on a 132K-face chart,
+   a tenth of the start map's solve.  So:
    - y = A x is a gather by rows over a row-compressed copy of A, built
      once per solve with each row's entries in increasing column.  The
      scatter over the columns it replaced (y = 0, then for j = 0, 1, ...
@@ -13197,7 +13216,7 @@ static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r
 
 /* >>conformal ==============================================================
 
-   A conformal start (beyond the dissertation; issue 15, "a better start").
+   A conformal start (beyond the dissertation).
    The barycentric maps above put the outer loop on a circle, whatever the
    chart's shape: a face or a bust comes out with its rim stretched round
    and its middle crushed (face: mean energy 87, bimba: 674, against
@@ -13234,12 +13253,12 @@ static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r
 
    Nothing guarantees that the result is bijective: LSCM can fold a
    triangle or run the boundary over itself on a chart that curls (of
-   ../shared/meshes, camel_b, shark, horse_cut and lucy fold).  So the
+   the corpus meshes, camel_b, shark, horse_cut and lucy fold).  So the
    scaled map goes through the exact check (bp__check_par), and only a map
    that passes it is kept; otherwise the barycentric map of >>tutte is
-   computed as before, from the same graph and the same dissection, and
-   the attempt has cost one factorization.  Measured (docs/performance.md
-   sec 6.27, one thread, to SCAF's energy): face 0.85 -> 0.73 s, bimba
+   computed instead, from the same graph and the same dissection, and
+   the attempt has cost one factorization.  Measured (one thread, to SCAF's energy,
+   without -> with the attempt): face 0.85 -> 0.73 s, bimba
    3.00 -> 2.10 s, face_holes 0.049 -> 0.035 s, hilbert's conformal map an
    isometry (no iteration left), the 4,740-chart atlas 2.6 -> 1.5 s; the
    charts whose map folds 2-6% slower.  Charts of BP__CONFORMAL_MAX
@@ -13248,10 +13267,10 @@ static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r
    BP__CONFORMAL_SCHUR_K sqrt(nv) boundary vertices, below): the 2x2
    factor needs four times the memory of the barycentric map's scalar
    one, and the million-face chart must stay under 1 KiB per face
-   (docs/performance.md sec 6.27 measures both choices: the 132K chart
+   (measured both ways: the 132K chart
    would be 30% faster at 1.27 KiB per face instead of 0.76), but the
    Schur complement's scalar Cholesky factor and dense boundary system
-   take less than the mean-value map's LU, and less time (sec 6.43, the
+   take less than the mean-value map's LU, and less time (the
    tool with --init-only: bimba subdivided to 357K triangles, 700 against
    774 bytes per face and 3.2 against 3.5 s; face subdivided to 207K, 507
    against 746 and 1.0 against 2.0 s), and such a chart then starts at a
@@ -13577,7 +13596,7 @@ static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, co
 }
 
 #ifndef BP_NO_NEWTON /* (the Schur complement, to bp__conformal_schur_planned) */
-/* The boundary's Schur complement (beyond Levy et al.; issue 15, a
+/* The boundary's Schur complement (beyond Levy et al., a
    cheaper start).  Expand a triangle's residuals:
        (a - d)^2 + (b + c)^2 = |J|^2 - 2 det J,
    so E_C = sum_t A_t |J_t|^2 - 2 sum_t A_t det J_t: the Dirichlet energy
@@ -13601,11 +13620,11 @@ static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, co
    One scalar factorization of nv columns, a dense one of 2 |B|, and two
    scalar solves with two right-hand sides each (bp__super_solve_n)
    replace the factorization in 2x2 blocks, which costs
-   eight times the scalar one's multiply-adds: face's start map, with 96
-   boundary vertices, measured in docs/performance.md sec 6.32.  The dense
+   eight times the scalar one's multiply-adds: as measured on face's start
+   map, with 96 boundary vertices.  The dense
    parts grow as |B|^3, so charts with more than BP__CONFORMAL_SCHUR_K
    sqrt(nv) boundary vertices keep the 2x2 factorization (of
-   ../shared/meshes: face, bimba and camelhead go this way; hilbert,
+   the corpus meshes: face, bimba and camelhead go this way; hilbert,
    face_holes and the many-loop charts the other).  The map solves the same
    least squares problem (the interior xy terms taken as the zeros they
    are), so it goes through the same scale and the same exact check.
@@ -13756,7 +13775,7 @@ static int bp__cschur_complement(const bp_allocator *a, bp__cschur *Z, const bp_
 /* Task t: chunk t of the columns of the dense system [S C; C^T S] in 2x2
    blocks (every entry in the pattern).  KB's 2|B| columns are 4.5 MB
    of values and 2.2 MB of rows on bimba, first touched by the thread that
-   fills them (one serial pass was 7 ms of a two-thread run). */
+   fills them (one serial pass would be 7 ms of a two-thread run). */
 typedef struct bp__kb_task { bp__cschur *Z; uint32_t nc; } bp__kb_task;
 
 static void bp__kb_run(void *task, uint32_t t)
@@ -14450,8 +14469,8 @@ static int bp__start_dbl_cmp(const void *pa, const void *pb)
        eps <= median over boundary edges e of  h_e = 2 A_t / |e|,
    the altitude onto e of its triangle t, in the rest shape (>>rest).  On
    an ordinary mesh h_e is about 0.8 of an edge and the bound never acts
-   (eps stays |e| / 4: the 15 meshes of ../shared/meshes keep their eps bit
-   for bit); on a strip of width h, eps = h and the isometric map has no
+   (eps stays |e| / 4: the 15 corpus meshes keep their eps bit for
+   bit); on a strip of width h, eps = h and the isometric map has no
    barrier energy at all (every boundary vertex is at least h from every
    boundary edge not its own).  The barrier's guarantee does not depend on
    eps: any eps > 0 is infinite at contact, and the exact check accepts
@@ -15250,8 +15269,7 @@ static double bp__step_bound(bp__solver *S, const double *x, const double *v, do
    g_3 = (0, m11), g_1 = -g_2 - g_3: the rows of M^-1 read as in >>energy),
        d^2 E_t / dU_k,alpha dU_l,beta = weight sum_pq g_k[p] H4(2 alpha + p, 2 beta + q) g_l[q],
    a congruence, so a positive semidefinite H4 gives a positive
-   semidefinite 6x6 block.  It is computed by 2x2 blocks (docs/
-   performance.md sec 6.9): with B_ab the block H4(2a + p, 2b + q) and
+   semidefinite 6x6 block.  It is computed by 2x2 blocks: with B_ab the block H4(2a + p, 2b + q) and
    G = [g_2 g_3], the corners 2 and 3 take M_ab = G^T B_ab G, and corner 1
    follows from g_1 = -g_2 - g_3 by linearity (its rows and columns are
    minus the sums of the others'); M_ba = M_ab^T since H4 is symmetric, so
@@ -15443,7 +15461,7 @@ static int bp__triangle_hessian(bp_energy kind, const bp__rest *r, const double 
        P = rot^T ref = [EF + HG, EG - HF; EG - HF, -(EF + HG)] / (Q R),
    tw and fl clamped at 0; at R = 0 the reflection [1 0; 0 -1] of
    bp__hessian_j, P = [E -H; -H -E] / Q.  Face: less than half the time
-   of the 4x4 and its two congruences (docs/performance.md sec 6.34).
+   of the 4x4 and its two congruences.
    C is written as a block of an H4 (rows at stride 4: C[0] C[1] / C[4]
    C[5]) for bp__hessian_corners.  tests/test_newton.c (l) checks it
    against the 4x4's blocks for every energy. */
@@ -15501,7 +15519,7 @@ static int bp__triangle_hessian_iso(bp_energy kind, const bp__rest *r, const dou
    distance a while AB turns by an angle w brings them closer by about
    a w, a second-order change the Gauss-Newton model calls free; near
    contact, |f'| a w can outweigh f'' times the normal motion squared by
-   orders of magnitude (docs/performance.md sec 6.10: on hilbert, a vertex
+   orders of magnitude (on hilbert, a vertex
    at eps/170 from an edge slides 200 d per unit step while the edge turns,
    and Newton's steps are cut to t = 0.005 for 100 iterations).  So K is
    formed whole and projected onto the positive semidefinite cone: its 6x6
@@ -15652,7 +15670,7 @@ static int bp__barrier_pair_hessian(const double *P, const double *A, const doub
    preconditioned by a factor of the fixed pattern, it costs about 30
    solves an iteration.
 
-   A wider barrier in the model (docs/performance.md sec 6.9).  The
+   A wider barrier in the model.  The
    barrier is 0 beyond eps, so the model cannot see two parts of the
    boundary that are further apart than eps: a full Newton step runs a
    boundary vertex through an edge, the step bound clips it to 0.9 of the
@@ -15694,20 +15712,18 @@ static int bp__barrier_pair_hessian(const double *P, const double *A, const doub
    is 0, and the direction is exactly 0 there; the homotopy's pull adds its
    own curvature 2 w to the pinned diagonal.
 
-   Two things make an iteration go further for its factorization (docs/
-   performance.md sec 6.2): a full step accepted at once is followed by
+   Two things make an iteration go further for its factorization: a full step accepted at once is followed by
    longer trial steps t = 2, 4, ... (bp__opt_extend, >>optimize), since the
    quadratic model of a crushed triangle's 1/s^2 stops far short of the
    line's minimum; and near the minimum the factor of an earlier H
    preconditions conjugate gradients on the current one instead of a new
    factorization (bp__newton_reuse_solve, below).  With the
-   supernodal factorization (sec 6.1) an iteration costs 7-24 L-BFGS ones,
-   and on issue 15's ten meshes (sec 6.6) Newton reaches SCAF's energy
-   3.4-6.7x sooner than the preconditioned L-BFGS on the charts of 22K-89K
-   triangles, but 1.3x later on the 10K-triangle shark (1.9x sooner
-   since the faster factorizations, sec 6.36; on lucy, 1.9x sooner from
-   the mean-value start, sec 6.10), and on charts above
-   100,000 triangles far from an isometry 1.5-25x sooner (sec 6.42), while
+   supernodal factorization an iteration costs 7-24 L-BFGS ones, and on
+   ten corpus meshes Newton reaches SCAF's energy 3.4-6.7x sooner than
+   the preconditioned L-BFGS on the charts of 22K-89K triangles, 1.9x
+   sooner on the 10K-triangle shark and on lucy from the mean-value
+   start, and on charts above 100,000 triangles far from an isometry
+   1.5-25x sooner, while
    from a start near an isometry, where L-BFGS needs few iterations, it is
    later; so the default (BP_DIRECTION_DEFAULT, bp__opt_choose_newton in
    >>optimize) takes Newton for the symmetric Dirichlet energy from 1,000
@@ -15819,8 +15835,8 @@ static uint32_t bp__sparse_has(const bp__sparse *A, uint32_t i, uint32_t j)
    and its entry (2w + a, 2v + b) lies a + b (colp[2v+1] - colp[2v]) after
    that: tpos keeps one position per block (9 per triangle).
 
-   G is built column by column, without a global sort (issue 15: the
-   triplets and their sort were 30 ms of serial time per call on bimba,
+   G is built column by column, without a global sort (the
+   triplets and their sort would be 30 ms of serial time per call on bimba,
    three calls per chart).  Column v of G is v itself, the two other
    corners of every triangle around v (the solver's corner lists vc_start,
    vc_list) and the other ends of v's extra pairs: at most
@@ -16078,8 +16094,8 @@ static void bp__newton_tri_task(void *task, uint32_t c)
    H(u, v) gets one term per triangle holding both u and v, in increasing
    t: the order of a scatter over the triangles in turn, so the same
    bits; but a gather writes only its own columns, so the chunks run in
-   parallel (the scatter was serial: 2 ms of face's 10 per iteration on
-   two threads). */
+   parallel (a scatter would be serial: 2 ms of face's 10 per iteration
+   on two threads). */
 static void bp__newton_gather_task(void *task, uint32_t c)
 {
     bp__newton *N = (bp__newton *)task;
@@ -16222,8 +16238,7 @@ static void bp__newton_pins(bp__newton *N, const bp__solver *S)
                     N->H.val[p] = N->H.row[p] == j ? 1 : 0;
 }
 
-/* The isotropic phase (beyond the dissertation; docs/performance.md sec
-   6.29).  From a conformal start, the first Newton steps are clipped by
+/* The isotropic phase (beyond the dissertation).  From a conformal start, the first Newton steps are clipped by
    the step bound: the quadratic model of s^2 + s^-2 at a triangle
    stretched to s = 3 puts its minimum at s = 0.14, past the rotation the
    energy wants (face: 6,664 triangles would flip on the first full step,
@@ -16243,7 +16258,8 @@ static void bp__newton_pins(bp__newton *N, const bp__solver *S)
    the vertex order of the start map's (or Newton's kept) dissection.
    The step bound, the line search and the exact checks are the same, so
    every iterate is as valid as Newton's.  Measured (one thread, CPU to
-   SCAF's energy x 1.001, medians of 3; sec 6.29): face 0.57 -> 0.40 s
+   SCAF's energy x 1.001, medians of 3; Newton alone -> with the phase):
+   face 0.57 -> 0.40 s
    (6 isotropic iterations of 0.028 s against 5 Newton ones of 0.07),
    bimba 1.53 -> 0.99 s, camelhead 0.31 -> 0.20, horse_cut 1.45 -> 0.94,
    lucy 4.43 -> 2.32.  Its convergence is linear (it drops the
@@ -17658,7 +17674,7 @@ static double bp__opt_direction(bp__opt *P)
    the model's curvature along v is -g.v): with a share r of that
    decrease, the parabola through f, g.v and f(1) has its minimum at
    t = 1 / (2 - r), short of 1 when r < 1.  Measured on fifteen corpus
-   meshes (docs/performance.md sec 6.32): of the 43 trials after a share
+   meshes: of the 43 trials after a share
    below 1, 41 failed (each an evaluation and an exact check for nothing:
    face's isotropic iterations 3 to 6, 20 ms of one thread), and the two
    that gained were at 0.966 and 0.991, on horse_cut's crushed start; so
@@ -17703,7 +17719,7 @@ static int bp__opt_extend(bp__opt *P, double f, double gv, double *t, double *fn
    first trial goes to 0.99 tmax instead of 0.9 (the exact check and
    Armijo still decide; halving follows as always).  Not for other charts:
    on hilbert, whose clipping pair is a barrier jam, 0.99 took 101
-   iterations to SCAF's energy against 64 (docs/performance.md 6.11). */
+   iterations to SCAF's energy against 64. */
 #ifndef BP__CRUSHED_SHARE
 #define BP__CRUSHED_SHARE 0.99
 #endif
@@ -17789,7 +17805,7 @@ static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, 
 #define BP__START_SCALE_E0 1e9           /* mean start energy that counts as crushed */
 #endif
 
-/* A crushed start, enlarged (beyond the dissertation; issue 15, lucy).
+/* A crushed start, enlarged (beyond the dissertation).
    A start whose mean energy is astronomical (lucy's mean-value map:
    1.2e15) has whole protrusions crushed to slivers: the symmetric
    Dirichlet terms 1/s^2 of their singular values s dominate it, while the
@@ -17799,8 +17815,7 @@ static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, 
    optimum is the wrong target (measured: 287 iterations to SCAF's energy
    against 77 unscaled, the body then shrinks back by steps clipped at
    t ~ 0.01); the geometric middle between it and 1, c ~ E0^(1/8), took
-   65 of them (c = 10 ... 100 all between 65 and 69; 300: 83; 1000: 122;
-   docs/performance.md 6.11).  The scale is a power of two,
+   65 of them (c = 10 ... 100 all between 65 and 69; 300: 83; 1000: 122).  The scale is a power of two,
    c = 2^round(log2(E0) / 8): multiplying by it is exact in floating point,
    so every orientation and every boundary predicate keeps its exact sign
    and the map stays bijective; it is checked again anyway (bp__evaluate),
@@ -17946,7 +17961,7 @@ done:
 }
 
 /* The fallback.  Newton's factor is the largest block a solve allocates
-   (1.5-2.2 KB per face at the peak against L-BFGS's 0.6-1.2, sec 6.42),
+   (1.5-2.2 KB per face at the peak against L-BFGS's 0.6-1.2),
    so where the default chose Newton and the allocator refused memory
    after that choice (Newton's system, its factor, or anything after),
    the chart is not failed: everything the pass held is freed, and the
@@ -18191,7 +18206,7 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
    triangles starts at mean energy 9e8, lucy at 4e12) -- and every step
    bound of the optimizer is throttled by them.  What is here, each handing
    the optimizer a map that passed the exact check (bp_check), and each
-   measured (docs/performance.md, sec 6.3):
+   measured (make bench-start):
 
    1. Planar charts start from themselves (bp_options.start = AUTO, the
       default).  A chart whose triangles all face one side of a plane
@@ -18210,7 +18225,7 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
 
    3. Progressive references (Liu, Ye et al. 2018, "Progressive
       parameterizations"; bp_options.start = PROGRESSIVE, not the default:
-      it cuts lucy's iterations but not its time, sec 6.3).  After Tutte,
+      it cuts lucy's iterations but not its time).  After Tutte,
       in rounds, each triangle gets a reference shape between its current
       image and its rest shape,
           C = J^T J = V diag(s1^2, s2^2) V^T   (J the current Jacobian),
@@ -18713,7 +18728,7 @@ BPDEF bp_status bp_chart_solve(bp_chart *ch, uint32_t chart_index, const bp_mesh
       exactly bijective, the same texels from its boundary loops alone
       (bp__raster_outline), at the cost of its outline rather than of its
       triangles (70% of the packing's time on a 400,000-face atlas of 73
-      charts was rasterizing triangles).  The atlas keeps one bit per
+      charts would go to rasterizing triangles).  The atlas keeps one bit per
       texel in rows of 64-bit words; a placed chart marks its raster dilated
       by P texels (a square of side 2P+1 around each texel, so the Chebyshev
       distance).  A new chart may go where its undilated raster meets no
@@ -20082,7 +20097,7 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
 #ifndef BP_NO_ATLAS /* (>>segment) */
 /* >>segment ================================================================
 
-   Segmentation into several charts (issue 14).  The cut of >>cut opens a
+   Segmentation into several charts.  The cut of >>cut opens a
    closed or high-genus chart into ONE disk; that disk can be long and
    branched (fertility, a torus with holes), so it fills its square of the
    atlas badly, and on a 90K-triangle scan the single large chart is what
