@@ -19007,6 +19007,9 @@ typedef struct bp__occ {
     int border;                 /* texels along each edge kept free: ceil(P/2) */
     uint64_t *b;                /* res rows; bits at x >= res are set        */
     int *maxfree;               /* longest run of free texels in each row    */
+    int levels;                 /* 1 + floor(log2(res))                       */
+    uint64_t *F;                /* F[l][y]: bit x set when texels x .. x+2^l-1
+                                   of row y are free (l < levels)            */
     int *ylow;                  /* ylow[v]: every row below has maxfree < v  */
     uint64_t *t0, *t1, *v;      /* scratch rows                              */
     int floor_[BP__PACK_MEMO][BP__PACK_MEMO]; /* small charts: floor_[w][h] is
@@ -19047,11 +19050,13 @@ static void bp__bits_set_range(uint64_t *row, int x0, int x1)   /* texels x0..x1
 /* out = a >> k over n words: bit i of out is bit i+k of a (0 past the end). */
 static void bp__bits_shr(const uint64_t *a, int n, int k, uint64_t *out)
 {
-    int q = k >> 6, s = k & 63, i;
-    for (i = 0; i < n; i++) {
-        uint64_t lo = i + q < n ? a[i + q] : 0, hi = i + q + 1 < n ? a[i + q + 1] : 0;
-        out[i] = s ? (lo >> s) | (hi << (64 - s)) : lo;
+    int q = k >> 6, s = k & 63, m = n - q > 0 ? n - q : 0, i;   /* out[0..m) read a */
+    if (!s) for (i = 0; i < m; i++) out[i] = a[i + q];
+    else {
+        for (i = 0; i + 1 < m; i++) out[i] = (a[i + q] >> s) | (a[i + q + 1] << (64 - s));
+        if (m > 0) out[m - 1] = a[n - 1] >> s;
     }
+    for (i = m; i < n; i++) out[i] = 0;
 }
 
 /* out = a << k over n words: bit i of out is bit i-k of a. */
@@ -19358,7 +19363,7 @@ static bp_status bp__dilate(const bp_allocator *a, const bp__bits *R, int p, bp_
 
 static void bp__occ_free(const bp_allocator *a, bp__occ *O)
 {
-    bp__free(a, O->b); bp__free(a, O->maxfree); bp__free(a, O->ylow); bp__free(a, O->t0);
+    bp__free(a, O->b); bp__free(a, O->maxfree); bp__free(a, O->ylow); bp__free(a, O->t0); bp__free(a, O->F);
     memset(O, 0, sizeof *O);
 }
 
@@ -19371,10 +19376,30 @@ static bp_status bp__occ_init(const bp_allocator *a, bp__occ *O, int res)
     O->maxfree = (int *)bp__alloc_array(a, (size_t)res, sizeof(int));
     O->ylow = (int *)bp__alloc_array(a, (size_t)res + 1, sizeof(int));
     O->t0 = (uint64_t *)bp__alloc_array(a, 3 * (size_t)O->aw, sizeof(uint64_t));
-    if (!O->b || !O->maxfree || !O->ylow || !O->t0) { bp__occ_free(a, O); return BP_ERR_OUT_OF_MEMORY; }
+    for (O->levels = 1; (2 << (O->levels - 1)) <= res; O->levels++) {}
+    O->F = (uint64_t *)bp__alloc_array(a, (size_t)O->levels * res * O->aw, sizeof(uint64_t));
+    if (!O->b || !O->maxfree || !O->ylow || !O->t0 || !O->F) { bp__occ_free(a, O); return BP_ERR_OUT_OF_MEMORY; }
     O->t1 = O->t0 + O->aw;
     O->v = O->t1 + O->aw;
     return BP_OK;
+}
+
+/* Row y's free-run masks: F_0 = the free texels, F_{l+1} = F_l & (F_l >>
+   2^l) (texels past the row read as taken).  Then a free run of any length
+   len starts at x when F_a has bits x and x + len - 2^a, a = floor(log2
+   len): two shifts, not log2(len) (bp__occ_filter_row). */
+static void bp__occ_row_masks(bp__occ *O, int y)
+{
+    const uint64_t *row = O->b + (size_t)y * O->aw;
+    uint64_t *f = O->F + (size_t)y * O->aw, *g;
+    size_t plane = (size_t)O->res * O->aw;
+    int l, i;
+    for (i = 0; i < O->aw; i++) f[i] = ~row[i];
+    for (l = 1; l < O->levels; l++, f = g) {
+        g = f + plane;
+        bp__bits_shr(f, O->aw, 1 << (l - 1), g);
+        for (i = 0; i < O->aw; i++) g[i] &= f[i];
+    }
 }
 
 /* Empty atlas: texels [B, res - B) free, where B = O->border; the frame
@@ -19392,6 +19417,7 @@ static void bp__occ_clear(bp__occ *O)
             bp__bits_set_range(row, O->res - B, O->aw * 64 - 1);
         }
         O->maxfree[y] = bp__bits_longest(row, O->res, 0);
+        bp__occ_row_masks(O, y);
     }
     for (i = 0; i <= O->res; i++) O->ylow[i] = 0;
     memset(O->floor_, 0, sizeof O->floor_);
@@ -19439,61 +19465,58 @@ static int bp__occ_fits(const bp__occ *O, const bp__shape *S, int x, int y)
     return 1;
 }
 
-/* V &= the origins x at which the runs of filter row f of the chart avoid
-   atlas row `orow`: a run [s, s+len) needs texels x+s .. x+s+len-1 free,
-   i.e. x+s must start a free run of length len (computed for 64 x at a
-   time by doubling: F_{a+b} = F_a & (F_b >> a)).  Only V's words w0..w1
-   can hold candidates, so only they are computed: a bit of F at word i
-   reads texels up to s+len-1 beyond it, so words w0..e with e that far
-   past w1 suffice (texels past e read as taken, which reaches no bit of
-   w0..w1).  Returns 0 when no candidate is left. */
-static int bp__occ_filter_row(bp__occ *O, const uint64_t *orow, const bp__shape *S, int f, int w0, int w1)
+/* Word i of a >> k over n words (0 past the end). */
+static uint64_t bp__bits_word_shr(const uint64_t *a, int n, int i, int k)
 {
-    int k, i, have, any = 0;
+    int q = i + (k >> 6), s = k & 63;
+    uint64_t lo = q < n ? a[q] : 0, hi;
+    if (!s) return lo;
+    hi = q + 1 < n ? a[q + 1] : 0;
+    return (lo >> s) | (hi << (64 - s));
+}
+
+/* V &= the origins x at which a run [st, st+len) of the chart's row lies
+   free in atlas row y: texel x+st must start a free run of length len,
+   F_a[x+st] & F_a[x+st+len-2^a] with a = floor(log2 len) (the row's
+   masks, bp__occ_row_masks).  Only V's words w0..w1 can hold candidates,
+   so only they are computed. */
+static void bp__occ_filter_run(bp__occ *O, int y, int st, int len, int w0, int w1)
+{
+    int a = 0, i, k2;
+    const uint64_t *f;
+    while ((2 << a) <= len) a++;
+    f = O->F + ((size_t)a * O->res + y) * O->aw;
+    k2 = st + len - (1 << a);
+    for (i = w0; i <= w1; i++)
+        O->v[i] &= bp__bits_word_shr(f, O->aw, i, st) & bp__bits_word_shr(f, O->aw, i, k2);
+}
+
+/* V &= the origins at which every run of filter row f of the chart lies
+   free in atlas row y.  Returns 0 when no candidate is left. */
+static int bp__occ_filter_row(bp__occ *O, int y, const bp__shape *S, int f, int w0, int w1)
+{
+    int k, i, any = 0;
     for (k = 0; k < S->fn[f]; k++) {
-        int st = S->fst[f][k], ln = S->fln[f][k], e = w1 + ((st + ln + 63) >> 6) + 1, n;
-        if (e > O->aw - 1) e = O->aw - 1;
-        n = e - w0 + 1;
-        for (i = w0; i <= e; i++) O->t0[i] = ~orow[i];
-        for (have = 1; have < ln;) {
-            int step = have < ln - have ? have : ln - have;
-            bp__bits_shr(O->t0 + w0, n, step, O->t1 + w0);
-            for (i = w0; i <= e; i++) O->t0[i] &= O->t1[i];
-            have += step;
-        }
-        bp__bits_shr(O->t0 + w0, n, st, O->t1 + w0);
-        for (i = w0, any = 0; i <= w1; i++) any |= (O->v[i] &= O->t1[i]) != 0;
+        bp__occ_filter_run(O, y, S->fst[f][k], S->fln[f][k], w0, w1);
+        for (i = w0, any = 0; i <= w1; i++) any |= O->v[i] != 0;
         if (!any) return 0;
     }
-    for (i = w0; i <= w1; i++) any |= O->v[i] != 0;
-    return any;
+    return 1;
 }
 
 /* O->v = the origins x in [0, res - w] at which the longest run [s, s+len)
-   of the chart's row r* lies in a free run [f0, f1) of atlas row y + r*:
-   f0 - s <= x <= f1 - len - s.  Returns 0 when there is none. */
+   of the chart's row r* lies free in atlas row y + r*.  Returns 0 when
+   there is none. */
 static int bp__occ_candidates(bp__occ *O, const bp__shape *S, int y)
 {
-    const uint64_t *orow = O->b + (size_t)(y + S->rstar) * O->aw;
-    int st = S->fst[0][0], ln = S->fln[0][0], x = 0, any = 0, i;
-    for (i = 0; i < O->aw; i++) O->v[i] = 0;
-    while (x < O->res) {                /* free runs of the atlas row */
-        int f0, f1, lo, hi;
-        while (x < O->res && (orow[x >> 6] >> (x & 63) & 1)) {
-            uint64_t rest = ~(orow[x >> 6] >> (x & 63));
-            x += rest ? bp__ctz64(rest) : 64 - (x & 63);
-        }
-        if (x >= O->res) break;
-        f0 = x;
-        while (x < O->res && !(orow[x >> 6] >> (x & 63) & 1)) {
-            uint64_t rest = orow[x >> 6] >> (x & 63);
-            x += rest ? bp__ctz64(rest) : 64 - (x & 63);
-        }
-        f1 = x < O->res ? x : O->res;
-        lo = f0 - st; hi = f1 - ln - st;
-        if (lo < 0) lo = 0;
-        if (hi > O->res - S->r.w) hi = O->res - S->r.w;
-        if (lo <= hi) { bp__bits_set_range(O->v, lo, hi); any = 1; }
+    int i, any = 0, xmax = O->res - S->r.w;
+    if (xmax < 0) return 0;
+    for (i = 0; i < O->aw; i++) O->v[i] = ~(uint64_t)0;
+    bp__occ_filter_run(O, y + S->rstar, S->fst[0][0], S->fln[0][0], 0, O->aw - 1);
+    for (i = 0; i < O->aw; i++) {                /* x <= res - w */
+        if (64 * i > xmax) O->v[i] = 0;
+        else if (64 * i + 63 > xmax) O->v[i] &= ~(uint64_t)0 >> (63 - (xmax - 64 * i));
+        any |= O->v[i] != 0;
     }
     return any;
 }
@@ -19523,7 +19546,7 @@ static int bp__occ_find(bp__occ *O, const bp__shape *S, int ylim, int xlim, int 
         for (i = 1; i < S->nf; i++) {
             while (!O->v[w0]) w0++;                  /* the words that hold candidates */
             while (!O->v[w1]) w1--;
-            if (!bp__occ_filter_row(O, O->b + (size_t)(y + S->frow[i]) * O->aw, S, i, w0, w1)) break;
+            if (!bp__occ_filter_row(O, y + S->frow[i], S, i, w0, w1)) break;
         }
         if (i < S->nf) continue;
         for (i = 0; i < O->aw; i++) {
@@ -19551,6 +19574,7 @@ static void bp__occ_mark(bp__occ *O, const bp__bits *D, int p, int x, int y)
         if (row < 0 || row >= O->res) continue;
         bp__bits_or_at(O->b + (size_t)row * O->aw, O->aw, D->b + (size_t)j * D->words, D->words, x - p);
         O->maxfree[row] = bp__bits_longest(O->b + (size_t)row * O->aw, O->res, 0);
+        bp__occ_row_masks(O, row);
     }
 }
 
