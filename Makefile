@@ -62,8 +62,9 @@
 #   make python       the Python package's extension built in place
 #                     (python/bijparam/_native*.so; python/README.md)
 #   make bench-python bench/python_bench.py: the Python call against the
-#                     tool on the bench meshes, wall and CPU (~3 min; not
-#                     in bench)
+#                     tool on the bench meshes, wall and CPU, then two calls
+#                     on two Python threads against one (~8 min; not in
+#                     bench; docs/performance.md, "Python")
 #   make clean        remove build/
 #
 # Every program includes bijparam.h, so every program depends on it.

@@ -15,7 +15,9 @@ wall and CPU, "ratio" = python wall / tool wall (medians of one run, the
 binding's overhead is ratio - 1), and "binding" = the part of the python
 call's wall time outside the library (parametrize's wall minus the
 library's own, report["timings"]["total"]).  A table on stdout and one JSON
-line per mesh and thread count in build/bench/python.jsonl.
+line per mesh and thread count in build/bench/python.jsonl.  Then two
+calls at once on two Python threads (threads=1 each) against one, on
+PAIR_MESH (default bimba_i.obj).
 
     PYTHONPATH=python /usr/bin/python3 bench/python_bench.py
     BENCH_RUNS=3 BENCH_MESHES="camel_b.obj face.obj" THREADS="2" ...
@@ -28,6 +30,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 import bijparam
@@ -80,6 +83,48 @@ def run_python(mesh, out, threads):
     return wall, self_cpu() - c0, (t2 - t1) - r.report["timings"]["total"], r.report, len(m.indices)
 
 
+def two_threads(mesh):
+    """One parametrize call (threads=1) against two at once on two Python
+    threads (threads=1 each), and the same with tool processes (what the
+    machine's cores allow at the moment), alternating, RUNS rounds:
+    medians of wall and CPU.  With the GIL released the pair of calls
+    scales as the pair of processes does."""
+    m = bijparam.read_mesh(mesh)
+    call = lambda: bijparam.parametrize(m.positions, m.indices, resolution=1024, padding=4, threads=1)
+    args = [TOOL, mesh, "--atlas", "1024", "--padding", "4", "--threads", "1", "-q"]
+
+    def pair_of_tools():
+        ps = [subprocess.Popen(args + ["-o", os.devnull]) for _ in range(2)]
+        for p in ps:
+            p.wait()
+    runs = {"call": [], "two calls": [], "tool": [], "two tools": []}
+    for k in range(RUNS):
+        for name in (list(runs) if k % 2 == 0 else list(runs)[::-1]):
+            c0, cc0, t0 = self_cpu(), children_cpu(), time.perf_counter()
+            if name == "call":
+                call()
+            elif name == "two calls":
+                th = [threading.Thread(target=call) for _ in range(2)]
+                for t in th:
+                    t.start()
+                for t in th:
+                    t.join()
+            elif name == "tool":
+                subprocess.run(args + ["-o", os.devnull], check=True)
+            else:
+                pair_of_tools()
+            runs[name].append((time.perf_counter() - t0, self_cpu() - c0 + children_cpu() - cc0))
+    med = statistics.median
+    w = {k: med(x[0] for x in v) for k, v in runs.items()}
+    c = {k: med(x[1] for x in v) for k, v in runs.items()}
+    print(f"bench-python: {os.path.basename(mesh)}, threads=1, medians of {RUNS} (wall / CPU seconds): one call "
+          f"{w['call']:.3f} / {c['call']:.3f}, two calls on two Python threads {w['two calls']:.3f} / "
+          f"{c['two calls']:.3f} (wall ratio {w['two calls'] / w['call']:.2f}); the tool {w['tool']:.3f} / "
+          f"{c['tool']:.3f}, two tool processes at once {w['two tools']:.3f} / {c['two tools']:.3f} (wall ratio "
+          f"{w['two tools'] / w['tool']:.2f}); load average {os.getloadavg()[0]:.1f}", flush=True)
+    return dict(mesh=os.path.basename(mesh), wall=w, cpu=c)
+
+
 def main():
     if not os.access(TOOL, os.X_OK):
         sys.exit("bench-python: build/bijparam is missing (make)")
@@ -122,6 +167,9 @@ def main():
                       f"{'yes' if same else 'NO'}", flush=True)
     print(f"bench-python: median ratio python/tool {statistics.median(ratios):.3f} over {len(ratios)} rows "
           f"(max {max(ratios):.3f}); JSON: build/bench/python.jsonl")
+    pair = [m for m in meshes() if os.path.basename(m) == os.environ.get("PAIR_MESH", "bimba_i.obj")]
+    if pair:
+        jsonl.write(json.dumps(dict(two_threads=two_threads(pair[0]))) + "\n")
 
 
 if __name__ == "__main__":
