@@ -1403,9 +1403,11 @@ static void print_json(const char *input, const char *output, bp_status status, 
         }
     }
     if (ex->gltf)
-        printf(",\"gltf\":{\"primitives\":%u,\"vertices_in\":%u,\"vertices_out\":%u,\"rounding_fixed\":%u}",
+        printf(",\"gltf\":{\"primitives\":%u,\"vertices_in\":%u,\"vertices_out\":%u,\"rounding_fixed\":%u,"
+               "\"accessors_removed\":%u,\"views_removed\":%u,\"bytes_removed\":%llu}",
                gltf_names ? (unsigned)gltf_names->num_primitives : 0u, (unsigned)ex->gltf->vertices_in,
-               (unsigned)ex->gltf->vertices_out, (unsigned)ex->gltf->rounding_fixed);
+               (unsigned)ex->gltf->vertices_out, (unsigned)ex->gltf->rounding_fixed, (unsigned)ex->gltf->accessors_removed,
+               (unsigned)ex->gltf->views_removed, (unsigned long long)ex->gltf->bytes_removed);
     if (ex->density_model) {
         printf(",\"density\":{\"model\":");
         json_string(view_names[ex->density_model]);

@@ -593,7 +593,7 @@ class Result(tuple):
         t = _native.encode_gltf(g, self._handle, glb, bin_uri, prefix, threads)
         if t[0] != "ok":
             _raise(t, path=path, gltf=g)
-        _, data, bin_bytes, vin, vout, fixed, wall, cpu = t
+        _, data, bin_bytes, vin, vout, fixed, wall, cpu, removed = t
 
         def put(data):
             def write(tmp):
@@ -606,7 +606,8 @@ class Result(tuple):
         _write_atomic(path, put(data))
         self._written(path, wall, cpu)
         self.report["gltf"] = {"primitives": mesh.info.get("primitives", 0), "vertices_in": vin,
-                               "vertices_out": vout, "rounding_fixed": fixed}
+                               "vertices_out": vout, "rounding_fixed": fixed, "accessors_removed": removed[0],
+                               "views_removed": removed[1], "bytes_removed": removed[2]}
         return path
 
 

@@ -1655,7 +1655,8 @@ done:
 
 /* _encode_gltf(gltf, atlas, glb, bin_uri, uri_prefix, threads) ->
    ("ok", data, bin | None, vertices_in, vertices_out, rounding_fixed,
-    seconds, cpu_seconds) | error tuple.  The atlas must be the result of
+    seconds, cpu_seconds, (accessors_removed, views_removed, bytes_removed))
+   | error tuple.  The atlas must be the result of
    this file's mesh (the Python layer keeps them together). */
 static PyObject *py_encode_gltf(PyObject *self, PyObject *args)
 {
@@ -1694,9 +1695,11 @@ static PyObject *py_encode_gltf(PyObject *self, PyObject *args)
     g->encoding = 0;
     if (rc < 0) { bpg_output_free(&J.gltf_out); return NULL; }
     if (J.st != BP_OK) return error_tuple(J.st, &J.err);
-    result = Py_BuildValue("(sy#Okkkdd)", "ok", (const char *)J.gltf_out.data, (Py_ssize_t)J.gltf_out.size, Py_None,
+    result = Py_BuildValue("(sy#Okkkdd(kkK))", "ok", (const char *)J.gltf_out.data, (Py_ssize_t)J.gltf_out.size, Py_None,
                            (unsigned long)J.gltf_out.vertices_in, (unsigned long)J.gltf_out.vertices_out,
-                           (unsigned long)J.gltf_out.rounding_fixed, J.t_end - J.t_begin, J.cpu_end - J.cpu.begin);
+                           (unsigned long)J.gltf_out.rounding_fixed, J.t_end - J.t_begin, J.cpu_end - J.cpu.begin,
+                           (unsigned long)J.gltf_out.accessors_removed, (unsigned long)J.gltf_out.views_removed,
+                           (unsigned long long)J.gltf_out.bytes_removed);
     if (result && J.gltf_out.bin) {
         PyObject *b = PyBytes_FromStringAndSize((const char *)J.gltf_out.bin, (Py_ssize_t)J.gltf_out.bin_size);
         if (!b) Py_CLEAR(result);
