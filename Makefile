@@ -105,7 +105,7 @@ SH_TESTS  := $(filter-out $(CHECK_SH),$(wildcard tests/test_*.sh))
 ALL_TESTS := $(SH_TESTS) $(C_TESTS) $(CXX_TESTS)
 # The programs of make test that take longest (about 5-15 s of CPU each).
 LONG_FIRST := tests/test_python.sh $(addprefix $(BUILD)/tests/,test_visibility test_segment test_tutte) \
-              tests/test_readme.sh $(addprefix $(BUILD)/tests/,test_pins test_newton test_start test_sparse test_energy) \
+              tests/test_readme.sh tests/test_build_options.sh $(addprefix $(BUILD)/tests/,test_pins test_newton test_start test_sparse test_energy) \
               tests/test_tool_scale.sh tests/test_repair_tool.sh
 # Tests with a short form under BP_TEST_QUICK (make test) and their full
 # form in make check.

@@ -9360,9 +9360,10 @@ static void bp__super_panel_tri(double *B, uint32_t c2, uint32_t q0, uint32_t q1
    finished up to the current panel once this pass is done.  So task 0
    of a pass takes exactly those rows (the next panel's, [q1, q2)) and
    then that triangle, while the other tasks share the rows below q2;
-   the caller no longer computes each triangle alone between two passes
-   (measured on face with 2 threads: 4.6 ms of such triangles in a run).
-   Every entry and pivot is the same sum as before, in the same order:
+   so the caller does not compute each triangle alone between two passes
+   (on face with 2 threads, 4.6 ms of such triangles in a run).
+   Every entry and pivot is the same sum as without the look-ahead, in
+   the same order:
    each row's values depend only on its own chains, not on which task
    or group of rows holds it; the same bits.  The first panel's triangle,
    and any after a pass too short to cut, stay on the caller. */

@@ -52,7 +52,7 @@ fi
 
 # the README example as the core library
 awk '/^```c$/ { if (!done) { on = 1; next } } /^```$/ { if (on) { on = 0; done = 1 } } on' "$ROOT/README.md" >"$TMP/example.c"
-if $CC -std=c99 -O2 $WARN $(defs $CORE) -I"$ROOT" "$TMP/example.c" -o "$TMP/example" -lm 2>"$TMP/ex.log"; then
+if $CC -std=c99 -O1 $WARN $(defs $CORE) -I"$ROOT" "$TMP/example.c" -o "$TMP/example" -lm 2>"$TMP/ex.log"; then
     ok "the README example compiles warning-free with $CORE"
     if "$TMP/example" "$ROOT/tests/data/camel_b.obj" "$TMP/example.obj" >"$TMP/exrun.log" 2>&1 &&
        $PY "$ROOT/tests/uvcheck.py" "$TMP/example.obj" >"$TMP/exuv.log" 2>&1; then
