@@ -20202,15 +20202,17 @@ BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *
 #define BP__SEG_LEAST 16        /* a region of fewer triangles gets no new seed */
 /* A region of more than BP__SEG_MOST triangles gets a new seed even when
    it is flat enough.  The deviation bound alone lets charts grow with the
-   mesh (a smooth surface of a million triangles gives charts of 25-45K),
+   mesh (a smooth surface of four million triangles gives charts of 90K),
    and a chart's solve costs more per triangle the larger it is -- the
-   start's factorization fills in as n log n and L-BFGS needs more
-   iterations to the same tolerance -- while charts of a few thousand
-   triangles cost little in seams and packing.  On a 1M-triangle
-   marching-cubes surface the cap takes a third off the solve's CPU for
-   40% more seam length and 3% less of the atlas used. */
+   start's factorization fills in as n log n, L-BFGS needs more iterations
+   to the same tolerance, and the largest start far enough from an
+   isometry for Newton.  The cap is set where that growth starts to tell:
+   below it charts cost about the same per triangle, so a lower cap buys
+   little time for much longer seams (on a 4M-triangle marching-cubes
+   surface 65,536 halves the solve and keeps utilization 0.75; 16,384
+   takes a further fifth off for 1.8 times the seam length and 0.71). */
 #ifndef BP__SEG_MOST
-#define BP__SEG_MOST 16384u
+#define BP__SEG_MOST 65536u
 #endif
 #ifndef BP__SEG_COMPACT         /* lambda: weight of roundness against planarity */
 #define BP__SEG_COMPACT 0.5
