@@ -2319,14 +2319,16 @@ static void bp__vec_axpy(const bp__par *par, double *part, uint32_t n, double *o
       |det| exceeds that bound its sign is right.
    2. Exact.  Otherwise expand the determinant into six products,
           ax by - ax cy - cx by - ay bx + ay cx + cy bx,
-      turn each product into an exact sum of two doubles (x = fl(p*q) and the
-      rounding error fma(p, q, -x), exact by definition of fma), and add the
+      turn each product into an exact sum of two doubles (x = fl(p*q) and its
+      rounding error by Dekker's product with Veltkamp's split, made of
+      + - * alone: no fma, whose emulation some C libraries get wrong, e.g.
+      mingw-w64's), and add the
       twelve terms into a nonoverlapping expansion with Grow-Expansion.  The
       sign of a nonoverlapping expansion is the sign of its largest (last
       nonzero) component.
 
    The range on which this is exact.  Both stages are exact (the filter's
-   bound holds, every fma error term is representable) as long as no
+   bound holds, every product's error term is exact) as long as no
    product overflows and no rounding error underflows.  A sufficient
    condition on the input: every nonzero coordinate has a magnitude in
    [2^-485, 2^510).  Above: |coordinate differences| < 2^511, so every
@@ -2341,8 +2343,7 @@ static void bp__vec_axpy(const bp__par *par, double *part, uint32_t n, double *o
    The arithmetic must be IEEE double as written: each operation rounded
    once to double (no x87 extended intermediates, FLT_EVAL_METHOD == 0), no
    reassociation or "x - x == 0" shortcuts (-ffast-math breaks TwoSum and
-   the NaN tests), and a correctly rounded fma (C99 requires one; without
-   the instruction the C library emulates it).  A compiler that says
+   the NaN tests).  A compiler that says
    otherwise is refused below.  FLT_EVAL_METHOD == -1 ("indeterminable") is
    refused too, since nothing then promises double rounding; define
    BP_TRUST_FLT_EVAL_METHOD if you know that your target rounds each double
@@ -2361,6 +2362,16 @@ static double bp__two_sum(double a, double b, double *y)
     double x = a + b, bv = x - a, av = x - bv;
     *y = (a - av) + (b - bv);
     return x;
+}
+
+/* p + *e = a * b exactly, for |a|, |b| < 2^995 and products far from
+   underflow: a = ah + al with ah holding the upper 26 bits (Veltkamp). */
+static double bp__two_prod(double a, double b, double *e)
+{
+    double c = 134217729.0 * a, ah = c - (c - a), al = a - ah, p = a * b;
+    double d = 134217729.0 * b, bh = d - (d - b), bl = b - bh;
+    *e = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+    return p;
 }
 
 /* Add `b` to the nonoverlapping expansion e[0..n) (increasing magnitude),
@@ -2384,8 +2395,7 @@ static int bp__orient2d_exact(const double *a, const double *b, const double *c)
     double e[16];
     int n = 0, i;
     for (i = 0; i < 6; i++) {
-        double x = p[i] * q[i];
-        double err = fma(p[i], q[i], -x);
+        double err, x = bp__two_prod(p[i], q[i], &err);
         n = bp__grow_expansion(e, n, err);
         n = bp__grow_expansion(e, n, x);
     }
@@ -2475,16 +2485,6 @@ BPDEF int bp_segments_intersect(const double a[2], const double b[2],
    Their coefficients are exact quotients (1.0 / 120) or double literals
    printed with 17 digits, which every compiler reads the same. */
 
-/* p + *e = a * b exactly, for |a|, |b| < 2^995 and products far from
-   underflow: a = ah + al with ah holding the upper 26 bits (Veltkamp). */
-static double bp__two_prod(double a, double b, double *e)
-{
-    double c = 134217729.0 * a, ah = c - (c - a), al = a - ah, p = a * b;
-    double d = 134217729.0 * b, bh = d - (d - b), bl = b - bh;
-    *e = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
-    return p;
-}
-
 /* ln 2 = BP__LN2_HI + BP__LN2_LO, the first with 42 bits (k BP__LN2_HI is
    exact for |k| < 2^11); pi/2 = BP__PIO2_1 + BP__PIO2_2 + BP__PIO2_3 (33,
    33 and 53 bits), and pi/2, pi as two doubles. */
@@ -2497,6 +2497,23 @@ static double bp__two_prod(double a, double b, double *e)
 #define BP__PIO2_LO 6.123233995736766e-17
 #define BP__PI_HI 3.141592653589793
 #define BP__PI_LO 1.2246467991473532e-16
+
+/* sqrt x, correctly rounded everywhere.  IEEE 754 asks that of sqrt and
+   the processor's instruction does it, but below -O2 GCC calls the C
+   library's function, and mingw-w64's is not correctly rounded (a few
+   random arguments in 10,000 land one ulp off).  So on x86 the SSE2
+   instruction is named; elsewhere sqrt is the instruction (aarch64's
+   fsqrt) or a correct library function. */
+#if defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2)
+#include <emmintrin.h>
+static double bp__sqrt(double x)
+{
+    __m128d v = _mm_set_sd(x);
+    return _mm_cvtsd_f64(_mm_sqrt_sd(v, v));
+}
+#else
+static double bp__sqrt(double x) { return sqrt(x); }
+#endif
 
 /* log x = result + *lo for finite x > 0, to about 2^-62 relative.  With
    f = m - 1 (exact) and s = f / (2 + f) as sh + sl:  log m = 2s + 2s^3/3
@@ -5313,7 +5330,7 @@ static const double *bp__pos(const bp_mesh *m, uint32_t v) { return m->positions
 static double bp__dist3(const double *a, const double *b)
 {
     double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    return sqrt(dx * dx + dy * dy + dz * dz);
+    return bp__sqrt(dx * dx + dy * dy + dz * dz);
 }
 
 /* Twice the area of a 3D triangle, |(b-a) x (c-a)|. */
@@ -5325,7 +5342,7 @@ static double bp__area2_3d(const double *a, const double *b, const double *c)
     n[0] = u[1] * v[2] - u[2] * v[1];
     n[1] = u[2] * v[0] - u[0] * v[2];
     n[2] = u[0] * v[1] - u[1] * v[0];
-    return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    return bp__sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
 /* The file line of triangle t, or 0 when the mesh does not record it. */
@@ -5511,7 +5528,7 @@ static double bp__area2_scaled(const bp_mesh *m, uint32_t t, const bp__mesh_scal
     n[0] = u[1] * v[2] - u[2] * v[1];
     n[1] = u[2] * v[0] - u[0] * v[2];
     n[2] = u[0] * v[1] - u[1] * v[0];
-    return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    return bp__sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
 /* The local defect of triangle t: 0 (none), 1 a repeated vertex, 2 (near)
@@ -7379,7 +7396,7 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
         else if ((ok = bp__cut_cotree(a, &K, ch)) != 0) ncut = bp__cut_prune(&K, ch);
     }
     if (ok && whole) {
-        double tau = BP__CUT_BRANCH * sqrt(ch->area3d);
+        double tau = BP__CUT_BRANCH * bp__sqrt(ch->area3d);
         bp__cut_branches(a, &K, ch, tau, &oom);
         /* the junctions moved; where that left a part far from the cut, the
            branches again, and their junctions moved (the smoothing essay) */
@@ -9347,7 +9364,7 @@ static void bp__super_panel_tri(double *B, uint32_t c2, uint32_t q0, uint32_t q1
         d = r[i];
         for (k = 0; k < i; k++) d -= r[k] * r[k];
         D[i] = d;
-        r[i] = sqrt(d);
+        r[i] = bp__sqrt(d);
         inv[i] = 1 / r[i];
     }
 }
@@ -11031,7 +11048,7 @@ static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv,
             if (p[k] < lo[k]) lo[k] = p[k];
             if (p[k] > hi[k]) hi[k] = p[k];
         }
-        len += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]));
+        len += bp__sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]));
     }
     ex = hi[0] - lo[0];
     ey = hi[1] - lo[1];
@@ -11039,7 +11056,7 @@ static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv,
     /* cells about one mean edge long, at most ~16 per edge, and never more
        than 16 nb along one axis */
     h = len / nb;
-    if (ex * ey > 16.0 * nb * h * h) h = sqrt(ex * ey / (16.0 * nb));
+    if (ex * ey > 16.0 * nb * h * h) h = bp__sqrt(ex * ey / (16.0 * nb));
     if (ex > 16.0 * nb * h) h = ex / (16.0 * nb);
     if (ey > 16.0 * nb * h) h = ey / (16.0 * nb);
     if (!(h > 0)) h = 1;
@@ -12014,7 +12031,7 @@ static double bp__angle3(const double *p, const double *q, const double *r)
     c[0] = u[1] * v[2] - u[2] * v[1];
     c[1] = u[2] * v[0] - u[0] * v[2];
     c[2] = u[0] * v[1] - u[1] * v[0];
-    cr = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    cr = bp__sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     return bp__atan2(cr, dot);
 }
 
@@ -12233,7 +12250,7 @@ static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
 static int bp__tutte_circle(const bp_allocator *a, bp__tutte *T, bp_chart *ch)
 {
     uint32_t i, j, l0 = ch->loop_start[0], l1 = ch->loop_start[1];
-    double R = sqrt(ch->area3d / 3.14159265358979323846), total = 0, acc = 0, floor_len;
+    double R = bp__sqrt(ch->area3d / 3.14159265358979323846), total = 0, acc = 0, floor_len;
     T->idx = (uint32_t *)bp__calloc_array(a, T->N, sizeof(uint32_t));
     if (!T->idx) return 0;
     for (j = l0; j < l1; j++) {
@@ -12685,7 +12702,7 @@ static int bp__krylov_done(bp__krylov_task *K, const bp__par *par, const double 
     K->b = b;
     bp__krylov_spmv(K, par, x, r, 1);
     bp__dot2(r, r, K->n, rr);
-    *rel = sqrt(rr[0] > rr[1] ? rr[0] / (bb[0] > 0 ? bb[0] : 1) : rr[1] / (bb[1] > 0 ? bb[1] : 1));
+    *rel = bp__sqrt(rr[0] > rr[1] ? rr[0] / (bb[0] > 0 ? bb[0] : 1) : rr[1] / (bb[1] > 0 ? bb[1] : 1));
     return rr[0] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[0] && rr[1] <= BP__KRYLOV_TOL * BP__KRYLOV_TOL * bb[1];
 }
 
@@ -13169,7 +13186,7 @@ static void bp__rest_shape(const double *p1, const double *p2, const double *p3,
     double e1[3], e2[3];
     int k;
     for (k = 0; k < 3; k++) { e1[k] = p2[k] - p1[k]; e2[k] = p3[k] - p1[k]; }
-    *w = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    *w = bp__sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
     *x = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / *w;
     *y = bp__area2_3d(p1, p2, p3) / *w;            /* |e1 x e2| / w */
 }
@@ -13592,7 +13609,7 @@ static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, co
     bp__free(al, J.term);
     bp__free(al, J.bad);
     if (c < J.nc) return 0;
-    s = sqrt(sqrt(sb / sa));
+    s = bp__sqrt(bp__sqrt(sb / sa));
     return s > 0 && s < HUGE_VAL ? s : 0;
 }
 
@@ -13886,7 +13903,7 @@ static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp
     bp__cschur_order(&Z, ch, C->J.p, order, tree);
     Z.nb = nv - Z.ni;
     ok = 0;
-    if (Z.nb == 0 || (double)Z.nb > BP__CONFORMAL_SCHUR_K * sqrt((double)nv)) goto done;
+    if (Z.nb == 0 || (double)Z.nb > BP__CONFORMAL_SCHUR_K * bp__sqrt((double)nv)) goto done;
     ok = -1;
     Z.work = (double *)bp__alloc_array(a, 6 * (size_t)nv + 6 * (size_t)Z.nb, sizeof(double));
     if (C->J.scalar) Z.L = C->L;                        /* built by the columns' pass: borrowed */
@@ -13922,7 +13939,7 @@ static int bp__conformal_schur_planned(const bp_chart *ch, const uint32_t *held,
         v = ch->loop_vertices[j];
         if (v != held[0] && v != held[1] && bxp[v] == BP__NONE) { bxp[v] = 0; nb++; }
     }
-    return nb > 0 && (double)nb <= BP__CONFORMAL_SCHUR_K * sqrt((double)nv);
+    return nb > 0 && (double)nb <= BP__CONFORMAL_SCHUR_K * bp__sqrt((double)nv);
 }
 
 #else
@@ -14495,7 +14512,7 @@ static int bp__start_thin_eps(const bp_allocator *a, const bp_chart *ch, const d
         for (c = 0; c < 3; c++) {                 /* F1 = (0,0), F2 = (w,0), F3 = (x,y) */
             uint32_t vi = tr[c], vj = tr[(c + 1) % 3];
             if (next[vi] != vj && next[vj] != vi) continue;
-            len = c == 0 ? w : c == 1 ? sqrt((x - w) * (x - w) + y * y) : sqrt(x * x + y * y);
+            len = c == 0 ? w : c == 1 ? bp__sqrt((x - w) * (x - w) + y * y) : bp__sqrt(x * x + y * y);
             h[n++] = w * y / len;                 /* 2 A / |e| */
         }
     }
@@ -14550,7 +14567,7 @@ static void bp__barrier_visit(void *user, uint32_t k)
     if (sp > 1) sp = 1;
     cx = A[0] + sp * ex; cy = A[1] + sp * ey;
     dx = P[0] - cx; dy = P[1] - cy;
-    d = sqrt(dx * dx + dy * dy);
+    d = bp__sqrt(dx * dx + dy * dy);
     if (d >= S->eps) return;
     if (!(d > 0)) { Q->acc = HUGE_VAL; return; }
     r = S->eps / d - 1;
@@ -14577,7 +14594,7 @@ static double bp__loop_cell(const bp__solver *S, const double *x, uint32_t L)
     for (k = 0; k < n; k++) {
         const double *p = x + 2 * (size_t)S->loop_vertices[s0 + k];
         const double *q = x + 2 * (size_t)S->loop_vertices[s0 + (k + 1) % n];
-        len += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]));
+        len += bp__sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]));
     }
     len /= n;
     return len > S->eps ? len : S->eps;
@@ -14858,7 +14875,7 @@ static double bp__energy_sv(bp_energy kind, double sa, double sb, double *fa, do
         *fa = 1 / sb - sb / (sa * sa); *fb = 1 / sa - sa / (sb * sb);
         return sa / sb + sb / sa;
     case BP_ENERGY_ISOMETRIC:
-        r = sqrt(sa * sa + 1 / (sb * sb));
+        r = bp__sqrt(sa * sa + 1 / (sb * sb));
         *fa = sa / r; *fb = -1 / (sb * sb * sb * r);
         return r;
     case BP_ENERGY_MAX_ISOMETRIC:
@@ -14882,7 +14899,7 @@ static double bp__triangle_energy(bp_energy kind, const bp__rest *r, const doubl
     double a = d00 * r->m00, b = d00 * r->m01 + d01 * r->m11;
     double c = d10 * r->m00, d = d10 * r->m01 + d11 * r->m11;
     double E = 0.5 * (a + d), F = 0.5 * (a - d), G = 0.5 * (c + b), H = 0.5 * (c - b);
-    double Q = sqrt(E * E + H * H), R = sqrt(F * F + G * G);
+    double Q = bp__sqrt(E * E + H * H), R = bp__sqrt(F * F + G * G);
     double det = a * d - b * c, sa = Q + R, sb, fa, fb, e;
     if (!(det > 0)) return HUGE_VAL;
     sb = det / sa;
@@ -15091,7 +15108,7 @@ static double bp__min_root(double alpha, double beta, double gamma, double tmax,
         return tmax;
     disc = beta * beta - 4 * alpha * gamma;
     if (disc < 0) return tmax;
-    q = -0.5 * (beta + (beta >= 0 ? sqrt(disc) : -sqrt(disc)));
+    q = -0.5 * (beta + (beta >= 0 ? bp__sqrt(disc) : -bp__sqrt(disc)));
     r[0] = alpha != 0 ? q / alpha : HUGE_VAL;
     r[1] = q != 0 ? gamma / q : HUGE_VAL;
     if (r[0] > r[1]) { double tmp = r[0]; r[0] = r[1]; r[1] = tmp; }
@@ -15294,7 +15311,7 @@ static void bp__energy_sv2(bp_energy kind, double sa, double sb, double fa, doub
         *flip = 1 / p + (sa * sa + p + sb * sb) / (p * p);
         break;
     case BP_ENERGY_ISOMETRIC:                     /* r = sqrt(sa^2 + sb^-2) */
-        r = sqrt(sa * sa + 1 / (sb * sb));
+        r = bp__sqrt(sa * sa + 1 / (sb * sb));
         h[0] = 1 / (sb * sb * r * r * r);
         h[1] = sa / (sb * sb * sb * r * r * r);
         h[2] = 3 / (sb * sb * sb * sb * r) - 1 / (sb * sb * sb * sb * sb * sb * r * r * r);
@@ -15325,14 +15342,14 @@ static int bp__hessian_eig(bp_energy kind, const double J[4], bp__jeig *e)
 {
     double a = J[0], b = J[1], c = J[2], d = J[3], det = a * d - b * c, sa, sb, fa, fb;
     e->E = 0.5 * (a + d); e->F = 0.5 * (a - d); e->G = 0.5 * (c + b); e->H = 0.5 * (c - b);
-    e->Q = sqrt(e->E * e->E + e->H * e->H);
-    e->R = sqrt(e->F * e->F + e->G * e->G);
+    e->Q = bp__sqrt(e->E * e->E + e->H * e->H);
+    e->R = bp__sqrt(e->F * e->F + e->G * e->G);
     if (!(det > 0)) return 0;
     sa = e->Q + e->R;
     sb = det / sa;
     bp__energy_sv(kind, sa, sb, &fa, &fb);
     bp__energy_sv2(kind, sa, sb, fa, fb, e->hs, &e->tw, &e->fl);
-    e->t = sqrt(0.25 * (e->hs[0] - e->hs[2]) * (e->hs[0] - e->hs[2]) + e->hs[1] * e->hs[1]);
+    e->t = bp__sqrt(0.25 * (e->hs[0] - e->hs[2]) * (e->hs[0] - e->hs[2]) + e->hs[1] * e->hs[1]);
     e->l1 = 0.5 * (e->hs[0] + e->hs[2]) + e->t;
     e->l2 = 0.5 * (e->hs[0] + e->hs[2]) - e->t;
     if (e->t > 0) {
@@ -15347,7 +15364,7 @@ static int bp__hessian_eig(bp_energy kind, const double J[4], bp__jeig *e)
    projection.  Returns 0 when J is not positively oriented. */
 static int bp__hessian_j(bp_energy kind, const double J[4], int project, double h4[16])
 {
-    double rot[4], ref[4], m[4][4], lam[4], s2 = sqrt(0.5), c1, c2, hv, out[16];
+    double rot[4], ref[4], m[4][4], lam[4], s2 = bp__sqrt(0.5), c1, c2, hv, out[16];
     bp__jeig e;
     int i, j, k;
     if (!bp__hessian_eig(kind, J, &e)) return 0;
@@ -15362,7 +15379,7 @@ static int bp__hessian_j(bp_energy kind, const double J[4], int project, double 
        eigenvalues l1 >= l2, the unit eigenvector (c1, c2) of l1 */
     c1 = e.x; c2 = e.y;
     if (e.t > 0) {
-        hv = sqrt(c1 * c1 + c2 * c2);
+        hv = bp__sqrt(c1 * c1 + c2 * c2);
         c1 /= hv; c2 /= hv;
     }
     for (k = 0; k < 4; k++) {
@@ -15550,8 +15567,8 @@ static void bp__sym_psd6(double *K)
                 double apq = a[6 * i + j], th, t, c, sn;
                 if (apq == 0) continue;
                 th = (a[6 * j + j] - a[6 * i + i]) / (2 * apq);
-                t = (th >= 0 ? 1 : -1) / (fabs(th) + sqrt(th * th + 1));
-                c = 1 / sqrt(t * t + 1); sn = t * c;
+                t = (th >= 0 ? 1 : -1) / (fabs(th) + bp__sqrt(th * th + 1));
+                c = 1 / bp__sqrt(t * t + 1); sn = t * c;
                 for (k = 0; k < 6; k++) {                       /* columns i, j */
                     double x = a[6 * k + i], y = a[6 * k + j];
                     a[6 * k + i] = c * x - sn * y; a[6 * k + j] = sn * x + c * y;
@@ -15583,7 +15600,7 @@ static int bp__barrier_pair_hessian(const double *P, const double *A, const doub
     if (sp < 0) sp = 0;
     if (sp > 1) sp = 1;
     dx = qx - sp * ex; dy = qy - sp * ey;
-    d = sqrt(dx * dx + dy * dy);
+    d = bp__sqrt(dx * dx + dy * dy);
     if (!(d < eps) || !(d > 0)) return 0;
     f1 = -2 * (eps / d - 1) * eps / (d * d);
     f2 = 2 * eps * eps / (d * d * d * d) + 4 * (eps / d - 1) * eps / (d * d * d);
@@ -15592,7 +15609,7 @@ static int bp__barrier_pair_hessian(const double *P, const double *A, const doub
     g[4] = -sp * g[0]; g[5] = -sp * g[1];
     for (i = 0; i < 6; i++) for (j = 0; j < 6; j++) K[6 * i + j] = f2 * g[i] * g[j];
     if (sp > 0 && sp < 1) {                      /* inside the segment: the whole Hessian */
-        double L = sqrt(L2), c = qx * ey - qy * ex, sg = c >= 0 ? 1 : -1, iL3 = 1 / (L * L2);
+        double L = bp__sqrt(L2), c = qx * ey - qy * ex, sg = c >= 0 ? 1 : -1, iL3 = 1 / (L * L2);
         double gc[4], gi[4], H4[16], J[4][6];
         memset(H4, 0, sizeof H4);
         gc[0] = ey; gc[1] = -ex; gc[2] = -qy; gc[3] = qx;
@@ -16158,7 +16175,7 @@ static void bp__barrier_hess_visit(void *user, uint32_t k)
     if (sp < 0) sp = 0;
     if (sp > 1) sp = 1;
     dx = P[0] - (A[0] + sp * ex); dy = P[1] - (A[1] + sp * ey);
-    d = sqrt(dx * dx + dy * dy);
+    d = bp__sqrt(dx * dx + dy * dy);
     if (d < 3 * S->eps) {
         bp__bnear nb;
         nb.v[0] = vv[0]; nb.v[1] = vv[1]; nb.v[2] = vv[2];
@@ -17037,7 +17054,7 @@ static void bp__rest_task_run(void *task, uint32_t c)
         /* importance I (eq 4.1): singular values scaled by I^-1/2 (the rest
            shape grows by sqrt(I)) and the energy weighted by I */
         if (!(imp > 0) || !(imp < HUGE_VAL)) { T->bad[c] = t; return; }
-        bp__rest_inverse(w, px, py, 1 / sqrt(imp), &S->rest[t]);
+        bp__rest_inverse(w, px, py, 1 / bp__sqrt(imp), &S->rest[t]);
         S->rest[t].weight = 0.5 * w * py * imp;
         T->wxy[3 * (size_t)t] = w; T->wxy[3 * (size_t)t + 1] = px; T->wxy[3 * (size_t)t + 2] = py;
     }
@@ -17223,7 +17240,7 @@ static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, co
         }
     L->vc[0] = -1;
     bp__vec_pass(par, L->part, L->n, yp, 1, gn, 1, &g, L->vc, (uint32_t)nd, L->vA, L->vB, L->vd);
-    if (L->vd[1] > 1e-12 * sqrt(ss * L->vd[0])) {
+    if (L->vd[1] > 1e-12 * bp__sqrt(ss * L->vd[0])) {
         int h = L->head;
         L->rho[h] = 1 / L->vd[1];
         L->sy[h] = L->vd[1];
@@ -18265,10 +18282,10 @@ static double bp__start_triangle(const bp__rest *r, const double *u1, const doub
     double j00 = d00 * r->m00, j01 = d00 * r->m01 + d01 * r->m11, j10 = d10 * r->m00, j11 = d10 * r->m01 + d11 * r->m11;
     double c00 = j00 * j00 + j10 * j10, c01 = j00 * j01 + j10 * j11, c11 = j01 * j01 + j11 * j11;
     double det = j00 * j11 - j01 * j10, h = 0.5 * (c00 + c11), q = 0.5 * (c00 - c11);
-    double l1 = h + sqrt(q * q + c01 * c01), l2, s1, s2, logd, a, v[2], n1, n2, p1, p2, ca00, ca01;
+    double l1 = h + bp__sqrt(q * q + c01 * c01), l2, s1, s2, logd, a, v[2], n1, n2, p1, p2, ca00, ca01;
     out[0] = w; out[1] = x; out[2] = y;
     l2 = det * det / l1;
-    s1 = sqrt(l1);
+    s1 = bp__sqrt(l1);
     s2 = fabs(det) / s1;
     logd = bp__log(s1) > -bp__log(s2) ? bp__log(s1) : -bp__log(s2);
     if (!(logd - logd == 0) || !(det > 0)) return 0;
@@ -18277,8 +18294,8 @@ static double bp__start_triangle(const bp__rest *r, const double *u1, const doub
     /* the eigenvector of l1: the better conditioned of two candidates */
     n1 = c01 * c01 + (l1 - c00) * (l1 - c00);
     n2 = (l1 - c11) * (l1 - c11) + c01 * c01;
-    if (n1 >= n2 && n1 > 0) { v[0] = c01; v[1] = l1 - c00; n1 = sqrt(n1); }
-    else if (n2 > 0) { v[0] = l1 - c11; v[1] = c01; n1 = sqrt(n2); }
+    if (n1 >= n2 && n1 > 0) { v[0] = c01; v[1] = l1 - c00; n1 = bp__sqrt(n1); }
+    else if (n2 > 0) { v[0] = l1 - c11; v[1] = c01; n1 = bp__sqrt(n2); }
     else { v[0] = 1; v[1] = 0; n1 = 1; }
     v[0] /= n1; v[1] /= n1;
     p1 = bp__pow(l1, a);
@@ -18286,7 +18303,7 @@ static double bp__start_triangle(const bp__rest *r, const double *u1, const doub
     ca00 = p1 * v[0] * v[0] + p2 * v[1] * v[1];          /* C^a = p1 v v^T + p2 v' v'^T */
     ca01 = (p1 - p2) * v[0] * v[1];
     {
-        double wn = w * sqrt(ca00), xn = (ca00 * x + ca01 * y) / sqrt(ca00), yn = sqrt(p1 * p2) * w * y / wn;
+        double wn = w * bp__sqrt(ca00), xn = (ca00 * x + ca01 * y) / bp__sqrt(ca00), yn = bp__sqrt(p1 * p2) * w * y / wn;
         if (wn > 0 && yn > 0 && wn - wn == 0 && xn - xn == 0 && yn - yn == 0) { out[0] = wn; out[1] = xn; out[2] = yn; }
     }
     return logd;
@@ -18407,7 +18424,7 @@ static void bp__start_frame(const double *n, double *e1, double *e2)
     int k, ax = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : fabs(n[1]) <= fabs(n[2]) ? 1 : 2;
     double len;
     for (k = 0; k < 3; k++) e1[k] = (k == ax) - n[ax] * n[k];
-    len = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    len = bp__sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
     for (k = 0; k < 3; k++) e1[k] /= len;
     e2[0] = n[1] * e1[2] - n[2] * e1[1];
     e2[1] = n[2] * e1[0] - n[0] * e1[2];
@@ -18451,13 +18468,13 @@ static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *
     bp__par_run(par ? par : &serial, bp__cross_run, &J, J.nc, ch->num_triangles);
     for (t = 0; t < ch->num_triangles; t++)
         for (k = 0; k < 3; k++) n[k] += J.cr[3 * (size_t)t + k];
-    len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    len = bp__sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (!(len > 0) || !(len < HUGE_VAL)) { bp__free(a, J.cr); return 0; }
     for (k = 0; k < 3; k++) n[k] /= len;
     bp__start_frame(n, e1, e2);
     for (t = 0; t < ch->num_triangles; t++) {
         const double *cr = J.cr + 3 * (size_t)t;
-        double ar = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        double ar = bp__sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
         if (!(cr[0] * n[0] + cr[1] * n[1] + cr[2] * n[2] >= BP__START_PLANAR * ar)) break;
     }
     bp__free(a, J.cr);
@@ -18941,7 +18958,7 @@ static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, const bp
     }
     gap *= 0.02;
     qsort(bx, atlas->num_charts, sizeof *bx, bp__packbox_cmp);
-    shelf_w = sqrt(area) * 1.3;
+    shelf_w = bp__sqrt(area) * 1.3;
     for (i = 0; i < atlas->num_charts; i++) if (bx[i].w > shelf_w) shelf_w = bx[i].w;
     /* shelf placement: offsets of each chart's lower-left corner */
     for (i = 0; i < atlas->num_charts; i++) {
@@ -19621,7 +19638,7 @@ static bp_status bp__min_box_rotation(const bp_allocator *a, const double *uv, u
         uint32_t e, m = pass ? n : 1;
         for (e = 0; e < m; e++) {
             double dx = pass ? h[(e + 1) % n].p[0] - h[e].p[0] : 1, dy = pass ? h[(e + 1) % n].p[1] - h[e].p[1] : 0;
-            double len = sqrt(dx * dx + dy * dy), c, s, lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL }, area;
+            double len = bp__sqrt(dx * dx + dy * dy), c, s, lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL }, area;
             if (!(len > 0)) continue;
             c = dx / len; s = dy / len;
             for (i = 0; i < n; i++) {
@@ -19764,21 +19781,21 @@ static bp_status bp__pack_search(bp__packer *P, double *d_out)
     int it, r;
     *d_out = 0;
     for (i = 0; i < P->n; i++) total += P->pc[i].target;
-    d = (P->res - 2 * P->occ.border) / sqrt(total);     /* the free square */
+    d = (P->res - 2 * P->occ.border) / bp__sqrt(total);     /* the free square */
     for (it = 0; it < 200; it++) {
         double f;
         r = bp__pack_attempt(P, d, &placed);
         if (r < 0) return BP_ERR_OUT_OF_MEMORY;
         if (r) break;
         hi = d;
-        f = sqrt(placed / total);
+        f = bp__sqrt(placed / total);
         d *= f < 0.5 ? 0.5 : f > 0.97 ? 0.97 : f;
     }
     if (it == 200) return BP_OK;
     bp__pack_keep(P);
     lo = d;
     for (it = 0; hi > 0 && hi > lo * 1.002 && it < 16; it++) {
-        double mid = sqrt(lo * hi);
+        double mid = bp__sqrt(lo * hi);
         r = bp__pack_attempt(P, mid, &placed);
         if (r < 0) return BP_ERR_OUT_OF_MEMORY;
         if (r) { lo = mid; bp__pack_keep(P); } else hi = mid;
@@ -19845,7 +19862,7 @@ static bp_status bp__pack_prepare(bp__packer *P, const bp_options *opt, bp_error
         pc->outline = ch->num_loops > 0 && bp__report_valid(&pc->before);
         /* one texel density: UV area / 3D area equal across charts (step 1) */
         if (opt->importance || !(ch->area3d > 0)) { pc->k = 1; pc->target = auv; }
-        else { pc->k = sqrt(ch->area3d / auv); pc->target = ch->area3d; }
+        else { pc->k = bp__sqrt(ch->area3d / auv); pc->target = ch->area3d; }
         pc->turns = opt->no_rotation ? 1 : 4;
         pc->cs = pc->cs2 = 1; pc->sn = pc->sn2 = 0;
         if (!opt->no_rotation &&
@@ -20344,7 +20361,7 @@ static int bp__seg_setup(const bp_allocator *a, bp__seg *S, const bp_chart *ch, 
         n[0] = e1[1] * e2[2] - e1[2] * e2[1];
         n[1] = e1[2] * e2[0] - e1[0] * e2[2];
         n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        len = bp__sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         for (k = 0; k < 3; k++) {
             g[k] = len > 0 && !(ch->rest_side && ch->rest_side[t] > 0) ? n[k] / len : 0;
             g[3 + k] = (p[0][k] + p[1][k] + p[2][k]) / 3;
@@ -20465,7 +20482,7 @@ static void bp__seg_fit(bp__seg *S, int reseed)
             S->ctr[4 * k + 3] += g[6];
         }
         for (k = 0; k < S->K; k++) {
-            double len = sqrt(nsum[3 * k] * nsum[3 * k] + nsum[3 * k + 1] * nsum[3 * k + 1] +
+            double len = bp__sqrt(nsum[3 * k] * nsum[3 * k] + nsum[3 * k + 1] * nsum[3 * k + 1] +
                               nsum[3 * k + 2] * nsum[3 * k + 2]);
             if (len > 0) for (i = 0; i < 3; i++) S->prox[3 * k + i] = nsum[3 * k + i] / len;
             if (S->ctr[4 * k + 3] > 0) for (i = 0; i < 3; i++) S->ctr[4 * k + i] /= S->ctr[4 * k + 3];
@@ -20504,7 +20521,7 @@ static void bp__seg_fit(bp__seg *S, int reseed)
 static void bp__seg_seed(bp__seg *S, uint32_t k, uint32_t t)
 {
     const double *n = S->geo + 7 * (size_t)t;
-    double len = S->coarse ? sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) : 1;
+    double len = S->coarse ? bp__sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) : 1;
     if (!(len > 0)) len = 1;
     S->seed[k] = t;
     S->prox[3 * k] = n[0] / len;
@@ -21476,7 +21493,7 @@ static double bp__rand(bp__rng *r)
 
 static void bp__normalize3(double *v)
 {
-    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    double l = bp__sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (l > 0) { v[0] /= l; v[1] /= l; v[2] /= l; }
 }
 
@@ -21498,7 +21515,7 @@ static void bp__view_direction(const bp_views *V, bp__rng *rng, double *r)
     case BP_VIEW_FRONT:                  /* uniform on the hemisphere around direction */
     case BP_VIEW_UNIFORM:                /* uniform on the sphere */
         z = V->model == BP_VIEW_FRONT ? u : 2 * u - 1;
-        rad = sqrt(1 - z * z > 0 ? 1 - z * z : 0);
+        rad = bp__sqrt(1 - z * z > 0 ? 1 - z * z : 0);
         phi = 2 * 3.14159265358979323846 * w;
         if (V->model == BP_VIEW_UNIFORM) { r[0] = rad * bp__cos(phi); r[1] = rad * bp__sin(phi); r[2] = z; return; }
         memcpy(axis, V->direction, sizeof axis);
@@ -21563,7 +21580,7 @@ static void bp__vis_sample(const bp__vis_task *T, uint32_t t, uint32_t s, bp__rn
     while ((g + 1) * (g + 1) <= T->samples) g++;
     a = ((s % g) + bp__rand(rng)) / g;
     b = (((s / g) % g) + bp__rand(rng)) / g;
-    su = sqrt(a);
+    su = bp__sqrt(a);
     for (k = 0; k < 3; k++)
         p[k] = (1 - su) * bp__pos(T->m, tv[0])[k] + su * (1 - b) * bp__pos(T->m, tv[1])[k] +
                su * b * bp__pos(T->m, tv[2])[k];
@@ -21664,7 +21681,7 @@ static bp_status bp__vis_run(const bp_mesh *m, const bp_options *opt, const doub
     T.uv_area = uv_area;
     T.dirs = dirs;
     T.ndirs = ndirs;
-    T.tmin = 1e-7 * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+    T.tmin = 1e-7 * bp__sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                          (hi[2] - lo[2]) * (hi[2] - lo[2]));
     T.samples = opt->views.samples ? opt->views.samples : 64;
     T.out = out;

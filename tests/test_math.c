@@ -13,6 +13,10 @@
        pow(2, k) = 2^k and log(2^k) = k log 2 exactly; sin and cos odd and
        even bit for bit; the special values (0, infinities, NaN, signed
        zeros of atan2) as C99's Annex F gives them.
+   (d) The exact operations the others stand on: bp__two_prod's error term
+       equals the C library's fma(a, b, -a b) (exact by definition; glibc's
+       is), and bp__sqrt x is the double nearest the true root: x - r^2,
+       computed exactly, is smaller than for either neighbour of r.
    (c) "math hash": a 64-bit hash of the bits of 40,000 results of each
        function, printed for make check, which compares it between the
        native build, the aarch64 one (under qemu) and the Windows one
@@ -197,13 +201,40 @@ static void identities(void)
               "pow: zeros, negative bases with integer exponents, NaN, overflow and underflow");
 }
 
+/* |x - r^2|, exactly up to the final rounding of the difference. */
+static double residual(double x, double r)
+{
+    double e, p = bp__two_prod(r, r, &e);
+    return fabs((x - p) - e);
+}
+
+/* (d): two_prod against fma, sqrt against its neighbours. */
+static void exact_ops(void)
+{
+    int i, prod_bad = 0, sqrt_bad = 0;
+    for (i = 0; i < N; i++) {
+        double a = log_uniform(-60, 60), b = log_uniform(-60, 60), e, p, x, r;
+        if (i & 1) a = -a;
+        p = bp__two_prod(a, b, &e);
+        if (p != a * b || e != fma(a, b, -p)) prod_bad++;
+        x = log_uniform(-200, 200);
+        r = bp__sqrt(x);
+        if (residual(x, r) > residual(x, nextafter(r, 0)) || residual(x, r) > residual(x, nextafter(r, HUGE_VAL)))
+            sqrt_bad++;
+    }
+    BPT_CHECK(prod_bad == 0, "two_prod: a b = p + e exactly (fma's error term) on %d products: %d differ", N, prod_bad);
+    BPT_CHECK(sqrt_bad == 0, "sqrt: the nearest double on %d arguments: %d are not", N, sqrt_bad);
+    BPT_CHECK(bp__sqrt(0.0) == 0 && bp__sqrt(4.0) == 2 && bp__sqrt(HUGE_VAL) == HUGE_VAL && bp__sqrt(-1.0) != bp__sqrt(-1.0),
+              "sqrt: 0, 4, infinity and a negative argument (NaN)");
+}
+
 /* 40,000 results of each function on arguments made from integers. */
 static void hash(void)
 {
     uint64_t h = 1469598103934665603ull;
     int i, f;
     for (i = 0; i < 40000; i++) {
-        double a = (i - 20000) / 1024.0, b = (double)((i * 7919) % 40000 - 20000) / 997.0, r[7];
+        double a = (i - 20000) / 1024.0, b = (double)((i * 7919) % 40000 - 20000) / 997.0, r[9];
         r[0] = bp__log(ldexp(1 + (i % 1000) / 1000.0, i % 2000 - 1000));
         r[1] = bp__pow(fabs(a) + 0.5, b / 40);
         r[2] = bp__sin(a * 3);
@@ -211,7 +242,9 @@ static void hash(void)
         r[4] = bp__tan(a);
         r[5] = bp__atan2(a, b);
         r[6] = bp__exp2d(a / 30, 0);
-        for (f = 0; f < 7; f++) {
+        bp__two_prod(a / 3, b / 7, &r[7]);
+        r[8] = bp__sqrt(ldexp(1 + (i % 997) / 331.0, i % 200 - 100));
+        for (f = 0; f < 9; f++) {
             uint64_t bits;
             memcpy(&bits, &r[f], 8);
             h = (h ^ bits) * 1099511628211ull;
@@ -229,6 +262,7 @@ int main(int argc, char **argv)
     bpt_rng_state = 0x2545F4914F6CDD1Dull;
     accuracy();
     identities();
+    exact_ops();
     hash();
     return bpt_finish();
 }
