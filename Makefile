@@ -10,7 +10,7 @@
 #                     last line "N passed, M failed"
 #   make check        the long suite: the tests with a short form in make test
 #                     in full (test_threads, test_newton, test_start,
-#                     test_readme.sh), the compile matrix (tests/test_compile.sh),
+#                     test_segment, test_readme.sh), the compile matrix (tests/test_compile.sh),
 #                     every combination of the opt-out macros built as C
 #                     and C++ (tests/test_build_matrix.sh),
 #                     the tool cross-built for Windows (run under wine) and
@@ -109,7 +109,8 @@ LONG_FIRST := tests/test_python.sh $(addprefix $(BUILD)/tests/,test_visibility t
               tests/test_tool_scale.sh tests/test_repair_tool.sh
 # Tests with a short form under BP_TEST_QUICK (make test) and their full
 # form in make check.
-FULL_IN_CHECK := $(BUILD)/tests/test_threads $(BUILD)/tests/test_newton $(BUILD)/tests/test_start tests/test_readme.sh
+FULL_IN_CHECK := $(BUILD)/tests/test_threads $(BUILD)/tests/test_newton $(BUILD)/tests/test_start \
+                 $(BUILD)/tests/test_segment tests/test_readme.sh
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
@@ -172,8 +173,9 @@ test: deps-test
 # full forms of the tests make test runs short (BP_TEST_QUICK): test_threads
 # (five meshes, 300 iterations, 1-8 threads, visibility; quick: bishop and
 # spot), test_newton (lucy, beetle, camelhead 3 x 3, camelhead's allocator
-# fallback), test_start (camelhead's progressive start) and test_readme.sh
-# (the example built six ways).
+# fallback), test_start (camelhead's progressive start), test_segment (the
+# split's allocation sweep at every allocation, the 65,712-triangle
+# sphere's twins) and test_readme.sh (the example built six ways).
 check: deps-check
 	@mkdir -p $(BUILD)/logs/check
 	@echo "make check: building the tests (log: $(BUILD)/logs/check/build.log)"
