@@ -40,36 +40,41 @@ run_pytest() {
     if [ "$f" -gt 0 ]; then cat "$log"; echo "FAIL test_python_long.sh: $label: $f failed"; else echo "ok   test_python_long.sh: $label: $p passed"; fi
 }
 
+# sanitized_ext DIR CFLAGS: the package with its extension built with CFLAGS
+# in DIR/bijparam (the build's log in $TMP/$(basename DIR).log)
+sanitized_ext() {
+    local dir=$1 flags=$2
+    mkdir -p "$dir/bijparam"
+    (cd python && BIJPARAM_CFLAGS="-g -O1 -fno-omit-frame-pointer $flags" \
+        "$PYTHON" setup.py -q build_ext --build-temp "$ROOT/$dir/temp" --build-lib "$ROOT/$dir/lib") \
+        >"$TMP/$(basename "$dir").log" 2>&1 &&
+    cp python/bijparam/*.py "$dir/bijparam/" && cp "$dir"/lib/bijparam/_native*.so "$dir/bijparam/"
+}
+
 # 1. AddressSanitizer + UBSan
 ASAN_DIR=$BUILD/python-asan
-mkdir -p "$ASAN_DIR/bijparam"
-if (cd python && BIJPARAM_CFLAGS="-g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all" \
-        "$PYTHON" setup.py -q build_ext --build-temp "$ROOT/$ASAN_DIR/temp" --build-lib "$ROOT/$ASAN_DIR/lib") >"$TMP/asan_build.log" 2>&1 &&
-   cp python/bijparam/*.py "$ASAN_DIR/bijparam/" && cp "$ASAN_DIR"/lib/bijparam/_native*.so "$ASAN_DIR/bijparam/"; then
+if sanitized_ext "$ASAN_DIR" "-fsanitize=address,undefined -fno-sanitize-recover=all"; then
     ok "the extension built with -fsanitize=address,undefined"
     LIBASAN=$(gcc -print-file-name=libasan.so)
     run_pytest "python/tests under AddressSanitizer" "$TMP/asan.log" \
         env PYTHONPATH="$ASAN_DIR" LD_PRELOAD="$LIBASAN" ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
         "$PYTHON" -m pytest -q -p no:cacheprovider python/tests/test_parametrize.py python/tests/test_robust.py
 else
-    cat "$TMP/asan_build.log"; fail "the AddressSanitizer build of the extension"
+    cat "$TMP/python-asan.log"; fail "the AddressSanitizer build of the extension"
 fi
 
 # 1b. ThreadSanitizer: the worker thread, the calling thread's wait and the
 #     progress handed between them (atomics), two calls on two threads;
 #     any report ends the run (no BPTEST line: a failure)
 TSAN_DIR=$BUILD/python-tsan
-mkdir -p "$TSAN_DIR/bijparam"
-if (cd python && BIJPARAM_CFLAGS="-g -O1 -fno-omit-frame-pointer -fsanitize=thread" \
-        "$PYTHON" setup.py -q build_ext --build-temp "$ROOT/$TSAN_DIR/temp" --build-lib "$ROOT/$TSAN_DIR/lib") >"$TMP/tsan_build.log" 2>&1 &&
-   cp python/bijparam/*.py "$TSAN_DIR/bijparam/" && cp "$TSAN_DIR"/lib/bijparam/_native*.so "$TSAN_DIR/bijparam/"; then
+if sanitized_ext "$TSAN_DIR" "-fsanitize=thread"; then
     ok "the extension built with -fsanitize=thread"
     run_pytest "progress, Ctrl-C and two threads under ThreadSanitizer" "$TMP/tsan.log" \
         env PYTHONPATH="$TSAN_DIR" LD_PRELOAD="$(gcc -print-file-name=libtsan.so)" TSAN_OPTIONS=halt_on_error=1:exitcode=66 \
         "$PYTHON" -m pytest -s -q -p no:cacheprovider python/tests/test_parametrize.py python/tests/test_robust.py \
         -k "progress or threads or ctrl_c or write"
 else
-    cat "$TMP/tsan_build.log"; fail "the ThreadSanitizer build of the extension"
+    cat "$TMP/python-tsan.log"; fail "the ThreadSanitizer build of the extension"
 fi
 
 # 2. the long tests

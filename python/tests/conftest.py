@@ -35,12 +35,12 @@ def pytest_terminal_summary(terminalreporter):
     terminalreporter.write_line(f"BPTEST {passed} {failed}")
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="package")
 def data():
     return lambda name: os.path.join(DATA, name)
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="package")
 def tool():
     assert os.access(TOOL, os.X_OK), f"{TOOL} is missing: make builds it (make test does)"
     return TOOL
