@@ -4,7 +4,7 @@
 # tests/test_build_matrix.sh in make check).
 #
 #   - tests/build_options.c built with all four opt-out macros (BP_NO_NEWTON
-#     BP_NO_ATLAS BP_NO_VISIBILITY BP_NO_IO; gcc -std=c99 -O1, warnings as
+#     BP_NO_ATLAS BP_NO_VISIBILITY BP_NO_IO; gcc -std=c99 -Og, warnings as
 #     errors) and run on tests/data/camel_b.obj: camel_b flattened with the
 #     defaults, every chart through bp_check and the written map through
 #     tests/uvcheck.py (an independent exact checker); every option that
@@ -32,7 +32,7 @@ fail() { echo "FAIL test_build_options.sh: $*"; failed=$((failed + 1)); }
 defs() { for m in "$@"; do printf ' -D%s' "$m"; done; }
 
 # tests/build_options.c with every part left out
-if $CC -std=c99 -O1 $WARN $(defs $ALL) -I"$ROOT" -I"$ROOT/tests" "$ROOT/tests/build_options.c" -o "$TMP/options" -lm \
+if $CC -std=c99 -Og $WARN $(defs $ALL) -I"$ROOT" -I"$ROOT/tests" "$ROOT/tests/build_options.c" -o "$TMP/options" -lm \
         2>"$TMP/cc.log"; then
     ok "$ALL: compiles warning-free"
     if "$TMP/options" "$ROOT/tests/data/camel_b.obj" "$TMP/out.obj" "$ROOT/tests/data/bishop_part_f1000.obj" \
@@ -52,7 +52,7 @@ fi
 
 # the README example as the core library
 awk '/^```c$/ { if (!done) { on = 1; next } } /^```$/ { if (on) { on = 0; done = 1 } } on' "$ROOT/README.md" >"$TMP/example.c"
-if $CC -std=c99 -O1 $WARN $(defs $CORE) -I"$ROOT" "$TMP/example.c" -o "$TMP/example" -lm 2>"$TMP/ex.log"; then
+if $CC -std=c99 -Og $WARN $(defs $CORE) -I"$ROOT" "$TMP/example.c" -o "$TMP/example" -lm 2>"$TMP/ex.log"; then
     ok "the README example compiles warning-free with $CORE"
     if "$TMP/example" "$ROOT/tests/data/camel_b.obj" "$TMP/example.obj" >"$TMP/exrun.log" 2>&1 &&
        $PY "$ROOT/tests/uvcheck.py" "$TMP/example.obj" >"$TMP/exuv.log" 2>&1; then
@@ -64,22 +64,39 @@ else
     fail "the README example does not compile with $CORE"; cat "$TMP/ex.log"
 fi
 
-# a left-out part's functions are not declared
-nodecl() {   # macro, call
-    printf '#define BP_IMPLEMENTATION\n#include "bijparam.h"\nint main(void) { %s; return 0; }\n' "$2" >"$TMP/call.c"
-    if $CC -std=c99 $WARN -D"$1" -I"$ROOT" -fsyntax-only "$TMP/call.c" 2>/dev/null; then
-        fail "$1: '$2' still compiles"
-    elif $CC -std=c99 $WARN -I"$ROOT" -fsyntax-only "$TMP/call.c" 2>/dev/null; then
-        ok "$1: '$2' does not compile (it does without $1)"
-    else
-        fail "$1: '$2' does not compile even without $1 (the check is broken)"
-    fi
-}
-nodecl BP_NO_IO "bp_mesh m; (void)bp_parse_obj(\"v 0 0 0\", 7, &m, 0, 0)"
-nodecl BP_NO_IO "(void)bp_mesh_format(\"a.obj\")"
-nodecl BP_NO_VISIBILITY "bp_mesh m = {0}; double v; (void)bp_visibility(&m, 0, &v, 0)"
-nodecl BP_NO_ATLAS "bp_atlas at = {0}; bp_mesh m = {0}; (void)bp_atlas_segment(&at, &m, 0, 0)"
-nodecl BP_NO_ATLAS "bp_atlas at = {0}; bp_mesh m = {0}; (void)bp_atlas_refine(&at, &m, 0, 0)"
+# a left-out part's functions are not declared: calls.c holds every call,
+# one a line, and compiles without the macros; with a macro, the compiler
+# reports an error on the line of each of that macro's calls (one compile
+# per macro: gcc goes on after an error, and each call is a statement of
+# its own, so one call's error cannot stand in for another's)
+calls=("BP_NO_IO|bp_mesh m; (void)bp_parse_obj(\"v 0 0 0\", 7, &m, 0, 0)"
+       "BP_NO_IO|(void)bp_mesh_format(\"a.obj\")"
+       "BP_NO_VISIBILITY|bp_mesh m = {0}; double v; (void)bp_visibility(&m, 0, &v, 0)"
+       "BP_NO_ATLAS|bp_atlas at = {0}; bp_mesh m = {0}; (void)bp_atlas_segment(&at, &m, 0, 0)"
+       "BP_NO_ATLAS|bp_atlas at = {0}; bp_mesh m = {0}; (void)bp_atlas_refine(&at, &m, 0, 0)")
+{
+    printf '#define BP_IMPLEMENTATION\n#include "bijparam.h"\nint main(void)\n{\n'
+    for c in "${calls[@]}"; do printf '    { %s; }\n' "${c#*|}"; done
+    printf '    return 0;\n}\n'
+} >"$TMP/calls.c"
+if $CC -std=c99 $WARN -I"$ROOT" -fsyntax-only "$TMP/calls.c" 2>"$TMP/calls.log"; then
+    for macro in BP_NO_IO BP_NO_VISIBILITY BP_NO_ATLAS; do
+        $CC -std=c99 $WARN -D"$macro" -I"$ROOT" -fsyntax-only "$TMP/calls.c" >"$TMP/$macro.log" 2>&1
+        line=5
+        for c in "${calls[@]}"; do
+            if [ "${c%%|*}" = "$macro" ]; then
+                if grep -q "calls\.c:$line:[0-9]*: error" "$TMP/$macro.log"; then
+                    ok "$macro: '${c#*|}' does not compile (it does without $macro)"
+                else
+                    fail "$macro: '${c#*|}' still compiles"; cat "$TMP/$macro.log"
+                fi
+            fi
+            line=$((line + 1))
+        done
+    done
+else
+    fail "the calls do not compile even without the macros (the check is broken)"; cat "$TMP/calls.log"
+fi
 
 printf '#define BP_IMPLEMENTATION\n#include "bijparam.h"\n' >"$TMP/impl.c"
 if $CC -std=c99 -DBP_NO_IO -I"$ROOT" -E "$TMP/impl.c" 2>/dev/null | grep -q 'stdio\.h'; then
