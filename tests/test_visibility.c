@@ -31,7 +31,11 @@
       gives a map with I times the 3D area.
    6. Determinism: bp_visibility and bp_texture_to_screen are bit-identical
       with a parallel_for that runs the tasks in reverse or interleaved
-      order. */
+      order.
+   With BP_TEST_QUICK set (make test) the soup of 2000 triangles, the cow
+   and spot get 4000 rays against brute force instead of 20000 (500 of each
+   kind), and the cow only the uniform and side models (front, ring and list
+   on the cup); make check runs the full form. */
 #define BP_IMPLEMENTATION
 #include "bijparam.h"
 #include "bptest.h"
@@ -40,6 +44,8 @@
 #include <string.h>
 
 #define PI 3.14159265358979323846
+
+static int quick = 0;   /* BP_TEST_QUICK: the short form (make test) */
 
 /* ---- random numbers: xorshift64* --------------------------------------- */
 static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
@@ -427,7 +433,7 @@ static void test_bvh(void)
     int f;
     memset(&T, 0, sizeof T);
     random_soup(&T, 2000, 12345);
-    bvh_vs_brute("soup of 2000 triangles", &T.m, 20000);
+    bvh_vs_brute("soup of 2000 triangles", &T.m, quick ? 4000 : 20000);
     tm_free(&T);
     random_soup(&T, 37, 777);            /* small: a few leaves */
     bvh_vs_brute("soup of 37 triangles", &T.m, 4000);
@@ -435,7 +441,7 @@ static void test_bvh(void)
     for (f = 0; f < 2; f++) {
         if (!BPT_CHECK(bp_read_obj(files[f], &mesh, NULL, &err) == BP_OK, "read %s: %s", files[f], err.message)) continue;
         rng_state = 99 + (uint64_t)f;
-        bvh_vs_brute(files[f], &mesh, 20000);
+        bvh_vs_brute(files[f], &mesh, quick ? 4000 : 20000);
         bp_mesh_free(&mesh, NULL);
     }
     make_cube(&T, 8);
@@ -647,7 +653,8 @@ static void set_model(bp_views *V, int model, const double *front, const double 
     if (model == BP_VIEW_LIST) { V->list = list; V->list_count = 3; }
 }
 
-static void models_bijective(const char *name, const bp_mesh *m, const double *front, const double *side)
+/* every model on m, or (few) only the uniform and side models */
+static void models_bijective(const char *name, const bp_mesh *m, const double *front, const double *side, int few)
 {
     static const char *mn[6] = { "", "uniform", "front", "ring", "side", "list" };
     bp_atlas iso, side_map;
@@ -659,6 +666,7 @@ static void models_bijective(const char *name, const bp_mesh *m, const double *f
     have_iso = BPT_CHECK(bp_parameterize(&iso, m, &opt, &err) == BP_OK, "%s: isometric map: %s", name, err.message);
     for (model = BP_VIEW_UNIFORM; model <= BP_VIEW_LIST; model++) {
         bp_atlas A;
+        if (few && model != BP_VIEW_UNIFORM && model != BP_VIEW_SIDE) continue;
         set_model(&opt.views, model, front, side);
         if (!BPT_CHECK(bp_parameterize(&A, m, &opt, &err) == BP_OK, "%s, %s: bp_parameterize: %s", name, mn[model], err.message))
             continue;
@@ -687,12 +695,12 @@ static void test_bijective(void)
     tmesh T;
     double cow_front[3] = { 1, 0, 0 }, cow_side[3] = { 0, 0, 1 }, front[3] = { 0, 0, 1 }, side[3] = { 1, 0, 0 };
     if (BPT_CHECK(bp_read_obj("tests/data/cow_param_withSUV.obj", &mesh, NULL, &err) == BP_OK, "read cow: %s", err.message)) {
-        models_bijective("cow", &mesh, cow_front, cow_side);
+        models_bijective("cow", &mesh, cow_front, cow_side, quick);
         bp_mesh_free(&mesh, NULL);
     }
     memset(&T, 0, sizeof T);
     make_cup(&T, 0.2, 32, 0.08);
-    models_bijective("cup (4 quadrant charts)", &T.m, front, side);
+    models_bijective("cup (4 quadrant charts)", &T.m, front, side, 0);
     tm_free(&T);
 }
 
@@ -956,6 +964,7 @@ out:
 
 int main(void)
 {
+    quick = getenv("BP_TEST_QUICK") != NULL;
     test_bvh();
     test_sphere();
     test_cup_occlusion();
