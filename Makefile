@@ -136,6 +136,10 @@ $(BUILD)/examples/%: examples/%.c $(HEADERS)
 # tests/test_compile.sh's in make check.
 TEST_CFLAGS ?= $(patsubst -O2,-Og,$(CFLAGS))
 TEST_CXXFLAGS ?= $(patsubst -O2,-Og,$(CXXFLAGS))
+# The tests that run in a fraction of a second are built at -O0: a third
+# less compile time (1 s of CPU each) for at most 0.15 s more run time.
+TEST_O0 := $(addprefix $(BUILD)/tests/,test_cancel test_gltf test_io test_limits test_repair test_view)
+$(TEST_O0): TEST_CFLAGS = $(patsubst -O2,-O0,$(CFLAGS))
 $(BUILD)/tests/%: tests/%.c $(HEADERS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) -DBP_STATIC $(TEST_CFLAGS) $< -o $@ $(LDLIBS)
