@@ -10,7 +10,8 @@
 #                     last line "N passed, M failed"
 #   make check        the long suite: the tests with a short form in make test
 #                     in full (test_threads, test_newton, test_start,
-#                     test_segment, test_visibility, test_readme.sh), the compile matrix (tests/test_compile.sh),
+#                     test_segment, test_visibility, test_sparse,
+#                     test_energy, test_readme.sh), the compile matrix (tests/test_compile.sh),
 #                     every combination of the opt-out macros built as C
 #                     and C++ (tests/test_build_matrix.sh),
 #                     the tool cross-built for Windows (run under wine) and
@@ -110,7 +111,8 @@ LONG_FIRST := tests/test_python.sh $(addprefix $(BUILD)/tests/,test_visibility t
 # Tests with a short form under BP_TEST_QUICK (make test) and their full
 # form in make check.
 FULL_IN_CHECK := $(BUILD)/tests/test_threads $(BUILD)/tests/test_newton $(BUILD)/tests/test_start \
-                 $(BUILD)/tests/test_segment $(BUILD)/tests/test_visibility tests/test_readme.sh
+                 $(BUILD)/tests/test_segment $(BUILD)/tests/test_visibility $(BUILD)/tests/test_sparse \
+                 $(BUILD)/tests/test_energy tests/test_readme.sh
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
@@ -186,7 +188,10 @@ test: deps-test
 # fallback), test_start (camelhead's progressive start), test_segment (the
 # split's allocation sweep at every allocation, the 65,712-triangle
 # sphere's twins), test_visibility (20000 rays against brute force, every
-# view model on the cow) and test_readme.sh (the example built six ways).
+# view model on the cow), test_sparse (the 100 x 100 grid against the scalar
+# factorization), test_energy (twice the coordinates of camel_b's chart
+# against finite differences) and test_readme.sh (the example built six
+# ways).
 check: deps-check
 	@mkdir -p $(BUILD)/logs/check
 	@echo "make check: building the tests (log: $(BUILD)/logs/check/build.log)"
