@@ -1005,6 +1005,24 @@ BPDEF void      bp_mesh_view_free(bp_mesh *mesh, const bp_mesh_view *view, const
 #pragma GCC push_options
 #pragma GCC optimize("fp-contract=off")
 #endif
+/* BP__COLD: code outside the inner loops, compiled for compile time.
+   GCC's time on this header is its optimizer's, spread evenly over the
+   code, and much of the code runs once per mesh or per chart (set-up,
+   error paths, reports, rare repairs).  A function marked BP__COLD is
+   compiled at -Og when the caller asks GCC for -O1 or more, and at the
+   caller's level otherwise (Clang, -O0, -Os).  A function stays unmarked
+   when it, with what is inlined into it, holds 0.1% or more of the run
+   time of some benchmark (every mesh of tests/data plain and with an
+   atlas, the charts of bench-scaf, generated meshes of 400K faces, the
+   exact check of a 1M mesh, visibility), or when it has at most ten lines
+   (a call from a hot loop must stay inlinable).  The bits do not change:
+   -Og, like -O2, keeps every floating-point operation as written. */
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 5 && defined(__OPTIMIZE__) && \
+    !defined(__OPTIMIZE_SIZE__)
+#define BP__COLD __attribute__((optimize("Og")))
+#else
+#define BP__COLD
+#endif
 /* The dense kernels of the supernodal factorization on AVX registers
    (>>sparse), x86-64 with GCC or Clang only, the processor asked at run
    time; the same bits as the plain loops.  BP_NO_SIMD leaves them out,
@@ -1144,7 +1162,7 @@ static void bp__fmt_int(char *out, size_t *n, size_t cap, int64_t v)
     else bp__fmt_uint(out, n, cap, (uint64_t)v);
 }
 
-static void bp__fmt_double(char *out, size_t *n, size_t cap, double v)
+BP__COLD static void bp__fmt_double(char *out, size_t *n, size_t cap, double v)
 {
     int e = 0, i;
     uint64_t m;
@@ -1167,7 +1185,7 @@ static void bp__fmt_double(char *out, size_t *n, size_t cap, double v)
     if (e) { bp__fmt_char(out, n, cap, 'e'); bp__fmt_int(out, n, cap, e); }
 }
 
-static void bp__vformat(char *out, size_t cap, const char *fmt, va_list ap)
+BP__COLD static void bp__vformat(char *out, size_t cap, const char *fmt, va_list ap)
 {
     size_t n = 0;
     for (; *fmt; fmt++) {
@@ -1203,7 +1221,7 @@ static void bp__format(char *out, size_t cap, const char *fmt, ...)
 /* Record a failure: status, the element it concerns, and a message.  Returns
    the status so that callers can write `return bp__fail(...)`. */
 
-static bp_status bp__fail(bp_error *err, bp_status status, bp_element element,
+BP__COLD static bp_status bp__fail(bp_error *err, bp_status status, bp_element element,
                           int64_t index, int64_t index2, int64_t line,
                           const char *fmt, ...)
 {
@@ -1377,7 +1395,7 @@ static int bp__run_lock(bp__run *R, int droppable)
     return 1;
 }
 
-static int bp__run_forward(void *user, bp_stage stage, double fraction, uint32_t chart)
+BP__COLD static int bp__run_forward(void *user, bp_stage stage, double fraction, uint32_t chart)
 {
     bp__run *R = (bp__run *)user;
     int stop;
@@ -1408,7 +1426,7 @@ static bp__run *bp__run_of(const bp_options *opt)
    at a time and never called again after it answered stop, as inside
    bp_parameterize.  total: the triangles whose solve is the fraction of
    the start and optimize reports (0: each chart's own fraction). */
-static const bp_options *bp__run_begin(const bp_options *opt, bp_options *copy, bp__run *R, uint64_t total)
+BP__COLD static const bp_options *bp__run_begin(const bp_options *opt, bp_options *copy, bp__run *R, uint64_t total)
 {
     if (!opt || !opt->run_progress || bp__run_of(opt)) return opt;
     memset(R, 0, sizeof *R);
@@ -1441,7 +1459,7 @@ static int bp__iter_forward(void *user, uint32_t chart, int iteration, double me
 
 /* opt with bp__iter_forward as its per-iteration progress (in *copy), or
    opt itself when there is no run callback. */
-static const bp_options *bp__with_iter_link(const bp_options *opt, bp_options *copy, bp__iter_link *L)
+BP__COLD static const bp_options *bp__with_iter_link(const bp_options *opt, bp_options *copy, bp__iter_link *L)
 {
     if (!opt || !opt->run_progress) return opt;
     *copy = *opt;
@@ -1473,7 +1491,7 @@ BPDEF void bp_options_init(bp_options *opt)
    BP_NO_ATLAS, BP_NO_VISIBILITY): BP_ERR_UNSUPPORTED with a message naming
    the option and the macro, checked where every public call reads its
    options (bp__opts), so no call silently does something else. */
-static bp_status bp__unsupported(const bp_options *o, bp_error *err)
+BP__COLD static bp_status bp__unsupported(const bp_options *o, bp_error *err)
 {
 #ifdef BP_NO_NEWTON
     if (o->direction == BP_DIRECTION_NEWTON)
@@ -1503,7 +1521,7 @@ static bp_status bp__unsupported(const bp_options *o, bp_error *err)
    *st: BP_ERR_INVALID_ARGUMENT for a size below 0.2.0's, or a field beyond
    this version's struct that is set; BP_ERR_UNSUPPORTED for an option this
    build leaves out (bp__unsupported). */
-static const bp_options *bp__opts(const bp_options *in, bp_options *out, bp_error *err, bp_status *st)
+BP__COLD static const bp_options *bp__opts(const bp_options *in, bp_options *out, bp_error *err, bp_status *st)
 {
     size_t n, i;
     *st = BP_OK;
@@ -1804,7 +1822,7 @@ static int bp__pool_poll(bp__pool *P, const uint32_t *w, uint32_t old, int is_ne
    unclaimed task).  On the 2-core test machine this took camelhead's
    2-thread speed-up from 1.47 to 1.67 (the preconditioner solve alone
    from 1.37 to 1.71), against one shared counter. */
-static int bp__pool_claim(bp__pool *P, int u, uint32_t gen, uint32_t end, uint32_t *i)
+BP__COLD static int bp__pool_claim(bp__pool *P, int u, uint32_t gen, uint32_t end, uint32_t *i)
 {
     uint64_t *c = &P->claim[BP__LINE * u];
 #if BP__ATOMICS
@@ -1828,7 +1846,7 @@ static int bp__pool_claim(bp__pool *P, int u, uint32_t gen, uint32_t end, uint32
 }
 
 /* Adds `ran` finished tasks; returns the job's new total. */
-static uint32_t bp__pool_finish(bp__pool *P, uint32_t ran)
+BP__COLD static uint32_t bp__pool_finish(bp__pool *P, uint32_t ran)
 {
 #if BP__ATOMICS
     return __atomic_add_fetch(&P->finished, ran, __ATOMIC_ACQ_REL);
@@ -1843,7 +1861,7 @@ static uint32_t bp__pool_finish(bp__pool *P, uint32_t ran)
 
 /* Runs tasks of job `gen` until none is left to claim: its own block
    first, then the others'.  Returns how many it ran. */
-static uint32_t bp__pool_drain(bp__pool *P, int me, uint32_t gen, bp_task_fn fn, void *task, uint32_t count)
+BP__COLD static uint32_t bp__pool_drain(bp__pool *P, int me, uint32_t gen, bp_task_fn fn, void *task, uint32_t count)
 {
     int nt = P->nth + 1, k;
     uint32_t i, ran = 0;
@@ -1855,7 +1873,7 @@ static uint32_t bp__pool_drain(bp__pool *P, int me, uint32_t gen, bp_task_fn fn,
     return ran;
 }
 
-static void *bp__pool_worker(void *arg)
+BP__COLD static void *bp__pool_worker(void *arg)
 {
     bp__pool *P = ((bp__worker *)arg)->P;
     int me = ((bp__worker *)arg)->id;
@@ -1928,7 +1946,7 @@ static void bp__pool_spin(bp__pool *P, double wall, double cpu)
    decide whether the next loops run on the caller alone, and how long a
    waiting thread polls (the essay on waiting, above; the first window also
    looks early, for the poll only). */
-static void bp__pool_window(bp__pool *P)
+BP__COLD static void bp__pool_window(bp__pool *P)
 {
     double wall, cpu;
     if (P->wjobs++ == 0) { P->wwall = bp__seconds(); P->wcpu = bp__cpu_seconds(); return; }
@@ -1952,7 +1970,7 @@ static void bp__pool_window(bp__pool *P)
     }
 }
 
-static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+BP__COLD static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
 {
     bp__pool *P = (bp__pool *)user;
     uint32_t gen;
@@ -1984,7 +2002,7 @@ static void bp__pool_for(void *user, bp_task_fn fn, void *task, uint32_t count)
 }
 
 /* The threads a pool of `threads` has (0: all cores, up to 256). */
-static int bp__pool_size(int threads)
+BP__COLD static int bp__pool_size(int threads)
 {
     if (threads <= 0) {
 #if defined(_WIN32)
@@ -2009,7 +2027,7 @@ static void bp__pool_fresh(bp__pool *P)
     BP__STORE(&P->spin, (uint32_t)BP__SPIN_NS);
 }
 
-static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
+BP__COLD static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
 {
     bp__pool *P;
     int i, mu = 0, wake = 0, done = 0;
@@ -2039,7 +2057,7 @@ static bp__pool *bp__pool_start(const bp_allocator *a, int threads)
     return P;
 }
 
-static void bp__pool_stop(const bp_allocator *a, bp__pool *P)
+BP__COLD static void bp__pool_stop(const bp_allocator *a, bp__pool *P)
 {
     int i;
     if (!P) return;
@@ -2101,7 +2119,7 @@ struct bp_pool {
    poll; starting over keeps every call as tuned for a pool of its own.
    Skipped when another call is running a loop on
    the pool. */
-static void bp__pool_call(bp_pool *pool)
+BP__COLD static void bp__pool_call(bp_pool *pool)
 {
 #ifdef BP_USE_PTHREADS
     if (pool->P && pthread_mutex_trylock(&pool->busy) == 0) {
@@ -2115,7 +2133,7 @@ static void bp__pool_call(bp_pool *pool)
 
 
 /* Choose how loops run for a solve; *pool receives a pool to stop later. */
-static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void **pool)
+BP__COLD static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void **pool)
 {
     bp__par par = bp__par_serial();
     *pool = NULL;
@@ -2144,7 +2162,7 @@ static bp__par bp__par_begin(const bp_allocator *a, const bp_options *opt, void 
 #endif
     return par;
 }
-BPDEF bp_status bp_pool_create(bp_pool **pool, int threads, const bp_allocator *alloc, bp_error *err)
+BP__COLD BPDEF bp_status bp_pool_create(bp_pool **pool, int threads, const bp_allocator *alloc, bp_error *err)
 {
     bp_allocator a;
     bp_pool *p;
@@ -2179,7 +2197,7 @@ BPDEF bp_status bp_pool_create(bp_pool **pool, int threads, const bp_allocator *
     return BP_OK;
 }
 
-BPDEF void bp_pool_destroy(bp_pool *pool)
+BP__COLD BPDEF void bp_pool_destroy(bp_pool *pool)
 {
     bp_allocator a;
     if (!pool) return;
@@ -2196,7 +2214,7 @@ BPDEF int bp_pool_threads(const bp_pool *pool)
     return pool ? pool->threads : 1;
 }
 
-BPDEF void bp_pool_for(void *pool, bp_task_fn fn, void *task, uint32_t count)
+BP__COLD BPDEF void bp_pool_for(void *pool, bp_task_fn fn, void *task, uint32_t count)
 {
 #ifdef BP_USE_PTHREADS
     bp_pool *p = (bp_pool *)pool;
@@ -2272,7 +2290,7 @@ static void bp__vec_task_run(void *task, uint32_t k)
 }
 
 /* Runs one pass; dot[k] receives A_k . B_k.  part: nd per chunk. */
-static void bp__vec_pass(const bp__par *par, double *part, uint32_t n, double *out, double c0, const double *base,
+BP__COLD static void bp__vec_pass(const bp__par *par, double *part, uint32_t n, double *out, double c0, const double *base,
                          uint32_t nw, const double *const *w, const double *c,
                          uint32_t nd, const double *const *A, const double *const *B, double *dot)
 {
@@ -2376,7 +2394,7 @@ static double bp__two_prod(double a, double b, double *e)
 
 /* Add `b` to the nonoverlapping expansion e[0..n) (increasing magnitude),
    dropping zero components; returns the new length. */
-static int bp__grow_expansion(double *e, int n, double b)
+BP__COLD static int bp__grow_expansion(double *e, int n, double b)
 {
     double q = b, h;
     int i, m = 0;
@@ -2388,7 +2406,7 @@ static int bp__grow_expansion(double *e, int n, double b)
     return m;
 }
 
-static int bp__orient2d_exact(const double *a, const double *b, const double *c)
+BP__COLD static int bp__orient2d_exact(const double *a, const double *b, const double *c)
 {
     const double p[6] = { a[0], -a[0], -c[0], -a[1], a[1], c[1] };
     const double q[6] = { b[1], c[1], b[1], b[0], c[0], b[0] };
@@ -2425,7 +2443,7 @@ static int bp__in_box(const double *a, const double *b, const double *p)
    all four orientations vanish the segments are collinear and they meet iff
    one endpoint lies in the other's box.  (A degenerate segment a == b is a
    point and is handled by the same rules.) */
-BPDEF int bp_segments_intersect(const double a[2], const double b[2],
+BP__COLD BPDEF int bp_segments_intersect(const double a[2], const double b[2],
                                 const double c[2], const double d[2])
 {
     int o1 = bp_orient2d(a, b, c), o2 = bp_orient2d(a, b, d);
@@ -2553,7 +2571,7 @@ static double bp__log(double x)
 }
 
 /* e^(xh + xl) for |xl| <= ulp(xh); a subnormal result is rounded once. */
-static double bp__exp2d(double xh, double xl)
+BP__COLD static double bp__exp2d(double xh, double xl)
 {
     double kd, r, rl, p, s, se, hi;
     int k;
@@ -2574,7 +2592,7 @@ static double bp__exp2d(double xh, double xl)
 }
 
 /* x^y: e^(y log x); x < 0 only for an integer y. */
-static double bp__pow(double x, double y)
+BP__COLD static double bp__pow(double x, double y)
 {
     double lh, ll, ph, pe, s;
     if (y == 0 || x == 1) return 1;
@@ -2753,7 +2771,7 @@ static double bp__atan2(double y, double x)
    synthetic uv index (number of vt) + v, so those faces are glued to each
    other along shared vertices and cut from the faces that have `vt`. */
 
-BPDEF void bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc)
+BP__COLD BPDEF void bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc)
 {
     bp_allocator a;
     if (!mesh) return;
@@ -2772,7 +2790,7 @@ BPDEF void bp_mesh_free(bp_mesh *mesh, const bp_allocator *alloc)
    place; anything else is converted once, vertex by vertex, reading each
    coordinate with memcpy (a stride need not be a multiple of the scalar's
    alignment). */
-BPDEF bp_status bp_mesh_from_view(bp_mesh *mesh, const bp_mesh_view *view, const bp_allocator *alloc, bp_error *err)
+BP__COLD BPDEF bp_status bp_mesh_from_view(bp_mesh *mesh, const bp_mesh_view *view, const bp_allocator *alloc, bp_error *err)
 {
     bp_allocator a;
     size_t size, stride, i;
@@ -3048,7 +3066,7 @@ static bp_status bp__builder_face(bp__parser *ps, bp__mesh_builder *b,
 }
 
 /* Move the builder's arrays into *mesh. */
-static bp_status bp__builder_finish(bp__parser *ps, bp__mesh_builder *b, bp_mesh *mesh)
+BP__COLD static bp_status bp__builder_finish(bp__parser *ps, bp__mesh_builder *b, bp_mesh *mesh)
 {
     if (b->tri.count == 0)
         return bp__fail(ps->err, BP_ERR_EMPTY, BP_ELEMENT_NONE, -1, -1, 0,
@@ -3151,7 +3169,7 @@ static bp_status bp__obj_vertex(bp__parser *ps, bp__mesh_builder *b)
     return BP_OK;
 }
 
-static bp_status bp__obj_texcoord(bp__parser *ps, bp__mesh_builder *b)
+BP__COLD static bp_status bp__obj_texcoord(bp__parser *ps, bp__mesh_builder *b)
 {
     double x[2];
     bp_status st;
@@ -3244,7 +3262,7 @@ static bp_status bp__obj_lines(bp__parser *ps, bp__mesh_builder *b, bp__vec *fv,
     return st;
 }
 
-static bp_status bp__parse_obj(bp__parser *ps, bp_mesh *mesh)
+BP__COLD static bp_status bp__parse_obj(bp__parser *ps, bp_mesh *mesh)
 {
     bp__mesh_builder b;
     bp__vec fv, ft;               /* corners of the current face (uint32)   */
@@ -3313,7 +3331,7 @@ typedef struct bp__obj_par {
     uint32_t *corners;        /* 2 * BP__READ_CORNERS per chunk (fv, ft)    */
 } bp__obj_par;
 
-static void *bp__no_alloc(void *user, size_t n) { (void)user; (void)n; return NULL; }
+BP__COLD static void *bp__no_alloc(void *user, size_t n) { (void)user; (void)n; return NULL; }
 static void bp__no_free(void *user, void *p) { (void)user; (void)p; }
 
 /* Pass 1 on chunk k. */
@@ -3346,7 +3364,7 @@ static void bp__obj_count_run(void *task, uint32_t k)
 
 /* Pass 2 on chunk k with corner room fv / ft: the serial statements into
    the chunk's stretch of the arrays. */
-static bp_status bp__obj_chunk_parse(bp__obj_par *P, uint32_t k, bp__vec *fv, bp__vec *ft)
+BP__COLD static bp_status bp__obj_chunk_parse(bp__obj_par *P, uint32_t k, bp__vec *fv, bp__vec *ft)
 {
     bp__obj_chunk *c = P->ch + k;
     bp_allocator none;
@@ -3377,7 +3395,7 @@ static bp_status bp__obj_chunk_parse(bp__obj_par *P, uint32_t k, bp__vec *fv, bp
     return c->st;
 }
 
-static void bp__obj_parse_run(void *task, uint32_t k)
+BP__COLD static void bp__obj_parse_run(void *task, uint32_t k)
 {
     bp__obj_par *P = (bp__obj_par *)task;
     bp__vec fv, ft;
@@ -3393,7 +3411,7 @@ static void bp__obj_parse_run(void *task, uint32_t k)
 
 /* Chunks of about BP__READ_CHUNK bytes, each starting at a line start (as
    bp__next_line moves: after "\n", "\r\n" or a lone "\r"); *n of them. */
-static bp__obj_chunk *bp__obj_chunks(const bp__parser *ps, uint32_t *n)
+BP__COLD static bp__obj_chunk *bp__obj_chunks(const bp__parser *ps, uint32_t *n)
 {
     size_t len = (size_t)(ps->end - ps->p), want = len / BP__READ_CHUNK + 1, k = 0;
     bp__obj_chunk *ch = (bp__obj_chunk *)bp__calloc_array(ps->a, want, sizeof *ch);
@@ -3427,7 +3445,7 @@ static void bp__obj_par_free(const bp_allocator *a, bp__obj_par *P)
 /* Pass 1, the prefix sums and the arrays.  1: ready; 0: not worth it or
    near the limits (the serial parser reads the file instead); -1: out of
    memory. */
-static int bp__obj_par_prepare(bp__parser *ps, const bp__par *par, bp__obj_par *P, uint32_t *n)
+BP__COLD static int bp__obj_par_prepare(bp__parser *ps, const bp__par *par, bp__obj_par *P, uint32_t *n)
 {
     const bp_allocator *a = ps->a;
     int64_t line = 0, nv = 0, nvt = 0, faces = 0, tris = 0;
@@ -3461,7 +3479,7 @@ static int bp__obj_par_prepare(bp__parser *ps, const bp__par *par, bp__obj_par *
 
 /* The chunks' results in file order: a chunk left to the caller is parsed
    now; the first failure is the file's error. */
-static bp_status bp__obj_par_collect(bp__parser *ps, bp__obj_par *P, uint32_t n, bp__mesh_builder *b)
+BP__COLD static bp_status bp__obj_par_collect(bp__parser *ps, bp__obj_par *P, uint32_t n, bp__mesh_builder *b)
 {
     uint32_t k;
     bp_status st = BP_OK;
@@ -3492,7 +3510,7 @@ static bp_status bp__obj_par_collect(bp__parser *ps, bp__obj_par *P, uint32_t n,
 
 /* bp__parse_obj on `par`: 1 in *done when it read the file (st is the
    result), 0 when the serial parser should. */
-static bp_status bp__parse_obj_par(bp__parser *ps, bp_mesh *mesh, const bp__par *par, int *done)
+BP__COLD static bp_status bp__parse_obj_par(bp__parser *ps, bp_mesh *mesh, const bp__par *par, int *done)
 {
     bp__obj_par P;
     bp__mesh_builder b;
@@ -3666,7 +3684,7 @@ typedef struct bp__ply {
 static const int bp__ply_size[] = { 1, 1, 2, 2, 4, 4, 4, 8 };
 
 /* "line 12: face 3: ..." (ASCII) or "face 3 (byte offset 1234): ..." */
-static bp_status bp__ply_fail(bp__ply *P, bp_status st, const char *fmt, ...)
+BP__COLD static bp_status bp__ply_fail(bp__ply *P, bp_status st, const char *fmt, ...)
 {
     char detail[200];
     va_list ap;
@@ -3707,7 +3725,7 @@ static int bp__ply_word(bp__parser *ps, const char **w, size_t *n)
     return *n > 0;
 }
 
-static int bp__ply_role(int kind, const char *w, size_t n, int list)
+BP__COLD static int bp__ply_role(int kind, const char *w, size_t n, int list)
 {
     if (kind == 1 && list < 0) {
         if (bp__ply_word_is(w, n, "x")) return BP__PLY_X;
@@ -3729,7 +3747,7 @@ static bp_status bp__ply_header_fail(bp__parser *ps, const char *what)
 }
 
 /* One `element` or `property` line (the keyword already read). */
-static bp_status bp__ply_declare(bp__ply *P, int is_elem)
+BP__COLD static bp_status bp__ply_declare(bp__ply *P, int is_elem)
 {
     bp__parser *ps = P->ps;
     const char *w;
@@ -3775,7 +3793,7 @@ static bp_status bp__ply_declare(bp__ply *P, int is_elem)
 
 /* Header: "ply", "format ...", then element / property / comment / obj_info
    lines up to "end_header".  The cursor is left at the first data byte. */
-static bp_status bp__ply_header(bp__ply *P)
+BP__COLD static bp_status bp__ply_header(bp__ply *P)
 {
     bp__parser *ps = P->ps;
     const char *w;
@@ -3806,7 +3824,7 @@ static bp_status bp__ply_header(bp__ply *P)
 }
 
 /* One value of a type, as a double (exact for every PLY integer). */
-static bp_status bp__ply_value(bp__ply *P, int type, double *out)
+BP__COLD static bp_status bp__ply_value(bp__ply *P, int type, double *out)
 {
     bp__parser *ps = P->ps;
     if (P->format == BP__PLY_ASCII) {
@@ -3853,7 +3871,7 @@ static bp_status bp__ply_value(bp__ply *P, int type, double *out)
 
 /* Read past a scalar of a property the library does not use (ASCII: any
    token, even one that is not a number). */
-static bp_status bp__ply_skip(bp__ply *P, int type)
+BP__COLD static bp_status bp__ply_skip(bp__ply *P, int type)
 {
     double x;
     bp__parser *ps = P->ps;
@@ -3904,7 +3922,7 @@ static int64_t bp__ply_min_bytes(const bp__ply *P, const bp__ply_elem *e)
 }
 
 /* One vertex: x y z (and u v) into the builder. */
-static bp_status bp__ply_vertex(bp__ply *P, const bp__ply_elem *e, bp__mesh_builder *b, int has_uv)
+BP__COLD static bp_status bp__ply_vertex(bp__ply *P, const bp__ply_elem *e, bp__mesh_builder *b, int has_uv)
 {
     double x[5] = { 0, 0, 0, 0, 0 };
     int i, k;
@@ -3927,7 +3945,7 @@ static bp_status bp__ply_vertex(bp__ply *P, const bp__ply_elem *e, bp__mesh_buil
 }
 
 /* One face: its vertex_indices list, fan-triangulated. */
-static bp_status bp__ply_face(bp__ply *P, const bp__ply_elem *e, bp__mesh_builder *b, bp__vec *fv, int64_t nv)
+BP__COLD static bp_status bp__ply_face(bp__ply *P, const bp__ply_elem *e, bp__mesh_builder *b, bp__vec *fv, int64_t nv)
 {
     int i, got = 0;
     bp_status st;
@@ -3958,7 +3976,7 @@ static bp_status bp__ply_face(bp__ply *P, const bp__ply_elem *e, bp__mesh_builde
 }
 
 /* The body, element by element in header order. */
-static bp_status bp__ply_body(bp__ply *P, bp__mesh_builder *b, bp__vec *fv)
+BP__COLD static bp_status bp__ply_body(bp__ply *P, bp__mesh_builder *b, bp__vec *fv)
 {
     bp__parser *ps = P->ps;
     int64_t nv = 0, i;
@@ -4011,7 +4029,7 @@ static bp_status bp__ply_body(bp__ply *P, bp__mesh_builder *b, bp__vec *fv)
     return st;
 }
 
-static bp_status bp__parse_ply(bp__parser *ps, bp_mesh *mesh)
+BP__COLD static bp_status bp__parse_ply(bp__parser *ps, bp_mesh *mesh)
 {
     bp__ply P;
     bp__mesh_builder b;
@@ -4124,7 +4142,7 @@ static const char *bp__io_reason(int e)
    1.8 ms on face's 1.7 MB (its copies and fresh pages), where the one
    buffer takes 0.1 ms (bp__load_file alone, repeated, medians of 61).
    A directory opens on POSIX but cannot be read: its EISDIR says so. */
-static bp_status bp__load_file(const char *path, const bp_allocator *a, char **text,
+BP__COLD static bp_status bp__load_file(const char *path, const bp_allocator *a, char **text,
                                size_t *length, bp_error *err, const bp_options *opt)
 {
     FILE *f;
@@ -4180,7 +4198,7 @@ static bp_status bp__load_file(const char *path, const bp_allocator *a, char **t
     return BP_OK;
 }
 
-static bp_status bp__read_file(const char *path, bp_mesh *mesh, const bp_allocator *alloc,
+BP__COLD static bp_status bp__read_file(const char *path, bp_mesh *mesh, const bp_allocator *alloc,
                                bp_error *err, int format, const bp_options *opt)
 {
     bp_allocator a;
@@ -4218,7 +4236,7 @@ BPDEF bp_status bp_read_ply(const char *path, bp_mesh *mesh, const bp_allocator 
     return bp__read_file(path, mesh, alloc, err, BP__FORMAT_PLY, NULL);
 }
 
-static int bp__ends_with_ci(const char *s, const char *suffix)
+BP__COLD static int bp__ends_with_ci(const char *s, const char *suffix)
 {
     size_t n = strlen(s), m = strlen(suffix), i;
     if (n < m) return 0;
@@ -4238,7 +4256,7 @@ BPDEF const char *bp_mesh_format(const char *path)
     return NULL;
 }
 
-BPDEF bp_status bp_read_mesh_opt(const char *path, bp_mesh *mesh, const bp_options *opt, bp_error *err)
+BP__COLD BPDEF bp_status bp_read_mesh_opt(const char *path, bp_mesh *mesh, const bp_options *opt, bp_error *err)
 {
     const char *f = bp_mesh_format(path);
     bp_options o;
@@ -4426,7 +4444,7 @@ static void bp__lines_run(void *task, uint32_t k)
 }
 
 /* Lines 0 .. count-1 of a block, in order (see the essay above). */
-static void bp__out_lines(bp__out *o, uint32_t count, bp__line_fn fn, const void *ctx)
+BP__COLD static void bp__out_lines(bp__out *o, uint32_t count, bp__line_fn fn, const void *ctx)
 {
     const uint32_t per = BP__OUT_LINES_PER_TASK, round = per * BP__OUT_TASKS;
     uint32_t first, k, ntask, nround = count < round ? count : round;
@@ -4447,7 +4465,7 @@ static void bp__out_lines(bp__out *o, uint32_t count, bp__line_fn fn, const void
     bp__free(o->a, scratch);
 }
 
-static bp_status bp__out_open(bp__out *o, const char *path, const bp_allocator *a, bp_error *err)
+BP__COLD static bp_status bp__out_open(bp__out *o, const char *path, const bp_allocator *a, bp_error *err)
 {
     memset(o, 0, sizeof *o);
     o->a = a;
@@ -4474,7 +4492,7 @@ static void bp__out_threads(bp__out *o, const bp_options *opt, uint64_t lines)
 
 /* Close; if anything failed (a write here, or `st` from the caller), remove
    the partial file. */
-static bp_status bp__out_close(bp__out *o, const char *path, bp_status st, bp_error *err)
+BP__COLD static bp_status bp__out_close(bp__out *o, const char *path, bp_status st, bp_error *err)
 {
     bp__par_end(o->a, o->pool);
     o->pool = NULL;
@@ -4675,7 +4693,7 @@ static uint32_t bp__corner_vt(const bp_atlas *atlas, const uint32_t *base, uint3
    read from the charts themselves (a chart's three corners are distinct
    chart vertices).  *out = NULL when the repair flipped nothing.  A dropped
    copy (in no chart) keeps its file order. */
-static bp_status bp__face_flips(const bp_atlas *atlas, const bp_mesh *mesh, const bp_allocator *a,
+BP__COLD static bp_status bp__face_flips(const bp_atlas *atlas, const bp_mesh *mesh, const bp_allocator *a,
                                 unsigned char **out)
 {
     uint32_t c, t;
@@ -4742,7 +4760,7 @@ static void bp__out_fan(bp__out *o, const bp_mesh *mesh, const bp_atlas *atlas, 
 }
 
 /* Line i of the v block: vertex i's position. */
-static size_t bp__v_line(const void *ctx, uint32_t i, char *dst)
+BP__COLD static size_t bp__v_line(const void *ctx, uint32_t i, char *dst)
 {
     const double *p = ((const bp_mesh *)ctx)->positions + 3 * (size_t)i;
     size_t n = 1;
@@ -4756,7 +4774,7 @@ static size_t bp__v_line(const void *ctx, uint32_t i, char *dst)
     return n;
 }
 
-static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
+BP__COLD static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
                                const bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
     bp__out o;
@@ -5013,7 +5031,7 @@ typedef struct bp__rw_par {
 } bp__rw_par;
 
 /* Chunk first + j into slice j. */
-static void bp__rw_run(void *task, uint32_t j)
+BP__COLD static void bp__rw_run(void *task, uint32_t j)
 {
     bp__rw_par *W = (bp__rw_par *)task;
     const bp__obj_chunk *c = W->cnt.ch + W->first + j;
@@ -5062,7 +5080,7 @@ static void bp__rw_run(void *task, uint32_t j)
 
 /* The rest of the text from the cursor (the vt block written) on the
    writer's threads (fewer than two chunks: the serial pass goes on). */
-static bp_status bp__rewrite_par(bp__rewriter *r)
+BP__COLD static bp_status bp__rewrite_par(bp__rewriter *r)
 {
     bp__parser *ps = &r->ps;
     const bp_allocator *a = ps->a;
@@ -5135,7 +5153,7 @@ static bp_status bp__rewrite_par(bp__rewriter *r)
    one pass finds each line's end with memchr (a lone \r ends a line too,
    as in bp__next_line) and the whole run goes out in one piece.  On face
    this serial part took 520 instructions a line. */
-static void bp__rewrite_head(bp__rewriter *r)
+BP__COLD static void bp__rewrite_head(bp__rewriter *r)
 {
     bp__parser *ps = &r->ps;
     const char *p = ps->p, *end = ps->end;
@@ -5159,7 +5177,7 @@ static void bp__rewrite_head(bp__rewriter *r)
 
 /* The pass: copy, drop or rewrite each line; after the new vt block, on
    the writer's threads when it has them (above). */
-static bp_status bp__rewrite_obj(bp__rewriter *r)
+BP__COLD static bp_status bp__rewrite_obj(bp__rewriter *r)
 {
     bp__parser *ps = &r->ps;
     bp_status st = BP_OK;
@@ -5175,7 +5193,7 @@ static bp_status bp__rewrite_obj(bp__rewriter *r)
     return st;
 }
 
-static bp_status bp__write_obj_from(const char *path, const char *source, const bp_mesh *mesh,
+BP__COLD static bp_status bp__write_obj_from(const char *path, const char *source, const bp_mesh *mesh,
                                     const bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
     bp__rewriter r;
@@ -5232,7 +5250,7 @@ BPDEF bp_status bp_write_obj_from(const char *path, const char *source, const bp
     return bp__write_obj_from(path, source, mesh, atlas, NULL, err);
 }
 
-BPDEF bp_status bp_write_obj_opt(const char *path, const char *source, const bp_mesh *mesh,
+BP__COLD BPDEF bp_status bp_write_obj_opt(const char *path, const char *source, const bp_mesh *mesh,
                                  const bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
     bp_options o;
@@ -5373,7 +5391,7 @@ static void bp__chart_free(const bp_allocator *a, bp_chart *c)
     memset(c, 0, sizeof *c);
 }
 
-BPDEF void bp_atlas_free(bp_atlas *atlas)
+BP__COLD BPDEF void bp_atlas_free(bp_atlas *atlas)
 {
     uint32_t c;
     bp_allocator a;
@@ -5453,7 +5471,7 @@ static bp_status bp__validate_tri(const bp_mesh *m, uint32_t t, double *lo, doub
 }
 
 /* The checks of the whole mesh before its triangles. */
-static bp_status bp__validate_sizes(const bp_mesh *m, bp_error *err)
+BP__COLD static bp_status bp__validate_sizes(const bp_mesh *m, bp_error *err)
 {
     if (!m || !m->positions || !m->triangles)
         return bp__fail(err, m && m->num_triangles == 0 ? BP_ERR_EMPTY : BP_ERR_INVALID_ARGUMENT,
@@ -5467,7 +5485,7 @@ static bp_status bp__validate_sizes(const bp_mesh *m, bp_error *err)
 }
 
 /* The exponents and the squared diagonal from the box of the used vertices. */
-static void bp__scale_of_box(const double *lo, const double *hi, bp__mesh_scale *sc)
+BP__COLD static void bp__scale_of_box(const double *lo, const double *hi, bp__mesh_scale *sc)
 {
     double big = 0, ext = 0;
     int k;
@@ -5491,7 +5509,7 @@ static void bp__scale_of_box(const double *lo, const double *hi, bp__mesh_scale 
 }
 
 /* Global checks (above), and the exponents of the used vertices. */
-static bp_status bp__validate_global(const bp_mesh *m, bp__mesh_scale *sc, bp_error *err)
+BP__COLD static bp_status bp__validate_global(const bp_mesh *m, bp__mesh_scale *sc, bp_error *err)
 {
     uint32_t t;
     double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
@@ -5540,7 +5558,7 @@ static int bp__tri_defect(const bp_mesh *m, uint32_t t, const bp__mesh_scale *sc
     return bp__area2_scaled(m, t, sc) > 1e-12 * sc->diag2 ? 0 : 2;
 }
 
-static bp_status bp__tri_defect_error(const bp_mesh *m, uint32_t t, const bp__mesh_scale *sc, bp_error *err)
+BP__COLD static bp_status bp__tri_defect_error(const bp_mesh *m, uint32_t t, const bp__mesh_scale *sc, bp_error *err)
 {
     const uint32_t *tri = m->triangles + 3 * (size_t)t;
     char nm[48];
@@ -5705,7 +5723,7 @@ static bp_status bp__chart_loops(const bp_allocator *a, bp_chart *ch, const bp_m
    counts the failures and quotes the first when some failed; when all
    failed, the first chart's own error (the caller then frees the atlas:
    nothing in it is usable). */
-static bp_status bp__charts_status(const bp_atlas *atlas, bp_error *err)
+BP__COLD static bp_status bp__charts_status(const bp_atlas *atlas, bp_error *err)
 {
     uint32_t c;
     if (!atlas->num_failed) return bp__ok(err);
@@ -5793,7 +5811,7 @@ static void bp__validate_task(void *task, uint32_t c)
 }
 
 /* bp__validate_global in chunks (above). */
-static bp_status bp__validate_par(bp__build *b, bp_error *err)
+BP__COLD static bp_status bp__validate_par(bp__build *b, bp_error *err)
 {
     double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
     uint32_t c, k, t;
@@ -5869,7 +5887,7 @@ static bp_status bp__defects_par(bp__build *b, bp_error *err)
    topology phase fails single charts unless opt.strict is set.  Which
    parts of the phases run in tasks: "the build on several threads" above. */
 
-static bp_status bp__build_alloc(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
+BP__COLD static bp_status bp__build_alloc(const bp_allocator *a, bp__build *b, const bp_mesh *m, bp_error *err)
 {
     uint32_t nt = m->num_triangles;
     size_t nc = 3 * (size_t)nt;
@@ -6055,7 +6073,7 @@ static uint32_t bp__glue_decide(bp__build *b, const bp_mesh *m, size_t e, size_t
 }
 
 /* The error of an edge that bp__glue_decide failed. */
-static bp_status bp__glue_error(const bp__build *b, const bp_mesh *m, size_t e, size_t g, bp_error *err)
+BP__COLD static bp_status bp__glue_error(const bp__build *b, const bp_mesh *m, size_t e, size_t g, bp_error *err)
 {
     uint32_t good[3], ng = bp__live_edges(b, e, g, good), lo = b->edges[e].lo, hi = b->edges[e].hi;
     uint32_t t0 = good[0] / 3, t1 = good[1] / 3;
@@ -6183,7 +6201,7 @@ static void bp__repair_init(bp_repair_report *r)
 }
 
 /* The sentence of each repair kind, naming its first elements. */
-static void bp__repair_messages(bp_repair_report *r, const bp_mesh *m)
+BP__COLD static void bp__repair_messages(bp_repair_report *r, const bp_mesh *m)
 {
     static const char *const what[] = {
         "re-oriented to agree with the rest of their component (the OBJ writers give them their corners in that order)",
@@ -6222,7 +6240,7 @@ static void bp__repair_messages(bp_repair_report *r, const bp_mesh *m)
 /* The breadth-first walk over one component from triangle t0: flip[] as
    reached (0 for t0), conflicting edges cut; then the majority rule.
    Returns the size of the component. */
-static uint32_t bp__orient_component(bp__build *b, const bp_mesh *m, uint32_t t0, unsigned char *seen)
+BP__COLD static uint32_t bp__orient_component(bp__build *b, const bp_mesh *m, uint32_t t0, unsigned char *seen)
 {
     uint32_t head = 0, tail = 0, ones = 0, i, k;
     b->queue[tail++] = t0;
@@ -6256,7 +6274,7 @@ static uint32_t bp__orient_component(bp__build *b, const bp_mesh *m, uint32_t t0
    the same way (the edge tasks' flags: a consistently wound mesh), every
    walk keeps flip[] = 0 and cuts nothing, so there is nothing to walk.
    Returns 0 when out of memory. */
-static int bp__orient(const bp_allocator *a, bp__build *b, const bp_mesh *m)
+BP__COLD static int bp__orient(const bp_allocator *a, bp__build *b, const bp_mesh *m)
 {
     uint32_t t, nt = m->num_triangles, nflip = 0;
     size_t i, nc = 3 * (size_t)nt;
@@ -6349,7 +6367,7 @@ static void bp__corners_of_copies(bp__build *b, bp_atlas *atlas, const bp_mesh *
 
 /* Corners of the glued mesh m = b->fm -> corners of the user's mesh: the
    copies as above; a flipped triangle's corners 1 and 2 swap back. */
-static void bp__corners_to_mesh(bp__build *b, bp_atlas *atlas, const bp_mesh *m)
+BP__COLD static void bp__corners_to_mesh(bp__build *b, bp_atlas *atlas, const bp_mesh *m)
 {
     uint32_t t, nt = m->num_triangles;
     bp__corners_of_copies(b, atlas, m);
@@ -6502,7 +6520,7 @@ static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *
 /* The pinches among one mesh vertex's chart vertices k[0, n), in chart
    order: within each chart, the vertices whose uv an earlier one has
    (qsort for a chart of more than 32 of them at one mesh vertex). */
-static void bp__pinches_at(bp_atlas *atlas, bp__vkey *k, uint32_t n)
+BP__COLD static void bp__pinches_at(bp_atlas *atlas, bp__vkey *k, uint32_t n)
 {
     uint32_t i, j, e;
     for (i = 0; i < n; i = e) {
@@ -6553,7 +6571,7 @@ static bp_status bp__count_pinches(const bp_allocator *a, bp__build *b, bp_atlas
    opt.cut is BP_CUT_NONE.
    Returns a status only for what ends the whole call (out of memory, a
    boundary that does not close); the verdict is in ch->error. */
-static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b, bp_atlas *atlas, uint32_t c,
+BP__COLD static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b, bp_atlas *atlas, uint32_t c,
                                     const bp_mesh *m, bp_error *err)
 {
     bp_chart *ch = &atlas->charts[c];
@@ -6727,7 +6745,7 @@ static double bp__cut_importance(const bp_chart *ch, const double *importance, u
    seams go where the map matters least -- where visibility (chapter 4) or
    painted importance is low -- and the branch threshold keeps its scale.
    With uniform importance nothing changes. */
-static void bp__cut_weigh(bp__cut *K, const bp_chart *ch, const double *importance)
+BP__COLD static void bp__cut_weigh(bp__cut *K, const bp_chart *ch, const double *importance)
 {
     uint32_t t, k, nt = ch->num_triangles;
     double num = 0, den = 0, mean;
@@ -6867,7 +6885,7 @@ static uint32_t bp__cut_diameter(bp__cut *K, const bp_chart *ch, uint32_t *q)
 
 /* Closed genus 0: the shortest path between the ends of an approximate
    diameter, at least two edges long. */
-static uint32_t bp__cut_sphere(bp__cut *K, const bp_chart *ch)
+BP__COLD static uint32_t bp__cut_sphere(bp__cut *K, const bp_chart *ch)
 {
     uint32_t q, p = bp__cut_diameter(K, ch, &q), v = q, n = 0;
     if (ch->num_vertices < 3 || p == q) return 0;
@@ -6986,7 +7004,7 @@ static uint32_t bp__cut_prune(bp__cut *K, const bp_chart *ch)
    farthest one to them.  A slit from the boundary into a disk keeps a disk
    (V and E both grow by the path's length).  At most 16 branches.  Returns
    the edges added; *oom set if the scratch could not be allocated. */
-static uint32_t bp__cut_branches(const bp_allocator *a, bp__cut *K, const bp_chart *ch, double tau, int *oom)
+BP__COLD static uint32_t bp__cut_branches(const bp_allocator *a, bp__cut *K, const bp_chart *ch, double tau, int *oom)
 {
     uint32_t nt = ch->num_triangles, ce, n = 0, b;
     unsigned char *src = (unsigned char *)bp__calloc_array(a, ch->num_vertices, 1);
@@ -7104,7 +7122,7 @@ static int bp__cut_opens_disk(const bp__cut *K, const bp_chart *ch)
     return roots == 1 && (int64_t)ncls - ((int64_t)nc + nb) / 2 + nt == 1;
 }
 
-static int bp__smooth_branch(const bp__smooth *S, uint32_t v) { return S->vbnd[v] || S->vdeg[v] != 2; }
+BP__COLD static int bp__smooth_branch(const bp__smooth *S, uint32_t v) { return S->vbnd[v] || S->vdeg[v] != 2; }
 
 /* The piece from cut corner edge ce (leaving a branch point) to the next
    branch point, through vertices of cut degree 2: its corner edges in
@@ -8104,7 +8122,7 @@ typedef struct bp__nd_par {
     bp__nd_work W;                    /* the shared dv, dw, dw2, key  */
 } bp__nd_par;
 
-static void bp__nd_piece_task(void *task, uint32_t i)
+BP__COLD static void bp__nd_piece_task(void *task, uint32_t i)
 {
     bp__nd_par *P = (bp__nd_par *)task;
     uint32_t r = P->turn[i], lo = P->piece[3 * r], hi = P->piece[3 * r + 1], node = P->piece[3 * r + 2];
@@ -8135,7 +8153,7 @@ static void bp__nd_piece_task(void *task, uint32_t i)
    subtrees, with the loop `with` beside them when not NULL
    (bp__par_run_with); then the next level's pieces, in lo order, and the
    new base. */
-static void bp__nd_par_level(bp__nd_par *P, const bp__par *par, uint32_t n, const bp__loop *with)
+BP__COLD static void bp__nd_par_level(bp__nd_par *P, const bp__par *par, uint32_t n, const bp__loop *with)
 {
     uint32_t r, i, k = 0, sz;
     for (r = 0; r < P->npiece; r++) {               /* largest first */
@@ -8166,7 +8184,7 @@ static void bp__nd_par_level(bp__nd_par *P, const bp__par *par, uint32_t n, cons
    independent of the order, run beside the root's split (in the same
    parallel loop: the root is one task), or before the order on one
    thread.  Returns 0 out of memory (with then may not have run). */
-static int bp__nd_order_with(const bp_allocator *a, const bp__sparse *A, uint32_t *order, bp__ndnode *tree, int mode,
+BP__COLD static int bp__nd_order_with(const bp_allocator *a, const bp__sparse *A, uint32_t *order, bp__ndnode *tree, int mode,
                              const bp__par *par, const bp__loop *with)
 {
     uint32_t n = A->n, i;
@@ -8232,7 +8250,7 @@ static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *or
    the kept vertices (out: new -> kept number) with the tree's ranges
    counted in kept vertices (rtree) is a nested dissection of any subgraph
    on them.  pre: n + 1 words of scratch. */
-static void bp__nd_restrict(const uint32_t *order, const bp__ndnode *tree, uint32_t n, const uint32_t *keep,
+BP__COLD static void bp__nd_restrict(const uint32_t *order, const bp__ndnode *tree, uint32_t n, const uint32_t *keep,
                             uint32_t *out, bp__ndnode *rtree, uint32_t *pre)
 {
     uint32_t k, m = 0;
@@ -8462,7 +8480,7 @@ static uint32_t bp__row_subtree(const bp__sparse *A, const bp__factor *F, const 
 
 /* tpos[p]: the position in A of the transpose of entry p (A's rows are
    sorted, so the transposes of column k come out in order). */
-static int bp__fact_transpose(const bp_allocator *a, const bp__sparse *A, uint32_t **tpos_out)
+BP__COLD static int bp__fact_transpose(const bp_allocator *a, const bp__sparse *A, uint32_t **tpos_out)
 {
     uint32_t n = A->n, k, p, *tpos, *cursor;
     *tpos_out = tpos = (uint32_t *)bp__alloc_array(a, A->colp[n], sizeof(uint32_t));
@@ -8952,7 +8970,7 @@ static void bp__sym_phases(bp__sym_task *T, const bp__par *par, bp_task_fn fn)
 }
 
 /* Whether the phases cover [0, n) exactly (each vertex in one range). */
-static int bp__sym_covers(const bp__factor *F, uint32_t n)
+BP__COLD static int bp__sym_covers(const bp__factor *F, uint32_t n)
 {
     uint32_t nodes[BP__ND_NODES], c, i, sum = 0;
     int p;
@@ -9570,7 +9588,7 @@ static uint32_t bp__super_cut(bp__super_task *T, const bp__par *par, uint32_t s,
     return n;
 }
 
-static void bp__super_outside(bp__super_task *T, const bp__par *par, uint32_t cnt)
+BP__COLD static void bp__super_outside(bp__super_task *T, const bp__par *par, uint32_t cnt)
 {
     const bp__super *S = T->F->sn;
     uint32_t k, s, n = 0;
@@ -9594,7 +9612,7 @@ static void bp__super_outside(bp__super_task *T, const bp__par *par, uint32_t cn
    panels' rows cut into ranges when the block is big; task 0's
    workspace on the calling thread).  The same entries get the same
    sums as in the one-task INSIDE pass: the same bits. */
-static void bp__super_wide(bp__super_task *T, const bp__par *par, uint32_t cnt)
+BP__COLD static void bp__super_wide(bp__super_task *T, const bp__par *par, uint32_t cnt)
 {
     bp__factor *F = T->F;
     const bp__super *S = F->sn;
@@ -9625,7 +9643,7 @@ static void bp__super_wide(bp__super_task *T, const bp__par *par, uint32_t cnt)
    BP__WIDE_SHARE.  Which pass runs never changes a bit (above). */
 #define BP__WIDE_SHARE 1.2
 
-static int bp__super_unbalanced(const bp__factor *F, const uint32_t *nodes, uint32_t cnt, int threads)
+BP__COLD static int bp__super_unbalanced(const bp__factor *F, const uint32_t *nodes, uint32_t cnt, int threads)
 {
     const bp__super *S = F->sn;
     double tot = 0, big = 0;
@@ -9645,7 +9663,7 @@ static int bp__super_unbalanced(const bp__factor *F, const uint32_t *nodes, uint
     return tot > 0 && big * threads > BP__WIDE_SHARE * tot;
 }
 
-static int bp__super_numeric(const bp_allocator *a, const bp__sparse *A, bp__factor *F, const bp__par *par)
+BP__COLD static int bp__super_numeric(const bp_allocator *a, const bp__sparse *A, bp__factor *F, const bp__par *par)
 {
     bp__super *S = F->sn;
     bp__super_task T;
@@ -9863,7 +9881,7 @@ static void bp__super_fscatter(const bp__super *S, uint32_t s, uint32_t vhi, dou
    below (phase 0's terms are in the buffers).  uk is increasing and each
    separator range is a run of supernodes, so the runs from phase 0 are
    jumped over by binary search, not visited. */
-static void bp__ssolve_gather_sep(const bp__ssolve_task *T, uint32_t q0, uint32_t q1, uint32_t v0, uint32_t v1)
+BP__COLD static void bp__ssolve_gather_sep(const bp__ssolve_task *T, uint32_t q0, uint32_t q1, uint32_t v0, uint32_t v1)
 {
     const bp__super *S = T->F->sn;
     uint32_t q = q0, r = 0;
@@ -10095,7 +10113,7 @@ static void bp__ssolve_run(void *task, uint32_t t)
 
 /* The OUTSIDE pieces of one phase's separators: each supernode of nc
    vertices cut into min(nc / 8, 8) (at least one) equal column ranges. */
-static void bp__ssolve_outside(bp__ssolve_task *T, const bp__par *par, uint32_t cnt)
+BP__COLD static void bp__ssolve_outside(bp__ssolve_task *T, const bp__par *par, uint32_t cnt)
 {
     const bp__super *S = T->F->sn;
     uint32_t k, s, r, n = 0;
@@ -10127,7 +10145,7 @@ static void bp__ssolve_outside(bp__ssolve_task *T, const bp__par *par, uint32_t 
    bs nrhs nv).  Sets T's ranges
    and buf (x, zeroed) or leaves buf NULL.  Depends on the factor only, so
    one thread and several take the same sums. */
-static void bp__ssolve_buffers(bp__ssolve_task *T, const bp__factor *F, double *x)
+BP__COLD static void bp__ssolve_buffers(bp__ssolve_task *T, const bp__factor *F, double *x)
 {
     const bp__super *S = F->sn;
     uint32_t k, i, nleaf = bp__nd_phase(F, 0, T->nodes);
@@ -10226,7 +10244,7 @@ static void bp__super_solve(const bp__factor *F, const double *b, double *x, dou
    isotropic K1 after the conformal start: face, 8 ms of one thread).
    The tree is the caller's, as bp__super_analyse copies it.  Returns 0
    out of memory. */
-static int bp__super_clone(const bp_allocator *a, const bp__factor *like, const bp__ndnode *tree, bp__factor *F)
+BP__COLD static int bp__super_clone(const bp_allocator *a, const bp__factor *like, const bp__ndnode *tree, bp__factor *F)
 {
     const bp__super *L = like->sn;
     bp__super *S = F->sn;
@@ -10333,7 +10351,7 @@ static bp_status bp__super_factorize(const bp_allocator *a, const bp__sparse *A,
    the dissection tree (see bp__fact_rows).  Arrays already allocated are
    reused: a new matrix on the same pattern is refactored in place
    (>>newton).  Returns 0 out of memory. */
-static int bp__fact_numeric(const bp_allocator *a, const bp__sparse *A, bp__factor *F, const uint32_t *tpos,
+BP__COLD static int bp__fact_numeric(const bp_allocator *a, const bp__sparse *A, bp__factor *F, const uint32_t *tpos,
                             const bp__par *par)
 {
     uint32_t n = A->n, nnzL;
@@ -10441,7 +10459,7 @@ static bp_status bp__factorize(const bp_allocator *a, const bp__sparse *A, bp__f
 
 /* The message for BP_ERR_TOO_LARGE from bp__factorize: the chart, the
    system's size and the limit (chart BP__NONE: not known here). */
-static bp_status bp__factor_too_large(bp_error *err, uint32_t chart, uint32_t nt, const char *what, uint32_t n)
+BP__COLD static bp_status bp__factor_too_large(bp_error *err, uint32_t chart, uint32_t nt, const char *what, uint32_t n)
 {
     if (chart == BP__NONE)
         return bp__fail(err, BP_ERR_TOO_LARGE, BP_ELEMENT_NONE, -1, -1, 0,
@@ -10498,7 +10516,7 @@ static void bp__factor_solve(const bp__factor *F, const double *b, double *x, do
 
 /* Solve with one step of iterative refinement: x += A^-1 (b - A x).
    work: 3n doubles. */
-static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const double *b,
+BP__COLD static void bp__solve_refined(const bp__sparse *A, const bp__factor *F, const double *b,
                               double *x, double *work)
 {
     double *r = work, *d = work + A->n, *z = work + 2 * (size_t)A->n;
@@ -10580,7 +10598,7 @@ static void bp__rows_slots(void *task, uint32_t c)
     }
 }
 
-static int bp__super_to_rows(const bp_allocator *a, bp__factor *F, const bp__par *par)
+BP__COLD static int bp__super_to_rows(const bp_allocator *a, bp__factor *F, const bp__par *par)
 {
     bp__super *S = F->sn;
     bp__par serial = bp__par_serial();
@@ -10634,7 +10652,7 @@ static int bp__super_to_rows(const bp_allocator *a, bp__factor *F, const bp__par
    A supernodal factor of a scalar matrix (bs 1, A->super1) is turned into
    the same rows instead (bp__super_to_rows, on par's threads; par NULL:
    serially).  Returns 0 out of memory. */
-static int bp__factor_single(const bp_allocator *a, bp__factor *F, const bp__par *par)
+BP__COLD static int bp__factor_single(const bp_allocator *a, bp__factor *F, const bp__par *par)
 {
     size_t p, nnz;
     unsigned char *buf = (unsigned char *)F->Rx;
@@ -11165,7 +11183,7 @@ static uint32_t bp__conflicts_scan(const double *uv, const bp__dedge *de, uint32
 
 /* Winding number of the closed loop e[0..n) (directed edges) around p,
    exact (Sunday's crossing rule with orient2d); p must not lie on it. */
-static int bp__winding(const double *uv, const bp__dedge *e, uint32_t n, const double *p)
+BP__COLD static int bp__winding(const double *uv, const bp__dedge *e, uint32_t n, const double *p)
 {
     int w = 0;
     uint32_t i;
@@ -11242,7 +11260,7 @@ typedef struct bp__loops {
     double    *box;          /* 4 per loop */
 } bp__loops;
 
-static int bp__loops_trace(const bp__dedge *de, uint32_t nb, uint32_t *out, uint32_t *loop_of, bp__loops *Lp,
+BP__COLD static int bp__loops_trace(const bp__dedge *de, uint32_t nb, uint32_t *out, uint32_t *loop_of, bp__loops *Lp,
                            bp_check_report *rep, bp__check_first *first)
 {
     uint32_t i, pos = 0;
@@ -11279,7 +11297,7 @@ static int bp__loops_trace(const bp__dedge *de, uint32_t nb, uint32_t *out, uint
 
 /* (c): exactly one counter-clockwise loop per connected piece.  ccw is
    scratch of nv counters. */
-static void bp__loops_per_piece(const double *uv, bp__loops *Lp, uint32_t nv, uint32_t *ccw,
+BP__COLD static void bp__loops_per_piece(const double *uv, bp__loops *Lp, uint32_t nv, uint32_t *ccw,
                                 bp_check_report *rep, bp__check_first *first)
 {
     uint32_t i;
@@ -11307,7 +11325,7 @@ static void bp__loops_per_piece(const double *uv, bp__loops *Lp, uint32_t nv, ui
    covered by another piece, i.e. the sum of that piece's loop windings
    around it must be 0.  (Boundaries do not meet, so a piece overlapping
    another has a whole outer loop inside it.) */
-static void bp__loops_nested(const double *uv, const bp__loops *Lp, bp_check_report *rep, bp__check_first *first)
+BP__COLD static void bp__loops_nested(const double *uv, const bp__loops *Lp, bp_check_report *rep, bp__check_first *first)
 {
     uint32_t i, j, l;
     for (i = 0; i < Lp->nl; i++) {
@@ -11342,7 +11360,7 @@ static void bp__loops_nested(const double *uv, const bp__loops *Lp, bp_check_rep
    hole loop running counter-clockwise around a doubly covered region, pass
    (a) and (b) and fail these.  piece: the union-find of the connected
    pieces over the nv vertices (bp__check_pieces), read and compressed. */
-static bp_status bp__loop_topology(const bp_allocator *a, const double *uv, uint32_t nv, uint32_t *piece,
+BP__COLD static bp_status bp__loop_topology(const bp_allocator *a, const double *uv, uint32_t nv, uint32_t *piece,
                                    const bp__dedge *de, uint32_t nb, bp_check_report *rep, bp__check_first *first)
 {
     uint32_t *out, *loop_of, i;
@@ -11502,7 +11520,7 @@ static void bp__check_triangles(const uint32_t *tris, const double *uv, uint32_t
 }
 
 /* (a) alone on triangles [t0, t1) with finite corners. */
-static void bp__check_orientation(const uint32_t *tris, const double *uv, uint32_t t0, uint32_t t1,
+BP__COLD static void bp__check_orientation(const uint32_t *tris, const double *uv, uint32_t t0, uint32_t t1,
                                   bp__check_part *P)
 {
     uint32_t t, k;
@@ -11676,7 +11694,7 @@ static void bp__check_edges_task(void *task, uint32_t i)
 /* A copy of uv scaled by 2^s when the finite magnitudes [minabs, maxabs]
    leave the exact range (else *scaled = NULL: use uv as it is).  The
    scaling is exact: every scaled coordinate stays a normal double. */
-static bp_status bp__check_scale(const bp_allocator *a, const double *uv, uint32_t nv, double maxabs, double minabs,
+BP__COLD static bp_status bp__check_scale(const bp_allocator *a, const double *uv, uint32_t nv, double maxabs, double minabs,
                                  double **scaled, bp_error *err)
 {
     int emax, emin, s = 0;
@@ -11702,7 +11720,7 @@ static bp_status bp__check_scale(const bp_allocator *a, const double *uv, uint32
    ranges (2^shift vertices each, at most BP__CHECK_RANGES of them; one
    when the tasks run serially: the sorted edges are the same, and one
    range saves its scatter). */
-static int bp__check_alloc(const bp_allocator *a, bp__check_task *T, const bp__par *par)
+BP__COLD static int bp__check_alloc(const bp_allocator *a, bp__check_task *T, const bp__par *par)
 {
     T->nchunk = T->nt ? bp__nchunks(T->nt, BP__CHECK_CHUNK) : 0;
     for (T->shift = BP__CHECK_RANGE_SHIFT; T->shift < 31 && ((T->nv - 1) >> T->shift) >= BP__CHECK_RANGES;) T->shift++;
@@ -11724,7 +11742,7 @@ static void bp__check_free(const bp_allocator *a, bp__check_task *T)
 /* 1. combined in chunk order into rep and first (the serial loops' first
    elements); BP_ERR_INDEX for a vertex index out of range.  *maxabs and
    *minabs: the magnitudes of the whole map. */
-static bp_status bp__check_chunks(const bp__check_task *T, bp_check_report *rep, double *maxabs,
+BP__COLD static bp_status bp__check_chunks(const bp__check_task *T, bp_check_report *rep, double *maxabs,
                                   double *minabs, bp_error *err)
 {
     uint32_t c, k;
@@ -11748,7 +11766,7 @@ static bp_status bp__check_chunks(const bp__check_task *T, bp_check_report *rep,
 }
 
 /* (a)'s counts and first bad triangle, in chunk order. */
-static void bp__check_oriented(const bp__check_task *T, bp_check_report *rep, bp__check_first *first)
+BP__COLD static void bp__check_oriented(const bp__check_task *T, bp_check_report *rep, bp__check_first *first)
 {
     uint32_t c;
     for (c = 0; c < T->nchunk; c++) {
@@ -11766,7 +11784,7 @@ static void bp__check_oriented(const bp__check_task *T, bp_check_report *rep, bp
    pieces on the runner, then their boundary edges appended in range order
    into T->rec[0..*nb) and their bad groups added (the first range's first
    kept).  Returns 0 when out of memory. */
-static int bp__check_edges(const bp_allocator *a, bp__check_task *T, const bp__par *par, int pieces,
+BP__COLD static int bp__check_edges(const bp_allocator *a, bp__check_task *T, const bp__par *par, int pieces,
                            bp_check_report *rep, bp__check_first *first, uint32_t *nb)
 {
     uint32_t c, r, pos = 0;
@@ -11820,7 +11838,7 @@ static uint32_t bp__edge_triangles(const uint32_t *tris, uint32_t nt, uint32_t u
 /* The verdict: BP_OK for a valid map, else the status of the first
    failure in the order precondition, non-finite, (a), (b), (c), (d), with
    err naming its elements in the caller's own (0-based) indices. */
-static bp_status bp__check_verdict(const uint32_t *tris, uint32_t nt, const bp_check_report *rep,
+BP__COLD static bp_status bp__check_verdict(const uint32_t *tris, uint32_t nt, const bp_check_report *rep,
                                    const bp__check_first *first, bp_error *err)
 {
     if (rep->nonmanifold_edges || rep->misoriented_edges) {
@@ -11878,7 +11896,7 @@ static bp_status bp__check_verdict(const uint32_t *tris, uint32_t nt, const bp_c
    needed, and (a) again on it; the precondition and the boundary edges
    (2.) with the pieces (3.); (b); (c) and (d); the verdict.  The same
    report, error and status as bp_check for any runner. */
-static bp_status bp__check_par(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
+BP__COLD static bp_status bp__check_par(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
                                const bp_allocator *alloc, const bp__par *par, bp_check_report *rep, bp_error *err)
 {
     bp_allocator a;
@@ -11938,7 +11956,7 @@ BPDEF bp_status bp_check(const uint32_t *tris, uint32_t nt, const double *uv, ui
 }
 
 /* The public check on opt's threads (bp__par_begin, as bp_atlas_pack's). */
-BPDEF bp_status bp_check_opt(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
+BP__COLD BPDEF bp_status bp_check_opt(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
                              const bp_options *opt, bp_check_report *rep, bp_error *err)
 {
     bp_options o_;
@@ -12076,7 +12094,7 @@ static void bp__tutte_free(const bp_allocator *a, bp__tutte *T)
 /* Phase 1, the filled chart: real triangles, then one fan per hole to a
    centre at the hole loop's 3D centroid (reverse twins of the hole's
    boundary edges, so the filled chart is a disk). */
-static int bp__tutte_fill(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, const bp_mesh *m)
+BP__COLD static int bp__tutte_fill(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, const bp_mesh *m)
 {
     uint32_t t, i, j, k, nfan = ch->loop_start[ch->num_loops] - ch->loop_start[1];
     T->nv = ch->num_vertices;
@@ -12221,7 +12239,7 @@ static void bp__tutte_weights_task(void *task, uint32_t c)
    becomes 1.  bp__tutte_weights_loop only allocates them and sets up the
    loop *L that computes them (to run beside phase 5b's root split, which
    does not need them: bp__tutte_map); bp__tutte_weights runs it. */
-static int bp__tutte_weights_loop(const bp_allocator *a, bp__tutte *T, int mvc, bp__tutte_task *J, bp__loop *L)
+BP__COLD static int bp__tutte_weights_loop(const bp_allocator *a, bp__tutte *T, int mvc, bp__tutte_task *J, bp__loop *L)
 {
     T->w = (double *)bp__calloc_array(a, T->ne ? T->ne : 1, sizeof(double));
     if (!T->w) return 0;
@@ -12247,7 +12265,7 @@ static int bp__tutte_weights(const bp_allocator *a, bp__tutte *T, int mvc)
 /* Phase 4, the outer loop on the circle of the chart's 3D area, R =
    sqrt(area / pi), spaced by 3D arc length; every other vertex is free and
    numbered in vertex order. */
-static int bp__tutte_circle(const bp_allocator *a, bp__tutte *T, bp_chart *ch)
+BP__COLD static int bp__tutte_circle(const bp_allocator *a, bp__tutte *T, bp_chart *ch)
 {
     uint32_t i, j, l0 = ch->loop_start[0], l1 = ch->loop_start[1];
     double R = bp__sqrt(ch->area3d / 3.14159265358979323846), total = 0, acc = 0, floor_len;
@@ -12325,7 +12343,7 @@ static void bp__tutte_system_task(void *task, uint32_t c)
    column by column, fixed neighbours moved to the right-hand side (both
    coordinates: rhs[0, nfree) and rhs[nfree, 2 nfree)): the columns'
    lengths, their offsets, then the columns (in parallel, see above). */
-static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, int mvc)
+BP__COLD static int bp__tutte_system(const bp_allocator *a, bp__tutte *T, const bp_chart *ch, int mvc)
 {
     uint32_t j, nnz = 0, nfree = T->nfree;
     bp__sparse *A = &T->A;
@@ -12396,7 +12414,7 @@ static int bp__tutte_order(const bp_allocator *a, bp__tutte *T, const bp__par *r
 /* A's factor (the free vertices' system, or its symmetric part) in the
    order of phase 5b restricted to the free vertices (without phase 5b,
    T->nd NULL, in its own order). */
-static bp_status bp__tutte_factorize(const bp_allocator *a, const bp__tutte *T, const bp__sparse *A, bp__factor *F,
+BP__COLD static bp_status bp__tutte_factorize(const bp_allocator *a, const bp__tutte *T, const bp__sparse *A, bp__factor *F,
                                      uint32_t *bad, const bp__par *runner)
 {
     uint32_t *order = (uint32_t *)bp__alloc_array(a, T->nfree ? T->nfree : 1, sizeof(uint32_t));
@@ -12415,7 +12433,7 @@ static bp_status bp__tutte_factorize(const bp_allocator *a, const bp__tutte *T, 
 
 /* The order restricted to the chart's vertices (hole centres dropped):
    order (nv words) and its tree.  Returns 0 out of memory. */
-static int bp__tutte_chart_order(const bp_allocator *a, const bp__tutte *T, uint32_t *order, bp__ndnode *tree)
+BP__COLD static int bp__tutte_chart_order(const bp_allocator *a, const bp__tutte *T, uint32_t *order, bp__ndnode *tree)
 {
     uint32_t *keep = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
     uint32_t *pre = (uint32_t *)bp__alloc_array(a, (size_t)T->N + 1, sizeof(uint32_t));
@@ -12539,7 +12557,7 @@ static void bp__ksym_pass(bp__ksym_task *T, const bp__par *par, int pass)
 
 /* As's values (D^-1 A) into sval and b = D^-1 rhs (interleaved), dg the
    diagonal D. */
-static void bp__tutte_scaled(const bp__sparse *A, const double *rhs, const bp__par *par, double *sval, double *b,
+BP__COLD static void bp__tutte_scaled(const bp__sparse *A, const double *rhs, const bp__par *par, double *sval, double *b,
                              double *dg)
 {
     bp__ksym_task T;
@@ -12555,7 +12573,7 @@ static void bp__tutte_scaled(const bp__sparse *A, const double *rhs, const bp__p
 }
 
 /* M of A (see above), on A's pattern; par NULL: serially. */
-static int bp__tutte_symmetric(const bp_allocator *a, const bp__sparse *A, bp__sparse *M, const bp__par *par)
+BP__COLD static int bp__tutte_symmetric(const bp_allocator *a, const bp__sparse *A, bp__sparse *M, const bp__par *par)
 {
     bp__ksym_task T;
     uint32_t n = A->n;
@@ -12672,7 +12690,7 @@ static void bp__krylov_spmv(bp__krylov_task *K, const bp__par *par, const double
 
 /* A's rows (rp, ci, rv), columns increasing: a counting sort of the
    columns' entries in column order.  0 out of memory. */
-static int bp__sparse_rows(const bp_allocator *a, const bp__sparse *A, uint32_t **rp, uint32_t **ci, double **rv)
+BP__COLD static int bp__sparse_rows(const bp_allocator *a, const bp__sparse *A, uint32_t **rp, uint32_t **ci, double **rv)
 {
     uint32_t n = A->n, j, p, nnz = A->colp[n], *cur;
     *rp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
@@ -12709,7 +12727,7 @@ static int bp__krylov_done(bp__krylov_task *K, const bp__par *par, const double 
 /* Right-preconditioned BiCGSTAB for both coordinates (b, x: 2n
    interleaved; x starts at 0).  Returns the iterations taken, -1 when it
    did not converge (breakdown or BP__KRYLOV_ITERS), -2 out of memory. */
-static int bp__tutte_bicgstab(const bp_allocator *a, const bp__sparse *A, const bp__factor *K, const bp__par *par,
+BP__COLD static int bp__tutte_bicgstab(const bp_allocator *a, const bp__sparse *A, const bp__factor *K, const bp__par *par,
                               const double *b, double *x, double *rel)
 {
     size_t n = A->n, i, m = 2 * n;
@@ -12777,7 +12795,7 @@ done:
    T->sol (x then y).  Returns 1 when it converged, 0 when it did not (the
    LU serves), -1 out of memory (reported as such: a failed allocation is
    never hidden by the fallback). */
-static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *runner)
+BP__COLD static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *runner)
 {
     bp__sparse M, As = T->A;
     bp__factor K;
@@ -12831,7 +12849,7 @@ static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *
 /* Phase 6, factor and solve (with iterative refinement); the free
    vertices' uv from the solution.  BP_ERR_NUMERICAL names the vertex of a
    zero pivot. */
-static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *ch, const bp__par *runner,
+BP__COLD static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *ch, const bp__par *runner,
                                  bp_error *err)
 {
     bp__factor F;
@@ -12872,7 +12890,7 @@ static bp_status bp__tutte_solve(const bp_allocator *a, bp__tutte *T, bp_chart *
    bp_check other than BP_OK is reported as BP_ERR_NUMERICAL: the start map
    is valid in exact arithmetic (Tutte's theorem), so only rounding can
    break it.  On the start map's runner (NULL: serial). */
-static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *runner,
+BP__COLD static bp_status bp__tutte_verify(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp__par *runner,
                                   bp_error *err)
 {
     bp_check_report rep;
@@ -12949,7 +12967,7 @@ static int bp__pinkey_cmp(const void *pa, const void *pb)
    pinned chart vertices.  The list is validated here: a vertex outside the
    mesh, a target not finite, or a vertex pinned twice fail with
    BP_ERR_INVALID_ARGUMENT naming the pin and the vertex (from 1). */
-static bp_status bp__pin_map(const bp_allocator *a, const bp_chart *ch, const bp_mesh *m, const bp_options *o,
+BP__COLD static bp_status bp__pin_map(const bp_allocator *a, const bp_chart *ch, const bp_mesh *m, const bp_options *o,
                              uint32_t **pidx, uint32_t *count, bp_error *err)
 {
     bp__pinkey *key;
@@ -13025,7 +13043,7 @@ static void bp__pin_target(const bp_pin *pins, const uint32_t *pidx, uint32_t i,
 }
 
 /* Necessary condition 1: no two pinned chart vertices at one point. */
-static bp_status bp__pins_distinct(const bp_allocator *a, const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx,
+BP__COLD static bp_status bp__pins_distinct(const bp_allocator *a, const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx,
                                    uint32_t npin, bp_error *err)
 {
     bp__pinpt *pt = (bp__pinpt *)bp__alloc_array(a, npin, sizeof *pt);
@@ -13048,7 +13066,7 @@ static bp_status bp__pins_distinct(const bp_allocator *a, const bp_chart *ch, co
 
 /* Necessary condition 2: a triangle with three pinned vertices is
    positively oriented at the targets (it cannot move). */
-static bp_status bp__pins_triangles(const bp_chart *ch, const bp_mesh *m, const bp_pin *pins, const uint32_t *pidx,
+BP__COLD static bp_status bp__pins_triangles(const bp_chart *ch, const bp_mesh *m, const bp_pin *pins, const uint32_t *pidx,
                                     bp_error *err)
 {
     uint32_t t;
@@ -13076,7 +13094,7 @@ static bp_status bp__pins_triangles(const bp_chart *ch, const bp_mesh *m, const 
    consecutive ones at their shared end (which must not fold back onto
    each other: the far end of one must not lie on the other).  All pairs:
    quadratic in the pinned boundary edges, which are few in practice. */
-static bp_status bp__pins_boundary(const bp_allocator *a, const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx,
+BP__COLD static bp_status bp__pins_boundary(const bp_allocator *a, const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx,
                                    bp_error *err)
 {
     uint32_t L, k, i, j, ne = 0, *e = (uint32_t *)bp__alloc_array(a, 2 * (size_t)ch->loop_start[ch->num_loops] + 2,
@@ -13111,7 +13129,7 @@ static bp_status bp__pins_boundary(const bp_allocator *a, const bp_chart *ch, co
 
 /* The input uvs as the start map: 1 used, 0 missing or not bijective (the
    caller falls back to the AUTO map), -1 out of memory. */
-static int bp__init_input(const bp_allocator *a, bp_chart *ch, const bp_mesh *m)
+BP__COLD static int bp__init_input(const bp_allocator *a, bp_chart *ch, const bp_mesh *m)
 {
     uint32_t i;
     bp_check_report rep;
@@ -13131,7 +13149,7 @@ static int bp__init_input(const bp_allocator *a, bp_chart *ch, const bp_mesh *m)
 /* The similarity that best fits the pins (see above), applied to the map.
    A rotation and positive scale keep every orientation, so the result is
    bijective up to rounding; it is checked again by the caller. */
-static void bp__pins_similarity(bp_chart *ch, const bp_pin *pins, const uint32_t *pidx)
+BP__COLD static void bp__pins_similarity(bp_chart *ch, const bp_pin *pins, const uint32_t *pidx)
 {
     double zc[2] = { 0, 0 }, tc[2] = { 0, 0 }, nr = 0, ni = 0, den = 0, ar = 1, ai = 0;
     uint32_t i, n = 0;
@@ -13395,7 +13413,7 @@ static double bp__conformal_rows(const bp_chart *ch, const bp_mesh *m, uint32_t 
 
 /* The two held vertices (see above) and their distance; 0 when the
    boundary has no two distinct points. */
-static int bp__conformal_pins(const bp_chart *ch, const bp_mesh *m, uint32_t *p0, uint32_t *p1, double *d)
+BP__COLD static int bp__conformal_pins(const bp_chart *ch, const bp_mesh *m, uint32_t *p0, uint32_t *p1, double *d)
 {
     uint32_t j, j0 = ch->loop_start[0], j1 = ch->loop_start[ch->num_loops], from = ch->loop_vertices[j0], far = from;
     int sweep;
@@ -13589,7 +13607,7 @@ static void bp__scale_run(void *task, uint32_t c)
     }
 }
 
-static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, const bp_mesh *m, const bp__par *par)
+BP__COLD static double bp__conformal_scale(const bp_allocator *al, const bp_chart *ch, const bp_mesh *m, const bp__par *par)
 {
     bp__scale_task J;
     double sa = 0, sb = 0, s;
@@ -13682,7 +13700,7 @@ static void bp__cschur_free(const bp_allocator *a, bp__cschur *Z)
 /* B (the loops' vertices but the two held ones) in Z->bidx and its size;
    the order: the dissection's with B moved to the end (in the order's
    sequence), its tree with the root's range stretched over B. */
-static void bp__cschur_order(bp__cschur *Z, const bp_chart *ch, const uint32_t *held, const uint32_t *order,
+BP__COLD static void bp__cschur_order(bp__cschur *Z, const bp_chart *ch, const uint32_t *held, const uint32_t *order,
                              const bp__ndnode *tree)
 {
     uint32_t j, k, v, m = 0;
@@ -13715,7 +13733,7 @@ static void bp__cschur_order(bp__cschur *Z, const bp_chart *ch, const uint32_t *
 }
 
 /* L from K: column v is column 2v's even rows (2u: u's x), halved. */
-static int bp__cschur_laplacian(const bp_allocator *a, bp__cschur *Z, const bp__sparse *K)
+BP__COLD static int bp__cschur_laplacian(const bp_allocator *a, bp__cschur *Z, const bp__sparse *K)
 {
     uint32_t v, i, nnz = K->colp[K->n] / 4;
     Z->L.n = Z->nv;
@@ -13763,7 +13781,7 @@ static void bp__rrt_run(void *task, uint32_t t)
    by rows, then S = R_BB R_BB^T in its place (bp__rrt_run, on the
    threads in 16 chunks of rows: the later rows have more terms, and the
    pool deals the chunks out as threads come free). */
-static int bp__cschur_complement(const bp_allocator *a, bp__cschur *Z, const bp__par *par)
+BP__COLD static int bp__cschur_complement(const bp_allocator *a, bp__cschur *Z, const bp__par *par)
 {
     const bp__super *S = Z->F.sn;
     uint32_t nb = Z->nb, ni = Z->ni, s, i, j, c;
@@ -13796,7 +13814,7 @@ static int bp__cschur_complement(const bp_allocator *a, bp__cschur *Z, const bp_
    fills them (one serial pass would be 7 ms of a two-thread run). */
 typedef struct bp__kb_task { bp__cschur *Z; uint32_t nc; } bp__kb_task;
 
-static void bp__kb_run(void *task, uint32_t t)
+BP__COLD static void bp__kb_run(void *task, uint32_t t)
 {
     const bp__kb_task *T = (const bp__kb_task *)task;
     bp__cschur *Z = T->Z;
@@ -13819,7 +13837,7 @@ static void bp__kb_run(void *task, uint32_t t)
    by the columns' pass, bp__conformal_scalar_col; NULL: K's own), and
    the dense system [S C; C^T S] (bp__kb_run, on the threads in 16 column
    chunks). */
-static int bp__cschur_system(const bp_allocator *a, bp__cschur *Z, const bp__sparse *K, const uint32_t *bxp,
+BP__COLD static int bp__cschur_system(const bp_allocator *a, bp__cschur *Z, const bp__sparse *K, const uint32_t *bxp,
                              const double *bxy, const bp__par *par)
 {
     uint32_t nb = Z->nb, n = 2 * nb, j, p;
@@ -13855,7 +13873,7 @@ static int bp__cschur_system(const bp_allocator *a, bp__cschur *Z, const bp__spa
 
 /* The solves above, x and y at once (bp__super_solve_n, two right-hand
    sides): rhs (2 per vertex, x y) to ch->uv. */
-static void bp__cschur_solve(bp__cschur *Z, const double *rhs, bp_chart *ch, const bp__par *par)
+BP__COLD static void bp__cschur_solve(bp__cschur *Z, const double *rhs, bp_chart *ch, const bp__par *par)
 {
     uint32_t nv = Z->nv, nb = Z->nb, i, j;
     double *uw = Z->work, *z = uw + 2 * (size_t)nv, *b = z + 2 * (size_t)nv;
@@ -13885,7 +13903,7 @@ static void bp__cschur_solve(bp__cschur *Z, const double *rhs, bp_chart *ch, con
 /* The conformal map (unscaled) into ch->uv by the Schur complement.
    Returns 1, 0 when not taken (too many boundary vertices, a pivot not
    positive: the 2x2 factorization then serves), -1 out of memory. */
-static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp_chart *ch, const bp__par *par,
+BP__COLD static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp_chart *ch, const bp__par *par,
                                const uint32_t *order, const bp__ndnode *tree)
 {
     bp__cschur Z;
@@ -13964,7 +13982,7 @@ static int bp__conformal_schur_planned(const bp_chart *ch, const uint32_t *held,
 /* K's arrays in 2x2 blocks from L's column lengths (4 entries per
    block, columns 2v and 2v+1 each 2 |column v|).  Returns 0 out of
    memory. */
-static int bp__conformal_alloc_k(const bp_allocator *a, bp__conformal *C)
+BP__COLD static int bp__conformal_alloc_k(const bp_allocator *a, bp__conformal *C)
 {
     bp__sparse *K = &C->K;
     uint32_t nv = C->L.n, v;
@@ -14006,7 +14024,7 @@ static int bp__conformal_full(const bp_allocator *a, bp__conformal *C, const bp_
    pattern's column lengths counted (the first pass of C->J), K's arrays
    allocated, and C->J ready for the second pass (the columns and the
    right-hand side), which the caller runs. */
-static int bp__conformal_begin(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
+BP__COLD static int bp__conformal_begin(const bp_allocator *a, const bp__tutte *T, bp_chart *ch, const bp_mesh *m,
                                const bp__par *runner, int any_size, bp__conformal *C)
 {
     bp__conformal_task *J = &C->J;
@@ -14348,7 +14366,7 @@ typedef struct bp__solver {
     bp__grid_ws ws;
 } bp__solver;
 
-static void bp__solver_free(bp__solver *S)
+BP__COLD static void bp__solver_free(bp__solver *S)
 {
     uint32_t c;
     const bp_allocator *a = S->a;
@@ -14787,7 +14805,7 @@ static void bp__barrier_task(void *task, uint32_t c)
 
 /* The sum of the edge chunks' E_B, and their gradient records added to g
    (when given), both in chunk order. */
-static double bp__barrier_finish(bp__solver *S, double *g)
+BP__COLD static double bp__barrier_finish(bp__solver *S, double *g)
 {
     double total = 0;
     uint32_t c;
@@ -14813,7 +14831,7 @@ static double bp__barrier_finish(bp__solver *S, double *g)
    arise, and by the argument in >>check (a) + (b) + (c) leave each point
    covered at most once.  (c) is O(number of loops + boundary length) and
    is only evaluated when (b) holds (the loops are then simple). */
-static void bp__conflict_task(void *task, uint32_t c)
+BP__COLD static void bp__conflict_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
@@ -15809,7 +15827,7 @@ typedef struct bp__newton {
     double     pull_w;            /*   pull_w (the homotopy, >>pins)        */
 } bp__newton;
 
-static void bp__newton_free(const bp_allocator *a, bp__newton *N)
+BP__COLD static void bp__newton_free(const bp_allocator *a, bp__newton *N)
 {
     bp__sparse_free(a, &N->H);
     bp__factor_free(a, &N->F);
@@ -15935,7 +15953,7 @@ static void bp__pattern_place(void *task, uint32_t c)
    order, as before.  Either way the same order on any number of threads.
    Before the first factorization the order to keep is the start map's
    (bp__opt_start_order), also when the pattern grows first. */
-static void bp__newton_keep_order(bp__newton *N, const bp_allocator *a)
+BP__COLD static void bp__newton_keep_order(bp__newton *N, const bp_allocator *a)
 {
     if (!N->F.sn && N->kperm) return;            /* no factor yet: the start map's order stays */
     bp__free(a, N->kperm);
@@ -15951,7 +15969,7 @@ static void bp__newton_keep_order(bp__newton *N, const bp_allocator *a)
 /* The extra pairs by vertex: xp[v] .. xp[v+1] index v's other ends in xl
    (each pair (u, w) lists w under u and u under w).  Returns 0 out of
    memory. */
-static int bp__pattern_extra(const bp_allocator *a, const bp__newton *N, uint32_t nv, uint32_t **xp_out, uint32_t **xl_out)
+BP__COLD static int bp__pattern_extra(const bp_allocator *a, const bp__newton *N, uint32_t nv, uint32_t **xp_out, uint32_t **xl_out)
 {
     const uint32_t *ex = (const uint32_t *)N->extra.data;
     size_t e, ne = N->extra.count;
@@ -16014,7 +16032,7 @@ done:
     return st;
 }
 
-static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solver *S)
+BP__COLD static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solver *S)
 {
     uint32_t n = 2 * S->nv;
     memset(N, 0, sizeof *N);
@@ -16048,7 +16066,7 @@ static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, bp__solve
    the pattern is rebuilt (a new ordering and symbolic analysis).  The
    pattern only grows, and the pairs settle after the first iterations, so
    this happens a few times per chart.  Returns 0 out of memory. */
-static int bp__newton_grow(bp__newton *N, bp__solver *S)
+BP__COLD static int bp__newton_grow(bp__newton *N, bp__solver *S)
 {
     const bp__bnear *pr = (const bp__bnear *)N->near.data;
     size_t k, before = N->extra.count;
@@ -16240,7 +16258,7 @@ static void bp__newton_barrier(bp__newton *N, bp__solver *S, const double *x)
    its right-hand side -g = 0 (bp__opt_hold zeroes g there) the solve gives
    v = 0 there exactly (every product with the zeroed entries is 0), and
    the other rows are the Newton system of the free coordinates alone. */
-static void bp__newton_pins(bp__newton *N, const bp__solver *S)
+BP__COLD static void bp__newton_pins(bp__newton *N, const bp__solver *S)
 {
     uint32_t v, j, p;
     if (N->pull)
@@ -16555,7 +16573,7 @@ static void bp__newton_mul(const bp__sparse *H, const double *x, double *y, cons
    bp__vec_pass (chunks, dots added in chunk order) and the products
    through bp__newton_mul, both on the solver's threads: the same bits on
    any number of them (the solves already were). */
-static int bp__newton_reuse_solve(bp__newton *N, const double *b, double *v)
+BP__COLD static int bp__newton_reuse_solve(bp__newton *N, const double *b, double *v)
 {
     uint32_t n = N->H.n;
     double rz = 0, pq, alpha, rzn, beta, m = 0, dm;
@@ -16628,7 +16646,7 @@ static const bp__factor *bp__newton_h_like(const bp__newton *N, uint32_t nv)
    before the pattern grew when it still dissects the new pattern (above),
    else a new one.  The kept order is then dropped: the new factor holds
    it. */
-static bp_status bp__newton_factorize(bp__newton *N, bp__solver *S, uint32_t *bad)
+BP__COLD static bp_status bp__newton_factorize(bp__newton *N, bp__solver *S, uint32_t *bad)
 {
     bp_status st = BP_ERR_OUT_OF_MEMORY;
     const bp__factor *like;
@@ -16671,7 +16689,7 @@ static bp_status bp__newton_factorize(bp__newton *N, bp__solver *S, uint32_t *ba
    matrix had H's pattern (compared entry by entry, as
    bp__newton_factorize does), else none (a dissection of its own, then
    kept for Newton's first factorization). */
-static const uint32_t *bp__newton_iso_order(const bp__newton *N, const bp__ndnode **tree)
+BP__COLD static const uint32_t *bp__newton_iso_order(const bp__newton *N, const bp__ndnode **tree)
 {
     const bp__handoff *h = N->given;
     if (N->kperm && bp__nd_keeps(N->ktree, N->kiperm, (const uint32_t *)N->extra.data, N->extra.count)) {
@@ -16691,7 +16709,7 @@ static const uint32_t *bp__newton_iso_order(const bp__newton *N, const bp__ndnod
 /* The start map's handed-over factor when its analysis is K1's own: its
    matrix's vertex graph is K1's pattern, entry by entry, and it was
    analysed in this order and tree (bp__super_clone copies it), else NULL. */
-static const bp__factor *bp__newton_iso_like(const bp__newton *N, const uint32_t *order, const bp__ndnode *tree)
+BP__COLD static const bp__factor *bp__newton_iso_like(const bp__newton *N, const uint32_t *order, const bp__ndnode *tree)
 {
     const bp__handoff *h = N->given;
     const bp__sparse *K = &N->K1;
@@ -16713,7 +16731,7 @@ static const bp__factor *bp__newton_iso_like(const bp__newton *N, const uint32_t
    pattern the analysis (above), else the numeric phase alone.  Returns 1,
    0 when a pivot is not positive and finite (the phase ends), -1 out of
    memory. */
-static int bp__newton_iso_factor(bp__newton *N, bp__solver *S)
+BP__COLD static int bp__newton_iso_factor(bp__newton *N, bp__solver *S)
 {
     const bp__ndnode *tree;
     const uint32_t *order;
@@ -16743,7 +16761,7 @@ static int bp__newton_iso_factor(bp__newton *N, bp__solver *S)
 
 /* The phase's end, for good: K1 and its factor freed before Newton's
    own factor takes the memory. */
-static void bp__newton_iso_end(bp__newton *N, const bp_allocator *a)
+BP__COLD static void bp__newton_iso_end(bp__newton *N, const bp_allocator *a)
 {
     N->iso = 0;
     N->k1ok = 0;
@@ -16908,7 +16926,7 @@ static void bp__lap_weights(void *task, uint32_t c)
     }
 }
 
-static int bp__lap_pinned(const bp__lap_task *T, uint32_t v) { return T->pidx && T->pidx[v] != BP__NONE; }
+BP__COLD static int bp__lap_pinned(const bp__lap_task *T, uint32_t v) { return T->pidx && T->pidx[v] != BP__NONE; }
 
 /* Pass 2: the rows of column v.  A pinned vertex keeps only its diagonal,
    and a free one no coupling to a pinned one. */
@@ -17014,7 +17032,7 @@ static void bp__quad_task_run(void *task, uint32_t c)
     T->part[c] = sum;
 }
 
-static double bp__quad_form(const bp__sparse *K, const double *s, const bp__par *par, double *part)
+BP__COLD static double bp__quad_form(const bp__sparse *K, const double *s, const bp__par *par, double *part)
 {
     bp__quad_task T;
     uint32_t c, nc = bp__nchunks(K->n, BP__QUAD_CHUNK);
@@ -17159,7 +17177,7 @@ static void bp__lbfgs_free(const bp_allocator *a, bp__lbfgs *L)
     memset(L, 0, sizeof *L);
 }
 
-static int bp__lbfgs_init(const bp_allocator *a, bp__lbfgs *L, int hist, uint32_t n)
+BP__COLD static int bp__lbfgs_init(const bp_allocator *a, bp__lbfgs *L, int hist, uint32_t n)
 {
     size_t h1 = (size_t)hist + 1;
     memset(L, 0, sizeof *L);
@@ -17222,7 +17240,7 @@ static double bp__lbfgs_direction(bp__lbfgs *L, const bp__par *par, const double
    with s.s in one pass, then y with y.y, s.y and the new row and column of
    SY in another.  The pair is dropped when the curvature s.y is not
    positive; the oldest pair is then gone too (its slot was written). */
-static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, const double *xn, const double *g,
+BP__COLD static void bp__lbfgs_push(bp__lbfgs *L, const bp__par *par, const double *x, const double *xn, const double *g,
                            const double *gn)
 {
     double ss, *sp, *yp;
@@ -17297,7 +17315,7 @@ typedef struct bp__opt {
     bp__handoff *handoff;        /* the conformal start's factor, or NULL  */
 } bp__opt;
 
-static void bp__opt_free(bp__opt *P)
+BP__COLD static void bp__opt_free(bp__opt *P)
 {
     bp__solver_free(&P->S);
     bp__free(&P->a, P->x); bp__free(&P->a, P->g); bp__free(&P->a, P->xn); bp__free(&P->a, P->gn);
@@ -17322,7 +17340,7 @@ static void bp__opt_free(bp__opt *P)
    check of this very map (bp__handoff.checked: the conformal or Tutte map
    left as bp__tutte_map checked it, no progressive start, no pins); 2.5
    ms of face's one-thread run. */
-static bp_status bp__opt_check_start(const bp_allocator *a, const bp_chart *ch, uint32_t chart_index,
+BP__COLD static bp_status bp__opt_check_start(const bp_allocator *a, const bp_chart *ch, uint32_t chart_index,
                                      const bp_mesh *m, int barrier, const bp__par *par, bp_error *err)
 {
     bp_check_report rep;
@@ -17385,7 +17403,7 @@ static bp_status bp__opt_pins(bp__opt *P, const bp_chart *ch, const bp_mesh *m, 
    to g. */
 typedef struct bp__penalty { const bp_pin *pins; const uint32_t *pidx; double w; } bp__penalty;
 
-static double bp__opt_penalty(const bp__opt *P, const double *x, double *g)
+BP__COLD static double bp__opt_penalty(const bp__opt *P, const double *x, double *g)
 {
     uint32_t i;
     double sum = 0;
@@ -17457,7 +17475,7 @@ static void bp__opt_hold(const bp__opt *P, double *g)
 #define BP__AUTO_NEWTON_E0 8.0
 #endif
 #ifndef BP_NO_NEWTON
-static int bp__opt_choose_newton(bp__solver *S, const double *x)
+BP__COLD static int bp__opt_choose_newton(bp__solver *S, const double *x)
 {
     bp__eval_task T;
     double sum = 0, e0;
@@ -17513,7 +17531,7 @@ static void bp__keeps_task_run(void *task, uint32_t c)
    preconditioner, the chart's Laplacian (its graph the chart's edges,
    fewer where pins are), always, after which it is freed (bp__opt_setup).
    Returns 0 out of memory. */
-static int bp__opt_start_order(bp__opt *P, bp_chart *ch)
+BP__COLD static int bp__opt_start_order(bp__opt *P, bp_chart *ch)
 {
     uint32_t nv = P->S.nv, k, j, *o = ch->start_order, *iv;
     ch->start_order = NULL;
@@ -17552,7 +17570,7 @@ static int bp__opt_start_order(bp__opt *P, bp_chart *ch)
 /* Phase 2: options, the pins held, solver, the direction (the default's
    choice, above), Newton's pattern and first order or the preconditioner,
    vectors; x = the start map. */
-static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, const bp_mesh *m, bp_error *err)
+BP__COLD static bp_status bp__opt_setup(bp__opt *P, bp_chart *ch, uint32_t chart_index, const bp_mesh *m, bp_error *err)
 {
     double *rest_wxy;
     bp_status st;
@@ -17703,7 +17721,7 @@ static double bp__opt_direction(bp__opt *P)
 #ifndef BP__NEWTON_EXTEND_RATIO
 #define BP__NEWTON_EXTEND_RATIO 0.9   /* only past this share of the model's decrease */
 #endif
-static int bp__opt_extend(bp__opt *P, double f, double gv, double *t, double *fn, double *edn)
+BP__COLD static int bp__opt_extend(bp__opt *P, double f, double gv, double *t, double *fn, double *edn)
 {
     double cap = 1024, tmax = bp__step_bound(&P->S, P->x, P->v, cap), tt = *t;
     int k;
@@ -17748,7 +17766,7 @@ static int bp__opt_extend(bp__opt *P, double f, double gv, double *t, double *fn
    orientation, boundary conflicts, one counter-clockwise loop) is
    accepted.  Returns 1 with *t, *fn, *edn set, 0 if no step was found,
    -1 when out of memory. */
-static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, double *fn, double *edn)
+BP__COLD static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, double *fn, double *edn)
 {
     double tt = (P->L.nh > 0 || P->nd) ? 1.0 : 2 * P->tlast;   /* the first step to try ... */
     double tmax = bp__step_bound(&P->S, P->x, P->v, tt / 0.9);
@@ -17780,7 +17798,7 @@ static int bp__opt_line_search(bp__opt *P, double f, double gv, double *t, doubl
 }
 
 /* The largest E_t of a chunk of triangles, into part[c]. */
-static void bp__emax_task(void *task, uint32_t c)
+BP__COLD static void bp__emax_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
@@ -17798,7 +17816,7 @@ static void bp__emax_task(void *task, uint32_t c)
 /* Phase 5: the chart's report from the final map x (already in ch->uv).
    The largest E_t by chunks on the threads (a maximum: the same on any
    threads; on one thread it took 2 ms of face's run). */
-static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, double ed, double c0, bp_error *err)
+BP__COLD static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, double ed, double c0, bp_error *err)
 {
     bp__eval_task T;
     double emax = 0;
@@ -17844,7 +17862,7 @@ static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t chart_index, 
    others' maps are left bit for bit as before); the energy has one
    minimum scale, so the result is the same kind of minimum.
    Returns k (0: not scaled), -1 when out of memory. */
-static int bp__start_scale(bp__opt *P, double *f, double *ed)
+BP__COLD static int bp__start_scale(bp__opt *P, double *f, double *ed)
 {
     double e0 = *ed / P->S.nt, c, fs, eds;
     uint32_t i;
@@ -17883,7 +17901,7 @@ static int bp__start_scale(bp__opt *P, double *f, double *ed)
    below: the pass goes on counting from there, keeps the report's
    energy_start, and its accepted iterations, it0 included, go to *its);
    *newton_default is set when the default's rule chose Newton. */
-static bp_status bp__chart_optimize_pass(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+BP__COLD static bp_status bp__chart_optimize_pass(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
                                          const bp_options *opt, const bp__par *runner,
                                          const struct bp__penalty *pen, bp__handoff *h, double c0, int it0,
                                          int *its, int *newton_default, bp_error *err)
@@ -17988,7 +18006,7 @@ done:
    from where Newton stopped; ch->direction then says PRECONDITIONED.
    Only an out-of-memory of L-BFGS too fails the chart.  A direction asked
    for by name is never replaced. */
-static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
+BP__COLD static bp_status bp__chart_optimize_pen(bp_chart *ch, uint32_t chart_index, const bp_mesh *m,
                                         const bp_options *opt, const bp__par *runner,
                                         const struct bp__penalty *pen, bp__handoff *h, bp_error *err)
 {
@@ -18094,7 +18112,7 @@ BPDEF bp_status bp_chart_distortion(const bp_chart *ch, const bp_mesh *m, bp_ene
    unwrap match closely, instead of from a disk. */
 #define BP__PIN_FREE 300
 
-static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+BP__COLD static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                      bp_error *err)
 {
     bp_options o = *opt;
@@ -18107,7 +18125,7 @@ static bp_status bp__pins_relax_free(bp_chart *ch, const bp_mesh *m, const bp_op
 }
 
 /* Step 2: move the pins along d by the largest checked step; 1 if moved. */
-static int bp__pins_move(bp__solver *S, double *x, double *xn, const double *d, uint32_t nv2)
+BP__COLD static int bp__pins_move(bp__solver *S, double *x, double *xn, const double *d, uint32_t nv2)
 {
     double tmax = bp__step_bound(S, x, d, 1 / 0.9), tt = tmax < 1 / 0.9 ? 0.9 * tmax : 1, ed;
     uint32_t i;
@@ -18123,7 +18141,7 @@ static int bp__pins_move(bp__solver *S, double *x, double *xn, const double *d, 
 
 /* Step 1's snapped map into xn and d = target - x; returns the largest
    remaining coordinate distance, *worst its chart vertex. */
-static double bp__pins_snap(const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx, double *xn, double *d,
+BP__COLD static double bp__pins_snap(const bp_chart *ch, const bp_pin *pins, const uint32_t *pidx, double *xn, double *d,
                             uint32_t *worst)
 {
     uint32_t i;
@@ -18145,7 +18163,7 @@ static double bp__pins_snap(const bp_chart *ch, const bp_pin *pins, const uint32
     return dist;
 }
 
-static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+BP__COLD static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                 const uint32_t *pidx, bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
@@ -18198,7 +18216,7 @@ static bp_status bp__pins_reach(bp_chart *ch, const bp_mesh *m, const bp_options
 
 /* bp_chart_optimize holds the pinned vertices where the start map has
    them; the caller's start must have them at their targets. */
-static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
+BP__COLD static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
                                      bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
@@ -18274,7 +18292,7 @@ static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index, const b
        w' = w sqrt(Ca_00),  x' = (Ca_00 x + Ca_01 y) / sqrt(Ca_00),
        y' = det(A) w y / w',  det(A) = (s1 s2)^a.
    Returns log d, the triangle's distortion (0 when not finite: the rest). */
-static double bp__start_triangle(const bp__rest *r, const double *u1, const double *u2, const double *u3,
+BP__COLD static double bp__start_triangle(const bp__rest *r, const double *u1, const double *u2, const double *u3,
                                  double logk, double *out)
 {
     double w = 1 / r->m00, y = 1 / r->m11, x = -r->m01 * w * y;
@@ -18312,7 +18330,7 @@ static double bp__start_triangle(const bp__rest *r, const double *u1, const doub
 /* The references of every triangle (3 above) from the rest shapes rest0
    and the map x: into S's rest shapes (weights kept) and wxy (3 per
    triangle, for the preconditioner); returns the largest log d. */
-static double bp__start_references(bp__solver *S, const bp__rest *rest0, const double *x, double logk, double *wxy)
+BP__COLD static double bp__start_references(bp__solver *S, const bp__rest *rest0, const double *x, double logk, double *wxy)
 {
     double worst = 0;
     uint32_t t;
@@ -18334,7 +18352,7 @@ static double bp__start_references(bp__solver *S, const bp__rest *rest0, const d
    BP__START_ITERS iterations of >>optimize (direction, step bound and
    line search with the exact check) on the energy against the references.
    Only the last accepted, exactly valid map is kept. */
-static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+BP__COLD static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                        bp_error *err)
 {
     bp__opt P;
@@ -18419,7 +18437,7 @@ static void bp__start_cross(const double *p, const double *q, const double *r, d
 
 /* An orthonormal e1, e2 with e1 x e2 = n (unit): e1 the coordinate axis
    least aligned with n, made orthogonal to it; e2 = n x e1. */
-static void bp__start_frame(const double *n, double *e1, double *e2)
+BP__COLD static void bp__start_frame(const double *n, double *e1, double *e2)
 {
     int k, ax = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : fabs(n[1]) <= fabs(n[2]) ? 1 : 2;
     double len;
@@ -18497,7 +18515,7 @@ static int bp__start_planar(const bp_allocator *a, bp_chart *ch, const bp_mesh *
 
 /* The pins' part of a start map: the three necessary conditions, the fit
    (Tutte starts only) and the homotopy. */
-static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp_options *opt,
+BP__COLD static bp_status bp__pins_start(const bp_allocator *a, bp_chart *ch, const bp_mesh *m, const bp_options *opt,
                                 const bp__par *runner, const uint32_t *pidx, bp_error *err)
 {
     bp_status st = bp__pins_distinct(a, ch, opt->pins, pidx, ch->num_pins, err);
@@ -18653,7 +18671,7 @@ BPDEF bp_status bp_chart_init(bp_chart *ch, const bp_mesh *m, const bp_options *
 
 /* The public optimization (opt already read by bp__opts), with the start's
    factor h or NULL. */
-static bp_status bp__chart_optimize_api(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
+BP__COLD static bp_status bp__chart_optimize_api(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
                                         bp__handoff *h, bp_error *err)
 {
     bp_options linked;                                            /* >>progress */
@@ -18678,7 +18696,7 @@ BPDEF bp_status bp_chart_optimize(bp_chart *ch, uint32_t chart_index, const bp_m
 
 /* Both at once (bp__handoff between them).  The same calls as
    bp_chart_init's and bp_chart_optimize's, in the same order. */
-BPDEF bp_status bp_chart_solve(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
+BP__COLD BPDEF bp_status bp_chart_solve(bp_chart *ch, uint32_t chart_index, const bp_mesh *m, const bp_options *opt,
                                bp_error *err)
 {
     bp_options o_;
@@ -18890,7 +18908,7 @@ static int bp__packbox_cmp(const void *pa, const void *pb)
    restore and retry.  A moved map with no count at all is no worse than
    any, so the map as it was is checked only when the moved one has a
    count: one exact check per chart instead of two in the usual case. */
-static bp_status bp__move_chart(const bp_allocator *a, const bp__par *par, bp_chart *ch, const double *lo,
+BP__COLD static bp_status bp__move_chart(const bp_allocator *a, const bp__par *par, bp_chart *ch, const double *lo,
                                 double s, double ox, double oy)
 {
     double *save = (double *)bp__alloc_array(a, 2 * (size_t)ch->num_vertices, sizeof(double));
@@ -18924,7 +18942,7 @@ static bp_status bp__move_chart(const bp_allocator *a, const bp__par *par, bp_ch
 }
 
 /* No fixed resolution: bounding boxes on shelves (the 0.1 packing). */
-static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
+BP__COLD static bp_status bp__pack_shelf(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
 {
     bp_allocator a;
     bp__packbox *bx;
@@ -19385,7 +19403,7 @@ static void bp__occ_free(const bp_allocator *a, bp__occ *O)
     memset(O, 0, sizeof *O);
 }
 
-static bp_status bp__occ_init(const bp_allocator *a, bp__occ *O, int res)
+BP__COLD static bp_status bp__occ_init(const bp_allocator *a, bp__occ *O, int res)
 {
     memset(O, 0, sizeof *O);
     O->res = res;
@@ -19423,7 +19441,7 @@ static void bp__occ_row_masks(bp__occ *O, int y)
 /* Empty atlas: texels [B, res - B) free, where B = O->border; the frame
    of B texels along each edge (the border padding, step 3 of the essay)
    and the spare bits beyond res taken. */
-static void bp__occ_clear(bp__occ *O)
+BP__COLD static void bp__occ_clear(bp__occ *O)
 {
     int y, i, B = O->border;
     for (y = 0; y < O->res; y++) {
@@ -19774,7 +19792,7 @@ static void bp__pack_keep(bp__packer *P)
    as d^2), at least 3% and at most 50% a step; then bisect (geometric
    mean) between the last failure and the first fit to 0.2%.  *d = 0 when
    nothing fits. */
-static bp_status bp__pack_search(bp__packer *P, double *d_out)
+BP__COLD static bp_status bp__pack_search(bp__packer *P, double *d_out)
 {
     double total = 0, hi = 0, lo, d, placed;
     uint32_t i;
@@ -19806,7 +19824,7 @@ static bp_status bp__pack_search(bp__packer *P, double *d_out)
 
 /* Write the final coordinates uv = (L + (x, y)) / RES and check each chart
    exactly.  Returns the index into P->pc of a chart that broke, or n. */
-static bp_status bp__pack_apply(bp__packer *P, double d, uint32_t *broken)
+BP__COLD static bp_status bp__pack_apply(bp__packer *P, double d, uint32_t *broken)
 {
     uint32_t i, v;
     *broken = P->n;
@@ -19952,7 +19970,7 @@ static bp_status bp__pack_outlines(bp_atlas *atlas, const bp_options *opt, const
    The pack stage is reported here, for either packer: at its start and,
    when it succeeded, at its end (>>progress: a cancel does not interrupt
    it). */
-static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
+BP__COLD static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
 {
     bp_options o_;
     bp_status st;
@@ -19980,7 +19998,7 @@ static bp_status bp__pack_all(bp_atlas *atlas, const bp_options *opt, const bp__
    also proves that no two charts overlap.  This should never fail (every
    step was checked); if it does, the caller gets BP_ERR_NOT_BIJECTIVE, not
    a wrong map. */
-static bp_status bp__atlas_verify(const bp_atlas *atlas, const bp__par *par, bp_error *err)
+BP__COLD static bp_status bp__atlas_verify(const bp_atlas *atlas, const bp__par *par, bp_error *err)
 {
     bp_allocator a = atlas->allocator;
     uint32_t c, nt = 0, nv = 0, t, i, *tri, ov = 0, ot = 0;
@@ -20026,7 +20044,7 @@ static bp_status bp__atlas_verify(const bp_atlas *atlas, const bp__par *par, bp_
    one block, to the right of the kept charts' bounding box, so the kept
    and the packed never meet; bp_parameterize's final check proves it.
    Without the barrier nothing is verified (maps may overlap themselves). */
-static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier, const bp__par *par, bp_error *why)
+BP__COLD static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier, const bp__par *par, bp_error *why)
 {
     double **save;
     uint32_t c;
@@ -20041,7 +20059,7 @@ static bp_status bp__pack_kept_ok(bp_atlas *atlas, const int *keep, int barrier,
     return st;
 }
 
-static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
+BP__COLD static bp_status bp__pack_in_place(bp_atlas *atlas, const bp_options *opt, const bp__par *par, bp_error *err)
 {
     bp_allocator a = atlas->allocator;
     int *keep = (int *)bp__calloc_array(&a, atlas->num_charts ? atlas->num_charts : 1, sizeof(int));
@@ -20123,7 +20141,7 @@ static bp__par bp__pack_par(const bp_atlas *atlas, const bp_options *opt, void *
 /* Place the charts side by side without overlap, leaving pinned charts
    (and, without normalize, charts started from their input uvs) where
    they are: see bp__pack_in_place. */
-BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
+BP__COLD BPDEF bp_status bp_atlas_pack(bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
     void *pool;
     bp__par par;
@@ -20546,7 +20564,7 @@ static uint32_t bp__seg_farthest(bp__seg *S, uint32_t from)
    diameter of the chart (two floods: the farthest p from triangle 0, then
    the farthest q from p), then Lloyd's iterations.  Balanced halves: a
    seed at the most deviating normal would often cut off a sliver. */
-static void bp__seg_label_two(bp__seg *S)
+BP__COLD static void bp__seg_label_two(bp__seg *S)
 {
     uint32_t p = bp__seg_farthest(S, 0), q = bp__seg_farthest(S, p), it;
     if (p == q) { S->K = 1; return; }
@@ -20565,7 +20583,7 @@ static void bp__seg_label_two(bp__seg *S)
    (mechanism (b)); a flat region of more than BP__SEG_MOST triangles one at
    its triangle farthest from its seed along the flood, which halves it
    (the most deviating triangle of a flat region may be anywhere). */
-static void bp__seg_label(bp__seg *S, uint32_t kmax, double dev, uint32_t least)
+BP__COLD static void bp__seg_label(bp__seg *S, uint32_t kmax, double dev, uint32_t least)
 {
     uint32_t k, it, round;
     if (kmax > S->cap) kmax = S->cap;
@@ -21005,7 +21023,7 @@ static bp_status bp__seg_options(const bp_options *opt, bp_error *err)
     return BP_OK;
 }
 
-static bp_status bp__seg_mesh_alloc(const bp_allocator *a, bp__seg_mesh *G, const bp_mesh *m, bp_error *err)
+BP__COLD static bp_status bp__seg_mesh_alloc(const bp_allocator *a, bp__seg_mesh *G, const bp_mesh *m, bp_error *err)
 {
     uint32_t t;
     G->glued = (uint32_t *)bp__alloc_array(a, 3 * (size_t)m->num_triangles, sizeof(uint32_t));
@@ -21050,7 +21068,7 @@ static bp_status bp__seg_chart(bp_atlas *atlas, uint32_t c, const bp_mesh *m, co
    grown into charts of bounded normal deviation, before the solve.  With
    opt.max_charts the extra charts are shared among the charts in
    proportion to their 3D area. */
-BPDEF bp_status bp_atlas_segment(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+BP__COLD BPDEF bp_status bp_atlas_segment(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_options o_;
     bp_status st;
@@ -21111,7 +21129,7 @@ static int bp__seg_too_high(const bp_atlas *atlas, uint32_t c, const bp_mesh *m,
     return !(mean <= opt->max_distortion);
 }
 
-static bp_status bp__seg_reoptimize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, const uint32_t *list,
+BP__COLD static bp_status bp__seg_reoptimize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, const uint32_t *list,
                                     uint32_t n, bp_error *err)
 {
     bp_allocator a = atlas->allocator;
@@ -21139,7 +21157,7 @@ static bp_status bp__seg_reoptimize(bp_atlas *atlas, const bp_mesh *m, const bp_
    in two and optimizing the pieces again, until every chart meets the
    bound, the count reaches opt.max_charts, or no chart can be split.
    A cancel stops the rounds; every map stays valid. */
-BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+BP__COLD BPDEF bp_status bp_atlas_refine(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_options o_;
     bp_status st;
@@ -21692,7 +21710,7 @@ static bp_status bp__vis_run(const bp_mesh *m, const bp_options *opt, const doub
     return BP_OK;
 }
 
-BPDEF bp_status bp_visibility(const bp_mesh *m, const bp_options *opt, double *out, bp_error *err)
+BP__COLD BPDEF bp_status bp_visibility(const bp_mesh *m, const bp_options *opt, double *out, bp_error *err)
 {
     bp_status st;
     uint32_t t;
@@ -21718,7 +21736,7 @@ BPDEF bp_status bp_visibility(const bp_mesh *m, const bp_options *opt, double *o
     return bp__ok(err);
 }
 
-BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, const bp_options *opt,
+BP__COLD BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, const bp_options *opt,
                                      double *mean_det, bp_error *err)
 {
     bp_options o_;
@@ -21799,7 +21817,7 @@ BPDEF bp_status bp_texture_to_screen(const bp_mesh *m, const bp_atlas *atlas, co
    and the packing (bp_atlas_pack, >>pack), then one exact check of the
    whole atlas (bp__atlas_verify). */
 
-BPDEF void bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *why)
+BP__COLD BPDEF void bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *why)
 {
     bp_chart *ch;
     if (!atlas || chart >= atlas->num_charts) return;
@@ -21813,7 +21831,7 @@ BPDEF void bp_atlas_fail_chart(bp_atlas *atlas, uint32_t chart, const bp_error *
 
 /* --repack: a chart's map is the file's own (vt) texture coordinates, taken
    only when they are exactly bijective (the same check as every result). */
-static bp_status bp__input_map(bp_atlas *atlas, uint32_t c, const bp_mesh *m, bp_error *why)
+BP__COLD static bp_status bp__input_map(bp_atlas *atlas, uint32_t c, const bp_mesh *m, bp_error *why)
 {
     bp_allocator a = atlas->allocator;
     bp_chart *ch = &atlas->charts[c];
@@ -21857,7 +21875,7 @@ static bp_status bp__input_map(bp_atlas *atlas, uint32_t c, const bp_mesh *m, bp
                     "nesting problems)", c, rep.loop_orientation, rep.nested);
 }
 
-BPDEF bp_status bp_atlas_use_input_uvs(bp_atlas *atlas, const bp_mesh *m, bp_error *err)
+BP__COLD BPDEF bp_status bp_atlas_use_input_uvs(bp_atlas *atlas, const bp_mesh *m, bp_error *err)
 {
     uint32_t c;
     if (!atlas || !atlas->charts || !m)
@@ -21927,7 +21945,7 @@ static int bp__split_start(const bp__chart_job *J, const bp_chart *ch)
     return mean > BP__SPLIT_E0;
 }
 
-static void bp__chart_task(void *task, uint32_t i)
+BP__COLD static void bp__chart_task(void *task, uint32_t i)
 {
     bp__chart_job *J = (bp__chart_job *)task;
     uint32_t c = J->list ? J->list[i] : i;
@@ -21976,7 +21994,7 @@ static void bp__chart_task(void *task, uint32_t i)
    of memory, and in strict mode any failure, end the call (returned with
    err).  Otherwise the result is BP_OK or BP_ERR_CANCELLED (err: the first
    cancelled chart). */
-static bp_status bp__collect(bp_atlas *atlas, const bp__chart_job *J, int strict, bp_error *err)
+BP__COLD static bp_status bp__collect(bp_atlas *atlas, const bp__chart_job *J, int strict, bp_error *err)
 {
     bp_status st = BP_OK;
     uint32_t c;
@@ -22005,7 +22023,7 @@ static bp_status bp__collect(bp_atlas *atlas, const bp__chart_job *J, int strict
    (BP__PAR_MIN_TRIANGLES or more) go one after the other, their loops (see
    >>threads) in parallel, and then the small ones are the parallel tasks.
    Either way each chart's result is bit-identical to a serial solve. */
-static void bp__solve_list(bp__chart_job *J, const bp__par *par, uint32_t *list, uint32_t n, uint64_t total)
+BP__COLD static void bp__solve_list(bp__chart_job *J, const bp__par *par, uint32_t *list, uint32_t n, uint64_t total)
 {
     bp__par serial = bp__par_serial();
     uint32_t i, j, largest = 0, ns = 0;
@@ -22046,7 +22064,7 @@ static void bp__solve_list(bp__chart_job *J, const bp__par *par, uint32_t *list,
 /* The charts J marked to split (see above), split in chart order; the
    list becomes them and their new pieces.  Returns the list's length, or
    BP__NONE when out of memory (err set). */
-static uint32_t bp__split_marked(bp__chart_job *J, const bp_options *opt, bp__seg_mesh *G, uint32_t **list,
+BP__COLD static uint32_t bp__split_marked(bp__chart_job *J, const bp_options *opt, bp__seg_mesh *G, uint32_t **list,
                                  uint64_t *total, bp_error *err)
 {
     bp_atlas *at = J->atlas;
@@ -22075,7 +22093,7 @@ static uint32_t bp__split_marked(bp__chart_job *J, const bp_options *opt, bp__se
 /* One round of splits: the charts marked (none: *n = 0, the rounds end)
    split, the marks, statuses and errors grown with the pieces, and the
    list to solve next in *list, *n. */
-static bp_status bp__split_round(bp__chart_job *J, const bp_options *opt, const bp_mesh *m, bp__seg_mesh *G,
+BP__COLD static bp_status bp__split_round(bp__chart_job *J, const bp_options *opt, const bp_mesh *m, bp__seg_mesh *G,
                                  uint32_t **list, uint32_t *n, uint64_t *total, bp_error *err)
 {
     bp_atlas *atlas = J->atlas;
@@ -22110,7 +22128,7 @@ static bp_status bp__split_round(bp__chart_job *J, const bp_options *opt, const 
    splitting the charts marked, and solving their pieces.  One pool serves
    the whole call, and none is started when neither way would use it (one
    small chart).  Returns as bp__collect. */
-static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+BP__COLD static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_allocator a = atlas->allocator;
     bp__par par;
@@ -22173,7 +22191,7 @@ static bp_status bp__solve_charts(bp_atlas *atlas, const bp_mesh *m, const bp_op
 
 /* Start map and optimization of every chart, the charts in parallel when
    there are several (bp_parameterize's solve, >>driver). */
-BPDEF bp_status bp_atlas_solve(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+BP__COLD BPDEF bp_status bp_atlas_solve(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_options o_, ro;
     bp__run run;
@@ -22200,7 +22218,7 @@ BPDEF bp_status bp_atlas_solve(bp_atlas *atlas, const bp_mesh *m, const bp_optio
    near 1e-308, overflow near 1e308); then the chart fails with
    BP_ERR_NUMERICAL instead of carrying a map that is not the solved one.
    Meshes of ordinary size are solved as given, bit for bit. */
-static bp_status bp__rescaled_mesh(const bp_allocator *a, const bp_mesh *m, bp_mesh *ms, int *k, bp_error *err)
+BP__COLD static bp_status bp__rescaled_mesh(const bp_allocator *a, const bp_mesh *m, bp_mesh *ms, int *k, bp_error *err)
 {
     bp__mesh_scale sc;
     size_t i;
@@ -22219,7 +22237,7 @@ static bp_status bp__rescaled_mesh(const bp_allocator *a, const bp_mesh *m, bp_m
 /* The user's uv-space inputs follow the rescaled copy: pin targets and
    input uvs are scaled by 2^k too (exact in the normal range), so they come
    back bit for bit with the map. */
-static bp_status bp__rescale_controls(const bp_allocator *a, bp_options *o, bp_mesh *ms, int k, bp_pin **pins,
+BP__COLD static bp_status bp__rescale_controls(const bp_allocator *a, bp_options *o, bp_mesh *ms, int k, bp_pin **pins,
                                       double **uvs, bp_error *err)
 {
     size_t i;
@@ -22243,7 +22261,7 @@ static bp_status bp__rescale_controls(const bp_allocator *a, bp_options *o, bp_m
 }
 
 /* The map of the rescaled copy, back in the mesh's units (see above). */
-static void bp__unscale_atlas(bp_atlas *atlas, int k, int normalized)
+BP__COLD static void bp__unscale_atlas(bp_atlas *atlas, int k, int normalized)
 {
     uint32_t c, i;
     for (c = 0; c < atlas->num_charts; c++) {
@@ -22271,7 +22289,7 @@ static void bp__unscale_atlas(bp_atlas *atlas, int k, int normalized)
 /* The whole pipeline.  Its failure rule (CONVENTIONS): BP_ERR_CHARTS_FAILED
    and BP_ERR_CANCELLED keep the atlas -- every chart a valid map or a
    reported failure, packed and verified -- and any other error frees it. */
-BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
+BP__COLD BPDEF bp_status bp_parameterize(bp_atlas *atlas, const bp_mesh *m, const bp_options *opt, bp_error *err)
 {
     bp_status st;
     bp_allocator a;
