@@ -354,7 +354,7 @@ def start_competitors(n):
     # started with setsid, like work started from another terminal or job:
     # Linux's autogroup scheduler then shares the cores between them and
     # the tool's group
-    return [subprocess.Popen([sys.executable, "-c", code], start_new_session=True) for _ in range(n)]
+    return [subprocess.Popen([sys.executable, "-c", code], preexec_fn=os.setsid) for _ in range(n)]
 
 
 def stop_competitors(procs):
