@@ -1017,8 +1017,8 @@ BPDEF void      bp_mesh_view_free(bp_mesh *mesh, const bp_mesh_view *view, const
    exact check of a 1M mesh, visibility), or when it has at most ten lines
    (a call from a hot loop must stay inlinable).  The bits do not change:
    -Og, like -O2, keeps every floating-point operation as written. */
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 5 && defined(__OPTIMIZE__) && \
-    !defined(__OPTIMIZE_SIZE__)
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__INTEL_COMPILER) && __GNUC__ >= 5 && \
+    defined(__OPTIMIZE__) && !defined(__OPTIMIZE_SIZE__)
 #define BP__COLD __attribute__((optimize("Og")))
 #else
 #define BP__COLD
