@@ -11,7 +11,7 @@
 #   make check        the long suite: the tests with a short form in make test
 #                     in full (test_threads, test_newton, test_start,
 #                     test_segment, test_visibility, test_sparse,
-#                     test_energy, test_readme.sh), the compile matrix (tests/test_compile.sh),
+#                     test_energy, test_tutte, test_readme.sh), the compile matrix (tests/test_compile.sh),
 #                     every combination of the opt-out macros built as C
 #                     and C++ (tests/test_build_matrix.sh),
 #                     the tool cross-built for Windows (run under wine) and
@@ -112,7 +112,7 @@ LONG_FIRST := tests/test_python.sh $(addprefix $(BUILD)/tests/,test_visibility t
 # form in make check.
 FULL_IN_CHECK := $(BUILD)/tests/test_threads $(BUILD)/tests/test_newton $(BUILD)/tests/test_start \
                  $(BUILD)/tests/test_segment $(BUILD)/tests/test_visibility $(BUILD)/tests/test_sparse \
-                 $(BUILD)/tests/test_energy tests/test_readme.sh
+                 $(BUILD)/tests/test_energy $(BUILD)/tests/test_tutte tests/test_readme.sh
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
@@ -186,11 +186,12 @@ test: deps-test
 # (five meshes, 300 iterations, 1-8 threads, visibility; quick: bishop and
 # spot), test_newton (lucy, beetle, camelhead 3 x 3, camelhead's allocator
 # fallback), test_start (camelhead's progressive start), test_segment (the
-# split's allocation sweep at every allocation, the 65,712-triangle
-# sphere's twins), test_visibility (20000 rays against brute force, every
+# refine's and the split's allocation sweeps at every allocation, the
+# 65,712-triangle sphere's twins), test_visibility (20000 rays against brute force, every
 # view model on the cow), test_sparse (the 100 x 100 grid against the scalar
 # factorization), test_energy (twice the coordinates of camel_b's chart
-# against finite differences) and test_readme.sh (the example built six
+# against finite differences), test_tutte (the Krylov solve, the phases and
+# BiCGSTAB on horse_cut too) and test_readme.sh (the example built six
 # ways).
 check: deps-check
 	@mkdir -p $(BUILD)/logs/check
