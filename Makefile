@@ -116,7 +116,7 @@ FULL_IN_CHECK := $(BUILD)/tests/test_threads $(BUILD)/tests/test_newton $(BUILD)
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-build bench-pack bench-scale bench-atlas bench-scaf bench-direction bench-start bench-threads bench-pool bench-generated python bench-python clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-build bench-pack bench-scale bench-atlas bench-scaf bench-direction bench-start bench-threads bench-pool bench-cold bench-generated python bench-python clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -305,6 +305,11 @@ POOL_MESHES = $(addprefix tests/data/,face_holes.off mech-holes-shark.off camelh
 # (BP_NO_ macros), gcc and clang -O2: a table and build/bench/build.json
 bench-build: bijparam.h bench/build.sh
 	bash bench/build.sh
+
+# which functions BP__COLD should mark: perf over every mesh of tests/data
+# and the generated meshes (bench/cold.py; needs linux-perf, ~3 min)
+bench-cold: bijparam.h bench/cold.py
+	python3 bench/cold.py
 
 bench-pool: bijparam.h bench/pool_bench.c
 	mkdir -p $(BUILD)/bench/pool

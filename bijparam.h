@@ -1015,13 +1015,16 @@ BPDEF void      bp_mesh_view_free(bp_mesh *mesh, const bp_mesh_view *view, const
    time of some benchmark (every mesh of tests/data plain and with an
    atlas, the charts of bench-scaf, generated meshes of 400K faces, the
    exact check of a 1M mesh, visibility), or when it has at most ten lines
-   (a call from a hot loop must stay inlinable).  The bits do not change:
+   (a call from a hot loop must stay inlinable); make bench-cold lists
+   where the marks and this rule disagree.  The bits do not change:
    -Og, like -O2, keeps every floating-point operation as written. */
+#ifndef BP__COLD       /* bench/cold.py defines it empty to profile */
 #if defined(__GNUC__) && !defined(__clang__) && !defined(__INTEL_COMPILER) && __GNUC__ >= 5 && \
     defined(__OPTIMIZE__) && !defined(__OPTIMIZE_SIZE__)
 #define BP__COLD __attribute__((optimize("Og")))
 #else
 #define BP__COLD
+#endif
 #endif
 /* The dense kernels of the supernodal factorization on AVX registers
    (>>sparse), x86-64 with GCC or Clang only, the processor asked at run
@@ -4774,7 +4777,7 @@ BP__COLD static size_t bp__v_line(const void *ctx, uint32_t i, char *dst)
     return n;
 }
 
-BP__COLD static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
+static bp_status bp__write_obj(const char *path, const bp_mesh *mesh,
                                const bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
     bp__out o;
@@ -5177,7 +5180,7 @@ BP__COLD static void bp__rewrite_head(bp__rewriter *r)
 
 /* The pass: copy, drop or rewrite each line; after the new vt block, on
    the writer's threads when it has them (above). */
-BP__COLD static bp_status bp__rewrite_obj(bp__rewriter *r)
+static bp_status bp__rewrite_obj(bp__rewriter *r)
 {
     bp__parser *ps = &r->ps;
     bp_status st = BP_OK;
@@ -5193,7 +5196,7 @@ BP__COLD static bp_status bp__rewrite_obj(bp__rewriter *r)
     return st;
 }
 
-BP__COLD static bp_status bp__write_obj_from(const char *path, const char *source, const bp_mesh *mesh,
+static bp_status bp__write_obj_from(const char *path, const char *source, const bp_mesh *mesh,
                                     const bp_atlas *atlas, const bp_options *opt, bp_error *err)
 {
     bp__rewriter r;
@@ -6367,7 +6370,7 @@ static void bp__corners_of_copies(bp__build *b, bp_atlas *atlas, const bp_mesh *
 
 /* Corners of the glued mesh m = b->fm -> corners of the user's mesh: the
    copies as above; a flipped triangle's corners 1 and 2 swap back. */
-BP__COLD static void bp__corners_to_mesh(bp__build *b, bp_atlas *atlas, const bp_mesh *m)
+static void bp__corners_to_mesh(bp__build *b, bp_atlas *atlas, const bp_mesh *m)
 {
     uint32_t t, nt = m->num_triangles;
     bp__corners_of_copies(b, atlas, m);
@@ -6520,7 +6523,7 @@ static bp_status bp__make_charts(const bp_allocator *a, bp__build *b, bp_atlas *
 /* The pinches among one mesh vertex's chart vertices k[0, n), in chart
    order: within each chart, the vertices whose uv an earlier one has
    (qsort for a chart of more than 32 of them at one mesh vertex). */
-BP__COLD static void bp__pinches_at(bp_atlas *atlas, bp__vkey *k, uint32_t n)
+static void bp__pinches_at(bp_atlas *atlas, bp__vkey *k, uint32_t n)
 {
     uint32_t i, j, e;
     for (i = 0; i < n; i = e) {
@@ -8797,7 +8800,7 @@ typedef struct bp__sym_task {
 /* Row k's subtree counted into the column counts: cnt[j]++ for every j on
    the paths from k's neighbours j < k up to k (bp__row_subtree without
    the list). */
-static void bp__row_count(const bp__sparse *A, const bp__factor *F, const uint32_t *parent, uint32_t *mark, uint32_t k,
+BP__COLD static void bp__row_count(const bp__sparse *A, const bp__factor *F, const uint32_t *parent, uint32_t *mark, uint32_t k,
                           uint32_t *cnt)
 {
     uint32_t old = F->perm[k], p, j;
@@ -8821,7 +8824,7 @@ static void bp__sym_range(const bp__sym_task *T, uint32_t t, uint32_t *k0, uint3
 
 /* Task t: the etree and the column counts of its rows, row by row (row
    k's subtree needs parent[] only below k, set by rows up to k). */
-static void bp__sym_counts_task(void *task, uint32_t t)
+BP__COLD static void bp__sym_counts_task(void *task, uint32_t t)
 {
     bp__sym_task *T = (bp__sym_task *)task;
     uint32_t k, k0, k1;
@@ -9417,7 +9420,7 @@ static void bp__dense_run(void *task, uint32_t t)
     if (t == 0 && T->q2) bp__super_panel_tri(T->B, T->c2, T->q1, T->q2, T->D, T->inv);
 }
 
-static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv, const bp__par *par)
+BP__COLD static void bp__super_dense(bp__factor *F, uint32_t s, double *B, double *inv, const bp__par *par)
 {
     const bp__super *S = F->sn;
     uint32_t f = S->first[s], c2 = S->bs * (S->first[s + 1] - f), m2 = S->bs * (S->rp[s + 1] - S->rp[s]), parts = 1, r;
@@ -9569,7 +9572,7 @@ static void bp__super_run(void *task, uint32_t t)
    BP__SUPER_PIECES pieces: a supernode of nc vertices is cut into
    min(nc / 8, 8) column ranges (at least one) of about equal work, the
    column vertex j of m rows counting m - j. */
-static uint32_t bp__super_cut(bp__super_task *T, const bp__par *par, uint32_t s, uint32_t k0, uint32_t n)
+BP__COLD static uint32_t bp__super_cut(bp__super_task *T, const bp__par *par, uint32_t s, uint32_t k0, uint32_t n)
 {
     const bp__super *S = T->F->sn;
     uint32_t f = S->first[s], nc = S->first[s + 1] - f, m = S->rp[s + 1] - S->rp[s], parts = nc / 8, r, j = 0;
@@ -11260,7 +11263,7 @@ typedef struct bp__loops {
     double    *box;          /* 4 per loop */
 } bp__loops;
 
-BP__COLD static int bp__loops_trace(const bp__dedge *de, uint32_t nb, uint32_t *out, uint32_t *loop_of, bp__loops *Lp,
+static int bp__loops_trace(const bp__dedge *de, uint32_t nb, uint32_t *out, uint32_t *loop_of, bp__loops *Lp,
                            bp_check_report *rep, bp__check_first *first)
 {
     uint32_t i, pos = 0;
@@ -11360,7 +11363,7 @@ BP__COLD static void bp__loops_nested(const double *uv, const bp__loops *Lp, bp_
    hole loop running counter-clockwise around a doubly covered region, pass
    (a) and (b) and fail these.  piece: the union-find of the connected
    pieces over the nv vertices (bp__check_pieces), read and compressed. */
-BP__COLD static bp_status bp__loop_topology(const bp_allocator *a, const double *uv, uint32_t nv, uint32_t *piece,
+static bp_status bp__loop_topology(const bp_allocator *a, const double *uv, uint32_t nv, uint32_t *piece,
                                    const bp__dedge *de, uint32_t nb, bp_check_report *rep, bp__check_first *first)
 {
     uint32_t *out, *loop_of, i;
@@ -11896,7 +11899,7 @@ BP__COLD static bp_status bp__check_verdict(const uint32_t *tris, uint32_t nt, c
    needed, and (a) again on it; the precondition and the boundary edges
    (2.) with the pieces (3.); (b); (c) and (d); the verdict.  The same
    report, error and status as bp_check for any runner. */
-BP__COLD static bp_status bp__check_par(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
+static bp_status bp__check_par(const uint32_t *tris, uint32_t nt, const double *uv, uint32_t nv,
                                const bp_allocator *alloc, const bp__par *par, bp_check_report *rep, bp_error *err)
 {
     bp_allocator a;
@@ -12690,7 +12693,7 @@ static void bp__krylov_spmv(bp__krylov_task *K, const bp__par *par, const double
 
 /* A's rows (rp, ci, rv), columns increasing: a counting sort of the
    columns' entries in column order.  0 out of memory. */
-BP__COLD static int bp__sparse_rows(const bp_allocator *a, const bp__sparse *A, uint32_t **rp, uint32_t **ci, double **rv)
+static int bp__sparse_rows(const bp_allocator *a, const bp__sparse *A, uint32_t **rp, uint32_t **ci, double **rv)
 {
     uint32_t n = A->n, j, p, nnz = A->colp[n], *cur;
     *rp = (uint32_t *)bp__calloc_array(a, (size_t)n + 1, sizeof(uint32_t));
@@ -12727,7 +12730,7 @@ static int bp__krylov_done(bp__krylov_task *K, const bp__par *par, const double 
 /* Right-preconditioned BiCGSTAB for both coordinates (b, x: 2n
    interleaved; x starts at 0).  Returns the iterations taken, -1 when it
    did not converge (breakdown or BP__KRYLOV_ITERS), -2 out of memory. */
-BP__COLD static int bp__tutte_bicgstab(const bp_allocator *a, const bp__sparse *A, const bp__factor *K, const bp__par *par,
+static int bp__tutte_bicgstab(const bp_allocator *a, const bp__sparse *A, const bp__factor *K, const bp__par *par,
                               const double *b, double *x, double *rel)
 {
     size_t n = A->n, i, m = 2 * n;
@@ -12795,7 +12798,7 @@ done:
    T->sol (x then y).  Returns 1 when it converged, 0 when it did not (the
    LU serves), -1 out of memory (reported as such: a failed allocation is
    never hidden by the fallback). */
-BP__COLD static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *runner)
+static int bp__tutte_krylov(const bp_allocator *a, bp__tutte *T, const bp__par *runner)
 {
     bp__sparse M, As = T->A;
     bp__factor K;
@@ -13700,7 +13703,7 @@ static void bp__cschur_free(const bp_allocator *a, bp__cschur *Z)
 /* B (the loops' vertices but the two held ones) in Z->bidx and its size;
    the order: the dissection's with B moved to the end (in the order's
    sequence), its tree with the root's range stretched over B. */
-BP__COLD static void bp__cschur_order(bp__cschur *Z, const bp_chart *ch, const uint32_t *held, const uint32_t *order,
+static void bp__cschur_order(bp__cschur *Z, const bp_chart *ch, const uint32_t *held, const uint32_t *order,
                              const bp__ndnode *tree)
 {
     uint32_t j, k, v, m = 0;
@@ -13903,7 +13906,7 @@ BP__COLD static void bp__cschur_solve(bp__cschur *Z, const double *rhs, bp_chart
 /* The conformal map (unscaled) into ch->uv by the Schur complement.
    Returns 1, 0 when not taken (too many boundary vertices, a pivot not
    positive: the 2x2 factorization then serves), -1 out of memory. */
-BP__COLD static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp_chart *ch, const bp__par *par,
+static int bp__conformal_schur(const bp_allocator *a, const bp__conformal *C, bp_chart *ch, const bp__par *par,
                                const uint32_t *order, const bp__ndnode *tree)
 {
     bp__cschur Z;
@@ -15049,7 +15052,7 @@ static void bp__gather_task(void *task, uint32_t c)
      2. the per-vertex gradient gather, E_B over edge chunks and, for a
         trial point, the orientation chunks and the exact boundary check
         (one task). */
-static double bp__evaluate(bp__solver *S, const double *x, double *g, double *ed, double fmax, int *valid)
+BP__COLD static double bp__evaluate(bp__solver *S, const double *x, double *g, double *ed, double fmax, int *valid)
 {
     bp__eval_task T;
     bp__groups G;
@@ -15969,7 +15972,7 @@ BP__COLD static void bp__newton_keep_order(bp__newton *N, const bp_allocator *a)
 /* The extra pairs by vertex: xp[v] .. xp[v+1] index v's other ends in xl
    (each pair (u, w) lists w under u and u under w).  Returns 0 out of
    memory. */
-BP__COLD static int bp__pattern_extra(const bp_allocator *a, const bp__newton *N, uint32_t nv, uint32_t **xp_out, uint32_t **xl_out)
+static int bp__pattern_extra(const bp_allocator *a, const bp__newton *N, uint32_t nv, uint32_t **xp_out, uint32_t **xl_out)
 {
     const uint32_t *ex = (const uint32_t *)N->extra.data;
     size_t e, ne = N->extra.count;
@@ -16066,7 +16069,7 @@ BP__COLD static bp_status bp__newton_init(bp__newton *N, const bp_allocator *a, 
    the pattern is rebuilt (a new ordering and symbolic analysis).  The
    pattern only grows, and the pairs settle after the first iterations, so
    this happens a few times per chart.  Returns 0 out of memory. */
-BP__COLD static int bp__newton_grow(bp__newton *N, bp__solver *S)
+static int bp__newton_grow(bp__newton *N, bp__solver *S)
 {
     const bp__bnear *pr = (const bp__bnear *)N->near.data;
     size_t k, before = N->extra.count;
@@ -16312,7 +16315,7 @@ BP__COLD static void bp__newton_pins(bp__newton *N, const bp__solver *S)
 /* K1's pattern from H's: H is in whole 2x2 blocks with sorted rows, so
    its column 2v lists 2u, 2u + 1 for each vertex u coupled to v.
    Returns 0 out of memory. */
-static int bp__newton_iso_pattern(bp__newton *N, const bp_allocator *a)
+BP__COLD static int bp__newton_iso_pattern(bp__newton *N, const bp_allocator *a)
 {
     const bp__sparse *H = &N->H;
     bp__sparse *K = &N->K1;
@@ -16909,7 +16912,7 @@ typedef struct bp__lap_task {
     double diag;                  /* sum of K's diagonal, before the regularizer */
 } bp__lap_task;
 
-static void bp__lap_weights(void *task, uint32_t c)
+BP__COLD static void bp__lap_weights(void *task, uint32_t c)
 {
     bp__lap_task *T = (bp__lap_task *)task;
     uint32_t f, f1 = bp__chunk_at(T->S->nt, T->S->nchunk_t, c + 1);
@@ -18292,7 +18295,7 @@ BP__COLD static bp_status bp__pins_at_targets(bp_chart *ch, uint32_t chart_index
        w' = w sqrt(Ca_00),  x' = (Ca_00 x + Ca_01 y) / sqrt(Ca_00),
        y' = det(A) w y / w',  det(A) = (s1 s2)^a.
    Returns log d, the triangle's distortion (0 when not finite: the rest). */
-BP__COLD static double bp__start_triangle(const bp__rest *r, const double *u1, const double *u2, const double *u3,
+static double bp__start_triangle(const bp__rest *r, const double *u1, const double *u2, const double *u3,
                                  double logk, double *out)
 {
     double w = 1 / r->m00, y = 1 / r->m11, x = -r->m01 * w * y;
@@ -18330,7 +18333,7 @@ BP__COLD static double bp__start_triangle(const bp__rest *r, const double *u1, c
 /* The references of every triangle (3 above) from the rest shapes rest0
    and the map x: into S's rest shapes (weights kept) and wxy (3 per
    triangle, for the preconditioner); returns the largest log d. */
-BP__COLD static double bp__start_references(bp__solver *S, const bp__rest *rest0, const double *x, double logk, double *wxy)
+static double bp__start_references(bp__solver *S, const bp__rest *rest0, const double *x, double logk, double *wxy)
 {
     double worst = 0;
     uint32_t t;
@@ -18352,7 +18355,7 @@ BP__COLD static double bp__start_references(bp__solver *S, const bp__rest *rest0
    BP__START_ITERS iterations of >>optimize (direction, step bound and
    line search with the exact check) on the energy against the references.
    Only the last accepted, exactly valid map is kept. */
-BP__COLD static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
+static bp_status bp__start_progressive(bp_chart *ch, const bp_mesh *m, const bp_options *opt, const bp__par *runner,
                                        bp_error *err)
 {
     bp__opt P;
@@ -18644,7 +18647,7 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
 /* The public entry point: the factorization's rows run on the threads of
    opt (a pool for this call) when the chart is large enough to gain
    (BP__PAR_MIN_TRIANGLES, see >>threads). */
-static bp_status bp__chart_start(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp__handoff *h,
+BP__COLD static bp_status bp__chart_start(bp_chart *ch, const bp_mesh *m, const bp_options *opt, bp__handoff *h,
                                  bp_error *err)
 {
     bp_allocator a = bp__allocator_of(opt);
@@ -19441,7 +19444,7 @@ static void bp__occ_row_masks(bp__occ *O, int y)
 /* Empty atlas: texels [B, res - B) free, where B = O->border; the frame
    of B texels along each edge (the border padding, step 3 of the essay)
    and the spare bits beyond res taken. */
-BP__COLD static void bp__occ_clear(bp__occ *O)
+static void bp__occ_clear(bp__occ *O)
 {
     int y, i, B = O->border;
     for (y = 0; y < O->res; y++) {
