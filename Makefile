@@ -9,9 +9,8 @@
 #                     program's output in full, every output in build/logs/,
 #                     last line "N passed, M failed"
 #   make check        the long suite: the tests with a short form in make test
-#                     in full (test_threads, test_newton, test_start,
-#                     test_segment, test_visibility, test_sparse,
-#                     test_energy, test_tutte, test_readme.sh), the compile matrix (tests/test_compile.sh),
+#                     in full (FULL_IN_CHECK below), the compile matrix
+#                     (tests/test_compile.sh),
 #                     every combination of the opt-out macros built as C
 #                     and C++ (tests/test_build_matrix.sh),
 #                     the tool cross-built for Windows (run under wine) and
@@ -133,9 +132,9 @@ $(BUILD)/examples/%: examples/%.c $(HEADERS)
 # The C tests: -DBP_STATIC, so that what a test never calls is not
 # compiled, and -Og instead of -O2: a third of the compile time, about -O1's
 # run time.  The tool builds the whole header at CFLAGS; test_openmesh.cpp
-# builds the whole header as C++ at -Og (17 -> 6 s of CPU; it runs in half a
-# second): g++ -O2 of the whole header, warnings as errors, is
-# tests/test_compile.sh's in make check.
+# builds the whole header as C++ at -Og (a third of -O2's compile time; it
+# runs in half a second): g++ -O2 of the whole header, warnings as errors,
+# is tests/test_compile.sh's in make check.
 TEST_CFLAGS ?= $(patsubst -O2,-Og,$(CFLAGS))
 TEST_CXXFLAGS ?= $(patsubst -O2,-Og,$(CXXFLAGS))
 # The tests that run in a fraction of a second are built at -O0: a third

@@ -82,7 +82,7 @@ calls=("BP_NO_IO|bp_mesh m; (void)bp_parse_obj(\"v 0 0 0\", 7, &m, 0, 0)"
 if $CC -std=c99 $WARN -I"$ROOT" -fsyntax-only "$TMP/calls.c" 2>"$TMP/calls.log"; then
     for macro in BP_NO_IO BP_NO_VISIBILITY BP_NO_ATLAS; do
         $CC -std=c99 $WARN -D"$macro" -I"$ROOT" -fsyntax-only "$TMP/calls.c" >"$TMP/$macro.log" 2>&1
-        line=5
+        line=$(grep -n -m1 '^    { ' "$TMP/calls.c" | cut -d: -f1)   # the first call's
         for c in "${calls[@]}"; do
             if [ "${c%%|*}" = "$macro" ]; then
                 if grep -q "calls\.c:$line:[0-9]*: error" "$TMP/$macro.log"; then
