@@ -90,6 +90,9 @@
                             (x86-64, GCC/Clang, chosen at run time; they give
                             the same bits as the plain C loops, >>sparse)
       BP_NO_STDIO           leave out file reading/writing (no <stdio.h>)
+      BP_SMALL              1: compile for size (GCC: -Os, the inner loops
+                            at -O2; the same bits); default 1 in the core
+                            library below, 0 elsewhere (>>config)
 
    Opt-out parts.  Each removes its code and its public declarations whole;
    an option that needs a left-out part fails with BP_ERR_UNSUPPORTED and a
@@ -118,8 +121,9 @@
 
    Without Newton every chart takes the preconditioned L-BFGS, and
    BP_INIT_AUTO tries the conformal start below 100,000 triangles only.
-   BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY is the core library;
-   `make bench-build` measures each configuration's compile time and size.
+   BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY is the core library, compiled
+   for size by default (BP_SMALL); `make bench-build` measures each
+   configuration's compile time and size.
 
    CONVENTIONS
    -----------
@@ -1005,22 +1009,53 @@ BPDEF void      bp_mesh_view_free(bp_mesh *mesh, const bp_mesh_view *view, const
 #pragma GCC push_options
 #pragma GCC optimize("fp-contract=off")
 #endif
-/* BP__COLD: code outside the inner loops, compiled for compile time.
-   GCC's time on this header is its optimizer's, spread evenly over the
-   code, and much of the code runs once per mesh or per chart (set-up,
-   error paths, reports, rare repairs).  A function marked BP__COLD is
-   compiled at -Og when the caller asks GCC for -O1 or more, and at the
-   caller's level otherwise (Clang, -O0, -Os).  A function stays unmarked
-   when it, with what is inlined into it, holds 0.1% or more of the run
-   time of some benchmark (every mesh of tests/data plain and with an
-   atlas, the charts of bench-scaf, generated meshes of 400K faces, the
-   exact check of a 1M mesh, visibility), or when it has at most ten lines
-   (a call from a hot loop must stay inlinable); make bench-cold lists
-   where the marks and this rule disagree.  The bits do not change:
-   -Og, like -O2, keeps every floating-point operation as written. */
+/* BP_SMALL: the implementation compiled for size.  The core library
+   (BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY) is for constrained builds,
+   so it defaults to 1 there and to 0 elsewhere.  With it, GCC at -O1 or
+   more (or -Og, which the preprocessor cannot tell apart) compiles the
+   implementation at -Os, except the functions marked BP__HOT: those that
+   hold 1% or more of the core's run time on some mesh of tests/data (the
+   inner loops: energy, step bound, barrier hash, the sparse factorization
+   and its solves, the exact check's orientation), and every helper that
+   -O2 inlines into them, for GCC does not inline a function compiled at
+   another level.  The core's text shrinks by a quarter at the same run
+   time.  In the whole library the Newton kernels would run a third
+   slower at -Os, so there it is the caller's choice.  BP__COLD (below)
+   then marks nothing: cold code is compiled for size too.  The
+   bits do not change: -Os keeps every floating-point operation as
+   written. */
+#ifndef BP_SMALL
+#if defined(BP_NO_NEWTON) && defined(BP_NO_ATLAS) && defined(BP_NO_VISIBILITY)
+#define BP_SMALL 1
+#else
+#define BP_SMALL 0
+#endif
+#endif
+#if BP_SMALL && defined(__GNUC__) && !defined(__clang__) && !defined(__INTEL_COMPILER) && __GNUC__ >= 5 && \
+    defined(__OPTIMIZE__) && !defined(__OPTIMIZE_SIZE__)
+#pragma GCC optimize("Os")
+#define BP__HOT __attribute__((optimize("O2")))
+#define BP__SIZE 1
+#else
+#define BP__HOT
+#define BP__SIZE 0
+#endif
+/* BP__COLD: code outside the inner loops, compiled for compile time.  GCC's
+   time on this header is its optimizer's, spread evenly over the code, and
+   much of the code runs once per mesh or per chart (set-up, error paths,
+   reports, rare repairs).  A function marked BP__COLD is compiled at -Og
+   when the caller asks GCC for -O1 or more, and at the caller's level
+   otherwise (Clang, -O0, -Os, BP_SMALL).  A function stays unmarked when it,
+   with what is inlined into it, holds 0.1% or more of the run time of some
+   benchmark (every mesh of tests/data plain and with an atlas, the charts of
+   bench-scaf, generated meshes of 400K faces, the exact check of a 1M mesh,
+   visibility), or when it has at most ten lines (a call from a hot loop must
+   stay inlinable); make bench-cold lists where the marks and this rule
+   disagree.  The bits do not change: -Og, like -O2, keeps every
+   floating-point operation as written. */
 #ifndef BP__COLD       /* bench/cold.py defines it empty to profile */
 #if defined(__GNUC__) && !defined(__clang__) && !defined(__INTEL_COMPILER) && __GNUC__ >= 5 && \
-    defined(__OPTIMIZE__) && !defined(__OPTIMIZE_SIZE__)
+    defined(__OPTIMIZE__) && !defined(__OPTIMIZE_SIZE__) && !BP__SIZE
 #define BP__COLD __attribute__((optimize("Og")))
 #else
 #define BP__COLD
@@ -1063,14 +1098,14 @@ BPDEF void      bp_mesh_view_free(bp_mesh *mesh, const bp_mesh_view *view, const
 
 /* All allocation goes through these two.  A zero allocator (both function
    pointers NULL) means BP_MALLOC/BP_FREE, which still receive `user`. */
-static void *bp__alloc(const bp_allocator *a, size_t n)
+BP__HOT static void *bp__alloc(const bp_allocator *a, size_t n)
 {
     if (n == 0) n = 1;
     if (a->alloc) return a->alloc(a->user, n);
     return BP_MALLOC(n, a->user);
 }
 
-static void bp__free(const bp_allocator *a, void *p)
+BP__HOT static void bp__free(const bp_allocator *a, void *p)
 {
     if (!p) return;
     if (a->free) a->free(a->user, p);
@@ -1078,7 +1113,7 @@ static void bp__free(const bp_allocator *a, void *p)
 }
 
 /* count*size with an overflow check before every array allocation. */
-static void *bp__alloc_array(const bp_allocator *a, size_t count, size_t size)
+BP__HOT static void *bp__alloc_array(const bp_allocator *a, size_t count, size_t size)
 {
     if (size != 0 && count > (size_t)-1 / size) return NULL;
     return bp__alloc(a, count * size);
@@ -1128,7 +1163,7 @@ static int bp__vec_reserve(const bp_allocator *a, bp__vec *v, size_t need)
 /* One item at the end.  The parsers push every coordinate and index this
    way, so the common sizes are copied with a constant size (a move, not a
    call to memcpy: 3-4 ms of face's 20 ms read). */
-static int bp__vec_push(const bp_allocator *a, bp__vec *v, const void *item)
+BP__HOT static int bp__vec_push(const bp_allocator *a, bp__vec *v, const void *item)
 {
     char *to;
     if (v->count >= v->cap && !bp__vec_reserve(a, v, v->count + 1)) return 0;
@@ -1146,12 +1181,12 @@ static int bp__vec_push(const bp_allocator *a, bp__vec *v, const void *item)
    %d (int), %u (unsigned), %D (int64_t) and %g (double, 6 significant
    digits, enough for a message). */
 
-static void bp__fmt_char(char *out, size_t *n, size_t cap, char c)
+BP__HOT static void bp__fmt_char(char *out, size_t *n, size_t cap, char c)
 {
     if (*n + 1 < cap) out[(*n)++] = c;
 }
 
-static void bp__fmt_uint(char *out, size_t *n, size_t cap, uint64_t v)
+BP__HOT static void bp__fmt_uint(char *out, size_t *n, size_t cap, uint64_t v)
 {
     char tmp[24];
     int k = 0;
@@ -1628,7 +1663,7 @@ static uint32_t bp__nchunks(uint32_t n, uint32_t size)
 }
 
 /* The first item of chunk c of nc over n items (c = nc: n). */
-static uint32_t bp__chunk_at(uint32_t n, uint32_t nc, uint32_t c)
+BP__HOT static uint32_t bp__chunk_at(uint32_t n, uint32_t nc, uint32_t c)
 {
     return (uint32_t)((uint64_t)n * c / nc);
 }
@@ -2079,7 +2114,7 @@ BP__COLD static void bp__pool_stop(const bp_allocator *a, bp__pool *P)
 }
 #endif /* BP_USE_PTHREADS */
 
-static bp__par bp__par_serial(void)
+BP__HOT static bp__par bp__par_serial(void)
 {
     bp__par par;
     par.run = bp__serial_for;
@@ -2250,7 +2285,7 @@ static uint32_t bp__vec_nchunks(uint32_t n)
 }
 
 /* The first coordinate of chunk k of nc (k = nc: n). */
-static uint32_t bp__vec_chunk_at(uint32_t n, uint32_t nc, uint32_t k)
+BP__HOT static uint32_t bp__vec_chunk_at(uint32_t n, uint32_t nc, uint32_t k)
 {
     return k < nc ? 2 * bp__chunk_at(n / 2, nc, k) : n;
 }
@@ -2266,7 +2301,7 @@ typedef struct bp__vec_task {
     double             *part;            /* nd per chunk                     */
 } bp__vec_task;
 
-static void bp__vec_task_run(void *task, uint32_t k)
+BP__HOT static void bp__vec_task_run(void *task, uint32_t k)
 {
     bp__vec_task *T = (bp__vec_task *)task;
     uint32_t i, j, i0 = bp__vec_chunk_at(T->n, T->nc, k), i1 = bp__vec_chunk_at(T->n, T->nc, k + 1);
@@ -2378,7 +2413,7 @@ static void bp__vec_axpy(const bp__par *par, double *part, uint32_t n, double *o
 #endif
 
 /* x + y = a + b exactly (Knuth's TwoSum; no branch, any magnitudes). */
-static double bp__two_sum(double a, double b, double *y)
+BP__HOT static double bp__two_sum(double a, double b, double *y)
 {
     double x = a + b, bv = x - a, av = x - bv;
     *y = (a - av) + (b - bv);
@@ -2387,7 +2422,7 @@ static double bp__two_sum(double a, double b, double *y)
 
 /* p + *e = a * b exactly, for |a|, |b| < 2^995 and products far from
    underflow: a = ah + al with ah holding the upper 26 bits (Veltkamp). */
-static double bp__two_prod(double a, double b, double *e)
+BP__HOT static double bp__two_prod(double a, double b, double *e)
 {
     double c = 134217729.0 * a, ah = c - (c - a), al = a - ah, p = a * b;
     double d = 134217729.0 * b, bh = d - (d - b), bl = b - bh;
@@ -2423,7 +2458,7 @@ BP__COLD static int bp__orient2d_exact(const double *a, const double *b, const d
     return (e[n - 1] > 0) - (e[n - 1] < 0);
 }
 
-BPDEF int bp_orient2d(const double a[2], const double b[2], const double c[2])
+BP__HOT BPDEF int bp_orient2d(const double a[2], const double b[2], const double c[2])
 {
     const double errbound = (3.0 + 16.0 * DBL_EPSILON / 2) * (DBL_EPSILON / 2);
     double detleft = (a[0] - c[0]) * (b[1] - c[1]);
@@ -2527,13 +2562,13 @@ BP__COLD BPDEF int bp_segments_intersect(const double a[2], const double b[2],
    fsqrt) or a correct library function. */
 #if defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2)
 #include <emmintrin.h>
-static double bp__sqrt(double x)
+BP__HOT static double bp__sqrt(double x)
 {
     __m128d v = _mm_set_sd(x);
     return _mm_cvtsd_f64(_mm_sqrt_sd(v, v));
 }
 #else
-static double bp__sqrt(double x) { return sqrt(x); }
+BP__HOT static double bp__sqrt(double x) { return sqrt(x); }
 #endif
 
 /* log x = result + *lo for finite x > 0, to about 2^-62 relative.  With
@@ -2681,7 +2716,7 @@ static double bp__cos(double x)
 
 /* tan = n / d with n, d in two doubles: q = nh / dh, corrected by the
    remainder n - q d (exact through bp__two_prod). */
-static double bp__tan(double x)
+BP__HOT static double bp__tan(double x)
 {
     double rh, rl, sl, cl, sh, ch, n, nl, d, dl, q, p, pe;
     if (x - x != 0) return (x - x) / (x - x);
@@ -2740,7 +2775,7 @@ static double bp__atan_ratio(double small, double big, double *l)
     return h;
 }
 
-static double bp__atan2(double y, double x)
+BP__HOT static double bp__atan2(double y, double x)
 {
     double ax = fabs(x), ay = fabs(y), big = ay > ax ? ay : ax, small = ay > ax ? ax : ay, h, l, e;
     if (x != x || y != y) return x + y;
@@ -4400,7 +4435,7 @@ static void bp__out_flush(bp__out *o)
     o->len = 0;
 }
 
-static void bp__out_bytes(bp__out *o, const char *p, size_t n)
+BP__HOT static void bp__out_bytes(bp__out *o, const char *p, size_t n)
 {
     if (!o->ok || !n) return;
     if (o->len + n > o->cap) {
@@ -4415,9 +4450,9 @@ static void bp__out_bytes(bp__out *o, const char *p, size_t n)
     o->len += n;
 }
 
-static void bp__out_str(bp__out *o, const char *s) { bp__out_bytes(o, s, strlen(s)); }
+BP__HOT static void bp__out_str(bp__out *o, const char *s) { bp__out_bytes(o, s, strlen(s)); }
 
-static void bp__out_uint(bp__out *o, uint64_t v)
+BP__HOT static void bp__out_uint(bp__out *o, uint64_t v)
 {
     char buf[24];
     size_t n = 0;
@@ -4604,7 +4639,7 @@ static int bp__g17_digits(double x, uint64_t *D, int *X)
 
 /* x as "%.17g" into dst (room for 32 bytes); its length.  The plain range
    by the digits above, the rest by snprintf. */
-static size_t bp__fmt_g17(char *dst, double x)
+BP__HOT static size_t bp__fmt_g17(char *dst, double x)
 {
     char d[17];
     uint64_t D;
@@ -4685,7 +4720,7 @@ static void bp__out_vt_block(bp__out *o, const bp_atlas *atlas, const uint32_t *
 
 /* The new vt (0-based) of corner k of mesh triangle t, BP__NONE in a chart
    without a map. */
-static uint32_t bp__corner_vt(const bp_atlas *atlas, const uint32_t *base, uint32_t t, int k)
+BP__HOT static uint32_t bp__corner_vt(const bp_atlas *atlas, const uint32_t *base, uint32_t t, int k)
 {
     uint32_t c = atlas->corner_chart[3 * (size_t)t + k];
     return atlas->charts[c].uv ? base[c] + atlas->corner_vertex[3 * (size_t)t + k] : BP__NONE;
@@ -4744,7 +4779,7 @@ static int bp__fan_agrees(const bp_atlas *atlas, const uint32_t *base, uint32_t 
    then corner 2 of each further one; reversed after corner 0 (0, n-1, ...,
    1) when `rev`, the triangles' repaired orientation; a chart that failed
    has no map: geometry only. */
-static void bp__out_fan(bp__out *o, const bp_mesh *mesh, const bp_atlas *atlas, const uint32_t *base,
+BP__HOT static void bp__out_fan(bp__out *o, const bp_mesh *mesh, const bp_atlas *atlas, const uint32_t *base,
                         uint32_t t, uint32_t end, int rev)
 {
     uint32_t j, n = 3 + (end - t - 1);
@@ -5295,7 +5330,7 @@ BP__COLD BPDEF bp_status bp_write_obj_opt(const char *path, const char *source, 
    left: the outer loop (the longest in 3D, sec 3.6) runs counter-clockwise
    in a valid map, holes clockwise. */
 
-static uint32_t bp__uf_find(uint32_t *parent, uint32_t x)
+BP__HOT static uint32_t bp__uf_find(uint32_t *parent, uint32_t x)
 {
     while (parent[x] != x) {
         parent[x] = parent[parent[x]];     /* path halving */
@@ -5304,7 +5339,7 @@ static uint32_t bp__uf_find(uint32_t *parent, uint32_t x)
     return x;
 }
 
-static void bp__uf_union(uint32_t *parent, uint32_t x, uint32_t y)
+BP__HOT static void bp__uf_union(uint32_t *parent, uint32_t x, uint32_t y)
 {
     x = bp__uf_find(parent, x);
     y = bp__uf_find(parent, y);
@@ -5346,9 +5381,9 @@ static int bp__vkey_cmp(const void *pa, const void *pb)
     return a->uv < b->uv ? -1 : a->uv > b->uv;
 }
 
-static const double *bp__pos(const bp_mesh *m, uint32_t v) { return m->positions + 3 * (size_t)v; }
+BP__HOT static const double *bp__pos(const bp_mesh *m, uint32_t v) { return m->positions + 3 * (size_t)v; }
 
-static double bp__dist3(const double *a, const double *b)
+BP__HOT static double bp__dist3(const double *a, const double *b)
 {
     double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
     return bp__sqrt(dx * dx + dy * dy + dz * dz);
@@ -6722,8 +6757,8 @@ static void bp__cut_free(const bp_allocator *a, bp__cut *K)
 }
 
 /* The end vertices of chart corner edge ce = 3t + k: from corner k to k+1. */
-static uint32_t bp__ce_from(const bp_chart *ch, uint32_t ce) { return ch->triangles[ce]; }
-static uint32_t bp__ce_to(const bp_chart *ch, uint32_t ce) { return ch->triangles[ce - ce % 3 + (ce % 3 + 1) % 3]; }
+BP__HOT static uint32_t bp__ce_from(const bp_chart *ch, uint32_t ce) { return ch->triangles[ce]; }
+BP__HOT static uint32_t bp__ce_to(const bp_chart *ch, uint32_t ce) { return ch->triangles[ce - ce % 3 + (ce % 3 + 1) % 3]; }
 
 typedef struct bp__face_pos { uint32_t face, t; } bp__face_pos;
 
@@ -6804,12 +6839,12 @@ static int bp__cut_adjacency(const bp_allocator *a, bp__cut *K, const bp_chart *
 }
 
 /* A binary min-heap of (distance, vertex), ties by vertex: deterministic. */
-static int bp__heap_less(const bp__cut *K, uint32_t i, uint32_t j)
+BP__HOT static int bp__heap_less(const bp__cut *K, uint32_t i, uint32_t j)
 {
     return K->heap_d[i] < K->heap_d[j] || (K->heap_d[i] == K->heap_d[j] && K->heap_v[i] < K->heap_v[j]);
 }
 
-static void bp__heap_swap(bp__cut *K, uint32_t i, uint32_t j)
+BP__HOT static void bp__heap_swap(bp__cut *K, uint32_t i, uint32_t j)
 {
     double d = K->heap_d[i];
     uint32_t v = K->heap_v[i];
@@ -6824,7 +6859,7 @@ static void bp__heap_push(bp__cut *K, uint32_t *n, double d, uint32_t v)
     while (i > 0 && bp__heap_less(K, i, (i - 1) / 2)) { bp__heap_swap(K, i, (i - 1) / 2); i = (i - 1) / 2; }
 }
 
-static void bp__heap_pop(bp__cut *K, uint32_t *n)
+BP__HOT static void bp__heap_pop(bp__cut *K, uint32_t *n)
 {
     uint32_t i = 0;
     bp__heap_swap(K, 0, --*n);
@@ -6845,7 +6880,7 @@ static void bp__heap_pop(bp__cut *K, uint32_t *n)
    reached (the smallest index among equals; a vertex the sources do not
    reach is never returned, its dist stays HUGE_VAL and its parent
    BP__NONE), or root when nothing was reached. */
-static uint32_t bp__cut_dijkstra(bp__cut *K, const bp_chart *ch, const double *len, const unsigned char *src,
+BP__HOT static uint32_t bp__cut_dijkstra(bp__cut *K, const bp_chart *ch, const double *len, const unsigned char *src,
                                  uint32_t root)
 {
     uint32_t nv = ch->num_vertices, v, n = 0, far = BP__NONE, i;
@@ -7150,7 +7185,7 @@ static uint32_t bp__smooth_piece(const bp__cut *K, const bp__smooth *S, const bp
 
 /* Relax from vertex v (cost d) to the other end of corner edge e, when that
    end is off the cut and the boundary. */
-static void bp__smooth_relax(bp__cut *K, bp__smooth *S, const bp_chart *ch, int k, uint32_t v, uint32_t e,
+BP__HOT static void bp__smooth_relax(bp__cut *K, bp__smooth *S, const bp_chart *ch, int k, uint32_t v, uint32_t e,
                              double d, uint32_t *n)
 {
     uint32_t w = bp__ce_from(ch, e) == v ? bp__ce_to(ch, e) : bp__ce_from(ch, e);
@@ -7690,7 +7725,7 @@ static void bp__u32_sort(uint32_t *v, uint32_t n)
 /* BFS inside the subset marked owner[v] == id, from `start`.  Writes the
    visited vertices to queue[] in level order and their levels; returns the
    count. */
-static uint32_t bp__bfs(const bp__sparse *A, const uint32_t *owner, uint32_t id, uint32_t start,
+BP__HOT static uint32_t bp__bfs(const bp__sparse *A, const uint32_t *owner, uint32_t id, uint32_t start,
                         uint32_t *queue, uint32_t *level, uint32_t *seen, uint32_t stamp)
 {
     const uint32_t *row = A->row;
@@ -7735,7 +7770,7 @@ typedef struct bp__nd_work {
 
 /* The best threshold of one key over the piece queue[0 .. cnt) (owner id,
    keys in [0, R)); returns |S| (BP__NONE if no k is balanced), *kb. */
-static uint32_t bp__nd_cut(const bp__sparse *A, const uint32_t *owner, uint32_t id, const uint32_t *queue, uint32_t cnt,
+BP__HOT static uint32_t bp__nd_cut(const bp__sparse *A, const uint32_t *owner, uint32_t id, const uint32_t *queue, uint32_t cnt,
                            const uint32_t *key, uint32_t R, bp__nd_work *W, uint32_t *kb)
 {
     uint32_t j, p, k, below = 0, best = BP__NONE;
@@ -7889,7 +7924,7 @@ static void bp__nd_refine(const bp__sparse *A, const uint32_t *owner, uint32_t i
    the pseudo-peripheral u, queue in BFS order) by the best of the three
    keys: writes out = [A | B | S] and *ca, *cb.  Returns 0 when no key has
    a balanced threshold (the caller then takes its level split). */
-static int bp__nd_split(const bp__sparse *A, const uint32_t *owner, uint32_t id, const uint32_t *queue, uint32_t cnt,
+BP__HOT static int bp__nd_split(const bp__sparse *A, const uint32_t *owner, uint32_t id, const uint32_t *queue, uint32_t cnt,
                         const uint32_t *level, bp__nd_work *W, uint32_t *seen, uint32_t *stamp, uint32_t *out,
                         uint32_t *ca, uint32_t *cb, int refine)
 {
@@ -7957,7 +7992,7 @@ typedef struct bp__nd_task {
    three keys first, refined (bp__nd_refine: the supernodal
    factorization's ordering); mode 2: the keys without the refinement
    (for tests and measurements). */
-static void bp__nd_step(const bp__nd *D, bp__nd_task *T, uint32_t lo, uint32_t hi, uint32_t node)
+BP__HOT static void bp__nd_step(const bp__nd *D, bp__nd_task *T, uint32_t lo, uint32_t hi, uint32_t node)
 {
     const bp__sparse *A = D->A;
     uint32_t *order = D->order, *owner = D->owner, *level = D->level, *seen = D->seen, *queue = T->queue;
@@ -8240,7 +8275,7 @@ done:
     return ok;
 }
 
-static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *order, bp__ndnode *tree, int mode,
+BP__HOT static int bp__nd_order(const bp_allocator *a, const bp__sparse *A, uint32_t *order, bp__ndnode *tree, int mode,
                         const bp__par *par)
 {
     return bp__nd_order_with(a, A, order, tree, mode, par, NULL);
@@ -8325,7 +8360,7 @@ static uint32_t bp__nd_phase(const bp__factor *F, int phase, uint32_t *nodes)
 }
 
 /* The first position in idx[p0, p1) (sorted) holding a value >= cut. */
-static uint32_t bp__lower_bound(const uint32_t *idx, uint32_t p0, uint32_t p1, uint32_t cut)
+BP__HOT static uint32_t bp__lower_bound(const uint32_t *idx, uint32_t p0, uint32_t p1, uint32_t cut)
 {
     while (p0 < p1) {
         uint32_t m = p0 + (p1 - p0) / 2;
@@ -8364,7 +8399,7 @@ typedef struct bp__fact_task {
    gather along row j into x[j] and, unsymmetric, L(k,j) along row j of
    U^T into y[j].  Every entry a row j needs lies in row j's own pattern,
    below j, hence earlier in this order (a topological order). */
-static void bp__fact_entries(const bp__factor *F, int sym, uint32_t q0, uint32_t q1, double *x, double *y)
+BP__HOT static void bp__fact_entries(const bp__factor *F, int sym, uint32_t q0, uint32_t q1, double *x, double *y)
 {
     uint32_t q, r;
     for (q = q0; q < q1; q++) {
@@ -8381,7 +8416,7 @@ static void bp__fact_entries(const bp__factor *F, int sym, uint32_t q0, uint32_t
 }
 
 /* x[i], y[i] = A(i,k), A(k,i) for the (permuted) rows lo <= i < hi. */
-static void bp__fact_scatter(const bp__fact_task *T, uint32_t k, uint32_t lo, uint32_t hi, double *x, double *y)
+BP__HOT static void bp__fact_scatter(const bp__fact_task *T, uint32_t k, uint32_t lo, uint32_t hi, double *x, double *y)
 {
     const bp__sparse *A = T->A;
     uint32_t old = T->F->perm[k], p;
@@ -8393,7 +8428,7 @@ static void bp__fact_scatter(const bp__fact_task *T, uint32_t k, uint32_t lo, ui
     }
 }
 
-static void bp__fact_rows(void *task, uint32_t t)
+BP__HOT static void bp__fact_rows(void *task, uint32_t t)
 {
     bp__fact_task *T = (bp__fact_task *)task;
     bp__factor *F = T->F;
@@ -8458,7 +8493,7 @@ static void bp__fact_rows(void *task, uint32_t t)
    paths from each j < k with A(j,k) != 0 up to k (exclusive), written to
    out in no particular order; returns their count.  mark[] must not hold k
    before the call (stamps of earlier rows are fine). */
-static uint32_t bp__row_subtree(const bp__sparse *A, const bp__factor *F, const uint32_t *parent, uint32_t *mark,
+BP__HOT static uint32_t bp__row_subtree(const bp__sparse *A, const bp__factor *F, const uint32_t *parent, uint32_t *mark,
                                 uint32_t k, uint32_t *out)
 {
     uint32_t old = F->perm[k], p, j, m = 0;
@@ -8498,7 +8533,7 @@ BP__COLD static int bp__fact_transpose(const bp_allocator *a, const bp__sparse *
 
 /* Liu's step for row k: each neighbour j < k climbs its ancestor links,
    compressing them to k, until a root, whose parent becomes k. */
-static void bp__etree_row(const bp__sparse *A, const bp__factor *F, uint32_t *parent, uint32_t *anc, uint32_t k)
+BP__HOT static void bp__etree_row(const bp__sparse *A, const bp__factor *F, uint32_t *parent, uint32_t *anc, uint32_t k)
 {
     uint32_t old = F->perm[k], p;
     parent[k] = BP__NONE;
@@ -8517,7 +8552,7 @@ static void bp__etree_row(const bp__sparse *A, const bp__factor *F, uint32_t *pa
 /* The elimination tree of the permuted matrix: parent[k], the first row
    below k whose pattern contains column k (Liu's algorithm; mark holds
    the path-compressed "ancestor" links). */
-static void bp__fact_etree(const bp__sparse *A, const bp__factor *F, uint32_t *parent, uint32_t *mark)
+BP__HOT static void bp__fact_etree(const bp__sparse *A, const bp__factor *F, uint32_t *parent, uint32_t *mark)
 {
     uint32_t k;
     for (k = 0; k < A->n; k++) bp__etree_row(A, F, parent, mark, k);
@@ -8529,7 +8564,7 @@ static void bp__fact_etree(const bp__sparse *A, const bp__factor *F, uint32_t *p
    as k increases), then transposed into rows (each row sorted).  Returns
    BP_OK, BP_ERR_OUT_OF_MEMORY or BP_ERR_TOO_LARGE (*stop_row: the row at
    which the count passed the limit). */
-static bp_status bp__fact_symbolic(const bp_allocator *a, const bp__sparse *A, bp__factor *F,
+BP__HOT static bp_status bp__fact_symbolic(const bp_allocator *a, const bp__sparse *A, bp__factor *F,
                                    const uint32_t *parent, uint32_t *stop_row)
 {
     uint32_t n = A->n, k, i, p;
@@ -10401,7 +10436,7 @@ BP__COLD static int bp__fact_numeric(const bp_allocator *a, const bp__sparse *A,
    pivot is zero or not finite.  The ordering's subtrees and the numeric
    rows run in parallel when par is given; the order and every row are
    computed by the same operations either way. */
-static bp_status bp__factorize_order(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
+BP__HOT static bp_status bp__factorize_order(const bp_allocator *a, const bp__sparse *A, bp__factor *F, uint32_t *bad_row,
                                      const bp__par *par, const uint32_t *order, const bp__ndnode *tree)
 {
     uint32_t n = A->n, k;
@@ -10480,7 +10515,7 @@ BP__COLD static bp_status bp__factor_too_large(bp_error *err, uint32_t chart, ui
    x_i is final once every later row has been subtracted).  A supernodal
    factor is solved in the dissection's phases on par's threads (NULL:
    serial; the same bits either way); the rows, serially. */
-static void bp__factor_solve_par(const bp__factor *F, const double *b, double *x, double *z, const bp__par *par)
+BP__HOT static void bp__factor_solve_par(const bp__factor *F, const double *b, double *x, double *z, const bp__par *par)
 {
     uint32_t n = F->n, i, q;
 #ifndef BP_NO_NEWTON
@@ -10724,7 +10759,7 @@ BP__COLD static int bp__factor_single(const bp_allocator *a, bp__factor *F, cons
 #define BP__PLAN_ENTRIES 8192u            /* about this many per range ... */
 #define BP__PLAN_RANGES  8u               /* ... and at most this many      */
 
-static const uint32_t *bp__row_cuts(const bp__factor *F, const bp__ndnode *N, uint32_t i)
+BP__HOT static const uint32_t *bp__row_cuts(const bp__factor *F, const bp__ndnode *N, uint32_t i)
 {
     return F->cutp + N->poff + (size_t)(i - N->b) * (N->ncut + 1);
 }
@@ -10797,7 +10832,7 @@ enum {
     BP__BWD_BELOW       /* backward pass 2: rows [b, hi) into column range part */
 };
 
-static void bp__solve_range(void *task, uint32_t k)
+BP__HOT static void bp__solve_range(void *task, uint32_t k)
 {
     bp__solve_task *T = (bp__solve_task *)task;
     const bp__factor *F = T->F;
@@ -11006,7 +11041,7 @@ typedef struct bp__dedge { uint32_t a, b; } bp__dedge;
    [2^-485, 2^510).  The two literals are those powers of two exactly. */
 #define BP__EXACT_MIN 1.0010415475915505e-146
 #define BP__EXACT_MAX 3.3519519824856493e+153
-static int bp__exact_range(double v)
+BP__HOT static int bp__exact_range(double v)
 {
     double m = fabs(v);
     return m == 0 || (m >= BP__EXACT_MIN && m < BP__EXACT_MAX);
@@ -11039,7 +11074,7 @@ typedef struct bp__grid_ws {
 } bp__grid_ws;
 
 /* Grow a uint32 array of the workspace to n entries (contents lost). */
-static int bp__ws_grow(const bp_allocator *a, uint32_t **p, size_t *cap, size_t n)
+BP__HOT static int bp__ws_grow(const bp_allocator *a, uint32_t **p, size_t *cap, size_t n)
 {
     if (n <= *cap) return 1;
     bp__free(a, *p);
@@ -11054,7 +11089,7 @@ static int bp__ws_grow(const bp_allocator *a, uint32_t **p, size_t *cap, size_t 
    mean edge length, grown so that there are at most ~50 nb cells even when
    the edges are short and far apart (the extent of coordinates in the
    exact range cannot overflow). */
-static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv, const bp__dedge *de,
+BP__HOT static bp_status bp__boundary_conflicts(const bp_allocator *a, const double *uv, const bp__dedge *de,
                                         uint32_t nb, bp_check_report *rep, bp__grid_ws *ws, bp__dedge *first)
 {
     bp__grid_ws tmp = { NULL, NULL, 0, 0 }, *w = ws ? ws : &tmp;
@@ -12044,7 +12079,7 @@ static int bp__check_verdict_status(bp_status st)
    reporting BP_ERR_NUMERICAL.  BP_INIT_TUTTE asks for the uniform map. */
 
 /* Angle at corner p between directions to q and r, in (0, pi). */
-static double bp__angle3(const double *p, const double *q, const double *r)
+BP__HOT static double bp__angle3(const double *p, const double *q, const double *r)
 {
     double u[3], v[3], c[3], dot = 0, cr;
     int k;
@@ -12057,7 +12092,7 @@ static double bp__angle3(const double *p, const double *q, const double *r)
 }
 
 /* Position of j in the sorted neighbour list of i (binary search). */
-static uint32_t bp__adj_find(const uint32_t *adjp, const uint32_t *adj, uint32_t i, uint32_t j)
+BP__HOT static uint32_t bp__adj_find(const uint32_t *adjp, const uint32_t *adj, uint32_t i, uint32_t j)
 {
     uint32_t lo = adjp[i], hi = adjp[i + 1];
     while (lo < hi) {
@@ -12212,7 +12247,7 @@ static int bp__tutte_adjacency(const bp_allocator *a, bp__tutte *T)
 
 /* Phase 3, vertex chunk c: the weights of each vertex's row, its corners
    in increasing order (see above). */
-static void bp__tutte_weights_task(void *task, uint32_t c)
+BP__HOT static void bp__tutte_weights_task(void *task, uint32_t c)
 {
     bp__tutte_task *J = (bp__tutte_task *)task;
     bp__tutte *T = J->T;
@@ -13201,7 +13236,7 @@ typedef struct bp__rest {
     double weight;          /* area / mean area: E_D = sum weight * E_t   */
 } bp__rest;
 
-static void bp__rest_shape(const double *p1, const double *p2, const double *p3, double *w,
+BP__HOT static void bp__rest_shape(const double *p1, const double *p2, const double *p3, double *w,
                            double *x, double *y)
 {
     double e1[3], e2[3];
@@ -13227,7 +13262,7 @@ static void bp__rest_shape(const double *p1, const double *p2, const double *p3,
    always), and its weight (area) is that of the equilateral triangle,
    sqrt(3)/4 s^2, comparable to its neighbours'.  Every other triangle
    keeps its exact 3D shape: a clean mesh is solved bit for bit as before. */
-static void bp__chart_rest(const bp_chart *ch, const bp_mesh *m, uint32_t t, double *w, double *x, double *y)
+BP__HOT static void bp__chart_rest(const bp_chart *ch, const bp_mesh *m, uint32_t t, double *w, double *x, double *y)
 {
     const uint32_t *tr = ch->triangles + 3 * (size_t)t;
     double s = ch->rest_side ? ch->rest_side[t] : 0;
@@ -13460,7 +13495,7 @@ static void bp__conformal_col_rows(const bp__tutte *T, uint32_t v, uint32_t bs, 
 /* Corner q of the incidence lists: its triangle *t, its corner *k, and
    t's residual rows and area (bp__conformal_rows); 0 for a corner that
    adds nothing (a hole's fan, a rest shape not usable). */
-static int bp__conformal_corner(const bp__conformal_task *J, uint32_t q, uint32_t *t, uint32_t *k, double *g1,
+BP__HOT static int bp__conformal_corner(const bp__conformal_task *J, uint32_t q, uint32_t *t, uint32_t *k, double *g1,
                                 double *g2, double *area)
 {
     *t = J->T->inc[q] / 3;
@@ -13471,7 +13506,7 @@ static int bp__conformal_corner(const bp__conformal_task *J, uint32_t q, uint32_
 
 /* A held vertex's right-hand side: (d, 0) at the far one, (0, 0) at the
    origin (its column is the identity's). */
-static void bp__conformal_held_rhs(const bp__conformal_task *J, uint32_t v)
+BP__HOT static void bp__conformal_held_rhs(const bp__conformal_task *J, uint32_t v)
 {
     J->rhs[2 * v] = v == J->p[1] ? J->d : 0;
     J->rhs[2 * v + 1] = 0;
@@ -13523,7 +13558,7 @@ static void bp__conformal_scalar_col(bp__conformal_task *J, uint32_t v)
    schedule) adds its triangle's blocks (r, k), k v's corner; a held
    vertex's column is the identity's, and a held neighbour's block goes to
    the right-hand side. */
-static void bp__conformal_task_run(void *task, uint32_t c)
+BP__HOT static void bp__conformal_task_run(void *task, uint32_t c)
 {
     bp__conformal_task *J = (bp__conformal_task *)task;
     const bp__tutte *T = J->T;
@@ -14208,7 +14243,7 @@ typedef struct bp__hash {
 } bp__hash;
 
 /* Is loop g answered by a scan instead of the table? */
-static int bp__hash_scanned(const bp__hash *H, uint32_t g)
+BP__HOT static int bp__hash_scanned(const bp__hash *H, uint32_t g)
 {
     return H->group_start[g + 1] - H->group_start[g] <= H->scan_max;
 }
@@ -14224,14 +14259,14 @@ static void bp__hash_set_scan(bp__hash *H, uint32_t nloops, uint32_t scan_max)
         if (!bp__hash_scanned(H, g)) H->entered += H->group_start[g + 1] - H->group_start[g];
 }
 
-static uint32_t bp__hash_cell(const bp__hash *H, int64_t ix, int64_t iy, uint32_t g)
+BP__HOT static uint32_t bp__hash_cell(const bp__hash *H, int64_t ix, int64_t iy, uint32_t g)
 {
     uint64_t k = (uint64_t)ix * 0x9E3779B97F4A7C15ull ^ (uint64_t)iy * 0xC2B2AE3D27D4EB4Full ^
                  (uint64_t)g * 0x165667B19E3779F9ull;
     return (uint32_t)(k >> 32) & H->mask;
 }
 
-static int64_t bp__cell_of(double x, double h)
+BP__HOT static int64_t bp__cell_of(double x, double h)
 {
     double c = floor(x / h);
     if (c > 4e18) c = 4e18;
@@ -14241,7 +14276,7 @@ static int64_t bp__cell_of(double x, double h)
 
 /* Build over items [0, n) (n = group_start[#loops]); returns 0 if the
    entries would exceed the capacity (the caller then grows the cells). */
-static int bp__hash_build(bp__hash *H, uint32_t n)
+BP__HOT static int bp__hash_build(bp__hash *H, uint32_t n)
 {
     uint32_t i, b;
     size_t total = 0;
@@ -14284,7 +14319,7 @@ static int bp__hash_build(bp__hash *H, uint32_t n)
    table or the box covers more cells than the table has. */
 typedef void (*bp__visit_fn)(void *user, uint32_t item);
 
-static void bp__hash_query(const bp__hash *H, uint32_t g, double x0, double y0, double x1, double y1,
+BP__HOT static void bp__hash_query(const bp__hash *H, uint32_t g, double x0, double y0, double x1, double y1,
                            bp__visit_fn visit, void *user)
 {
     double h;
@@ -14570,7 +14605,7 @@ typedef struct bp__edge_query {
     int      grad, oom;
 } bp__edge_query;
 
-static void bp__barrier_visit(void *user, uint32_t k)
+BP__HOT static void bp__barrier_visit(void *user, uint32_t k)
 {
     bp__edge_query *Q = (bp__edge_query *)user;
     const bp__solver *S = Q->S;
@@ -14608,7 +14643,7 @@ static void bp__barrier_visit(void *user, uint32_t k)
 
 /* Cell size for the hash of one loop: about one current edge long, but at
    least eps, so that a query box covers a handful of cells. */
-static double bp__loop_cell(const bp__solver *S, const double *x, uint32_t L)
+BP__HOT static double bp__loop_cell(const bp__solver *S, const double *x, uint32_t L)
 {
     uint32_t s0 = S->loop_start[L], n = S->loop_start[L + 1] - s0, k;
     double len = 0;
@@ -14624,7 +14659,7 @@ static double bp__loop_cell(const bp__solver *S, const double *x, uint32_t L)
 /* Enter the boundary vertices into the hash: as points (v NULL, the
    barrier) or as the boxes they sweep along U + t v for t in [0, tsweep]
    (the step bound). */
-static void bp__hash_boxes(bp__solver *S, const double *x, const double *v, double tsweep, uint32_t k0, uint32_t k1)
+BP__HOT static void bp__hash_boxes(bp__solver *S, const double *x, const double *v, double tsweep, uint32_t k0, uint32_t k1)
 {
     uint32_t k;
     for (k = k0; k < k1; k++) {
@@ -14641,13 +14676,13 @@ static void bp__hash_boxes(bp__solver *S, const double *x, const double *v, doub
 }
 
 /* The cell size of each loop in the table (0 for a scanned loop). */
-static void bp__hash_cells(bp__solver *S, const double *x)
+BP__HOT static void bp__hash_cells(bp__solver *S, const double *x)
 {
     uint32_t L;
     for (L = 0; L < S->nloops; L++) S->hs[L] = bp__hash_scanned(&S->hash, L) ? 0 : bp__loop_cell(S, x, L);
 }
 
-static void bp__hash_fill(bp__solver *S, const double *x, const double *v, double tsweep)
+BP__HOT static void bp__hash_fill(bp__solver *S, const double *x, const double *v, double tsweep)
 {
     uint32_t L;
     bp__hash_boxes(S, x, v, tsweep, 0, S->nb);
@@ -14681,7 +14716,7 @@ static uint32_t *bp__hash_part(const bp__hash_job *J, uint32_t t, uint32_t *i0, 
     return S->hcnt + (size_t)t * (S->hash.mask + 1);
 }
 
-static void bp__hash_count_task(void *task, uint32_t t)
+BP__HOT static void bp__hash_count_task(void *task, uint32_t t)
 {
     bp__hash_job *J = (bp__hash_job *)task;
     bp__solver *S = J->S;
@@ -14709,7 +14744,7 @@ static void bp__hash_count_task(void *task, uint32_t t)
     J->total[t] = total;
 }
 
-static void bp__hash_place_task(void *task, uint32_t t)
+BP__HOT static void bp__hash_place_task(void *task, uint32_t t)
 {
     bp__hash_job *J = (bp__hash_job *)task;
     bp__hash *H = &J->S->hash;
@@ -14768,14 +14803,14 @@ static void bp__step_hash(bp__solver *S, const double *x, const double *v, doubl
     bp__par_run(&S->par, bp__hash_place_task, &J, BP__HASH_TASKS, S->nb);
 }
 
-static void bp__hash_fill_task(void *task, uint32_t c)
+BP__HOT static void bp__hash_fill_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     (void)c;
     bp__hash_fill(T->S, T->x, T->dir, T->tmax);
 }
 
-static void bp__barrier_task(void *task, uint32_t c)
+BP__HOT static void bp__barrier_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
@@ -14884,7 +14919,7 @@ BP__COLD static void bp__conflict_task(void *task, uint32_t c)
    one-sided slopes, a valid subgradient for the line search. */
 
 /* f(s_max, s_min) and its partials; returns +inf for s_min <= 0. */
-static double bp__energy_sv(bp_energy kind, double sa, double sb, double *fa, double *fb)
+BP__HOT static double bp__energy_sv(bp_energy kind, double sa, double sb, double *fa, double *fb)
 {
     double r;
     if (!(sb > 0)) { *fa = *fb = 0; return HUGE_VAL; }
@@ -14912,7 +14947,7 @@ static double bp__energy_sv(bp_energy kind, double sa, double sb, double *fa, do
 
 /* E_t of one triangle at UV corners u1, u2, u3; if g is given, adds
    weight * dE_t/dU to g1, g2, g3. */
-static double bp__triangle_energy(bp_energy kind, const bp__rest *r, const double *u1,
+BP__HOT static double bp__triangle_energy(bp_energy kind, const bp__rest *r, const double *u1,
                                   const double *u2, const double *u3, double *g1, double *g2, double *g3)
 {
     double d00 = u2[0] - u1[0], d10 = u2[1] - u1[1], d01 = u3[0] - u1[0], d11 = u3[1] - u1[1];
@@ -14976,7 +15011,7 @@ static void bp__groups_run(const bp__par *par, const bp__groups *G)
     if (G->total) par->run(par->user, bp__groups_task, (void *)G, G->total);
 }
 
-static void bp__energy_task(void *task, uint32_t c)
+BP__HOT static void bp__energy_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
@@ -14999,7 +15034,7 @@ static void bp__energy_task(void *task, uint32_t c)
    coordinates against the predicates' exact range (see >>check; never met
    in practice, but outside it a sign would not be proven): one pass over
    the coordinates in all, instead of six tests per triangle. */
-static void bp__orient_task(void *task, uint32_t c)
+BP__HOT static void bp__orient_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
@@ -15017,7 +15052,7 @@ static void bp__orient_task(void *task, uint32_t c)
 }
 
 /* g(v) = sum of its corners' gradients, in corner order. */
-static void bp__gather_task(void *task, uint32_t c)
+BP__HOT static void bp__gather_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
@@ -15115,7 +15150,7 @@ static double bp__objective(bp__solver *S, const double *x, double *g, double *e
 
 /* Smallest root in (0, tmax) of alpha t^2 + beta t + gamma, else tmax.
    If P/VP etc. are given (edge case), the root must put P on segment AB. */
-static double bp__min_root(double alpha, double beta, double gamma, double tmax,
+BP__HOT static double bp__min_root(double alpha, double beta, double gamma, double tmax,
                            const double *A, const double *VA, const double *B, const double *VB,
                            const double *P, const double *VP)
 {
@@ -15148,7 +15183,7 @@ static double bp__min_root(double alpha, double beta, double gamma, double tmax,
     return tmax;
 }
 
-static double bp__collinear_time(const double *A, const double *VA, const double *B, const double *VB,
+BP__HOT static double bp__collinear_time(const double *A, const double *VA, const double *B, const double *VB,
                                  const double *C, const double *VC, double tmax, int edge_case)
 {
     double e1x = B[0] - A[0], e1y = B[1] - A[1], e2x = C[0] - A[0], e2y = C[1] - A[1];
@@ -15160,7 +15195,7 @@ static double bp__collinear_time(const double *A, const double *VA, const double
     return bp__min_root(alpha, beta, gamma, tmax, NULL, NULL, NULL, NULL, NULL, NULL);
 }
 
-static void bp__step_visit(void *user, uint32_t k)
+BP__HOT static void bp__step_visit(void *user, uint32_t k)
 {
     bp__edge_query *Q = (bp__edge_query *)user;
     const bp__solver *S = Q->S;
@@ -15172,7 +15207,7 @@ static void bp__step_visit(void *user, uint32_t k)
                                  Q->tmax, 1);
 }
 
-static void bp__step_tri_task(void *task, uint32_t c)
+BP__HOT static void bp__step_tri_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
@@ -15190,7 +15225,7 @@ static void bp__step_tri_task(void *task, uint32_t c)
 /* Each edge chunk starts from the triangles' bound and lowers its own copy;
    the bound is an exact minimum, so the order of the chunks cannot change
    it. */
-static void bp__step_edge_task(void *task, uint32_t c)
+BP__HOT static void bp__step_edge_task(void *task, uint32_t c)
 {
     bp__eval_task *T = (bp__eval_task *)task;
     bp__solver *S = T->S;
@@ -17021,7 +17056,7 @@ done:
 typedef struct bp__quad_task { const bp__sparse *K; const double *s; double *part; uint32_t nc; } bp__quad_task;
 #define BP__QUAD_CHUNK 2048u
 
-static void bp__quad_task_run(void *task, uint32_t c)
+BP__HOT static void bp__quad_task_run(void *task, uint32_t c)
 {
     bp__quad_task *T = (bp__quad_task *)task;
     const bp__sparse *K = T->K;

@@ -4,7 +4,8 @@
 #
 # For each configuration (the full header, each BP_NO_ macro alone, the
 # core library -- BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY -- with and
-# without BP_NO_IO) and each compiler (gcc and clang, -std=c99
+# without BP_NO_IO, the core without its default BP_SMALL and the whole
+# with BP_SMALL=1) and each compiler (gcc and clang, -std=c99
 # -O2 -c of a file holding only `#define BP_IMPLEMENTATION` and
 # `#include "bijparam.h"`): user CPU seconds (median of ROUNDS runs, 3 by
 # default; the rounds alternate between configurations so that a change in
@@ -29,7 +30,9 @@ no_atlas|BP_NO_ATLAS
 no_visibility|BP_NO_VISIBILITY
 no_io|BP_NO_IO
 core|BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY
-core_no_io|BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY BP_NO_IO"
+core_no_io|BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY BP_NO_IO
+core_not_small|BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY BP_SMALL=0
+full_small|BP_SMALL=1"
 
 : >"$TMP/raw"
 for r in $(seq "$ROUNDS"); do

@@ -142,7 +142,7 @@ def main():
                 share[fn], where[fn] = 100.0 * c / total, name
     header = open(os.path.join(ROOT, "bijparam.h")).read().split("\n")
     start = next(i for i, l in enumerate(header) if l.startswith("/* >>config"))
-    define = re.compile(r"^(BP__COLD )?(static|BPDEF)\b[^;=]*?\b(\w+)\s*\(")
+    define = re.compile(r"^(?:BP__HOT )?(BP__COLD )?(static|BPDEF)\b[^;=]*?\b(\w+)\s*\(")   # BP__HOT may lead (>>config)
     funcs, i = [], start
     while i < len(header):
         m = define.match(header[i])

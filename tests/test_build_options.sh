@@ -11,8 +11,9 @@
 #     needs a left-out part fails with BP_ERR_UNSUPPORTED naming the macro;
 #     the conformal start by name on tests/data/bishop_part_f1000.obj;
 #   - the README's example built as the core library (BP_NO_NEWTON
-#     BP_NO_ATLAS BP_NO_VISIBILITY) flattens camel_b, and tests/uvcheck.py
-#     finds the written file bijective;
+#     BP_NO_ATLAS BP_NO_VISIBILITY, -O2) flattens camel_b, and
+#     tests/uvcheck.py finds the written file bijective; built with
+#     BP_SMALL=0 at -Og it writes the same bytes;
 #   - a left-out part's public functions are not declared (a call does not
 #     compile), and BP_NO_IO never includes <stdio.h>.
 # Prints one "ok"/"FAIL" line per check and a final "BPTEST <passed> <failed>".
@@ -52,8 +53,8 @@ fi
 
 # the README example as the core library
 awk '/^```c$/ { if (!done) { on = 1; next } } /^```$/ { if (on) { on = 0; done = 1 } } on' "$ROOT/README.md" >"$TMP/example.c"
-if $CC -std=c99 -Og $WARN $(defs $CORE) -I"$ROOT" "$TMP/example.c" -o "$TMP/example" -lm 2>"$TMP/ex.log"; then
-    ok "the README example compiles warning-free with $CORE"
+if $CC -std=c99 -O2 $WARN $(defs $CORE) -I"$ROOT" "$TMP/example.c" -o "$TMP/example" -lm 2>"$TMP/ex.log"; then
+    ok "the README example compiles warning-free with $CORE at -O2"
     if "$TMP/example" "$ROOT/tests/data/camel_b.obj" "$TMP/example.obj" >"$TMP/exrun.log" 2>&1 &&
        $PY "$ROOT/tests/uvcheck.py" "$TMP/example.obj" >"$TMP/exuv.log" 2>&1; then
         ok "the README example built with $CORE flattens camel_b bijectively ($(tail -1 "$TMP/exuv.log"))"
@@ -62,6 +63,18 @@ if $CC -std=c99 -Og $WARN $(defs $CORE) -I"$ROOT" "$TMP/example.c" -o "$TMP/exam
     fi
 else
     fail "the README example does not compile with $CORE"; cat "$TMP/ex.log"
+fi
+# The core compiles for size by default (BP_SMALL, GCC: -Os with the inner
+# loops at -O2); without it, at -Og, the same file must come out.
+if $CC -std=c99 -Og $WARN $(defs $CORE BP_SMALL=0) -I"$ROOT" "$TMP/example.c" -o "$TMP/example0" -lm 2>"$TMP/ex0.log" &&
+   "$TMP/example0" "$ROOT/tests/data/camel_b.obj" "$TMP/example0.obj" >"$TMP/exrun0.log" 2>&1; then
+    if cmp -s "$TMP/example.obj" "$TMP/example0.obj"; then
+        ok "$CORE: BP_SMALL=0 at -Og writes camel_b's bytes of the default -O2 build"
+    else
+        fail "$CORE: BP_SMALL=0 at -Og writes other bytes than the default -O2 build"
+    fi
+else
+    fail "$CORE BP_SMALL=0: does not build or run"; cat "$TMP/ex0.log" "$TMP/exrun0.log" 2>/dev/null
 fi
 
 # a left-out part's functions are not declared: calls.c holds every call,
