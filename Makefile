@@ -115,7 +115,7 @@ FULL_IN_CHECK := $(BUILD)/tests/test_threads $(BUILD)/tests/test_newton $(BUILD)
 # make test also builds the tool (shell tests drive it) once its source exists.
 TEST_TOOL := $(if $(wildcard examples/bijparam.c),$(TOOL))
 
-.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-build bench-pack bench-scale bench-atlas bench-scaf bench-direction bench-start bench-threads bench-pool bench-cold bench-generated python bench-python clean
+.PHONY: all test check tests deps deps-test deps-check demo docs bench bench-build bench-pack bench-scale bench-atlas bench-scaf bench-direction bench-start bench-threads bench-pool bench-cold bench-hot bench-generated python bench-python clean
 
 all: $(TOOL) $(EXAMPLES)
 
@@ -309,6 +309,12 @@ bench-build: bijparam.h bench/build.sh
 # and the generated meshes (bench/cold.py; needs linux-perf, ~3 min)
 bench-cold: bijparam.h bench/cold.py
 	python3 bench/cold.py
+
+# which functions BP__HOT should mark: perf over the README example built
+# as the core library, on every mesh of tests/data (bench/hot.py; needs
+# linux-perf, ~4 min)
+bench-hot: bijparam.h bench/hot.py
+	python3 bench/hot.py
 
 bench-pool: bijparam.h bench/pool_bench.c
 	mkdir -p $(BUILD)/bench/pool

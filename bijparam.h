@@ -1010,20 +1010,20 @@ BPDEF void      bp_mesh_view_free(bp_mesh *mesh, const bp_mesh_view *view, const
 #pragma GCC optimize("fp-contract=off")
 #endif
 /* BP_SMALL: the implementation compiled for size.  The core library
-   (BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY) is for constrained builds,
-   so it defaults to 1 there and to 0 elsewhere.  With it, GCC at -O1 or
-   more (or -Og, which the preprocessor cannot tell apart) compiles the
-   implementation at -Os, except the functions marked BP__HOT: those that
-   hold 1% or more of the core's run time on some mesh of tests/data (the
-   inner loops: energy, step bound, barrier hash, the sparse factorization
-   and its solves, the exact check's orientation), and every helper that
-   -O2 inlines into them, for GCC does not inline a function compiled at
-   another level.  The core's text shrinks by a quarter at the same run
-   time.  In the whole library the Newton kernels would run a third
-   slower at -Os, so there it is the caller's choice.  BP__COLD (below)
-   then marks nothing: cold code is compiled for size too.  The
-   bits do not change: -Os keeps every floating-point operation as
-   written. */
+   (BP_NO_NEWTON BP_NO_ATLAS BP_NO_VISIBILITY) is for constrained builds, so
+   it defaults to 1 there and to 0 elsewhere.  With it, GCC at -O1 or more
+   (or -Og, which the preprocessor cannot tell apart) compiles the
+   implementation at -Os, except the functions marked BP__HOT, compiled at
+   -O2: those that hold 0.5% or more of the core's run time on some mesh of
+   tests/data (the inner loops: energy, step bound, L-BFGS, barrier hash, the
+   factorization's solves, the exact check's orientation), and every helper
+   that -O2 inlines into them, for GCC does not inline a function compiled at
+   another level; make bench-hot lists where the marks and this rule
+   disagree.  The core's text shrinks by a quarter at the same run time.  In
+   the whole library the Newton kernels would run a third slower at -Os, so
+   there it is the caller's choice.  BP__COLD (below) then marks nothing:
+   cold code is compiled for size too.  The bits do not change: -Os keeps
+   every floating-point operation as written. */
 #ifndef BP_SMALL
 #if defined(BP_NO_NEWTON) && defined(BP_NO_ATLAS) && defined(BP_NO_VISIBILITY)
 #define BP_SMALL 1
@@ -1181,12 +1181,12 @@ BP__HOT static int bp__vec_push(const bp_allocator *a, bp__vec *v, const void *i
    %d (int), %u (unsigned), %D (int64_t) and %g (double, 6 significant
    digits, enough for a message). */
 
-BP__HOT static void bp__fmt_char(char *out, size_t *n, size_t cap, char c)
+static void bp__fmt_char(char *out, size_t *n, size_t cap, char c)
 {
     if (*n + 1 < cap) out[(*n)++] = c;
 }
 
-BP__HOT static void bp__fmt_uint(char *out, size_t *n, size_t cap, uint64_t v)
+static void bp__fmt_uint(char *out, size_t *n, size_t cap, uint64_t v)
 {
     char tmp[24];
     int k = 0;
@@ -1610,7 +1610,7 @@ typedef struct bp__par {
     int   threads;
 } bp__par;
 
-static void bp__serial_for(void *user, bp_task_fn fn, void *task, uint32_t count)
+BP__HOT static void bp__serial_for(void *user, bp_task_fn fn, void *task, uint32_t count)
 {
     uint32_t i;
     (void)user;
@@ -1668,7 +1668,7 @@ BP__HOT static uint32_t bp__chunk_at(uint32_t n, uint32_t nc, uint32_t c)
     return (uint32_t)((uint64_t)n * c / nc);
 }
 
-static void bp__par_run(const bp__par *par, bp_task_fn fn, void *task, uint32_t count, uint32_t items)
+BP__HOT static void bp__par_run(const bp__par *par, bp_task_fn fn, void *task, uint32_t count, uint32_t items)
 {
     if (items < BP__PAR_MIN_ITEMS) bp__serial_for(NULL, fn, task, count);
     else par->run(par->user, fn, task, count);
@@ -1689,7 +1689,7 @@ typedef struct bp__loop {
 
 typedef struct bp__two_loops { bp__loop a, b; } bp__two_loops;
 
-static void bp__two_loops_run(void *task, uint32_t i)
+BP__HOT static void bp__two_loops_run(void *task, uint32_t i)
 {
     const bp__two_loops *L = (const bp__two_loops *)task;
     if (i < L->a.count) L->a.fn(L->a.task, i);
@@ -4435,7 +4435,7 @@ static void bp__out_flush(bp__out *o)
     o->len = 0;
 }
 
-BP__HOT static void bp__out_bytes(bp__out *o, const char *p, size_t n)
+static void bp__out_bytes(bp__out *o, const char *p, size_t n)
 {
     if (!o->ok || !n) return;
     if (o->len + n > o->cap) {
@@ -4450,9 +4450,9 @@ BP__HOT static void bp__out_bytes(bp__out *o, const char *p, size_t n)
     o->len += n;
 }
 
-BP__HOT static void bp__out_str(bp__out *o, const char *s) { bp__out_bytes(o, s, strlen(s)); }
+static void bp__out_str(bp__out *o, const char *s) { bp__out_bytes(o, s, strlen(s)); }
 
-BP__HOT static void bp__out_uint(bp__out *o, uint64_t v)
+static void bp__out_uint(bp__out *o, uint64_t v)
 {
     char buf[24];
     size_t n = 0;
@@ -4639,7 +4639,7 @@ static int bp__g17_digits(double x, uint64_t *D, int *X)
 
 /* x as "%.17g" into dst (room for 32 bytes); its length.  The plain range
    by the digits above, the rest by snprintf. */
-BP__HOT static size_t bp__fmt_g17(char *dst, double x)
+static size_t bp__fmt_g17(char *dst, double x)
 {
     char d[17];
     uint64_t D;
@@ -4720,7 +4720,7 @@ static void bp__out_vt_block(bp__out *o, const bp_atlas *atlas, const uint32_t *
 
 /* The new vt (0-based) of corner k of mesh triangle t, BP__NONE in a chart
    without a map. */
-BP__HOT static uint32_t bp__corner_vt(const bp_atlas *atlas, const uint32_t *base, uint32_t t, int k)
+static uint32_t bp__corner_vt(const bp_atlas *atlas, const uint32_t *base, uint32_t t, int k)
 {
     uint32_t c = atlas->corner_chart[3 * (size_t)t + k];
     return atlas->charts[c].uv ? base[c] + atlas->corner_vertex[3 * (size_t)t + k] : BP__NONE;
@@ -4779,7 +4779,7 @@ static int bp__fan_agrees(const bp_atlas *atlas, const uint32_t *base, uint32_t 
    then corner 2 of each further one; reversed after corner 0 (0, n-1, ...,
    1) when `rev`, the triangles' repaired orientation; a chart that failed
    has no map: geometry only. */
-BP__HOT static void bp__out_fan(bp__out *o, const bp_mesh *mesh, const bp_atlas *atlas, const uint32_t *base,
+static void bp__out_fan(bp__out *o, const bp_mesh *mesh, const bp_atlas *atlas, const uint32_t *base,
                         uint32_t t, uint32_t end, int rev)
 {
     uint32_t j, n = 3 + (end - t - 1);
@@ -5381,7 +5381,7 @@ static int bp__vkey_cmp(const void *pa, const void *pb)
     return a->uv < b->uv ? -1 : a->uv > b->uv;
 }
 
-BP__HOT static const double *bp__pos(const bp_mesh *m, uint32_t v) { return m->positions + 3 * (size_t)v; }
+static const double *bp__pos(const bp_mesh *m, uint32_t v) { return m->positions + 3 * (size_t)v; }
 
 BP__HOT static double bp__dist3(const double *a, const double *b)
 {
@@ -7117,8 +7117,8 @@ typedef struct bp__smooth {
                                  the new ones                                */
 } bp__smooth;
 
-static uint32_t bp__ce_next(uint32_t ce) { return ce - ce % 3 + (ce % 3 + 1) % 3; }
-static uint32_t bp__ce_prev(uint32_t ce) { return ce - ce % 3 + (ce % 3 + 2) % 3; }
+BP__HOT static uint32_t bp__ce_next(uint32_t ce) { return ce - ce % 3 + (ce % 3 + 1) % 3; }
+BP__HOT static uint32_t bp__ce_prev(uint32_t ce) { return ce - ce % 3 + (ce % 3 + 2) % 3; }
 
 static void bp__smooth_free(const bp_allocator *a, bp__smooth *S)
 {
@@ -7140,7 +7140,7 @@ static void bp__smooth_cut(bp__cut *K, bp__smooth *S, const bp_chart *ch, uint32
 /* Does the cut open the chart into a disk: the corner classes across the
    uncut interior edges (as bp__cut_split merges them) give chi = 1, and
    the triangles stay connected across them? */
-static int bp__cut_opens_disk(const bp__cut *K, const bp_chart *ch)
+BP__HOT static int bp__cut_opens_disk(const bp__cut *K, const bp_chart *ch)
 {
     uint32_t nt = ch->num_triangles, nc = 3 * nt, ce, t, ncls = 0, nb = 0, roots = 0;
     uint32_t *uf = K->work;
@@ -7200,7 +7200,7 @@ BP__HOT static void bp__smooth_relax(bp__cut *K, bp__smooth *S, const bp_chart *
 /* Dijkstra from far end A (chart vertex), leaving it only into the fan of
    corner c0 (the corner at A of the triangle its piece ended in), bounded
    by `bound`; through vertices off the cut and the boundary. */
-static void bp__smooth_grow(bp__cut *K, bp__smooth *S, const bp_chart *ch, int k, uint32_t A, uint32_t c0,
+BP__HOT static void bp__smooth_grow(bp__cut *K, bp__smooth *S, const bp_chart *ch, int k, uint32_t A, uint32_t c0,
                             double bound)
 {
     uint32_t n = 0, c, e, dir, i;
@@ -7770,7 +7770,7 @@ typedef struct bp__nd_work {
 
 /* The best threshold of one key over the piece queue[0 .. cnt) (owner id,
    keys in [0, R)); returns |S| (BP__NONE if no k is balanced), *kb. */
-BP__HOT static uint32_t bp__nd_cut(const bp__sparse *A, const uint32_t *owner, uint32_t id, const uint32_t *queue, uint32_t cnt,
+static uint32_t bp__nd_cut(const bp__sparse *A, const uint32_t *owner, uint32_t id, const uint32_t *queue, uint32_t cnt,
                            const uint32_t *key, uint32_t R, bp__nd_work *W, uint32_t *kb)
 {
     uint32_t j, p, k, below = 0, best = BP__NONE;
@@ -7924,7 +7924,7 @@ static void bp__nd_refine(const bp__sparse *A, const uint32_t *owner, uint32_t i
    the pseudo-peripheral u, queue in BFS order) by the best of the three
    keys: writes out = [A | B | S] and *ca, *cb.  Returns 0 when no key has
    a balanced threshold (the caller then takes its level split). */
-BP__HOT static int bp__nd_split(const bp__sparse *A, const uint32_t *owner, uint32_t id, const uint32_t *queue, uint32_t cnt,
+static int bp__nd_split(const bp__sparse *A, const uint32_t *owner, uint32_t id, const uint32_t *queue, uint32_t cnt,
                         const uint32_t *level, bp__nd_work *W, uint32_t *seen, uint32_t *stamp, uint32_t *out,
                         uint32_t *ca, uint32_t *cb, int refine)
 {
@@ -13236,7 +13236,7 @@ typedef struct bp__rest {
     double weight;          /* area / mean area: E_D = sum weight * E_t   */
 } bp__rest;
 
-BP__HOT static void bp__rest_shape(const double *p1, const double *p2, const double *p3, double *w,
+static void bp__rest_shape(const double *p1, const double *p2, const double *p3, double *w,
                            double *x, double *y)
 {
     double e1[3], e2[3];
@@ -13262,7 +13262,7 @@ BP__HOT static void bp__rest_shape(const double *p1, const double *p2, const dou
    always), and its weight (area) is that of the equilateral triangle,
    sqrt(3)/4 s^2, comparable to its neighbours'.  Every other triangle
    keeps its exact 3D shape: a clean mesh is solved bit for bit as before. */
-BP__HOT static void bp__chart_rest(const bp_chart *ch, const bp_mesh *m, uint32_t t, double *w, double *x, double *y)
+static void bp__chart_rest(const bp_chart *ch, const bp_mesh *m, uint32_t t, double *w, double *x, double *y)
 {
     const uint32_t *tr = ch->triangles + 3 * (size_t)t;
     double s = ch->rest_side ? ch->rest_side[t] : 0;
@@ -13495,7 +13495,7 @@ static void bp__conformal_col_rows(const bp__tutte *T, uint32_t v, uint32_t bs, 
 /* Corner q of the incidence lists: its triangle *t, its corner *k, and
    t's residual rows and area (bp__conformal_rows); 0 for a corner that
    adds nothing (a hole's fan, a rest shape not usable). */
-BP__HOT static int bp__conformal_corner(const bp__conformal_task *J, uint32_t q, uint32_t *t, uint32_t *k, double *g1,
+static int bp__conformal_corner(const bp__conformal_task *J, uint32_t q, uint32_t *t, uint32_t *k, double *g1,
                                 double *g2, double *area)
 {
     *t = J->T->inc[q] / 3;
@@ -13506,7 +13506,7 @@ BP__HOT static int bp__conformal_corner(const bp__conformal_task *J, uint32_t q,
 
 /* A held vertex's right-hand side: (d, 0) at the far one, (0, 0) at the
    origin (its column is the identity's). */
-BP__HOT static void bp__conformal_held_rhs(const bp__conformal_task *J, uint32_t v)
+static void bp__conformal_held_rhs(const bp__conformal_task *J, uint32_t v)
 {
     J->rhs[2 * v] = v == J->p[1] ? J->d : 0;
     J->rhs[2 * v + 1] = 0;
@@ -13558,7 +13558,7 @@ static void bp__conformal_scalar_col(bp__conformal_task *J, uint32_t v)
    schedule) adds its triangle's blocks (r, k), k v's corner; a held
    vertex's column is the identity's, and a held neighbour's block goes to
    the right-hand side. */
-BP__HOT static void bp__conformal_task_run(void *task, uint32_t c)
+static void bp__conformal_task_run(void *task, uint32_t c)
 {
     bp__conformal_task *J = (bp__conformal_task *)task;
     const bp__tutte *T = J->T;
@@ -14766,7 +14766,7 @@ BP__HOT static void bp__hash_place_task(void *task, uint32_t t)
 /* Enter the boundary vertices swept along U + t v, t in [0, tsweep]: the
    count tasks, the offsets (serial, a pass over the buckets), the place
    tasks; the cells double while the entries would not fit. */
-static void bp__step_hash(bp__solver *S, const double *x, const double *v, double tsweep)
+BP__HOT static void bp__step_hash(bp__solver *S, const double *x, const double *v, double tsweep)
 {
     bp__hash *H = &S->hash;
     bp__hash_job J;
@@ -15268,7 +15268,7 @@ BP__HOT static void bp__step_edge_task(void *task, uint32_t c)
    first: the boundary vertices then sweep only up to it (in practice it is
    usually well below tcap, and the swept boxes, hence the hash, stay
    small). */
-static double bp__step_bound(bp__solver *S, const double *x, const double *v, double tcap)
+BP__HOT static double bp__step_bound(bp__solver *S, const double *x, const double *v, double tcap)
 {
     bp__eval_task T;
     double tmax = HUGE_VAL;
