@@ -3369,7 +3369,7 @@ typedef struct bp__obj_par {
     uint32_t *corners;        /* 2 * BP__READ_CORNERS per chunk (fv, ft)    */
 } bp__obj_par;
 
-BP__COLD static void *bp__no_alloc(void *user, size_t n) { (void)user; (void)n; return NULL; }
+static void *bp__no_alloc(void *user, size_t n) { (void)user; (void)n; return NULL; }
 static void bp__no_free(void *user, void *p) { (void)user; (void)p; }
 
 /* Pass 1 on chunk k. */
@@ -7160,7 +7160,7 @@ BP__HOT static int bp__cut_opens_disk(const bp__cut *K, const bp_chart *ch)
     return roots == 1 && (int64_t)ncls - ((int64_t)nc + nb) / 2 + nt == 1;
 }
 
-BP__COLD static int bp__smooth_branch(const bp__smooth *S, uint32_t v) { return S->vbnd[v] || S->vdeg[v] != 2; }
+static int bp__smooth_branch(const bp__smooth *S, uint32_t v) { return S->vbnd[v] || S->vdeg[v] != 2; }
 
 /* The piece from cut corner edge ce (leaving a branch point) to the next
    branch point, through vertices of cut degree 2: its corner edges in
@@ -16964,7 +16964,7 @@ BP__COLD static void bp__lap_weights(void *task, uint32_t c)
     }
 }
 
-BP__COLD static int bp__lap_pinned(const bp__lap_task *T, uint32_t v) { return T->pidx && T->pidx[v] != BP__NONE; }
+static int bp__lap_pinned(const bp__lap_task *T, uint32_t v) { return T->pidx && T->pidx[v] != BP__NONE; }
 
 /* Pass 2: the rows of column v.  A pinned vertex keeps only its diagonal,
    and a free one no coupling to a pinned one. */

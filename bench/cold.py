@@ -10,6 +10,8 @@ and lists where the header's marks disagree with that rule:
                     (it should lose its mark: it slows that run)
   unmarked but cold an unmarked function of more than ten lines under 0.1%
                     of every run (a mark would save compile time)
+  marked but small  a BP__COLD function of ten lines or fewer (a hot
+                    caller could not inline it)
 
 The tool is built with -O2 -g and BP__COLD defined empty, so that every
 function is compiled as the inner loops are; perf samples each run at
@@ -97,6 +99,34 @@ def record(tool, name, args, seconds):
     return counts
 
 
+DEFINE = re.compile(r"^(BP__HOT )?(BP__COLD )?(?:static|BPDEF)\b[^;=]*?\b(\w+)\s*\(")
+
+
+def definitions():
+    """Every function the implementation defines, in order: (name, first
+    line, lines, marked BP__COLD, marked BP__HOT).  A body runs from a line
+    starting with "{" to one starting with "}", or ends its first line."""
+    header = open(os.path.join(ROOT, "bijparam.h")).read().split("\n")
+    i, out = next(i for i, l in enumerate(header) if l.startswith("/* >>config")), []
+    while i < len(header):
+        m = DEFINE.match(header[i])
+        if m and not header[i].rstrip().endswith(";"):
+            k = j = i
+            if not header[i].rstrip().endswith("}"):
+                while j < len(header) and not header[j].startswith("{") and not header[j].rstrip().endswith(";"):
+                    j += 1
+                if j == len(header) or not header[j].startswith("{"):
+                    i += 1
+                    continue
+                k = j
+                while not header[k].startswith("}"):
+                    k += 1
+            out.append((m.group(3), i + 1, k - i + 1, bool(m.group(2)), bool(m.group(1))))
+            i = k
+        i += 1
+    return out
+
+
 def main():
     for prog in ("perf", "addr2line", "nm", "gcc"):
         if not shutil.which(prog):
@@ -140,25 +170,10 @@ def main():
         for fn, c in per.items():
             if 100.0 * c / total > share[fn]:
                 share[fn], where[fn] = 100.0 * c / total, name
-    header = open(os.path.join(ROOT, "bijparam.h")).read().split("\n")
-    start = next(i for i, l in enumerate(header) if l.startswith("/* >>config"))
-    define = re.compile(r"^(?:BP__HOT )?(BP__COLD )?(static|BPDEF)\b[^;=]*?\b(\w+)\s*\(")   # BP__HOT may lead (>>config)
-    funcs, i = [], start
-    while i < len(header):
-        m = define.match(header[i])
-        if m and not header[i].rstrip().endswith(";"):
-            j = i
-            while j < len(header) and not header[j].startswith("{") and not header[j].rstrip().endswith(";"):
-                j += 1
-            if j < len(header) and header[j].startswith("{"):
-                k = j
-                while not header[k].startswith("}"):
-                    k += 1
-                funcs.append((m.group(3), i + 1, k - i + 1, bool(m.group(1))))
-                i = k
-        i += 1
+    funcs = definitions()
     marked_hot = [f for f in funcs if f[3] and share[f[0]] >= HOT]
     unmarked_cold = [f for f in funcs if not f[3] and f[2] > SMALL and share[f[0]] < HOT]
+    marked_small = [f for f in funcs if f[3] and f[2] <= SMALL]
     print("\n%d functions, %d marked BP__COLD" % (len(funcs), sum(f[3] for f in funcs)))
     print("marked but hot (%d):" % len(marked_hot))
     for f in marked_hot:
@@ -166,6 +181,9 @@ def main():
     print("unmarked but cold, more than %d lines (%d):" % (SMALL, len(unmarked_cold)))
     for f in unmarked_cold:
         print("  %-36s line %5d  %4d lines  %.3f%%" % (f[0], f[1], f[2], share[f[0]]))
+    print("marked but %d lines or fewer (%d):" % (SMALL, len(marked_small)))
+    for f in marked_small:
+        print("  %-36s line %5d  %4d lines" % (f[0], f[1], f[2]))
     json.dump({"runs": {n: sum(c.values()) for n, c in samples.items()},
                "functions": [{"name": f[0], "line": f[1], "lines": f[2], "marked": f[3],
                               "share": share[f[0]], "run": where.get(f[0])} for f in funcs]},

@@ -22,8 +22,8 @@ tests/data, each once.  Prints the functions the rule asks for that are
 not marked, and those marked that it does not ask for.  The second list
 holds candidates only: a function fast at -O2 may be slow at -Os and hot
 without its mark (bp__hash_build: 0.0% marked, 2.3% of cow's run
-without), so each is to be tried without its mark and profiled again.  Writes
-build/bench/hot.json (every function's largest share, its run and
+without), so each is to be tried without its mark and profiled again.
+Writes build/bench/hot.json (every function's largest share, its run and
 build).  Needs perf (Debian: linux-perf) and gcc.
 """
 import collections
@@ -32,6 +32,8 @@ import os
 import re
 import subprocess
 import sys
+
+from cold import definitions     # the header's function definitions
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "build", "bench", "hot")
@@ -86,13 +88,11 @@ def profile(exe, mesh):
 
 
 def marks():
-    """{function: marked BP__HOT} for every definition of the header."""
-    define = re.compile(r"^(BP__HOT )?(?:BP__COLD )?(?:static|BPDEF)\b[^;=]*?\b(bp_\w+)\s*\(")
+    """{function: marked BP__HOT} for every definition of the header (a
+    function defined twice, under #if, counts as marked when both are)."""
     out = {}
-    for line in open(os.path.join(ROOT, "bijparam.h")):
-        m = define.match(line)
-        if m and not line.rstrip().endswith(";"):
-            out[m.group(2)] = out.get(m.group(2), True) and bool(m.group(1))
+    for name, _, _, _, hot in definitions():
+        out[name] = out.get(name, True) and hot
     return out
 
 
