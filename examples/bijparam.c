@@ -528,9 +528,25 @@ static int temp_create(char *tp, volatile sig_atomic_t *live, const char *target
     umask(mask);
     mode = stat(final, &st) == 0 ? (mode_t)(st.st_mode & 07777) : (mode_t)(0666 & ~mask);
 #endif
+#ifndef _WIN32
+    {   /* no signal between the file's creation and *live: it would be left behind */
+        sigset_t block, old;
+        sigemptyset(&block);
+        sigaddset(&block, SIGINT);
+        sigaddset(&block, SIGTERM);
+        sigaddset(&block, SIGHUP);
+        sigprocmask(SIG_BLOCK, &block, &old);
+        fd = mkstemp(tp);
+        if (fd >= 0) *live = 1;
+        else *why = errno;
+        sigprocmask(SIG_SETMASK, &old, NULL);
+    }
+#else
     fd = mkstemp(tp);
-    if (fd < 0) { *why = errno; return 0; }
-    *live = 1;
+    if (fd >= 0) *live = 1;
+    else *why = errno;
+#endif
+    if (fd < 0) return 0;
 #ifndef _WIN32
     if (fchmod(fd, mode) != 0) { *why = errno; close(fd); unlink(tp); *live = 0; return 0; }
 #endif
@@ -1898,6 +1914,10 @@ int main(int argc, char **argv)
            any error or signal */
     if (output) {
         int why = 0;
+        signal(SIGTERM, on_signal);
+#ifdef SIGHUP
+        signal(SIGHUP, on_signal);
+#endif
         if (!temp_create(temp_path, &temp_live, output, final_path, sizeof final_path, &why)) {
             fprintf(stderr, "bijparam: error: %s: cannot create a file next to it: %s\n",
                     output, strerror(why));
@@ -1905,10 +1925,6 @@ int main(int argc, char **argv)
             bp_pool_destroy(pool);
             return 1;
         }
-        signal(SIGTERM, on_signal);
-#ifdef SIGHUP
-        signal(SIGHUP, on_signal);
-#endif
     }
 
     /* 1. read */

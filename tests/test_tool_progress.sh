@@ -141,17 +141,35 @@ PY
 check $(( rc != 0 || ok != 0 )) "--json: spot segmented with --atlas: its own segment time, charts = cut + segment, seams"
 
 # --- SIGINT: cancel through the callback ---------------------------------------------
+# The tool must be blocked in a read when the signal comes, not still in
+# the stages before it (whose progress reports would cancel at once): this
+# shell holds the FIFO open for reading and writing, so the tool's open
+# returns and its read waits for the weights; SIGINT is sent only once the
+# FIFO is among the tool's open files.
+holds_fifo() {   # holds_fifo PID: PID has imp.fifo open (Linux /proc)
+    for _ in $(seq 1 200); do
+        for f in /proc/"$1"/fd/*; do
+            [ "$(readlink "$f" 2> /dev/null)" = "$d/imp.fifo" ] && return 0
+        done
+        sleep 0.05
+    done
+    return 1
+}
 mkfifo "$d/imp.fifo"
-"$tool" --threads 1 "$d/grid.obj" --importance "$d/imp.fifo" -o "$d/int.obj" > /dev/null 2> "$d/err" &
+exec 3<> "$d/imp.fifo"
+"$tool" --threads 1 "$d/grid.obj" --importance "$d/imp.fifo" -o "$d/int.obj" > /dev/null 2> "$d/err" 3<&- &
 pid=$!
 wait_temp int.obj; seen=$?
 check $seen "SIGINT: the temporary exists while the tool runs"
+holds_fifo "$pid"; blocked=$?
+check $blocked "SIGINT: the tool is waiting in its read of the importance FIFO"
 kill -INT "$pid"
 sleep 0.3
 kill -0 "$pid" 2> /dev/null; alive=$?
 check $alive "SIGINT: the tool is not killed, it cancels at its next progress report"
-# feed the FIFO only to a live reader (a dead one would block this script)
-[ "$alive" -eq 0 ] && for _ in $(seq 1 9); do echo 1; done > "$d/imp.fifo"
+# the weights, then the end of the FIFO; the read resumes (SA_RESTART)
+for _ in $(seq 1 9); do echo 1; done >&3
+exec 3>&-
 wait "$pid"; st=$?
 no_temp; clean=$?
 grep -q 'cancelled' "$d/err"; said=$?
