@@ -1765,12 +1765,11 @@ struct bp__pool {
    the mutex.
 
    How long is short depends on the machine.  Counted on the 2-core test
-   machine (a virtual machine, where a wake takes 55 us on average), face's
-   two-thread run posts 599 loops; with a 20 us poll the worker was asleep
-   at 310 of them and the caller slept 100 times waiting for the worker's
-   last task: some 17 ms of a 0.37 s run with one thread working or none.
-   A 100 us poll (BP__SPIN_LONG_NS) cut that to 99 and 26 sleeps and the
-   run by 10 ms (the median of 25 paired runs).  But a long poll is exactly
+   machine (a virtual machine, where a wake takes 55 us on average), a
+   20 us poll lets the worker fall asleep at half of a two-thread run's
+   loops, and the caller then waits for the worker's last task while one
+   thread works or none: a few percent of the run.  A 100 us poll
+   (BP__SPIN_LONG_NS) leaves a third as many sleeps.  But a long poll is exactly
    what hurts on a crowded machine, so the pool polls long
    only while it gets the cores it asked for: it starts short, looks
    early in its first measuring window (after BP__SPIN_WINDOW_JOBS loops
@@ -1779,11 +1778,11 @@ struct bp__pool {
    BP__SPIN_LONG_CORES of a core each (polling included: a thread the
    system does not run does not poll), short otherwise.  With the other
    cores taken the process gets about one core between its threads, below
-   that bound.  (Starting long instead cost bimba 7% more CPU time on the
-   crowded machine of bench/threads.py: every pool's first window polled
-   long; and an early look in every window let a few lucky milliseconds
-   set the long poll again for most of each window.)  The early look only
-   sets the poll; the backoff waits for the whole window, as before. */
+   that bound.  Starting long would spend CPU time on a crowded machine
+   (bench/threads.py: every pool's first window polling long), and an
+   early look in every window would let a few lucky milliseconds set the
+   long poll again for most of each window; so the early look only sets
+   the poll, and the backoff waits for the whole window. */
 #ifndef BP__SPIN_LONG_NS
 #define BP__SPIN_LONG_NS 100000
 #endif
@@ -6693,12 +6692,11 @@ BP__COLD static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b
    from the cut graph and the boundary is farther than tau = 0.3 sqrt(A)
    (A the chart's 3D area; on a sphere slit from pole to pole, the equator
    point opposite the slit lies about 0.44 sqrt(A) away), the shortest path
-   from it to them is cut too (at most 16 such branches).  Measured with 2
-   threads: the cow without its vt goes from mean energy 6.87 (one path, 56
-   edges) to 4.43 (158 edges), fertility from 4.24 to 4.09 (with the base
-   point above), torus_with_holes from 4.07 to 4.04; a tetrahedron and an
-   icosahedron unfold into isometric nets (energy 4).  The branches do not
-   shorten the solve: the free boundary needs as many or more iterations.
+   from it to them is cut too (at most 16 such branches).  On a closed
+   mesh with legs and horns (the cow without its vt) they take a third off
+   the mean energy; a tetrahedron and an icosahedron unfold into isometric
+   nets (energy 4).  The branches do not shorten the solve: the free
+   boundary needs as many or more iterations.
 
    The split.  Cut edges are unglued: the chart's corners are merged again
    across the remaining interior edges (as >>charts glues them), one chart
@@ -7093,14 +7091,10 @@ BP__COLD static uint32_t bp__cut_branches(const bp_allocator *a, bp__cut *K, con
    the cut, the distance the extremity branches guarantee; so the branches
    run again after the moves (at most 16 more), and the junctions they
    create are moved in turn (which may leave a little of that distance
-   behind again: the second round is not repeated).  On the cow without vt
-   the second round takes the cut from 146 edges (moves alone) to 171 and
-   the mean energy from 4.53 to 4.33.  Measured (--atlas 1024 --padding 4, 1 thread, this commit against
-   the cut without moves): fertility 350 -> 326 edges cut, cut length
-   -6.2%, utilization 0.360 -> 0.375, mean symmetric Dirichlet 4.086 ->
-   4.099; torus_with_holes 61 -> 61 edges, length -1.7%, 0.358 -> 0.357,
-   4.041 -> 4.038; the cow without vt 158 -> 171 edges (the branches
-   again), length +2.5%, 0.466 -> 0.504, 4.426 -> 4.329.  Costs are the
+   behind again: the second round is not repeated).  The moves shorten
+   the cut by a few percent and pack the charts tighter at about the same
+   energy; where they leave a part far from the cut, the second round's
+   branches buy a lower energy with a few more edges.  Costs are the
    cut's own (3D length, importance-weighted with importance).  Serial and
    deterministic (ties by vertex index). */
 #define BP__CUT_SMOOTH_PASSES 3
@@ -9765,8 +9759,8 @@ BP__COLD static int bp__super_numeric(const bp_allocator *a, const bp__sparse *A
    order; the OUTSIDE gathers then take only the terms of the separators
    below.  Other sums than the plain scatter's, so one thread takes the
    same phases whenever the buffers fit (nleaf nsep <= nv: on every
-   chart measured), and every thread count gets the same bits.  Face's
-   solve: one thread 8.4 -> 8.8 ms, two 6.8 -> 5.0 ms.
+   chart measured), and every thread count gets the same bits.  One
+   thread pays a few percent for the buffers; two gain a quarter.
    The backward solve, L^T y = z, reads only ancestors (the rows of s
    below its diagonal block):
        y_j -= sum_i L(i, j) y_i  (i over s's rows below, increasing),
@@ -13331,25 +13325,20 @@ static void bp__rest_inverse(double w, double x, double y, double q, bp__rest *r
    scaled map goes through the exact check (bp__check_par), and only a map
    that passes it is kept; otherwise the barycentric map of >>tutte is
    computed instead, from the same graph and the same dissection, and
-   the attempt has cost one factorization.  Measured (one thread, to SCAF's energy,
-   without -> with the attempt): face 0.85 -> 0.73 s, bimba
-   3.00 -> 2.10 s, face_holes 0.049 -> 0.035 s, hilbert's conformal map an
-   isometry (no iteration left), the 4,740-chart atlas 2.6 -> 1.5 s; the
-   charts whose map folds 2-6% slower.  Charts of BP__CONFORMAL_MAX
+   the attempt has cost one factorization.  Where the conformal map is
+   bijective the run to SCAF's energy is 14-42% shorter (on a developable
+   chart the map is the isometry itself, with nothing left to optimize);
+   where it folds, the wasted factorization costs 2-6%.  Charts of BP__CONFORMAL_MAX
    triangles and more try it under BP_INIT_AUTO only when it will be
    solved by the boundary's Schur complement (at most
    BP__CONFORMAL_SCHUR_K sqrt(nv) boundary vertices, below): the 2x2
    factor needs four times the memory of the barycentric map's scalar
-   one, and the million-face chart must stay under 1 KiB per face
-   (measured both ways: the 132K chart
-   would be 30% faster at 1.27 KiB per face instead of 0.76), but the
-   Schur complement's scalar Cholesky factor and dense boundary system
-   take less than the mean-value map's LU, and less time (the
-   tool with --init-only: bimba subdivided to 357K triangles, 700 against
-   774 bytes per face and 3.2 against 3.5 s; face subdivided to 207K, 507
-   against 746 and 1.0 against 2.0 s), and such a chart then starts at a
-   mean energy 1.9-9x lower (its whole run under Newton 1.2-1.3x
-   shorter); BP_INIT_CONFORMAL asked by name tries it at any size.  The
+   one, and the million-face chart must stay under 1 KiB per face (the
+   2x2 factor would make a large chart faster but take two thirds more
+   memory), but the Schur complement's scalar Cholesky factor and dense
+   boundary system take less memory and less time than the mean-value
+   map's LU, and such a chart then starts at a mean energy 2-9x lower (its
+   whole run under Newton a fifth shorter); BP_INIT_CONFORMAL asked by name tries it at any size.  The
    map depends only on the chart (the sums of each entry run over the
    corners in triangle order, gathered per vertex like the phases above),
    so it is the same bits on any number of threads. */
@@ -15764,9 +15753,8 @@ static int bp__barrier_pair_hessian(const double *P, const double *A, const doub
    while the boundary clips (always: hilbert needs 770 iterations instead
    of 185 to SCAF's energy, the extra stiffness near the minimum slowing
    the end; and from the first direction on, beetle's first steps go
-   worse).  Measured (one thread, CPU to SCAF's E x 1.001): horse_cut
-   29 -> 23 iterations, hilbert 185 -> 162; bimba, face and camelhead
-   the same iterations.
+   worse).  It saves an eighth to a fifth of the iterations on charts
+   whose boundary clips many steps, and leaves the others' count as it was.
 
    The system is the 2nv x 2nv matrix with the mesh Laplacian's pattern in
    2x2 blocks (x and y of a vertex interleaved, as in the map), plus the
@@ -16331,12 +16319,10 @@ BP__COLD static void bp__newton_pins(bp__newton *N, const bp__solver *S)
    costs an eighth of H's (face: 6.8e7 multiply-adds against 5.4e8), on
    the vertex order of the start map's (or Newton's kept) dissection.
    The step bound, the line search and the exact checks are the same, so
-   every iterate is as valid as Newton's.  Measured (one thread, CPU to
-   SCAF's energy x 1.001, medians of 3; Newton alone -> with the phase):
-   face 0.57 -> 0.40 s
-   (6 isotropic iterations of 0.028 s against 5 Newton ones of 0.07),
-   bimba 1.53 -> 0.99 s, camelhead 0.31 -> 0.20, horse_cut 1.45 -> 0.94,
-   lucy 4.43 -> 2.32.  Its convergence is linear (it drops the
+   every iterate is as valid as Newton's.  Far from the minimum an
+   isotropic iteration does nearly a Newton iteration's work at about
+   0.4 of its cost, and the phase takes a third to a half off Newton's
+   run to SCAF's energy.  Its convergence is linear (it drops the
    anisotropic curvature that matters near the minimum), so the phase
    ends for good after the first iteration that lowers the energy by
    less than BP__NEWTON_ISO_TAU of it, or when K1 cannot be factored;
@@ -17886,10 +17872,11 @@ BP__COLD static bp_status bp__opt_finish(bp__opt *P, bp_chart *ch, uint32_t char
    rest of the chart sits near scale 1.  Enlarging the whole map by c
    divides the crushed terms by c^2 and multiplies the others by c^2, so
    the energy-optimal c is about (E0 / 2)^(1/4), lucy's ~5000.  That
-   optimum is the wrong target (measured: 287 iterations to SCAF's energy
-   against 77 unscaled, the body then shrinks back by steps clipped at
-   t ~ 0.01); the geometric middle between it and 1, c ~ E0^(1/8), took
-   65 of them (c = 10 ... 100 all between 65 and 69; 300: 83; 1000: 122).  The scale is a power of two,
+   optimum is the wrong target (lucy then needs nearly four times the
+   iterations of no scaling, the body shrinking back by steps clipped at
+   t ~ 0.01); the geometric middle between it and 1, c ~ E0^(1/8), saves
+   a sixth of them, and any c from 10 to 100 does about as well, where
+   larger ones lose again.  The scale is a power of two,
    c = 2^round(log2(E0) / 8): multiplying by it is exact in floating point,
    so every orientation and every boundary predicate keeps its exact sign
    and the map stays bijective; it is checked again anyway (bp__evaluate),
