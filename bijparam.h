@@ -8628,9 +8628,9 @@ done:
    stored as one dense block, indexed once per row vertex (one index per
    2 x 2 nc values), and computed by dense loops with no indirection.  On
    mesh graphs the fundamental supernodes are short (1.6 vertices on
-   face, most of the work in the long ones of the separators); merging a
-   child into its parent at the price of explicit zeros (relaxed
-   amalgamation, bp__super_relax) was measured and is off by default.
+   face, most of the work in the long ones of the separators), so a
+   child is merged into its parent at the price of a few explicit zeros
+   (relaxed amalgamation, bp__super_relax, below).
 
    The numeric factorization is left-looking by supernodes.  For supernode
    J with columns C and rows R (C first), its block B (|R| x |C| in 2x2
