@@ -20946,32 +20946,59 @@ static bp_status bp__split_verify(const bp_allocator *a, bp__split *X, const bp_
     return BP_OK;
 }
 
+/* The chart triangle a mesh triangle of chart c stands for: its own, or
+   for a dropped duplicate (not in the chart) its twin, the triangle on the
+   same three chart vertices, found among the corners of ov[0] (first and
+   next: the corners of each chart vertex as lists).  The twin matters: a
+   chart vertex split between pieces has a corner in each, and the copy
+   must land in its twin's piece, on its twin's piece vertices. */
+static uint32_t bp__split_tri_of(const bp_chart *ch, const bp__seg_mesh *G, const uint32_t *first,
+                                 const uint32_t *next, uint32_t f, const uint32_t *ov)
+{
+    uint32_t ce, t, k, n;
+    if (G->facepos[f] != BP__NONE) return G->facepos[f];
+    for (ce = first[ov[0]]; ce != BP__NONE; ce = next[ce]) {
+        t = ce / 3;
+        for (n = 0, k = 0; k < 3; k++)
+            n += ch->triangles[3 * t + k] == ov[1] || ch->triangles[3 * t + k] == ov[2];
+        if (n == 2) return t;
+    }
+    return BP__NONE;
+}
+
 /* The atlas takes the pieces: corner_chart / corner_vertex of every mesh
-   corner of chart c (a dropped duplicate's corners, whose triangle is not
-   in the chart, follow the first corner of their chart vertex), piece 0 at
-   index c, the others appended.  0 if out of memory. */
+   corner of chart c (a dropped duplicate's corners follow its twin, see
+   bp__split_tri_of), piece 0 at index c, the others appended.  0 if out
+   of memory. */
 static int bp__split_commit(bp_atlas *atlas, uint32_t c, bp__split *X, const uint32_t *twin, bp__seg_mesh *G)
 {
     bp_allocator a = atlas->allocator;
     bp_chart *ch = &atlas->charts[c], *nch;
-    uint32_t nt = ch->num_triangles, n0 = atlas->num_charts, t, k, p, ce, seams = 0, i;
-    uint32_t *first = X->loop_id;                   /* free again: first corner of each chart vertex */
+    uint32_t nt = ch->num_triangles, n0 = atlas->num_charts, t, k, p, ce, seams = 0, i, f;
+    uint32_t *first = X->loop_id, *next = X->next;  /* free again: the corners of each chart vertex */
     nch = (bp_chart *)bp__alloc_array(&a, (size_t)n0 + X->P - 1, sizeof(bp_chart));
     if (!nch) return 0;
     for (i = 0; i < ch->num_vertices; i++) first[i] = BP__NONE;
-    for (ce = 3 * nt; ce-- > 0;) first[ch->triangles[ce]] = ce;
+    for (ce = 3 * nt; ce-- > 0;) {
+        next[ce] = first[ch->triangles[ce]];
+        first[ch->triangles[ce]] = ce;
+    }
     for (t = 0; t < nt; t++) G->facepos[ch->face[t]] = t;
-    for (i = 0; i < atlas->num_corners; i++) {
-        uint32_t ov, f, hit = BP__NONE;
-        if (atlas->corner_chart[i] != c) continue;
-        ov = atlas->corner_vertex[i];
-        f = i / 3;
-        if ((t = G->facepos[f]) != BP__NONE)
-            for (k = 0; k < 3; k++) if (ch->triangles[3 * t + k] == ov) hit = 3 * t + k;
-        if (hit == BP__NONE) hit = first[ov];
-        p = X->pid[hit / 3];
-        atlas->corner_chart[i] = p ? n0 + p - 1 : c;
-        atlas->corner_vertex[i] = X->vid[bp__uf_find(X->cuf, hit)];
+    for (f = 0; f < atlas->num_corners / 3; f++) {
+        uint32_t ov[3];
+        if (atlas->corner_chart[3 * f] != c) continue;
+        for (k = 0; k < 3; k++) ov[k] = atlas->corner_vertex[3 * (size_t)f + k];
+        t = bp__split_tri_of(ch, G, first, next, f, ov);
+        for (k = 0; k < 3; k++) {
+            uint32_t hit = BP__NONE, j;
+            i = 3 * f + k;
+            if (t != BP__NONE)
+                for (j = 0; j < 3; j++) if (ch->triangles[3 * t + j] == ov[k]) hit = 3 * t + j;
+            if (hit == BP__NONE) hit = first[ov[k]];
+            p = X->pid[hit / 3];
+            atlas->corner_chart[i] = p ? n0 + p - 1 : c;
+            atlas->corner_vertex[i] = X->vid[bp__uf_find(X->cuf, hit)];
+        }
     }
     for (t = 0; t < nt; t++) G->facepos[ch->face[t]] = BP__NONE;
     for (ce = 0; ce < 3 * nt; ce++)

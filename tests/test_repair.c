@@ -317,6 +317,69 @@ static void test_duplicates(const bp_mesh *clean, const bp_atlas *ref)
     bpt_mesh_free(&m);
 }
 
+/* ---- duplicates in a segmented atlas -------------------------------------- */
+
+/* Every triangle of spot written twice (every other copy reversed, every
+   third rotated), then segmented (atlas_resolution): segmentation splits
+   charts, and a chart vertex on a new seam becomes one piece vertex on each
+   side.  A copy is in no chart, so it must follow its twin into the twin's
+   piece: at each of its mesh vertices, the same chart and chart vertex as
+   the twin's corner at that vertex (else the copy's written vt straddle a
+   seam and the file's map folds). */
+static void test_duplicates_segmented(void)
+{
+    bp_mesh sp, m;
+    bp_atlas at;
+    bp_error err;
+    bp_options o = options(0);
+    bp_status st;
+    uint32_t nt, t, k, j, bad = 0, onseam = 0, *seen;
+    unsigned char *fl, *shared;
+    if (!BPT_CHECK(bp_read_obj("tests/data/spot.obj", &sp, NULL, &err) == BP_OK, "read spot (%s)", err.message))
+        return;
+    nt = sp.num_triangles;
+    m = copy_mesh(&sp, nt);
+    for (t = 0; t < nt; t++) {
+        const uint32_t *a = sp.triangles + 3 * (size_t)t;
+        uint32_t *c = m.triangles + 3 * ((size_t)nt + t), r = t % 3;
+        for (k = 0; k < 3; k++) c[k] = a[(k + r) % 3];
+        if (t % 2) { uint32_t x = c[1]; c[1] = c[2]; c[2] = x; }
+    }
+    o.atlas_resolution = 512;
+    fl = (unsigned char *)calloc(2 * (size_t)nt, 1);
+    st = bp_parameterize(&at, &m, &o, &err);
+    if (BPT_CHECK(st == BP_OK && all_valid(&at) && corners_consistent(&at, &m, fl),
+                  "spot with every triangle twice, segmented: BP_OK, valid, corners on their own mesh vertices (%s: %s)",
+                  bp_status_string(st), err.message)) {
+        for (t = 0; t < nt; t++)
+            for (k = 0; k < 3; k++) {
+                size_t ci = 3 * ((size_t)nt + t) + k, cj;
+                for (j = 0; j < 3 && sp.triangles[3 * (size_t)t + j] != m.triangles[ci]; j++) {}
+                cj = 3 * (size_t)t + j;
+                bad += j == 3 || at.corner_chart[ci] != at.corner_chart[cj] || at.corner_vertex[ci] != at.corner_vertex[cj];
+            }
+        /* the case that matters: twin corners on mesh vertices that two charts share */
+        seen = (uint32_t *)malloc(sp.num_vertices * sizeof(uint32_t));
+        shared = (unsigned char *)calloc(sp.num_vertices, 1);
+        for (t = 0; t < sp.num_vertices; t++) seen[t] = UINT32_MAX;
+        for (t = 0; t < 3 * nt; t++) {
+            uint32_t v = sp.triangles[t];
+            if (seen[v] == UINT32_MAX) seen[v] = at.corner_chart[t];
+            else if (seen[v] != at.corner_chart[t]) shared[v] = 1;
+        }
+        for (t = 0; t < 3 * nt; t++) onseam += shared[sp.triangles[t]];
+        free(seen);
+        free(shared);
+        BPT_CHECK(bad == 0 && at.num_charts > 13 && onseam > 100,
+                  "  %u charts; every copy's corners are its twin's (chart, chart vertex) (%u differ; %u twin corners "
+                  "on mesh vertices shared by two charts)", at.num_charts, bad, onseam);
+    }
+    bp_atlas_free(&at);
+    free(fl);
+    bpt_mesh_free(&m);
+    bp_mesh_free(&sp, NULL);
+}
+
 /* ---- non-manifold edges and vertices -------------------------------------- */
 
 /* Three fins on a spine of three vertices 0 1 2 along x: fin f is a strip
@@ -920,6 +983,7 @@ int main(void)
         bp_atlas_free(&ref);
         bp_mesh_free(&clean, NULL);
     }
+    test_duplicates_segmented();
     test_moebius();
     test_fins();
     test_cones();
