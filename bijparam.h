@@ -6602,6 +6602,19 @@ static bp_status bp__count_pinches(const bp_allocator *a, bp__build *b, bp_atlas
     return BP_OK;
 }
 
+/* The first boundary loop of fewer than three edges, or BP__NONE.  Such a
+   loop (two edges between the same two chart vertices: a slit closed at
+   both ends, as splitting a non-manifold edge can leave one) passes the
+   Euler test of a disk, but no map with straight edges opens it: its two
+   edges lie on one segment.  >>cut gives it a seam. */
+static uint32_t bp__short_loop(const bp_chart *ch)
+{
+    uint32_t l;
+    for (l = 0; l < ch->num_loops; l++)
+        if (ch->loop_start[l + 1] - ch->loop_start[l] < 3) return l;
+    return BP__NONE;
+}
+
 /* Chart c's verdict in ch->error: its boundary loops and Euler
    characteristic chi = V - E + F = 2 - 2g - b, which must be that of a
    disk with holes (g = 0, b >= 1); other charts go to >>cut unless
@@ -6622,7 +6635,17 @@ BP__COLD static bp_status bp__chart_topology(const bp_allocator *a, bp__build *b
     chi = (int64_t)ch->num_vertices - ne + ch->num_triangles;
     g2 = 2 - (int64_t)nl - chi;     /* = 2g */
     if (nl > 0 && g2 == 0) {
-        bp__ok(&ch->error);
+        uint32_t l = bp__short_loop(ch);
+        if (l == BP__NONE) {
+            bp__ok(&ch->error);
+            return BP_OK;
+        }
+        bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, t0),
+                 "chart %u (from %s) has a boundary loop of 2 edges, both between mesh vertices %u and %u "
+                 "(a slit closed at both ends): no map with straight edges opens it; it needs a seam from it "
+                 "(opt.cut = BP_CUT_AUTO, the default)",
+                 c, bp__tri_name(m, t0, nm), ch->vertex[ch->loop_vertices[ch->loop_start[l]]] + 1,
+                 ch->vertex[ch->loop_vertices[ch->loop_start[l] + 1]] + 1);
         return BP_OK;
     }
     if (nl == 0 && chi == 2)
@@ -7412,6 +7435,32 @@ static int bp__cut_whole(const bp_options *opt)
    next / loop_id / glued are >>charts' arrays (next and loop_id hold at
    least 3 nt entries).  Returns a status only for what ends the whole call
    (out of memory). */
+/* A boundary loop of two edges (bp__short_loop) that no cut reaches gets
+   one: the shortest interior edge at its first vertex, towards a vertex
+   off every boundary where there is one.  Cut, it splits that vertex, and
+   the loop runs v, u, v', w: four edges, four chart vertices. */
+static void bp__cut_short_loops(bp__cut *K, const bp_chart *ch)
+{
+    uint32_t l, i, ce, nc = 3 * ch->num_triangles;
+    unsigned char *onb = (unsigned char *)K->work;   /* free until bp__cut_split */
+    memset(onb, 0, ch->num_vertices);
+    for (i = 0; i < ch->loop_start[ch->num_loops]; i++) onb[ch->loop_vertices[i]] = 1;
+    for (l = 0; l < ch->num_loops; l++) {
+        uint32_t s = ch->loop_start[l], v = ch->loop_vertices[s], best = BP__NONE, reached = 0;
+        if (ch->loop_start[l + 1] - s >= 3) continue;
+        for (ce = 0; ce < nc; ce++)
+            for (i = s; i < ch->loop_start[l + 1]; i++) reached |= K->cut[ce] && bp__ce_from(ch, ce) == ch->loop_vertices[i];
+        if (reached) continue;
+        for (ce = 0; ce < nc; ce++) {
+            if (bp__ce_from(ch, ce) != v || K->twin[ce] == BP__NONE) continue;
+            if (best == BP__NONE || onb[bp__ce_to(ch, ce)] < onb[bp__ce_to(ch, best)] ||
+                (onb[bp__ce_to(ch, ce)] == onb[bp__ce_to(ch, best)] && K->glen[ce] < K->glen[best]))
+                best = ce;
+        }
+        if (best != BP__NONE) bp__cut_mark(K, best);
+    }
+}
+
 static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t c, const bp_mesh *m,
                                const double *importance, int whole, uint32_t *glued, uint32_t *next,
                                uint32_t *loop_id, bp_error *err)
@@ -7455,6 +7504,7 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
     }
     if (ok) {
         uint32_t ce;
+        bp__cut_short_loops(&K, ch);
         for (ncut = 0, ce = 0; ce < 3 * nt; ce++) ncut += K.cut[ce] && K.twin[ce] != BP__NONE && ce < K.twin[ce];
         ok = !oom && bp__cut_split(a, &K, ch, atlas->corner_vertex, glued);
     }
@@ -7467,11 +7517,12 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
     ch->cut_edges = ncut;
     ne = ((int64_t)3 * nt + ch->loop_start[ch->num_loops]) / 2;
     chi = (int64_t)ch->num_vertices - ne + nt;
-    if (ch->num_loops > 0 && chi == 2 - (int64_t)ch->num_loops) bp__ok(&ch->error);
+    if (ch->num_loops > 0 && chi == 2 - (int64_t)ch->num_loops && bp__short_loop(ch) == BP__NONE) bp__ok(&ch->error);
     else
         bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, ch->face[0]),
-                 "chart %u (from %s): cutting %u edges left Euler characteristic %D with %u boundary loops, "
-                 "not a disk", c, bp__tri_name(m, ch->face[0], nm), ncut, chi, ch->num_loops);
+                 "chart %u (from %s): cutting %u edges left Euler characteristic %D with %u boundary loops%s, "
+                 "not a disk", c, bp__tri_name(m, ch->face[0], nm), ncut, chi, ch->num_loops,
+                 bp__short_loop(ch) == BP__NONE ? "" : ", one of 2 edges");
     return BP_OK;
 }
 

@@ -380,6 +380,50 @@ static void test_duplicates_segmented(void)
     bp_mesh_free(&sp, NULL);
 }
 
+/* ---- a slit closed at both ends ------------------------------------------- */
+
+/* Two unit cubes sharing one edge (7-8, as voxel models have them): the
+   repair makes that non-manifold edge a seam of all four triangles at it,
+   and each cube is left a disk whose only boundary loop has two edges,
+   both between 7 and 8.  No map with straight edges opens that loop, so it
+   needs a seam; with cutting off the chart fails, naming the loop.  Each
+   run's map is proved with the exact check. */
+static void test_closed_slit(void)
+{
+    static const double P[14][3] = { {0,0,0}, {0,0,1}, {0,1,0}, {0,1,1}, {1,0,0}, {1,0,1}, {1,1,0},
+                                     {1,1,1}, {1,2,0}, {1,2,1}, {2,1,0}, {2,1,1}, {2,2,0}, {2,2,1} };
+    static const uint32_t F[24][3] = {
+        {1,2,4}, {1,4,3}, {5,7,8}, {5,8,6}, {1,5,6}, {1,6,2}, {3,4,8}, {3,8,7}, {1,3,7}, {1,7,5}, {2,6,8}, {2,8,4},
+        {7,8,10}, {7,10,9}, {11,13,14}, {11,14,12}, {7,11,12}, {7,12,8}, {9,10,14}, {9,14,13}, {7,9,13},
+        {7,13,11}, {8,12,14}, {8,14,10} };
+    bp_mesh m = bpt_mesh_new(14, 24);
+    bp_atlas at;
+    bp_error err;
+    bp_options o = options(0);
+    bp_status st;
+    uint32_t i, k;
+    int res;
+    for (i = 0; i < 14; i++) for (k = 0; k < 3; k++) m.positions[3 * i + k] = P[i][k];
+    for (i = 0; i < 24; i++) for (k = 0; k < 3; k++) m.triangles[3 * i + k] = F[i][k] - 1;
+    for (res = 0; res <= 256; res += 256) {
+        o.atlas_resolution = res;
+        st = bp_parameterize(&at, &m, &o, &err);
+        BPT_CHECK(st == BP_OK && all_valid(&at) && at.repairs.kind[BP_REPAIR_NONMANIFOLD_EDGE].count == 1,
+                  "two cubes sharing edge 7-8%s: the edge a seam, each cube's 2-edge loop cut open, BP_OK, "
+                  "valid by the exact check (%s: %s)", res ? ", segmented" : "", bp_status_string(st), err.message);
+        bp_atlas_free(&at);
+    }
+    o.atlas_resolution = 0;
+    o.cut = BP_CUT_NONE;
+    st = bp_parameterize(&at, &m, &o, &err);
+    BPT_CHECK(st == BP_ERR_TOPOLOGY && err.element == BP_ELEMENT_CHART && strstr(err.message, "loop of 2 edges") &&
+                  bpt_has_number(err.message, 7) && bpt_has_number(err.message, 8),
+              "  without cutting: no chart can be mapped, BP_ERR_TOPOLOGY naming the 2-edge loop at 7 and 8 (%s: \"%s\")",
+              bp_status_string(st), err.message);
+    bp_atlas_free(&at);
+    bpt_mesh_free(&m);
+}
+
 /* ---- non-manifold edges and vertices -------------------------------------- */
 
 /* Three fins on a spine of three vertices 0 1 2 along x: fin f is a strip
@@ -984,6 +1028,7 @@ int main(void)
         bp_mesh_free(&clean, NULL);
     }
     test_duplicates_segmented();
+    test_closed_slit();
     test_moebius();
     test_fins();
     test_cones();
