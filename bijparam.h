@@ -886,11 +886,12 @@ BPDEF bp_status bp_read_off(const char *path, bp_mesh *mesh,
 /* PLY (ASCII, binary little and big endian): the `vertex` element's x y z
    (float or double, any order, other properties and lists skipped), the
    `face` element's vertex_indices / vertex_index list (any integer type),
-   polygons fan-triangulated; per-vertex s t / u v / texture_u texture_v /
+   polygons fan-triangulated, and the `tristrips` element's (strips joined
+   by -1, each triangle a face); per-vertex s t / u v / texture_u texture_v /
    texture_s texture_t become the uvs, one per vertex (so no seams; a
-   per-face texcoord list is read past).  Errors name
-   the element as the header numbers it (vertex 7, face 12, from 1) with
-   the line (ASCII) or byte offset (binary). */
+   per-face texcoord list is read past).  Errors name the element as the
+   header numbers it (vertex 7, face 12, tristrips 1, from 1) with the
+   line (ASCII) or byte offset (binary). */
 BPDEF bp_status bp_read_ply(const char *path, bp_mesh *mesh,
                             const bp_allocator *alloc, bp_error *err);
 /* Reads .obj, .off or .ply by extension (case-insensitive). */
@@ -3687,9 +3688,13 @@ enum { BP__FORMAT_OBJ, BP__FORMAT_OFF, BP__FORMAT_PLY };
    then the data: ASCII numbers, or binary values of the declared sizes in
    little- or big-endian order.  We keep the `vertex` element's x y z (and
    s t / u v / texture_u texture_v / texture_s texture_t when present: the
-   input uvs, one per vertex) and the `face` element's vertex_indices (or
-   vertex_index) list; every other property and element is read past.
-   Polygons are fan-triangulated as in OBJ.
+   input uvs, one per vertex), the `face` element's vertex_indices (or
+   vertex_index) list, and the `tristrips` element's (the Stanford scans'
+   form: each list a run of strips joined by -1; strip triangle i is
+   v_i v_i+1 v_i+2, its winding flipped when i is odd, and a triangle that
+   repeats a vertex, which only joins two runs, is skipped); every other
+   property and element is read past.  Polygons are fan-triangulated as in
+   OBJ; faces are numbered in file order, a strip's triangles in theirs.
 
    Fuzz safety: the header is bounded (32 elements, 128 properties); a
    count the rest of the file cannot hold (each instance needs at least one
@@ -3704,7 +3709,8 @@ enum { BP__PLY_SKIP, BP__PLY_X, BP__PLY_Y, BP__PLY_Z, BP__PLY_U, BP__PLY_V, BP__
 enum { BP__PLY_ASCII, BP__PLY_LE, BP__PLY_BE };
 
 typedef struct bp__ply_prop { int type, list; int role; } bp__ply_prop;   /* list: count type or -1 */
-typedef struct bp__ply_elem { int kind; int64_t count; int first, nprops; } bp__ply_elem;  /* kind 1 vertex, 2 face */
+typedef struct bp__ply_elem { int kind; int64_t count; int first, nprops; } bp__ply_elem;  /* kind 1 vertex, 2 face,
+                                                                                             3 tristrips */
 
 typedef struct bp__ply {
     bp__parser  *ps;
@@ -3773,7 +3779,8 @@ BP__COLD static int bp__ply_role(int kind, const char *w, size_t n, int list)
         if (bp__ply_word_is(w, n, "t") || bp__ply_word_is(w, n, "v") || bp__ply_word_is(w, n, "texture_v") ||
             bp__ply_word_is(w, n, "texture_t")) return BP__PLY_V;
     }
-    if (kind == 2 && list >= 0 && (bp__ply_word_is(w, n, "vertex_indices") || bp__ply_word_is(w, n, "vertex_index")))
+    if ((kind == 2 || kind == 3) && list >= 0 &&
+        (bp__ply_word_is(w, n, "vertex_indices") || bp__ply_word_is(w, n, "vertex_index")))
         return BP__PLY_INDICES;
     return BP__PLY_SKIP;
 }
@@ -3795,7 +3802,8 @@ BP__COLD static bp_status bp__ply_declare(bp__ply *P, int is_elem)
         bp_status st;
         if (P->nelem == 32) return bp__ply_header_fail(ps, "more than 32 elements");
         if (!bp__ply_word(ps, &w, &n)) return bp__ply_header_fail(ps, "the element has no name");
-        e->kind = bp__ply_word_is(w, n, "vertex") ? 1 : bp__ply_word_is(w, n, "face") ? 2 : 0;
+        e->kind = bp__ply_word_is(w, n, "vertex") ? 1 : bp__ply_word_is(w, n, "face") ? 2 :
+                  bp__ply_word_is(w, n, "tristrips") ? 3 : 0;
         bp__skip_space(ps);
         if ((st = bp__parse_int(ps, &c, "element count")) != BP_OK) return st;
         if (c < 0 || c > 0xffffffffLL) return bp__ply_header_fail(ps, "the element count is negative or above 2^32-1");
@@ -4012,6 +4020,42 @@ BP__COLD static bp_status bp__ply_face(bp__ply *P, const bp__ply_elem *e, bp__me
     return bp__builder_face(P->ps, b, (const uint32_t *)fv->data, NULL, fv->count);
 }
 
+/* One list of triangle strips, -1 between strips (the essay above). */
+BP__COLD static bp_status bp__ply_strips(bp__ply *P, const bp__ply_elem *e, bp__mesh_builder *b, int64_t nv)
+{
+    int i, got = 0;
+    bp_status st;
+    for (i = 0; i < e->nprops; i++) {
+        const bp__ply_prop *p = &P->prop[e->first + i];
+        int64_t n, j, run = 0;
+        uint32_t w[3] = { 0, 0, 0 };
+        if (p->list < 0 || p->role != BP__PLY_INDICES || got) {
+            if ((st = bp__ply_skip_prop(P, p)) != BP_OK) return st;
+            continue;
+        }
+        if ((st = bp__ply_list_count(P, p->list, &n)) != BP_OK) return st;
+        got = 1;
+        for (j = 0; j < n; j++) {
+            double v;
+            if ((st = bp__ply_value(P, p->type, &v)) != BP_OK) return st;
+            if (v == -1) { run = 0; continue; }
+            if (v < 0 || v >= (double)nv)
+                return bp__ply_fail(P, BP_ERR_INDEX, "vertex index %D (item %D of the list) is out of range (the "
+                                    "header declares %D vertices)", (int64_t)v, j + 1, nv);
+            w[0] = w[1]; w[1] = w[2]; w[2] = (uint32_t)v;
+            if (++run >= 3 && w[0] != w[1] && w[1] != w[2] && w[0] != w[2]) {
+                uint32_t t[3];
+                t[0] = run % 2 ? w[0] : w[1];   /* run - 3 even: w0 w1 w2; odd: w1 w0 w2 */
+                t[1] = run % 2 ? w[1] : w[0];
+                t[2] = w[2];
+                if ((st = bp__builder_face(P->ps, b, t, NULL, 3)) != BP_OK) return st;
+            }
+        }
+    }
+    if (!got) return bp__ply_fail(P, BP_ERR_PARSE, "the strip has no vertex_indices list");
+    return BP_OK;
+}
+
 /* The body, element by element in header order. */
 BP__COLD static bp_status bp__ply_body(bp__ply *P, bp__mesh_builder *b, bp__vec *fv)
 {
@@ -4031,7 +4075,7 @@ BP__COLD static bp_status bp__ply_body(bp__ply *P, bp__mesh_builder *b, bp__vec 
     for (k = 0; k < P->nelem && st == BP_OK; k++) {
         const bp__ply_elem *e = &P->elem[k];
         int64_t min = bp__ply_min_bytes(P, e);
-        static const char *const kinds[] = { "element", "vertex", "face" };
+        static const char *const kinds[] = { "element", "vertex", "face", "tristrips" };
         P->what = kinds[e->kind];
         P->index = 0;
         P->at = ps->p;
@@ -4055,6 +4099,7 @@ BP__COLD static bp_status bp__ply_body(bp__ply *P, bp__mesh_builder *b, bp__vec 
             P->index = i;
             if (e->kind == 1) st = bp__ply_vertex(P, e, b, has_uv);
             else if (e->kind == 2) st = bp__ply_face(P, e, b, fv, nv);
+            else if (e->kind == 3) st = bp__ply_strips(P, e, b, nv);
             else {
                 int p;
                 for (p = 0; p < e->nprops && st == BP_OK; p++) st = bp__ply_skip_prop(P, &P->prop[e->first + p]);

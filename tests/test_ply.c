@@ -156,6 +156,57 @@ static void test_same_as_obj(void)
     bp_mesh_free(&obj, NULL);
 }
 
+/* The grid as triangle strips (the Stanford scans' `tristrips`): row i of
+   quads as one strip running top, bottom, top, bottom; rows 0-1 joined by
+   -1, rows 1 onward by repeating a row's last vertex and the next one's
+   first (joining triangles that repeat a vertex, which are skipped).  Each
+   triangle must be one of the OBJ's up to rotation, each once, and all
+   counter-clockwise in xy as the quads are. */
+static void test_strips(void)
+{
+    bp_mesh obj, m;
+    bp_error err;
+    char *t = text;
+    size_t n = 0, cap = sizeof text;
+    uint32_t i, j, k, found = 0, ccw = 0, *used;
+    int row, c, G1 = GRID + 1, len = 0;
+    int seq[4 * NV];
+    obj_text(text, sizeof text);
+    if (!BPT_CHECK(bp_parse_obj(text, strlen(text), &obj, NULL, &err) == BP_OK, "the OBJ: %s", err.message)) return;
+    for (row = 0; row < GRID; row++) {
+        if (row == 1) seq[len++] = -1;
+        if (row >= 2) { seq[len] = seq[len - 1]; len++; seq[len++] = (row + 1) * G1; }
+        for (c = 0; c <= GRID; c++) { seq[len++] = (row + 1) * G1 + c; seq[len++] = row * G1 + c; }
+    }
+    n += (size_t)snprintf(t + n, cap - n, "ply\nformat ascii 1.0\nelement vertex %d\nproperty double x\n"
+                          "property double y\nproperty double z\nelement tristrips 1\n"
+                          "property list int int vertex_indices\nend_header\n", NV);
+    for (i = 0; i < NV; i++) n += (size_t)snprintf(t + n, cap - n, "%.17g %.17g %.17g\n", P[i][0], P[i][1], P[i][2]);
+    n += (size_t)snprintf(t + n, cap - n, "%d", len);
+    for (c = 0; c < len; c++) n += (size_t)snprintf(t + n, cap - n, " %d", seq[c]);
+    n += (size_t)snprintf(t + n, cap - n, "\n");
+    if (BPT_CHECK(bp_parse_ply(text, n, &m, NULL, &err) == BP_OK, "tristrips read: %s", err.message)) {
+        used = (uint32_t *)calloc(obj.num_triangles, sizeof(uint32_t));
+        for (i = 0; i < m.num_triangles; i++) {
+            const uint32_t *a = m.triangles + 3 * i;
+            double ux = P[a[1]][0] - P[a[0]][0], uy = P[a[1]][1] - P[a[0]][1];
+            double vx = P[a[2]][0] - P[a[0]][0], vy = P[a[2]][1] - P[a[0]][1];
+            ccw += ux * vy - uy * vx > 0;
+            for (j = 0; j < obj.num_triangles; j++)
+                for (k = 0; k < 3; k++) {
+                    const uint32_t *b = obj.triangles + 3 * j;
+                    if (!used[j] && a[0] == b[k] && a[1] == b[(k + 1) % 3] && a[2] == b[(k + 2) % 3]) { used[j] = 1; found++; }
+                }
+        }
+        free(used);
+        BPT_CHECK(m.num_vertices == NV && m.num_triangles == 2 * NQ && found == 2 * NQ && ccw == 2 * NQ,
+                  "4 strips (joined by -1 and by repeated vertices): %u triangles, %u of the OBJ's %u found, "
+                  "%u counter-clockwise", m.num_triangles, found, obj.num_triangles, ccw);
+        bp_mesh_free(&m, NULL);
+    }
+    bp_mesh_free(&obj, NULL);
+}
+
 static void test_uvs(void)
 {
     const char *t = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
@@ -181,6 +232,16 @@ static void expect(const char *what, const char *data, size_t n, bp_status want,
     BPT_CHECK((num1 < 0 || bpt_has_number(err.message, num1)) && (num2 < 0 || bpt_has_number(err.message, num2)) &&
               (line < 0 || err.line == line), "%s: the message names %lld and %lld (line %lld): %s", what, num1, num2,
               (long long)line, err.message);
+}
+
+/* the element the message names, as the header does */
+static void expect_what(const char *what, const char *data, const char *name)
+{
+    bp_mesh m;
+    bp_error err;
+    bp_parse_ply(data, strlen(data), &m, NULL, &err);
+    BPT_CHECK(strstr(err.message, name) != NULL, "%s: the message names '%s': %s", what, name, err.message);
+    bp_mesh_free(&m, NULL);
 }
 
 static void test_malformed(void)
@@ -216,6 +277,11 @@ static void test_malformed(void)
     expect("float list count", t, strlen(t), BP_ERR_PARSE, 6, -1, 6);
     strcpy(t, "ply\nformat ascii 1.0\nelement vertex 0\nelement face 0\nend_header\n");
     expect("no faces", t, strlen(t), BP_ERR_EMPTY, -1, -1, -1);
+    strcpy(t, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "element tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+              "6 0 1 2 -1 2 9\n");
+    expect("ASCII strip index out of range", t, strlen(t), BP_ERR_INDEX, 9, 6, 13);
+    expect_what("ASCII strip index out of range", t, "tristrips 1");
     /* binary: counts beyond the file, an index out of range at a byte offset, a truncated value */
     n = ply_binary(bin, 0);
     h = (size_t)(strstr((const char *)bin, "end_header\n") - (const char *)bin) + 11;
@@ -237,6 +303,7 @@ int main(void)
     make_grid();
     test_same_as_obj();
     test_uvs();
+    test_strips();
     test_malformed();
     return bpt_finish();
 }
