@@ -18707,6 +18707,56 @@ static bp_status bp__tutte_map(const bp_allocator *a, bp_chart *ch, const bp_mes
     return st;
 }
 
+/* Whether a start map keeps its boundary vertices apart.  The planar
+   projection and the conformal map are isometries where the surface
+   unfolds without stretch, and an exact unfolding can lay two boundary
+   vertices on one point: a voxel model's faces unfold into a net of unit
+   squares whose corners meet, the two sides of a seam through a flat part
+   close up.  The exact check passes whenever rounding leaves such a pair
+   apart, but the map then starts with its barrier (>>barrier) near
+   infinity, where steps stop making progress, and no 32-bit float tells
+   the two apart.  So two boundary vertices closer than 2^-20 of the mean
+   boundary edge fail this test (found by a sweep along u), and the chart
+   starts from the barycentric map (>>tutte), whose outer loop is a
+   circle.  1: apart, 0: not, -1: out of memory. */
+typedef struct bp__bpoint { double x, y; uint32_t u; } bp__bpoint;
+
+static int bp__bpoint_cmp(const void *p, const void *q)
+{
+    const bp__bpoint *a = (const bp__bpoint *)p, *b = (const bp__bpoint *)q;
+    if (a->x != b->x) return a->x < b->x ? -1 : 1;
+    if (a->y != b->y) return a->y < b->y ? -1 : 1;
+    return a->u < b->u ? -1 : a->u > b->u;
+}
+
+static int bp__start_apart(const bp_allocator *a, const bp_chart *ch)
+{
+    uint32_t nb = ch->loop_start[ch->num_loops], l, k, j;
+    const double *uv = ch->uv;
+    double len = 0, tol;
+    bp__bpoint *pt;
+    int apart = 1;
+    if (nb == 0) return 1;
+    pt = (bp__bpoint *)bp__alloc_array(a, nb, sizeof(bp__bpoint));
+    if (!pt) return -1;
+    for (l = 0; l < ch->num_loops; l++)
+        for (k = ch->loop_start[l]; k < ch->loop_start[l + 1]; k++) {
+            uint32_t u = ch->loop_vertices[k], v = ch->loop_vertices[k + 1 < ch->loop_start[l + 1] ? k + 1 : ch->loop_start[l]];
+            len += bp__sqrt((uv[2 * u] - uv[2 * v]) * (uv[2 * u] - uv[2 * v]) +
+                            (uv[2 * u + 1] - uv[2 * v + 1]) * (uv[2 * u + 1] - uv[2 * v + 1]));
+            pt[k].x = uv[2 * u];
+            pt[k].y = uv[2 * u + 1];
+            pt[k].u = u;
+        }
+    tol = ldexp(len / nb, -20);
+    qsort(pt, nb, sizeof *pt, bp__bpoint_cmp);
+    for (k = 0; k < nb && apart; k++)
+        for (j = k + 1; j < nb && pt[j].x - pt[k].x < tol && apart; j++)
+            apart = pt[j].u == pt[k].u || fabs(pt[j].y - pt[k].y) >= tol;
+    bp__free(a, pt);
+    return apart;
+}
+
 /* The start map: the input uvs (BP_INIT_INPUT), or a planar chart's own
    projection (>>start, 1), or the seven phases above, optionally relaxed
    by progressive references (>>start, 3); then the pins. */
@@ -18740,11 +18790,18 @@ static bp_status bp__chart_init(bp_chart *ch, const bp_mesh *m, const bp_options
     }
     if (st == BP_OK && ch->init_used != 1 && better) {                   /* >>start, 1 */
         planar = bp__start_planar(&a, ch, m, runner);
+        if (planar == 1) planar = bp__start_apart(&a, ch);
         if (planar < 0) st = bp__oom(err, "checking the planar start map");
         if (planar == 1) ch->start_map = BP_INIT_AUTO;
     }
     if (st == BP_OK && ch->init_used != 1 && planar != 1) {
+        int apart;
         st = bp__tutte_map(&a, ch, m, runner, !tutte, tutte ? 0 : conformal, h, err);
+        if (st == BP_OK && ch->start_map == BP_INIT_CONFORMAL && (apart = bp__start_apart(&a, ch)) != 1) {
+            bp__handoff_free(&a, h);                      /* its factor is the conformal system's */
+            st = apart < 0 ? bp__oom(err, "checking the start map")
+                           : bp__tutte_map(&a, ch, m, runner, 1, 0, NULL, err);   /* copies on one point */
+        }
         if (st == BP_ERR_NUMERICAL && !tutte && (!opt || opt->init != BP_INIT_MEAN_VALUE))
             st = bp__tutte_map(&a, ch, m, runner, 0, 0, NULL, err);  /* AUTO: rounding spoiled the mean-value map */
         checked = st == BP_OK && !pidx;   /* each way of bp__tutte_map ends with bp__check_par on the map */

@@ -660,6 +660,61 @@ static void check_flat(void)
     bpt_mesh_free(&m);
 }
 
+/* bp__start_apart against brute force: the bump's chart (one loop of 80
+   vertices) with its planar layout as the map, one boundary vertex moved
+   to 2^-e mean boundary edges (e from 10 to 30) from another; the map's
+   boundary vertices are apart unless some two of them lie within a box of
+   half-side 2^-20 of the mean boundary edge, counted over every pair. */
+static void check_start_apart(void)
+{
+    bp_mesh m = make_bump();
+    bp_atlas atlas;
+    bp_error err;
+    bp_allocator a = bp__allocator_of(NULL);
+    int trial, wrong = 0, near = 0, far = 0;
+    if (!BPT_CHECK(bp_atlas_build(&atlas, &m, NULL, &err) == BP_OK && atlas.num_charts == 1, "bump: one chart (%s)",
+                   err.message)) {
+        bpt_mesh_free(&m);
+        return;
+    }
+    {
+        bp_chart *ch = &atlas.charts[0];
+        uint32_t nb = ch->loop_start[ch->num_loops], i, j;
+        ch->uv = (double *)malloc(2 * (size_t)ch->num_vertices * sizeof(double));
+        for (trial = 0; trial < 400; trial++) {
+            uint32_t k1 = (uint32_t)(bpt_rng_u64() % nb), k2 = (uint32_t)(bpt_rng_u64() % nb);
+            uint32_t u1 = ch->loop_vertices[k1], u2 = ch->loop_vertices[k2];
+            double len = 0, tol, d, th = 6.283185307179586 * bpt_rng_unit();
+            int found = 0, got;
+            for (i = 0; i < ch->num_vertices; i++) {
+                ch->uv[2 * i] = m.positions[3 * (size_t)ch->vertex[i]];
+                ch->uv[2 * i + 1] = m.positions[3 * (size_t)ch->vertex[i] + 1];
+            }
+            d = ldexp(0.05, -(10 + (int)(bpt_rng_u64() % 21)));
+            if (u1 != u2) { ch->uv[2 * u2] = ch->uv[2 * u1] + d * cos(th); ch->uv[2 * u2 + 1] = ch->uv[2 * u1 + 1] + d * sin(th); }
+            for (i = 0; i < nb; i++) {
+                uint32_t p = ch->loop_vertices[i], q = ch->loop_vertices[(i + 1) % nb];
+                len += hypot(ch->uv[2 * p] - ch->uv[2 * q], ch->uv[2 * p + 1] - ch->uv[2 * q + 1]);
+            }
+            tol = ldexp(len / nb, -20);
+            for (i = 0; i < nb; i++)
+                for (j = i + 1; j < nb; j++) {
+                    uint32_t p = ch->loop_vertices[i], q = ch->loop_vertices[j];
+                    found |= p != q && fabs(ch->uv[2 * p] - ch->uv[2 * q]) < tol && fabs(ch->uv[2 * p + 1] - ch->uv[2 * q + 1]) < tol;
+                }
+            got = bp__start_apart(&a, ch);
+            wrong += got != !found;
+            near += found;
+            far += !found;
+        }
+    }
+    BPT_CHECK(wrong == 0 && near > 50 && far > 50,
+              "start maps: two boundary vertices within 2^-20 of the mean boundary edge found as brute force finds "
+              "them (%d wrong of 400; %d maps with such a pair, %d without)", wrong, near, far);
+    bp_atlas_free(&atlas);
+    bpt_mesh_free(&m);
+}
+
 int main(void)
 {
     check_lscm("tests/data/face_holes.off", BP_INIT_AUTO);
@@ -685,5 +740,6 @@ int main(void)
     check_schedules("tests/data/face_holes.off");
     check_flat();
     check_handoff();
+    check_start_apart();
     return bpt_finish();
 }
