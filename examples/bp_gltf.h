@@ -45,10 +45,12 @@
        Vertex k of the input stays vertex k (its bytes unchanged); the
        copies follow, so a vertex that no seam cuts keeps its index.
      - The new attribute and index accessors, their bufferViews and their
-       data are appended.  The accessors the written primitives used
-       before, which nothing else references, go with their bufferViews
-       and, in a .glb, their bytes ("what the rewrite leaves unused"
-       below); every other accessor and bufferView keeps its JSON and its
+       data are appended; primitives that shared their accessors (one
+       mesh drawn twice, as instancing files do) share the new ones, the
+       index accessor too when their triangles are the same.  The
+       accessors the written primitives used before, which nothing else
+       references, go with their bufferViews and, in a .glb, their bytes
+       ("what the rewrite leaves unused" below); every other accessor and bufferView keeps its JSON and its
        bytes, renumbered where one before it went.  Nodes, materials,
        textures, images, skins, animations, cameras, extras, extensions
        and the non-triangle primitives stay as they were.  The JSON is
@@ -2641,8 +2643,8 @@ static int bpg__write_group(bpg__enc *e, uint32_t g, const uint32_t *prims, uint
     const bp_atlas *at = e->atlas;
     const bpg__prim *p0 = &f->prim[prims[0]];
     uint32_t n = f->group[g].count, extras = 0, out_n, i, j, c, t, nrn = 0, tex_acc, ntg;
-    uint32_t *first = NULL, *cout = NULL, *src = NULL, *ekey = NULL;
-    size_t ncorner = 0, cap_extra = 0, k;
+    uint32_t *first = NULL, *cout = NULL, *src = NULL, *ekey = NULL, *iacc = NULL;
+    size_t ncorner = 0, cap_extra = 0, k, *ioff = NULL;
     bpg__split split;
     bpg__renamed *rn = NULL;
     float *inuv = NULL;
@@ -2652,7 +2654,9 @@ static int bpg__write_group(bpg__enc *e, uint32_t g, const uint32_t *prims, uint
     for (i = 0; i < np; i++) ncorner += 3 * (size_t)f->prim[prims[i]].num;
     first = (uint32_t *)bpg__alloc_n(f, n, sizeof *first);
     cout = (uint32_t *)bpg__alloc_n(f, ncorner, sizeof *cout);
-    if (!first || !cout) { bpg__oom(f, "writing"); goto done; }
+    iacc = (uint32_t *)bpg__alloc_n(f, np, sizeof *iacc);
+    ioff = (size_t *)bpg__alloc_n(f, 2 * (size_t)np, sizeof *ioff);   /* start, length of each index list */
+    if (!first || !cout || !iacc || !ioff) { bpg__oom(f, "writing"); goto done; }
     for (j = 0; j < n; j++) first[j] = BPG__NONE;
     /* 1. the output vertex of every corner */
     for (i = 0, k = 0; i < np; i++) {
@@ -2753,8 +2757,21 @@ static int bpg__write_group(bpg__enc *e, uint32_t g, const uint32_t *prims, uint
                 bpg__o_put(&e->data, b, (size_t)bpg__csize((int)ctype));
             }
         }
-        acc = bpg__new_accessor(e, BPG__NONE, bpg__new_view(e, off, 3 * (size_t)p->num * (size_t)bpg__csize((int)ctype), 0, 34963),
-                                3 * p->num, (int)ctype, "SCALAR");
+        /* primitives drawing the same triangles (meshes sharing their
+           accessors) share one index accessor again, as in the input */
+        for (q = 0; q < i; q++)
+            if (ioff[2 * q + 1] == e->data.n - off && f->prim[prims[q]].num == p->num &&
+                !e->data.failed && !memcmp(e->data.d + ioff[2 * q], e->data.d + off, e->data.n - off))
+                break;
+        if (q < i) {
+            e->data.n = off;
+            acc = iacc[q];
+        } else
+            acc = bpg__new_accessor(e, BPG__NONE, bpg__new_view(e, off, 3 * (size_t)p->num * (size_t)bpg__csize((int)ctype), 0, 34963),
+                                    3 * p->num, (int)ctype, "SCALAR");
+        iacc[i] = acc;
+        ioff[2 * (size_t)i] = off;
+        ioff[2 * (size_t)i + 1] = q < i ? 0 : e->data.n - off;
         k += 3 * (size_t)p->num;
         /* the JSON of the primitive */
         if (!bpg__edit_map(e, p->attributes, rn, nrn, 0, tex_acc)) goto done;
@@ -2782,6 +2799,7 @@ static int bpg__write_group(bpg__enc *e, uint32_t g, const uint32_t *prims, uint
     ok = f->err->status == BP_OK;
 done:
     bpg__freef(f, first); bpg__freef(f, cout); bpg__freef(f, src); bpg__freef(f, ekey);
+    bpg__freef(f, iacc); bpg__freef(f, ioff);
     bpg__freef(f, split.key); bpg__freef(f, split.val); bpg__freef(f, rn); bpg__freef(f, inuv);
     if (!ok && f->err->status == BP_OK) bpg__oom(f, "writing");
     return ok;

@@ -304,6 +304,27 @@ def external(path):
         f.write(dump(doc))
 
 
+def instanced(path):
+    """two meshes drawing one cube-sphere from the same accessors (POSITION,
+    NORMAL, indices), each placed by its own node: a common glTF pattern"""
+    B = Builder()
+    pos, nrm, idx = cube_sphere(3)
+    ap = B.floats(pos, 'VEC3', minmax=True)
+    an = B.floats(nrm, 'VEC3')
+    ai = B.indices(idx, 5123)
+    prim = {'attributes': {'POSITION': ap, 'NORMAL': an}, 'indices': ai}
+    doc = {
+        'asset': {'version': '2.0'},
+        'scene': 0, 'scenes': [{'nodes': [0, 1]}],
+        'nodes': [{'mesh': 0}, {'mesh': 1, 'translation': [0, 2, 0]}],
+        'meshes': [{'name': 'a', 'primitives': [dict(prim)]}, {'name': 'b', 'primitives': [dict(prim)]}],
+        'accessors': B.accessors,
+        'bufferViews': B.views,
+        'buffers': [{'byteLength': len(B.data)}],
+    }
+    glb(path, doc, B.data)
+
+
 def triangle(path):
     """one triangle, no indices, a data: URI: the smallest file read"""
     import base64
@@ -334,6 +355,7 @@ def main():
     two_meshes(os.path.join(d, 'two_meshes.glb'))
     strips(os.path.join(d, 'strips.gltf'))
     external(os.path.join(d, 'external.gltf'))
+    instanced(os.path.join(d, 'instanced.glb'))
     return 0
 
 

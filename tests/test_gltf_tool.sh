@@ -5,7 +5,8 @@
 #   and C++11 (g++).
 # - The models of tests/gltf_make.py (two meshes with normals, materials and
 #   extras in a .glb; strips, fans and quantized positions in data: URIs; a
-#   .gltf with an external .bin and image) and the real ones of
+#   .gltf with an external .bin and image; two meshes drawing one sphere
+#   from the same accessors) and the real ones of
 #   tests/data/gltf (Khronos samples: a textured box as .glb and as .gltf
 #   with its .bin and image, morph targets with an animation, two
 #   primitives with morph targets, a skin) go through the tool as .glb and
@@ -166,6 +167,33 @@ check $([ ! -e "$d/gen/strips_out.bin" ] && grep -q '"uri":"data:application/oct
     "strips.gltf: data: URIs in, a data: URI out (no .bin)"
 run "$d/gen/strips.gltf" --atlas 256 -o "$d/gen/strips_out.glb"
 compare "$d/gen/strips.gltf" "$d/gen/strips_out.glb" "strips.gltf -> .glb"
+
+# two meshes drawing one sphere from the same accessors: both copies keep
+# the data, and their written primitives share one index accessor again
+for a in "" "--atlas 256"; do
+    run "$d/gen/instanced.glb" $a -o "$d/gen/inst_out.glb"
+    check $(( $(rc) != 0 )) "instanced.glb${a:+ $a}: runs (exit $(rc)) $(head -c 300 "$d/stderr")"
+    # (not compare: the two instances share their uvs, so the map of both
+    # together covers each point twice; one instance's faces are checked)
+    $py tests/gltf_check.py compare "$d/gen/instanced.glb" "$d/gen/inst_out.glb" >"$d/cmp.log" 2>&1
+    check $? "instanced.glb${a:+ $a} -> .glb: everything kept ($(grep -c '^ok' "$d/cmp.log") properties)"
+    $py tests/gltf_check.py obj "$d/gen/inst_out.glb" "$d/map.obj" >/dev/null 2>&1 &&
+        awk '!/^f / || !seen[$0]++' "$d/map.obj" >"$d/map1.obj" && [ "$(grep -c '^f ' "$d/map1.obj")" = 108 ] &&
+        $py tests/uvcheck.py "$d/map1.obj" >"$d/uvc.log" 2>&1
+    check $? "instanced.glb${a:+ $a}: one instance's 108 faces are bijective by tests/uvcheck.py"
+    $py - "$d/gen/inst_out.glb" >"$d/inst.log" <<'EOF'
+import sys
+sys.path.insert(0, 'tests')
+import gltf_check as g
+doc, bufs, _ = g.load(sys.argv[1])
+p0, p1 = (m['primitives'][0] for m in doc['meshes'])
+views = {doc['accessors'][p['indices']]['bufferView'] for p in (p0, p1)}
+print('indices', p0['indices'], p1['indices'], 'TEXCOORD_0', p0['attributes']['TEXCOORD_0'], p1['attributes']['TEXCOORD_0'],
+      'index views', len(views))
+sys.exit(0 if p0['indices'] == p1['indices'] and p0['attributes'] == p1['attributes'] and len(views) == 1 else 1)
+EOF
+    check $? "instanced.glb${a:+ $a}: the two primitives share their indices and attributes again ($(cat "$d/inst.log"))"
+done
 
 run "$d/gen/external.gltf" -o "$d/gen/ext_out.gltf"
 [ "$(rc)" = 0 ] && [ -s "$d/gen/ext_out.bin" ]
