@@ -50,13 +50,13 @@
        index accessor too when their triangles are the same.  The
        accessors the written primitives used before, which nothing else
        references, go with their bufferViews and, in a .glb, their bytes
-       ("what the rewrite leaves unused" below); every other accessor and bufferView keeps its JSON and its
-       bytes, renumbered where one before it went.  Nodes, materials,
-       textures, images, skins, animations, cameras, extras, extensions
-       and the non-triangle primitives stay as they were.  The JSON is
-       the input's text with the few values that must change replaced in
-       place: key order, spacing, number and string text come back byte
-       for byte.
+       ("what the rewrite leaves unused" below); every other accessor and
+       bufferView keeps its JSON and its bytes, renumbered where one before
+       it went.  Nodes, materials, textures, images, skins, animations,
+       cameras, extras, extensions and the non-triangle primitives stay as
+       they were.  The JSON is the input's text with the few values that
+       must change replaced in place: key order, spacing, number and
+       string text come back byte for byte.
      - Where the new bytes go: a .glb appends them to its BIN chunk
        (buffer 0); a .gltf to a new buffer, in a data: URI or in a .bin
        file of its own (bpg_write_options.bin_uri).  A .glb input written
