@@ -3989,11 +3989,14 @@ BP__COLD static bp_status bp__ply_vertex(bp__ply *P, const bp__ply_elem *e, bp__
     return BP_OK;
 }
 
-/* One face: its vertex_indices list, fan-triangulated. */
-BP__COLD static bp_status bp__ply_face(bp__ply *P, const bp__ply_elem *e, bp__mesh_builder *b, bp__vec *fv, int64_t nv)
+/* The vertex_indices list of one face or strip element into fv, every
+   other property read past: at least `min` items, each a vertex of the
+   header's nv, or -1 (a strip's break, kept as BP__NONE) when `brk`. */
+BP__COLD static bp_status bp__ply_indices(bp__ply *P, const bp__ply_elem *e, bp__vec *fv, int64_t nv, int64_t min, int brk)
 {
     int i, got = 0;
     bp_status st;
+    fv->count = 0;
     for (i = 0; i < e->nprops; i++) {
         const bp__ply_prop *p = &P->prop[e->first + i];
         int64_t n, j;
@@ -4003,57 +4006,49 @@ BP__COLD static bp_status bp__ply_face(bp__ply *P, const bp__ply_elem *e, bp__me
         }
         if ((st = bp__ply_list_count(P, p->list, &n)) != BP_OK) return st;
         got = 1;
-        if (n < 3) return bp__ply_fail(P, BP_ERR_POLYGON, "a face needs at least 3 corners, this one has %D", n);
-        fv->count = 0;
+        if (n < min) return bp__ply_fail(P, BP_ERR_POLYGON, "a face needs at least 3 corners, this one has %D", n);
         for (j = 0; j < n; j++) {
             double v;
-            uint32_t v32;
+            uint32_t v32 = BP__NONE;
             if ((st = bp__ply_value(P, p->type, &v)) != BP_OK) return st;
-            if (v < 0 || v >= (double)nv)
-                return bp__ply_fail(P, BP_ERR_INDEX, "vertex index %D is out of range (the header declares %D vertices)",
-                                    (int64_t)v, nv);
-            v32 = (uint32_t)v;
+            if (!(brk && v == -1)) {
+                if (v < 0 || v >= (double)nv)
+                    return bp__ply_fail(P, BP_ERR_INDEX, "vertex index %D (item %D of the list) is out of range (the "
+                                        "header declares %D vertices)", (int64_t)v, j + 1, nv);
+                v32 = (uint32_t)v;
+            }
             if (!bp__vec_push(P->ps->a, fv, &v32)) return bp__oom(P->ps->err, "reading faces");
         }
     }
-    if (!got) return bp__ply_fail(P, BP_ERR_PARSE, "the face has no vertex_indices list");
-    return bp__builder_face(P->ps, b, (const uint32_t *)fv->data, NULL, fv->count);
+    if (!got) return bp__ply_fail(P, BP_ERR_PARSE, "no vertex_indices list");
+    return BP_OK;
+}
+
+/* One face: its list, fan-triangulated. */
+BP__COLD static bp_status bp__ply_face(bp__ply *P, const bp__ply_elem *e, bp__mesh_builder *b, bp__vec *fv, int64_t nv)
+{
+    bp_status st = bp__ply_indices(P, e, fv, nv, 3, 0);
+    return st != BP_OK ? st : bp__builder_face(P->ps, b, (const uint32_t *)fv->data, NULL, fv->count);
 }
 
 /* One list of triangle strips, -1 between strips (the essay above). */
-BP__COLD static bp_status bp__ply_strips(bp__ply *P, const bp__ply_elem *e, bp__mesh_builder *b, int64_t nv)
+BP__COLD static bp_status bp__ply_strips(bp__ply *P, const bp__ply_elem *e, bp__mesh_builder *b, bp__vec *fv, int64_t nv)
 {
-    int i, got = 0;
-    bp_status st;
-    for (i = 0; i < e->nprops; i++) {
-        const bp__ply_prop *p = &P->prop[e->first + i];
-        int64_t n, j, run = 0;
-        uint32_t w[3] = { 0, 0, 0 };
-        if (p->list < 0 || p->role != BP__PLY_INDICES || got) {
-            if ((st = bp__ply_skip_prop(P, p)) != BP_OK) return st;
-            continue;
-        }
-        if ((st = bp__ply_list_count(P, p->list, &n)) != BP_OK) return st;
-        got = 1;
-        for (j = 0; j < n; j++) {
-            double v;
-            if ((st = bp__ply_value(P, p->type, &v)) != BP_OK) return st;
-            if (v == -1) { run = 0; continue; }
-            if (v < 0 || v >= (double)nv)
-                return bp__ply_fail(P, BP_ERR_INDEX, "vertex index %D (item %D of the list) is out of range (the "
-                                    "header declares %D vertices)", (int64_t)v, j + 1, nv);
-            w[0] = w[1]; w[1] = w[2]; w[2] = (uint32_t)v;
-            if (++run >= 3 && w[0] != w[1] && w[1] != w[2] && w[0] != w[2]) {
-                uint32_t t[3];
-                t[0] = run % 2 ? w[0] : w[1];   /* run - 3 even: w0 w1 w2; odd: w1 w0 w2 */
-                t[1] = run % 2 ? w[1] : w[0];
-                t[2] = w[2];
-                if ((st = bp__builder_face(P->ps, b, t, NULL, 3)) != BP_OK) return st;
-            }
+    const uint32_t *v;
+    size_t j, run = 0;
+    bp_status st = bp__ply_indices(P, e, fv, nv, 0, 1);
+    v = (const uint32_t *)fv->data;
+    for (j = 0; st == BP_OK && j < fv->count; j++) {
+        run = v[j] == BP__NONE ? 0 : run + 1;
+        if (run >= 3 && v[j - 2] != v[j - 1] && v[j - 1] != v[j] && v[j - 2] != v[j]) {
+            uint32_t t[3];
+            t[0] = v[j - 2 + !(run % 2)];   /* run - 3 even: v[j-2] v[j-1] v[j]; odd: v[j-1] v[j-2] v[j] */
+            t[1] = v[j - 1 - !(run % 2)];
+            t[2] = v[j];
+            st = bp__builder_face(P->ps, b, t, NULL, 3);
         }
     }
-    if (!got) return bp__ply_fail(P, BP_ERR_PARSE, "the strip has no vertex_indices list");
-    return BP_OK;
+    return st;
 }
 
 /* The body, element by element in header order. */
@@ -4099,7 +4094,7 @@ BP__COLD static bp_status bp__ply_body(bp__ply *P, bp__mesh_builder *b, bp__vec 
             P->index = i;
             if (e->kind == 1) st = bp__ply_vertex(P, e, b, has_uv);
             else if (e->kind == 2) st = bp__ply_face(P, e, b, fv, nv);
-            else if (e->kind == 3) st = bp__ply_strips(P, e, b, nv);
+            else if (e->kind == 3) st = bp__ply_strips(P, e, b, fv, nv);
             else {
                 int p;
                 for (p = 0; p < e->nprops && st == BP_OK; p++) st = bp__ply_skip_prop(P, &P->prop[e->first + p]);
@@ -7514,7 +7509,7 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
     bp__cut K;
     uint32_t nt = ch->num_triangles, nv = ch->num_vertices, big = (3 * nt > nv ? 3 * nt : nv) + 1, ncut = 0;
     int64_t ne, chi;
-    int ok, oom = 0;
+    int ok, oom = 0, short_loop;
     bp_status st;
     char nm[48];
     memset(&K, 0, sizeof K);
@@ -7562,12 +7557,13 @@ static bp_status bp__chart_cut(const bp_allocator *a, bp_atlas *atlas, uint32_t 
     ch->cut_edges = ncut;
     ne = ((int64_t)3 * nt + ch->loop_start[ch->num_loops]) / 2;
     chi = (int64_t)ch->num_vertices - ne + nt;
-    if (ch->num_loops > 0 && chi == 2 - (int64_t)ch->num_loops && bp__short_loop(ch) == BP__NONE) bp__ok(&ch->error);
+    short_loop = bp__short_loop(ch) != BP__NONE;
+    if (ch->num_loops > 0 && chi == 2 - (int64_t)ch->num_loops && !short_loop) bp__ok(&ch->error);
     else
         bp__fail(&ch->error, BP_ERR_TOPOLOGY, BP_ELEMENT_CHART, c, -1, bp__tri_line(m, ch->face[0]),
                  "chart %u (from %s): cutting %u edges left Euler characteristic %D with %u boundary loops%s, "
                  "not a disk", c, bp__tri_name(m, ch->face[0], nm), ncut, chi, ch->num_loops,
-                 bp__short_loop(ch) == BP__NONE ? "" : ", one of 2 edges");
+                 short_loop ? ", one of 2 edges" : "");
     return BP_OK;
 }
 

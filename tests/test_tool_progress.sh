@@ -69,7 +69,7 @@ for f in obj off ply; do
 done
 sed 's/^4 0 1 5 4$/4 0 1 5 44/' "$d/grid.ply" > "$d/bad.ply"
 "$tool" --threads 1 "$d/bad.ply" > /dev/null 2> "$d/err"; rc=$?
-grep -q "bad.ply:26: face 1: vertex index 44 is out of range" "$d/err"
+grep -q "bad.ply:26: face 1: vertex index 44 (item 4 of the list) is out of range" "$d/err"
 check $(( rc != 1 || $? != 0 )) "a PLY index out of range: exit 1, file:line and face named: $(cat "$d/err")"
 
 # --- no bar when stderr is not a terminal ----------------------------------------
